@@ -1,0 +1,6 @@
+//! Breakshot's shared core: the physics engine, scenes, and the state hash. Pure and
+//! deterministic: no I/O, no clock, no threads.
+
+pub mod hash;
+pub mod physics;
+pub mod scene;

@@ -1,0 +1,183 @@
+//! Ball–cushion contact: when a ball reaches a rail or a jaw, and the bounce.
+//!
+//! The cushion nose touches the ball above its equator, at height `h` above the cloth, at an
+//! angle θ with `sin θ = (h − R)/R`. Seen from above the ball then touches the nose when its
+//! centre is `R·cos θ` from the nose line (rails) or `R·cos θ + ρ` from a jaw's axis.
+
+use glam::{DVec2, DVec3};
+
+use super::motion::Piece;
+use super::params::{CushionModel, Params};
+use super::roots::{first_contact, Poly, Touch};
+use super::table::{Jaw, Rail};
+
+/// sin θ and cos θ of the contact angle at the cushion nose.
+pub fn nose_angle(params: &Params) -> (f64, f64) {
+    let sin = (params.cushion_height - params.ball_radius) / params.ball_radius;
+    (sin, (1.0 - sin * sin).sqrt())
+}
+
+/// Horizontal distance from a ball's centre to a cushion nose when they touch.
+pub fn contact_distance(params: &Params) -> f64 {
+    params.ball_radius * nose_angle(params).1
+}
+
+/// First time in (now, until] that the ball of `piece` reaches `rail` moving into it.
+pub fn rail_time(piece: &Piece, rail: &Rail, now: f64, until: f64, contact: f64) -> Option<f64> {
+    let p = piece.pos_at(now);
+    let dist = rail.normal.dot(p - rail.a) - contact;
+    if dist > piece.reach(now, until) {
+        return None;
+    }
+    let v = piece.vel_at(now);
+    let poly: Poly = [
+        dist,
+        rail.normal.dot(v),
+        0.5 * rail.normal.dot(piece.acc),
+        0.0,
+        0.0,
+    ];
+    let t = now + first_contact(&poly, until - now, Touch::linear())?;
+    // Only the stretch between the rail's ends is straight cushion; past them the ball meets
+    // a jaw or goes into the pocket.
+    let along = rail.b - rail.a;
+    let s = along.dot(piece.pos_at(t) - rail.a);
+    (s >= 0.0 && s <= along.dot(along)).then_some(t)
+}
+
+/// First time in (now, until] that the ball of `piece` touches `jaw` while approaching it.
+pub fn jaw_time(piece: &Piece, jaw: &Jaw, now: f64, until: f64, contact: f64) -> Option<f64> {
+    circle_time(piece, jaw.center, jaw.radius + contact, now, until)
+}
+
+/// First time in (now, until] that the centre of the ball of `piece` comes within `radius` of
+/// the fixed point `center` while approaching it.
+pub fn circle_time(piece: &Piece, center: DVec2, radius: f64, now: f64, until: f64) -> Option<f64> {
+    let d = piece.pos_at(now) - center;
+    let dist = d.length();
+    if dist - radius > piece.reach(now, until) {
+        return None;
+    }
+    let v = piece.vel_at(now);
+    let a = piece.acc;
+    let poly: Poly = [
+        (dist - radius) * (dist + radius),
+        2.0 * d.dot(v),
+        v.dot(v) + d.dot(a),
+        v.dot(a),
+        0.25 * a.dot(a),
+    ];
+    first_contact(&poly, until - now, Touch::squared(radius)).map(|dt| now + dt)
+}
+
+/// The bounce off a cushion whose nose normal (pointing from the nose to the ball, in the
+/// plane) is `normal`. Returns the new velocity and spin; a ball not moving into the cushion
+/// is returned unchanged.
+pub fn bounce(
+    vel: DVec2,
+    spin: DVec3,
+    normal: DVec2,
+    model: CushionModel,
+    params: &Params,
+) -> (DVec2, DVec3) {
+    if vel.dot(normal) >= 0.0 {
+        return (vel, spin);
+    }
+    match model {
+        CushionModel::Simple => {
+            let vn = vel.dot(normal);
+            (vel - (1.0 + params.e_cushion) * vn * normal, spin)
+        }
+        CushionModel::Han2005 => han2005(vel, spin, normal, params),
+    }
+}
+
+/// Han (2005), "Dynamics in carom and three cushion billiards", J. Mech. Sci. Tech. 19(4):
+/// a single impulse at the nose contact, with restitution `e_cushion` along the contact
+/// normal and Coulomb friction `f_cushion` in the contact's tangent plane, capped at the
+/// impulse that stops the slip. The impulse's vertical part is taken by the cloth.
+fn han2005(vel: DVec2, spin: DVec3, normal: DVec2, params: &Params) -> (DVec2, DVec3) {
+    let r = params.ball_radius;
+    let m = params.ball_mass;
+    let e = params.e_cushion;
+    let mu = params.f_cushion;
+    let (sin, cos) = nose_angle(params);
+    // Cushion frame: x into the cushion, y along it, z up (right-handed).
+    let ex = -normal;
+    let ey = DVec2::new(normal.y, -normal.x);
+    let vx = vel.dot(ex);
+    let vy = vel.dot(ey);
+    let wx = spin.x * ex.x + spin.y * ex.y;
+    let wy = spin.x * ey.x + spin.y * ey.y;
+    let wz = spin.z;
+    // Slip of the contact point in the tangent plane (Han's eq. 14) and approach speed
+    // along the contact normal.
+    let sx = vx * sin + r * wy;
+    let sy = -vy - r * wz * cos + r * wx * sin;
+    let c = vx * cos;
+    // Effective inverse masses: tangential 7/(2m), normal 1/m.
+    let a_t = 3.5 / m;
+    let normal_impulse = (1.0 + e) * c * m;
+    let slip = (sx * sx + sy * sy).sqrt();
+    let (px, py, pz) = if slip / a_t <= mu * normal_impulse {
+        // The slip stops during the impact.
+        (
+            -sx / a_t * sin - normal_impulse * cos,
+            sy / a_t,
+            sx / a_t * cos - normal_impulse * sin,
+        )
+    } else {
+        let f = mu * normal_impulse / slip;
+        (
+            -f * sx * sin - normal_impulse * cos,
+            f * sy,
+            f * sx * cos - normal_impulse * sin,
+        )
+    };
+    let inertia = params.inertia();
+    let vx2 = vx + px / m;
+    let vy2 = vy + py / m;
+    let wx2 = wx - r / inertia * py * sin;
+    let wy2 = wy + r / inertia * (px * sin - pz * cos);
+    let wz2 = wz + r / inertia * py * cos;
+    let vel2 = ex * vx2 + ey * vy2;
+    let w2 = ex * wx2 + ey * wy2;
+    (vel2, DVec3::new(w2.x, w2.y, wz2))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn head_on_bounce_reverses_with_restitution_and_keeps_energy_bounded() {
+        let p = Params::default();
+        let (v, w) = bounce(
+            DVec2::new(0.0, -1.0),
+            DVec3::ZERO,
+            DVec2::Y,
+            CushionModel::Han2005,
+            &p,
+        );
+        assert!(v.y > 0.0 && v.y < 1.0, "{v}");
+        assert!(v.x.abs() < 1e-15);
+        let ke = |v: DVec2, w: DVec3| {
+            0.5 * p.ball_mass * v.length_squared() + 0.5 * p.inertia() * w.length_squared()
+        };
+        assert!(ke(v, w) <= ke(DVec2::new(0.0, -1.0), DVec3::ZERO));
+    }
+
+    #[test]
+    fn simple_model_mirrors_normal_velocity() {
+        let p = Params::default();
+        let (v, _) = bounce(
+            DVec2::new(0.5, -1.0),
+            DVec3::ZERO,
+            DVec2::Y,
+            CushionModel::Simple,
+            &p,
+        );
+        assert!((v.y - p.e_cushion).abs() < 1e-15);
+        assert_eq!(v.x, 0.5);
+    }
+}

@@ -1,0 +1,680 @@
+//! The event loop: from one event to the next, exactly.
+//!
+//! Every ball carries its current [`Piece`] (closed-form motion since its last change). The
+//! loop keeps, for each ball, its next *own* event (state change, rail, jaw, pocket) and, for
+//! each pair, its next collision; it takes the earliest, resolves it, and re-predicts only
+//! what involves the balls that changed. Predictions never look past the end of either
+//! ball's piece (after that the ball changes and is re-predicted anyway), so distant pairs
+//! are dismissed by a reach bound without solving anything.
+//!
+//! Ties: own events come before collisions at the same instant, lower ball index first.
+//! Collisions at the very same instant (bit-equal times) are resolved as one group: pairs
+//! that share a ball are resolved in every order and the results averaged, so the outcome
+//! does not depend on how the balls are numbered (a mirror-symmetric rack stays symmetric).
+
+use glam::{DVec2, DVec3};
+use thiserror::Error;
+
+use super::ball_ball::{self, Kinematics};
+use super::ball_cushion;
+use super::cue::{Strike, StrikeError};
+use super::event::{Event, EventKind};
+use super::motion::{BallState, MotionModel, MotionState, Piece};
+use super::params::{Effects, Models, Params};
+use super::table::{Cushion, Table, TableKind};
+
+/// A shot stops with an error past this many events: a safety net that no real shot nears
+/// (a 15-ball break takes a few hundred).
+pub const MAX_EVENTS: usize = 100_000;
+/// Approach speed (m/s) under which a contact that is being pushed together (by friction
+/// accelerations, not by speed) is held instead of bounced: bouncing would repeat forever
+/// in ever shorter hops.
+pub const HOLD_SPEED: f64 = 1e-3;
+/// Balls in a simultaneous group above which orders are not averaged (sequential by index).
+const MAX_AVERAGED_GROUP: usize = 4;
+
+/// Everything that defines a shot.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shot {
+    pub table: TableKind,
+    pub params: Params,
+    pub models: Models,
+    pub effects: Effects,
+    /// Stop at this time even if balls still move.
+    pub horizon: Option<f64>,
+    /// Balls in scene coordinates (origin at a corner of the playing surface).
+    pub balls: Vec<BallState>,
+    /// A cue strike at t = 0 on one ball.
+    pub strike: Option<(usize, Strike)>,
+}
+
+/// Why a shot cannot be simulated. Ball numbers are indices into [`Shot::balls`].
+#[derive(Clone, Debug, Error, PartialEq)]
+pub enum ShotError {
+    #[error("{0}")]
+    Params(String),
+    #[error("ball {ball}: {field} must be finite numbers")]
+    NotFinite { ball: usize, field: &'static str },
+    #[error("balls {a} and {b} overlap")]
+    Overlap { a: usize, b: usize },
+    #[error("ball {ball} is not on the playing surface")]
+    OffTable { ball: usize },
+    #[error("horizon is required when slide_friction, roll_friction or spin_friction is off")]
+    HorizonRequired,
+    #[error("horizon must be a positive finite number of seconds")]
+    Horizon,
+    #[error("strike.ball names no ball on the table")]
+    StrikeBall,
+    #[error("{0}")]
+    Strike(#[from] StrikeError),
+    #[error("a shot has at most {max} balls", max = u16::MAX)]
+    TooManyBalls,
+    #[error("the shot exceeded {MAX_EVENTS} events")]
+    EventLimit,
+}
+
+/// The result of a simulated shot.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Outcome {
+    /// Every event in time order.
+    pub events: Vec<Event>,
+    /// Each ball's trajectory: its pieces in time order (engine coordinates).
+    pub history: Vec<Vec<Piece>>,
+    /// Each ball's state at `duration`, in scene coordinates.
+    pub finals: Vec<BallState>,
+    /// When each ball came to rest or was pocketed (None if still moving at the end).
+    pub rest_time: Vec<Option<f64>>,
+    /// When the last ball stopped, or the horizon.
+    pub duration: f64,
+    /// Engine-to-scene offset (half the table).
+    offset: DVec2,
+    radius: f64,
+}
+
+impl Outcome {
+    /// The state of `ball` at time `t` (clamped to the shot), in scene coordinates.
+    pub fn state_at(&self, ball: usize, t: f64) -> BallState {
+        let pieces = &self.history[ball];
+        let idx = pieces.partition_point(|p| p.t0 <= t).max(1) - 1;
+        let piece = &pieces[idx];
+        let t = t.max(piece.t0).min(piece.t_end);
+        let mut s = piece.state_at(t, self.radius);
+        s.pos += self.offset;
+        s
+    }
+
+    /// The state hash of the final table: every ball's exact bits.
+    pub fn hash(&self) -> u64 {
+        crate::hash::state_hash(&self.finals)
+    }
+
+    /// Total kinetic energy (translation and rotation) of all balls at time `t`.
+    pub fn kinetic_energy(&self, t: f64, params: &Params) -> f64 {
+        (0..self.history.len())
+            .map(|i| kinetic_energy(&self.state_at(i, t), params))
+            .sum()
+    }
+}
+
+/// Kinetic energy of one ball.
+pub fn kinetic_energy(s: &BallState, params: &Params) -> f64 {
+    0.5 * params.ball_mass * s.vel.length_squared()
+        + 0.5 * params.inertia() * s.spin.length_squared()
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum OwnKind {
+    Nothing,
+    Transition,
+    Rail(u8),
+    Jaw(u8),
+    Pocket(u8),
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Own {
+    t: f64,
+    kind: OwnKind,
+}
+
+const NO_OWN: Own = Own {
+    t: f64::INFINITY,
+    kind: OwnKind::Nothing,
+};
+
+/// Simulates shots, reusing its buffers so that steady-state simulation allocates nothing.
+#[derive(Default)]
+pub struct Simulator {
+    table: Option<Table>,
+    pieces: Vec<Piece>,
+    own: Vec<Own>,
+    pair: Vec<f64>,
+    group: Vec<(usize, usize)>,
+    outcome: Outcome,
+}
+
+/// Simulates one shot.
+pub fn simulate(shot: &Shot) -> Result<Outcome, ShotError> {
+    let mut sim = Simulator::default();
+    sim.run(shot)?;
+    Ok(sim.take())
+}
+
+struct Ctx<'a> {
+    table: &'a Table,
+    params: &'a Params,
+    models: Models,
+    effects: Effects,
+    motion: MotionModel,
+    contact: f64,
+    limit: f64,
+}
+
+impl Simulator {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The outcome of the last run, handing over its buffers.
+    pub fn take(&mut self) -> Outcome {
+        std::mem::take(&mut self.outcome)
+    }
+
+    /// Simulates `shot`; the outcome stays valid until the next run.
+    pub fn run(&mut self, shot: &Shot) -> Result<&Outcome, ShotError> {
+        if self.table.as_ref().map(|t| t.kind) != Some(shot.table) {
+            self.table = Some(Table::new(shot.table));
+        }
+        let table = self.table.take().unwrap_or_else(|| Table::new(shot.table));
+        let result = self.run_on(shot, &table);
+        self.table = Some(table);
+        result?;
+        Ok(&self.outcome)
+    }
+
+    fn run_on(&mut self, shot: &Shot, table: &Table) -> Result<(), ShotError> {
+        validate(shot, table)?;
+        let ctx = Ctx {
+            table,
+            params: &shot.params,
+            models: shot.models,
+            effects: shot.effects,
+            motion: MotionModel::new(&shot.params, &shot.effects),
+            contact: ball_cushion::contact_distance(&shot.params),
+            limit: shot.horizon.unwrap_or(f64::INFINITY),
+        };
+        let n = shot.balls.len();
+        let r = shot.params.ball_radius;
+        let out = &mut self.outcome;
+        out.events.clear();
+        out.history.resize_with(n, Vec::new);
+        out.history.iter_mut().for_each(Vec::clear);
+        out.finals.clear();
+        out.rest_time.clear();
+        out.offset = table.half;
+        out.radius = r;
+        self.pieces.clear();
+        for (i, ball) in shot.balls.iter().enumerate() {
+            let mut s = *ball;
+            s.pos = table.to_engine(s.pos);
+            if s.motion != MotionState::Pocketed {
+                s.pocket = None;
+                if let Some((struck, strike)) = shot.strike {
+                    if struck == i {
+                        let (v, w) = strike.ball_motion(&shot.params)?;
+                        s.vel = v;
+                        s.spin = w;
+                        out.events.push(Event {
+                            t: 0.0,
+                            kind: EventKind::Strike { ball: i as u16 },
+                        });
+                    }
+                }
+                s.classify(r);
+            }
+            let piece = Piece::new(0.0, s, &ctx.motion);
+            self.pieces.push(piece);
+            out.history[i].push(piece);
+            let at_rest = matches!(s.motion, MotionState::Stationary | MotionState::Pocketed);
+            out.rest_time.push(at_rest.then_some(0.0));
+        }
+        self.own.clear();
+        self.own.resize(n, NO_OWN);
+        self.pair.clear();
+        self.pair.resize(n * n, f64::INFINITY);
+        for i in 0..n {
+            self.predict_own(i, 0.0, &ctx);
+            for j in i + 1..n {
+                self.predict_pair(i, j, 0.0, &ctx);
+            }
+        }
+
+        let mut now = 0.0;
+        let mut stopped_by_horizon = false;
+        loop {
+            let (t, next) = self.earliest(n);
+            if t > ctx.limit {
+                stopped_by_horizon = ctx.limit.is_finite();
+                break;
+            }
+            if !t.is_finite() {
+                break;
+            }
+            if self.outcome.events.len() >= MAX_EVENTS {
+                return Err(ShotError::EventLimit);
+            }
+            now = t;
+            match next {
+                Next::Own(i) => self.resolve_own(i, t, &ctx),
+                Next::Pair => self.resolve_group(t, n, &ctx),
+            }
+        }
+        let moving = self.pieces.iter().any(|p| {
+            !matches!(
+                p.start.motion,
+                MotionState::Stationary | MotionState::Pocketed
+            )
+        });
+        let end = if stopped_by_horizon || (moving && ctx.limit.is_finite()) {
+            ctx.limit
+        } else {
+            now
+        };
+        let out = &mut self.outcome;
+        out.duration = end;
+        for p in &self.pieces {
+            let mut s = p.state_at(end.min(p.t_end), r);
+            s.pos = table.to_scene(s.pos);
+            out.finals.push(s);
+        }
+        Ok(())
+    }
+
+    fn earliest(&self, n: usize) -> (f64, Next) {
+        let mut best = f64::INFINITY;
+        let mut next = Next::Pair;
+        for (i, own) in self.own.iter().enumerate() {
+            if own.t < best {
+                best = own.t;
+                next = Next::Own(i);
+            }
+        }
+        for i in 0..n {
+            for &t in &self.pair[i * n + i + 1..(i + 1) * n] {
+                if t < best {
+                    best = t;
+                    next = Next::Pair;
+                }
+            }
+        }
+        (best, next)
+    }
+
+    /// Sets ball `i`'s next own event from `now`.
+    fn predict_own(&mut self, i: usize, now: f64, ctx: &Ctx) {
+        let piece = &self.pieces[i];
+        let mut best = Own {
+            t: piece.t_end,
+            kind: if piece.t_end.is_finite() {
+                OwnKind::Transition
+            } else {
+                OwnKind::Nothing
+            },
+        };
+        let until = piece.t_end.min(ctx.limit);
+        if piece.start.motion.is_translating() {
+            let mut consider = |t: Option<f64>, kind: OwnKind| {
+                if let Some(t) = t {
+                    if t < best.t || (t == best.t && best.kind == OwnKind::Transition) {
+                        best = Own { t, kind };
+                    }
+                }
+            };
+            if ctx.effects.pockets {
+                for (k, pocket) in ctx.table.pockets.iter().enumerate() {
+                    let t =
+                        ball_cushion::circle_time(piece, pocket.center, pocket.radius, now, until);
+                    consider(t, OwnKind::Pocket(k as u8));
+                }
+            }
+            if ctx.effects.cushions {
+                for (k, rail) in ctx.table.rails.iter().enumerate() {
+                    let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
+                    consider(t, OwnKind::Rail(k as u8));
+                }
+                for (k, jaw) in ctx.table.jaws.iter().enumerate() {
+                    let t = ball_cushion::jaw_time(piece, jaw, now, until, ctx.contact);
+                    consider(t, OwnKind::Jaw(k as u8));
+                }
+            }
+        }
+        self.own[i] = best;
+    }
+
+    /// Sets the next collision of balls `i < j` from `now`.
+    fn predict_pair(&mut self, i: usize, j: usize, now: f64, ctx: &Ctx) {
+        let (a, b) = (&self.pieces[i], &self.pieces[j]);
+        let n = self.own.len();
+        let t = if a.start.motion == MotionState::Pocketed || b.start.motion == MotionState::Pocketed
+        {
+            None
+        } else {
+            let until = a.t_end.min(b.t_end).min(ctx.limit);
+            ball_ball::collision_time(a, b, now, until, ctx.params.ball_radius)
+        };
+        self.pair[i * n + j] = t.unwrap_or(f64::INFINITY);
+    }
+
+    /// Ball `i` starts a new piece at `t` in state `s`: record it and re-predict.
+    fn restart(&mut self, i: usize, t: f64, s: BallState, ctx: &Ctx) {
+        let piece = Piece::new(t, s, &ctx.motion);
+        self.pieces[i] = piece;
+        self.outcome.history[i].push(piece);
+        self.outcome.rest_time[i] = match s.motion {
+            MotionState::Stationary | MotionState::Pocketed => Some(t),
+            _ => None,
+        };
+        self.predict_own(i, t, ctx);
+        let n = self.own.len();
+        for j in 0..n {
+            if j < i {
+                self.predict_pair(j, i, t, ctx);
+            } else if j > i {
+                self.predict_pair(i, j, t, ctx);
+            }
+        }
+    }
+
+    fn resolve_own(&mut self, i: usize, t: f64, ctx: &Ctx) {
+        let piece = self.pieces[i];
+        let r = ctx.params.ball_radius;
+        let ball = i as u16;
+        let (s, kind) = match self.own[i].kind {
+            OwnKind::Nothing => return,
+            OwnKind::Transition => {
+                let s = piece.state_after_end(r);
+                let kind = EventKind::Transition {
+                    ball,
+                    from: piece.start.motion,
+                    to: s.motion,
+                };
+                (s, kind)
+            }
+            OwnKind::Pocket(k) => {
+                let mut s = piece.state_at(t, r);
+                s.vel = DVec2::ZERO;
+                s.spin = DVec3::ZERO;
+                s.motion = MotionState::Pocketed;
+                s.pocket = Some(k);
+                (s, EventKind::BallPocket { ball, pocket: k })
+            }
+            OwnKind::Rail(k) => {
+                let normal = ctx.table.rails[k as usize].normal;
+                let s = self.bounce(&piece, t, normal, ctx);
+                (s, EventKind::BallCushion { ball, cushion: Cushion::Rail(k) })
+            }
+            OwnKind::Jaw(k) => {
+                let center = ctx.table.jaws[k as usize].center;
+                let normal = (piece.pos_at(t) - center).normalize_or_zero();
+                let s = self.bounce(&piece, t, normal, ctx);
+                (s, EventKind::BallCushion { ball, cushion: Cushion::Jaw(k) })
+            }
+        };
+        self.outcome.events.push(Event { t, kind });
+        self.restart(i, t, s, ctx);
+    }
+
+    fn bounce(&self, piece: &Piece, t: f64, normal: DVec2, ctx: &Ctx) -> BallState {
+        let r = ctx.params.ball_radius;
+        let mut s = piece.state_at(t, r);
+        let approach = -s.vel.dot(normal);
+        if approach < HOLD_SPEED && piece.acc.dot(normal) < 0.0 {
+            // Pressed against the cushion by friction: the cushion holds the ball, which
+            // keeps only its motion along the cushion.
+            s.vel -= normal * s.vel.dot(normal).min(0.0);
+            s.spin = without_normal_slip(s.vel, s.spin, normal, r);
+        } else {
+            let (v, w) = ball_cushion::bounce(s.vel, s.spin, normal, ctx.models.cushion, ctx.params);
+            s.vel = v;
+            s.spin = w;
+        }
+        s.classify(r);
+        s
+    }
+
+    /// Resolves every collision predicted for time `t`, as one group.
+    fn resolve_group(&mut self, t: f64, n: usize, ctx: &Ctx) {
+        self.group.clear();
+        for i in 0..n {
+            for j in i + 1..n {
+                if self.pair[i * n + j] == t {
+                    self.group.push((i, j));
+                }
+            }
+        }
+        let r = ctx.params.ball_radius;
+        // Work on a snapshot of the balls at t.
+        let mut involved: [usize; 64] = [0; 64];
+        let mut count = 0;
+        for &(i, j) in &self.group {
+            for b in [i, j] {
+                if !involved[..count].contains(&b) && count < involved.len() {
+                    involved[count] = b;
+                    count += 1;
+                }
+            }
+        }
+        let mut states = [BallState::at_rest(DVec2::ZERO); 64];
+        for k in 0..count {
+            states[k] = self.pieces[involved[k]].state_at(t, r);
+        }
+        let slot = |b: usize| involved[..count].iter().position(|&x| x == b).unwrap_or(0);
+        // Resolve each connected set of collisions.
+        let pairs: Vec<(usize, usize)> = self
+            .group
+            .iter()
+            .map(|&(i, j)| (slot(i), slot(j)))
+            .collect();
+        let mut done = vec![false; pairs.len()];
+        for start in 0..pairs.len() {
+            if done[start] {
+                continue;
+            }
+            let mut component = vec![start];
+            done[start] = true;
+            let mut k = 0;
+            while k < component.len() {
+                let (a, b) = pairs[component[k]];
+                for (m, &(c, d)) in pairs.iter().enumerate() {
+                    if !done[m] && (c == a || c == b || d == a || d == b) {
+                        done[m] = true;
+                        component.push(m);
+                    }
+                }
+                k += 1;
+            }
+            let list: Vec<(usize, usize)> = component.iter().map(|&m| pairs[m]).collect();
+            resolve_component(&list, &mut states[..count], ctx);
+        }
+        for &(i, j) in &self.group {
+            self.outcome.events.push(Event {
+                t,
+                kind: EventKind::BallBall {
+                    a: i as u16,
+                    b: j as u16,
+                },
+            });
+        }
+        for k in 0..count {
+            let mut s = states[k];
+            s.classify(r);
+            self.restart(involved[k], t, s, ctx);
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Next {
+    Own(usize),
+    Pair,
+}
+
+/// Resolves collisions that share balls at one instant: in every order when there are few
+/// (their average conserves momentum and, kinetic energy being convex, never adds energy),
+/// else in index order.
+fn resolve_component(pairs: &[(usize, usize)], states: &mut [BallState], ctx: &Ctx) {
+    if pairs.len() == 1 || pairs.len() > MAX_AVERAGED_GROUP {
+        for &(a, b) in pairs {
+            collide_pair(states, a, b, ctx);
+        }
+        return;
+    }
+    let snapshot: Vec<BallState> = states.to_vec();
+    let mut sum_v = vec![DVec2::ZERO; states.len()];
+    let mut sum_w = vec![DVec3::ZERO; states.len()];
+    let mut order: Vec<usize> = (0..pairs.len()).collect();
+    let mut orders = 0usize;
+    permute(&mut order, 0, &mut |ord| {
+        let mut trial = snapshot.clone();
+        for &k in ord {
+            let (a, b) = pairs[k];
+            collide_pair(&mut trial, a, b, ctx);
+        }
+        for (k, s) in trial.iter().enumerate() {
+            sum_v[k] += s.vel;
+            sum_w[k] += s.spin;
+        }
+        orders += 1;
+    });
+    let scale = 1.0 / orders as f64;
+    for (k, s) in states.iter_mut().enumerate() {
+        s.vel = sum_v[k] * scale;
+        s.spin = sum_w[k] * scale;
+    }
+}
+
+fn permute(items: &mut [usize], k: usize, visit: &mut impl FnMut(&[usize])) {
+    if k == items.len() {
+        visit(items);
+        return;
+    }
+    for i in k..items.len() {
+        items.swap(k, i);
+        permute(items, k + 1, visit);
+        items.swap(k, i);
+    }
+}
+
+fn collide_pair(states: &mut [BallState], a: usize, b: usize, ctx: &Ctx) {
+    let r = ctx.params.ball_radius;
+    let (sa, sb) = (states[a], states[b]);
+    let n = (sb.pos - sa.pos).normalize_or_zero();
+    let approach = (sa.vel - sb.vel).dot(n);
+    let accel = |s: &BallState| {
+        let mut c = *s;
+        c.classify(r);
+        Piece::new(0.0, c, &ctx.motion).acc
+    };
+    if approach < HOLD_SPEED && (accel(&sa) - accel(&sb)).dot(n) > 0.0 {
+        // Pushed together by friction rather than speed: the balls move on together along
+        // the line of centres (perfectly inelastic), each keeping only the slip across it.
+        let common = 0.5 * (sa.vel.dot(n) + sb.vel.dot(n));
+        for (idx, s) in [(a, sa), (b, sb)] {
+            let mut s2 = s;
+            s2.vel += n * (common - s.vel.dot(n));
+            s2.spin = without_normal_slip(s2.vel, s2.spin, n, r);
+            states[idx] = s2;
+        }
+        return;
+    }
+    let (ka, kb) = ball_ball::collide(
+        sa.pos,
+        sb.pos,
+        Kinematics {
+            vel: sa.vel,
+            spin: sa.spin,
+        },
+        Kinematics {
+            vel: sb.vel,
+            spin: sb.spin,
+        },
+        ctx.models.ball_ball,
+        ctx.effects.ball_friction,
+        ctx.params,
+    );
+    states[a].vel = ka.vel;
+    states[a].spin = ka.spin;
+    states[b].vel = kb.vel;
+    states[b].spin = kb.spin;
+}
+
+/// The spin that leaves the ball's cloth slip with no component along `n`, changing only the
+/// spin about the horizontal axis across `n`.
+fn without_normal_slip(vel: DVec2, spin: DVec3, n: DVec2, r: f64) -> DVec3 {
+    // slip·n = v·n − R·(ω·t) with t = (−n_y, n_x).
+    let t = DVec2::new(-n.y, n.x);
+    let current = spin.x * t.x + spin.y * t.y;
+    let target = vel.dot(n) / r;
+    let d = target - current;
+    DVec3::new(spin.x + d * t.x, spin.y + d * t.y, spin.z)
+}
+
+/// Checks a shot without simulating it.
+pub fn check(shot: &Shot) -> Result<(), ShotError> {
+    validate(shot, &Table::new(shot.table))
+}
+
+fn validate(shot: &Shot, table: &Table) -> Result<(), ShotError> {
+    shot.params.validate().map_err(ShotError::Params)?;
+    if shot.balls.len() > u16::MAX as usize {
+        return Err(ShotError::TooManyBalls);
+    }
+    if let Some(h) = shot.horizon {
+        if !h.is_finite() || h <= 0.0 {
+            return Err(ShotError::Horizon);
+        }
+    } else if !shot.effects.balls_come_to_rest() {
+        return Err(ShotError::HorizonRequired);
+    }
+    for (i, b) in shot.balls.iter().enumerate() {
+        if !b.pos.is_finite() {
+            return Err(ShotError::NotFinite { ball: i, field: "pos" });
+        }
+        if !b.vel.is_finite() {
+            return Err(ShotError::NotFinite { ball: i, field: "vel" });
+        }
+        if !b.spin.is_finite() {
+            return Err(ShotError::NotFinite { ball: i, field: "spin" });
+        }
+    }
+    if let Some((i, strike)) = shot.strike {
+        if i >= shot.balls.len() || shot.balls[i].motion == MotionState::Pocketed {
+            return Err(ShotError::StrikeBall);
+        }
+        strike.validated()?;
+    }
+    let r = shot.params.ball_radius;
+    let contact = ball_cushion::contact_distance(&shot.params);
+    let on_table: Vec<(usize, DVec2)> = shot
+        .balls
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| b.motion != MotionState::Pocketed)
+        .map(|(i, b)| (i, table.to_engine(b.pos)))
+        .collect();
+    for &(i, p) in &on_table {
+        if !table.fits(p, contact) {
+            return Err(ShotError::OffTable { ball: i });
+        }
+    }
+    // Touching is allowed; overlapping by more than rounding is not.
+    let min_dist = 2.0 * r * (1.0 - 1e-12);
+    for (k, &(i, p)) in on_table.iter().enumerate() {
+        for &(j, q) in &on_table[k + 1..] {
+            if (q - p).length() < min_dist {
+                return Err(ShotError::Overlap { a: i, b: j });
+            }
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,55 @@
+//! What happens during a shot, in time order.
+
+use serde::{Deserialize, Serialize};
+
+use super::motion::MotionState;
+use super::table::Cushion;
+
+/// One event of a simulated shot. Ball indices refer to the shot's ball list.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Event {
+    pub t: f64,
+    pub kind: EventKind,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum EventKind {
+    /// The cue struck this ball at t = 0.
+    Strike { ball: u16 },
+    /// Two balls collided (`a < b`).
+    BallBall { a: u16, b: u16 },
+    /// A ball bounced off a rail or a pocket jaw.
+    BallCushion { ball: u16, cushion: Cushion },
+    /// A ball fell into a pocket (index into the table's pockets).
+    BallPocket { ball: u16, pocket: u8 },
+    /// A ball's motion state changed by itself (friction).
+    Transition {
+        ball: u16,
+        from: MotionState,
+        to: MotionState,
+    },
+}
+
+impl EventKind {
+    /// The name the scene contract gives this kind of event.
+    pub fn name(&self) -> String {
+        match self {
+            EventKind::Strike { .. } => "strike".into(),
+            EventKind::BallBall { .. } => "ball_ball".into(),
+            EventKind::BallCushion { .. } => "ball_cushion".into(),
+            EventKind::BallPocket { .. } => "ball_pocket".into(),
+            EventKind::Transition { from, to, .. } => format!("{}_to_{}", from.name(), to.name()),
+        }
+    }
+
+    /// The balls involved, in order.
+    pub fn balls(&self) -> ([u16; 2], usize) {
+        match *self {
+            EventKind::Strike { ball }
+            | EventKind::BallCushion { ball, .. }
+            | EventKind::BallPocket { ball, .. }
+            | EventKind::Transition { ball, .. } => ([ball, 0], 1),
+            EventKind::BallBall { a, b } => ([a, b], 2),
+        }
+    }
+}

@@ -1,0 +1,19 @@
+//! The physics engine: closed-form motion between events, exact event times, and the
+//! collision models. Pure and deterministic (see docs/physics.md).
+
+pub mod ball_ball;
+pub mod ball_cushion;
+pub mod cue;
+pub mod engine;
+pub mod event;
+pub mod motion;
+pub mod params;
+pub mod roots;
+pub mod table;
+
+pub use cue::{Strike, StrikeError};
+pub use engine::{kinetic_energy, simulate, Outcome, Shot, ShotError, Simulator};
+pub use event::{Event, EventKind};
+pub use motion::{BallState, MotionState, Piece};
+pub use params::{BallBallModel, BallFriction, CushionModel, Effects, Models, Params};
+pub use table::{Cushion, Table, TableKind};

@@ -1,0 +1,232 @@
+//! Physical parameters, effect switches and model choices of one simulation.
+
+use serde::{Deserialize, Serialize};
+
+/// Ball–ball friction: a constant, or Alciatore's fit μ(v) = a + b·exp(−c·v) of the
+/// relative surface speed at the contact.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum BallFriction {
+    Constant(f64),
+    SpeedDependent { a: f64, b: f64, c: f64 },
+}
+
+impl BallFriction {
+    /// The friction coefficient at relative surface speed `v_rel` (m/s).
+    pub fn at(&self, v_rel: f64) -> f64 {
+        match *self {
+            BallFriction::Constant(mu) => mu,
+            BallFriction::SpeedDependent { a, b, c } => a + b * libm::exp(-c * v_rel),
+        }
+    }
+}
+
+/// Physical constants. The defaults are pooltool 0.6.0's, taken from the literature.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Params {
+    /// Ball radius R (m).
+    pub ball_radius: f64,
+    /// Ball mass m (kg).
+    pub ball_mass: f64,
+    /// Gravitational acceleration g (m/s²).
+    pub gravity: f64,
+    /// Ball–cloth sliding friction coefficient.
+    pub mu_slide: f64,
+    /// Rolling resistance: a rolling ball decelerates at `mu_roll·g`.
+    pub mu_roll: f64,
+    /// Spin friction length (m): spin about the vertical decays at 5·mu_spin·g/(2R).
+    pub mu_spin: f64,
+    /// Ball–ball coefficient of restitution.
+    pub e_ball: f64,
+    /// Ball–ball friction.
+    pub ball_friction: BallFriction,
+    /// Ball–cushion coefficient of restitution.
+    pub e_cushion: f64,
+    /// Ball–cushion friction coefficient.
+    pub f_cushion: f64,
+    /// Height of the cushion nose above the cloth (m).
+    pub cushion_height: f64,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            ball_radius: 0.028575,
+            ball_mass: 0.170097,
+            gravity: 9.81,
+            mu_slide: 0.2,
+            mu_roll: 0.01,
+            mu_spin: 0.0127,
+            e_ball: 0.95,
+            ball_friction: BallFriction::SpeedDependent {
+                a: 0.009951,
+                b: 0.108,
+                c: 1.088,
+            },
+            e_cushion: 0.85,
+            f_cushion: 0.2,
+            cushion_height: 0.036576,
+        }
+    }
+}
+
+impl Params {
+    /// Every parameter with its name, for validation and messages.
+    pub fn named_values(&self) -> Vec<(&'static str, f64)> {
+        let mut v = vec![
+            ("ball_radius", self.ball_radius),
+            ("ball_mass", self.ball_mass),
+            ("gravity", self.gravity),
+            ("mu_slide", self.mu_slide),
+            ("mu_roll", self.mu_roll),
+            ("mu_spin", self.mu_spin),
+            ("e_ball", self.e_ball),
+            ("e_cushion", self.e_cushion),
+            ("f_cushion", self.f_cushion),
+            ("cushion_height", self.cushion_height),
+        ];
+        match self.ball_friction {
+            BallFriction::Constant(mu) => v.push(("ball_friction", mu)),
+            BallFriction::SpeedDependent { a, b, c } => {
+                v.push(("ball_friction.a", a));
+                v.push(("ball_friction.b", b));
+                v.push(("ball_friction.c", c));
+            }
+        }
+        v
+    }
+
+    /// Checks that every parameter is finite and in its physical range.
+    pub fn validate(&self) -> Result<(), String> {
+        for (name, value) in self.named_values() {
+            if !value.is_finite() {
+                return Err(format!("physics.{name} must be a finite number"));
+            }
+            if value < 0.0 {
+                return Err(format!("physics.{name} must not be negative"));
+            }
+        }
+        let positive = [
+            ("ball_radius", self.ball_radius),
+            ("ball_mass", self.ball_mass),
+            ("gravity", self.gravity),
+        ];
+        for (name, value) in positive {
+            if value <= 0.0 {
+                return Err(format!("physics.{name} must be positive"));
+            }
+        }
+        if self.ball_radius > 1.0 {
+            return Err("physics.ball_radius must be at most 1 m".into());
+        }
+        for (name, value) in [("e_ball", self.e_ball), ("e_cushion", self.e_cushion)] {
+            if value > 1.0 {
+                return Err(format!("physics.{name} must be between 0 and 1"));
+            }
+        }
+        if self.cushion_height < self.ball_radius || self.cushion_height >= 2.0 * self.ball_radius {
+            return Err("physics.cushion_height must be between R and 2R".into());
+        }
+        Ok(())
+    }
+
+    /// Moment of inertia factor: I = 2/5·m·R² for a solid sphere.
+    pub fn inertia(&self) -> f64 {
+        0.4 * self.ball_mass * self.ball_radius * self.ball_radius
+    }
+
+    /// Angular deceleration of spin about the vertical (rad/s²).
+    pub fn spin_decel(&self) -> f64 {
+        5.0 * self.mu_spin * self.gravity / (2.0 * self.ball_radius)
+    }
+
+    /// Rolling resistance expressed as Heathcote's law F = k·W^(5/3)/R^(4/3)
+    /// (the founding paper's form): the `k` that gives the same force as `mu_roll`.
+    /// With W = m·g, F = mu_roll·W, so k = mu_roll·R^(4/3)/W^(2/3).
+    pub fn heathcote_k(&self) -> f64 {
+        let w = self.ball_mass * self.gravity;
+        self.mu_roll * libm::pow(self.ball_radius, 4.0 / 3.0) / libm::pow(w, 2.0 / 3.0)
+    }
+
+    /// The inverse of [`Params::heathcote_k`]: the `mu_roll` that Heathcote's `k` gives.
+    pub fn mu_roll_from_heathcote(&self, k: f64) -> f64 {
+        let w = self.ball_mass * self.gravity;
+        k * libm::pow(w, 2.0 / 3.0) / libm::pow(self.ball_radius, 4.0 / 3.0)
+    }
+}
+
+/// Switches for each effect. An effect that is off is not simulated and costs nothing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Effects {
+    pub slide_friction: bool,
+    pub roll_friction: bool,
+    pub spin_friction: bool,
+    pub ball_friction: bool,
+    pub cushions: bool,
+    pub pockets: bool,
+}
+
+impl Default for Effects {
+    fn default() -> Self {
+        Effects {
+            slide_friction: true,
+            roll_friction: true,
+            spin_friction: true,
+            ball_friction: true,
+            cushions: true,
+            pockets: true,
+        }
+    }
+}
+
+impl Effects {
+    /// Every effect off: balls keep their velocity until they meet something.
+    pub fn none() -> Self {
+        Effects {
+            slide_friction: false,
+            roll_friction: false,
+            spin_friction: false,
+            ball_friction: false,
+            cushions: false,
+            pockets: false,
+        }
+    }
+
+    /// True when every moving ball eventually stops by itself.
+    pub fn balls_come_to_rest(&self) -> bool {
+        self.slide_friction && self.roll_friction && self.spin_friction
+    }
+}
+
+/// Ball–ball collision model.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BallBallModel {
+    /// Frictionless, perfectly elastic, equal masses: the velocity components along the line
+    /// of centres are exchanged and nothing else changes (the founding paper's model).
+    Ideal,
+    /// Restitution `e_ball` and Coulomb friction between the balls (throw, spin transfer).
+    #[default]
+    Frictional,
+}
+
+/// Ball–cushion collision model.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CushionModel {
+    /// Han (2005): impulses at the cushion nose, with restitution and friction.
+    #[default]
+    Han2005,
+    /// Mirror reflection of the normal velocity scaled by `e_cushion`; spin unchanged.
+    Simple,
+}
+
+/// Model choices of one simulation.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Models {
+    pub ball_ball: BallBallModel,
+    pub cushion: CushionModel,
+}

@@ -1,0 +1,304 @@
+//! Event times as the first contact of a polynomial distance function.
+//!
+//! Every contact the engine detects (ball–ball, ball–rail, ball–jaw, ball–pocket) is the
+//! first time a polynomial `f(τ)` of degree ≤ 4 reaches zero *while decreasing*: `f` is a
+//! squared distance minus the squared contact distance (or a signed distance to a rail), so
+//! `f ≤ 0` means touching and `f' < 0` means approaching.
+//!
+//! The quartic is never solved in closed form (Ferrari's formulas lose all precision near
+//! double roots, the grazing hits that matter most). Instead the interval `[0, τ_max]` is
+//! split at the critical points of `f` — the roots of the cubic `f'`, which are found the
+//! same way from the roots of the quadratic `f''` (closed form, cancellation-free) — so that
+//! `f` is monotone on each piece. The pieces are walked in time order; the first decreasing
+//! piece on which `f` reaches zero holds the event, and a bracketed Newton iteration (which
+//! falls back to bisection whenever Newton leaves the bracket or stalls) finds it to the last
+//! bit. A bracket always contains the root, so no root is missed, whatever the
+//! conditioning; a double root (a graze) is a critical point where `f ≤ 0`, found exactly.
+//!
+//! Touching at `τ = 0` counts only when approaching: two frozen balls moving apart give no
+//! phantom collision, and two balls that have just collided (now separating) do not collide
+//! again.
+
+/// A polynomial `c[0] + c[1]·τ + … + c[4]·τ⁴`.
+pub type Poly = [f64; 5];
+
+#[inline]
+pub fn eval(c: &Poly, t: f64) -> f64 {
+    (((c[4] * t + c[3]) * t + c[2]) * t + c[1]) * t + c[0]
+}
+
+#[inline]
+fn eval_d(c: &Poly, t: f64) -> f64 {
+    ((4.0 * c[4] * t + 3.0 * c[3]) * t + 2.0 * c[2]) * t + c[1]
+}
+
+#[inline]
+fn eval_dd(c: &Poly, t: f64) -> f64 {
+    (12.0 * c[4] * t + 6.0 * c[3]) * t + 2.0 * c[2]
+}
+
+/// Up to two sorted real roots of `a·t² + b·t + c` inside the open interval (lo, hi).
+fn quadratic_roots_in(a: f64, b: f64, c: f64, lo: f64, hi: f64, out: &mut [f64; 4]) -> usize {
+    let mut n = 0;
+    let mut push = |r: f64, n: &mut usize| {
+        if r > lo && r < hi {
+            out[*n] = r;
+            *n += 1;
+        }
+    };
+    if a == 0.0 {
+        if b != 0.0 {
+            push(-c / b, &mut n);
+        }
+        return n;
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        // No real roots, or a double root within rounding: either way the derivative does
+        // not change sign there, so the function stays monotone across it.
+        return 0;
+    }
+    let sq = disc.sqrt();
+    let q = if b >= 0.0 {
+        -0.5 * (b + sq)
+    } else {
+        -0.5 * (b - sq)
+    };
+    let (mut r1, mut r2) = if q == 0.0 {
+        (0.0, 0.0)
+    } else {
+        (q / a, c / q)
+    };
+    if r1 > r2 {
+        std::mem::swap(&mut r1, &mut r2);
+    }
+    push(r1, &mut n);
+    if r2 != r1 {
+        push(r2, &mut n);
+    }
+    n
+}
+
+/// Finds the zero of a function monotone on `[lo, hi]` with `f(lo)` and `f(hi)` of opposite
+/// signs (or `f(hi) == 0`), by Newton steps kept inside a shrinking bracket. Returns the end of
+/// the final bracket on the side of `hi`, so that the sign there is the sign of `f(hi)`.
+fn bracketed_root(
+    f: impl Fn(f64) -> f64,
+    df: impl Fn(f64) -> f64,
+    mut lo: f64,
+    mut hi: f64,
+) -> f64 {
+    let f_lo = f(lo);
+    let lo_positive = f_lo > 0.0;
+    let mut x = 0.5 * (lo + hi);
+    // 200 halvings exceed any f64 interval; Newton usually needs fewer than ten steps.
+    for i in 0..200 {
+        let fx = f(x);
+        if fx == 0.0 {
+            return x;
+        }
+        if (fx > 0.0) == lo_positive {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        // Every other step is a bisection so that slow Newton convergence (at a double root)
+        // still halves the bracket.
+        let d = df(x);
+        let newton = x - fx / d;
+        x = if i % 2 == 0 && d != 0.0 && newton > lo && newton < hi {
+            newton
+        } else {
+            mid
+        };
+    }
+    hi
+}
+
+/// Critical points of `c` (roots of its derivative) inside (lo, hi), sorted.
+fn critical_points(c: &Poly, lo: f64, hi: f64, out: &mut [f64; 4]) -> usize {
+    // Roots of f'' split [lo, hi] into pieces on which f' is monotone.
+    let mut inflections = [0.0; 4];
+    let ni = quadratic_roots_in(12.0 * c[4], 6.0 * c[3], 2.0 * c[2], lo, hi, &mut inflections);
+    if c[4] == 0.0 && c[3] == 0.0 {
+        // f' is linear (or constant): at most one root.
+        return quadratic_roots_in(0.0, 2.0 * c[2], c[1], lo, hi, out);
+    }
+    let mut n = 0;
+    let mut a = lo;
+    let mut da = eval_d(c, a);
+    for k in 0..=ni {
+        let b = if k < ni { inflections[k] } else { hi };
+        let db = eval_d(c, b);
+        if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
+            out[n] = bracketed_root(|t| eval_d(c, t), |t| eval_dd(c, t), a, b);
+            n += 1;
+        } else if db == 0.0 && k < ni {
+            out[n] = b;
+            n += 1;
+        }
+        a = b;
+        da = db;
+    }
+    n
+}
+
+/// How fast `f` must fall at τ = 0 for objects already touching to count as approaching:
+/// `speed` bounds `−f'(0)`, and `accel` bounds `−f''(0)` when `f'(0)` is about zero. Below
+/// these (rounding noise after a collision, or a push slower than any effect on the result)
+/// touching objects are left alone instead of colliding again and again at the same instant.
+#[derive(Clone, Copy, Debug)]
+pub struct Touch {
+    pub speed: f64,
+    pub accel: f64,
+}
+
+/// Approach speed (m/s) below which touching objects are not colliding: far below rounding
+/// of any real speed, far above rounding noise of a zero one.
+pub const TOUCH_SPEED: f64 = 1e-11;
+/// Approach acceleration (m/s²) below which touching objects are not pushing into each other.
+pub const TOUCH_ACCEL: f64 = 1e-11;
+
+impl Touch {
+    /// For `f` a squared distance minus `distance²`.
+    pub fn squared(distance: f64) -> Touch {
+        Touch {
+            speed: 2.0 * distance * TOUCH_SPEED,
+            accel: 2.0 * distance * TOUCH_ACCEL,
+        }
+    }
+
+    /// For `f` a signed distance.
+    pub fn linear() -> Touch {
+        Touch {
+            speed: TOUCH_SPEED,
+            accel: TOUCH_ACCEL,
+        }
+    }
+}
+
+/// The first time in `[0, t_max]` at which `f` is at or below zero while decreasing: the
+/// moment of contact. `None` if there is none (or `t_max` is not positive).
+pub fn first_contact(c: &Poly, t_max: f64, touch: Touch) -> Option<f64> {
+    if !(t_max > 0.0) {
+        return None;
+    }
+    if c[0] <= 0.0 {
+        let d0 = c[1];
+        if d0 < -touch.speed || (d0 <= touch.speed && 2.0 * c[2] < -touch.accel) {
+            return Some(0.0);
+        }
+    }
+    let mut crit = [0.0; 4];
+    let n = critical_points(c, 0.0, t_max, &mut crit);
+    let mut a = 0.0;
+    let mut fa = c[0];
+    for k in 0..=n {
+        let b = if k < n { crit[k] } else { t_max };
+        let fb = eval(c, b);
+        // On [a, b] f is monotone; it decreases when f' < 0 inside.
+        let decreasing = eval_d(c, 0.5 * (a + b)) < 0.0 || (fb < fa);
+        if decreasing {
+            if fa <= 0.0 {
+                if a == 0.0 {
+                    // Touching at the start without approaching (judged above): a contact
+                    // only if `f` rises above zero and falls back, on a later stretch.
+                    a = b;
+                    fa = fb;
+                    continue;
+                }
+                return Some(a);
+            }
+            if fb <= 0.0 {
+                return Some(bracketed_root(|t| eval(c, t), |t| eval_d(c, t), a, b));
+            }
+        }
+        a = b;
+        fa = fb;
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const TOUCH: Touch = Touch { speed: 1e-15, accel: 1e-12 };
+
+    fn first_contact(c: &Poly, t_max: f64) -> Option<f64> {
+        super::first_contact(c, t_max, TOUCH)
+    }
+
+    fn from_roots(roots: &[f64], scale: f64) -> Poly {
+        // Expand scale·Π(t − r).
+        let mut c = [0.0; 5];
+        c[0] = scale;
+        for &r in roots {
+            let mut next = [0.0; 5];
+            for i in 0..5 {
+                if i + 1 < 5 {
+                    next[i + 1] += c[i];
+                }
+                next[i] -= r * c[i];
+            }
+            c = next;
+        }
+        c
+    }
+
+    #[test]
+    fn finds_first_downward_crossing_of_quartic() {
+        // Positive before 0.3, negative between 0.3 and 0.5, positive again, ...
+        let c = from_roots(&[0.3, 0.5, 0.9, 1.4], 1.0);
+        let t = first_contact(&c, 2.0).expect("root");
+        assert!((t - 0.3).abs() < 1e-15, "{t}");
+    }
+
+    #[test]
+    fn ignores_upward_crossing() {
+        // Negative at 0 and rising: separating overlap, then it stays positive until 2.
+        let c = from_roots(&[-0.1, 0.2, 2.0, 3.0], 1.0);
+        assert!(eval(&c, 0.0) < 0.0);
+        let t = first_contact(&c, 2.5).expect("root at 2");
+        assert!((t - 2.0).abs() < 1e-12, "{t}");
+    }
+
+    #[test]
+    fn touching_and_separating_is_not_contact() {
+        // f(0) = 0 and increasing.
+        let c = [0.0, 1.0, 1.0, 0.0, 0.0];
+        assert_eq!(first_contact(&c, 10.0), None);
+    }
+
+    #[test]
+    fn touching_and_approaching_is_contact_now() {
+        let c = [0.0, -1.0, 1.0, 0.0, 0.0];
+        assert_eq!(first_contact(&c, 10.0), Some(0.0));
+    }
+
+    #[test]
+    fn double_root_graze_is_found() {
+        // (t − 0.7)² · (t + 1)(t + 2): touches zero at 0.7 without crossing.
+        let c = from_roots(&[0.7, 0.7, -1.0, -2.0], 1.0);
+        let t = first_contact(&c, 2.0).expect("graze");
+        assert!((t - 0.7).abs() < 1e-7, "{t}");
+    }
+
+    #[test]
+    fn near_miss_is_not_contact() {
+        let mut c = from_roots(&[0.7, 0.7, -1.0, -2.0], 1.0);
+        c[0] += 1e-12;
+        assert_eq!(first_contact(&c, 2.0), None);
+    }
+
+    #[test]
+    fn respects_horizon() {
+        let c = from_roots(&[1.5, 2.5], 1.0);
+        assert_eq!(first_contact(&c, 1.0), None);
+        assert!(first_contact(&c, 2.0).is_some());
+    }
+}

@@ -1,0 +1,261 @@
+//! Table geometry: cushion noses (straight rails and the rounded jaws at the pockets) and the
+//! pocket capture circles.
+//!
+//! The engine works in coordinates centred on the table (`x` from −W/2 to W/2, `y` from −L/2
+//! to L/2) so that a mirror image of a shot (x → −x) is an exact negation in floating point and
+//! a mirror-symmetric break stays symmetric to the last bit; scenes and results use the
+//! contract's frame with the origin at a corner, and [`Table::to_engine`] /
+//! [`Table::to_scene`] convert.
+//!
+//! Pocket layout (all six are the same shape as their mirror images):
+//! - a rail ends `CORNER_MOUTH/√2` from the corner along each side of a corner pocket, and
+//!   `SIDE_MOUTH/2` either side of the middle of a long side;
+//! - at each rail end a jaw, a circle tangent to the nose line at the rail's end and lying
+//!   behind it, rounds the nose into the pocket;
+//! - a ball falls when its centre enters the pocket's capture circle.
+
+use glam::DVec2;
+use serde::{Deserialize, Serialize};
+
+/// Corner pocket mouth, measured across between the two cushion noses (m).
+pub const CORNER_MOUTH: f64 = 0.116;
+/// Side pocket mouth along the rail (m).
+pub const SIDE_MOUTH: f64 = 0.137;
+/// Radius of the rounded nose at a corner pocket's jaws (m).
+pub const CORNER_JAW_RADIUS: f64 = 0.0209;
+/// Radius of the rounded nose at a side pocket's jaws (m).
+pub const SIDE_JAW_RADIUS: f64 = 0.008;
+/// Capture circle of a corner pocket: radius, and how far its centre lies outside the corner
+/// along each axis (m).
+pub const CORNER_POCKET_RADIUS: f64 = 0.062;
+pub const CORNER_POCKET_OFFSET: f64 = 0.02;
+/// Capture circle of a side pocket: radius, and how far its centre lies behind the nose line.
+pub const SIDE_POCKET_RADIUS: f64 = 0.0645;
+pub const SIDE_POCKET_OFFSET: f64 = 0.05;
+
+/// The tables a scene can name.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum TableKind {
+    /// Unbounded cloth: no cushions, no pockets.
+    #[serde(rename = "open")]
+    Open,
+    #[serde(rename = "7ft")]
+    SevenFoot,
+    #[serde(rename = "8ft")]
+    EightFoot,
+    #[default]
+    #[serde(rename = "9ft")]
+    NineFoot,
+}
+
+impl TableKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            TableKind::Open => "open",
+            TableKind::SevenFoot => "7ft",
+            TableKind::EightFoot => "8ft",
+            TableKind::NineFoot => "9ft",
+        }
+    }
+
+    /// Playing surface (width across, length along) between the cushion noses, in metres.
+    pub fn size(self) -> Option<(f64, f64)> {
+        match self {
+            TableKind::Open => None,
+            TableKind::SevenFoot => Some((0.9906, 1.9812)),
+            TableKind::EightFoot => Some((1.1176, 2.2352)),
+            TableKind::NineFoot => Some((1.27, 2.54)),
+        }
+    }
+}
+
+/// A straight cushion nose from `a` to `b`; `normal` points into the playing area.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rail {
+    pub a: DVec2,
+    pub b: DVec2,
+    pub normal: DVec2,
+}
+
+/// A rounded cushion nose (a pocket jaw): a vertical cylinder of `radius` about `center`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Jaw {
+    pub center: DVec2,
+    pub radius: f64,
+}
+
+/// A pocket: a ball whose centre comes within `radius` of `center` falls.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pocket {
+    pub name: &'static str,
+    pub center: DVec2,
+    pub radius: f64,
+}
+
+/// A table in engine coordinates (centred).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Table {
+    pub kind: TableKind,
+    /// Half the width and half the length of the playing surface (0 for the open table).
+    pub half: DVec2,
+    pub rails: Vec<Rail>,
+    pub jaws: Vec<Jaw>,
+    pub pockets: Vec<Pocket>,
+}
+
+/// Which cushion a ball touched.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub enum Cushion {
+    Rail(u8),
+    Jaw(u8),
+}
+
+impl Table {
+    pub fn new(kind: TableKind) -> Table {
+        let Some((width, length)) = kind.size() else {
+            return Table {
+                kind,
+                half: DVec2::ZERO,
+                rails: Vec::new(),
+                jaws: Vec::new(),
+                pockets: Vec::new(),
+            };
+        };
+        let hw = 0.5 * width;
+        let hl = 0.5 * length;
+        let c = CORNER_MOUTH / std::f64::consts::SQRT_2;
+        let s = 0.5 * SIDE_MOUTH;
+        let rail = |a: DVec2, b: DVec2, normal: DVec2| Rail { a, b, normal };
+        let rails = vec![
+            rail(DVec2::new(-hw + c, -hl), DVec2::new(hw - c, -hl), DVec2::Y),
+            rail(DVec2::new(-hw + c, hl), DVec2::new(hw - c, hl), -DVec2::Y),
+            rail(DVec2::new(-hw, -hl + c), DVec2::new(-hw, -s), DVec2::X),
+            rail(DVec2::new(-hw, s), DVec2::new(-hw, hl - c), DVec2::X),
+            rail(DVec2::new(hw, -hl + c), DVec2::new(hw, -s), -DVec2::X),
+            rail(DVec2::new(hw, s), DVec2::new(hw, hl - c), -DVec2::X),
+        ];
+        let mut jaws = Vec::with_capacity(12);
+        for r in &rails {
+            for end in [r.a, r.b] {
+                let at_side = end.y.abs() < 0.5 * hl;
+                let radius = if at_side && r.normal.y == 0.0 {
+                    SIDE_JAW_RADIUS
+                } else {
+                    CORNER_JAW_RADIUS
+                };
+                jaws.push(Jaw {
+                    center: end - r.normal * radius,
+                    radius,
+                });
+            }
+        }
+        let k = CORNER_POCKET_OFFSET;
+        let corner = |name, x: f64, y: f64| Pocket {
+            name,
+            center: DVec2::new(x + k * x.signum(), y + k * y.signum()),
+            radius: CORNER_POCKET_RADIUS,
+        };
+        let side = |name, x: f64| Pocket {
+            name,
+            center: DVec2::new(x + SIDE_POCKET_OFFSET * x.signum(), 0.0),
+            radius: SIDE_POCKET_RADIUS,
+        };
+        let pockets = vec![
+            corner("lb", -hw, -hl),
+            side("lc", -hw),
+            corner("lt", -hw, hl),
+            corner("rb", hw, -hl),
+            side("rc", hw),
+            corner("rt", hw, hl),
+        ];
+        Table {
+            kind,
+            half: DVec2::new(hw, hl),
+            rails,
+            jaws,
+            pockets,
+        }
+    }
+
+    pub fn has_cushions(&self) -> bool {
+        !self.rails.is_empty()
+    }
+
+    /// Scene (corner-origin) coordinates to engine (centred) coordinates.
+    pub fn to_engine(&self, p: DVec2) -> DVec2 {
+        p - self.half
+    }
+
+    /// Engine coordinates back to scene coordinates.
+    pub fn to_scene(&self, p: DVec2) -> DVec2 {
+        p + self.half
+    }
+
+    /// Index of the pocket called `name`.
+    pub fn pocket_index(&self, name: &str) -> Option<u8> {
+        self.pockets
+            .iter()
+            .position(|p| p.name == name)
+            .map(|i| i as u8)
+    }
+
+    /// Is a ball of `radius` centred at `p` (engine coordinates) on the playing surface and
+    /// clear of every cushion? (`contact` is the horizontal distance at which the ball touches a
+    /// cushion nose.)
+    pub fn fits(&self, p: DVec2, contact: f64) -> bool {
+        if !self.has_cushions() {
+            return true;
+        }
+        let eps = 1e-9;
+        if p.x.abs() > self.half.x - contact + eps || p.y.abs() > self.half.y - contact + eps {
+            return false;
+        }
+        self.jaws
+            .iter()
+            .all(|j| (p - j.center).length() >= j.radius + contact - eps)
+            && self
+                .pockets
+                .iter()
+                .all(|pk| (p - pk.center).length() > pk.radius)
+    }
+
+    /// Names of the six pockets in index order.
+    pub fn pocket_names(&self) -> Vec<&'static str> {
+        self.pockets.iter().map(|p| p.name).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pocket_table_is_mirror_symmetric() {
+        let t = Table::new(TableKind::NineFoot);
+        let mirror = |p: DVec2| DVec2::new(-p.x, p.y);
+        for r in &t.rails {
+            assert!(t
+                .rails
+                .iter()
+                .any(|q| {
+                    let ends = (q.a == mirror(r.a) && q.b == mirror(r.b))
+                        || (q.a == mirror(r.b) && q.b == mirror(r.a));
+                    ends && q.normal == mirror(r.normal)
+                }));
+        }
+        for j in &t.jaws {
+            assert!(t.jaws.iter().any(|k| k.center == mirror(j.center) && k.radius == j.radius));
+        }
+        for p in &t.pockets {
+            assert!(t.pockets.iter().any(|q| q.center == mirror(p.center)));
+        }
+        assert_eq!(t.jaws.len(), 12);
+    }
+
+    #[test]
+    fn open_table_has_nothing() {
+        let t = Table::new(TableKind::Open);
+        assert!(t.rails.is_empty() && t.jaws.is_empty() && t.pockets.is_empty());
+        assert!(t.fits(DVec2::new(1e6, -1e6), 0.028));
+    }
+}

@@ -1,0 +1,297 @@
+//! Scene files (the contract in docs/scene.md): a table, parameters, balls and an optional
+//! strike, in JSON; and the JSON result of simulating one.
+
+use glam::{DVec2, DVec3};
+use serde::{Deserialize, Serialize};
+
+use crate::hash::hash_hex;
+use crate::physics::{
+    BallState, Effects, Models, MotionState, Outcome, Params, Shot, ShotError, Strike, TableKind,
+};
+
+/// Version of the result format.
+pub const RESULT_VERSION: u32 = 1;
+/// Most samples `--sample` may ask for.
+pub const MAX_SAMPLES: usize = 1_000_000;
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    #[serde(default)]
+    pub table: TableKind,
+    #[serde(default)]
+    pub physics: Params,
+    #[serde(default)]
+    pub models: Models,
+    #[serde(default)]
+    pub effects: Effects,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub horizon: Option<f64>,
+    pub balls: Vec<SceneBall>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub strike: Option<SceneStrike>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneBall {
+    pub id: String,
+    pub pos: [f64; 2],
+    #[serde(default)]
+    pub vel: [f64; 2],
+    #[serde(default)]
+    pub spin: [f64; 3],
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneStrike {
+    pub ball: String,
+    pub speed: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dir: Option<[f64; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub angle_deg: Option<f64>,
+    #[serde(default)]
+    pub tip: [f64; 2],
+}
+
+/// A scene that cannot be simulated; the message names the field or balls at fault.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("invalid scene: {0}")]
+pub struct SceneError(pub String);
+
+impl Scene {
+    /// Parses a scene from JSON and checks it.
+    pub fn from_json(text: &str) -> Result<Scene, SceneError> {
+        let scene: Scene = serde_json::from_str(text).map_err(|e| SceneError(e.to_string()))?;
+        scene.to_shot()?;
+        Ok(scene)
+    }
+
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// The engine's view of the scene, with every check done.
+    pub fn to_shot(&self) -> Result<Shot, SceneError> {
+        let mut ids: Vec<&str> = Vec::with_capacity(self.balls.len());
+        for (k, b) in self.balls.iter().enumerate() {
+            if b.id.is_empty() {
+                return Err(SceneError(format!("balls[{k}].id must not be empty")));
+            }
+            if ids.contains(&b.id.as_str()) {
+                return Err(SceneError(format!("balls: duplicate id \"{}\"", b.id)));
+            }
+            ids.push(&b.id);
+        }
+        let balls = self
+            .balls
+            .iter()
+            .map(|b| BallState {
+                pos: DVec2::from_array(b.pos),
+                vel: DVec2::from_array(b.vel),
+                spin: DVec3::from_array(b.spin),
+                motion: MotionState::Stationary,
+                pocket: None,
+            })
+            .collect();
+        let strike = match &self.strike {
+            None => None,
+            Some(s) => {
+                let Some(idx) = ids.iter().position(|id| *id == s.ball) else {
+                    return Err(SceneError(format!(
+                        "strike.ball \"{}\" names no ball in the scene",
+                        s.ball
+                    )));
+                };
+                let tip = DVec2::from_array(s.tip);
+                let strike = match (s.dir, s.angle_deg) {
+                    (Some(dir), None) => Strike {
+                        speed: s.speed,
+                        dir: DVec2::from_array(dir),
+                        tip,
+                    },
+                    (None, Some(angle)) if angle.is_finite() => {
+                        Strike::at_angle(s.speed, angle, tip)
+                    }
+                    (None, Some(_)) => {
+                        return Err(SceneError("strike.angle_deg must be a finite number".into()))
+                    }
+                    _ => {
+                        return Err(SceneError(
+                            "strike needs exactly one of dir and angle_deg".into(),
+                        ))
+                    }
+                };
+                Some((idx, strike))
+            }
+        };
+        let shot = Shot {
+            table: self.table,
+            params: self.physics,
+            models: self.models,
+            effects: self.effects,
+            horizon: self.horizon,
+            balls,
+            strike,
+        };
+        crate::physics::engine::check(&shot).map_err(|e| self.explain(e))?;
+        Ok(shot)
+    }
+
+    /// Turns an engine error into a message that names the scene's fields and ball ids.
+    pub fn explain(&self, e: ShotError) -> SceneError {
+        let id = |i: usize| self.balls.get(i).map_or("?", |b| b.id.as_str());
+        SceneError(match e {
+            ShotError::NotFinite { ball, field } => {
+                format!("balls[{ball}].{field} (ball \"{}\") must be finite numbers", id(ball))
+            }
+            ShotError::Overlap { a, b } => {
+                format!("balls \"{}\" and \"{}\" overlap", id(a), id(b))
+            }
+            ShotError::OffTable { ball } => format!(
+                "balls[{ball}].pos: ball \"{}\" is not on the {} table's playing surface",
+                id(ball),
+                self.table.name()
+            ),
+            ShotError::Params(msg) => msg,
+            other => other.to_string(),
+        })
+    }
+
+    /// Simulates the scene and builds its result (with samples every `sample` seconds).
+    pub fn run(&self, sample: Option<f64>) -> Result<SceneResult, SceneError> {
+        let shot = self.to_shot()?;
+        if let Some(dt) = sample {
+            if !dt.is_finite() || dt <= 0.0 {
+                return Err(SceneError("--sample must be a positive number of seconds".into()));
+            }
+        }
+        let outcome = crate::physics::simulate(&shot).map_err(|e| self.explain(e))?;
+        self.result(&shot, &outcome, sample)
+    }
+
+    /// The result of a simulated scene in the contract's format.
+    pub fn result(
+        &self,
+        shot: &Shot,
+        outcome: &Outcome,
+        sample: Option<f64>,
+    ) -> Result<SceneResult, SceneError> {
+        let names = crate::physics::Table::new(shot.table).pocket_names();
+        let id = |i: u16| self.balls[i as usize].id.clone();
+        let events = outcome
+            .events
+            .iter()
+            .map(|e| {
+                let (balls, count) = e.kind.balls();
+                ResultEvent {
+                    t: e.t,
+                    kind: e.kind.name(),
+                    balls: balls[..count].iter().map(|&b| id(b)).collect(),
+                }
+            })
+            .collect();
+        let balls = outcome
+            .finals
+            .iter()
+            .enumerate()
+            .map(|(i, s)| ResultBall {
+                id: self.balls[i].id.clone(),
+                pos: s.pos.to_array(),
+                vel: s.vel.to_array(),
+                spin: s.spin.to_array(),
+                state: s.motion.name().to_string(),
+                rest_time: outcome.rest_time[i],
+                pocket: s.pocket.and_then(|p| names.get(p as usize)).map(|n| n.to_string()),
+            })
+            .collect();
+        let samples = match sample {
+            None => None,
+            Some(dt) => {
+                let count = (outcome.duration / dt).floor();
+                if !(count < MAX_SAMPLES as f64) {
+                    return Err(SceneError(format!(
+                        "--sample {dt} asks for more than {MAX_SAMPLES} samples"
+                    )));
+                }
+                let count = count as usize;
+                Some(
+                    (0..=count)
+                        .map(|k| {
+                            let t = k as f64 * dt;
+                            Sample {
+                                t,
+                                balls: (0..outcome.history.len())
+                                    .map(|i| {
+                                        let s = outcome.state_at(i, t);
+                                        SampleBall {
+                                            id: self.balls[i].id.clone(),
+                                            pos: s.pos.to_array(),
+                                            vel: s.vel.to_array(),
+                                            spin: s.spin.to_array(),
+                                            state: s.motion.name().to_string(),
+                                        }
+                                    })
+                                    .collect(),
+                            }
+                        })
+                        .collect(),
+                )
+            }
+        };
+        Ok(SceneResult {
+            version: RESULT_VERSION,
+            events,
+            balls,
+            duration: outcome.duration,
+            hash: hash_hex(outcome.hash()),
+            samples,
+        })
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SceneResult {
+    pub version: u32,
+    pub events: Vec<ResultEvent>,
+    pub balls: Vec<ResultBall>,
+    pub duration: f64,
+    pub hash: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub samples: Option<Vec<Sample>>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ResultEvent {
+    pub t: f64,
+    pub kind: String,
+    pub balls: Vec<String>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ResultBall {
+    pub id: String,
+    pub pos: [f64; 2],
+    pub vel: [f64; 2],
+    pub spin: [f64; 3],
+    pub state: String,
+    pub rest_time: Option<f64>,
+    pub pocket: Option<String>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Sample {
+    pub t: f64,
+    pub balls: Vec<SampleBall>,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SampleBall {
+    pub id: String,
+    pub pos: [f64; 2],
+    pub vel: [f64; 2],
+    pub spin: [f64; 3],
+    pub state: String,
+}

@@ -1,0 +1,133 @@
+//! `breakshot-sim`: simulate scene files (docs/scene.md) from the command line.
+
+use std::io::Read;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use anyhow::Context;
+use breakshot_shared::physics::Simulator;
+use breakshot_shared::scene::Scene;
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(name = "breakshot-sim", version, about = "Simulate Breakshot scenes")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Simulate a scene and print the result as JSON.
+    Run {
+        /// Scene file, or - for standard input.
+        scene: String,
+        /// Also print every ball's state every DT seconds.
+        #[arg(long, value_name = "DT")]
+        sample: Option<f64>,
+    },
+    /// Time the simulation of a scene and print the timing as JSON.
+    Bench {
+        /// Scene file, or - for standard input.
+        scene: String,
+        /// How many timed runs.
+        #[arg(long, default_value_t = 1000)]
+        runs: usize,
+    },
+}
+
+/// Exit code for a scene or argument that is not valid (the contract's).
+const INVALID: u8 = 2;
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli.command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Invalid(msg)) => {
+            eprintln!("{msg}");
+            ExitCode::from(INVALID)
+        }
+        Err(Failure::Other(e)) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+enum Failure {
+    Invalid(String),
+    Other(anyhow::Error),
+}
+
+impl From<anyhow::Error> for Failure {
+    fn from(e: anyhow::Error) -> Self {
+        Failure::Other(e)
+    }
+}
+
+fn load(path: &str) -> Result<Scene, Failure> {
+    let mut text = String::new();
+    if path == "-" {
+        std::io::stdin()
+            .read_to_string(&mut text)
+            .context("reading the scene from standard input")?;
+    } else {
+        text = std::fs::read_to_string(path).with_context(|| format!("reading {path}"))?;
+    }
+    Scene::from_json(&text).map_err(|e| Failure::Invalid(one_line(&e.to_string())))
+}
+
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+fn run(command: Command) -> Result<(), Failure> {
+    match command {
+        Command::Run { scene, sample } => {
+            let scene = load(&scene)?;
+            let result = scene
+                .run(sample)
+                .map_err(|e| Failure::Invalid(one_line(&e.to_string())))?;
+            println!("{}", serde_json::to_string_pretty(&result).context("encoding")?);
+        }
+        Command::Bench { scene, runs } => {
+            if runs == 0 {
+                return Err(Failure::Invalid("--runs must be at least 1".into()));
+            }
+            let scene = load(&scene)?;
+            let shot = scene
+                .to_shot()
+                .map_err(|e| Failure::Invalid(one_line(&e.to_string())))?;
+            let mut sim = Simulator::new();
+            let events = sim
+                .run(&shot)
+                .map_err(|e| Failure::Invalid(one_line(&scene.explain(e).to_string())))?
+                .events
+                .len();
+            // Warm-up: caches, branch predictors and the simulator's buffers.
+            let warmup = (runs / 10).clamp(1, 100);
+            for _ in 0..warmup {
+                let _ = sim.run(&shot);
+            }
+            let mut times = Vec::with_capacity(runs);
+            for _ in 0..runs {
+                let start = Instant::now();
+                let out = sim.run(&shot);
+                let elapsed = start.elapsed();
+                std::hint::black_box(&out);
+                times.push(elapsed.as_secs_f64() * 1e6);
+            }
+            times.sort_by(f64::total_cmp);
+            let pick = |q: f64| times[((times.len() - 1) as f64 * q).round() as usize];
+            let report = serde_json::json!({
+                "runs": runs,
+                "events": events,
+                "median_us": pick(0.5),
+                "min_us": times[0],
+                "p90_us": pick(0.9),
+            });
+            println!("{report}");
+        }
+    }
+    Ok(())
+}
