@@ -8,7 +8,9 @@ pub fn state_hash(balls: &[BallState]) -> u64 {
     let mut h = Fnv::new();
     h.write(&(balls.len() as u64).to_le_bytes());
     for b in balls {
-        for x in [b.pos.x, b.pos.y, b.vel.x, b.vel.y, b.spin.x, b.spin.y, b.spin.z] {
+        for x in [
+            b.pos.x, b.pos.y, b.vel.x, b.vel.y, b.spin.x, b.spin.y, b.spin.z,
+        ] {
             let x = if x == 0.0 { 0.0 } else { x };
             h.write(&x.to_bits().to_le_bytes());
         }

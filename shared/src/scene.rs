@@ -116,7 +116,9 @@ impl Scene {
                         Strike::at_angle(s.speed, angle, tip)
                     }
                     (None, Some(_)) => {
-                        return Err(SceneError("strike.angle_deg must be a finite number".into()))
+                        return Err(SceneError(
+                            "strike.angle_deg must be a finite number".into(),
+                        ))
                     }
                     _ => {
                         return Err(SceneError(
@@ -145,7 +147,10 @@ impl Scene {
         let id = |i: usize| self.balls.get(i).map_or("?", |b| b.id.as_str());
         SceneError(match e {
             ShotError::NotFinite { ball, field } => {
-                format!("balls[{ball}].{field} (ball \"{}\") must be finite numbers", id(ball))
+                format!(
+                    "balls[{ball}].{field} (ball \"{}\") must be finite numbers",
+                    id(ball)
+                )
             }
             ShotError::Overlap { a, b } => {
                 format!("balls \"{}\" and \"{}\" overlap", id(a), id(b))
@@ -165,7 +170,9 @@ impl Scene {
         let shot = self.to_shot()?;
         if let Some(dt) = sample {
             if !dt.is_finite() || dt <= 0.0 {
-                return Err(SceneError("--sample must be a positive number of seconds".into()));
+                return Err(SceneError(
+                    "--sample must be a positive number of seconds".into(),
+                ));
             }
         }
         let outcome = crate::physics::simulate(&shot).map_err(|e| self.explain(e))?;
@@ -204,14 +211,17 @@ impl Scene {
                 spin: s.spin.to_array(),
                 state: s.motion.name().to_string(),
                 rest_time: outcome.rest_time[i],
-                pocket: s.pocket.and_then(|p| names.get(p as usize)).map(|n| n.to_string()),
+                pocket: s
+                    .pocket
+                    .and_then(|p| names.get(p as usize))
+                    .map(|n| n.to_string()),
             })
             .collect();
         let samples = match sample {
             None => None,
             Some(dt) => {
                 let count = (outcome.duration / dt).floor();
-                if !(count < MAX_SAMPLES as f64) {
+                if count.is_nan() || count >= MAX_SAMPLES as f64 {
                     return Err(SceneError(format!(
                         "--sample {dt} asks for more than {MAX_SAMPLES} samples"
                     )));

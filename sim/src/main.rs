@@ -88,7 +88,10 @@ fn run(command: Command) -> Result<(), Failure> {
             let result = scene
                 .run(sample)
                 .map_err(|e| Failure::Invalid(one_line(&e.to_string())))?;
-            println!("{}", serde_json::to_string_pretty(&result).context("encoding")?);
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&result).context("encoding")?
+            );
         }
         Command::Bench { scene, runs } => {
             if runs == 0 {

@@ -102,9 +102,8 @@ impl Strike {
         let spin = contact.cross(impulse) / params.inertia();
         // Squirt turns the ball's path away from the side struck.
         let one_minus = 1.0 - a * a;
-        let squirt = libm::atan(
-            2.5 * a * one_minus.sqrt() / (1.0 + 1.0 / END_MASS_RATIO + 2.5 * one_minus),
-        );
+        let squirt =
+            libm::atan(2.5 * a * one_minus.sqrt() / (1.0 + 1.0 / END_MASS_RATIO + 2.5 * one_minus));
         let (sn, cs) = (libm::sin(squirt), libm::cos(squirt));
         let heading = f * cs - side * sn;
         Ok((heading * speed, spin))
@@ -119,10 +118,26 @@ mod tests {
     fn miscue_and_bad_numbers_are_refused() {
         let p = Params::default();
         let bad = [
-            Strike { speed: f64::NAN, dir: DVec2::Y, tip: DVec2::ZERO },
-            Strike { speed: 1.0, dir: DVec2::ZERO, tip: DVec2::ZERO },
-            Strike { speed: 1.0, dir: DVec2::Y, tip: DVec2::new(0.4, 0.4) },
-            Strike { speed: 99.0, dir: DVec2::Y, tip: DVec2::ZERO },
+            Strike {
+                speed: f64::NAN,
+                dir: DVec2::Y,
+                tip: DVec2::ZERO,
+            },
+            Strike {
+                speed: 1.0,
+                dir: DVec2::ZERO,
+                tip: DVec2::ZERO,
+            },
+            Strike {
+                speed: 1.0,
+                dir: DVec2::Y,
+                tip: DVec2::new(0.4, 0.4),
+            },
+            Strike {
+                speed: 99.0,
+                dir: DVec2::Y,
+                tip: DVec2::ZERO,
+            },
         ];
         for s in bad {
             assert!(s.ball_motion(&p).is_err(), "{s:?}");

@@ -355,13 +355,13 @@ impl Simulator {
     fn predict_pair(&mut self, i: usize, j: usize, now: f64, ctx: &Ctx) {
         let (a, b) = (&self.pieces[i], &self.pieces[j]);
         let n = self.own.len();
-        let t = if a.start.motion == MotionState::Pocketed || b.start.motion == MotionState::Pocketed
-        {
-            None
-        } else {
-            let until = a.t_end.min(b.t_end).min(ctx.limit);
-            ball_ball::collision_time(a, b, now, until, ctx.params.ball_radius)
-        };
+        let t =
+            if a.start.motion == MotionState::Pocketed || b.start.motion == MotionState::Pocketed {
+                None
+            } else {
+                let until = a.t_end.min(b.t_end).min(ctx.limit);
+                ball_ball::collision_time(a, b, now, until, ctx.params.ball_radius)
+            };
         self.pair[i * n + j] = t.unwrap_or(f64::INFINITY);
     }
 
@@ -411,13 +411,25 @@ impl Simulator {
             OwnKind::Rail(k) => {
                 let normal = ctx.table.rails[k as usize].normal;
                 let s = self.bounce(&piece, t, normal, ctx);
-                (s, EventKind::BallCushion { ball, cushion: Cushion::Rail(k) })
+                (
+                    s,
+                    EventKind::BallCushion {
+                        ball,
+                        cushion: Cushion::Rail(k),
+                    },
+                )
             }
             OwnKind::Jaw(k) => {
                 let center = ctx.table.jaws[k as usize].center;
                 let normal = (piece.pos_at(t) - center).normalize_or_zero();
                 let s = self.bounce(&piece, t, normal, ctx);
-                (s, EventKind::BallCushion { ball, cushion: Cushion::Jaw(k) })
+                (
+                    s,
+                    EventKind::BallCushion {
+                        ball,
+                        cushion: Cushion::Jaw(k),
+                    },
+                )
             }
         };
         self.outcome.events.push(Event { t, kind });
@@ -434,7 +446,8 @@ impl Simulator {
             s.vel -= normal * s.vel.dot(normal).min(0.0);
             s.spin = without_normal_slip(s.vel, s.spin, normal, r);
         } else {
-            let (v, w) = ball_cushion::bounce(s.vel, s.spin, normal, ctx.models.cushion, ctx.params);
+            let (v, w) =
+                ball_cushion::bounce(s.vel, s.spin, normal, ctx.models.cushion, ctx.params);
             s.vel = v;
             s.spin = w;
         }
@@ -638,13 +651,22 @@ fn validate(shot: &Shot, table: &Table) -> Result<(), ShotError> {
     }
     for (i, b) in shot.balls.iter().enumerate() {
         if !b.pos.is_finite() {
-            return Err(ShotError::NotFinite { ball: i, field: "pos" });
+            return Err(ShotError::NotFinite {
+                ball: i,
+                field: "pos",
+            });
         }
         if !b.vel.is_finite() {
-            return Err(ShotError::NotFinite { ball: i, field: "vel" });
+            return Err(ShotError::NotFinite {
+                ball: i,
+                field: "vel",
+            });
         }
         if !b.spin.is_finite() {
-            return Err(ShotError::NotFinite { ball: i, field: "spin" });
+            return Err(ShotError::NotFinite {
+                ball: i,
+                field: "spin",
+            });
         }
     }
     if let Some((i, strike)) = shot.strike {

@@ -64,11 +64,7 @@ fn quadratic_roots_in(a: f64, b: f64, c: f64, lo: f64, hi: f64, out: &mut [f64; 
     } else {
         -0.5 * (b - sq)
     };
-    let (mut r1, mut r2) = if q == 0.0 {
-        (0.0, 0.0)
-    } else {
-        (q / a, c / q)
-    };
+    let (mut r1, mut r2) = if q == 0.0 { (0.0, 0.0) } else { (q / a, c / q) };
     if r1 > r2 {
         std::mem::swap(&mut r1, &mut r2);
     }
@@ -123,7 +119,14 @@ fn bracketed_root(
 fn critical_points(c: &Poly, lo: f64, hi: f64, out: &mut [f64; 4]) -> usize {
     // Roots of f'' split [lo, hi] into pieces on which f' is monotone.
     let mut inflections = [0.0; 4];
-    let ni = quadratic_roots_in(12.0 * c[4], 6.0 * c[3], 2.0 * c[2], lo, hi, &mut inflections);
+    let ni = quadratic_roots_in(
+        12.0 * c[4],
+        6.0 * c[3],
+        2.0 * c[2],
+        lo,
+        hi,
+        &mut inflections,
+    );
     if c[4] == 0.0 && c[3] == 0.0 {
         // f' is linear (or constant): at most one root.
         return quadratic_roots_in(0.0, 2.0 * c[2], c[1], lo, hi, out);
@@ -131,8 +134,11 @@ fn critical_points(c: &Poly, lo: f64, hi: f64, out: &mut [f64; 4]) -> usize {
     let mut n = 0;
     let mut a = lo;
     let mut da = eval_d(c, a);
-    for k in 0..=ni {
-        let b = if k < ni { inflections[k] } else { hi };
+    for (k, &b) in inflections[..ni]
+        .iter()
+        .chain(std::iter::once(&hi))
+        .enumerate()
+    {
         let db = eval_d(c, b);
         if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
             out[n] = bracketed_root(|t| eval_d(c, t), |t| eval_dd(c, t), a, b);
@@ -184,7 +190,7 @@ impl Touch {
 /// The first time in `[0, t_max]` at which `f` is at or below zero while decreasing: the
 /// moment of contact. `None` if there is none (or `t_max` is not positive).
 pub fn first_contact(c: &Poly, t_max: f64, touch: Touch) -> Option<f64> {
-    if !(t_max > 0.0) {
+    if t_max.is_nan() || t_max <= 0.0 {
         return None;
     }
     if c[0] <= 0.0 {
@@ -197,8 +203,7 @@ pub fn first_contact(c: &Poly, t_max: f64, touch: Touch) -> Option<f64> {
     let n = critical_points(c, 0.0, t_max, &mut crit);
     let mut a = 0.0;
     let mut fa = c[0];
-    for k in 0..=n {
-        let b = if k < n { crit[k] } else { t_max };
+    for &b in crit[..n].iter().chain(std::iter::once(&t_max)) {
         let fb = eval(c, b);
         // On [a, b] f is monotone; it decreases when f' < 0 inside.
         let decreasing = eval_d(c, 0.5 * (a + b)) < 0.0 || (fb < fa);
@@ -227,7 +232,10 @@ pub fn first_contact(c: &Poly, t_max: f64, touch: Touch) -> Option<f64> {
 mod tests {
     use super::*;
 
-    const TOUCH: Touch = Touch { speed: 1e-15, accel: 1e-12 };
+    const TOUCH: Touch = Touch {
+        speed: 1e-15,
+        accel: 1e-12,
+    };
 
     fn first_contact(c: &Poly, t_max: f64) -> Option<f64> {
         super::first_contact(c, t_max, TOUCH)

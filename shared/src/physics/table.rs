@@ -234,17 +234,17 @@ mod tests {
         let t = Table::new(TableKind::NineFoot);
         let mirror = |p: DVec2| DVec2::new(-p.x, p.y);
         for r in &t.rails {
-            assert!(t
-                .rails
-                .iter()
-                .any(|q| {
-                    let ends = (q.a == mirror(r.a) && q.b == mirror(r.b))
-                        || (q.a == mirror(r.b) && q.b == mirror(r.a));
-                    ends && q.normal == mirror(r.normal)
-                }));
+            assert!(t.rails.iter().any(|q| {
+                let ends = (q.a == mirror(r.a) && q.b == mirror(r.b))
+                    || (q.a == mirror(r.b) && q.b == mirror(r.a));
+                ends && q.normal == mirror(r.normal)
+            }));
         }
         for j in &t.jaws {
-            assert!(t.jaws.iter().any(|k| k.center == mirror(j.center) && k.radius == j.radius));
+            assert!(t
+                .jaws
+                .iter()
+                .any(|k| k.center == mirror(j.center) && k.radius == j.radius));
         }
         for p in &t.pockets {
             assert!(t.pockets.iter().any(|q| q.center == mirror(p.center)));

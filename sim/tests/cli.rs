@@ -1,0 +1,239 @@
+//! `breakshot-sim` as a black box: the pooltool reference shots, the contract's output format,
+//! and invalid scenes.
+
+use std::io::Write;
+use std::process::{Command, Output, Stdio};
+
+use serde_json::Value;
+
+fn sim(args: &[&str], stdin: Option<&str>) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_breakshot-sim"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("breakshot-sim starts");
+    if let Some(text) = stdin {
+        child
+            .stdin
+            .take()
+            .expect("stdin")
+            .write_all(text.as_bytes())
+            .expect("write scene");
+    } else {
+        drop(child.stdin.take());
+    }
+    child.wait_with_output().expect("breakshot-sim ends")
+}
+
+fn reference(name: &str) -> String {
+    format!("{}/tests/reference/{name}", env!("CARGO_MANIFEST_DIR"))
+}
+
+fn run_json(scene: &str) -> Value {
+    let out = sim(&["run", scene], None);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON result")
+}
+
+fn expected(name: &str) -> Value {
+    let text = std::fs::read_to_string(reference(&format!("{name}.expected.json"))).expect("read");
+    serde_json::from_str(&text).expect("JSON")
+}
+
+fn xy(v: &Value) -> (f64, f64) {
+    (v[0].as_f64().expect("x"), v[1].as_f64().expect("y"))
+}
+
+fn ball<'a>(result: &'a Value, id: &str) -> &'a Value {
+    result["balls"]
+        .as_array()
+        .expect("balls")
+        .iter()
+        .find(|b| b["id"] == id)
+        .expect("ball in result")
+}
+
+fn dist(a: (f64, f64), b: (f64, f64)) -> f64 {
+    ((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt()
+}
+
+#[test]
+fn pooltool_centre_hit_matches_to_a_micrometre() {
+    let r = run_json(&reference("center_hit_open.scene.json"));
+    let e = expected("center_hit_open");
+    let ours = ball(&r, "cue");
+    let theirs = &e["balls"]["cue"];
+    assert!(dist(xy(&ours["pos"]), xy(&theirs["pos"])) < 1e-6);
+    let rest = ours["rest_time"].as_f64().expect("rest");
+    assert!((rest - theirs["rest_time"].as_f64().expect("rest")).abs() < 1e-6);
+}
+
+#[test]
+fn pooltool_stun_shot_matches_within_a_millimetre() {
+    let r = run_json(&reference("stun_shot_open.scene.json"));
+    let e = expected("stun_shot_open");
+    let cue = dist(xy(&ball(&r, "cue")["pos"]), xy(&e["balls"]["cue"]["pos"]));
+    let obj = dist(xy(&ball(&r, "1")["pos"]), xy(&e["balls"]["1"]["pos"]));
+    assert!(cue < 1e-3, "cue ball off by {cue} m");
+    assert!(obj < 1e-2, "object ball off by {obj} m");
+}
+
+#[test]
+fn pooltool_half_ball_hit_matches_within_one_percent_of_travel() {
+    let r = run_json(&reference("half_ball_rolling_open.scene.json"));
+    let e = expected("half_ball_rolling_open");
+    let scene: Value = serde_json::from_str(
+        &std::fs::read_to_string(reference("half_ball_rolling_open.scene.json")).expect("read"),
+    )
+    .expect("JSON");
+    for id in ["cue", "1"] {
+        let start = xy(&scene["balls"]
+            .as_array()
+            .expect("balls")
+            .iter()
+            .find(|b| b["id"] == id)
+            .expect("ball")["pos"]);
+        let theirs = xy(&e["balls"][id]["pos"]);
+        let travelled = dist(start, theirs);
+        let off = dist(xy(&ball(&r, id)["pos"]), theirs);
+        assert!(
+            off < 0.01 * travelled,
+            "{id}: off by {off} m of {travelled} m"
+        );
+    }
+}
+
+#[test]
+fn pooltool_break_runs_to_rest_with_a_plausible_event_count() {
+    let r = run_json(&reference("break_8ball_7ft.scene.json"));
+    let events = r["events"].as_array().expect("events").len();
+    assert!((20..1000).contains(&events), "{events}");
+    for b in r["balls"].as_array().expect("balls") {
+        let state = b["state"].as_str().expect("state");
+        assert!(state == "stationary" || state == "pocketed", "{b}");
+    }
+}
+
+#[test]
+fn result_has_the_contract_fields_and_samples() {
+    let scene = r#"{"table":"open","balls":[{"id":"cue","pos":[0,0],"vel":[0,1]}]}"#;
+    let out = sim(&["run", "-", "--sample", "0.5"], Some(scene));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(r["version"], 1);
+    assert_eq!(r["events"][0]["kind"], "sliding_to_rolling");
+    assert_eq!(r["events"][0]["balls"][0], "cue");
+    let hash = r["hash"].as_str().expect("hash");
+    assert_eq!(hash.len(), 16);
+    let b = &r["balls"][0];
+    assert_eq!(b["state"], "stationary");
+    assert!(b["pocket"].is_null());
+    let duration = r["duration"].as_f64().expect("duration");
+    assert_eq!(b["rest_time"].as_f64(), Some(duration));
+    let samples = r["samples"].as_array().expect("samples");
+    assert_eq!(samples.len(), (duration / 0.5).floor() as usize + 1);
+    assert_eq!(samples[0]["t"], 0.0);
+    assert_eq!(samples[0]["balls"][0]["state"], "sliding");
+    assert_eq!(samples[1]["t"], 0.5);
+}
+
+#[test]
+fn same_scene_same_hash_from_file_and_stdin() {
+    let path = reference("stun_shot_open.scene.json");
+    let a = run_json(&path);
+    let text = std::fs::read_to_string(&path).expect("read");
+    let out = sim(&["run", "-"], Some(&text));
+    let b: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(a["hash"], b["hash"]);
+    assert_eq!(a, b);
+}
+
+#[test]
+fn bench_prints_timing_json() {
+    let out = sim(
+        &[
+            "bench",
+            &reference("stun_shot_open.scene.json"),
+            "--runs",
+            "20",
+        ],
+        None,
+    );
+    assert!(out.status.success());
+    let r: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(r["runs"], 20);
+    assert_eq!(r["events"], 5);
+    let (min, med, p90) = (
+        r["min_us"].as_f64().expect("min"),
+        r["median_us"].as_f64().expect("median"),
+        r["p90_us"].as_f64().expect("p90"),
+    );
+    assert!(min > 0.0 && min <= med && med <= p90);
+}
+
+/// Each invalid scene exits 2 with one line on stderr that names what is wrong.
+#[test]
+fn invalid_scenes_exit_2_naming_the_field() {
+    let cases = [
+        (r#"{"table":"10ft","balls":[]}"#, "10ft"),
+        (
+            r#"{"table":"open","balls":[{"id":"a","pos":[0,0]},{"id":"b","pos":[0.01,0]}]}"#,
+            "\"a\" and \"b\" overlap",
+        ),
+        (
+            r#"{"table":"9ft","balls":[{"id":"a","pos":[-1,0.5]}]}"#,
+            "balls[0].pos",
+        ),
+        (
+            r#"{"table":"open","balls":[{"id":"a","pos":[0,0],"vel":[1e999,0]}]}"#,
+            "line 1",
+        ),
+        (
+            r#"{"table":"open","balls":[{"id":"a","pos":[0,0]}],"colour":"red"}"#,
+            "unknown field `colour`",
+        ),
+        (
+            r#"{"table":"open","balls":[{"id":"a","pos":[0,0],"vel":[1,0]}],"effects":{"slide_friction":false,"roll_friction":false,"spin_friction":false}}"#,
+            "horizon",
+        ),
+        (
+            r#"{"table":"open","physics":{"mu_slide":-1},"balls":[]}"#,
+            "physics.mu_slide",
+        ),
+        (
+            r#"{"table":"open","balls":[{"id":"a","pos":[0,0]}],"strike":{"ball":"b","speed":1,"dir":[0,1]}}"#,
+            "strike.ball",
+        ),
+        (
+            r#"{"table":"open","balls":[{"id":"a","pos":[0,0]}],"strike":{"ball":"a","speed":1,"dir":[0,1],"tip":[0.6,0]}}"#,
+            "strike.tip",
+        ),
+        (
+            r#"{"table":"open","balls":[{"id":"a","pos":[0,0]},{"id":"a","pos":[1,0]}]}"#,
+            "duplicate id \"a\"",
+        ),
+        (
+            r#"{"table":"open","balls":[{"id":"a"}]}"#,
+            "missing field `pos`",
+        ),
+        (r#"not json"#, "line 1"),
+    ];
+    for (scene, needle) in cases {
+        let out = sim(&["run", "-"], Some(scene));
+        assert_eq!(out.status.code(), Some(2), "{scene}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains(needle), "{scene}: {err}");
+        assert!(out.stdout.is_empty());
+    }
+}
