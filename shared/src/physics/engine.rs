@@ -588,37 +588,55 @@ fn collide_pair(states: &mut [BallState], a: usize, b: usize, ctx: &Ctx) {
         c.classify(r);
         Piece::new(0.0, c, &ctx.motion).acc
     };
-    if approach < HOLD_SPEED && (accel(&sa) - accel(&sb)).dot(n) > 0.0 {
-        // Pushed together by friction rather than speed: the balls move on together along
-        // the line of centres (perfectly inelastic), each keeping only the slip across it.
-        let common = 0.5 * (sa.vel.dot(n) + sb.vel.dot(n));
-        for (idx, s) in [(a, sa), (b, sb)] {
-            let mut s2 = s;
-            s2.vel += n * (common - s.vel.dot(n));
-            s2.spin = without_normal_slip(s2.vel, s2.spin, n, r);
-            states[idx] = s2;
-        }
+    let pushing = (accel(&sa) - accel(&sb)).dot(n) > 0.0;
+    if approach < HOLD_SPEED && pushing {
+        merge(states, a, b);
         return;
     }
-    let (ka, kb) = ball_ball::collide(
-        sa.pos,
-        sb.pos,
-        Kinematics {
-            vel: sa.vel,
-            spin: sa.spin,
-        },
-        Kinematics {
-            vel: sb.vel,
-            spin: sb.spin,
-        },
-        ctx.models.ball_ball,
-        ctx.effects.ball_friction,
-        ctx.params,
-    );
-    states[a].vel = ka.vel;
-    states[a].spin = ka.spin;
-    states[b].vel = kb.vel;
-    states[b].spin = kb.spin;
+    if approach < HOLD_SPEED {
+        // Too slow to bounce: perfectly inelastic along the line of centres. Without this a
+        // frozen cluster would trade ever smaller bounces forever (inelastic collapse).
+        let common = 0.5 * (sa.vel.dot(n) + sb.vel.dot(n));
+        states[a].vel += n * (common - sa.vel.dot(n));
+        states[b].vel += n * (common - sb.vel.dot(n));
+    } else {
+        let (ka, kb) = ball_ball::collide(
+            sa.pos,
+            sb.pos,
+            Kinematics {
+                vel: sa.vel,
+                spin: sa.spin,
+            },
+            Kinematics {
+                vel: sb.vel,
+                spin: sb.spin,
+            },
+            ctx.models.ball_ball,
+            ctx.effects.ball_friction,
+            ctx.params,
+        );
+        states[a].vel = ka.vel;
+        states[a].spin = ka.spin;
+        states[b].vel = kb.vel;
+        states[b].spin = kb.spin;
+    }
+    if states[a].vel == sa.vel && states[b].vel == sb.vel {
+        // Nothing changed (a contact within rounding of at rest): make sure the pair cannot
+        // be found touching-and-approaching again at this instant.
+        merge(states, a, b);
+    }
+}
+
+/// Two touching balls pushed together by friction (a sustained contact) move on as one:
+/// both take the average velocity and spin. Momentum is kept, energy can only drop (it is
+/// convex), and with identical motion they can no longer press into each other.
+fn merge(states: &mut [BallState], a: usize, b: usize) {
+    let vel = 0.5 * (states[a].vel + states[b].vel);
+    let spin = 0.5 * (states[a].spin + states[b].spin);
+    for k in [a, b] {
+        states[k].vel = vel;
+        states[k].spin = spin;
+    }
 }
 
 /// The spin that leaves the ball's cloth slip with no component along `n`, changing only the

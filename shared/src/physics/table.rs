@@ -199,20 +199,32 @@ impl Table {
             .map(|i| i as u8)
     }
 
-    /// Is a ball of `radius` centred at `p` (engine coordinates) on the playing surface and
-    /// clear of every cushion? (`contact` is the horizontal distance at which the ball touches a
-    /// cushion nose.)
+    /// Can a ball rest with its centre at `p` (engine coordinates)? It must be clear of every
+    /// rail and jaw (`contact` is the horizontal distance at which a ball touches a cushion
+    /// nose), not inside a pocket's capture circle, and either within the rails or hanging in
+    /// a pocket's mouth.
     pub fn fits(&self, p: DVec2, contact: f64) -> bool {
         if !self.has_cushions() {
             return true;
         }
         let eps = 1e-9;
-        if p.x.abs() > self.half.x - contact + eps || p.y.abs() > self.half.y - contact + eps {
-            return false;
-        }
-        self.jaws
+        let inside =
+            p.x.abs() <= self.half.x - contact + eps && p.y.abs() <= self.half.y - contact + eps;
+        let in_a_mouth = self
+            .pockets
             .iter()
-            .all(|j| (p - j.center).length() >= j.radius + contact - eps)
+            .any(|pk| (p - pk.center).length() <= pk.radius + 2.0 * contact);
+        let clear_of_rails = self.rails.iter().all(|rail| {
+            let along = rail.b - rail.a;
+            let k = along.dot(p - rail.a) / along.length_squared();
+            !(0.0..=1.0).contains(&k) || rail.normal.dot(p - rail.a) >= contact - eps
+        });
+        (inside || in_a_mouth)
+            && clear_of_rails
+            && self
+                .jaws
+                .iter()
+                .all(|j| (p - j.center).length() >= j.radius + contact - eps)
             && self
                 .pockets
                 .iter()
