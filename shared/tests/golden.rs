@@ -26,7 +26,12 @@ fn dir() -> PathBuf {
 /// Every golden shot, by name.
 fn shots() -> Vec<(String, Shot)> {
     let mut shots = Vec::new();
-    for name in ["center_hit_open", "stun_shot_open", "half_ball_rolling_open", "break_8ball_7ft"] {
+    for name in [
+        "center_hit_open",
+        "stun_shot_open",
+        "half_ball_rolling_open",
+        "break_8ball_7ft",
+    ] {
         let text = std::fs::read_to_string(dir().join(format!("{name}.json"))).expect("scene file");
         let scene = Scene::from_json(&text).expect("valid scene");
         shots.push((name.to_string(), scene.to_shot().expect("valid")));
@@ -63,7 +68,10 @@ fn read_expected() -> BTreeMap<String, (usize, String)> {
         .map(|l| {
             let parts: Vec<&str> = l.split_whitespace().collect();
             assert_eq!(parts.len(), 3, "bad line in hashes.txt: {l}");
-            (parts[0].to_string(), (parts[1].parse().expect("event count"), parts[2].to_string()))
+            (
+                parts[0].to_string(),
+                (parts[1].parse().expect("event count"), parts[2].to_string()),
+            )
         })
         .collect()
 }
@@ -93,7 +101,9 @@ fn golden_hashes_hold() {
         changes.push(format!("{name}: removed"));
     }
     if std::env::var_os("BREAKSHOT_BLESS").is_some() {
-        let mut text = String::from("# name events hash — regenerate with BREAKSHOT_BLESS=1 (see golden.rs)\n");
+        let mut text = String::from(
+            "# name events hash — regenerate with BREAKSHOT_BLESS=1 (see golden.rs)\n",
+        );
         for (name, (events, hash)) in &actual {
             text.push_str(&format!("{name} {events} {hash}\n"));
         }
@@ -103,5 +113,9 @@ fn golden_hashes_hold() {
         }
         return;
     }
-    assert!(changes.is_empty(), "golden hashes changed:\n{}", changes.join("\n"));
+    assert!(
+        changes.is_empty(),
+        "golden hashes changed:\n{}",
+        changes.join("\n")
+    );
 }

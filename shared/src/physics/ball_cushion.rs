@@ -8,7 +8,7 @@ use glam::{DVec2, DVec3};
 
 use super::motion::Piece;
 use super::params::{CushionModel, Params};
-use super::roots::{first_contact, Poly, Touch};
+use super::roots::{first_contact, stays_apart, Poly, Touch};
 use super::table::{Jaw, Rail};
 
 /// sin θ and cos θ of the contact angle at the cushion nose.
@@ -53,13 +53,21 @@ pub fn jaw_time(piece: &Piece, jaw: &Jaw, now: f64, until: f64, contact: f64) ->
 /// First time in (now, until] that the centre of the ball of `piece` comes within `radius` of
 /// the fixed point `center` while approaching it.
 pub fn circle_time(piece: &Piece, center: DVec2, radius: f64, now: f64, until: f64) -> Option<f64> {
-    let d = piece.pos_at(now) - center;
-    let dist = d.length();
-    if dist - radius > piece.reach(now, until) {
+    let (lo, hi) = piece.path_box(now, until);
+    if lo.x - radius > center.x
+        || center.x > hi.x + radius
+        || lo.y - radius > center.y
+        || center.y > hi.y + radius
+    {
         return None;
     }
+    let d = piece.pos_at(now) - center;
     let v = piece.vel_at(now);
     let a = piece.acc;
+    if stays_apart(d, v, a, until - now, radius) {
+        return None;
+    }
+    let dist = d.length();
     let poly: Poly = [
         (dist - radius) * (dist + radius),
         2.0 * d.dot(v),

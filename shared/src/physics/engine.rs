@@ -149,7 +149,7 @@ pub struct Simulator {
     pieces: Vec<Piece>,
     own: Vec<Own>,
     pair: Vec<f64>,
-    group: Vec<(usize, usize)>,
+    scratch: Scratch,
     outcome: Outcome,
 }
 
@@ -457,73 +457,89 @@ impl Simulator {
 
     /// Resolves every collision predicted for time `t`, as one group.
     fn resolve_group(&mut self, t: f64, n: usize, ctx: &Ctx) {
-        self.group.clear();
+        let r = ctx.params.ball_radius;
+        let g = &mut self.scratch;
+        g.pairs.clear();
+        g.balls.clear();
         for i in 0..n {
             for j in i + 1..n {
                 if self.pair[i * n + j] == t {
-                    self.group.push((i, j));
+                    g.pairs.push((i, j));
+                    for b in [i, j] {
+                        if !g.balls.contains(&b) {
+                            g.balls.push(b);
+                        }
+                    }
                 }
             }
         }
-        let r = ctx.params.ball_radius;
-        // Work on a snapshot of the balls at t.
-        let mut involved: [usize; 64] = [0; 64];
-        let mut count = 0;
-        for &(i, j) in &self.group {
-            for b in [i, j] {
-                if !involved[..count].contains(&b) && count < involved.len() {
-                    involved[count] = b;
-                    count += 1;
-                }
-            }
+        // Work on the involved balls' states at t, indexed by slot.
+        g.states.clear();
+        for &b in &g.balls {
+            g.states.push(self.pieces[b].state_at(t, r));
         }
-        let mut states = [BallState::at_rest(DVec2::ZERO); 64];
-        for k in 0..count {
-            states[k] = self.pieces[involved[k]].state_at(t, r);
+        for k in 0..g.pairs.len() {
+            let (i, j) = g.pairs[k];
+            let slot = |b: usize| g.balls.iter().position(|&x| x == b).unwrap_or(0);
+            g.pairs[k] = (slot(i), slot(j));
         }
-        let slot = |b: usize| involved[..count].iter().position(|&x| x == b).unwrap_or(0);
-        // Resolve each connected set of collisions.
-        let pairs: Vec<(usize, usize)> = self
-            .group
-            .iter()
-            .map(|&(i, j)| (slot(i), slot(j)))
-            .collect();
-        let mut done = vec![false; pairs.len()];
-        for start in 0..pairs.len() {
-            if done[start] {
+        // Resolve each connected set of collisions on its own.
+        g.done.clear();
+        g.done.resize(g.pairs.len(), false);
+        for start in 0..g.pairs.len() {
+            if g.done[start] {
                 continue;
             }
-            let mut component = vec![start];
-            done[start] = true;
+            g.done[start] = true;
+            g.component.clear();
+            g.component.push(g.pairs[start]);
             let mut k = 0;
-            while k < component.len() {
-                let (a, b) = pairs[component[k]];
-                for (m, &(c, d)) in pairs.iter().enumerate() {
-                    if !done[m] && (c == a || c == b || d == a || d == b) {
-                        done[m] = true;
-                        component.push(m);
+            while k < g.component.len() {
+                let (a, b) = g.component[k];
+                for m in 0..g.pairs.len() {
+                    let (c, d) = g.pairs[m];
+                    if !g.done[m] && (c == a || c == b || d == a || d == b) {
+                        g.done[m] = true;
+                        g.component.push((c, d));
                     }
                 }
                 k += 1;
             }
-            let list: Vec<(usize, usize)> = component.iter().map(|&m| pairs[m]).collect();
-            resolve_component(&list, &mut states[..count], ctx);
+            resolve_component(g, ctx);
         }
-        for &(i, j) in &self.group {
+        for &(a, b) in &g.pairs {
+            let (i, j) = (g.balls[a], g.balls[b]);
             self.outcome.events.push(Event {
                 t,
                 kind: EventKind::BallBall {
-                    a: i as u16,
-                    b: j as u16,
+                    a: i.min(j) as u16,
+                    b: i.max(j) as u16,
                 },
             });
         }
-        for k in 0..count {
-            let mut s = states[k];
+        for k in 0..self.scratch.balls.len() {
+            let ball = self.scratch.balls[k];
+            let mut s = self.scratch.states[k];
             s.classify(r);
-            self.restart(involved[k], t, s, ctx);
+            self.restart(ball, t, s, ctx);
         }
     }
+}
+
+/// Buffers reused from one collision group to the next.
+#[derive(Default)]
+struct Scratch {
+    /// Colliding pairs (ball indices, then slots into `balls`).
+    pairs: Vec<(usize, usize)>,
+    /// The balls involved, and their states at the collision instant.
+    balls: Vec<usize>,
+    states: Vec<BallState>,
+    done: Vec<bool>,
+    /// The pairs (slots) of the connected set being resolved.
+    component: Vec<(usize, usize)>,
+    order: Vec<usize>,
+    trial: Vec<BallState>,
+    sum: Vec<(DVec2, DVec3)>,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -535,34 +551,37 @@ enum Next {
 /// Resolves collisions that share balls at one instant: in every order when there are few
 /// (their average conserves momentum and, kinetic energy being convex, never adds energy),
 /// else in index order.
-fn resolve_component(pairs: &[(usize, usize)], states: &mut [BallState], ctx: &Ctx) {
+fn resolve_component(g: &mut Scratch, ctx: &Ctx) {
+    let pairs = &g.component;
     if pairs.len() == 1 || pairs.len() > MAX_AVERAGED_GROUP {
         for &(a, b) in pairs {
-            collide_pair(states, a, b, ctx);
+            collide_pair(&mut g.states, a, b, ctx);
         }
         return;
     }
-    let snapshot: Vec<BallState> = states.to_vec();
-    let mut sum_v = vec![DVec2::ZERO; states.len()];
-    let mut sum_w = vec![DVec3::ZERO; states.len()];
-    let mut order: Vec<usize> = (0..pairs.len()).collect();
+    g.sum.clear();
+    g.sum.resize(g.states.len(), (DVec2::ZERO, DVec3::ZERO));
+    g.order.clear();
+    g.order.extend(0..pairs.len());
     let mut orders = 0usize;
-    permute(&mut order, 0, &mut |ord| {
-        let mut trial = snapshot.clone();
+    let (states, trial, sum) = (&g.states, &mut g.trial, &mut g.sum);
+    permute(&mut g.order, 0, &mut |ord| {
+        trial.clear();
+        trial.extend_from_slice(states);
         for &k in ord {
             let (a, b) = pairs[k];
-            collide_pair(&mut trial, a, b, ctx);
+            collide_pair(trial, a, b, ctx);
         }
-        for (k, s) in trial.iter().enumerate() {
-            sum_v[k] += s.vel;
-            sum_w[k] += s.spin;
+        for (acc, s) in sum.iter_mut().zip(trial.iter()) {
+            acc.0 += s.vel;
+            acc.1 += s.spin;
         }
         orders += 1;
     });
     let scale = 1.0 / orders as f64;
-    for (k, s) in states.iter_mut().enumerate() {
-        s.vel = sum_v[k] * scale;
-        s.spin = sum_w[k] * scale;
+    for (s, acc) in g.states.iter_mut().zip(g.sum.iter()) {
+        s.vel = acc.0 * scale;
+        s.spin = acc.1 * scale;
     }
 }
 

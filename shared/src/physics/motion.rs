@@ -285,6 +285,21 @@ impl Piece {
         s
     }
 
+    /// A box that holds the centre's path between absolute times `from` and `to` (within the
+    /// piece): the path is a parabola, a quadratic Bézier curve, so it lies in the hull of
+    /// its three control points.
+    #[inline]
+    pub fn path_box(&self, from: f64, to: f64) -> (DVec2, DVec2) {
+        let p0 = self.pos_at(from);
+        if !self.start.motion.is_translating() {
+            return (p0, p0);
+        }
+        let to = to.min(self.t_end);
+        let p1 = p0 + self.vel_at(from) * (0.5 * (to - from));
+        let p2 = self.pos_at(to);
+        (p0.min(p1).min(p2), p0.max(p1).max(p2))
+    }
+
     /// An upper bound on how far the centre can move between `t0`-relative times 0 and `dt`.
     #[inline]
     pub fn reach(&self, from: f64, to: f64) -> f64 {

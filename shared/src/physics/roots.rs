@@ -22,6 +22,8 @@
 /// A polynomial `c[0] + c[1]·τ + … + c[4]·τ⁴`.
 pub type Poly = [f64; 5];
 
+use glam::DVec2;
+
 #[inline]
 pub fn eval(c: &Poly, t: f64) -> f64 {
     (((c[4] * t + c[3]) * t + c[2]) * t + c[1]) * t + c[0]
@@ -75,20 +77,45 @@ fn quadratic_roots_in(a: f64, b: f64, c: f64, lo: f64, hi: f64, out: &mut [f64; 
     n
 }
 
-/// Finds the zero of a function monotone on `[lo, hi]` with `f(lo)` and `f(hi)` of opposite
-/// signs (or `f(hi) == 0`), by Newton steps kept inside a shrinking bracket. Returns the end of
-/// the final bracket on the side of `hi`, so that the sign there is the sign of `f(hi)`.
+/// True when `d(τ) = dr + dv·τ + ½·da·τ²` provably stays longer than `distance` for
+/// τ in `[0, t_max]`: the straight-line part's closest approach, less the most the
+/// acceleration can bend the path, is still out of reach. A cheap test that spares the root
+/// isolation for nearly every pair of balls.
+pub fn stays_apart(dr: DVec2, dv: DVec2, da: DVec2, t_max: f64, distance: f64) -> bool {
+    let speed2 = dv.length_squared();
+    let t_closest = if speed2 > 0.0 {
+        (-dr.dot(dv) / speed2).clamp(0.0, t_max)
+    } else {
+        0.0
+    };
+    let closest = (dr + dv * t_closest).length();
+    let bend = if t_max.is_finite() {
+        0.5 * da.length() * t_max * t_max
+    } else if da == DVec2::ZERO {
+        0.0
+    } else {
+        f64::INFINITY
+    };
+    closest - bend > distance
+}
+
+/// Times closer than this (s) are not told apart: a ball at 50 m/s moves 5 pm in it.
+pub const TIME_TOLERANCE: f64 = 1e-13;
+
+/// Finds the zero of a function monotone on `[lo, hi]` whose ends have opposite signs, by
+/// Newton steps kept inside the bracket (a step that would leave it, or not halve it, is
+/// replaced by bisection), to within [`TIME_TOLERANCE`].
 fn bracketed_root(
     f: impl Fn(f64) -> f64,
     df: impl Fn(f64) -> f64,
     mut lo: f64,
     mut hi: f64,
 ) -> f64 {
-    let f_lo = f(lo);
-    let lo_positive = f_lo > 0.0;
+    let lo_positive = f(lo) > 0.0;
     let mut x = 0.5 * (lo + hi);
-    // 200 halvings exceed any f64 interval; Newton usually needs fewer than ten steps.
-    for i in 0..200 {
+    let mut last_step = hi - lo;
+    // 200 halvings exceed any f64 interval; Newton usually needs a handful of steps.
+    for _ in 0..200 {
         let fx = f(x);
         if fx == 0.0 {
             return x;
@@ -98,21 +125,24 @@ fn bracketed_root(
         } else {
             hi = x;
         }
-        let mid = 0.5 * (lo + hi);
-        if mid <= lo || mid >= hi {
+        if hi - lo <= TIME_TOLERANCE {
             break;
         }
-        // Every other step is a bisection so that slow Newton convergence (at a double root)
-        // still halves the bracket.
         let d = df(x);
         let newton = x - fx / d;
-        x = if i % 2 == 0 && d != 0.0 && newton > lo && newton < hi {
-            newton
+        let step = (newton - x).abs();
+        if d != 0.0 && newton > lo && newton < hi && step < 0.5 * last_step {
+            if step <= 0.5 * TIME_TOLERANCE {
+                return newton;
+            }
+            last_step = step;
+            x = newton;
         } else {
-            mid
-        };
+            last_step = hi - lo;
+            x = 0.5 * (lo + hi);
+        }
     }
-    hi
+    0.5 * (lo + hi)
 }
 
 /// Critical points of `c` (roots of its derivative) inside (lo, hi), sorted.
