@@ -86,6 +86,8 @@ pub struct Outcome {
     pub rest_time: Vec<Option<f64>>,
     /// When the last ball stopped, or the horizon.
     pub duration: f64,
+    /// How much prediction work the shot took.
+    pub work: Work,
     /// Engine-to-scene offset (half the table).
     offset: DVec2,
     radius: f64,
@@ -120,6 +122,18 @@ impl Outcome {
 pub fn kinetic_energy(s: &BallState, params: &Params) -> f64 {
     0.5 * params.ball_mass * s.vel.length_squared()
         + 0.5 * params.inertia() * s.spin.length_squared()
+}
+
+/// Counts of event-time predictions made during a shot, by kind: what an effect that is
+/// switched off must leave at zero.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Work {
+    /// Ball pairs whose next collision was predicted.
+    pub pair_checks: u64,
+    /// Ball–rail and ball–jaw contact predictions.
+    pub cushion_checks: u64,
+    /// Ball–pocket capture predictions.
+    pub pocket_checks: u64,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -182,10 +196,12 @@ impl Simulator {
 
     /// Simulates `shot`; the outcome stays valid until the next run.
     pub fn run(&mut self, shot: &Shot) -> Result<&Outcome, ShotError> {
-        if self.table.as_ref().map(|t| t.kind) != Some(shot.table) {
-            self.table = Some(Table::new(shot.table));
+        let build = || Table::for_shot(shot.table, shot.effects.pockets);
+        let wanted = (shot.table, shot.effects.pockets);
+        if self.table.as_ref().map(|t| (t.kind, t.has_pockets())) != Some(wanted) {
+            self.table = Some(build());
         }
-        let table = self.table.take().unwrap_or_else(|| Table::new(shot.table));
+        let table = self.table.take().unwrap_or_else(build);
         let result = self.run_on(shot, &table);
         self.table = Some(table);
         result?;
@@ -212,6 +228,7 @@ impl Simulator {
         out.finals.clear();
         out.rest_time.clear();
         out.offset = table.half;
+        out.work = Work::default();
         out.radius = r;
         self.pieces.clear();
         for (i, ball) in shot.balls.iter().enumerate() {
@@ -330,7 +347,9 @@ impl Simulator {
                     }
                 }
             };
+            let work = &mut self.outcome.work;
             if ctx.effects.pockets {
+                work.pocket_checks += ctx.table.pockets.len() as u64;
                 for (k, pocket) in ctx.table.pockets.iter().enumerate() {
                     let t =
                         ball_cushion::circle_time(piece, pocket.center, pocket.radius, now, until);
@@ -338,6 +357,7 @@ impl Simulator {
                 }
             }
             if ctx.effects.cushions {
+                work.cushion_checks += (ctx.table.rails.len() + ctx.table.jaws.len()) as u64;
                 for (k, rail) in ctx.table.rails.iter().enumerate() {
                     let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
                     consider(t, OwnKind::Rail(k as u8));
@@ -360,6 +380,9 @@ impl Simulator {
                 None
             } else {
                 let until = a.t_end.min(b.t_end).min(ctx.limit);
+                if a.start.motion.is_translating() || b.start.motion.is_translating() {
+                    self.outcome.work.pair_checks += 1;
+                }
                 ball_ball::collision_time(a, b, now, until, ctx.params.ball_radius)
             };
         self.pair[i * n + j] = t.unwrap_or(f64::INFINITY);
@@ -671,7 +694,7 @@ fn without_normal_slip(vel: DVec2, spin: DVec3, n: DVec2, r: f64) -> DVec3 {
 
 /// Checks a shot without simulating it.
 pub fn check(shot: &Shot) -> Result<(), ShotError> {
-    validate(shot, &Table::new(shot.table))
+    validate(shot, &Table::for_shot(shot.table, shot.effects.pockets))
 }
 
 fn validate(shot: &Shot, table: &Table) -> Result<(), ShotError> {

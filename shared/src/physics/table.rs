@@ -177,6 +177,32 @@ impl Table {
         }
     }
 
+    /// The table a shot plays on: without pockets (the `pockets` effect off) its rails run
+    /// unbroken around the bed, as on a carom table, so no ball can leave through a mouth.
+    pub fn for_shot(kind: TableKind, pockets: bool) -> Table {
+        if pockets {
+            return Table::new(kind);
+        }
+        let mut t = Table::new(kind);
+        let h = t.half;
+        t.jaws.clear();
+        t.pockets.clear();
+        if t.has_cushions() {
+            let rail = |a: DVec2, b: DVec2, normal: DVec2| Rail { a, b, normal };
+            t.rails = vec![
+                rail(DVec2::new(-h.x, -h.y), DVec2::new(h.x, -h.y), DVec2::Y),
+                rail(DVec2::new(-h.x, h.y), DVec2::new(h.x, h.y), -DVec2::Y),
+                rail(DVec2::new(-h.x, -h.y), DVec2::new(-h.x, h.y), DVec2::X),
+                rail(DVec2::new(h.x, -h.y), DVec2::new(h.x, h.y), -DVec2::X),
+            ];
+        }
+        t
+    }
+
+    pub fn has_pockets(&self) -> bool {
+        !self.pockets.is_empty()
+    }
+
     pub fn has_cushions(&self) -> bool {
         !self.rails.is_empty()
     }
