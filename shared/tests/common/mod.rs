@@ -127,8 +127,15 @@ pub fn break_shot(table: TableKind, jitter: f64, speed: f64, offset: f64, rng: &
 
 /// Invariants every simulated shot must keep; returns the worst overlap seen at any event.
 pub fn check_invariants(shot: &Shot, out: &Outcome) -> f64 {
+    invariant_figures(shot, out).0
+}
+
+/// Checks the invariants and returns the worst overlap seen at any event (m) and the largest
+/// relative change of kinetic energy across any event (negative: energy only fell).
+pub fn invariant_figures(shot: &Shot, out: &Outcome) -> (f64, f64) {
     let p = &shot.params;
     let mut worst_overlap: f64 = 0.0;
+    let mut worst_rise = f64::NEG_INFINITY;
     let mut last_t = 0.0;
     for e in &out.events {
         assert!(
@@ -159,13 +166,16 @@ pub fn check_invariants(shot: &Shot, out: &Outcome) -> f64 {
             }
         }
         let (before, after) = energy_across(out, e.t, p);
+        if before > 0.0 {
+            worst_rise = worst_rise.max((after - before) / before);
+        }
         assert!(
             after <= before * (1.0 + 1e-12) + 1e-15,
             "kinetic energy rose across {:?}: {before} -> {after}",
             e.kind
         );
     }
-    worst_overlap
+    (worst_overlap, worst_rise)
 }
 
 /// Kinetic energy just before and just after time `t`.
