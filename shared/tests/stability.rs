@@ -42,7 +42,10 @@ fn newtons_cradle_resolves_in_a_handful_of_events() {
             let out = run(&shot);
             check_invariants(&shot, &out);
             let hits = ball_ball_events(&out);
-            println!("cradle {count} balls gap {gap:e}: {hits} ball-ball events, {} in all", out.events.len());
+            println!(
+                "cradle {count} balls gap {gap:e}: {hits} ball-ball events, {} in all",
+                out.events.len()
+            );
             assert!(
                 hits <= 3 * count,
                 "{count} balls, gap {gap}: {hits} collisions"

@@ -163,6 +163,8 @@ pub struct Simulator {
     pieces: Vec<Piece>,
     own: Vec<Own>,
     pair: Vec<f64>,
+    /// For each ball, a box holding its current piece's whole path.
+    boxes: Vec<(DVec2, DVec2)>,
     scratch: Scratch,
     outcome: Outcome,
 }
@@ -254,6 +256,10 @@ impl Simulator {
             out.history[i].push(piece);
             let at_rest = matches!(s.motion, MotionState::Stationary | MotionState::Pocketed);
             out.rest_time.push(at_rest.then_some(0.0));
+        }
+        self.boxes.clear();
+        for p in &self.pieces {
+            self.boxes.push(piece_box(p, ctx.limit));
         }
         self.own.clear();
         self.own.resize(n, NO_OWN);
@@ -348,23 +354,45 @@ impl Simulator {
                 }
             };
             let work = &mut self.outcome.work;
+            // The box holding the ball's whole path rules out most cushions and pockets.
+            let (lo, hi) = self.boxes[i];
+            let near = |center: DVec2, radius: f64| {
+                (center.clamp(lo, hi) - center).length_squared() <= radius * radius
+            };
             if ctx.effects.pockets {
                 work.pocket_checks += ctx.table.pockets.len() as u64;
                 for (k, pocket) in ctx.table.pockets.iter().enumerate() {
-                    let t =
-                        ball_cushion::circle_time(piece, pocket.center, pocket.radius, now, until);
-                    consider(t, OwnKind::Pocket(k as u8));
+                    if near(pocket.center, pocket.radius) {
+                        let t = ball_cushion::circle_time(
+                            piece,
+                            pocket.center,
+                            pocket.radius,
+                            now,
+                            until,
+                        );
+                        consider(t, OwnKind::Pocket(k as u8));
+                    }
                 }
             }
             if ctx.effects.cushions {
                 work.cushion_checks += (ctx.table.rails.len() + ctx.table.jaws.len()) as u64;
                 for (k, rail) in ctx.table.rails.iter().enumerate() {
-                    let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
-                    consider(t, OwnKind::Rail(k as u8));
+                    // The box corner deepest towards the rail.
+                    let n = rail.normal;
+                    let corner = DVec2::new(
+                        if n.x > 0.0 { lo.x } else { hi.x },
+                        if n.y > 0.0 { lo.y } else { hi.y },
+                    );
+                    if n.dot(corner - rail.a) <= ctx.contact {
+                        let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
+                        consider(t, OwnKind::Rail(k as u8));
+                    }
                 }
                 for (k, jaw) in ctx.table.jaws.iter().enumerate() {
-                    let t = ball_cushion::jaw_time(piece, jaw, now, until, ctx.contact);
-                    consider(t, OwnKind::Jaw(k as u8));
+                    if near(jaw.center, jaw.radius + ctx.contact) {
+                        let t = ball_cushion::jaw_time(piece, jaw, now, until, ctx.contact);
+                        consider(t, OwnKind::Jaw(k as u8));
+                    }
                 }
             }
         }
@@ -375,16 +403,25 @@ impl Simulator {
     fn predict_pair(&mut self, i: usize, j: usize, now: f64, ctx: &Ctx) {
         let (a, b) = (&self.pieces[i], &self.pieces[j]);
         let n = self.own.len();
-        let t =
-            if a.start.motion == MotionState::Pocketed || b.start.motion == MotionState::Pocketed {
+        let pocketed = |p: &Piece| p.start.motion == MotionState::Pocketed;
+        let moving = |p: &Piece| p.start.motion.is_translating();
+        let t = if pocketed(a) || pocketed(b) || !(moving(a) || moving(b)) {
+            None
+        } else {
+            self.outcome.work.pair_checks += 1;
+            let ((a_lo, a_hi), (b_lo, b_hi)) = (self.boxes[i], self.boxes[j]);
+            let d = 2.0 * ctx.params.ball_radius;
+            let apart = a_lo.x - d > b_hi.x
+                || b_lo.x - d > a_hi.x
+                || a_lo.y - d > b_hi.y
+                || b_lo.y - d > a_hi.y;
+            if apart {
                 None
             } else {
                 let until = a.t_end.min(b.t_end).min(ctx.limit);
-                if a.start.motion.is_translating() || b.start.motion.is_translating() {
-                    self.outcome.work.pair_checks += 1;
-                }
                 ball_ball::collision_time(a, b, now, until, ctx.params.ball_radius)
-            };
+            }
+        };
         self.pair[i * n + j] = t.unwrap_or(f64::INFINITY);
     }
 
@@ -392,6 +429,7 @@ impl Simulator {
     fn restart(&mut self, i: usize, t: f64, s: BallState, ctx: &Ctx) {
         let piece = Piece::new(t, s, &ctx.motion);
         self.pieces[i] = piece;
+        self.boxes[i] = piece_box(&piece, ctx.limit);
         self.outcome.history[i].push(piece);
         self.outcome.rest_time[i] = match s.motion {
             MotionState::Stationary | MotionState::Pocketed => Some(t),
@@ -563,6 +601,16 @@ struct Scratch {
     order: Vec<usize>,
     trial: Vec<BallState>,
     sum: Vec<(DVec2, DVec3)>,
+}
+
+/// A box holding the whole path of a piece (up to the horizon `limit`).
+fn piece_box(p: &Piece, limit: f64) -> (DVec2, DVec2) {
+    let end = p.t_end.min(limit);
+    if end.is_finite() || !p.start.motion.is_translating() {
+        p.path_box(p.t0, end.max(p.t0))
+    } else {
+        (DVec2::NEG_INFINITY, DVec2::INFINITY)
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
