@@ -267,6 +267,8 @@ impl Simulator {
         self.pair.resize(n * n, f64::INFINITY);
         for i in 0..n {
             self.predict_own(i, 0.0, &ctx);
+        }
+        for i in 0..n {
             for j in i + 1..n {
                 self.predict_pair(i, j, 0.0, &ctx);
             }
@@ -418,7 +420,8 @@ impl Simulator {
             if apart {
                 None
             } else {
-                let until = a.t_end.min(b.t_end).min(ctx.limit);
+                // Either ball's own next event re-predicts this pair anyway: look no further.
+                let until = self.own[i].t.min(self.own[j].t).min(ctx.limit);
                 ball_ball::collision_time(a, b, now, until, ctx.params.ball_radius)
             }
         };
