@@ -11,7 +11,7 @@ use crate::physics::{
 
 /// Version of the result format.
 pub const RESULT_VERSION: u32 = 1;
-/// Most samples `--sample` may ask for.
+/// Most ball states `--sample` may produce (samples × balls).
 pub const MAX_SAMPLES: usize = 1_000_000;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -221,9 +221,10 @@ impl Scene {
             None => None,
             Some(dt) => {
                 let count = (outcome.duration / dt).floor();
-                if count.is_nan() || count >= MAX_SAMPLES as f64 {
+                let states = (count + 1.0) * outcome.history.len().max(1) as f64;
+                if count.is_nan() || states > MAX_SAMPLES as f64 {
                     return Err(SceneError(format!(
-                        "--sample {dt} asks for more than {MAX_SAMPLES} samples"
+                        "--sample {dt} asks for more than {MAX_SAMPLES} ball states"
                     )));
                 }
                 let count = count as usize;

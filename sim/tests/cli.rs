@@ -159,6 +159,16 @@ fn same_scene_same_hash_from_file_and_stdin() {
 }
 
 #[test]
+fn too_many_samples_are_refused() {
+    let scene = r#"{"table":"open","balls":[{"id":"a","pos":[0,0],"vel":[0,1]}]}"#;
+    let out = sim(&["run", "-", "--sample", "1e-9"], Some(scene));
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--sample"));
+    let out = sim(&["run", "-", "--sample", "-1"], Some(scene));
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
 fn bench_prints_timing_json() {
     let out = sim(
         &[
@@ -228,6 +238,14 @@ fn invalid_scenes_exit_2_naming_the_field() {
         ),
         (r#"not json"#, "line 1"),
     ];
+    let many: Vec<String> = (0..200)
+        .map(|i| format!(r#"{{"id":"{i}","pos":[{},0]}}"#, i as f64 * 0.1))
+        .collect();
+    let many = format!(r#"{{"table":"open","balls":[{}]}}"#, many.join(","));
+    let cases: Vec<(&str, &str)> = cases
+        .into_iter()
+        .chain([(many.as_str(), "at most 128 balls")])
+        .collect();
     for (scene, needle) in cases {
         let out = sim(&["run", "-"], Some(scene));
         assert_eq!(out.status.code(), Some(2), "{scene}");

@@ -30,6 +30,8 @@ pub const MAX_EVENTS: usize = 100_000;
 /// accelerations, not by speed) is held instead of bounced: bouncing would repeat forever
 /// in ever shorter hops.
 pub const HOLD_SPEED: f64 = 1e-3;
+/// Most balls a shot may have (a pool rack has 16, snooker 22).
+pub const MAX_BALLS: usize = 128;
 /// Balls in a simultaneous group above which orders are not averaged (sequential by index).
 const MAX_AVERAGED_GROUP: usize = 4;
 
@@ -67,7 +69,7 @@ pub enum ShotError {
     StrikeBall,
     #[error("{0}")]
     Strike(#[from] StrikeError),
-    #[error("a shot has at most {max} balls", max = u16::MAX)]
+    #[error("a shot has at most {MAX_BALLS} balls")]
     TooManyBalls,
     #[error("the shot exceeded {MAX_EVENTS} events")]
     EventLimit,
@@ -750,7 +752,7 @@ pub fn check(shot: &Shot) -> Result<(), ShotError> {
 
 fn validate(shot: &Shot, table: &Table) -> Result<(), ShotError> {
     shot.params.validate().map_err(ShotError::Params)?;
-    if shot.balls.len() > u16::MAX as usize {
+    if shot.balls.len() > MAX_BALLS {
         return Err(ShotError::TooManyBalls);
     }
     if let Some(h) = shot.horizon {
