@@ -2,6 +2,7 @@
 
 mod common;
 
+use breakshot_shared::physics::motion::SLIP_EPS;
 use breakshot_shared::physics::{simulate, EventKind, Strike, TableKind};
 use breakshot_shared::scene::{Scene, SceneBall, SceneStrike};
 use common::*;
@@ -53,7 +54,9 @@ proptest! {
         prop_assert!(out.events.len() < 1000);
         let overlap = check_invariants(&shot, &out);
         prop_assert!(overlap < 1e-9, "overlap {overlap}");
-        // Linear momentum is unchanged by every ball–ball contact.
+        // Linear momentum is unchanged by every ball–ball contact: to rounding, and to the
+        // cloth's impulse when a ball left with a slip under `SLIP_EPS` is set rolling at the
+        // same instant (at most 2/7·SLIP_EPS per ball involved).
         for e in &out.events {
             if !matches!(e.kind, EventKind::BallBall { .. }) {
                 continue;
@@ -73,7 +76,8 @@ proptest! {
                 }).fold(DVec2::ZERO, |a, b| a + b)
             };
             let (p0, p1) = (momentum(e.t, true), momentum(e.t, false));
-            prop_assert!((p0 - p1).length() <= 1e-12 * p0.length().max(1e-9), "{p0} -> {p1} at {}", e.t);
+            let tolerance = 1e-12 * p0.length() + out.history.len() as f64 * 2.0 / 7.0 * SLIP_EPS;
+            prop_assert!((p0 - p1).length() <= tolerance, "{p0} -> {p1} at {}", e.t);
         }
         // The same shot twice gives the same bits.
         let again = simulate(&shot).expect("simulates");

@@ -30,6 +30,8 @@ pub const MAX_EVENTS: usize = 100_000;
 /// accelerations, not by speed) is held instead of bounced: bouncing would repeat forever
 /// in ever shorter hops.
 pub const HOLD_SPEED: f64 = 1e-3;
+/// Overlap between two balls (m) that a shot may start with: rounding, not a real overlap.
+pub const OVERLAP_TOLERANCE: f64 = 1e-9;
 /// Most balls a shot may have (a pool rack has 16, snooker 22).
 pub const MAX_BALLS: usize = 128;
 /// Balls in a simultaneous group above which orders are not averaged (sequential by index).
@@ -802,8 +804,9 @@ fn validate(shot: &Shot, table: &Table) -> Result<(), ShotError> {
             return Err(ShotError::OffTable { ball: i });
         }
     }
-    // Touching is allowed; overlapping by more than rounding is not.
-    let min_dist = 2.0 * r * (1.0 - 1e-12);
+    // Touching is allowed, and so is the overlap rounding leaves between balls the engine
+    // itself brought to rest touching; more is not.
+    let min_dist = 2.0 * r - OVERLAP_TOLERANCE;
     for (k, &(i, p)) in on_table.iter().enumerate() {
         for &(j, q) in &on_table[k + 1..] {
             if (q - p).length() < min_dist {

@@ -96,6 +96,17 @@ impl BallState {
         )
     }
 
+    /// Ends the slip as friction would: the ball rolls at `v − 2/7·u`, which keeps its
+    /// angular momentum about the contact point and never adds energy (setting the spin
+    /// from the velocity instead could, by a rounding's worth, when the slip is tiny).
+    fn end_slip(&mut self, radius: f64) {
+        let u = self.slip(radius);
+        self.vel -= u * (2.0 / 7.0);
+        self.spin.x = -self.vel.y / radius;
+        self.spin.y = self.vel.x / radius;
+        self.motion = MotionState::Rolling;
+    }
+
     /// Sets the motion state from velocity and spin, snapping values within rounding of a
     /// state onto it (a rolling ball gets the exact rolling spin, a ball at rest exact zeros).
     pub fn classify(&mut self, radius: f64) {
@@ -115,9 +126,7 @@ impl BallState {
                 self.motion = MotionState::Spinning;
             }
         } else if slip <= SLIP_EPS {
-            self.spin.x = -self.vel.y / radius;
-            self.spin.y = self.vel.x / radius;
-            self.motion = MotionState::Rolling;
+            self.end_slip(radius);
         } else {
             self.motion = MotionState::Sliding;
         }
@@ -258,12 +267,10 @@ impl Piece {
         let mut s = self.state_at(self.t_end, radius);
         match self.start.motion {
             MotionState::Sliding => {
-                // Slip has just reached zero: the ball rolls, spins or rests.
-                s.spin.x = -s.vel.y / radius;
-                s.spin.y = s.vel.x / radius;
+                // Slip has just reached zero (to rounding): the ball rolls, spins or rests.
                 s.classify(radius);
                 if s.motion == MotionState::Sliding {
-                    s.motion = MotionState::Rolling;
+                    s.end_slip(radius);
                 }
             }
             MotionState::Rolling => {
