@@ -16,6 +16,8 @@ pub mod facts;
 mod nine;
 mod practice;
 pub mod rack;
+#[cfg(test)]
+mod tests;
 
 use std::fmt;
 
