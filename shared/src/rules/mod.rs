@@ -417,6 +417,11 @@ impl Game {
         &self.phase
     }
 
+    /// How many racks came before the current one (re-racks included; 0 for the opening).
+    pub fn rack_number(&self) -> u32 {
+        self.racks
+    }
+
     /// The seat that broke (or breaks) the current rack.
     pub fn breaker(&self) -> Seat {
         self.breaker
@@ -890,8 +895,13 @@ impl Game {
         self.stalemate = [false; 2];
         let practice = self.variant == Variant::Practice;
         self.breaking = !practice;
+        // In practice the cue ball is always in hand: it can be put anywhere free.
         self.phase = Phase::Shooting {
-            in_hand: (!practice).then_some(InHand::Kitchen),
+            in_hand: Some(if practice {
+                InHand::Anywhere
+            } else {
+                InHand::Kitchen
+            }),
             options: Vec::new(),
             push_out: false,
         };

@@ -76,7 +76,7 @@ fn layout_balls(layout: &[Option<[f64; 2]>]) -> Vec<BallState> {
 pub(super) fn load_layout(game: &mut Game, layout: &[Option<[f64; 2]>]) {
     game.balls = layout_balls(layout);
     game.phase = super::Phase::Shooting {
-        in_hand: None,
+        in_hand: Some(InHand::Anywhere),
         options: Vec::new(),
         push_out: false,
     };
@@ -109,7 +109,8 @@ pub fn layout_from_scene(scene: &Scene) -> Result<Vec<Option<[f64; 2]>>, RuleErr
     Ok(layout)
 }
 
-/// A practice shot is never a foul: report what fell, and play on.
+/// A practice shot is never a foul: report what fell, and play on (the cue ball stays in
+/// hand, as it always is in practice).
 pub(super) fn judge(game: &mut Game, shooter: Seat, facts: &ShotFacts) -> Ruling {
     let reasons = facts
         .pocketed
@@ -122,13 +123,12 @@ pub(super) fn judge(game: &mut Game, shooter: Seat, facts: &ShotFacts) -> Ruling
             )
         })
         .collect();
-    let in_hand = facts.scratched().then_some(InHand::Anywhere);
     Ruling {
         reasons,
         foul: false,
         next: Next::Shoot {
             seat: shooter,
-            in_hand,
+            in_hand: Some(InHand::Anywhere),
             options: Vec::new(),
         },
     }

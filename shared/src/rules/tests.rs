@@ -847,6 +847,7 @@ fn stalemate_offered_by_both_reracks_with_the_same_breaker() {
     );
     assert_eq!(g.balls.len(), 16);
     assert_ne!(g.balls, first_rack, "a re-rack is a new rack");
+    assert_eq!(g.rack_number(), 1);
     assert_eq!(in_hand(&g), Some(InHand::Kitchen));
 }
 
