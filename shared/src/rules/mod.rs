@@ -10,6 +10,25 @@
 //! Ball index = ball number (0 = cue ball, 1..=15, or 1..=9 in 9-ball); balls off the table
 //! stay in the list with `motion: Pocketed` (and `pocket: None` if they left the table other
 //! than by a pocket).
+//!
+//! Choices made where the rule books leave room or the game needs a definite answer:
+//! - A break is any shot taken while [`Game::is_break`]; the cue ball is in hand behind the
+//!   head string for it. [`Choice::Rerack`] always means "re-rack, and the player choosing
+//!   breaks"; [`Choice::OpponentRebreaks`] gives the break back to the offender.
+//! - 8-ball under bar rules: the 8 on the break wins, unless the breaker scratches, which
+//!   loses (a scratch on the 8).
+//! - Called shots: a call names a pocket, not a ball. With `call_every_shot`, the turn goes
+//!   on only if a ball of the shooter's group (on an open table, any group ball, which then
+//!   assigns the group) falls in the called pocket; other balls that fall stay down, no foul.
+//!   In 9-ball with calls, a 9 in another pocket is spotted and the turn passes.
+//! - The shot clock runs outside (the server sends [`Command::TimeExpired`]). Out of time on
+//!   a shot is a foul (ball in hand for the opponent; before the break, the opponent breaks
+//!   instead). Out of time on a choice takes the first option offered, without a foul.
+//! - 9-ball: illegal breaks (no ball down and fewer than four object balls to a cushion) are
+//!   fouls; a push-out that scratches is a foul and gives no choice. The warning before a
+//!   third foul is a reason in the verdict of the second.
+//! - The engine is two-dimensional, so no ball ever leaves the table; the clauses about balls
+//!   off the table are kept (see [`ShotFacts::off_table`]) and tested with crafted facts.
 
 mod eight;
 pub mod facts;
@@ -788,7 +807,6 @@ impl Game {
     }
 
     fn time_expired(&mut self, seat: Seat) -> Verdict {
-        let mut reasons = vec![format!("Foul: {seat} ran out of time")];
         if let Phase::Deciding { options } = &self.phase {
             // Out of time on a choice: the first option offered is taken (no foul).
             let choice = options.first().copied().unwrap_or(Choice::AcceptTable);
@@ -799,6 +817,7 @@ impl Game {
             );
             return verdict;
         }
+        let mut reasons = vec![format!("Foul: {seat} ran out of time")];
         self.stalemate = [false; 2];
         let opponent = seat.other();
         let mut next = if self.breaking {

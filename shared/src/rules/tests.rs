@@ -886,6 +886,44 @@ fn shot_clock_expiry_is_a_foul() {
 }
 
 #[test]
+fn out_of_time_on_a_choice_takes_the_first_option() {
+    let mut g = break_table(WPA, KITCHEN_SOFT, 3);
+    g.settings = Settings::online();
+    shoot(&mut g, KITCHEN_SOFT, None);
+    assert_eq!(g.to_move(), Seat::B);
+    let v = g.apply(Seat::B, &Command::TimeExpired).unwrap();
+    assert_eq!(
+        v.reasons,
+        vec![
+            "Player B ran out of time; the first option is taken".to_string(),
+            "Player B chooses to accept the table".to_string()
+        ]
+    );
+    assert!(!v.foul);
+    assert_eq!(
+        (g.to_move(), in_hand(&g), g.is_break()),
+        (Seat::B, None, false)
+    );
+}
+
+#[test]
+fn out_of_time_before_the_break_gives_the_break_away() {
+    let mut g = Game::new(NINE, Settings::online(), 3);
+    let v = g.apply(Seat::A, &Command::TimeExpired).unwrap();
+    assert_eq!(
+        v.reasons,
+        vec![
+            "Foul: Player A ran out of time".to_string(),
+            "Player B breaks".to_string()
+        ]
+    );
+    assert_eq!(
+        (g.to_move(), g.breaker(), g.is_break(), in_hand(&g)),
+        (Seat::B, Seat::B, true, Some(InHand::Kitchen))
+    );
+}
+
+#[test]
 fn conceding_ends_the_game_and_nothing_is_accepted_after() {
     let mut g = Game::new(WPA, Settings::offline(), 1);
     let v = g.apply(Seat::B, &Command::Concede).unwrap();
