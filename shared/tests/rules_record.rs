@@ -188,3 +188,12 @@ fn a_record_of_another_version_does_not_replay() {
         ReplayError::Version(RECORD_VERSION + 1)
     );
 }
+
+#[test]
+fn a_game_in_progress_round_trips_through_serde() {
+    let (game, _) = recorded_game(Variant::NineBall, 2);
+    let config = bincode::config::standard();
+    let bytes = bincode::serde::encode_to_vec(&game, config).unwrap();
+    let (back, _): (Game, usize) = bincode::serde::decode_from_slice(&bytes, config).unwrap();
+    assert_eq!(back, game);
+}
