@@ -2,7 +2,7 @@
 
 #![allow(dead_code)]
 
-use breakshot_shared::physics::{MotionState, Strike, Table};
+use breakshot_shared::physics::{engine, simulate, MotionState, ShotError, Strike, Table};
 use breakshot_shared::rules::rack::{ball_radius, head_string, table_size, SplitMix64};
 use breakshot_shared::rules::{Choice, Command, Game, InHand, Phase, RuleError, Seat, Verdict};
 use glam::DVec2;
@@ -34,8 +34,7 @@ pub enum End {
     Rerack,
     /// Still going after the shot budget.
     Unfinished,
-    /// The engine refused to play from the table the last shot left (a ball at rest where
-    /// its validation says no ball can be).
+    /// The engine left a table that its own validation refuses, so no shot can follow.
     Stuck(String),
 }
 
@@ -135,44 +134,11 @@ pub fn random_command(game: &Game, dice: &mut Dice) -> Command {
     }
 }
 
-/// Checks what must hold after every command.
+/// Checks what must hold after every command, apart from the table's geometry (see
+/// [`check_table`]).
 pub fn check_invariants(game: &Game, ball_count: usize) {
     let balls = game.balls();
     assert_eq!(balls.len(), ball_count, "ball count");
-    let r = ball_radius();
-    let (w, l) = table_size(game.table());
-    let table = Table::new(game.table());
-    let on: Vec<(usize, DVec2)> = balls
-        .iter()
-        .enumerate()
-        .filter(|(_, b)| b.motion != MotionState::Pocketed)
-        .map(|(i, b)| (i, b.pos))
-        .collect();
-    for &(i, p) in &on {
-        assert!(p.is_finite(), "ball {i} at {p}");
-        // On the cloth: inside the cushion noses (a ball may rest in a pocket's mouth, past
-        // the nose line, so the bound is the table's outline) and not in a pocket.
-        assert!(
-            p.x > 0.0 && p.x < w && p.y > 0.0 && p.y < l,
-            "ball {i} off the table at {p}"
-        );
-        let e = table.to_engine(p);
-        for pk in &table.pockets {
-            assert!(
-                (e - pk.center).length() > pk.radius,
-                "ball {i} in pocket {} at {p}",
-                pk.name
-            );
-        }
-    }
-    for (k, &(i, p)) in on.iter().enumerate() {
-        for &(j, q) in &on[k + 1..] {
-            assert!(
-                (p - q).length() >= 2.0 * r * (1.0 - 1e-12),
-                "balls {i} and {j} overlap"
-            );
-        }
-    }
     for b in balls {
         assert!(
             matches!(
@@ -191,6 +157,39 @@ pub fn check_invariants(game: &Game, ball_count: usize) {
         }
         Phase::Over { .. } => {}
     }
+}
+
+/// Checks the table with the engine's own validation (every ball on the cloth, none
+/// overlapping), so that the next shot can be played. `before` is the game before `cmd`.
+///
+/// If the check fails only for balls exactly where the physics left them after a shot, the
+/// fault is the engine's (its output fails its own validation) and the game cannot go on:
+/// that is returned as an error. Any other failure is a rules fault and panics.
+pub fn check_table(game: &Game, before: &Game, cmd: &Command) -> Result<(), String> {
+    let probe = Strike {
+        speed: 1.0,
+        dir: DVec2::Y,
+        tip: DVec2::ZERO,
+    };
+    let mut shot = game.shot_for(&probe);
+    shot.strike = None;
+    let Err(e) = engine::check(&shot) else {
+        return Ok(());
+    };
+    let culprits = match e {
+        ShotError::Overlap { a, b } => vec![a, b],
+        ShotError::OffTable { ball } => vec![ball],
+        _ => panic!("invalid table: {e}"),
+    };
+    if let Command::Shot { strike, .. } = cmd {
+        let finals = simulate(&before.shot_for(strike))
+            .expect("the shot was played")
+            .finals;
+        if culprits.iter().all(|&i| game.balls()[i] == finals[i]) {
+            return Err(format!("the engine left a table it refuses: {e}"));
+        }
+    }
+    panic!("the rules left an invalid table: {e}");
 }
 
 /// Plays random legal commands until the game ends, a re-rack, or `max_shots` shots.
@@ -213,12 +212,17 @@ pub fn play(game: &mut Game, dice: &mut Dice, max_shots: usize) -> Played {
         match game.apply(seat, &cmd) {
             Ok(verdict) => {
                 check_invariants(game, ball_count);
+                let table = check_table(game, &before, &cmd);
                 if is_shot {
                     played.shots += 1;
                     assert!(verdict.shot.is_some());
                 }
                 let over = verdict.over.clone();
                 played.log.push((seat, cmd, verdict));
+                if let Err(why) = table {
+                    played.end = End::Stuck(why);
+                    return played;
+                }
                 if let Some((winner, _)) = over {
                     played.end = End::Over(winner);
                     return played;
@@ -228,14 +232,8 @@ pub fn play(game: &mut Game, dice: &mut Dice, max_shots: usize) -> Played {
                     return played;
                 }
             }
-            Err(RuleError::InvalidShot(why))
-                if is_shot && why.contains("not on the playing surface") =>
-            {
-                played.end = End::Stuck(why);
-                return played;
-            }
             Err(RuleError::InvalidShot(why)) if is_shot => {
-                // The engine gave up on the shot (event limit); nothing may have changed.
+                // The engine could not play the shot (its event limit); nothing may change.
                 assert_eq!(*game, before, "a refused shot changed the game ({why})");
                 played.refused += 1;
             }
