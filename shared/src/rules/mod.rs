@@ -623,10 +623,10 @@ impl Game {
             }
             Phase::Over { .. } => return Err(RuleError::GameOver),
         };
-        let cue = self.balls[0];
-        if cue.motion == MotionState::Pocketed {
-            return Err(RuleError::WrongPhase("place the cue ball first".into()));
-        }
+        let cue = match self.balls.first() {
+            Some(b) if b.motion != MotionState::Pocketed => *b,
+            _ => return Err(RuleError::WrongPhase("place the cue ball first".into())),
+        };
         if let (Some(area), false) = (in_hand, self.variant == Variant::Practice) {
             self.placement_in(area, cue.pos.to_array())?;
         }
@@ -660,7 +660,9 @@ impl Game {
         let verdict = match cmd {
             Command::Shot { strike, call } => self.shoot(seat, strike, *call)?,
             Command::PlaceCueBall { pos } => {
-                self.balls[0] = BallState::at_rest(DVec2::from_array(*pos));
+                if let Some(cue) = self.balls.first_mut() {
+                    *cue = BallState::at_rest(DVec2::from_array(*pos));
+                }
                 if self.variant == Variant::Practice {
                     self.to_move = seat;
                 }
@@ -687,7 +689,15 @@ impl Game {
                         format!("{seat} conceded; {} wins", seat.other()),
                     )
                 };
-                self.enact(Next::Over { winner, reason }, Vec::new(), false, None)
+                self.enact(
+                    Next::Over {
+                        winner,
+                        reason: reason.clone(),
+                    },
+                    vec![reason],
+                    false,
+                    None,
+                )
             }
             Command::ProposeStalemate => {
                 self.stalemate[seat.index()] = true;
@@ -860,7 +870,11 @@ impl Game {
                 mut in_hand,
                 options,
             } => {
-                if self.balls[0].motion == MotionState::Pocketed && in_hand.is_none() {
+                let cue_off = self
+                    .balls
+                    .first()
+                    .is_none_or(|b| b.motion == MotionState::Pocketed);
+                if cue_off && in_hand.is_none() {
                     in_hand = Some(InHand::Anywhere);
                 }
                 self.to_move = seat;

@@ -191,6 +191,9 @@ pub fn is_free(balls: &[BallState], ball: usize, pos: DVec2, kind: TableKind) ->
 /// as near to it as possible behind it (towards the foot rail), else in front of it.
 /// Returns false (and changes nothing) if the whole long string is taken.
 pub fn spot(balls: &mut [BallState], ball: usize, kind: TableKind) -> bool {
+    if ball >= balls.len() {
+        return false;
+    }
     let foot = foot_spot(kind);
     let d = 2.0 * ball_radius() + RACK_GAP;
     // Candidates: the spot itself and, for every ball near the string, the places just
