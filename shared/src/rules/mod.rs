@@ -261,7 +261,7 @@ pub enum Phase {
     },
     /// `to_move()` must pick one of `options`.
     Deciding { options: Vec<Choice> },
-    /// The game is over (`winner: None` when nobody won: a practice session ended).
+    /// The game is over (`winner: None` when nobody won: practice was ended).
     Over {
         winner: Option<Seat>,
         reason: String,
