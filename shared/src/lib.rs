@@ -3,4 +3,6 @@
 
 pub mod hash;
 pub mod physics;
+pub mod replay;
+pub mod rules;
 pub mod scene;

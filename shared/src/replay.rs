@@ -1,0 +1,173 @@
+//! Game records: the rules variant, settings and rack seed of a game, and every command
+//! applied to it with the state hash its shot produced. Because the physics and the rules are
+//! deterministic, a record is the whole game: [`GameRecord::replay`] plays it again and checks
+//! every hash, which is how replays are verified and how a stored game is restored.
+//!
+//! Encoding: bincode 2 (standard configuration: little-endian, variable-length integers) of
+//! the record, whose first field is the format version. Decoding reads the version first, so
+//! a record from another version is refused by name rather than misread, and is limited to
+//! [`MAX_RECORD_BYTES`] so a hostile length prefix cannot make it allocate without bound.
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::hash::hash_hex;
+use crate::rules::{Command, Game, RuleError, Seat, Settings, Variant};
+
+/// Version of the record format.
+pub const RECORD_VERSION: u32 = 1;
+/// Largest encoded record accepted (4 MiB). A command takes well under 100 bytes, so this
+/// holds tens of thousands of commands, far beyond any real game.
+pub const MAX_RECORD_BYTES: usize = 1 << 22;
+
+/// One applied command.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RecordEntry {
+    pub seat: Seat,
+    pub command: Command,
+    /// The state hash of the shot the command played (`ShotReport::hash`), `None` for
+    /// commands that play no shot.
+    pub hash: Option<u64>,
+}
+
+/// A whole game.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GameRecord {
+    pub version: u32,
+    pub variant: Variant,
+    pub settings: Settings,
+    pub seed: u64,
+    pub entries: Vec<RecordEntry>,
+}
+
+/// Why bytes are not a record.
+#[derive(Clone, Debug, PartialEq, Eq, Error)]
+pub enum RecordError {
+    #[error("record is larger than {MAX_RECORD_BYTES} bytes")]
+    TooLarge,
+    #[error("record format version {0} is not supported (this build reads {RECORD_VERSION})")]
+    Version(u32),
+    #[error("record is malformed: {0}")]
+    Malformed(String),
+    #[error("record has {0} unexpected bytes after its end")]
+    TrailingBytes(usize),
+}
+
+/// Why a record does not replay.
+#[derive(Clone, Debug, PartialEq, Eq, Error)]
+pub enum ReplayError {
+    #[error("record format version {0} is not supported (this build reads {RECORD_VERSION})")]
+    Version(u32),
+    #[error("entry {entry} ({seat:?}): the rules refuse the command: {error}")]
+    Rejected {
+        entry: usize,
+        seat: Seat,
+        error: RuleError,
+    },
+    #[error("entry {entry}: the state hash differs (recorded {}, replayed {})",
+        show(*.recorded), show(*.replayed))]
+    HashMismatch {
+        entry: usize,
+        recorded: Option<u64>,
+        replayed: Option<u64>,
+    },
+}
+
+impl ReplayError {
+    /// The index of the entry that failed (None for a record that cannot be replayed at all).
+    pub fn entry(&self) -> Option<usize> {
+        match self {
+            ReplayError::Version(_) => None,
+            ReplayError::Rejected { entry, .. } | ReplayError::HashMismatch { entry, .. } => {
+                Some(*entry)
+            }
+        }
+    }
+}
+
+fn show(hash: Option<u64>) -> String {
+    hash.map_or_else(|| "none".into(), hash_hex)
+}
+
+fn config() -> impl bincode::config::Config {
+    bincode::config::standard().with_limit::<MAX_RECORD_BYTES>()
+}
+
+impl GameRecord {
+    /// An empty record of a game about to start.
+    pub fn new(variant: Variant, settings: Settings, seed: u64) -> GameRecord {
+        GameRecord {
+            version: RECORD_VERSION,
+            variant,
+            settings,
+            seed,
+            entries: Vec::new(),
+        }
+    }
+
+    /// The record of `game`'s start (its variant, settings and seed).
+    pub fn of(game: &Game) -> GameRecord {
+        GameRecord::new(game.variant(), game.settings(), game.seed())
+    }
+
+    /// Appends an applied command and the hash of the shot it played.
+    pub fn push(&mut self, seat: Seat, command: Command, hash: Option<u64>) {
+        self.entries.push(RecordEntry {
+            seat,
+            command,
+            hash,
+        });
+    }
+
+    pub fn encode(&self) -> Vec<u8> {
+        // Encoding into a Vec only fails for types serde cannot express in bincode, which
+        // these are not; an empty result would then be refused by `decode`.
+        bincode::serde::encode_to_vec(self, bincode::config::standard()).unwrap_or_default()
+    }
+
+    pub fn decode(bytes: &[u8]) -> Result<GameRecord, RecordError> {
+        if bytes.len() > MAX_RECORD_BYTES {
+            return Err(RecordError::TooLarge);
+        }
+        let malformed = |e: bincode::error::DecodeError| RecordError::Malformed(e.to_string());
+        let (version, _): (u32, usize) =
+            bincode::decode_from_slice(bytes, config()).map_err(malformed)?;
+        if version != RECORD_VERSION {
+            return Err(RecordError::Version(version));
+        }
+        let (record, used): (GameRecord, usize) =
+            bincode::serde::decode_from_slice(bytes, config()).map_err(malformed)?;
+        if used != bytes.len() {
+            return Err(RecordError::TrailingBytes(bytes.len() - used));
+        }
+        Ok(record)
+    }
+
+    /// Plays the record again from its seed, checking that every command is accepted and
+    /// every shot ends with the recorded hash. Returns the game at the end, or names the
+    /// first entry that differs.
+    pub fn replay(&self) -> Result<Game, ReplayError> {
+        if self.version != RECORD_VERSION {
+            return Err(ReplayError::Version(self.version));
+        }
+        let mut game = Game::new(self.variant, self.settings, self.seed);
+        for (i, e) in self.entries.iter().enumerate() {
+            let verdict =
+                game.apply(e.seat, &e.command)
+                    .map_err(|error| ReplayError::Rejected {
+                        entry: i,
+                        seat: e.seat,
+                        error,
+                    })?;
+            let replayed = verdict.shot.map(|s| s.hash);
+            if replayed != e.hash {
+                return Err(ReplayError::HashMismatch {
+                    entry: i,
+                    recorded: e.hash,
+                    replayed,
+                });
+            }
+        }
+        Ok(game)
+    }
+}

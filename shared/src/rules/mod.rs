@@ -1,0 +1,976 @@
+//! The game rules: 8-ball (World Standardized Rules, or the `bar` variant), 9-ball and
+//! practice.
+//!
+//! A [`Game`] takes [`Command`]s from the two seats. [`Game::check`] says whether a command
+//! is acceptable now without changing anything; [`Game::apply`] is the only place the game
+//! changes: it simulates shots with the physics engine, judges them from the events, and
+//! returns a [`Verdict`] whose reasons a player can read. Like the physics, the rules are
+//! pure and deterministic: the same seed and commands give the same game, bit for bit.
+//!
+//! Ball index = ball number (0 = cue ball, 1..=15, or 1..=9 in 9-ball); balls off the table
+//! stay in the list with `motion: Pocketed` (and `pocket: None` if they left the table other
+//! than by a pocket).
+//!
+//! Choices made where the rule books leave room or the game needs a definite answer:
+//! - A break is any shot taken while [`Game::is_break`]; the cue ball is in hand behind the
+//!   head string for it. [`Choice::Rerack`] always means "re-rack, and the player choosing
+//!   breaks"; [`Choice::OpponentRebreaks`] gives the break back to the offender.
+//! - 8-ball under bar rules: the 8 on the break wins, unless the breaker scratches, which
+//!   loses (a scratch on the 8).
+//! - Called shots: a call names a pocket, not a ball. With `call_every_shot`, the turn goes
+//!   on only if a ball of the shooter's group (on an open table, any group ball, which then
+//!   assigns the group) falls in the called pocket; other balls that fall stay down, no foul.
+//!   In 9-ball with calls, a 9 in another pocket is spotted and the turn passes.
+//! - The shot clock runs outside (the server sends [`Command::TimeExpired`]). Out of time on
+//!   a shot is a foul (ball in hand for the opponent; before the break, the opponent breaks
+//!   instead). Out of time on a choice takes the first option offered, without a foul.
+//! - 9-ball: illegal breaks (no ball down and fewer than four object balls to a cushion) are
+//!   fouls; a push-out that scratches is a foul and gives no choice. The warning before a
+//!   third foul is a reason in the verdict of the second.
+//! - The engine is two-dimensional, so no ball ever leaves the table; the clauses about balls
+//!   off the table are kept (see [`ShotFacts::off_table`]) and tested with crafted facts.
+
+mod eight;
+pub mod facts;
+mod nine;
+mod practice;
+pub mod rack;
+#[cfg(test)]
+mod tests;
+
+use std::fmt;
+
+use glam::DVec2;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::physics::{
+    simulate, BallState, Effects, Event, Models, MotionState, Params, Shot, Strike, Table,
+    TableKind,
+};
+pub use facts::ShotFacts;
+pub use practice::layout_from_scene;
+
+/// Which game is played.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Variant {
+    EightBall(EightBallRules),
+    NineBall,
+    Practice,
+}
+
+/// The two 8-ball rule sets.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum EightBallRules {
+    /// World Standardized Rules (WPA).
+    #[default]
+    Wpa,
+    /// Bar rules: a scratch while shooting at the 8 loses; the 8 on the break wins.
+    Bar,
+}
+
+/// Settings fixed for a whole game.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Settings {
+    /// Every shot (not only the 8) must name the pocket a ball of the shooter's is meant for;
+    /// the turn continues only if one goes there.
+    pub call_every_shot: bool,
+    /// Seconds per shot; `None` = no shot clock. The clock itself runs outside the rules
+    /// (the server sends [`Command::TimeExpired`]); running out is a foul.
+    pub shot_clock: Option<u32>,
+    /// The table played on.
+    pub table: TableKind,
+}
+
+/// The online default shot clock (s).
+pub const ONLINE_SHOT_CLOCK: u32 = 60;
+
+impl Settings {
+    /// Online play: 60 s shot clock.
+    pub fn online() -> Settings {
+        Settings {
+            shot_clock: Some(ONLINE_SHOT_CLOCK),
+            ..Settings::offline()
+        }
+    }
+
+    /// Offline play: no shot clock.
+    pub fn offline() -> Settings {
+        Settings {
+            call_every_shot: false,
+            shot_clock: None,
+            table: TableKind::NineFoot,
+        }
+    }
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings::offline()
+    }
+}
+
+/// A player's seat. Seat A breaks the first rack.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub enum Seat {
+    A,
+    B,
+}
+
+impl Seat {
+    pub fn other(self) -> Seat {
+        match self {
+            Seat::A => Seat::B,
+            Seat::B => Seat::A,
+        }
+    }
+
+    fn index(self) -> usize {
+        match self {
+            Seat::A => 0,
+            Seat::B => 1,
+        }
+    }
+}
+
+impl fmt::Display for Seat {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Seat::A => f.write_str("Player A"),
+            Seat::B => f.write_str("Player B"),
+        }
+    }
+}
+
+/// Counts the commands applied to a game: it changes whenever the game does.
+pub type TurnId = u32;
+
+/// What a player asks for.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Command {
+    /// Strike the cue ball. `call` is the pocket (index into the table's pockets) the
+    /// shooter calls: required for the 8, and for every shot with `call_every_shot`.
+    Shot { strike: Strike, call: Option<u8> },
+    /// Put the cue ball at `pos` (scene coordinates) while it is in hand.
+    PlaceCueBall { pos: [f64; 2] },
+    /// Answer a choice the rules offered.
+    Decide(Choice),
+    /// The shot clock ran out (sent by the server on behalf of the seat to move).
+    TimeExpired,
+    /// Give up the game.
+    Concede,
+    /// Offer a stalemate; when both players have offered, the balls are re-racked and the
+    /// same player breaks.
+    ProposeStalemate,
+    /// Practice only: put any ball at `pos`, or take it off the table with `None`.
+    PlaceBall { ball: u8, pos: Option<[f64; 2]> },
+    /// Practice only: lay out the table, one entry per ball number (`None` = off the table).
+    /// [`layout_from_scene`] builds one from a scene file.
+    LoadLayout { balls: Vec<Option<[f64; 2]>> },
+}
+
+/// The choices the rules offer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Choice {
+    /// Play on from the table as it lies.
+    AcceptTable,
+    /// Re-rack, and the player choosing breaks.
+    Rerack,
+    /// Re-rack, and the player who broke illegally breaks again.
+    OpponentRebreaks,
+    /// After the 8 fell on the break: spot it and play on.
+    SpotEightAndContinue,
+    /// 9-ball, the shot after the break: declare this shot a push-out.
+    PushOut,
+    /// 9-ball, after the opponent's push-out: make the opponent shoot again.
+    HandBack,
+}
+
+impl fmt::Display for Choice {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Choice::AcceptTable => "accept the table",
+            Choice::Rerack => "re-rack and break",
+            Choice::OpponentRebreaks => "have the opponent break again",
+            Choice::SpotEightAndContinue => "spot the 8 and continue",
+            Choice::PushOut => "push out",
+            Choice::HandBack => "hand the table back",
+        })
+    }
+}
+
+/// Where the cue ball may be put when it is in hand.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum InHand {
+    /// Behind the head string (centre at `y < length/4`).
+    Kitchen,
+    Anywhere,
+}
+
+/// The 8-ball groups.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Group {
+    /// 1 to 7.
+    Solids,
+    /// 9 to 15.
+    Stripes,
+}
+
+impl Group {
+    pub fn of(ball: u8) -> Option<Group> {
+        match ball {
+            1..=7 => Some(Group::Solids),
+            9..=15 => Some(Group::Stripes),
+            _ => None,
+        }
+    }
+
+    pub fn balls(self) -> std::ops::RangeInclusive<u8> {
+        match self {
+            Group::Solids => 1..=7,
+            Group::Stripes => 9..=15,
+        }
+    }
+
+    pub fn other(self) -> Group {
+        match self {
+            Group::Solids => Group::Stripes,
+            Group::Stripes => Group::Solids,
+        }
+    }
+
+    /// "a solid" / "a stripe".
+    pub fn one(self) -> &'static str {
+        match self {
+            Group::Solids => "a solid",
+            Group::Stripes => "a stripe",
+        }
+    }
+}
+
+/// What the game waits for.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Phase {
+    /// `to_move()` shoots. `in_hand`: the cue ball may (or, if it is off the table, must) be
+    /// placed first. `options`: declarations the shooter may make before shooting (the 9-ball
+    /// push-out). `push_out`: this shot was declared a push-out.
+    Shooting {
+        in_hand: Option<InHand>,
+        options: Vec<Choice>,
+        push_out: bool,
+    },
+    /// `to_move()` must pick one of `options`.
+    Deciding { options: Vec<Choice> },
+    /// The game is over (`winner: None` when nobody won: practice was ended).
+    Over {
+        winner: Option<Seat>,
+        reason: String,
+    },
+}
+
+/// What a shot did, for the players.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ShotReport {
+    /// The physics state hash of the table at rest (before any ball is spotted).
+    pub hash: u64,
+    pub events: Vec<Event>,
+    /// (ball, pocket) in the order they fell.
+    pub pocketed: Vec<(u8, u8)>,
+}
+
+/// The result of an applied command.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Verdict {
+    /// Readable reasons, most important first ("Foul: wrong ball first — hit the 8 before a
+    /// solid").
+    pub reasons: Vec<String>,
+    pub foul: bool,
+    pub shot: Option<ShotReport>,
+    /// The seat to move next.
+    pub next: Seat,
+    /// The game ended: the winner (if any) and why.
+    pub over: Option<(Option<Seat>, String)>,
+}
+
+/// Why a command was refused. Nothing changed.
+#[derive(Clone, Debug, PartialEq, Eq, Error, Serialize, Deserialize)]
+pub enum RuleError {
+    #[error("it is not your turn")]
+    NotYourTurn,
+    #[error("the game is over")]
+    GameOver,
+    #[error("not now: {0}")]
+    WrongPhase(String),
+    #[error("illegal cue ball placement: {0}")]
+    IllegalPlacement(String),
+    #[error("invalid shot: {0}")]
+    InvalidShot(String),
+    #[error("invalid choice: {0}")]
+    InvalidChoice(String),
+    #[error("not in this game: {0}")]
+    NotAllowed(String),
+}
+
+/// A choice the rules are waiting for, and what it is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+enum Pending {
+    /// 8-ball: the break was illegal (`offender` broke; `scratched` with it).
+    IllegalBreak { offender: Seat, scratched: bool },
+    /// 8-ball: the 8 fell on the break (`scratched`: the breaker scratched too, and the
+    /// opponent chooses).
+    EightOnBreak { scratched: bool },
+    /// 9-ball: `pusher` pushed out.
+    PushOut { pusher: Seat },
+}
+
+/// What a judged shot leads to.
+#[derive(Clone, Debug, PartialEq)]
+enum Next {
+    Shoot {
+        seat: Seat,
+        in_hand: Option<InHand>,
+        options: Vec<Choice>,
+    },
+    Decide {
+        seat: Seat,
+        options: Vec<Choice>,
+        pending: Pending,
+    },
+    Over {
+        winner: Option<Seat>,
+        reason: String,
+    },
+    Rerack {
+        breaker: Seat,
+    },
+}
+
+/// The judgement of one shot by a variant's rules.
+#[derive(Clone, Debug, PartialEq)]
+struct Ruling {
+    reasons: Vec<String>,
+    foul: bool,
+    next: Next,
+}
+
+/// A game in progress.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Game {
+    variant: Variant,
+    settings: Settings,
+    seed: u64,
+    /// Racks played before the current one (re-racks included).
+    racks: u32,
+    balls: Vec<BallState>,
+    turn: TurnId,
+    to_move: Seat,
+    breaker: Seat,
+    phase: Phase,
+    /// The next shot is a break.
+    breaking: bool,
+    /// 8-ball: seat A's group once assigned.
+    group_a: Option<Group>,
+    /// 9-ball: consecutive fouls of each seat.
+    fouls: [u8; 2],
+    pending: Option<Pending>,
+    /// Stalemate offers since the last shot.
+    stalemate: [bool; 2],
+}
+
+impl Game {
+    /// A new game: the first rack, seat A to break.
+    pub fn new(variant: Variant, settings: Settings, seed: u64) -> Game {
+        let mut game = Game {
+            variant,
+            settings,
+            seed,
+            racks: 0,
+            balls: Vec::new(),
+            turn: 0,
+            to_move: Seat::A,
+            breaker: Seat::A,
+            phase: Phase::Deciding {
+                options: Vec::new(),
+            },
+            breaking: false,
+            group_a: None,
+            fouls: [0; 2],
+            pending: None,
+            stalemate: [false; 2],
+        };
+        game.rack(Seat::A);
+        game
+    }
+
+    pub fn variant(&self) -> Variant {
+        self.variant
+    }
+
+    pub fn settings(&self) -> Settings {
+        self.settings
+    }
+
+    pub fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    pub fn table(&self) -> TableKind {
+        self.settings.table
+    }
+
+    /// The balls, index = ball number (0 = cue ball), in scene coordinates.
+    pub fn balls(&self) -> &[BallState] {
+        &self.balls
+    }
+
+    pub fn turn(&self) -> TurnId {
+        self.turn
+    }
+
+    /// The seat that shoots or decides next.
+    pub fn to_move(&self) -> Seat {
+        self.to_move
+    }
+
+    pub fn phase(&self) -> &Phase {
+        &self.phase
+    }
+
+    /// How many racks came before the current one (re-racks included; 0 for the opening).
+    pub fn rack_number(&self) -> u32 {
+        self.racks
+    }
+
+    /// The seat that broke (or breaks) the current rack.
+    pub fn breaker(&self) -> Seat {
+        self.breaker
+    }
+
+    /// The next shot is a break.
+    pub fn is_break(&self) -> bool {
+        self.breaking
+    }
+
+    /// 8-ball: the group of `seat`, once the table is no longer open.
+    pub fn group_of(&self, seat: Seat) -> Option<Group> {
+        match seat {
+            Seat::A => self.group_a,
+            Seat::B => self.group_a.map(Group::other),
+        }
+    }
+
+    /// 9-ball: consecutive fouls of `seat` (three lose).
+    pub fn consecutive_fouls(&self, seat: Seat) -> u8 {
+        self.fouls[seat.index()]
+    }
+
+    /// Seats that have offered a stalemate since the last shot.
+    pub fn stalemate_offered(&self, seat: Seat) -> bool {
+        self.stalemate[seat.index()]
+    }
+
+    /// The balls the shooter may legally strike first now (empty in practice: anything goes).
+    pub fn legal_first_balls(&self) -> Vec<u8> {
+        match self.variant {
+            Variant::EightBall(_) => eight::legal_first_balls(self, self.to_move),
+            Variant::NineBall => nine::lowest_ball(&self.balls).into_iter().collect(),
+            Variant::Practice => Vec::new(),
+        }
+    }
+
+    /// The physics shot that `strike` on the cue ball would be from the current table.
+    pub fn shot_for(&self, strike: &Strike) -> Shot {
+        Shot {
+            table: self.table(),
+            params: Params::default(),
+            models: Models::default(),
+            effects: Effects::default(),
+            horizon: None,
+            balls: self.balls.clone(),
+            strike: Some((0, *strike)),
+        }
+    }
+
+    /// May the cue ball, in hand, go at `pos` (scene coordinates)?
+    pub fn legal_cue_placement(&self, pos: [f64; 2]) -> Result<(), RuleError> {
+        let area = match (&self.phase, self.variant) {
+            (Phase::Over { .. }, _) => return Err(RuleError::GameOver),
+            (_, Variant::Practice) => InHand::Anywhere,
+            (
+                Phase::Shooting {
+                    in_hand: Some(area),
+                    ..
+                },
+                _,
+            ) => *area,
+            _ => return Err(RuleError::WrongPhase("the cue ball is not in hand".into())),
+        };
+        self.placement_in(area, pos)
+    }
+
+    fn placement_in(&self, area: InHand, pos: [f64; 2]) -> Result<(), RuleError> {
+        let p = DVec2::from_array(pos);
+        if !p.is_finite() {
+            return Err(RuleError::IllegalPlacement(
+                "the position must be finite numbers".into(),
+            ));
+        }
+        if area == InHand::Kitchen && p.y >= rack::head_string(self.table()) {
+            return Err(RuleError::IllegalPlacement(
+                "the cue ball must be behind the head string".into(),
+            ));
+        }
+        if !rack::is_free(&self.balls, 0, p, self.table()) {
+            return Err(RuleError::IllegalPlacement(
+                "the cue ball must lie on the cloth, clear of the cushions, pockets and other balls"
+                    .into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Would `cmd` from `seat` be accepted now? Changes nothing.
+    pub fn check(&self, seat: Seat, cmd: &Command) -> Result<(), RuleError> {
+        if let Phase::Over { .. } = self.phase {
+            return Err(RuleError::GameOver);
+        }
+        let practice = self.variant == Variant::Practice;
+        match cmd {
+            Command::Concede => Ok(()),
+            Command::ProposeStalemate => {
+                if practice {
+                    return Err(RuleError::NotAllowed(
+                        "there is no stalemate in practice".into(),
+                    ));
+                }
+                if self.stalemate[seat.index()] {
+                    return Err(RuleError::WrongPhase(
+                        "you have already offered a stalemate".into(),
+                    ));
+                }
+                Ok(())
+            }
+            Command::TimeExpired => {
+                if practice || self.settings.shot_clock.is_none() {
+                    return Err(RuleError::NotAllowed("this game has no shot clock".into()));
+                }
+                self.check_seat(seat)
+            }
+            Command::PlaceBall { ball, pos } => {
+                if !practice {
+                    return Err(RuleError::NotAllowed(
+                        "balls can be placed freely only in practice".into(),
+                    ));
+                }
+                practice::check_place_ball(self, *ball, *pos)
+            }
+            Command::LoadLayout { balls } => {
+                if !practice {
+                    return Err(RuleError::NotAllowed(
+                        "a layout can be loaded only in practice".into(),
+                    ));
+                }
+                practice::check_layout(self, balls)
+            }
+            Command::PlaceCueBall { pos } => {
+                if !practice {
+                    self.check_seat(seat)?;
+                }
+                self.legal_cue_placement(*pos)
+            }
+            Command::Decide(choice) => {
+                if practice {
+                    return Err(RuleError::NotAllowed(
+                        "there are no choices in practice".into(),
+                    ));
+                }
+                self.check_seat(seat)?;
+                let options = match &self.phase {
+                    Phase::Deciding { options } | Phase::Shooting { options, .. } => options,
+                    Phase::Over { .. } => return Err(RuleError::GameOver),
+                };
+                if options.contains(choice) {
+                    Ok(())
+                } else {
+                    Err(RuleError::InvalidChoice(format!("you cannot {choice} now")))
+                }
+            }
+            Command::Shot { strike, call } => {
+                if !practice {
+                    self.check_seat(seat)?;
+                }
+                self.check_shot(strike, *call)
+            }
+        }
+    }
+
+    fn check_seat(&self, seat: Seat) -> Result<(), RuleError> {
+        if seat == self.to_move {
+            Ok(())
+        } else {
+            Err(RuleError::NotYourTurn)
+        }
+    }
+
+    fn check_shot(&self, strike: &Strike, call: Option<u8>) -> Result<(), RuleError> {
+        strike
+            .validated()
+            .map_err(|e| RuleError::InvalidShot(e.to_string()))?;
+        let in_hand = match &self.phase {
+            Phase::Shooting { in_hand, .. } => *in_hand,
+            Phase::Deciding { .. } => {
+                return Err(RuleError::WrongPhase("a choice must be made first".into()))
+            }
+            Phase::Over { .. } => return Err(RuleError::GameOver),
+        };
+        let cue = match self.balls.first() {
+            Some(b) if b.motion != MotionState::Pocketed => *b,
+            _ => return Err(RuleError::WrongPhase("place the cue ball first".into())),
+        };
+        if let (Some(area), false) = (in_hand, self.variant == Variant::Practice) {
+            self.placement_in(area, cue.pos.to_array())?;
+        }
+        let pockets = Table::new(self.table()).pockets.len();
+        if let Some(p) = call {
+            if usize::from(p) >= pockets {
+                return Err(RuleError::InvalidShot(format!(
+                    "pocket {p} does not exist (the table has {pockets})"
+                )));
+            }
+        }
+        if call.is_none() && !self.breaking {
+            match self.variant {
+                Variant::EightBall(_) if eight::on_eight(self, self.to_move) => {
+                    return Err(RuleError::InvalidShot("call a pocket for the 8".into()));
+                }
+                Variant::EightBall(_) | Variant::NineBall if self.settings.call_every_shot => {
+                    return Err(RuleError::InvalidShot(
+                        "this game requires a called pocket on every shot".into(),
+                    ));
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Applies `cmd` from `seat`: the only way a game changes. On error nothing changes.
+    pub fn apply(&mut self, seat: Seat, cmd: &Command) -> Result<Verdict, RuleError> {
+        self.check(seat, cmd)?;
+        let verdict = match cmd {
+            Command::Shot { strike, call } => self.shoot(seat, strike, *call)?,
+            Command::PlaceCueBall { pos } => {
+                if let Some(cue) = self.balls.first_mut() {
+                    *cue = BallState::at_rest(DVec2::from_array(*pos));
+                }
+                if self.variant == Variant::Practice {
+                    self.to_move = seat;
+                }
+                self.verdict(vec![format!("{seat} places the cue ball")])
+            }
+            Command::PlaceBall { ball, pos } => {
+                practice::place_ball(self, *ball, *pos);
+                self.to_move = seat;
+                self.verdict(Vec::new())
+            }
+            Command::LoadLayout { balls } => {
+                practice::load_layout(self, balls);
+                self.to_move = seat;
+                self.verdict(vec!["Layout loaded".into()])
+            }
+            Command::Decide(choice) => self.decide(seat, *choice),
+            Command::TimeExpired => self.time_expired(seat),
+            Command::Concede => {
+                let (winner, reason) = if self.variant == Variant::Practice {
+                    (None, "Practice ended".to_string())
+                } else {
+                    (
+                        Some(seat.other()),
+                        format!("{seat} conceded; {} wins", seat.other()),
+                    )
+                };
+                self.enact(
+                    Next::Over {
+                        winner,
+                        reason: reason.clone(),
+                    },
+                    vec![reason],
+                    false,
+                    None,
+                )
+            }
+            Command::ProposeStalemate => {
+                self.stalemate[seat.index()] = true;
+                if self.stalemate[seat.other().index()] {
+                    let breaker = self.breaker;
+                    let reasons = vec![format!(
+                        "Stalemate agreed by both players: re-rack, {breaker} breaks again"
+                    )];
+                    self.enact(Next::Rerack { breaker }, reasons, false, None)
+                } else {
+                    self.verdict(vec![format!("{seat} offers a stalemate")])
+                }
+            }
+        };
+        self.turn = self.turn.wrapping_add(1);
+        Ok(verdict)
+    }
+
+    /// A verdict for a command that leaves the turn where it is.
+    fn verdict(&self, reasons: Vec<String>) -> Verdict {
+        Verdict {
+            reasons,
+            foul: false,
+            shot: None,
+            next: self.to_move,
+            over: None,
+        }
+    }
+
+    fn shoot(
+        &mut self,
+        seat: Seat,
+        strike: &Strike,
+        call: Option<u8>,
+    ) -> Result<Verdict, RuleError> {
+        let outcome =
+            simulate(&self.shot_for(strike)).map_err(|e| RuleError::InvalidShot(e.to_string()))?;
+        let facts = ShotFacts::from_outcome(&outcome);
+        let report = ShotReport {
+            hash: outcome.hash(),
+            events: outcome.events.clone(),
+            pocketed: facts.pocketed.clone(),
+        };
+        Ok(self.judge_shot(seat, call, outcome.finals, &facts, report))
+    }
+
+    /// Judges a shot that left the balls at `finals` with `facts`, and moves the game on.
+    fn judge_shot(
+        &mut self,
+        seat: Seat,
+        call: Option<u8>,
+        finals: Vec<BallState>,
+        facts: &ShotFacts,
+        report: ShotReport,
+    ) -> Verdict {
+        let before = std::mem::replace(&mut self.balls, finals);
+        for &b in &facts.off_table {
+            if let Some(ball) = self.balls.get_mut(usize::from(b)) {
+                *ball = off_table();
+            }
+        }
+        self.stalemate = [false; 2];
+        let push_out = matches!(self.phase, Phase::Shooting { push_out: true, .. });
+        let ruling = match self.variant {
+            Variant::EightBall(rules) => eight::judge(self, rules, seat, call, facts, &before),
+            Variant::NineBall => nine::judge(self, seat, call, facts, &before, push_out),
+            Variant::Practice => practice::judge(self, seat, facts),
+        };
+        self.breaking = false;
+        self.enact(ruling.next, ruling.reasons, ruling.foul, Some(report))
+    }
+
+    fn decide(&mut self, seat: Seat, choice: Choice) -> Verdict {
+        let reasons = vec![format!("{seat} chooses to {choice}")];
+        if choice == Choice::PushOut {
+            if let Phase::Shooting { in_hand, .. } = self.phase {
+                self.phase = Phase::Shooting {
+                    in_hand,
+                    options: Vec::new(),
+                    push_out: true,
+                };
+            }
+            return self.verdict(reasons);
+        }
+        let next = match (self.pending.take(), choice) {
+            (Some(Pending::IllegalBreak { scratched, .. }), Choice::AcceptTable) => Next::Shoot {
+                seat,
+                in_hand: scratched.then_some(InHand::Kitchen),
+                options: Vec::new(),
+            },
+            (Some(Pending::IllegalBreak { offender, .. }), Choice::OpponentRebreaks) => {
+                Next::Rerack { breaker: offender }
+            }
+            (Some(Pending::EightOnBreak { scratched }), Choice::SpotEightAndContinue) => {
+                let kind = self.table();
+                rack::spot(&mut self.balls, 8, kind);
+                Next::Shoot {
+                    seat,
+                    in_hand: scratched.then_some(InHand::Kitchen),
+                    options: Vec::new(),
+                }
+            }
+            (Some(Pending::PushOut { .. }), Choice::AcceptTable) => Next::Shoot {
+                seat,
+                in_hand: None,
+                options: Vec::new(),
+            },
+            (Some(Pending::PushOut { pusher }), Choice::HandBack) => Next::Shoot {
+                seat: pusher,
+                in_hand: None,
+                options: Vec::new(),
+            },
+            // Re-rack (after an illegal break or the 8 on the break): the chooser breaks.
+            _ => Next::Rerack { breaker: seat },
+        };
+        self.enact(next, reasons, false, None)
+    }
+
+    fn time_expired(&mut self, seat: Seat) -> Verdict {
+        if let Phase::Deciding { options } = &self.phase {
+            // Out of time on a choice: the first option offered is taken (no foul).
+            let choice = options.first().copied().unwrap_or(Choice::AcceptTable);
+            let mut verdict = self.decide(seat, choice);
+            verdict.reasons.insert(
+                0,
+                format!("{seat} ran out of time; the first option is taken"),
+            );
+            return verdict;
+        }
+        let mut reasons = vec![format!("Foul: {seat} ran out of time")];
+        self.stalemate = [false; 2];
+        let opponent = seat.other();
+        let mut next = if self.breaking {
+            // The break was never taken: the opponent breaks the same rack.
+            self.breaker = opponent;
+            reasons.push(format!("{opponent} breaks"));
+            Next::Shoot {
+                seat: opponent,
+                in_hand: Some(InHand::Kitchen),
+                options: Vec::new(),
+            }
+        } else {
+            reasons.push(format!("{opponent} has ball in hand"));
+            Next::Shoot {
+                seat: opponent,
+                in_hand: Some(InHand::Anywhere),
+                options: Vec::new(),
+            }
+        };
+        if self.variant == Variant::NineBall {
+            if let Some(over) = nine::count_foul(self, seat, &mut reasons) {
+                next = over;
+            }
+        }
+        self.enact(next, reasons, true, None)
+    }
+
+    /// Moves the game to `next` and builds the verdict.
+    fn enact(
+        &mut self,
+        next: Next,
+        reasons: Vec<String>,
+        foul: bool,
+        shot: Option<ShotReport>,
+    ) -> Verdict {
+        let mut over = None;
+        match next {
+            Next::Shoot {
+                seat,
+                mut in_hand,
+                options,
+            } => {
+                let cue_off = self
+                    .balls
+                    .first()
+                    .is_none_or(|b| b.motion == MotionState::Pocketed);
+                if cue_off && in_hand.is_none() {
+                    in_hand = Some(InHand::Anywhere);
+                }
+                self.to_move = seat;
+                self.pending = None;
+                self.phase = Phase::Shooting {
+                    in_hand,
+                    options,
+                    push_out: false,
+                };
+            }
+            Next::Decide {
+                seat,
+                options,
+                pending,
+            } => {
+                self.to_move = seat;
+                self.pending = Some(pending);
+                self.phase = Phase::Deciding { options };
+            }
+            Next::Over { winner, reason } => {
+                self.pending = None;
+                over = Some((winner, reason.clone()));
+                self.phase = Phase::Over { winner, reason };
+            }
+            Next::Rerack { breaker } => {
+                self.racks = self.racks.wrapping_add(1);
+                self.rack(breaker);
+            }
+        }
+        Verdict {
+            reasons,
+            foul,
+            shot,
+            next: self.to_move,
+            over,
+        }
+    }
+
+    /// Racks the balls for the current rack number; `breaker` breaks from the kitchen.
+    fn rack(&mut self, breaker: Seat) {
+        let seed = rack::rack_seed(self.seed, self.racks);
+        self.balls = match self.variant {
+            Variant::NineBall => rack::nine_ball(self.table(), seed),
+            Variant::EightBall(_) | Variant::Practice => rack::eight_ball(self.table(), seed),
+        };
+        self.breaker = breaker;
+        self.to_move = breaker;
+        self.group_a = None;
+        self.fouls = [0; 2];
+        self.pending = None;
+        self.stalemate = [false; 2];
+        let practice = self.variant == Variant::Practice;
+        self.breaking = !practice;
+        // In practice the cue ball is always in hand: it can be put anywhere free.
+        self.phase = Phase::Shooting {
+            in_hand: Some(if practice {
+                InHand::Anywhere
+            } else {
+                InHand::Kitchen
+            }),
+            options: Vec::new(),
+            push_out: false,
+        };
+    }
+}
+
+/// A ball that left the table (not through a pocket).
+fn off_table() -> BallState {
+    BallState {
+        motion: MotionState::Pocketed,
+        pocket: None,
+        ..BallState::at_rest(DVec2::ZERO)
+    }
+}
+
+/// "the 8", "the cue ball".
+fn ball_name(ball: u8) -> String {
+    if ball == facts::CUE {
+        "the cue ball".into()
+    } else {
+        format!("the {ball}")
+    }
+}
+
+/// A readable pocket name for `index` on `kind`.
+pub fn pocket_name(kind: TableKind, index: u8) -> String {
+    let table = Table::new(kind);
+    let name = table.pockets.get(usize::from(index)).map(|p| p.name);
+    match name {
+        Some("lb") => "bottom-left corner".into(),
+        Some("lc") => "left side pocket".into(),
+        Some("lt") => "top-left corner".into(),
+        Some("rb") => "bottom-right corner".into(),
+        Some("rc") => "right side pocket".into(),
+        Some("rt") => "top-right corner".into(),
+        Some(other) => other.into(),
+        None => format!("pocket {index}"),
+    }
+}

@@ -1,0 +1,317 @@
+//! Table landmarks, the racks, and spotting a ball.
+//!
+//! Coordinates are the scene frame: `x` across the table (0..width), `y` along it
+//! (0..length). The head string is the line `y = length/4`; the kitchen is the quarter of the
+//! table behind it (`y < length/4`). The foot spot is `(width/2, 3·length/4)` and the racks
+//! grow from it towards the foot rail (`+y`).
+//!
+//! Rack positions come from [`SplitMix64`], a tiny PRNG written out here so that a seed gives
+//! the same rack in every build, forever.
+
+use glam::DVec2;
+
+use crate::physics::{ball_cushion, BallState, MotionState, Params, Table, TableKind};
+
+/// Space left between neighbouring balls of a rack (m). Racked balls sit this far apart
+/// rather than exactly frozen, so rounding in the row geometry (`√3/2`) can never make two
+/// of them overlap; a micrometre is far below anything a player could see or the physics
+/// could resolve differently in a break.
+pub const RACK_GAP: f64 = 1e-6;
+
+/// SplitMix64 (Steele, Lea and Flood, 2014): a 64-bit state advanced by a fixed odd constant
+/// and mixed by two multiply–xorshift rounds. Small, fast, and fully specified here, which is
+/// what a rack needs (stable output across versions), not cryptographic quality.
+#[derive(Clone, Copy, Debug)]
+pub struct SplitMix64(u64);
+
+impl SplitMix64 {
+    pub fn new(seed: u64) -> Self {
+        SplitMix64(seed)
+    }
+
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// A number in `0..n` (`n > 0`), by rejection so every value is equally likely.
+    pub fn below(&mut self, n: u64) -> u64 {
+        let zone = u64::MAX - u64::MAX % n;
+        loop {
+            let x = self.next_u64();
+            if x < zone {
+                return x % n;
+            }
+        }
+    }
+
+    /// Fisher–Yates shuffle.
+    pub fn shuffle<T>(&mut self, items: &mut [T]) {
+        for i in (1..items.len()).rev() {
+            let j = self.below(i as u64 + 1) as usize;
+            items.swap(i, j);
+        }
+    }
+}
+
+/// The seed of the `rack`-th rack of a game (0 for the opening rack), so that every re-rack
+/// is different yet fixed by the game's seed.
+pub fn rack_seed(seed: u64, rack: u32) -> u64 {
+    let mut mix = SplitMix64::new(seed ^ u64::from(rack).wrapping_mul(0xD1B5_4A32_D192_ED03));
+    mix.next_u64()
+}
+
+/// Width and length of the playing surface; the open table has no landmarks, so the rules
+/// use a 9-foot table's instead.
+pub fn table_size(kind: TableKind) -> (f64, f64) {
+    kind.size()
+        .or(TableKind::NineFoot.size())
+        .unwrap_or((1.27, 2.54))
+}
+
+/// The foot spot, where the apex ball of a rack sits.
+pub fn foot_spot(kind: TableKind) -> DVec2 {
+    let (w, l) = table_size(kind);
+    DVec2::new(0.5 * w, 0.75 * l)
+}
+
+/// The head string's `y`: the cue ball in hand "behind the head string" must have its centre
+/// at `y` below this.
+pub fn head_string(kind: TableKind) -> f64 {
+    0.25 * table_size(kind).1
+}
+
+/// Where the cue ball waits for a break: on the long string, midway into the kitchen.
+pub fn break_spot(kind: TableKind) -> DVec2 {
+    let (w, l) = table_size(kind);
+    DVec2::new(0.5 * w, 0.125 * l)
+}
+
+/// The ball radius the rules use (the physics default).
+pub fn ball_radius() -> f64 {
+    Params::default().ball_radius
+}
+
+/// Centres of a triangle-like rack: `rows[r]` balls in row `r`, rows `√3/2·d` apart along
+/// `+y` from the foot spot, each row centred on the long string.
+fn rack_positions(kind: TableKind, rows: &[usize]) -> Vec<DVec2> {
+    let d = 2.0 * ball_radius() + RACK_GAP;
+    let row_step = d * (3.0f64.sqrt() * 0.5);
+    let apex = foot_spot(kind);
+    let mut out = Vec::new();
+    for (r, &n) in rows.iter().enumerate() {
+        let y = apex.y + r as f64 * row_step;
+        for k in 0..n {
+            let x = apex.x + (k as f64 - 0.5 * (n as f64 - 1.0)) * d;
+            out.push(DVec2::new(x, y));
+        }
+    }
+    out
+}
+
+fn pocketed() -> BallState {
+    BallState {
+        motion: MotionState::Pocketed,
+        ..BallState::at_rest(DVec2::ZERO)
+    }
+}
+
+/// Sixteen balls (index = number, 0 = cue) racked for 8-ball: the 8 in the middle of the
+/// third row, a solid and a stripe on the two back corners, the rest shuffled; the cue ball
+/// on the break spot.
+pub fn eight_ball(kind: TableKind, seed: u64) -> Vec<BallState> {
+    let mut rng = SplitMix64::new(seed);
+    let spots = rack_positions(kind, &[1, 2, 3, 4, 5]);
+    // Spot indices: row 2 middle is 1 + 2 + 1 = 4; back corners are 10 and 14.
+    let (middle, corners) = (4, [10, 14]);
+    let mut solids: Vec<usize> = (1..=7).collect();
+    let mut stripes: Vec<usize> = (9..=15).collect();
+    rng.shuffle(&mut solids);
+    rng.shuffle(&mut stripes);
+    let (solid, stripe) = (solids.pop(), stripes.pop());
+    let mut corner_balls = [solid.unwrap_or(1), stripe.unwrap_or(9)];
+    rng.shuffle(&mut corner_balls);
+    let mut rest: Vec<usize> = solids.into_iter().chain(stripes).collect();
+    rng.shuffle(&mut rest);
+    let mut balls = vec![pocketed(); 16];
+    balls[0] = BallState::at_rest(break_spot(kind));
+    balls[8] = BallState::at_rest(spots[middle]);
+    balls[corner_balls[0]] = BallState::at_rest(spots[corners[0]]);
+    balls[corner_balls[1]] = BallState::at_rest(spots[corners[1]]);
+    let free = (0..spots.len()).filter(|s| *s != middle && !corners.contains(s));
+    for (spot, ball) in free.zip(rest) {
+        balls[ball] = BallState::at_rest(spots[spot]);
+    }
+    balls
+}
+
+/// Ten balls (0 = cue, 1..=9) racked for 9-ball: a diamond with the 1 at the apex on the
+/// foot spot, the 9 in the centre, the rest shuffled; the cue ball on the break spot.
+pub fn nine_ball(kind: TableKind, seed: u64) -> Vec<BallState> {
+    let mut rng = SplitMix64::new(seed);
+    let spots = rack_positions(kind, &[1, 2, 3, 2, 1]);
+    // Spot 0 is the apex, spot 4 the middle of the third row (the centre of the diamond).
+    let mut rest: Vec<usize> = (2..=8).collect();
+    rng.shuffle(&mut rest);
+    let mut balls = vec![pocketed(); 10];
+    balls[0] = BallState::at_rest(break_spot(kind));
+    balls[1] = BallState::at_rest(spots[0]);
+    balls[9] = BallState::at_rest(spots[4]);
+    let free = (0..spots.len()).filter(|s| *s != 0 && *s != 4);
+    for (spot, ball) in free.zip(rest) {
+        balls[ball] = BallState::at_rest(spots[spot]);
+    }
+    balls
+}
+
+/// Is `pos` a free place for ball `ball` on `kind`: on the playing surface, clear of the
+/// cushions and pockets, and not overlapping any other ball on the table?
+pub fn is_free(balls: &[BallState], ball: usize, pos: DVec2, kind: TableKind) -> bool {
+    if !pos.is_finite() {
+        return false;
+    }
+    let params = Params::default();
+    let table = Table::new(kind);
+    if !table.fits(
+        table.to_engine(pos),
+        ball_cushion::contact_distance(&params),
+    ) {
+        return false;
+    }
+    let min = 2.0 * params.ball_radius;
+    balls.iter().enumerate().all(|(i, b)| {
+        i == ball || b.motion == MotionState::Pocketed || (b.pos - pos).length() >= min
+    })
+}
+
+/// Puts `ball` back on the table on the long string: on the foot spot if it is free, else
+/// as near to it as possible behind it (towards the foot rail), else in front of it.
+/// Returns false (and changes nothing) if the whole long string is taken.
+pub fn spot(balls: &mut [BallState], ball: usize, kind: TableKind) -> bool {
+    if ball >= balls.len() {
+        return false;
+    }
+    let foot = foot_spot(kind);
+    let d = 2.0 * ball_radius() + RACK_GAP;
+    // Candidates: the spot itself and, for every ball near the string, the places just
+    // touching it on either side. The first free one in order of preference wins.
+    let mut behind = vec![foot.y];
+    let mut front = Vec::new();
+    for (i, b) in balls.iter().enumerate() {
+        let dx = (b.pos.x - foot.x).abs();
+        if i == ball || b.motion == MotionState::Pocketed || dx >= d {
+            continue;
+        }
+        let dy = (d * d - dx * dx).sqrt();
+        for y in [b.pos.y + dy, b.pos.y - dy] {
+            if y >= foot.y {
+                behind.push(y);
+            } else {
+                front.push(y);
+            }
+        }
+    }
+    behind.sort_by(f64::total_cmp);
+    front.sort_by(|a, b| b.total_cmp(a));
+    let found = behind
+        .into_iter()
+        .chain(front)
+        .map(|y| DVec2::new(foot.x, y))
+        .find(|p| is_free(balls, ball, *p, kind));
+    match found {
+        Some(p) => {
+            balls[ball] = BallState::at_rest(p);
+            true
+        }
+        None => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn assert_no_overlap(balls: &[BallState]) {
+        let r = ball_radius();
+        for (i, a) in balls.iter().enumerate() {
+            for b in &balls[i + 1..] {
+                assert!((a.pos - b.pos).length() >= 2.0 * r, "{a:?} {b:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn splitmix_matches_the_published_sequence() {
+        // First outputs for seed 0 from the reference implementation.
+        let mut r = SplitMix64::new(0);
+        assert_eq!(r.next_u64(), 0xE220_A839_7B1D_CDAF);
+        assert_eq!(r.next_u64(), 0x6E78_9E6A_A1B9_65F4);
+    }
+
+    #[test]
+    fn eight_ball_rack_layout() {
+        let balls = eight_ball(TableKind::NineFoot, 7);
+        assert_eq!(balls.len(), 16);
+        assert_no_overlap(&balls);
+        let foot = foot_spot(TableKind::NineFoot);
+        let row_step = (2.0 * ball_radius() + RACK_GAP) * (3.0f64.sqrt() * 0.5);
+        // The 8 is in the middle of the third row.
+        assert_eq!(balls[8].pos.x, foot.x);
+        assert!((balls[8].pos.y - (foot.y + 2.0 * row_step)).abs() < 1e-12);
+        // A solid and a stripe on the back corners.
+        let back_y = foot.y + 4.0 * row_step;
+        let mut corners: Vec<usize> = (1..16)
+            .filter(|&i| (balls[i].pos.y - back_y).abs() < 1e-9)
+            .filter(|&i| (balls[i].pos.x - foot.x).abs() > 1.5 * (2.0 * ball_radius()))
+            .collect();
+        corners.sort();
+        assert_eq!(corners.len(), 2);
+        assert!(corners[0] < 8 && corners[1] > 8, "corners {corners:?}");
+        // The apex is on the foot spot.
+        assert!((1..16).any(|i| balls[i].pos == foot));
+        // The cue ball is in the kitchen.
+        assert!(balls[0].pos.y < head_string(TableKind::NineFoot));
+    }
+
+    #[test]
+    fn racks_are_fixed_by_the_seed_and_vary_with_it() {
+        let a = eight_ball(TableKind::NineFoot, 42);
+        assert_eq!(a, eight_ball(TableKind::NineFoot, 42));
+        assert_ne!(a, eight_ball(TableKind::NineFoot, 43));
+        let n = nine_ball(TableKind::NineFoot, 42);
+        assert_eq!(n, nine_ball(TableKind::NineFoot, 42));
+        assert_ne!(n, nine_ball(TableKind::NineFoot, 44));
+    }
+
+    #[test]
+    fn nine_ball_rack_layout() {
+        let balls = nine_ball(TableKind::NineFoot, 3);
+        assert_eq!(balls.len(), 10);
+        assert_no_overlap(&balls);
+        let foot = foot_spot(TableKind::NineFoot);
+        assert_eq!(balls[1].pos, foot);
+        let row_step = (2.0 * ball_radius() + RACK_GAP) * (3.0f64.sqrt() * 0.5);
+        assert_eq!(balls[9].pos.x, foot.x);
+        assert!((balls[9].pos.y - (foot.y + 2.0 * row_step)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn spotting_goes_behind_an_occupied_foot_spot() {
+        let mut balls = eight_ball(TableKind::NineFoot, 1);
+        balls[8].motion = MotionState::Pocketed;
+        // The apex ball occupies the foot spot, so the 8 must go elsewhere on the string.
+        assert!(spot(&mut balls, 8, TableKind::NineFoot));
+        let foot = foot_spot(TableKind::NineFoot);
+        assert_eq!(balls[8].pos.x, foot.x);
+        assert_ne!(balls[8].pos.y, foot.y);
+        assert_no_overlap(&balls);
+        // With the table clear, the 8 goes on the foot spot itself.
+        let mut clear: Vec<BallState> = balls.iter().map(|_| pocketed()).collect();
+        clear[0] = BallState::at_rest(break_spot(TableKind::NineFoot));
+        assert!(spot(&mut clear, 8, TableKind::NineFoot));
+        assert_eq!(clear[8].pos, foot);
+    }
+}
