@@ -1,0 +1,131 @@
+//! `breakshot`: the game window. Parses the command line, opens the window and runs the
+//! screens; everything that can be computed without a window lives in the library.
+
+mod ui;
+
+use std::cell::RefCell;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::rc::Rc;
+
+use anyhow::{bail, Context as _};
+use breakshot_shared::scene::Scene;
+use clap::{Parser, Subcommand};
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "breakshot",
+    version,
+    about = "Breakshot: networked two-player pool"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    /// Render FRAMES frames, save the window as a PNG image to FILE and exit.
+    #[arg(long, value_name = "FILE", global = true)]
+    screenshot: Option<PathBuf>,
+    /// Frames to render before the screenshot is taken.
+    #[arg(long, value_name = "N", default_value_t = 5, global = true)]
+    frames: u32,
+    /// Initial window size, WIDTHxHEIGHT.
+    #[arg(long, value_name = "WxH", default_value = "1280x720", global = true)]
+    size: String,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Host a game and show the invite for the other player.
+    Host {
+        #[arg(long, default_value = "8ball", value_parser = ["8ball", "9ball"])]
+        mode: String,
+        #[arg(long, default_value = "wpa", value_parser = ["wpa", "bar"])]
+        rules: String,
+        /// Address the embedded server listens on.
+        #[arg(long)]
+        bind: Option<String>,
+    },
+    /// Join a game with the invite the host sent.
+    Join { invite: String },
+    /// Play offline with no server, from a rack or from a scene file.
+    Practice { scene: Option<PathBuf> },
+    /// Watch a recorded game.
+    Replay { file: PathBuf },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match prepare(&cli) {
+        Ok(start) => open_window(&cli, start),
+        Err(e) => {
+            eprintln!("breakshot: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+/// Everything that can fail before a window opens: reading files, checking arguments.
+fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
+    if cli.frames == 0 {
+        bail!("--frames must be at least 1");
+    }
+    parse_size(&cli.size)?;
+    Ok(match &cli.command {
+        None => ui::Start::Menu,
+        Some(Command::Practice { scene: None }) => ui::Start::Practice(None),
+        Some(Command::Practice { scene: Some(path) }) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("cannot read {}", path.display()))?;
+            let scene = Scene::from_json(&text).with_context(|| format!("{}", path.display()))?;
+            ui::Start::Practice(Some(Box::new(scene)))
+        }
+        Some(Command::Host { .. }) => bail!(
+            "hosting is not available yet in this build: the network session is not part of it"
+        ),
+        Some(Command::Join { .. }) => bail!(
+            "joining is not available yet in this build: the network session is not part of it"
+        ),
+        Some(Command::Replay { .. }) => bail!(
+            "replays are not available yet in this build: the game record format is not part of it"
+        ),
+    })
+}
+
+fn parse_size(text: &str) -> anyhow::Result<(i32, i32)> {
+    let parsed = text.split_once(['x', 'X']).and_then(|(w, h)| {
+        let (w, h) = (w.trim().parse::<i32>().ok()?, h.trim().parse::<i32>().ok()?);
+        ((320..=8192).contains(&w) && (240..=8192).contains(&h)).then_some((w, h))
+    });
+    parsed.with_context(|| {
+        format!("--size must be WIDTHxHEIGHT (320x240 to 8192x8192), not {text:?}")
+    })
+}
+
+fn open_window(cli: &Cli, start: ui::Start) -> ExitCode {
+    let (width, height) = parse_size(&cli.size).unwrap_or((1280, 720));
+    let conf = macroquad::miniquad::conf::Conf {
+        window_title: "Breakshot".to_string(),
+        window_width: width,
+        window_height: height,
+        window_resizable: true,
+        high_dpi: false,
+        ..Default::default()
+    };
+    let options = ui::Options {
+        screenshot: cli.screenshot.clone(),
+        frames: cli.frames,
+    };
+    let result: Rc<RefCell<Option<anyhow::Result<()>>>> = Rc::new(RefCell::new(None));
+    let slot = result.clone();
+    macroquad::Window::from_config(conf, async move {
+        let outcome = ui::run(start, options).await;
+        *slot.borrow_mut() = Some(outcome);
+    });
+    let outcome = result.borrow_mut().take();
+    match outcome {
+        Some(Err(e)) => {
+            eprintln!("breakshot: {e:#}");
+            ExitCode::FAILURE
+        }
+        _ => ExitCode::SUCCESS,
+    }
+}

@@ -1,0 +1,511 @@
+//! Mouse and keys to commands, without a window. The window reads its devices into an
+//! [`InputFrame`] once per frame; [`Controls::update`] turns it into changes of the set-up
+//! ([`Aim`]) and into [`Intent`]s, the commands a screen carries out or sends.
+
+use breakshot_shared::physics::Strike;
+use glam::DVec2;
+
+use super::aim::Aim;
+use crate::view::aids::Aid;
+use crate::view::layout::Layout;
+
+/// How much finer the aim turns while Shift is held.
+pub const FINE_FACTOR: f64 = 0.1;
+/// Arrow-key aim rate (radians per second), and with Shift.
+pub const KEY_AIM_RATE: f64 = 0.35;
+/// Arrow-key power rate (full scale per second).
+pub const KEY_POWER_RATE: f64 = 0.5;
+/// Power change per mouse-wheel notch.
+pub const WHEEL_POWER_STEP: f64 = 0.02;
+/// Pull-back distance (in ball radii) that gives full power.
+pub const FULL_PULL_RADII: f64 = 14.0;
+/// A pull-back weaker than this is a click, not a shot.
+pub const MIN_PULL_POWER: f64 = 0.03;
+
+/// Keys that do one thing when pressed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Key {
+    Shoot,
+    AimLine,
+    GhostBall,
+    Paths,
+    Debug,
+    BallInHand,
+    Rerack,
+    Back,
+}
+
+/// One frame of input, read from the devices by the window.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct InputFrame {
+    pub mouse: [f32; 2],
+    pub left_pressed: bool,
+    pub left_down: bool,
+    pub left_released: bool,
+    /// Wheel notches this frame (up is positive).
+    pub wheel: f32,
+    pub shift: bool,
+    pub left_key: bool,
+    pub right_key: bool,
+    pub up_key: bool,
+    pub down_key: bool,
+    pub pressed: Vec<Key>,
+    /// Seconds since the last frame.
+    pub dt: f64,
+}
+
+/// What the player may do now.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// Balls are moving or it is not our turn: only toggles.
+    Watching,
+    /// The cue ball can be struck.
+    Aiming,
+    /// The cue ball can be struck or moved.
+    InHand,
+}
+
+/// What the controls need to know about the table.
+#[derive(Clone, Copy, Debug)]
+pub struct Context<'a> {
+    pub layout: &'a Layout,
+    /// The cue ball's centre (scene coordinates).
+    pub cue: DVec2,
+    pub radius: f64,
+    pub stage: Stage,
+}
+
+/// A command from the player.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Intent {
+    Shoot(Strike),
+    PlaceCueBall([f64; 2]),
+    Toggle(Aid),
+    ToggleDebug,
+    TakeBallInHand,
+    Rerack,
+    Back,
+}
+
+/// What the left button is doing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Drag {
+    None,
+    /// Setting the tip on the cue-ball face.
+    Tip,
+    /// Setting the power on the bar.
+    Power,
+    /// Pulling the cue back from where the button went down (pixels).
+    PullBack {
+        from: [f32; 2],
+    },
+    /// Moving the cue ball in hand; `at` is where it would go.
+    CueBall {
+        at: DVec2,
+    },
+}
+
+/// The set-up and the state of a drag, kept across frames.
+#[derive(Clone, Debug)]
+pub struct Controls {
+    pub aim: Aim,
+    pub drag: Drag,
+    last_mouse: Option<[f32; 2]>,
+}
+
+impl Controls {
+    pub fn new(aim: Aim) -> Controls {
+        Controls {
+            aim,
+            drag: Drag::None,
+            last_mouse: None,
+        }
+    }
+
+    /// Applies one frame of input. `legal` says whether the cue ball may be put at a spot.
+    pub fn update(
+        &mut self,
+        input: &InputFrame,
+        ctx: &Context,
+        legal: &dyn Fn(DVec2) -> bool,
+    ) -> Vec<Intent> {
+        let mut out = Vec::new();
+        for key in &input.pressed {
+            match key {
+                Key::AimLine => out.push(Intent::Toggle(Aid::AimLine)),
+                Key::GhostBall => out.push(Intent::Toggle(Aid::GhostBall)),
+                Key::Paths => out.push(Intent::Toggle(Aid::Paths)),
+                Key::Debug => out.push(Intent::ToggleDebug),
+                Key::BallInHand => out.push(Intent::TakeBallInHand),
+                Key::Rerack => out.push(Intent::Rerack),
+                Key::Back => out.push(Intent::Back),
+                Key::Shoot => {}
+            }
+        }
+        if ctx.stage == Stage::Watching {
+            self.drag = Drag::None;
+            self.last_mouse = Some(input.mouse);
+            return out;
+        }
+        self.keys(input);
+        self.mouse(input, ctx, legal, &mut out);
+        if input.pressed.contains(&Key::Shoot) && self.drag == Drag::None && self.aim.power > 0.0 {
+            out.push(Intent::Shoot(self.aim.strike()));
+        }
+        self.last_mouse = Some(input.mouse);
+        out
+    }
+
+    fn keys(&mut self, input: &InputFrame) {
+        let dt = if input.dt.is_finite() {
+            input.dt.clamp(0.0, 0.25)
+        } else {
+            0.0
+        };
+        let rate = KEY_AIM_RATE * if input.shift { FINE_FACTOR } else { 1.0 };
+        let turn = (input.right_key as i32 - input.left_key as i32) as f64;
+        self.aim.rotate(turn * rate * dt);
+        let push = (input.up_key as i32 - input.down_key as i32) as f64;
+        let mut power = self.aim.power + push * KEY_POWER_RATE * dt;
+        if input.wheel.is_finite() {
+            power += input.wheel as f64 * WHEEL_POWER_STEP;
+        }
+        self.aim.set_power(power);
+    }
+
+    fn mouse(
+        &mut self,
+        input: &InputFrame,
+        ctx: &Context,
+        legal: &dyn Fn(DVec2) -> bool,
+        out: &mut Vec<Intent>,
+    ) {
+        let layout = ctx.layout;
+        let at = layout.to_scene(input.mouse);
+        if input.left_pressed {
+            self.drag = if dist(input.mouse, layout.tip_center) <= layout.tip_radius {
+                Drag::Tip
+            } else if layout.power_bar.contains(input.mouse) {
+                Drag::Power
+            } else if ctx.stage == Stage::InHand && (at - ctx.cue).length() <= 1.5 * ctx.radius {
+                Drag::CueBall { at }
+            } else if layout.outer.contains(input.mouse) {
+                Drag::PullBack { from: input.mouse }
+            } else {
+                Drag::None
+            };
+        }
+        match self.drag {
+            Drag::Tip if input.left_down => {
+                let d = [
+                    input.mouse[0] - layout.tip_center[0],
+                    input.mouse[1] - layout.tip_center[1],
+                ];
+                // The widget is the ball's face as the shooter sees it: up is top spin.
+                let r = layout.tip_radius as f64;
+                self.aim
+                    .set_tip(DVec2::new(d[0] as f64 / r, -(d[1] as f64) / r));
+            }
+            Drag::Power if input.left_down => {
+                let bar = layout.power_bar;
+                let frac = (bar.y + bar.h - input.mouse[1]) / bar.h;
+                self.aim.set_power(frac as f64);
+            }
+            Drag::CueBall { .. } if input.left_down => {
+                self.drag = Drag::CueBall { at };
+            }
+            Drag::CueBall { .. } => {
+                // Released: put the ball down if the spot is legal, otherwise refuse.
+                if at.is_finite() && legal(at) {
+                    out.push(Intent::PlaceCueBall([at.x, at.y]));
+                }
+                self.drag = Drag::None;
+            }
+            Drag::PullBack { from } => {
+                let pulled = pull_power(layout, &self.aim, from, input.mouse, ctx.radius);
+                self.aim.set_power(pulled.max(0.0));
+                if !input.left_down {
+                    self.drag = Drag::None;
+                    if pulled >= MIN_PULL_POWER {
+                        out.push(Intent::Shoot(self.aim.strike()));
+                    }
+                }
+            }
+            Drag::Tip | Drag::Power => self.drag = Drag::None,
+            Drag::None => self.follow_mouse(input, ctx, at),
+        }
+    }
+
+    /// With no button held the cue points at the mouse; with Shift it turns a tenth as far.
+    /// A mouse that has not moved leaves the aim alone, so the arrow keys can set it.
+    fn follow_mouse(&mut self, input: &InputFrame, ctx: &Context, at: DVec2) {
+        let Some(last) = self.last_mouse else { return };
+        if last == input.mouse || !ctx.layout.outer.contains(input.mouse) || !at.is_finite() {
+            return;
+        }
+        if input.shift {
+            let before = ctx.layout.to_scene(last) - ctx.cue;
+            let now = at - ctx.cue;
+            let turned = before.perp_dot(now).atan2(before.dot(now));
+            if turned.is_finite() {
+                self.aim.rotate(FINE_FACTOR * turned);
+            }
+        } else {
+            self.aim.point_along(at - ctx.cue);
+        }
+    }
+}
+
+/// Power of a pull-back from `from` to `to` (pixels): how far the mouse moved back against
+/// the aim, with full power at [`FULL_PULL_RADII`] ball radii.
+pub fn pull_power(layout: &Layout, aim: &Aim, from: [f32; 2], to: [f32; 2], radius: f64) -> f64 {
+    let back = layout.to_scene(from) - layout.to_scene(to);
+    (back.dot(aim.dir()) / (FULL_PULL_RADII * radius)).min(1.0)
+}
+
+fn dist(a: [f32; 2], b: [f32; 2]) -> f32 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::view::layout::Frame;
+    use breakshot_shared::physics::TableKind;
+
+    const R: f64 = 0.028575;
+
+    fn layout() -> Layout {
+        Layout::new(1280.0, 720.0, Frame::new(TableKind::NineFoot, &[]))
+    }
+
+    fn ctx(layout: &Layout, stage: Stage) -> Context<'_> {
+        Context {
+            layout,
+            cue: DVec2::new(0.635, 0.6),
+            radius: R,
+            stage,
+        }
+    }
+
+    fn frame(mouse: [f32; 2]) -> InputFrame {
+        InputFrame {
+            mouse,
+            dt: 1.0 / 60.0,
+            ..Default::default()
+        }
+    }
+
+    fn anywhere(_: DVec2) -> bool {
+        true
+    }
+
+    #[test]
+    fn the_cue_points_at_the_mouse() {
+        let l = layout();
+        let mut c = Controls::new(Aim::default());
+        let target = DVec2::new(1.0, 1.5);
+        // The first frame only learns where the mouse is; a mouse that stays put does not aim.
+        c.update(
+            &frame(l.to_screen(target)),
+            &ctx(&l, Stage::Aiming),
+            &anywhere,
+        );
+        assert_eq!(c.aim, Aim::default());
+        c.update(&frame([300.0, 300.0]), &ctx(&l, Stage::Aiming), &anywhere);
+        let out = c.update(
+            &frame(l.to_screen(target)),
+            &ctx(&l, Stage::Aiming),
+            &anywhere,
+        );
+        assert!(out.is_empty());
+        let want = (target - DVec2::new(0.635, 0.6)).normalize();
+        assert!((c.aim.dir() - want).length() < 1e-3, "{:?}", c.aim.dir());
+    }
+
+    #[test]
+    fn shift_turns_the_aim_a_tenth_as_far() {
+        let l = layout();
+        let cx = ctx(&l, Stage::Aiming);
+        let cue = cx.cue;
+        let mut c = Controls::new(Aim::default());
+        c.update(
+            &frame(l.to_screen(cue + DVec2::new(0.0, 1.0))),
+            &cx,
+            &anywhere,
+        );
+        let before = c.aim.angle;
+        let mut f = frame(l.to_screen(cue + DVec2::new(0.5, 0.5)));
+        f.shift = true;
+        c.update(&f, &cx, &anywhere);
+        // The mouse swept 45 degrees about the cue ball; the aim turns 4.5.
+        let turned = c.aim.angle - before;
+        assert!(
+            (turned + 0.1 * std::f64::consts::FRAC_PI_4).abs() < 2e-3,
+            "{turned}"
+        );
+    }
+
+    #[test]
+    fn arrow_keys_turn_and_set_power_and_the_wheel_adds_power() {
+        let l = layout();
+        let mut c = Controls::new(Aim::default());
+        let outside = [1.0, 1.0];
+        let mut f = frame(outside);
+        f.right_key = true;
+        f.up_key = true;
+        f.dt = 0.2;
+        let (a0, p0) = (c.aim.angle, c.aim.power);
+        c.update(&f, &ctx(&l, Stage::Aiming), &anywhere);
+        assert!((c.aim.angle - a0 - 0.2 * KEY_AIM_RATE).abs() < 1e-12);
+        assert!((c.aim.power - p0 - 0.2 * KEY_POWER_RATE).abs() < 1e-12);
+        let mut w = frame(outside);
+        w.wheel = -2.0;
+        let p1 = c.aim.power;
+        c.update(&w, &ctx(&l, Stage::Aiming), &anywhere);
+        assert!((c.aim.power - (p1 - 2.0 * WHEEL_POWER_STEP)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn space_shoots_the_set_up_only_when_allowed() {
+        let l = layout();
+        let mut c = Controls::new(Aim::default());
+        let mut f = frame([1.0, 1.0]);
+        f.pressed = vec![Key::Shoot];
+        let out = c.update(&f, &ctx(&l, Stage::Aiming), &anywhere);
+        assert_eq!(out, vec![Intent::Shoot(c.aim.strike())]);
+        assert!(c
+            .update(&f, &ctx(&l, Stage::Watching), &anywhere)
+            .is_empty());
+    }
+
+    #[test]
+    fn power_bar_and_tip_widget_set_power_and_tip() {
+        let l = layout();
+        let cx = ctx(&l, Stage::Aiming);
+        let mut c = Controls::new(Aim::default());
+        let bar = l.power_bar;
+        let mut f = frame([bar.x + 0.5 * bar.w, bar.y + 0.25 * bar.h]);
+        f.left_pressed = true;
+        f.left_down = true;
+        c.update(&f, &cx, &anywhere);
+        assert!((c.aim.power - 0.75).abs() < 1e-3);
+
+        // Top right of the face, far past the miscue limit: clamped onto it.
+        let mut t = frame([
+            l.tip_center[0] + 0.6 * l.tip_radius,
+            l.tip_center[1] - 0.6 * l.tip_radius,
+        ]);
+        t.left_pressed = true;
+        t.left_down = true;
+        c.update(&t, &cx, &anywhere);
+        assert!((c.aim.tip.length() - 0.5).abs() < 1e-9);
+        assert!(c.aim.tip.x > 0.0 && c.aim.tip.y > 0.0);
+        let mut up = frame(t.mouse);
+        up.left_released = true;
+        assert!(c.update(&up, &cx, &anywhere).is_empty());
+        assert_eq!(c.drag, Drag::None);
+    }
+
+    #[test]
+    fn pulling_back_and_releasing_shoots_along_the_locked_aim() {
+        let l = layout();
+        let cx = ctx(&l, Stage::Aiming);
+        let mut c = Controls::new(Aim::default());
+        let ahead = cx.cue + DVec2::new(0.3, 0.5);
+        c.update(&frame([300.0, 300.0]), &cx, &anywhere);
+        c.update(&frame(l.to_screen(ahead)), &cx, &anywhere);
+        assert!(c.aim.angle != Aim::default().angle);
+        let dir = c.aim.dir();
+        let mut down = frame(l.to_screen(ahead));
+        down.left_pressed = true;
+        down.left_down = true;
+        c.update(&down, &cx, &anywhere);
+        // Pull back half of full power's distance (moving the mouse does not re-aim).
+        let back = ahead - dir * 0.5 * FULL_PULL_RADII * R + dir.perp() * 0.2;
+        let mut hold = frame(l.to_screen(back));
+        hold.left_down = true;
+        assert!(c.update(&hold, &cx, &anywhere).is_empty());
+        assert!((c.aim.power - 0.5).abs() < 0.02, "{}", c.aim.power);
+        let mut up = frame(l.to_screen(back));
+        up.left_released = true;
+        let out = c.update(&up, &cx, &anywhere);
+        assert_eq!(out.len(), 1);
+        let Intent::Shoot(s) = out[0] else {
+            panic!("{out:?}")
+        };
+        assert!((s.dir - dir).length() < 1e-12);
+    }
+
+    #[test]
+    fn a_click_without_pulling_back_does_not_shoot() {
+        let l = layout();
+        let cx = ctx(&l, Stage::Aiming);
+        let mut c = Controls::new(Aim::default());
+        let p = l.to_screen(cx.cue + DVec2::new(0.0, 0.5));
+        let mut down = frame(p);
+        down.left_pressed = true;
+        down.left_down = true;
+        c.update(&down, &cx, &anywhere);
+        let mut up = frame(p);
+        up.left_released = true;
+        assert!(c.update(&up, &cx, &anywhere).is_empty());
+    }
+
+    #[test]
+    fn cue_ball_in_hand_is_dragged_and_illegal_spots_are_refused() {
+        let l = layout();
+        let cx = ctx(&l, Stage::InHand);
+        let legal = |p: DVec2| p.y < 0.635;
+        for (target, placed) in [(DVec2::new(0.4, 0.5), true), (DVec2::new(0.4, 1.5), false)] {
+            let mut c = Controls::new(Aim::default());
+            let mut down = frame(l.to_screen(cx.cue));
+            down.left_pressed = true;
+            down.left_down = true;
+            c.update(&down, &cx, &legal);
+            let mut mv = frame(l.to_screen(target));
+            mv.left_down = true;
+            c.update(&mv, &cx, &legal);
+            assert!(matches!(c.drag, Drag::CueBall { at } if (at - target).length() < 1e-2));
+            let mut up = frame(l.to_screen(target));
+            up.left_released = true;
+            let out = c.update(&up, &cx, &legal);
+            match out.as_slice() {
+                [Intent::PlaceCueBall(p)] => {
+                    assert!(placed && (DVec2::from_array(*p) - target).length() < 1e-2)
+                }
+                [] => assert!(!placed),
+                other => panic!("{other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn the_cue_ball_cannot_be_dragged_unless_in_hand() {
+        let l = layout();
+        let cx = ctx(&l, Stage::Aiming);
+        let mut c = Controls::new(Aim::default());
+        let mut down = frame(l.to_screen(cx.cue));
+        down.left_pressed = true;
+        down.left_down = true;
+        c.update(&down, &cx, &anywhere);
+        assert!(matches!(c.drag, Drag::PullBack { .. }));
+    }
+
+    #[test]
+    fn keys_map_to_toggles_whatever_the_stage() {
+        let l = layout();
+        let mut c = Controls::new(Aim::default());
+        let mut f = frame([0.0, 0.0]);
+        f.pressed = vec![Key::AimLine, Key::Debug, Key::Back];
+        let out = c.update(&f, &ctx(&l, Stage::Watching), &anywhere);
+        assert_eq!(
+            out,
+            vec![
+                Intent::Toggle(Aid::AimLine),
+                Intent::ToggleDebug,
+                Intent::Back
+            ]
+        );
+    }
+}

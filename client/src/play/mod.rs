@@ -1,0 +1,7 @@
+//! Playing without a window: the shot being set up, the mapping from mouse and keys to
+//! commands, and the offline practice table.
+
+pub mod aim;
+pub mod controls;
+pub mod practice;
+pub mod rack;

@@ -1,0 +1,338 @@
+//! Drawing the table, the balls and the panel. Positions come from the library's
+//! [`Layout`]; physics values become f32 only here, at the last moment.
+
+use ::glam::DVec2;
+use breakshot_client::play::aim::Aim;
+use breakshot_client::view::aids::{AidToggles, Prediction};
+use breakshot_client::view::layout::{Layout, Rect, RAIL_WIDTH};
+use breakshot_client::view::palette::{self, ball_look, Rgb};
+use breakshot_shared::physics::{BallState, MotionState, Table, TableKind};
+use macroquad::prelude::*;
+
+/// Width of the cushion rubber drawn behind the nose line (m).
+const CUSHION_WIDTH: f64 = 0.045;
+/// Sides of the polygon a ball is drawn as.
+const BALL_SIDES: u8 = 48;
+
+pub fn color(c: Rgb) -> Color {
+    Color::from_rgba(c[0], c[1], c[2], 255)
+}
+
+pub fn with_alpha(c: Rgb, a: f32) -> Color {
+    Color::new(
+        c[0] as f32 / 255.0,
+        c[1] as f32 / 255.0,
+        c[2] as f32 / 255.0,
+        a,
+    )
+}
+
+fn v(p: [f32; 2]) -> Vec2 {
+    vec2(p[0], p[1])
+}
+
+fn fill_rect(r: Rect, c: Color) {
+    draw_rectangle(r.x, r.y, r.w, r.h, c);
+}
+
+/// The cloth, rails, cushions, diamonds and pockets.
+pub fn table(layout: &Layout, kind: TableKind) {
+    if !layout.frame.rails {
+        fill_rect(layout.cloth, color(palette::CLOTH));
+        return;
+    }
+    let t = Table::new(kind);
+    fill_rect(layout.outer, color(palette::RAIL_WOOD));
+    let cushion = layout.px(CUSHION_WIDTH);
+    fill_rect(
+        Rect::new(
+            layout.cloth.x - cushion,
+            layout.cloth.y - cushion,
+            layout.cloth.w + 2.0 * cushion,
+            layout.cloth.h + 2.0 * cushion,
+        ),
+        color(palette::POCKET),
+    );
+    fill_rect(layout.cloth, color(palette::CLOTH));
+    let scene = |p: DVec2| v(layout.to_screen(t.to_scene(p)));
+    for rail in &t.rails {
+        let out = -rail.normal * CUSHION_WIDTH;
+        let (a, b) = (scene(rail.a), scene(rail.b));
+        let (a2, b2) = (scene(rail.a + out), scene(rail.b + out));
+        draw_triangle(a, b, b2, color(palette::CUSHION));
+        draw_triangle(a, b2, a2, color(palette::CUSHION));
+    }
+    for jaw in &t.jaws {
+        let c = scene(jaw.center);
+        draw_poly(
+            c.x,
+            c.y,
+            24,
+            layout.px(jaw.radius),
+            0.0,
+            color(palette::CUSHION),
+        );
+    }
+    for pocket in &t.pockets {
+        let c = scene(pocket.center);
+        draw_poly(
+            c.x,
+            c.y,
+            40,
+            layout.px(pocket.radius),
+            0.0,
+            color(palette::POCKET),
+        );
+    }
+    diamonds(layout);
+}
+
+/// Sights on the wood: every eighth of the length, every quarter of the width.
+fn diamonds(layout: &Layout) {
+    let (w, l) = (layout.frame.size.x, layout.frame.size.y);
+    let back = CUSHION_WIDTH + 0.5 * (RAIL_WIDTH - CUSHION_WIDTH);
+    let size = layout.px(0.012).max(2.0);
+    let mut spots = Vec::new();
+    for k in (1..8).filter(|&k| k != 4) {
+        let y = l * k as f64 / 8.0;
+        spots.push(DVec2::new(-back, y));
+        spots.push(DVec2::new(w + back, y));
+    }
+    for k in 1..4 {
+        let x = w * k as f64 / 4.0;
+        spots.push(DVec2::new(x, -back));
+        spots.push(DVec2::new(x, l + back));
+    }
+    for s in spots {
+        let p = layout.to_screen(s);
+        draw_poly(p[0], p[1], 4, size, 0.0, color(palette::DIAMOND));
+    }
+}
+
+/// One ball at pixel `at` with radius `r` pixels.
+pub fn ball(id: &str, at: [f32; 2], r: f32) {
+    let look = ball_look(id);
+    let (x, y) = (at[0], at[1]);
+    draw_poly(
+        x,
+        y,
+        BALL_SIDES,
+        r + 1.0,
+        0.0,
+        Color::new(0.0, 0.0, 0.0, 0.45),
+    );
+    if look.stripe {
+        draw_poly(x, y, BALL_SIDES, r, 0.0, color(palette::BALL_WHITE));
+        stripe_band(x, y, r, 0.55 * r, color(look.color));
+    } else {
+        draw_poly(x, y, BALL_SIDES, r, 0.0, color(look.color));
+    }
+    if let Some(n) = look.number {
+        draw_poly(x, y, 24, 0.5 * r, 0.0, color(palette::BALL_WHITE));
+        let text = n.to_string();
+        let size = (1.1 * r).max(6.0) as u16;
+        let dims = measure_text(&text, None, size, 1.0);
+        draw_text(
+            &text,
+            x - 0.5 * dims.width,
+            y + 0.5 * dims.offset_y - 0.5,
+            size as f32,
+            BLACK,
+        );
+    }
+}
+
+/// The band of a striped ball: the part of the disc within `half` of its horizontal middle.
+fn stripe_band(x: f32, y: f32, r: f32, half: f32, c: Color) {
+    let steps = 16;
+    let a0 = (half / r).clamp(-1.0, 1.0).asin();
+    // The outline of the band: the right arc going down, then the left arc going up.
+    let mut outline = Vec::with_capacity(2 * steps + 2);
+    for k in 0..=steps {
+        let a = -a0 + 2.0 * a0 * k as f32 / steps as f32;
+        outline.push(vec2(x + r * a.cos(), y + r * a.sin()));
+    }
+    for k in 0..=steps {
+        let a = -a0 + 2.0 * a0 * k as f32 / steps as f32;
+        outline.push(vec2(x - r * a.cos(), y - r * a.sin()));
+    }
+    let centre = vec2(x, y);
+    for i in 0..outline.len() {
+        let j = (i + 1) % outline.len();
+        draw_triangle(centre, outline[i], outline[j], c);
+    }
+}
+
+/// The balls still on the table.
+pub fn balls(
+    layout: &Layout,
+    ids: &[String],
+    states: &[BallState],
+    radius: f64,
+    skip: Option<usize>,
+) {
+    let r = layout.px(radius);
+    for (i, (id, s)) in ids.iter().zip(states).enumerate() {
+        if s.motion == MotionState::Pocketed || Some(i) == skip {
+            continue;
+        }
+        ball(id, layout.to_screen(s.pos), r);
+    }
+}
+
+/// Pocketed balls in the tray, in the order they fell.
+pub fn tray(layout: &Layout, ids: &[String], pocketed: &[usize], radius: f64) {
+    fill_rect(layout.tray, Color::new(0.0, 0.0, 0.0, 0.35));
+    let r = layout.px(radius).max(3.0);
+    for (k, &b) in pocketed.iter().enumerate() {
+        if let Some(id) = ids.get(b) {
+            ball(id, layout.tray_slot(k, radius), r);
+        }
+    }
+}
+
+/// Aim line, ghost ball and predicted paths, as toggled.
+pub fn aids(
+    layout: &Layout,
+    p: &Prediction,
+    toggles: AidToggles,
+    cue: DVec2,
+    radius: f64,
+    object_id: &str,
+) {
+    let line = |pts: &[DVec2], c: Color| {
+        for w in pts.windows(2) {
+            let (a, b) = (layout.to_screen(w[0]), layout.to_screen(w[1]));
+            draw_line(a[0], a[1], b[0], b[1], 1.5, c);
+        }
+    };
+    if toggles.paths {
+        line(&p.cue_path, Color::new(1.0, 1.0, 1.0, 0.45));
+        line(&p.object_path, with_alpha(ball_look(object_id).color, 0.8));
+    }
+    if toggles.aim_line {
+        if let Some(end) = p.aim_end {
+            line(&[cue, end], Color::new(1.0, 1.0, 1.0, 0.85));
+        }
+    }
+    if toggles.ghost_ball {
+        if let Some(g) = p.ghost {
+            let c = layout.to_screen(g);
+            draw_poly_lines(
+                c[0],
+                c[1],
+                BALL_SIDES,
+                layout.px(radius),
+                0.0,
+                1.5,
+                Color::new(1.0, 1.0, 1.0, 0.8),
+            );
+        }
+    }
+}
+
+/// The cue stick behind the cue ball, drawn back further the harder the shot.
+pub fn cue_stick(layout: &Layout, cue: DVec2, aim: &Aim, radius: f64) {
+    let dir = aim.dir();
+    let gap = radius * (1.3 + 8.0 * aim.power);
+    let tip = cue - dir * gap;
+    let butt = tip - dir * 1.3;
+    let (a, b) = (layout.to_screen(tip), layout.to_screen(butt));
+    let w = layout.px(0.012).max(3.0);
+    draw_line(
+        a[0],
+        a[1],
+        b[0],
+        b[1],
+        w,
+        Color::from_rgba(214, 180, 120, 255),
+    );
+    let ferrule = layout.to_screen(tip - dir * 0.02);
+    draw_line(
+        a[0],
+        a[1],
+        ferrule[0],
+        ferrule[1],
+        w,
+        Color::from_rgba(240, 240, 240, 255),
+    );
+}
+
+/// The cue-ball face (tip offset) and the power bar.
+pub fn panel(layout: &Layout, aim: &Aim) {
+    let [cx, cy] = layout.tip_center;
+    let r = layout.tip_radius;
+    draw_text("Tip", cx - r, cy - r - 6.0, 20.0, LIGHTGRAY);
+    draw_poly(cx, cy, 64, r, 0.0, color(palette::CUE_BALL));
+    // The miscue limit: the tip stays inside this ring.
+    draw_poly_lines(
+        cx,
+        cy,
+        64,
+        0.5 * r,
+        0.0,
+        1.0,
+        Color::new(0.8, 0.2, 0.2, 0.6),
+    );
+    draw_line(cx - r, cy, cx + r, cy, 1.0, Color::new(0.0, 0.0, 0.0, 0.2));
+    draw_line(cx, cy - r, cx, cy + r, 1.0, Color::new(0.0, 0.0, 0.0, 0.2));
+    let tx = cx + aim.tip.x as f32 * r;
+    let ty = cy - aim.tip.y as f32 * r;
+    draw_poly(
+        tx,
+        ty,
+        24,
+        (0.12 * r).max(3.0),
+        0.0,
+        Color::from_rgba(30, 90, 200, 255),
+    );
+
+    let bar = layout.power_bar;
+    draw_text(
+        format!("Power {:.1} m/s", aim.speed()),
+        bar.x - 30.0,
+        bar.y - 8.0,
+        18.0,
+        LIGHTGRAY,
+    );
+    fill_rect(bar, Color::new(0.0, 0.0, 0.0, 0.5));
+    let filled = bar.h * aim.power as f32;
+    let hot = aim.power as f32;
+    draw_rectangle(
+        bar.x,
+        bar.y + bar.h - filled,
+        bar.w,
+        filled,
+        Color::new(0.3 + 0.7 * hot, 0.8 - 0.6 * hot, 0.2, 1.0),
+    );
+    draw_rectangle_lines(bar.x, bar.y, bar.w, bar.h, 1.0, LIGHTGRAY);
+}
+
+/// The shaded area where the cue ball may be put, and the ball being dragged.
+pub fn in_hand(layout: &Layout, area: Rect, dragged: Option<(DVec2, bool)>, radius: f64) {
+    fill_rect(area, Color::new(1.0, 1.0, 1.0, 0.08));
+    draw_rectangle_lines(
+        area.x,
+        area.y,
+        area.w,
+        area.h,
+        2.0,
+        Color::new(1.0, 1.0, 1.0, 0.5),
+    );
+    if let Some((at, legal)) = dragged {
+        let p = layout.to_screen(at);
+        let r = layout.px(radius);
+        ball("cue", p, r);
+        let ring = if legal {
+            Color::new(0.2, 0.9, 0.3, 1.0)
+        } else {
+            Color::new(0.95, 0.15, 0.15, 1.0)
+        };
+        draw_poly_lines(p[0], p[1], BALL_SIDES, r + 2.0, 0.0, 2.0, ring);
+    }
+}
+
+/// A line of text in a box, for the HUD and messages.
+pub fn label(text: &str, x: f32, y: f32, size: f32, c: Color) {
+    draw_text(text, x, y, size, c);
+}

@@ -1,0 +1,48 @@
+//! The only place that reads the mouse and the keyboard: one [`InputFrame`] per frame.
+
+use macroquad::prelude::{
+    is_key_down, is_key_pressed, is_mouse_button_down, is_mouse_button_pressed,
+    is_mouse_button_released, mouse_position, mouse_wheel, KeyCode, MouseButton,
+};
+
+use breakshot_client::play::controls::{InputFrame, Key};
+
+const KEYS: [(KeyCode, Key); 9] = [
+    (KeyCode::Space, Key::Shoot),
+    (KeyCode::A, Key::AimLine),
+    (KeyCode::G, Key::GhostBall),
+    (KeyCode::P, Key::Paths),
+    (KeyCode::F3, Key::Debug),
+    (KeyCode::H, Key::BallInHand),
+    (KeyCode::R, Key::Rerack),
+    (KeyCode::Escape, Key::Back),
+    (KeyCode::Enter, Key::Shoot),
+];
+
+pub fn read(dt: f64) -> InputFrame {
+    let (mx, my) = mouse_position();
+    let (_, wheel) = mouse_wheel();
+    InputFrame {
+        mouse: [mx, my],
+        left_pressed: is_mouse_button_pressed(MouseButton::Left),
+        left_down: is_mouse_button_down(MouseButton::Left),
+        left_released: is_mouse_button_released(MouseButton::Left),
+        // Some platforms report 120 per notch, others 1.
+        wheel: if wheel.abs() >= 60.0 {
+            wheel / 120.0
+        } else {
+            wheel.signum() * wheel.abs().min(3.0)
+        },
+        shift: is_key_down(KeyCode::LeftShift) || is_key_down(KeyCode::RightShift),
+        left_key: is_key_down(KeyCode::Left),
+        right_key: is_key_down(KeyCode::Right),
+        up_key: is_key_down(KeyCode::Up),
+        down_key: is_key_down(KeyCode::Down),
+        pressed: KEYS
+            .iter()
+            .filter(|(code, _)| is_key_pressed(*code))
+            .map(|&(_, key)| key)
+            .collect(),
+        dt,
+    }
+}

@@ -1,0 +1,120 @@
+//! The menu the window opens on when no command is given.
+
+use breakshot_client::play::controls::{InputFrame, Key};
+use breakshot_client::view::layout::Rect;
+use macroquad::prelude::*;
+
+use super::{draw, practice::PracticeScreen, Next, Screen};
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Item {
+    Practice,
+    Host,
+    Join,
+    Replay,
+    Quit,
+}
+
+const ITEMS: [(Item, &str); 5] = [
+    (Item::Practice, "Practice"),
+    (Item::Host, "Host a game"),
+    (Item::Join, "Join a game"),
+    (Item::Replay, "Watch a replay"),
+    (Item::Quit, "Quit"),
+];
+
+pub struct MenuScreen {
+    message: String,
+}
+
+impl MenuScreen {
+    pub fn new() -> MenuScreen {
+        MenuScreen {
+            message: String::new(),
+        }
+    }
+
+    fn buttons() -> Vec<(Item, &'static str, Rect)> {
+        let (w, h) = (screen_width(), screen_height());
+        let bw = 320.0f32.min(0.8 * w);
+        let bh = 52.0;
+        let top = 0.3 * h;
+        ITEMS
+            .iter()
+            .enumerate()
+            .map(|(k, &(item, name))| {
+                (
+                    item,
+                    name,
+                    Rect::new(0.5 * (w - bw), top + k as f32 * (bh + 14.0), bw, bh),
+                )
+            })
+            .collect()
+    }
+
+    pub fn update(&mut self, input: &InputFrame) -> Next {
+        if input.pressed.contains(&Key::Back) {
+            return Next::Quit;
+        }
+        if !input.left_pressed {
+            return Next::Stay;
+        }
+        let Some((item, _, _)) = Self::buttons()
+            .into_iter()
+            .find(|(_, _, r)| r.contains(input.mouse))
+        else {
+            return Next::Stay;
+        };
+        match item {
+            Item::Practice => match PracticeScreen::new(None) {
+                Ok(s) => return Next::Go(Screen::Practice(Box::new(s))),
+                Err(e) => self.message = e.to_string(),
+            },
+            Item::Host | Item::Join => {
+                self.message = "Network play is not available yet in this build.".into();
+            }
+            Item::Replay => {
+                self.message = "Replays are not available yet in this build.".into();
+            }
+            Item::Quit => return Next::Quit,
+        }
+        Next::Stay
+    }
+
+    pub fn draw(&mut self) {
+        let (w, h) = (screen_width(), screen_height());
+        let title = "BREAKSHOT";
+        let dims = measure_text(title, None, 72, 1.0);
+        draw::label(title, 0.5 * (w - dims.width), 0.18 * h, 72.0, WHITE);
+        let (mx, my) = mouse_position();
+        for (_, name, r) in Self::buttons() {
+            let hot = r.contains([mx, my]);
+            let fill = if hot {
+                Color::from_rgba(40, 130, 90, 255)
+            } else {
+                Color::from_rgba(24, 104, 74, 255)
+            };
+            draw_rectangle(r.x, r.y, r.w, r.h, fill);
+            draw_rectangle_lines(
+                r.x,
+                r.y,
+                r.w,
+                r.h,
+                2.0,
+                Color::from_rgba(200, 220, 200, 255),
+            );
+            let d = measure_text(name, None, 28, 1.0);
+            draw::label(
+                name,
+                r.x + 0.5 * (r.w - d.width),
+                r.y + 0.5 * r.h + 9.0,
+                28.0,
+                WHITE,
+            );
+        }
+        if !self.message.is_empty() {
+            let d = measure_text(&self.message, None, 22, 1.0);
+            draw::label(&self.message, 0.5 * (w - d.width), 0.92 * h, 22.0, YELLOW);
+        }
+    }
+}

@@ -1,0 +1,240 @@
+//! The practice screen: a table with no rules and no server.
+
+use breakshot_client::play::controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
+use breakshot_client::play::practice::Practice;
+use breakshot_client::view::aids::{self, AidToggles, Prediction};
+use breakshot_client::view::layout::{Frame, Layout};
+use breakshot_shared::hash::hash_hex;
+use breakshot_shared::physics::{Shot, Simulator, TableKind};
+use breakshot_shared::scene::Scene;
+use macroquad::prelude::*;
+
+use super::{draw, menu, Next, Screen};
+
+pub struct PracticeScreen {
+    practice: Practice,
+    /// The table as it started, for re-racking.
+    initial: Practice,
+    frame: Frame,
+    controls: Controls,
+    toggles: AidToggles,
+    sim: Simulator,
+    /// The shot the aids were computed for, and what they show.
+    predicted: Option<(Shot, Prediction)>,
+    debug: bool,
+    message: String,
+    shots: u32,
+    frame_ms: f64,
+}
+
+impl PracticeScreen {
+    pub fn new(scene: Option<Scene>) -> anyhow::Result<PracticeScreen> {
+        let practice = match &scene {
+            Some(s) => Practice::from_scene(s)?,
+            None => Practice::rack(TableKind::NineFoot),
+        };
+        let aim = practice.scene_aim.unwrap_or_default();
+        let frame = Frame::new(practice.table, &practice.balls);
+        Ok(PracticeScreen {
+            initial: practice.clone(),
+            practice,
+            frame,
+            controls: Controls::new(aim),
+            toggles: AidToggles::default(),
+            sim: Simulator::new(),
+            predicted: None,
+            debug: false,
+            message: "Aim with the mouse, pull back or press Space to shoot".into(),
+            shots: 0,
+            frame_ms: 0.0,
+        })
+    }
+
+    fn layout(&self) -> Layout {
+        Layout::new(screen_width(), screen_height(), self.frame)
+    }
+
+    fn stage(&self) -> Stage {
+        if self.practice.busy() {
+            Stage::Watching
+        } else if self.practice.in_hand {
+            Stage::InHand
+        } else {
+            Stage::Aiming
+        }
+    }
+
+    pub fn update(&mut self, input: &InputFrame) -> Next {
+        self.frame_ms = 0.9 * self.frame_ms + 0.1 * input.dt * 1000.0;
+        let layout = self.layout();
+        let cue = self.practice.balls[self.practice.cue].pos;
+        let ctx = Context {
+            layout: &layout,
+            cue,
+            radius: self.practice.params.ball_radius,
+            stage: self.stage(),
+        };
+        if self.practice.busy() && input.pressed.contains(&Key::Shoot) {
+            self.practice.skip();
+        }
+        let practice = &self.practice;
+        let intents = self
+            .controls
+            .update(input, &ctx, &|p| practice.placement(p).is_ok());
+        for intent in intents {
+            match intent {
+                Intent::Shoot(strike) => match self.practice.shoot(strike) {
+                    Ok(()) => {
+                        self.shots += 1;
+                        self.message = format!("Shot {} at {:.1} m/s", self.shots, strike.speed);
+                    }
+                    Err(e) => self.message = e.to_string(),
+                },
+                Intent::PlaceCueBall(p) => {
+                    if let Err(e) = self.practice.place_cue(p.into()) {
+                        self.message = e.to_string();
+                    }
+                }
+                Intent::Toggle(aid) => self.toggles.toggle(aid),
+                Intent::ToggleDebug => self.debug = !self.debug,
+                Intent::TakeBallInHand if !self.practice.busy() => self.practice.in_hand = true,
+                Intent::TakeBallInHand => {}
+                Intent::Rerack => {
+                    self.practice = self.initial.clone();
+                    self.message = "Table reset".into();
+                }
+                Intent::Back => return Next::Go(Screen::Menu(menu::MenuScreen::new())),
+            }
+        }
+        self.practice.tick(input.dt, 1.0);
+        self.refresh_prediction();
+        Next::Stay
+    }
+
+    /// Re-simulates the aids when the shot being set up changes.
+    fn refresh_prediction(&mut self) {
+        if self.practice.busy() {
+            self.predicted = None;
+            return;
+        }
+        let shot = self.practice.shot(self.controls.aim.strike());
+        if self.predicted.as_ref().is_some_and(|(s, _)| *s == shot) {
+            return;
+        }
+        let prediction = aids::predict(&mut self.sim, &shot, self.practice.cue).unwrap_or_default();
+        self.predicted = Some((shot, prediction));
+    }
+
+    pub fn draw(&mut self) {
+        let layout = self.layout();
+        let p = &self.practice;
+        let r = p.params.ball_radius;
+        draw::table(&layout, p.table);
+        let shown = p.shown_balls();
+        let cue = shown[p.cue].pos;
+        let dragging = match self.controls.drag {
+            Drag::CueBall { at } => Some((at, p.placement(at).is_ok())),
+            _ => None,
+        };
+        if !p.busy() && dragging.is_none() {
+            if let Some((_, pred)) = &self.predicted {
+                let object = pred
+                    .first_hit
+                    .and_then(|b| p.ids.get(b))
+                    .map_or("", |s| s.as_str());
+                draw::aids(&layout, pred, self.toggles, cue, r, object);
+            }
+        }
+        draw::balls(&layout, &p.ids, &shown, r, dragging.map(|_| p.cue));
+        if !p.busy() && p.in_hand {
+            draw::in_hand(&layout, layout.cloth, dragging, r);
+        }
+        if !p.busy() && dragging.is_none() {
+            draw::cue_stick(&layout, cue, &self.controls.aim, r);
+        }
+        draw::tray(&layout, &p.ids, &p.shown_pocketed(), r);
+        draw::panel(&layout, &self.controls.aim);
+        self.hud(&layout);
+        if self.debug {
+            self.debug_overlay(&layout);
+        }
+    }
+
+    fn hud(&self, layout: &Layout) {
+        let p = &self.practice;
+        draw_rectangle(
+            layout.hud.x,
+            layout.hud.y,
+            layout.hud.w,
+            layout.hud.h,
+            Color::new(0.0, 0.0, 0.0, 0.5),
+        );
+        let state = if p.busy() {
+            "balls moving (Space: skip)"
+        } else if p.in_hand {
+            "ball in hand: drag the cue ball"
+        } else {
+            "your shot"
+        };
+        let y = 0.5 * layout.hud.h + 6.0;
+        draw::label(
+            &format!("Practice  |  {} table  |  {}", p.table.name(), state),
+            10.0,
+            y,
+            20.0,
+            WHITE,
+        );
+        let hint = "A aim line  |  G ghost  |  P paths  |  H ball in hand  |  R reset  |  F3 debug  |  Esc menu";
+        let dims = measure_text(hint, None, 16, 1.0);
+        draw::label(hint, layout.hud.w - dims.width - 10.0, y, 16.0, LIGHTGRAY);
+        draw::label(
+            &self.message,
+            layout.tray.x,
+            layout.screen[1] - 6.0,
+            18.0,
+            LIGHTGRAY,
+        );
+    }
+
+    fn debug_overlay(&self, layout: &Layout) {
+        let p = &self.practice;
+        let mut lines = vec![
+            format!("frame {:.1} ms", self.frame_ms),
+            format!(
+                "window {:.0}x{:.0}, {:.1} px/m",
+                layout.screen[0], layout.screen[1], layout.scale
+            ),
+            format!("shots {}", self.shots),
+            format!(
+                "aim {:.3} deg, {:.2} m/s, tip ({:.2}, {:.2})",
+                self.controls.aim.angle.to_degrees(),
+                self.controls.aim.speed(),
+                self.controls.aim.tip.x,
+                self.controls.aim.tip.y
+            ),
+            format!("last hash {}", p.last_hash.map_or("-".into(), hash_hex)),
+        ];
+        if let Some(pb) = &p.playback {
+            let o = pb.outcome();
+            lines.push(format!(
+                "t {:.3} / {:.3} s, {} events",
+                pb.time(),
+                o.duration,
+                o.events.len()
+            ));
+        }
+        let x = layout.cloth.x + 8.0;
+        let mut y = layout.cloth.y + 20.0;
+        draw_rectangle(
+            x - 4.0,
+            y - 16.0,
+            420.0,
+            20.0 * lines.len() as f32 + 6.0,
+            Color::new(0.0, 0.0, 0.0, 0.6),
+        );
+        for line in lines {
+            draw::label(&line, x, y, 18.0, YELLOW);
+            y += 20.0;
+        }
+    }
+}

@@ -1,0 +1,281 @@
+//! Where everything goes on the screen. The renderer and the window test both use this, so a
+//! ball the test looks for is where the renderer drew it.
+//!
+//! The table lies with its long side across the screen: scene `y` (along the table) runs to
+//! the right and scene `x` (across) runs down. With the screen's `y` pointing down this is a
+//! rotation, not a mirror image, so a shot looks on the screen as it is on the table.
+
+use breakshot_shared::physics::{BallState, MotionState, TableKind};
+use glam::DVec2;
+
+/// Width of the rails drawn around the cloth (cushion and wood), in metres. Drawing only.
+pub const RAIL_WIDTH: f64 = 0.12;
+/// Margin around an open table's balls, in metres.
+const OPEN_MARGIN: f64 = 0.3;
+
+/// An axis-aligned rectangle in pixels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rect {
+    pub x: f32,
+    pub y: f32,
+    pub w: f32,
+    pub h: f32,
+}
+
+impl Rect {
+    pub fn new(x: f32, y: f32, w: f32, h: f32) -> Rect {
+        Rect { x, y, w, h }
+    }
+
+    pub fn contains(&self, p: [f32; 2]) -> bool {
+        p[0] >= self.x && p[0] <= self.x + self.w && p[1] >= self.y && p[1] <= self.y + self.h
+    }
+
+    pub fn center(&self) -> [f32; 2] {
+        [self.x + 0.5 * self.w, self.y + 0.5 * self.h]
+    }
+}
+
+/// The part of the scene plane shown as the cloth: the playing surface of a real table, or a
+/// box around the balls on the open (unbounded) table.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    /// Scene coordinates of the cloth's corner.
+    pub min: DVec2,
+    /// Width (across, scene x) and length (along, scene y) in metres.
+    pub size: DVec2,
+    /// Whether the table has rails and pockets.
+    pub rails: bool,
+}
+
+impl Frame {
+    /// The frame for a table; the open table gets a box around `balls`.
+    pub fn new(kind: TableKind, balls: &[BallState]) -> Frame {
+        match kind.size() {
+            Some((w, l)) => Frame {
+                min: DVec2::ZERO,
+                size: DVec2::new(w, l),
+                rails: true,
+            },
+            None => Frame::around(balls),
+        }
+    }
+
+    /// A box around the balls on the table, at least a nine-foot table in size.
+    fn around(balls: &[BallState]) -> Frame {
+        let on_table = balls.iter().filter(|b| b.motion != MotionState::Pocketed);
+        let (lo, hi) = on_table.fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), b| (lo.min(b.pos), hi.max(b.pos)),
+        );
+        let (lo, hi) = if lo.is_finite() && hi.is_finite() {
+            (lo, hi)
+        } else {
+            (DVec2::ZERO, DVec2::ZERO)
+        };
+        let centre = 0.5 * (lo + hi);
+        let size = (hi - lo + DVec2::splat(2.0 * OPEN_MARGIN)).max(DVec2::new(1.27, 2.54));
+        Frame {
+            min: centre - 0.5 * size,
+            size,
+            rails: false,
+        }
+    }
+}
+
+/// The screen layout for one window size and one table.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Layout {
+    pub screen: [f32; 2],
+    pub frame: Frame,
+    /// Pixels per metre.
+    pub scale: f64,
+    /// Pixel position of the frame's corner (`frame.min`).
+    origin: DVec2,
+    /// The bar at the top with the players, the turn and the last verdict.
+    pub hud: Rect,
+    /// The cloth (the playing surface).
+    pub cloth: Rect,
+    /// The cloth with the rails around it.
+    pub outer: Rect,
+    /// The strip below the table where pocketed balls are shown.
+    pub tray: Rect,
+    /// The cue-ball face where the tip offset is set: centre and radius in pixels.
+    pub tip_center: [f32; 2],
+    pub tip_radius: f32,
+    /// The power bar (power grows upwards).
+    pub power_bar: Rect,
+}
+
+impl Layout {
+    /// Fits the table into a window of `width` × `height` pixels.
+    pub fn new(width: f32, height: f32, frame: Frame) -> Layout {
+        let (w, h) = (width.max(64.0), height.max(64.0));
+        let margin = (0.015 * w.min(h)).max(6.0);
+        let hud_h = (0.05 * h).clamp(28.0, 48.0);
+        let panel_w = (0.14 * w).clamp(110.0, 260.0);
+        let tray_h = (0.09 * h).clamp(34.0, 90.0);
+        let rail = if frame.rails { RAIL_WIDTH } else { 0.0 };
+
+        // The area left for the table and its rails.
+        let area = Rect::new(
+            margin,
+            hud_h + margin,
+            (w - panel_w - 3.0 * margin).max(10.0),
+            (h - hud_h - tray_h - 3.0 * margin).max(10.0),
+        );
+        let outer_m = DVec2::new(frame.size.y + 2.0 * rail, frame.size.x + 2.0 * rail);
+        let scale = (area.w as f64 / outer_m.x).min(area.h as f64 / outer_m.y);
+        let outer_px = outer_m * scale;
+        let outer = Rect::new(
+            area.x + 0.5 * (area.w - outer_px.x as f32),
+            area.y + 0.5 * (area.h - outer_px.y as f32),
+            outer_px.x as f32,
+            outer_px.y as f32,
+        );
+        let rail_px = (rail * scale) as f32;
+        let cloth = Rect::new(
+            outer.x + rail_px,
+            outer.y + rail_px,
+            (frame.size.y * scale) as f32,
+            (frame.size.x * scale) as f32,
+        );
+        let origin = DVec2::new(cloth.x as f64, cloth.y as f64);
+        let tray = Rect::new(outer.x, outer.y + outer.h + margin, outer.w, tray_h);
+
+        let panel_x = w - panel_w - margin;
+        let tip_radius = 0.38 * panel_w;
+        let tip_center = [
+            panel_x + 0.5 * panel_w,
+            hud_h + 3.0 * margin + tip_radius + 16.0,
+        ];
+        let bar_top = tip_center[1] + tip_radius + 3.0 * margin + 16.0;
+        let bar_w = (0.25 * panel_w).max(18.0);
+        let power_bar = Rect::new(
+            panel_x + 0.5 * (panel_w - bar_w),
+            bar_top,
+            bar_w,
+            (h - bar_top - 2.0 * margin - 20.0).max(20.0),
+        );
+        Layout {
+            screen: [w, h],
+            frame,
+            scale,
+            origin,
+            hud: Rect::new(0.0, 0.0, w, hud_h),
+            cloth,
+            outer,
+            tray,
+            tip_center,
+            tip_radius,
+            power_bar,
+        }
+    }
+
+    /// Scene coordinates (metres) to pixels.
+    pub fn to_screen(&self, p: DVec2) -> [f32; 2] {
+        let d = p - self.frame.min;
+        [
+            (self.origin.x + d.y * self.scale) as f32,
+            (self.origin.y + d.x * self.scale) as f32,
+        ]
+    }
+
+    /// Pixels to scene coordinates (metres).
+    pub fn to_scene(&self, px: [f32; 2]) -> DVec2 {
+        let sx = (px[0] as f64 - self.origin.x) / self.scale;
+        let sy = (px[1] as f64 - self.origin.y) / self.scale;
+        self.frame.min + DVec2::new(sy, sx)
+    }
+
+    /// A scene direction as a pixel direction (same rotation as [`Layout::to_screen`]).
+    pub fn dir_to_screen(&self, d: DVec2) -> [f32; 2] {
+        [d.y as f32, d.x as f32]
+    }
+
+    /// A length in metres as pixels.
+    pub fn px(&self, metres: f64) -> f32 {
+        (metres * self.scale) as f32
+    }
+
+    /// Centre of tray slot `k` (the k-th ball pocketed), for balls of `radius` metres.
+    pub fn tray_slot(&self, k: usize, radius: f64) -> [f32; 2] {
+        let r = self.px(radius).max(3.0);
+        let pitch = 2.6 * r;
+        [
+            self.tray.x + 1.5 * r + k as f32 * pitch,
+            self.tray.y + 0.5 * self.tray.h,
+        ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn nine_foot(w: f32, h: f32) -> Layout {
+        Layout::new(w, h, Frame::new(TableKind::NineFoot, &[]))
+    }
+
+    #[test]
+    fn screen_and_scene_coordinates_round_trip() {
+        let l = nine_foot(1280.0, 720.0);
+        for p in [DVec2::ZERO, DVec2::new(1.27, 2.54), DVec2::new(0.3, 1.9)] {
+            let back = l.to_scene(l.to_screen(p));
+            assert!((back - p).length() < 1e-4, "{p} -> {back}");
+        }
+    }
+
+    #[test]
+    fn table_lies_along_the_screen_and_keeps_its_proportions() {
+        let l = nine_foot(1280.0, 720.0);
+        let corner = l.to_screen(DVec2::ZERO);
+        assert!((corner[0] - l.cloth.x).abs() < 1e-3 && (corner[1] - l.cloth.y).abs() < 1e-3);
+        let far = l.to_screen(DVec2::new(1.27, 2.54));
+        assert!((far[0] - (l.cloth.x + l.cloth.w)).abs() < 1e-2);
+        assert!((far[1] - (l.cloth.y + l.cloth.h)).abs() < 1e-2);
+        assert!((l.cloth.w / l.cloth.h - 2.0).abs() < 1e-3);
+    }
+
+    #[test]
+    fn everything_fits_on_screen_at_common_sizes() {
+        for (w, h) in [
+            (1280.0, 720.0),
+            (1920.0, 1080.0),
+            (1280.0, 800.0),
+            (800.0, 600.0),
+        ] {
+            let l = nine_foot(w, h);
+            let screen = Rect::new(0.0, 0.0, w, h);
+            for r in [l.outer, l.tray, l.power_bar] {
+                assert!(screen.contains([r.x, r.y]) && screen.contains([r.x + r.w, r.y + r.h]));
+            }
+            // Nothing overlaps the table: the panel is to its right, the tray below.
+            assert!(l.power_bar.x > l.outer.x + l.outer.w);
+            assert!(l.tip_center[0] - l.tip_radius > l.outer.x + l.outer.w);
+            assert!(l.tray.y > l.outer.y + l.outer.h);
+            assert!(l.outer.y > l.hud.h);
+        }
+    }
+
+    #[test]
+    fn bigger_window_draws_a_bigger_table() {
+        let small = nine_foot(1280.0, 720.0);
+        let big = nine_foot(1920.0, 1080.0);
+        assert!(big.scale > 1.4 * small.scale);
+    }
+
+    #[test]
+    fn open_table_frames_its_balls() {
+        let balls = [
+            BallState::at_rest(DVec2::new(-3.0, 0.0)),
+            BallState::at_rest(DVec2::new(1.0, 4.0)),
+        ];
+        let f = Frame::new(TableKind::Open, &balls);
+        assert!(!f.rails);
+        for b in &balls {
+            let d = b.pos - f.min;
+            assert!(d.x > 0.0 && d.y > 0.0 && d.x < f.size.x && d.y < f.size.y);
+        }
+    }
+}

@@ -1,0 +1,7 @@
+//! What the window shows, computed without a window: where things go on the screen, the
+//! colours of the balls, the aiming aids and the animation of a shot.
+
+pub mod aids;
+pub mod layout;
+pub mod palette;
+pub mod playback;

@@ -1,0 +1,92 @@
+//! Colours: the cloth, the rails and the standard pool ball colours (1 yellow, 2 blue, 3 red,
+//! 4 purple, 5 orange, 6 green, 7 maroon, 8 black; 9 to 15 are the same colours as stripes).
+
+/// An sRGB colour.
+pub type Rgb = [u8; 3];
+
+pub const CLOTH: Rgb = [24, 104, 74];
+pub const CUSHION: Rgb = [18, 82, 56];
+pub const RAIL_WOOD: Rgb = [92, 52, 26];
+pub const DIAMOND: Rgb = [236, 226, 196];
+pub const POCKET: Rgb = [8, 8, 8];
+pub const BACKGROUND: Rgb = [26, 28, 34];
+pub const CUE_BALL: Rgb = [246, 244, 232];
+/// The white of stripes and of the number disc.
+pub const BALL_WHITE: Rgb = [244, 240, 226];
+/// A ball whose id is not a pool ball number.
+pub const OTHER_BALL: Rgb = [200, 200, 200];
+
+const SOLIDS: [Rgb; 8] = [
+    [250, 196, 20], // 1 yellow
+    [24, 64, 196],  // 2 blue
+    [214, 30, 36],  // 3 red
+    [96, 40, 150],  // 4 purple
+    [252, 112, 16], // 5 orange
+    [10, 150, 44],  // 6 green
+    [124, 22, 38],  // 7 maroon
+    [16, 16, 16],   // 8 black
+];
+
+/// How a ball is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BallLook {
+    pub color: Rgb,
+    pub stripe: bool,
+    pub number: Option<u8>,
+}
+
+/// The look of the ball called `id` ("cue" or "0" for the cue ball, "1" to "15").
+pub fn ball_look(id: &str) -> BallLook {
+    let plain = |color| BallLook {
+        color,
+        stripe: false,
+        number: None,
+    };
+    if id == "cue" || id == "0" {
+        return plain(CUE_BALL);
+    }
+    match id.parse::<u8>() {
+        Ok(n @ 1..=15) => BallLook {
+            color: SOLIDS[((n - 1) % 8) as usize],
+            stripe: n > 8,
+            number: Some(n),
+        },
+        _ => plain(OTHER_BALL),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn distance(a: Rgb, b: Rgb) -> i32 {
+        a.iter()
+            .zip(b)
+            .map(|(&x, y)| (x as i32 - y as i32).abs())
+            .sum()
+    }
+
+    #[test]
+    fn standard_colours_and_stripes() {
+        assert_eq!(ball_look("1").color, ball_look("9").color);
+        assert!(!ball_look("8").stripe && ball_look("9").stripe && ball_look("15").stripe);
+        assert_eq!(ball_look("cue").color, CUE_BALL);
+        assert_eq!(ball_look("16").color, OTHER_BALL);
+        assert_eq!(ball_look("12").number, Some(12));
+    }
+
+    #[test]
+    fn every_ball_stands_out_from_the_cloth_and_the_others() {
+        let ids = ["cue", "1", "2", "3", "4", "5", "6", "7", "8"];
+        for (i, a) in ids.iter().enumerate() {
+            let ca = ball_look(a).color;
+            assert!(distance(ca, CLOTH) > 60, "ball {a} looks like the cloth");
+            for b in &ids[i + 1..] {
+                assert!(
+                    distance(ca, ball_look(b).color) > 60,
+                    "{a} and {b} look alike"
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,131 @@
+//! The animation of a simulated shot. Every frame shows the exact state at the frame's time,
+//! `outcome.state_at(ball, t)`; nothing is stepped, so a slow frame never changes where a ball
+//! ends up.
+
+use breakshot_shared::physics::{BallState, EventKind, Outcome};
+
+/// Fastest and slowest playback speeds.
+pub const MIN_SPEED: f64 = 0.125;
+pub const MAX_SPEED: f64 = 8.0;
+
+/// A shot being shown.
+#[derive(Clone, Debug)]
+pub struct Playback {
+    outcome: Outcome,
+    /// Shot time shown now (s).
+    time: f64,
+}
+
+impl Playback {
+    pub fn new(outcome: Outcome) -> Playback {
+        Playback { outcome, time: 0.0 }
+    }
+
+    pub fn outcome(&self) -> &Outcome {
+        &self.outcome
+    }
+
+    /// Shot time shown now (s).
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Moves the shot clock on by `wall_dt` seconds of real time at `speed` times real speed.
+    pub fn advance(&mut self, wall_dt: f64, speed: f64) {
+        let dt = if wall_dt.is_finite() {
+            wall_dt.max(0.0)
+        } else {
+            0.0
+        };
+        let speed = speed.clamp(MIN_SPEED, MAX_SPEED);
+        self.time = (self.time + dt * speed).min(self.outcome.duration);
+    }
+
+    /// Jumps to the end of the shot.
+    pub fn finish(&mut self) {
+        self.time = self.outcome.duration;
+    }
+
+    pub fn finished(&self) -> bool {
+        self.time >= self.outcome.duration
+    }
+
+    /// Every ball's state at the time shown.
+    pub fn balls(&self) -> Vec<BallState> {
+        (0..self.outcome.history.len())
+            .map(|i| self.outcome.state_at(i, self.time))
+            .collect()
+    }
+
+    /// Balls pocketed so far, in the order they fell.
+    pub fn pocketed_so_far(&self) -> Vec<usize> {
+        self.outcome
+            .events
+            .iter()
+            .take_while(|e| e.t <= self.time)
+            .filter_map(|e| match e.kind {
+                EventKind::BallPocket { ball, .. } => Some(ball as usize),
+                _ => None,
+            })
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use breakshot_shared::physics::{simulate, Shot, Strike, TableKind};
+    use glam::DVec2;
+
+    fn straight_in() -> Outcome {
+        // The cue ball drives ball 1 into the bottom-left corner pocket.
+        let shot = Shot {
+            table: TableKind::NineFoot,
+            params: Default::default(),
+            models: Default::default(),
+            effects: Default::default(),
+            horizon: None,
+            balls: vec![
+                BallState::at_rest(DVec2::new(0.3, 0.3)),
+                BallState::at_rest(DVec2::new(0.15, 0.15)),
+            ],
+            strike: Some((0, Strike::at_angle(3.0, 225.0, DVec2::ZERO))),
+        };
+        simulate(&shot).expect("valid shot")
+    }
+
+    #[test]
+    fn frames_show_the_exact_state_whatever_the_frame_rate() {
+        let outcome = straight_in();
+        let mut smooth = Playback::new(outcome.clone());
+        let mut jerky = Playback::new(outcome.clone());
+        for _ in 0..30 {
+            smooth.advance(1.0 / 60.0, 1.0);
+        }
+        jerky.advance(0.3, 1.0);
+        jerky.advance(0.2, 1.0);
+        let t = smooth.time();
+        assert!((t - 0.5).abs() < 1e-9 && (jerky.time() - 0.5).abs() < 1e-9);
+        assert_eq!(smooth.balls()[0].pos, outcome.state_at(0, t).pos);
+        assert!((smooth.balls()[0].pos - jerky.balls()[0].pos).length() < 1e-9);
+    }
+
+    #[test]
+    fn ends_on_the_final_table_and_reports_pocketed_balls_in_order() {
+        let outcome = straight_in();
+        let mut p = Playback::new(outcome.clone());
+        assert!(p.pocketed_so_far().is_empty());
+        p.advance(1e9, 2.0);
+        assert!(p.finished());
+        assert_eq!(p.balls(), outcome.finals);
+        assert_eq!(p.pocketed_so_far(), vec![1]);
+    }
+
+    #[test]
+    fn bad_frame_times_do_not_move_the_clock() {
+        let mut p = Playback::new(straight_in());
+        p.advance(f64::NAN, 1.0);
+        p.advance(-1.0, 1.0);
+        assert_eq!(p.time(), 0.0);
+    }
+}
