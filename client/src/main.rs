@@ -9,6 +9,7 @@ use std::process::ExitCode;
 use std::rc::Rc;
 
 use anyhow::{bail, Context as _};
+use breakshot_client::play::replay::ReplayViewer;
 use breakshot_shared::scene::Scene;
 use clap::{Parser, Subcommand};
 
@@ -27,6 +28,9 @@ struct Cli {
     /// Frames to render before the screenshot is taken.
     #[arg(long, value_name = "N", default_value_t = 5, global = true)]
     frames: u32,
+    /// Seed of the practice rack (the same seed gives the same rack).
+    #[arg(long, global = true)]
+    seed: Option<u64>,
     /// Initial window size, WIDTHxHEIGHT.
     #[arg(long, value_name = "WxH", default_value = "1280x720", global = true)]
     size: String,
@@ -84,9 +88,13 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
         Some(Command::Join { .. }) => bail!(
             "joining is not available yet in this build: the network session is not part of it"
         ),
-        Some(Command::Replay { .. }) => bail!(
-            "replays are not available yet in this build: the game record format is not part of it"
-        ),
+        Some(Command::Replay { file }) => {
+            let bytes =
+                std::fs::read(file).with_context(|| format!("cannot read {}", file.display()))?;
+            let viewer = ReplayViewer::decode(&bytes)
+                .with_context(|| format!("{} is not a game record", file.display()))?;
+            ui::Start::Replay(Box::new(viewer))
+        }
     })
 }
 
@@ -113,6 +121,7 @@ fn open_window(cli: &Cli, start: ui::Start) -> ExitCode {
     let options = ui::Options {
         screenshot: cli.screenshot.clone(),
         frames: cli.frames,
+        seed: cli.seed,
     };
     let result: Rc<RefCell<Option<anyhow::Result<()>>>> = Rc::new(RefCell::new(None));
     let slot = result.clone();

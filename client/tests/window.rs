@@ -4,11 +4,15 @@
 //! Needs `xvfb-run`; without it the test says why and passes (CI installs it).
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::Command as Process;
 
 use breakshot_client::view::layout::{Frame, Layout};
 use breakshot_client::view::palette::{ball_look, Rgb, BALL_WHITE, CLOTH};
+use breakshot_shared::physics::{BallState, MotionState, Params, Strike};
+use breakshot_shared::replay::GameRecord;
+use breakshot_shared::rules::{Command, EightBallRules, Game, Settings, Variant};
 use breakshot_shared::scene::Scene;
+use glam::DVec2;
 
 const SCENE: &str = r#"{
   "table": "9ft",
@@ -47,41 +51,67 @@ fn close(a: Rgb, b: Rgb, tolerance: i32) -> bool {
         .all(|(&x, y)| (x as i32 - y as i32).abs() <= tolerance)
 }
 
-#[test]
-fn practice_screenshot_shows_cloth_and_balls_where_the_layout_puts_them() {
+/// A screenshot taken by `breakshot ARGS --screenshot` at 1280x720 under a virtual display.
+struct Picture {
+    width: u32,
+    height: u32,
+    pixels: Vec<u8>,
+}
+
+impl Picture {
+    fn at(&self, x: f32, y: f32) -> Rgb {
+        let (x, y) = (x.round() as usize, y.round() as usize);
+        let i = (y * self.width as usize + x) * 4;
+        [self.pixels[i], self.pixels[i + 1], self.pixels[i + 2]]
+    }
+}
+
+/// Runs `breakshot` with `args` and a file `name` holding `contents`; None if there is no
+/// `xvfb-run` (the reason is printed).
+fn screenshot(name: &str, contents: &[u8], args: &[&str]) -> Option<Picture> {
     let Some(xvfb) = find_in_path("xvfb-run") else {
         eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
-        return;
+        return None;
     };
-    let dir = std::env::temp_dir().join(format!("breakshot-window-{}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("breakshot-window-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let scene_path = dir.join("scene.json");
-    let shot_path = dir.join("out.png");
-    std::fs::write(&scene_path, SCENE).expect("scene written");
-
-    let status = Command::new(xvfb)
+    let input = dir.join(name);
+    let out = dir.join("out.png");
+    std::fs::write(&input, contents).expect("input written");
+    let status = Process::new(xvfb)
         .args(["-a", "-s", "-screen 0 1280x800x24"])
         .arg(env!("CARGO_BIN_EXE_breakshot"))
-        .arg("practice")
-        .arg(&scene_path)
+        .args(args)
+        .arg(&input)
         .arg("--screenshot")
-        .arg(&shot_path)
+        .arg(&out)
         .args(["--frames", "4", "--size", "1280x720"])
         .status()
         .expect("xvfb-run runs");
     assert!(status.success(), "breakshot exited with {status}");
+    let (width, height, pixels) = read_png(&out);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!((width, height), (1280, 720));
+    Some(Picture {
+        width,
+        height,
+        pixels,
+    })
+}
 
-    let (w, h, pixels) = read_png(&shot_path);
-    assert_eq!((w, h), (1280, 720));
-    let at = |x: f32, y: f32| -> Rgb {
-        let (x, y) = (x.round() as usize, y.round() as usize);
-        let i = (y * w as usize + x) * 4;
-        [pixels[i], pixels[i + 1], pixels[i + 2]]
+#[test]
+fn practice_screenshot_shows_cloth_and_balls_where_the_layout_puts_them() {
+    let Some(pic) = screenshot("scene.json", SCENE.as_bytes(), &["practice"]) else {
+        return;
     };
-
     let scene = Scene::from_json(SCENE).expect("valid scene");
     let shot = scene.to_shot().expect("valid shot");
-    let layout = Layout::new(w as f32, h as f32, Frame::new(shot.table, &shot.balls));
+    let layout = Layout::new(
+        pic.width as f32,
+        pic.height as f32,
+        Frame::new(shot.table, &shot.balls),
+    );
+    let at = |x, y| pic.at(x, y);
 
     // The cloth colour fills most of the table (balls and aiming lines cover a little)...
     let c = layout.cloth;
@@ -100,25 +130,60 @@ fn practice_screenshot_shows_cloth_and_balls_where_the_layout_puts_them() {
     // ... and stops at the cushions.
     assert!(!close(at(c.x - layout.px(0.09), c.y + 0.3 * c.h), CLOTH, 6));
 
-    // Each ball's colour left and right of its centre (clear of the number in the middle).
-    let r = layout.px(shot.params.ball_radius);
-    for (ball, state) in scene.balls.iter().zip(&shot.balls) {
+    let ids: Vec<&str> = scene.balls.iter().map(|b| b.id.as_str()).collect();
+    balls_are_drawn(&pic, &layout, &ids, &shot.balls);
+}
+
+/// Each ball's colour left and right of its centre (clear of the number in the middle).
+fn balls_are_drawn(pic: &Picture, layout: &Layout, ids: &[&str], balls: &[BallState]) {
+    let at = |x, y| pic.at(x, y);
+    let r = layout.px(Params::default().ball_radius);
+    for (id, state) in ids.iter().zip(balls) {
+        if state.motion == MotionState::Pocketed {
+            continue;
+        }
         let [x, y] = layout.to_screen(state.pos);
-        let look = ball_look(&ball.id);
+        let look = ball_look(id);
         for dx in [-0.75 * r, 0.75 * r] {
             let got = at(x + dx, y);
             assert!(
                 close(got, look.color, 8),
-                "ball {} at ({x}, {y}): saw {got:?}, want {:?}",
-                ball.id,
+                "ball {id} at ({x}, {y}): saw {got:?}, want {:?}",
                 look.color
             );
         }
         // A striped ball is white above and below its band.
         if look.stripe {
             let cap = at(x, y - 0.85 * r);
-            assert!(close(cap, BALL_WHITE, 12), "ball {} top: {cap:?}", ball.id);
+            assert!(close(cap, BALL_WHITE, 12), "ball {id} top: {cap:?}");
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn replay_screenshot_shows_the_recorded_games_table() {
+    // A recorded game: the break from the break spot, straight up the table.
+    let variant = Variant::EightBall(EightBallRules::Wpa);
+    let mut game = Game::new(variant, Settings::offline(), 5);
+    let mut record = GameRecord::new(variant, Settings::offline(), 5);
+    let strike = Strike::at_angle(9.0, 90.0, DVec2::ZERO);
+    let shot = Command::Shot { strike, call: None };
+    let verdict = game.apply(game.to_move(), &shot).expect("a legal break");
+    record.push(game.to_move(), shot, verdict.shot.map(|s| s.hash));
+
+    let Some(pic) = screenshot("game.rec", &record.encode(), &["replay"]) else {
+        return;
+    };
+    // Four frames are well inside the pause before the first shot: the rack is shown.
+    let racked = Game::new(variant, Settings::offline(), 5);
+    let layout = Layout::new(
+        pic.width as f32,
+        pic.height as f32,
+        Frame::new(racked.table(), racked.balls()),
+    );
+    let ids: Vec<String> = (0..racked.balls().len())
+        .map(|n| if n == 0 { "cue".into() } else { n.to_string() })
+        .collect();
+    let ids: Vec<&str> = ids.iter().map(|s| s.as_str()).collect();
+    balls_are_drawn(&pic, &layout, &ids, racked.balls());
 }

@@ -33,6 +33,11 @@ pub enum Key {
     BallInHand,
     Rerack,
     Back,
+    /// Replays: next shot, previous shot, faster, slower.
+    Next,
+    Previous,
+    Faster,
+    Slower,
 }
 
 /// One frame of input, read from the devices by the window.
@@ -139,7 +144,7 @@ impl Controls {
                 Key::BallInHand => out.push(Intent::TakeBallInHand),
                 Key::Rerack => out.push(Intent::Rerack),
                 Key::Back => out.push(Intent::Back),
-                Key::Shoot => {}
+                Key::Shoot | Key::Next | Key::Previous | Key::Faster | Key::Slower => {}
             }
         }
         if ctx.stage == Stage::Watching {

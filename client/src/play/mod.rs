@@ -4,4 +4,4 @@
 pub mod aim;
 pub mod controls;
 pub mod practice;
-pub mod rack;
+pub mod replay;

@@ -8,8 +8,9 @@ use breakshot_shared::physics::{
 use breakshot_shared::scene::{Scene, SceneError};
 use glam::DVec2;
 
+use breakshot_shared::rules::rack;
+
 use super::aim::Aim;
-use super::rack::{eight_ball_rack, rack_ids};
 use crate::view::playback::Playback;
 
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -54,10 +55,10 @@ pub struct Practice {
 }
 
 impl Practice {
-    /// A full rack on `table` with the cue ball in hand.
-    pub fn rack(table: TableKind) -> Practice {
+    /// An 8-ball rack on `table` (shuffled by `seed`) with the cue ball in hand.
+    pub fn rack(table: TableKind, seed: u64) -> Practice {
         let params = Params::default();
-        let balls = eight_ball_rack(table, &params);
+        let balls = rack::eight_ball(table, seed);
         let home = balls[0].pos;
         Practice {
             table,
@@ -65,7 +66,7 @@ impl Practice {
             models: Models::default(),
             effects: Effects::default(),
             horizon: None,
-            ids: rack_ids(),
+            ids: rack_ids(balls.len()),
             balls,
             cue: 0,
             pocketed: Vec::new(),
@@ -250,6 +251,13 @@ impl Practice {
     }
 }
 
+/// Ids of racked balls: "cue", then "1", "2", ...
+fn rack_ids(count: usize) -> Vec<String> {
+    std::iter::once("cue".to_string())
+        .chain((1..count).map(|n| n.to_string()))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -295,7 +303,9 @@ mod tests {
 
     #[test]
     fn illegal_placements_are_refused_and_change_nothing() {
-        let mut p = Practice::rack(TableKind::NineFoot);
+        let mut p = Practice::rack(TableKind::NineFoot, 7);
+        assert_eq!(p.ids.len(), 16);
+        assert_eq!(p.ids[8], "8");
         let before = p.balls.clone();
         let on_ball = p.balls[1].pos;
         assert!(p.place_cue(on_ball).is_err());

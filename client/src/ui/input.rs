@@ -7,7 +7,7 @@ use macroquad::prelude::{
 
 use breakshot_client::play::controls::{InputFrame, Key};
 
-const KEYS: [(KeyCode, Key); 9] = [
+const KEYS: [(KeyCode, Key); 16] = [
     (KeyCode::Space, Key::Shoot),
     (KeyCode::A, Key::AimLine),
     (KeyCode::G, Key::GhostBall),
@@ -17,6 +17,13 @@ const KEYS: [(KeyCode, Key); 9] = [
     (KeyCode::R, Key::Rerack),
     (KeyCode::Escape, Key::Back),
     (KeyCode::Enter, Key::Shoot),
+    (KeyCode::Right, Key::Next),
+    (KeyCode::N, Key::Next),
+    (KeyCode::Left, Key::Previous),
+    (KeyCode::Equal, Key::Faster),
+    (KeyCode::KpAdd, Key::Faster),
+    (KeyCode::Minus, Key::Slower),
+    (KeyCode::KpSubtract, Key::Slower),
 ];
 
 pub fn read(dt: f64) -> InputFrame {

@@ -66,7 +66,7 @@ impl MenuScreen {
             return Next::Stay;
         };
         match item {
-            Item::Practice => match PracticeScreen::new(None) {
+            Item::Practice => match PracticeScreen::new(None, super::fresh_seed()) {
                 Ok(s) => return Next::Go(Screen::Practice(Box::new(s))),
                 Err(e) => self.message = e.to_string(),
             },
@@ -74,7 +74,7 @@ impl MenuScreen {
                 self.message = "Network play is not available yet in this build.".into();
             }
             Item::Replay => {
-                self.message = "Replays are not available yet in this build.".into();
+                self.message = "To watch a game, run: breakshot replay FILE".into();
             }
             Item::Quit => return Next::Quit,
         }

@@ -3,9 +3,11 @@
 mod capture;
 mod clock;
 mod draw;
+mod hud;
 mod input;
 mod menu;
 mod practice;
+mod replay;
 
 use std::path::PathBuf;
 
@@ -13,6 +15,7 @@ use breakshot_shared::scene::Scene;
 use macroquad::prelude::{clear_background, next_frame};
 
 use breakshot_client::play::controls::InputFrame;
+use breakshot_client::play::replay::ReplayViewer;
 use breakshot_client::view::palette;
 
 /// Target frame rate: frames are paced by the clock because a virtual display has no vsync.
@@ -22,12 +25,22 @@ const FPS: f64 = 60.0;
 pub enum Start {
     Menu,
     Practice(Option<Box<Scene>>),
+    Replay(Box<ReplayViewer>),
 }
 
 /// Options for the whole run.
 pub struct Options {
     pub screenshot: Option<PathBuf>,
     pub frames: u32,
+    /// Seed of the practice rack (random if not given).
+    pub seed: Option<u64>,
+}
+
+/// A seed for a new rack from the clock: every rack is different.
+pub fn fresh_seed() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos() as u64)
 }
 
 /// What a screen asks for after a frame.
@@ -40,6 +53,7 @@ pub enum Next {
 pub enum Screen {
     Menu(menu::MenuScreen),
     Practice(Box<practice::PracticeScreen>),
+    Replay(Box<replay::ReplayScreen>),
 }
 
 impl Screen {
@@ -47,6 +61,7 @@ impl Screen {
         match self {
             Screen::Menu(s) => s.update(input),
             Screen::Practice(s) => s.update(input),
+            Screen::Replay(s) => s.update(input),
         }
     }
 
@@ -54,6 +69,7 @@ impl Screen {
         match self {
             Screen::Menu(s) => s.draw(),
             Screen::Practice(s) => s.draw(),
+            Screen::Replay(s) => s.draw(),
         }
     }
 }
@@ -62,9 +78,11 @@ impl Screen {
 pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
     let mut screen = match start {
         Start::Menu => Screen::Menu(menu::MenuScreen::new()),
-        Start::Practice(scene) => {
-            Screen::Practice(Box::new(practice::PracticeScreen::new(scene.map(|s| *s))?))
-        }
+        Start::Replay(viewer) => Screen::Replay(Box::new(replay::ReplayScreen::new(*viewer))),
+        Start::Practice(scene) => Screen::Practice(Box::new(practice::PracticeScreen::new(
+            scene.map(|s| *s),
+            options.seed.unwrap_or_else(fresh_seed),
+        )?)),
     };
     let mut clock = clock::FrameClock::new(FPS);
     let mut frames = 0u32;

@@ -28,10 +28,10 @@ pub struct PracticeScreen {
 }
 
 impl PracticeScreen {
-    pub fn new(scene: Option<Scene>) -> anyhow::Result<PracticeScreen> {
+    pub fn new(scene: Option<Scene>, seed: u64) -> anyhow::Result<PracticeScreen> {
         let practice = match &scene {
             Some(s) => Practice::from_scene(s)?,
-            None => Practice::rack(TableKind::NineFoot),
+            None => Practice::rack(TableKind::NineFoot, seed),
         };
         let aim = practice.scene_aim.unwrap_or_default();
         let frame = Frame::new(practice.table, &practice.balls);

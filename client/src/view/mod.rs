@@ -2,6 +2,7 @@
 //! colours of the balls, the aiming aids and the animation of a shot.
 
 pub mod aids;
+pub mod hud;
 pub mod layout;
 pub mod palette;
 pub mod playback;

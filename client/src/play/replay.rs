@@ -1,0 +1,396 @@
+//! Watching a recorded game: the record's commands are applied to a fresh [`Game`] one by
+//! one; each shot is simulated again with the same engine and shown as it plays, and its
+//! hash is checked against the recorded one. Pause, step shot by shot (both ways) and speed.
+
+use breakshot_shared::physics::{simulate, BallState, MotionState};
+use breakshot_shared::replay::{GameRecord, RecordError, RECORD_VERSION};
+use breakshot_shared::rules::{Command, Game, Verdict};
+
+use crate::view::playback::{Playback, MAX_SPEED, MIN_SPEED};
+
+/// Pause between two entries at normal speed (s), so a viewer can follow.
+const HOLD: f64 = 0.8;
+
+#[derive(Debug, thiserror::Error)]
+pub enum ReplayOpenError {
+    #[error("cannot read the game record: {0}")]
+    Record(#[from] RecordError),
+    #[error("game record version {0} cannot be shown (this build reads {RECORD_VERSION})")]
+    Version(u32),
+}
+
+/// A record being watched.
+#[derive(Clone, Debug)]
+pub struct ReplayViewer {
+    record: GameRecord,
+    /// The game before entry `next`.
+    game: Game,
+    /// The next entry to apply.
+    next: usize,
+    /// The shot of entry `next` being shown.
+    shot: Option<Playback>,
+    /// Time left before the next entry starts (s of real time at speed 1).
+    hold: f64,
+    pub paused: bool,
+    pub speed: f64,
+    pub last_verdict: Option<Verdict>,
+    /// Entries whose replayed hash differs from the recorded one.
+    pub mismatches: Vec<usize>,
+    /// Why playback stopped early: an entry the rules refused.
+    pub stopped: Option<String>,
+    /// For each ball, when it last fell (a counter of falls), for the tray's order.
+    fell: Vec<u64>,
+    falls: u64,
+}
+
+impl ReplayViewer {
+    pub fn decode(bytes: &[u8]) -> Result<ReplayViewer, ReplayOpenError> {
+        let record = GameRecord::decode(bytes)?;
+        ReplayViewer::new(record)
+    }
+
+    pub fn new(record: GameRecord) -> Result<ReplayViewer, ReplayOpenError> {
+        if record.version != RECORD_VERSION {
+            return Err(ReplayOpenError::Version(record.version));
+        }
+        let game = Game::new(record.variant, record.settings, record.seed);
+        let balls = game.balls().len();
+        Ok(ReplayViewer {
+            record,
+            game,
+            next: 0,
+            shot: None,
+            hold: HOLD,
+            paused: false,
+            speed: 1.0,
+            last_verdict: None,
+            mismatches: Vec::new(),
+            stopped: None,
+            fell: vec![0; balls],
+            falls: 0,
+        })
+    }
+
+    pub fn game(&self) -> &Game {
+        &self.game
+    }
+
+    pub fn record(&self) -> &GameRecord {
+        &self.record
+    }
+
+    /// Entries applied so far, and in all.
+    pub fn position(&self) -> (usize, usize) {
+        (self.next, self.record.entries.len())
+    }
+
+    pub fn at_end(&self) -> bool {
+        self.next >= self.record.entries.len() || self.stopped.is_some()
+    }
+
+    /// The shot being shown, if any.
+    pub fn shot(&self) -> Option<&Playback> {
+        self.shot.as_ref()
+    }
+
+    /// The balls as shown now.
+    pub fn balls(&self) -> Vec<BallState> {
+        match &self.shot {
+            Some(p) => p.balls(),
+            None => self.game.balls().to_vec(),
+        }
+    }
+
+    /// Balls off the table now, in the order they fell.
+    pub fn tray(&self) -> Vec<usize> {
+        let balls = self.balls();
+        let mut off: Vec<usize> = (1..balls.len())
+            .filter(|&b| balls[b].motion == MotionState::Pocketed)
+            .collect();
+        let live = self
+            .shot
+            .as_ref()
+            .map(|p| p.pocketed_so_far())
+            .unwrap_or_default();
+        let order = |b: usize| match live.iter().position(|&x| x == b) {
+            Some(k) => self.falls + 1 + k as u64,
+            None => self.fell.get(b).copied().unwrap_or(0),
+        };
+        off.sort_by_key(|&b| order(b));
+        off
+    }
+
+    pub fn faster(&mut self) {
+        self.speed = (self.speed * 2.0).min(MAX_SPEED);
+    }
+
+    pub fn slower(&mut self) {
+        self.speed = (self.speed * 0.5).max(MIN_SPEED);
+    }
+
+    /// Moves the replay on by `wall_dt` seconds of real time.
+    pub fn tick(&mut self, wall_dt: f64) {
+        if self.paused || !wall_dt.is_finite() || wall_dt <= 0.0 {
+            return;
+        }
+        if let Some(p) = &mut self.shot {
+            p.advance(wall_dt, self.speed);
+            if p.finished() {
+                self.commit();
+            }
+            return;
+        }
+        if self.at_end() {
+            return;
+        }
+        self.hold -= wall_dt * self.speed;
+        if self.hold <= 0.0 {
+            self.begin();
+        }
+    }
+
+    /// Shows the next shot to its end at once (finishing the one under way first), applying
+    /// any commands before it.
+    pub fn step(&mut self) {
+        if self.shot.is_some() {
+            self.finish_shot();
+            return;
+        }
+        while !self.at_end() {
+            let is_shot = matches!(self.record.entries[self.next].command, Command::Shot { .. });
+            self.begin();
+            if is_shot {
+                self.finish_shot();
+                return;
+            }
+        }
+    }
+
+    /// Goes back to just before the shot being shown, or when none is, the last one shown.
+    pub fn step_back(&mut self) {
+        let target = if self.shot.is_some() {
+            self.next
+        } else {
+            (0..self.next.min(self.record.entries.len()))
+                .rev()
+                .find(|&i| matches!(self.record.entries[i].command, Command::Shot { .. }))
+                .unwrap_or(0)
+        };
+        self.seek(target);
+    }
+
+    /// Plays every entry before `entry` instantly; the replay then waits there.
+    pub fn seek(&mut self, entry: usize) {
+        let Ok(mut fresh) = ReplayViewer::new(self.record.clone()) else {
+            return;
+        };
+        fresh.speed = self.speed;
+        fresh.paused = self.paused;
+        while fresh.next < entry.min(fresh.record.entries.len()) && fresh.stopped.is_none() {
+            fresh.begin();
+            fresh.finish_shot();
+        }
+        *self = fresh;
+    }
+
+    fn finish_shot(&mut self) {
+        if let Some(p) = &mut self.shot {
+            p.finish();
+            self.commit();
+        }
+    }
+
+    /// Starts entry `next`: a shot is simulated and shown; any other command applies at once.
+    fn begin(&mut self) {
+        let Some(entry) = self.record.entries.get(self.next) else {
+            return;
+        };
+        self.hold = HOLD;
+        if let Command::Shot { strike, .. } = &entry.command {
+            match simulate(&self.game.shot_for(strike)) {
+                Ok(outcome) => {
+                    if entry.hash.is_some_and(|h| h != outcome.hash()) {
+                        self.mismatches.push(self.next);
+                    }
+                    self.shot = Some(Playback::new(outcome));
+                }
+                Err(e) => self.stopped = Some(format!("entry {}: {e}", self.next)),
+            }
+            return;
+        }
+        if entry.hash.is_some() {
+            // Only shots have hashes: a recorded one here means the record is not this game.
+            self.mismatches.push(self.next);
+        }
+        self.commit();
+    }
+
+    /// Applies entry `next` to the game and moves on.
+    fn commit(&mut self) {
+        let Some(entry) = self.record.entries.get(self.next) else {
+            return;
+        };
+        if let Some(p) = self.shot.take() {
+            for b in p.pocketed_so_far() {
+                self.falls += 1;
+                if let Some(slot) = self.fell.get_mut(b) {
+                    *slot = self.falls;
+                }
+            }
+        }
+        match self.game.apply(entry.seat, &entry.command) {
+            Ok(v) => {
+                self.last_verdict = Some(v);
+                self.next += 1;
+            }
+            Err(e) => self.stopped = Some(format!("entry {} refused: {e}", self.next)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use breakshot_shared::physics::Strike;
+    use breakshot_shared::rules::{EightBallRules, Phase, Seat, Settings, Variant};
+    use glam::DVec2;
+
+    /// A real game: each turn the shooter places the ball if in hand and shoots up the table.
+    pub(crate) fn record(shots: usize) -> GameRecord {
+        let variant = Variant::EightBall(EightBallRules::Wpa);
+        let mut game = Game::new(variant, Settings::offline(), 11);
+        let mut rec = GameRecord::new(variant, Settings::offline(), 11);
+        for k in 0..shots {
+            let seat = game.to_move();
+            if let Phase::Shooting {
+                in_hand: Some(_), ..
+            } = game.phase()
+            {
+                let pos = [0.3 + 0.05 * k as f64, 0.3];
+                let cmd = Command::PlaceCueBall { pos };
+                if game.apply(seat, &cmd).is_ok() {
+                    rec.push(seat, cmd, None);
+                }
+            }
+            if let Phase::Deciding { options } = game.phase() {
+                let cmd = Command::Decide(options[0]);
+                game.apply(seat, &cmd).expect("offered choice");
+                rec.push(seat, cmd, None);
+                continue;
+            }
+            if let Phase::Over { .. } = game.phase() {
+                break;
+            }
+            let speed = if k == 0 { 9.0 } else { 3.0 };
+            let strike = Strike::at_angle(speed, 88.0 + 3.0 * k as f64, DVec2::ZERO);
+            let cmd = Command::Shot { strike, call: None };
+            let v = game.apply(seat, &cmd).expect("legal shot");
+            rec.push(seat, cmd, v.shot.map(|s| s.hash));
+        }
+        rec
+    }
+
+    fn shots(rec: &GameRecord) -> Vec<usize> {
+        (0..rec.entries.len())
+            .filter(|&i| matches!(rec.entries[i].command, Command::Shot { .. }))
+            .collect()
+    }
+
+    fn run_to_end(v: &mut ReplayViewer) {
+        for _ in 0..100_000 {
+            if v.at_end() && v.shot().is_none() {
+                return;
+            }
+            v.tick(0.05);
+        }
+        panic!("replay did not end");
+    }
+
+    #[test]
+    fn playing_a_record_ends_on_the_recorded_game() {
+        let rec = record(6);
+        let end = rec.replay().expect("record replays");
+        let mut v = ReplayViewer::decode(&rec.encode()).expect("decodes");
+        assert_eq!(v.position(), (0, rec.entries.len()));
+        v.tick(0.5 * HOLD);
+        assert!(v.shot().is_none(), "held before the first entry");
+        run_to_end(&mut v);
+        assert_eq!(v.game(), &end);
+        assert!(v.mismatches.is_empty() && v.stopped.is_none());
+        let off = end
+            .balls()
+            .iter()
+            .skip(1)
+            .filter(|b| b.motion == MotionState::Pocketed);
+        assert_eq!(v.tray().len(), off.count());
+    }
+
+    #[test]
+    fn pausing_stops_the_clock_and_stepping_goes_shot_by_shot() {
+        let rec = record(4);
+        let mut v = ReplayViewer::new(rec.clone()).expect("valid");
+        v.paused = true;
+        v.tick(10.0);
+        assert_eq!(v.position().0, 0);
+        v.step();
+        // One step plays everything up to and including the break, and nothing is moving.
+        let first = shots(&rec)[0];
+        assert_eq!(v.position().0, first + 1);
+        assert!(v.shot().is_none());
+        let mut g = Game::new(rec.variant, rec.settings, rec.seed);
+        for e in &rec.entries[..=first] {
+            g.apply(e.seat, &e.command).expect("recorded command");
+        }
+        assert_eq!(v.game(), &g);
+        v.step();
+        assert_eq!(v.position().0, shots(&rec)[1] + 1);
+        v.step_back();
+        assert_eq!(
+            v.position().0,
+            shots(&rec)[1],
+            "back to just before the second shot"
+        );
+        v.step_back();
+        assert_eq!(v.position().0, first, "back to just before the break");
+    }
+
+    #[test]
+    fn a_tampered_hash_is_reported_and_a_refused_entry_stops_the_replay() {
+        let mut rec = record(3);
+        let first = shots(&rec)[0];
+        rec.entries[first].hash = Some(12345);
+        rec.push(Seat::B, Command::PlaceCueBall { pos: [-1.0, -1.0] }, None);
+        let mut v = ReplayViewer::new(rec).expect("valid");
+        run_to_end(&mut v);
+        assert_eq!(v.mismatches, vec![first]);
+        assert!(
+            v.stopped.as_deref().is_some_and(|s| s.contains("refused")),
+            "{:?}",
+            v.stopped
+        );
+    }
+
+    #[test]
+    fn garbage_and_other_versions_are_refused() {
+        assert!(ReplayViewer::decode(b"not a record").is_err());
+        let mut rec = record(1);
+        rec.version = RECORD_VERSION + 1;
+        assert!(matches!(
+            ReplayViewer::new(rec),
+            Err(ReplayOpenError::Version(_))
+        ));
+    }
+
+    #[test]
+    fn speed_stays_within_limits() {
+        let mut v = ReplayViewer::new(record(1)).expect("valid");
+        for _ in 0..10 {
+            v.faster();
+        }
+        assert_eq!(v.speed, MAX_SPEED);
+        for _ in 0..20 {
+            v.slower();
+        }
+        assert_eq!(v.speed, MIN_SPEED);
+    }
+}

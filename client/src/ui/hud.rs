@@ -1,0 +1,62 @@
+//! The heads-up display of a rules game (replays now, network games later): both players,
+//! whose turn, groups, what the game waits for, the last verdict and the connection.
+
+use breakshot_client::view::hud::{self, Connection};
+use breakshot_client::view::layout::Layout;
+use breakshot_shared::rules::{Game, Seat, Verdict};
+use macroquad::prelude::*;
+
+use super::draw;
+
+pub struct HudInfo<'a> {
+    pub game: &'a Game,
+    pub me: Option<Seat>,
+    pub verdict: Option<&'a Verdict>,
+    pub shot_clock: Option<f64>,
+    pub connection: &'a Connection,
+}
+
+pub fn game_hud(layout: &Layout, info: &HudInfo) {
+    let bar = layout.hud;
+    draw_rectangle(bar.x, bar.y, bar.w, bar.h, Color::new(0.0, 0.0, 0.0, 0.5));
+    let y = 0.5 * bar.h + 6.0;
+    let mut x = 10.0;
+    for p in hud::players(info.game, info.me) {
+        let (marker, c) = if p.to_move {
+            ("> ", YELLOW)
+        } else {
+            ("  ", LIGHTGRAY)
+        };
+        let text = format!("{marker}{}", p.text);
+        draw::label(&text, x, y, 20.0, c);
+        x += measure_text(&text, None, 20, 1.0).width + 30.0;
+    }
+    let mut right = vec![hud::variant_name(info.game.variant()).to_string()];
+    if let Some(clock) = hud::shot_clock(info.shot_clock) {
+        right.push(clock);
+    }
+    right.push(hud::connection(info.connection));
+    let text = right.join("  |  ");
+    let w = measure_text(&text, None, 18, 1.0).width;
+    draw::label(&text, bar.w - w - 10.0, y, 18.0, LIGHTGRAY);
+
+    // What the game waits for, and the last verdict, over the top of the table.
+    let status = hud::status(info.game);
+    draw::label(&status, layout.outer.x, layout.outer.y - 4.0, 18.0, WHITE);
+    if let Some(v) = info.verdict {
+        let text = hud::verdict(v);
+        let c = if v.foul {
+            Color::from_rgba(255, 120, 100, 255)
+        } else {
+            WHITE
+        };
+        let w = measure_text(&text, None, 18, 1.0).width;
+        draw::label(
+            &text,
+            layout.outer.x + layout.outer.w - w,
+            layout.outer.y - 4.0,
+            18.0,
+            c,
+        );
+    }
+}

@@ -1,0 +1,112 @@
+//! The replay screen: a recorded game, shot by shot.
+
+use breakshot_client::play::aim::Aim;
+use breakshot_client::play::controls::{InputFrame, Key};
+use breakshot_client::play::replay::ReplayViewer;
+use breakshot_client::view::hud::Connection;
+use breakshot_client::view::layout::{Frame, Layout};
+use breakshot_shared::physics::Params;
+use breakshot_shared::rules::Command;
+use macroquad::prelude::*;
+
+use super::hud::{game_hud, HudInfo};
+use super::{draw, menu, Next, Screen};
+
+pub struct ReplayScreen {
+    viewer: ReplayViewer,
+    frame: Frame,
+}
+
+impl ReplayScreen {
+    pub fn new(viewer: ReplayViewer) -> ReplayScreen {
+        let frame = Frame::new(viewer.game().table(), viewer.game().balls());
+        ReplayScreen { viewer, frame }
+    }
+
+    pub fn update(&mut self, input: &InputFrame) -> Next {
+        for key in &input.pressed {
+            match key {
+                Key::Shoot => self.viewer.paused = !self.viewer.paused,
+                Key::Next => self.viewer.step(),
+                Key::Previous => self.viewer.step_back(),
+                Key::Faster => self.viewer.faster(),
+                Key::Slower => self.viewer.slower(),
+                Key::Back => return Next::Go(Screen::Menu(menu::MenuScreen::new())),
+                _ => {}
+            }
+        }
+        self.viewer.tick(input.dt);
+        Next::Stay
+    }
+
+    pub fn draw(&mut self) {
+        let layout = Layout::new(screen_width(), screen_height(), self.frame);
+        let v = &self.viewer;
+        let r = Params::default().ball_radius;
+        let ids: Vec<String> = (0..v.game().balls().len())
+            .map(|n| {
+                if n == 0 {
+                    "cue".to_string()
+                } else {
+                    n.to_string()
+                }
+            })
+            .collect();
+        draw::table(&layout, v.game().table());
+        draw::balls(&layout, &ids, &v.balls(), r, None);
+        draw::tray(&layout, &ids, &v.tray(), r);
+        // The panel shows the strike of the shot being played (or the next one).
+        let (done, total) = v.position();
+        if let Some(Command::Shot { strike, .. }) = v.record().entries.get(done).map(|e| &e.command)
+        {
+            draw::panel(&layout, &Aim::from_strike(strike));
+        }
+        game_hud(
+            &layout,
+            &HudInfo {
+                game: v.game(),
+                me: None,
+                verdict: v.last_verdict.as_ref(),
+                shot_clock: None,
+                connection: &Connection::Offline,
+            },
+        );
+        let state = if v.at_end() && v.shot().is_none() {
+            "end"
+        } else if v.paused {
+            "paused"
+        } else {
+            "playing"
+        };
+        let line = format!(
+            "Replay: entry {done} of {total}  |  {state}  |  speed x{}  |  Space pause  |  Left/Right shot by shot  |  +/- speed  |  Esc menu",
+            v.speed
+        );
+        draw::label(
+            &line,
+            layout.tray.x,
+            layout.screen[1] - 6.0,
+            18.0,
+            LIGHTGRAY,
+        );
+        let mut warnings = Vec::new();
+        if !v.mismatches.is_empty() {
+            warnings.push(format!(
+                "hash differs from the record at entries {:?}",
+                v.mismatches
+            ));
+        }
+        if let Some(why) = &v.stopped {
+            warnings.push(format!("replay stopped: {why}"));
+        }
+        for (k, w) in warnings.iter().enumerate() {
+            draw::label(
+                w,
+                layout.cloth.x + 8.0,
+                layout.cloth.y + 22.0 + 20.0 * k as f32,
+                20.0,
+                RED,
+            );
+        }
+    }
+}

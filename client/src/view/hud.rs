@@ -1,0 +1,181 @@
+//! The words of the heads-up display: players, groups, whose turn, what the game waits for,
+//! the last verdict, the shot clock and the connection. Built from a rules [`Game`], the same
+//! for a replay and for a game played over the network.
+
+use breakshot_shared::rules::{Choice, Game, InHand, Phase, Seat, Variant, Verdict};
+
+/// One player's line.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PlayerLine {
+    pub seat: Seat,
+    pub text: String,
+    /// This seat shoots or decides next.
+    pub to_move: bool,
+}
+
+/// The state of the link to the server, as the window shows it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Connection {
+    /// No server: practice or a replay.
+    Offline,
+    Connecting,
+    Connected,
+    Reconnecting,
+    /// The opponent's connection dropped; the game is forfeited after `seconds_left`.
+    OpponentLeft {
+        seconds_left: u32,
+    },
+    Closed(String),
+}
+
+pub fn variant_name(v: Variant) -> &'static str {
+    match v {
+        Variant::EightBall(breakshot_shared::rules::EightBallRules::Wpa) => "8-ball (WPA rules)",
+        Variant::EightBall(breakshot_shared::rules::EightBallRules::Bar) => "8-ball (bar rules)",
+        Variant::NineBall => "9-ball",
+        Variant::Practice => "practice",
+    }
+}
+
+/// Both players' lines, with their groups once the table is closed; `me` is marked "(you)".
+pub fn players(game: &Game, me: Option<Seat>) -> [PlayerLine; 2] {
+    let line = |seat: Seat| {
+        let mut text = seat.to_string();
+        if me == Some(seat) {
+            text.push_str(" (you)");
+        }
+        match (game.variant(), game.group_of(seat)) {
+            (Variant::EightBall(_), Some(g)) => text.push_str(match g {
+                breakshot_shared::rules::Group::Solids => ": solids",
+                breakshot_shared::rules::Group::Stripes => ": stripes",
+            }),
+            (Variant::EightBall(_), None) => text.push_str(": open table"),
+            (Variant::NineBall, _) if game.consecutive_fouls(seat) > 0 => text.push_str(&format!(
+                ": {} foul(s) in a row",
+                game.consecutive_fouls(seat)
+            )),
+            _ => {}
+        }
+        let to_move = !matches!(game.phase(), Phase::Over { .. }) && game.to_move() == seat;
+        PlayerLine {
+            seat,
+            text,
+            to_move,
+        }
+    };
+    [line(Seat::A), line(Seat::B)]
+}
+
+/// What the game waits for, in words.
+pub fn status(game: &Game) -> String {
+    let who = game.to_move();
+    match game.phase() {
+        Phase::Over { reason, .. } => format!("Game over: {reason}"),
+        Phase::Deciding { options } => {
+            format!("{who} to choose: {}", choices(options))
+        }
+        Phase::Shooting { in_hand, .. } => {
+            let act = if game.is_break() { "break" } else { "shoot" };
+            match in_hand {
+                Some(InHand::Kitchen) => {
+                    format!("{who} to {act}, cue ball in hand behind the head string")
+                }
+                Some(InHand::Anywhere) => format!("{who} to {act}, cue ball in hand"),
+                None => format!("{who} to {act}"),
+            }
+        }
+    }
+}
+
+fn choices(options: &[Choice]) -> String {
+    options
+        .iter()
+        .map(|c| c.to_string())
+        .collect::<Vec<_>>()
+        .join(" or ")
+}
+
+/// The last verdict's reasons, most important first, in one line.
+pub fn verdict(v: &Verdict) -> String {
+    let mut text = v.reasons.join("; ");
+    if let Some((_, reason)) = &v.over {
+        if !v.reasons.contains(reason) {
+            if !text.is_empty() {
+                text.push_str("; ");
+            }
+            text.push_str(reason);
+        }
+    }
+    text
+}
+
+/// The shot clock: whole seconds left, or nothing when the game has none.
+pub fn shot_clock(seconds_left: Option<f64>) -> Option<String> {
+    let s = seconds_left?;
+    let s = if s.is_finite() {
+        s.max(0.0).ceil() as u64
+    } else {
+        0
+    };
+    Some(format!("shot clock {}:{:02}", s / 60, s % 60))
+}
+
+pub fn connection(c: &Connection) -> String {
+    match c {
+        Connection::Offline => "offline".into(),
+        Connection::Connecting => "connecting...".into(),
+        Connection::Connected => "connected".into(),
+        Connection::Reconnecting => "connection lost, reconnecting...".into(),
+        Connection::OpponentLeft { seconds_left } => {
+            format!("opponent left: they forfeit in {seconds_left} s unless they return")
+        }
+        Connection::Closed(why) => format!("disconnected: {why}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use breakshot_shared::rules::{Command, EightBallRules, Settings};
+
+    fn eight() -> Game {
+        Game::new(
+            Variant::EightBall(EightBallRules::Wpa),
+            Settings::offline(),
+            3,
+        )
+    }
+
+    #[test]
+    fn a_new_game_shows_the_breaker_and_an_open_table() {
+        let g = eight();
+        let [a, b] = players(&g, Some(Seat::B));
+        assert!(a.to_move && !b.to_move);
+        assert_eq!(a.text, "Player A: open table");
+        assert_eq!(b.text, "Player B (you): open table");
+        assert!(
+            status(&g).starts_with("Player A to break"),
+            "{}",
+            status(&g)
+        );
+    }
+
+    #[test]
+    fn a_conceded_game_is_over_for_everyone() {
+        let mut g = eight();
+        let v = g
+            .apply(Seat::A, &Command::Concede)
+            .expect("concede is allowed");
+        assert!(players(&g, None).iter().all(|p| !p.to_move));
+        assert!(status(&g).starts_with("Game over: "));
+        assert!(verdict(&v).contains("Player B wins"), "{}", verdict(&v));
+    }
+
+    #[test]
+    fn shot_clock_and_connection_read_well() {
+        assert_eq!(shot_clock(Some(61.2)).as_deref(), Some("shot clock 1:02"));
+        assert_eq!(shot_clock(Some(-3.0)).as_deref(), Some("shot clock 0:00"));
+        assert_eq!(shot_clock(None), None);
+        assert!(connection(&Connection::OpponentLeft { seconds_left: 30 }).contains("30 s"));
+    }
+}
