@@ -10,6 +10,7 @@ use std::rc::Rc;
 
 use anyhow::{bail, Context as _};
 use breakshot_client::play::replay::ReplayViewer;
+use breakshot_shared::rules::{EightBallRules, Variant};
 use breakshot_shared::scene::Scene;
 use clap::{Parser, Subcommand};
 
@@ -48,6 +49,13 @@ enum Command {
         #[arg(long)]
         bind: Option<String>,
     },
+    /// Two players taking turns at this computer.
+    Local {
+        #[arg(long, default_value = "8ball", value_parser = ["8ball", "9ball"])]
+        mode: String,
+        #[arg(long, default_value = "wpa", value_parser = ["wpa", "bar"])]
+        rules: String,
+    },
     /// Join a game with the invite the host sent.
     Join { invite: String },
     /// Play offline with no server, from a rack or from a scene file.
@@ -82,6 +90,7 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             let scene = Scene::from_json(&text).with_context(|| format!("{}", path.display()))?;
             ui::Start::Practice(Some(Box::new(scene)))
         }
+        Some(Command::Local { mode, rules }) => ui::Start::Local(variant(mode, rules)),
         Some(Command::Host { .. }) => bail!(
             "hosting is not available yet in this build: the network session is not part of it"
         ),
@@ -96,6 +105,15 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             ui::Start::Replay(Box::new(viewer))
         }
     })
+}
+
+/// The rules variant named by `--mode` and `--rules` (both checked by the parser).
+fn variant(mode: &str, rules: &str) -> Variant {
+    match (mode, rules) {
+        ("9ball", _) => Variant::NineBall,
+        (_, "bar") => Variant::EightBall(EightBallRules::Bar),
+        _ => Variant::EightBall(EightBallRules::Wpa),
+    }
 }
 
 fn parse_size(text: &str) -> anyhow::Result<(i32, i32)> {

@@ -3,5 +3,7 @@
 
 pub mod aim;
 pub mod controls;
+pub mod game_flow;
+pub mod link;
 pub mod practice;
 pub mod replay;

@@ -2,6 +2,7 @@
 
 use breakshot_client::play::controls::{InputFrame, Key};
 use breakshot_client::view::layout::Rect;
+use breakshot_shared::rules::{EightBallRules, Variant};
 use macroquad::prelude::*;
 
 use super::{draw, practice::PracticeScreen, Next, Screen};
@@ -9,14 +10,16 @@ use super::{draw, practice::PracticeScreen, Next, Screen};
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Item {
     Practice,
+    Local,
     Host,
     Join,
     Replay,
     Quit,
 }
 
-const ITEMS: [(Item, &str); 5] = [
+const ITEMS: [(Item, &str); 6] = [
     (Item::Practice, "Practice"),
+    (Item::Local, "Two players, one computer"),
     (Item::Host, "Host a game"),
     (Item::Join, "Join a game"),
     (Item::Replay, "Watch a replay"),
@@ -37,8 +40,8 @@ impl MenuScreen {
     fn buttons() -> Vec<(Item, &'static str, Rect)> {
         let (w, h) = (screen_width(), screen_height());
         let bw = 320.0f32.min(0.8 * w);
-        let bh = 52.0;
-        let top = 0.3 * h;
+        let bh = 48.0;
+        let top = 0.26 * h;
         ITEMS
             .iter()
             .enumerate()
@@ -70,6 +73,12 @@ impl MenuScreen {
                 Ok(s) => return Next::Go(Screen::Practice(Box::new(s))),
                 Err(e) => self.message = e.to_string(),
             },
+            Item::Local => {
+                return Next::Go(super::local_game(
+                    Variant::EightBall(EightBallRules::Wpa),
+                    super::fresh_seed(),
+                ))
+            }
             Item::Host | Item::Join => {
                 self.message = "Network play is not available yet in this build.".into();
             }

@@ -3,6 +3,7 @@
 mod capture;
 mod clock;
 mod draw;
+mod game;
 mod hud;
 mod input;
 mod menu;
@@ -15,8 +16,11 @@ use breakshot_shared::scene::Scene;
 use macroquad::prelude::{clear_background, next_frame};
 
 use breakshot_client::play::controls::InputFrame;
+use breakshot_client::play::link::LocalLink;
 use breakshot_client::play::replay::ReplayViewer;
+use breakshot_client::view::hud::Connection;
 use breakshot_client::view::palette;
+use breakshot_shared::rules::{Settings, Variant};
 
 /// Target frame rate: frames are paced by the clock because a virtual display has no vsync.
 const FPS: f64 = 60.0;
@@ -26,6 +30,8 @@ pub enum Start {
     Menu,
     Practice(Option<Box<Scene>>),
     Replay(Box<ReplayViewer>),
+    /// Two players at this computer.
+    Local(Variant),
 }
 
 /// Options for the whole run.
@@ -34,6 +40,15 @@ pub struct Options {
     pub frames: u32,
     /// Seed of the practice rack (random if not given).
     pub seed: Option<u64>,
+}
+
+/// Two players at this computer: the rules run here.
+pub fn local_game(variant: Variant, seed: u64) -> Screen {
+    let link = LocalLink::new(variant, Settings::offline(), seed);
+    Screen::Game(Box::new(game::GameScreen::new(
+        Box::new(link),
+        Connection::Offline,
+    )))
 }
 
 /// A seed for a new rack from the clock: every rack is different.
@@ -54,6 +69,7 @@ pub enum Screen {
     Menu(menu::MenuScreen),
     Practice(Box<practice::PracticeScreen>),
     Replay(Box<replay::ReplayScreen>),
+    Game(Box<game::GameScreen>),
 }
 
 impl Screen {
@@ -62,6 +78,7 @@ impl Screen {
             Screen::Menu(s) => s.update(input),
             Screen::Practice(s) => s.update(input),
             Screen::Replay(s) => s.update(input),
+            Screen::Game(s) => s.update(input),
         }
     }
 
@@ -70,6 +87,7 @@ impl Screen {
             Screen::Menu(s) => s.draw(),
             Screen::Practice(s) => s.draw(),
             Screen::Replay(s) => s.draw(),
+            Screen::Game(s) => s.draw(),
         }
     }
 }
@@ -78,6 +96,7 @@ impl Screen {
 pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
     let mut screen = match start {
         Start::Menu => Screen::Menu(menu::MenuScreen::new()),
+        Start::Local(variant) => local_game(variant, options.seed.unwrap_or_else(fresh_seed)),
         Start::Replay(viewer) => Screen::Replay(Box::new(replay::ReplayScreen::new(*viewer))),
         Start::Practice(scene) => Screen::Practice(Box::new(practice::PracticeScreen::new(
             scene.map(|s| *s),

@@ -5,7 +5,7 @@
 //! the right and scene `x` (across) runs down. With the screen's `y` pointing down this is a
 //! rotation, not a mirror image, so a shot looks on the screen as it is on the table.
 
-use breakshot_shared::physics::{BallState, MotionState, TableKind};
+use breakshot_shared::physics::{BallState, MotionState, Table, TableKind};
 use glam::DVec2;
 
 /// Width of the rails drawn around the cloth (cushion and wood), in metres. Drawing only.
@@ -198,6 +198,16 @@ impl Layout {
         (metres * self.scale) as f32
     }
 
+    /// The pocket of `table` under the pixel `px`, if any (a little generous, for clicking).
+    pub fn pocket_at(&self, table: &Table, px: [f32; 2]) -> Option<u8> {
+        let p = self.to_scene(px);
+        table
+            .pockets
+            .iter()
+            .position(|pk| (table.to_scene(pk.center) - p).length() <= 1.5 * pk.radius)
+            .map(|i| i as u8)
+    }
+
     /// Centre of tray slot `k` (the k-th ball pocketed), for balls of `radius` metres.
     pub fn tray_slot(&self, k: usize, radius: f64) -> [f32; 2] {
         let r = self.px(radius).max(3.0);
@@ -263,6 +273,19 @@ mod tests {
         let small = nine_foot(1280.0, 720.0);
         let big = nine_foot(1920.0, 1080.0);
         assert!(big.scale > 1.4 * small.scale);
+    }
+
+    #[test]
+    fn clicking_a_pocket_names_it() {
+        let l = nine_foot(1280.0, 720.0);
+        let t = Table::new(TableKind::NineFoot);
+        for (i, pk) in t.pockets.iter().enumerate() {
+            assert_eq!(
+                l.pocket_at(&t, l.to_screen(t.to_scene(pk.center))),
+                Some(i as u8)
+            );
+        }
+        assert_eq!(l.pocket_at(&t, l.to_screen(DVec2::new(0.6, 1.2))), None);
     }
 
     #[test]

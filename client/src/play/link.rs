@@ -1,0 +1,83 @@
+//! Where a game is decided, as a game screen sees it: it sends [`Command`]s and hears
+//! [`GameEvent`]s. The same screen plays over the network (the server decides) or on one
+//! computer with two players taking turns ([`LocalLink`], the rules run here).
+
+use std::collections::VecDeque;
+
+use breakshot_shared::rules::{Command, Game, Seat, Settings, Variant, Verdict};
+
+use crate::view::hud::Connection;
+
+/// What a game screen hears.
+#[derive(Clone, Debug, PartialEq)]
+pub enum GameEvent {
+    /// A new game starts from this state (first game, rematch or resynchronisation).
+    Started(Box<Game>),
+    /// `seat`'s command was applied; a shot is in the verdict's report.
+    Applied {
+        seat: Seat,
+        command: Command,
+        verdict: Verdict,
+    },
+    /// Our command was refused; nothing changed.
+    Refused(String),
+    Connection(Connection),
+}
+
+/// A source of game events and a sink for commands.
+pub trait GameLink {
+    /// The seat played here, or None when both seats are (players take turns at one
+    /// computer).
+    fn seat(&self) -> Option<Seat>;
+    fn send(&mut self, seat: Seat, command: Command);
+    fn poll(&mut self) -> Option<GameEvent>;
+    /// Starts a new game with the same settings.
+    fn rematch(&mut self);
+}
+
+/// Two players at one computer: the rules are applied here.
+pub struct LocalLink {
+    game: Game,
+    seed: u64,
+    events: VecDeque<GameEvent>,
+}
+
+impl LocalLink {
+    pub fn new(variant: Variant, settings: Settings, seed: u64) -> LocalLink {
+        let game = Game::new(variant, settings, seed);
+        LocalLink {
+            events: VecDeque::from([GameEvent::Started(Box::new(game.clone()))]),
+            game,
+            seed,
+        }
+    }
+}
+
+impl GameLink for LocalLink {
+    fn seat(&self) -> Option<Seat> {
+        None
+    }
+
+    fn send(&mut self, seat: Seat, command: Command) {
+        let event = match self.game.apply(seat, &command) {
+            Ok(verdict) => GameEvent::Applied {
+                seat,
+                command,
+                verdict,
+            },
+            Err(e) => GameEvent::Refused(e.to_string()),
+        };
+        self.events.push_back(event);
+    }
+
+    fn poll(&mut self) -> Option<GameEvent> {
+        self.events.pop_front()
+    }
+
+    fn rematch(&mut self) {
+        self.seed = self.seed.wrapping_add(1);
+        self.game = Game::new(self.game.variant(), self.game.settings(), self.seed);
+        self.events
+            .push_back(GameEvent::Started(Box::new(self.game.clone())));
+    }
+}

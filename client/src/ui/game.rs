@@ -1,0 +1,375 @@
+//! The game screen: a rules game decided elsewhere (a server, or the rules here for two
+//! players at one computer), shown from the events of a [`GameLink`].
+
+use ::glam::DVec2;
+use breakshot_client::play::aim::Aim;
+use breakshot_client::play::controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
+use breakshot_client::play::game_flow::{in_hand_area, GameFlow, Turn};
+use breakshot_client::play::link::GameLink;
+use breakshot_client::view::aids::{self, AidToggles, Prediction};
+use breakshot_client::view::hud::Connection;
+use breakshot_client::view::layout::{Frame, Layout, Rect};
+use breakshot_shared::hash::hash_hex;
+use breakshot_shared::physics::{MotionState, Params, Shot, Simulator, Table};
+use breakshot_shared::rules::{pocket_name, rack, Choice, Command, Game, Phase};
+use macroquad::prelude::*;
+
+use super::hud::{game_hud, HudInfo};
+use super::{draw, menu, Next, Screen};
+
+pub struct GameScreen {
+    link: Box<dyn GameLink>,
+    flow: GameFlow,
+    controls: Controls,
+    toggles: AidToggles,
+    sim: Simulator,
+    predicted: Option<(Shot, Prediction)>,
+    debug: bool,
+    frame_ms: f64,
+}
+
+/// Ball ids by number: "cue", "1", "2", ...
+fn ids(count: usize) -> Vec<String> {
+    (0..count)
+        .map(|n| if n == 0 { "cue".into() } else { n.to_string() })
+        .collect()
+}
+
+/// The buttons of the choices offered, across the middle of the table.
+fn choice_buttons(layout: &Layout, options: &[Choice]) -> Vec<(Choice, Rect)> {
+    let w = 300.0f32.min(0.3 * layout.cloth.w);
+    let h = 40.0;
+    let x = layout.cloth.x + 0.5 * (layout.cloth.w - w);
+    let top = layout.cloth.y + 0.5 * layout.cloth.h - 0.5 * options.len() as f32 * (h + 10.0);
+    options
+        .iter()
+        .enumerate()
+        .map(|(k, &c)| (c, Rect::new(x, top + k as f32 * (h + 10.0), w, h)))
+        .collect()
+}
+
+impl GameScreen {
+    pub fn new(link: Box<dyn GameLink>, connection: Connection) -> GameScreen {
+        GameScreen {
+            link,
+            flow: GameFlow::new(connection),
+            controls: Controls::new(Aim::default()),
+            toggles: AidToggles::default(),
+            sim: Simulator::new(),
+            predicted: None,
+            debug: false,
+            frame_ms: 0.0,
+        }
+    }
+
+    fn layout(game: &Game) -> Layout {
+        Layout::new(
+            screen_width(),
+            screen_height(),
+            Frame::new(game.table(), game.balls()),
+        )
+    }
+
+    /// Where the cue ball is, or waits to be placed when it is off the table.
+    fn cue_spot(game: &Game) -> DVec2 {
+        let cue = game.balls()[0];
+        if cue.motion == MotionState::Pocketed {
+            rack::break_spot(game.table())
+        } else {
+            cue.pos
+        }
+    }
+
+    pub fn update(&mut self, input: &InputFrame) -> Next {
+        self.frame_ms = 0.9 * self.frame_ms + 0.1 * input.dt * 1000.0;
+        while let Some(event) = self.link.poll() {
+            self.flow.handle(event);
+        }
+        if self.flow.shot().is_some() && input.pressed.contains(&Key::Shoot) {
+            self.flow.skip();
+        }
+        self.flow.tick(input.dt);
+        let Some(game) = self.flow.game().cloned() else {
+            return if input.pressed.contains(&Key::Back) {
+                Next::Go(Screen::Menu(menu::MenuScreen::new()))
+            } else {
+                Next::Stay
+            };
+        };
+        let layout = Self::layout(&game);
+        let turn = self.flow.turn(self.link.seat());
+        let mut input = input.clone();
+
+        match &turn {
+            Turn::Decide { seat, options } if input.left_pressed => {
+                let hit = choice_buttons(&layout, options)
+                    .into_iter()
+                    .find(|(_, r)| r.contains(input.mouse));
+                if let Some((choice, _)) = hit {
+                    self.link.send(*seat, Command::Decide(choice));
+                }
+                input.left_pressed = false;
+            }
+            Turn::Shoot { seat, .. } if input.left_pressed => {
+                if let Phase::Shooting { options, .. } = game.phase() {
+                    let hit = choice_buttons(&layout, options)
+                        .into_iter()
+                        .find(|(_, r)| r.contains(input.mouse));
+                    if let Some((choice, _)) = hit {
+                        self.link.send(*seat, Command::Decide(choice));
+                        input.left_pressed = false;
+                    }
+                }
+            }
+            _ => {}
+        }
+        if let Turn::Shoot { call: true, .. } = turn {
+            if input.left_pressed {
+                if let Some(p) = layout.pocket_at(&Table::new(game.table()), input.mouse) {
+                    self.flow.call = Some(p);
+                    self.flow.message = format!("Called: {}", pocket_name(game.table(), p));
+                    input.left_pressed = false;
+                }
+            }
+        }
+
+        let stage = match turn {
+            Turn::Shoot {
+                in_hand: Some(_), ..
+            } => Stage::InHand,
+            Turn::Shoot { .. } => Stage::Aiming,
+            _ => Stage::Watching,
+        };
+        let ctx = Context {
+            layout: &layout,
+            cue: Self::cue_spot(&game),
+            radius: Params::default().ball_radius,
+            stage,
+        };
+        let legal = |p: DVec2| game.legal_cue_placement([p.x, p.y]).is_ok();
+        let intents = self.controls.update(&input, &ctx, &legal);
+        let seat = match turn {
+            Turn::Shoot { seat, .. } | Turn::Decide { seat, .. } => Some(seat),
+            Turn::Wait => None,
+        };
+        for intent in intents {
+            match (intent, seat) {
+                (Intent::Shoot(strike), Some(seat)) => {
+                    if game.balls()[0].motion == MotionState::Pocketed {
+                        self.flow.message =
+                            "Place the cue ball first: drag it onto the table".into();
+                    } else if let Some(cmd) = self.flow.shot_command(strike) {
+                        self.link.send(seat, cmd);
+                    }
+                }
+                (Intent::PlaceCueBall(pos), Some(seat)) => {
+                    self.link.send(seat, Command::PlaceCueBall { pos })
+                }
+                (Intent::Toggle(aid), _) => self.toggles.toggle(aid),
+                (Intent::ToggleDebug, _) => self.debug = !self.debug,
+                (Intent::Rerack, _) if matches!(game.phase(), Phase::Over { .. }) => {
+                    self.link.rematch()
+                }
+                (Intent::Back, _) => return Next::Go(Screen::Menu(menu::MenuScreen::new())),
+                _ => {}
+            }
+        }
+        self.refresh_prediction(&game, stage);
+        Next::Stay
+    }
+
+    fn refresh_prediction(&mut self, game: &Game, stage: Stage) {
+        if stage == Stage::Watching || game.balls()[0].motion == MotionState::Pocketed {
+            self.predicted = None;
+            return;
+        }
+        let shot = game.shot_for(&self.controls.aim.strike());
+        if self.predicted.as_ref().is_some_and(|(s, _)| *s == shot) {
+            return;
+        }
+        let prediction = aids::predict(&mut self.sim, &shot, 0).unwrap_or_default();
+        self.predicted = Some((shot, prediction));
+    }
+
+    pub fn draw(&mut self) {
+        let Some(game) = self.flow.game() else {
+            draw::label("Waiting for the game to start...", 40.0, 80.0, 28.0, WHITE);
+            return;
+        };
+        let layout = Self::layout(game);
+        let r = Params::default().ball_radius;
+        let balls = self.flow.balls();
+        let names = ids(balls.len());
+        let turn = self.flow.turn(self.link.seat());
+        draw::table(&layout, game.table());
+
+        let dragging = match self.controls.drag {
+            Drag::CueBall { at } => Some((at, game.legal_cue_placement([at.x, at.y]).is_ok())),
+            _ => None,
+        };
+        let cue = Self::cue_spot(game);
+        if let (Some((_, pred)), None) = (&self.predicted, dragging) {
+            let object = pred
+                .first_hit
+                .and_then(|b| names.get(b))
+                .map_or("", |s| s.as_str());
+            draw::aids(&layout, pred, self.toggles, cue, r, object);
+        }
+        draw::balls(&layout, &names, &balls, r, dragging.map(|_| 0));
+        if let Turn::Shoot {
+            in_hand: Some(area),
+            ..
+        } = &turn
+        {
+            let (lo, hi) = in_hand_area(game, *area);
+            let (a, b) = (layout.to_screen(lo), layout.to_screen(hi));
+            let rect = Rect::new(
+                a[0].min(b[0]),
+                a[1].min(b[1]),
+                (b[0] - a[0]).abs(),
+                (b[1] - a[1]).abs(),
+            );
+            draw::in_hand(&layout, rect, dragging, r);
+            if balls[0].motion == MotionState::Pocketed && dragging.is_none() {
+                let p = layout.to_screen(cue);
+                draw::ball("cue", p, layout.px(r));
+            }
+        }
+        if let Turn::Shoot { call: true, .. } = turn {
+            self.draw_call(&layout, game);
+        }
+        if matches!(turn, Turn::Shoot { .. }) && dragging.is_none() {
+            draw::cue_stick(&layout, cue, &self.controls.aim, r);
+        }
+        draw::tray(&layout, &names, &self.flow.tray(), r);
+        draw::panel(&layout, &self.controls.aim);
+        game_hud(
+            &layout,
+            &HudInfo {
+                game,
+                me: self.link.seat(),
+                verdict: self.flow.last_verdict.as_ref(),
+                shot_clock: None,
+                connection: &self.flow.connection,
+            },
+        );
+        let options = match (&turn, game.phase()) {
+            (Turn::Decide { options, .. }, _) => options.clone(),
+            (Turn::Shoot { .. }, Phase::Shooting { options, .. }) => options.clone(),
+            _ => Vec::new(),
+        };
+        for (choice, rect) in choice_buttons(&layout, &options) {
+            draw_rectangle(
+                rect.x,
+                rect.y,
+                rect.w,
+                rect.h,
+                Color::from_rgba(30, 60, 120, 235),
+            );
+            draw_rectangle_lines(rect.x, rect.y, rect.w, rect.h, 2.0, WHITE);
+            let text = choice.to_string();
+            let d = measure_text(&text, None, 22, 1.0);
+            draw::label(
+                &text,
+                rect.x + 0.5 * (rect.w - d.width),
+                rect.y + 0.5 * rect.h + 7.0,
+                22.0,
+                WHITE,
+            );
+        }
+        if let Phase::Over { reason, .. } = game.phase() {
+            let text = format!("{reason}  -  R: rematch, Esc: menu");
+            let d = measure_text(&text, None, 30, 1.0);
+            let x = layout.cloth.x + 0.5 * (layout.cloth.w - d.width);
+            let y = layout.cloth.y + 0.5 * layout.cloth.h;
+            draw_rectangle(
+                x - 12.0,
+                y - 34.0,
+                d.width + 24.0,
+                48.0,
+                Color::new(0.0, 0.0, 0.0, 0.7),
+            );
+            draw::label(&text, x, y, 30.0, YELLOW);
+        }
+        let footer = if self.flow.message.is_empty() {
+            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  A G P: aids  |  F3: debug  |  Esc: menu"
+        } else {
+            self.flow.message.as_str()
+        };
+        draw::label(
+            footer,
+            layout.tray.x,
+            layout.screen[1] - 6.0,
+            18.0,
+            LIGHTGRAY,
+        );
+        if self.debug {
+            self.debug_overlay(&layout, game);
+        }
+    }
+
+    /// The pockets to call, the called one marked.
+    fn draw_call(&self, layout: &Layout, game: &Game) {
+        let table = Table::new(game.table());
+        for (i, pk) in table.pockets.iter().enumerate() {
+            let p = layout.to_screen(table.to_scene(pk.center));
+            let chosen = self.flow.call == Some(i as u8);
+            let c = if chosen {
+                YELLOW
+            } else {
+                Color::new(1.0, 1.0, 1.0, 0.5)
+            };
+            draw_poly_lines(
+                p[0],
+                p[1],
+                32,
+                layout.px(pk.radius) + 3.0,
+                0.0,
+                if chosen { 4.0 } else { 2.0 },
+                c,
+            );
+        }
+        if self.flow.call.is_none() {
+            draw::label(
+                "Click a pocket to call the 8",
+                layout.cloth.x + 8.0,
+                layout.cloth.y + layout.cloth.h - 10.0,
+                22.0,
+                YELLOW,
+            );
+        }
+    }
+
+    fn debug_overlay(&self, layout: &Layout, game: &Game) {
+        let mut lines = vec![
+            format!("frame {:.1} ms", self.frame_ms),
+            format!("turn {}, shots {}", game.turn(), self.flow.shots),
+            format!("desyncs {}", self.flow.desyncs),
+        ];
+        if let Some(s) = self
+            .flow
+            .last_verdict
+            .as_ref()
+            .and_then(|v| v.shot.as_ref())
+        {
+            lines.push(format!(
+                "last hash {} ({} events)",
+                hash_hex(s.hash),
+                s.events.len()
+            ));
+        }
+        let x = layout.cloth.x + 8.0;
+        let mut y = layout.cloth.y + 20.0;
+        draw_rectangle(
+            x - 4.0,
+            y - 16.0,
+            360.0,
+            20.0 * lines.len() as f32 + 6.0,
+            Color::new(0.0, 0.0, 0.0, 0.6),
+        );
+        for line in lines {
+            draw::label(&line, x, y, 18.0, YELLOW);
+            y += 20.0;
+        }
+    }
+}
