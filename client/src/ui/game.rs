@@ -35,16 +35,21 @@ fn ids(count: usize) -> Vec<String> {
         .collect()
 }
 
-/// The buttons of the choices offered, across the middle of the table.
+/// The buttons of the choices offered, in a row along the top of the cloth so the table
+/// stays in view.
 fn choice_buttons(layout: &Layout, options: &[Choice]) -> Vec<(Choice, Rect)> {
-    let w = 300.0f32.min(0.3 * layout.cloth.w);
-    let h = 40.0;
-    let x = layout.cloth.x + 0.5 * (layout.cloth.w - w);
-    let top = layout.cloth.y + 0.5 * layout.cloth.h - 0.5 * options.len() as f32 * (h + 10.0);
+    let n = options.len().max(1) as f32;
+    let gap = 10.0;
+    let w = ((layout.cloth.w - (n + 1.0) * gap) / n).min(300.0);
+    let h = 36.0;
+    let x0 = layout.cloth.x + 0.5 * (layout.cloth.w - n * w - (n - 1.0) * gap);
     options
         .iter()
         .enumerate()
-        .map(|(k, &c)| (c, Rect::new(x, top + k as f32 * (h + 10.0), w, h)))
+        .map(|(k, &c)| {
+            let x = x0 + k as f32 * (w + gap);
+            (c, Rect::new(x, layout.cloth.y + gap, w, h))
+        })
         .collect()
 }
 
@@ -264,7 +269,7 @@ impl GameScreen {
                 rect.y,
                 rect.w,
                 rect.h,
-                Color::from_rgba(30, 60, 120, 235),
+                Color::from_rgba(30, 60, 120, 220),
             );
             draw_rectangle_lines(rect.x, rect.y, rect.w, rect.h, 2.0, WHITE);
             let text = choice.to_string();

@@ -40,23 +40,23 @@ pub fn game_hud(layout: &Layout, info: &HudInfo) {
     let w = measure_text(&text, None, 18, 1.0).width;
     draw::label(&text, bar.w - w - 10.0, y, 18.0, LIGHTGRAY);
 
-    // What the game waits for, and the last verdict, over the top of the table.
+    // What the game waits for, over the table; the last verdict's reasons, one a line, in
+    // the tray's free right-hand part.
     let status = hud::status(info.game);
     draw::label(&status, layout.outer.x, layout.outer.y - 4.0, 18.0, WHITE);
     if let Some(v) = info.verdict {
-        let text = hud::verdict(v);
         let c = if v.foul {
             Color::from_rgba(255, 120, 100, 255)
         } else {
             WHITE
         };
-        let w = measure_text(&text, None, 18, 1.0).width;
-        draw::label(
-            &text,
-            layout.outer.x + layout.outer.w - w,
-            layout.outer.y - 4.0,
-            18.0,
-            c,
-        );
+        let tray = layout.tray;
+        let lines = hud::verdict_lines(v);
+        let size = (tray.h / 3.4).clamp(12.0, 20.0);
+        for (k, line) in lines.iter().take(3).enumerate() {
+            let w = measure_text(line, None, size as u16, 1.0).width;
+            let y = tray.y + size * (k as f32 + 1.0);
+            draw::label(line, tray.x + tray.w - w - 8.0, y, size, c);
+        }
     }
 }

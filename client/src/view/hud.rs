@@ -95,18 +95,15 @@ fn choices(options: &[Choice]) -> String {
         .join(" or ")
 }
 
-/// The last verdict's reasons, most important first, in one line.
-pub fn verdict(v: &Verdict) -> String {
-    let mut text = v.reasons.join("; ");
+/// The last verdict as lines: each reason, then the end of the game if it is not among them.
+pub fn verdict_lines(v: &Verdict) -> Vec<String> {
+    let mut lines = v.reasons.clone();
     if let Some((_, reason)) = &v.over {
-        if !v.reasons.contains(reason) {
-            if !text.is_empty() {
-                text.push_str("; ");
-            }
-            text.push_str(reason);
+        if !lines.contains(reason) {
+            lines.push(reason.clone());
         }
     }
-    text
+    lines
 }
 
 /// The shot clock: whole seconds left, or nothing when the game has none.
@@ -168,7 +165,11 @@ mod tests {
             .expect("concede is allowed");
         assert!(players(&g, None).iter().all(|p| !p.to_move));
         assert!(status(&g).starts_with("Game over: "));
-        assert!(verdict(&v).contains("Player B wins"), "{}", verdict(&v));
+        let lines = verdict_lines(&v);
+        assert_eq!(
+            lines.iter().filter(|l| l.contains("Player B wins")).count(),
+            1
+        );
     }
 
     #[test]
