@@ -200,19 +200,25 @@ pub fn aids(
     radius: f64,
     object_id: &str,
 ) {
-    let line = |pts: &[DVec2], c: Color| {
+    let line = |pts: &[DVec2], width: f32, c: Color| {
         for w in pts.windows(2) {
             let (a, b) = (layout.to_screen(w[0]), layout.to_screen(w[1]));
-            draw_line(a[0], a[1], b[0], b[1], 1.5, c);
+            draw_line(a[0], a[1], b[0], b[1], width, c);
         }
     };
     if toggles.paths {
-        line(&p.cue_path, Color::new(1.0, 1.0, 1.0, 0.45));
-        line(&p.object_path, with_alpha(ball_look(object_id).color, 0.8));
+        line(&p.cue_path, 1.5, Color::new(1.0, 1.0, 1.0, 0.5));
+        // The object ball's path in its own colour, on a pale halo so dark balls show too.
+        line(&p.object_path, 4.0, Color::new(1.0, 1.0, 1.0, 0.35));
+        line(
+            &p.object_path,
+            2.0,
+            with_alpha(ball_look(object_id).color, 1.0),
+        );
     }
     if toggles.aim_line {
         if let Some(end) = p.aim_end {
-            line(&[cue, end], Color::new(1.0, 1.0, 1.0, 0.85));
+            line(&[cue, end], 1.5, Color::new(1.0, 1.0, 1.0, 0.85));
         }
     }
     if toggles.ghost_ball {
