@@ -4,10 +4,10 @@
 //! spotted, re-racks) appears when it ends.
 
 use breakshot_shared::physics::{simulate, BallState, MotionState, Strike};
-use breakshot_shared::rules::{rack, Command, Game, InHand, Phase, Seat, Variant, Verdict};
+use breakshot_shared::rules::{rack, Command, Game, InHand, Phase, Seat, Variant};
 use glam::DVec2;
 
-use super::link::GameEvent;
+use super::link::{GameEvent, Judgement};
 use crate::view::hud::Connection;
 use crate::view::playback::Playback;
 
@@ -32,7 +32,9 @@ pub enum Turn {
 pub struct GameFlow {
     game: Option<Game>,
     shot: Option<Playback>,
-    pub last_verdict: Option<Verdict>,
+    pub last_verdict: Option<Judgement>,
+    /// The hash of the last shot as simulated here, until its judgement arrives.
+    predicted: Option<u64>,
     pub message: String,
     pub connection: Connection,
     /// Shots whose hash here differed from the verdict's.
@@ -48,6 +50,7 @@ impl GameFlow {
             game: None,
             shot: None,
             last_verdict: None,
+            predicted: None,
             message: String::new(),
             connection,
             desyncs: 0,
@@ -74,39 +77,41 @@ impl GameFlow {
                 self.call = None;
                 self.message = "New game".into();
             }
-            GameEvent::Applied {
-                seat,
-                command,
-                verdict,
-            } => self.applied(seat, &command, verdict),
+            GameEvent::Accepted { seat, command } => self.accepted(seat, &command),
+            GameEvent::Judged(j) => self.judged(j),
             GameEvent::Refused(why) => self.message = format!("Refused: {why}"),
             GameEvent::Connection(c) => self.connection = c,
         }
     }
 
-    fn applied(&mut self, seat: Seat, command: &Command, verdict: Verdict) {
+    /// Applies an accepted command to the copy here; a shot starts playing at once.
+    fn accepted(&mut self, seat: Seat, command: &Command) {
         let Some(game) = &mut self.game else { return };
         self.shot = None;
+        self.predicted = None;
         if let Command::Shot { strike, .. } = command {
             if let Ok(outcome) = simulate(&game.shot_for(strike)) {
-                if verdict
-                    .shot
-                    .as_ref()
-                    .is_some_and(|s| s.hash != outcome.hash())
-                {
-                    self.desyncs += 1;
-                }
+                self.predicted = Some(outcome.hash());
                 self.shot = Some(Playback::new(outcome));
             }
             self.shots += 1;
             self.call = None;
         }
         if game.apply(seat, command).is_err() {
-            // Our copy disagrees with the authority: show its verdict and wait for a new state.
+            // The copy here disagrees with the side that decides.
             self.desyncs += 1;
         }
         self.message = String::new();
-        self.last_verdict = Some(verdict);
+    }
+
+    /// The judgement of the last command; a shot's hash must match the one computed here.
+    fn judged(&mut self, j: Judgement) {
+        if let Some(hash) = j.hash {
+            if self.predicted.take() != Some(hash) {
+                self.desyncs += 1;
+            }
+        }
+        self.last_verdict = Some(j);
     }
 
     /// Moves the shot being shown on.
@@ -270,20 +275,28 @@ mod tests {
     }
 
     #[test]
-    fn a_verdict_with_another_hash_counts_a_desync() {
+    fn a_judgement_with_another_hash_counts_a_desync() {
         let (_, mut flow) = local();
         let mut other = flow.game().expect("game").clone();
         let strike = Strike::at_angle(8.0, 90.0, DVec2::ZERO);
         let command = Command::Shot { strike, call: None };
-        let mut verdict = other.apply(Seat::A, &command).expect("legal");
-        if let Some(s) = &mut verdict.shot {
-            s.hash ^= 1;
-        }
-        flow.handle(GameEvent::Applied {
+        let verdict = other.apply(Seat::A, &command).expect("legal");
+        let mut judgement = Judgement::of(&verdict);
+        flow.handle(GameEvent::Accepted {
+            seat: Seat::A,
+            command: command.clone(),
+        });
+        flow.handle(GameEvent::Judged(judgement.clone()));
+        assert_eq!(flow.desyncs, 0, "the same engine gives the same hash");
+        assert_eq!(flow.game(), Some(&other));
+
+        let (_, mut flow) = local();
+        judgement.hash = judgement.hash.map(|h| h ^ 1);
+        flow.handle(GameEvent::Accepted {
             seat: Seat::A,
             command,
-            verdict,
         });
+        flow.handle(GameEvent::Judged(judgement));
         assert_eq!(flow.desyncs, 1);
     }
 

@@ -8,20 +8,42 @@ use breakshot_shared::rules::{Command, Game, Seat, Settings, Variant, Verdict};
 
 use crate::view::hud::Connection;
 
-/// What a game screen hears.
+/// What a game screen hears. A server announces an accepted shot at once, so every client
+/// starts showing it, and its judgement when it has simulated it; the same two steps are
+/// used when the rules run here.
 #[derive(Clone, Debug, PartialEq)]
 pub enum GameEvent {
     /// A new game starts from this state (first game, rematch or resynchronisation).
     Started(Box<Game>),
-    /// `seat`'s command was applied; a shot is in the verdict's report.
-    Applied {
+    /// `seat`'s command was accepted and is to be applied.
+    Accepted {
         seat: Seat,
         command: Command,
-        verdict: Verdict,
     },
+    /// The judgement of the last accepted command: readable reasons, whether it was a foul,
+    /// and for a shot the deciding side's state hash.
+    Judged(Judgement),
     /// Our command was refused; nothing changed.
     Refused(String),
     Connection(Connection),
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Judgement {
+    pub reasons: Vec<String>,
+    pub foul: bool,
+    pub hash: Option<u64>,
+}
+
+impl Judgement {
+    /// The judgement in a rules verdict.
+    pub fn of(verdict: &Verdict) -> Judgement {
+        Judgement {
+            reasons: crate::view::hud::verdict_lines(verdict),
+            foul: verdict.foul,
+            hash: verdict.shot.as_ref().map(|s| s.hash),
+        }
+    }
 }
 
 /// A source of game events and a sink for commands.
@@ -59,15 +81,14 @@ impl GameLink for LocalLink {
     }
 
     fn send(&mut self, seat: Seat, command: Command) {
-        let event = match self.game.apply(seat, &command) {
-            Ok(verdict) => GameEvent::Applied {
-                seat,
-                command,
-                verdict,
-            },
-            Err(e) => GameEvent::Refused(e.to_string()),
-        };
-        self.events.push_back(event);
+        match self.game.apply(seat, &command) {
+            Ok(verdict) => {
+                self.events.push_back(GameEvent::Accepted { seat, command });
+                self.events
+                    .push_back(GameEvent::Judged(Judgement::of(&verdict)));
+            }
+            Err(e) => self.events.push_back(GameEvent::Refused(e.to_string())),
+        }
     }
 
     fn poll(&mut self) -> Option<GameEvent> {

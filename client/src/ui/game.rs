@@ -351,16 +351,16 @@ impl GameScreen {
             format!("turn {}, shots {}", game.turn(), self.flow.shots),
             format!("desyncs {}", self.flow.desyncs),
         ];
-        if let Some(s) = self
-            .flow
-            .last_verdict
-            .as_ref()
-            .and_then(|v| v.shot.as_ref())
-        {
+        if let Some(hash) = self.flow.last_verdict.as_ref().and_then(|v| v.hash) {
+            lines.push(format!("last hash {}", hash_hex(hash)));
+        }
+        if let Some(p) = self.flow.shot() {
+            let o = p.outcome();
             lines.push(format!(
-                "last hash {} ({} events)",
-                hash_hex(s.hash),
-                s.events.len()
+                "t {:.3} / {:.3} s, {} events",
+                p.time(),
+                o.duration,
+                o.events.len()
             ));
         }
         let x = layout.cloth.x + 8.0;

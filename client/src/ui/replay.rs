@@ -2,6 +2,7 @@
 
 use breakshot_client::play::aim::Aim;
 use breakshot_client::play::controls::{InputFrame, Key};
+use breakshot_client::play::link::Judgement;
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::layout::{Frame, Layout};
@@ -61,12 +62,13 @@ impl ReplayScreen {
         {
             draw::panel(&layout, &Aim::from_strike(strike));
         }
+        let verdict = v.last_verdict.as_ref().map(Judgement::of);
         game_hud(
             &layout,
             &HudInfo {
                 game: v.game(),
                 me: None,
-                verdict: v.last_verdict.as_ref(),
+                verdict: verdict.as_ref(),
                 shot_clock: None,
                 connection: &Connection::Offline,
             },
