@@ -42,6 +42,8 @@ pub struct GameFlow {
     pub shots: u32,
     /// The pocket called for the next shot.
     pub call: Option<u8>,
+    /// Seconds left on the shot clock, counting down.
+    pub shot_clock: Option<f64>,
 }
 
 impl GameFlow {
@@ -56,6 +58,7 @@ impl GameFlow {
             desyncs: 0,
             shots: 0,
             call: None,
+            shot_clock: None,
         }
     }
 
@@ -81,6 +84,7 @@ impl GameFlow {
             GameEvent::Judged(j) => self.judged(j),
             GameEvent::Refused(why) => self.message = format!("Refused: {why}"),
             GameEvent::Connection(c) => self.connection = c,
+            GameEvent::ShotClock(s) => self.shot_clock = s.filter(|s| s.is_finite()),
         }
     }
 
@@ -114,8 +118,19 @@ impl GameFlow {
         self.last_verdict = Some(j);
     }
 
-    /// Moves the shot being shown on.
+    /// Moves the shot being shown on, and the clocks down.
     pub fn tick(&mut self, wall_dt: f64) {
+        let dt = if wall_dt.is_finite() {
+            wall_dt.max(0.0)
+        } else {
+            0.0
+        };
+        if let Some(s) = &mut self.shot_clock {
+            *s = (*s - dt).max(0.0);
+        }
+        if let Connection::OpponentLeft { seconds_left } = &mut self.connection {
+            *seconds_left = (*seconds_left - dt).max(0.0);
+        }
         if let Some(p) = &mut self.shot {
             p.advance(wall_dt, 1.0);
             if p.finished() {
@@ -308,6 +323,25 @@ mod tests {
         assert_eq!(lo, DVec2::ZERO);
         assert!((hi.y - 2.54 / 4.0).abs() < 1e-12 && (hi.x - 1.27).abs() < 1e-12);
         assert!(!needs_call(g), "no call on the break");
+    }
+
+    #[test]
+    fn clocks_count_down_and_stop_at_zero() {
+        let (_, mut flow) = local();
+        flow.handle(GameEvent::ShotClock(Some(30.0)));
+        flow.handle(GameEvent::Connection(Connection::OpponentLeft {
+            seconds_left: 10.0,
+        }));
+        flow.tick(4.0);
+        assert_eq!(flow.shot_clock, Some(26.0));
+        assert_eq!(
+            flow.connection,
+            Connection::OpponentLeft { seconds_left: 6.0 }
+        );
+        flow.tick(100.0);
+        assert_eq!(flow.shot_clock, Some(0.0));
+        flow.handle(GameEvent::ShotClock(None));
+        assert_eq!(flow.shot_clock, None);
     }
 
     #[test]

@@ -26,6 +26,8 @@ pub enum GameEvent {
     /// Our command was refused; nothing changed.
     Refused(String),
     Connection(Connection),
+    /// The shot clock restarted with this many seconds, or stopped (None).
+    ShotClock(Option<f64>),
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -268,7 +268,7 @@ pub fn cue_stick(layout: &Layout, cue: DVec2, aim: &Aim, radius: f64) {
 pub fn panel(layout: &Layout, aim: &Aim) {
     let [cx, cy] = layout.tip_center;
     let r = layout.tip_radius;
-    draw_text("Tip", cx - r, cy - r - 6.0, 20.0, LIGHTGRAY);
+    label("Tip", cx - r, cy - r - 6.0, 20.0, LIGHTGRAY);
     draw_poly(cx, cy, 64, r, 0.0, color(palette::CUE_BALL));
     // The miscue limit: the tip stays inside this ring.
     draw_poly_lines(
@@ -338,7 +338,17 @@ pub fn in_hand(layout: &Layout, area: Rect, dragged: Option<(DVec2, bool)>, radi
     }
 }
 
-/// A line of text in a box, for the HUD and messages.
+/// How much text grows with the window, so it stays readable on large screens.
+pub fn text_scale() -> f32 {
+    (screen_height() / 720.0).clamp(1.0, 1.5)
+}
+
+/// A line of text for the HUD and messages, `size` as at 720 pixels high.
 pub fn label(text: &str, x: f32, y: f32, size: f32, c: Color) {
-    draw_text(text, x, y, size, c);
+    draw_text(text, x, y, size * text_scale(), c);
+}
+
+/// Width of a [`label`].
+pub fn text_width(text: &str, size: f32) -> f32 {
+    measure_text(text, None, (size * text_scale()) as u16, 1.0).width
 }

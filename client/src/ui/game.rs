@@ -254,7 +254,7 @@ impl GameScreen {
                 game,
                 me: self.link.seat(),
                 verdict: self.flow.last_verdict.as_ref(),
-                shot_clock: None,
+                shot_clock: self.flow.shot_clock,
                 connection: &self.flow.connection,
             },
         );
@@ -273,10 +273,10 @@ impl GameScreen {
             );
             draw_rectangle_lines(rect.x, rect.y, rect.w, rect.h, 2.0, WHITE);
             let text = choice.to_string();
-            let d = measure_text(&text, None, 22, 1.0);
+            let d = draw::text_width(&text, 22.0);
             draw::label(
                 &text,
-                rect.x + 0.5 * (rect.w - d.width),
+                rect.x + 0.5 * (rect.w - d),
                 rect.y + 0.5 * rect.h + 7.0,
                 22.0,
                 WHITE,
@@ -284,13 +284,13 @@ impl GameScreen {
         }
         if let Phase::Over { reason, .. } = game.phase() {
             let text = format!("{reason}  -  R: rematch, Esc: menu");
-            let d = measure_text(&text, None, 30, 1.0);
-            let x = layout.cloth.x + 0.5 * (layout.cloth.w - d.width);
+            let d = draw::text_width(&text, 30.0);
+            let x = layout.cloth.x + 0.5 * (layout.cloth.w - d);
             let y = layout.cloth.y + 0.5 * layout.cloth.h;
             draw_rectangle(
                 x - 12.0,
                 y - 34.0,
-                d.width + 24.0,
+                d + 24.0,
                 48.0,
                 Color::new(0.0, 0.0, 0.0, 0.7),
             );

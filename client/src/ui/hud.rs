@@ -30,7 +30,7 @@ pub fn game_hud(layout: &Layout, info: &HudInfo) {
         };
         let text = format!("{marker}{}", p.text);
         draw::label(&text, x, y, 20.0, c);
-        x += measure_text(&text, None, 20, 1.0).width + 30.0;
+        x += draw::text_width(&text, 20.0) + 30.0;
     }
     let mut right = vec![hud::variant_name(info.game.variant()).to_string()];
     if let Some(clock) = hud::shot_clock(info.shot_clock) {
@@ -38,13 +38,14 @@ pub fn game_hud(layout: &Layout, info: &HudInfo) {
     }
     right.push(hud::connection(info.connection));
     let text = right.join("  |  ");
-    let w = measure_text(&text, None, 18, 1.0).width;
+    let w = draw::text_width(&text, 18.0);
     draw::label(&text, bar.w - w - 10.0, y, 18.0, LIGHTGRAY);
 
     // What the game waits for, over the table; the last verdict's reasons, one a line, in
     // the tray's free right-hand part.
     let status = hud::status(info.game);
-    draw::label(&status, layout.outer.x, layout.outer.y - 4.0, 18.0, WHITE);
+    // Unscaled: it sits in the margin between the bar and the table.
+    draw_text(&status, layout.outer.x, layout.outer.y - 4.0, 18.0, WHITE);
     if let Some(v) = info.verdict {
         let c = if v.foul {
             Color::from_rgba(255, 120, 100, 255)
@@ -56,7 +57,7 @@ pub fn game_hud(layout: &Layout, info: &HudInfo) {
         for (k, line) in v.reasons.iter().take(3).enumerate() {
             let w = measure_text(line, None, size as u16, 1.0).width;
             let y = tray.y + size * (k as f32 + 1.0);
-            draw::label(line, tray.x + tray.w - w - 8.0, y, size, c);
+            draw_text(line, tray.x + tray.w - w - 8.0, y, size, c);
         }
     }
 }

@@ -185,8 +185,8 @@ impl PracticeScreen {
             WHITE,
         );
         let hint = "A aim line  |  G ghost  |  P paths  |  H ball in hand  |  R reset  |  F3 debug  |  Esc menu";
-        let dims = measure_text(hint, None, 16, 1.0);
-        draw::label(hint, layout.hud.w - dims.width - 10.0, y, 16.0, LIGHTGRAY);
+        let dims = draw::text_width(hint, 16.0);
+        draw::label(hint, layout.hud.w - dims - 10.0, y, 16.0, LIGHTGRAY);
         draw::label(
             &self.message,
             layout.tray.x,

@@ -23,7 +23,7 @@ pub enum Connection {
     Reconnecting,
     /// The opponent's connection dropped; the game is forfeited after `seconds_left`.
     OpponentLeft {
-        seconds_left: u32,
+        seconds_left: f64,
     },
     Closed(String),
 }
@@ -124,7 +124,10 @@ pub fn connection(c: &Connection) -> String {
         Connection::Connected => "connected".into(),
         Connection::Reconnecting => "connection lost, reconnecting...".into(),
         Connection::OpponentLeft { seconds_left } => {
-            format!("opponent left: they forfeit in {seconds_left} s unless they return")
+            format!(
+                "opponent left: they forfeit in {:.0} s unless they return",
+                seconds_left.ceil()
+            )
         }
         Connection::Closed(why) => format!("disconnected: {why}"),
     }
@@ -177,6 +180,6 @@ mod tests {
         assert_eq!(shot_clock(Some(61.2)).as_deref(), Some("shot clock 1:02"));
         assert_eq!(shot_clock(Some(-3.0)).as_deref(), Some("shot clock 0:00"));
         assert_eq!(shot_clock(None), None);
-        assert!(connection(&Connection::OpponentLeft { seconds_left: 30 }).contains("30 s"));
+        assert!(connection(&Connection::OpponentLeft { seconds_left: 29.2 }).contains("30 s"));
     }
 }
