@@ -91,12 +91,12 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             ui::Start::Practice(Some(Box::new(scene)))
         }
         Some(Command::Local { mode, rules }) => ui::Start::Local(variant(mode, rules)),
-        Some(Command::Host { .. }) => bail!(
-            "hosting is not available yet in this build: the network session is not part of it"
-        ),
-        Some(Command::Join { .. }) => bail!(
-            "joining is not available yet in this build: the network session is not part of it"
-        ),
+        Some(Command::Host { .. }) => {
+            bail!("hosting is not available yet in this build: network play is not part of it")
+        }
+        Some(Command::Join { .. }) => {
+            bail!("joining is not available yet in this build: network play is not part of it")
+        }
         Some(Command::Replay { file }) => {
             let bytes =
                 std::fs::read(file).with_context(|| format!("cannot read {}", file.display()))?;
