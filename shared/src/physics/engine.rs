@@ -9,8 +9,8 @@
 //!
 //! Ties: own events come before collisions at the same instant, lower ball index first.
 //! Collisions at the very same instant (bit-equal times) are resolved as one group: pairs
-//! that share a ball are resolved in every order and the results averaged, so the outcome
-//! does not depend on how the balls are numbered (a mirror-symmetric rack stays symmetric).
+//! that share a ball form one simultaneous impact, whose outcome does not depend on how the
+//! balls are numbered (a mirror-symmetric rack stays symmetric).
 
 use glam::{DVec2, DVec3};
 use thiserror::Error;
@@ -20,7 +20,7 @@ use super::ball_cushion;
 use super::cue::{Strike, StrikeError};
 use super::event::{Event, EventKind};
 use super::motion::{BallState, MotionModel, MotionState, Piece};
-use super::params::{Effects, Models, Params};
+use super::params::{BallBallModel, Effects, Models, Params};
 use super::table::{Cushion, Table, TableKind};
 
 /// A shot stops with an error past this many events: a safety net that no real shot nears
@@ -34,8 +34,6 @@ pub const HOLD_SPEED: f64 = 1e-3;
 pub const OVERLAP_TOLERANCE: f64 = 1e-9;
 /// Most balls a shot may have (a pool rack has 16, snooker 22).
 pub const MAX_BALLS: usize = 128;
-/// Balls in a simultaneous group above which orders are not averaged (sequential by index).
-const MAX_AVERAGED_GROUP: usize = 4;
 
 /// Everything that defines a shot.
 #[derive(Clone, Debug, PartialEq)]
@@ -605,9 +603,15 @@ struct Scratch {
     done: Vec<bool>,
     /// The pairs (slots) of the connected set being resolved.
     component: Vec<(usize, usize)>,
-    order: Vec<usize>,
-    trial: Vec<BallState>,
-    sum: Vec<(DVec2, DVec3)>,
+    /// The simultaneous impact's contact normals, impulses, their last change, and the
+    /// velocities during the iteration and before it.
+    normals: Vec<DVec2>,
+    lambda: Vec<f64>,
+    delta: Vec<f64>,
+    vel: Vec<DVec2>,
+    before: Vec<DVec2>,
+    /// Contacts per ball in the impact.
+    degree: Vec<usize>,
 }
 
 /// A box holding the whole path of a piece (up to the horizon `limit`).
@@ -626,52 +630,89 @@ enum Next {
     Pair,
 }
 
-/// Resolves collisions that share balls at one instant: in every order when there are few
-/// (their average conserves momentum and, kinetic energy being convex, never adds energy),
-/// else in index order.
+/// Resolves collisions that share balls at one instant. One collision is resolved by its
+/// model; several are one simultaneous impact ([`simultaneous_impact`]), which does not
+/// depend on how the balls are numbered, so a mirror-symmetric rack stays symmetric.
 fn resolve_component(g: &mut Scratch, ctx: &Ctx) {
-    let pairs = &g.component;
-    if pairs.len() == 1 || pairs.len() > MAX_AVERAGED_GROUP {
-        for &(a, b) in pairs {
-            collide_pair(&mut g.states, a, b, ctx);
-        }
+    if g.component.len() == 1 {
+        let (a, b) = g.component[0];
+        collide_pair(&mut g.states, a, b, ctx);
         return;
     }
-    g.sum.clear();
-    g.sum.resize(g.states.len(), (DVec2::ZERO, DVec3::ZERO));
-    g.order.clear();
-    g.order.extend(0..pairs.len());
-    let mut orders = 0usize;
-    let (states, trial, sum) = (&g.states, &mut g.trial, &mut g.sum);
-    permute(&mut g.order, 0, &mut |ord| {
-        trial.clear();
-        trial.extend_from_slice(states);
-        for &k in ord {
-            let (a, b) = pairs[k];
-            collide_pair(trial, a, b, ctx);
+    g.before.clear();
+    g.before.extend(g.states.iter().map(|s| s.vel));
+    simultaneous_impact(g, ctx);
+    // A contact the impact left exactly as it was (a push, not an approach) would be found
+    // again at this instant: its balls move on together.
+    for k in 0..g.component.len() {
+        let (a, b) = g.component[k];
+        if g.states[a].vel == g.before[a] && g.states[b].vel == g.before[b] {
+            merge(&mut g.states, a, b);
         }
-        for (acc, s) in sum.iter_mut().zip(trial.iter()) {
-            acc.0 += s.vel;
-            acc.1 += s.spin;
-        }
-        orders += 1;
-    });
-    let scale = 1.0 / orders as f64;
-    for (s, acc) in g.states.iter_mut().zip(g.sum.iter()) {
-        s.vel = acc.0 * scale;
-        s.spin = acc.1 * scale;
     }
 }
 
-fn permute(items: &mut [usize], k: usize, visit: &mut impl FnMut(&[usize])) {
-    if k == items.len() {
-        visit(items);
-        return;
+/// Several contacts at one instant as one frictionless impact with Poisson's restitution:
+/// the normal impulses `λ ≥ 0` of a perfectly inelastic impact are found first (every
+/// contact ends not approaching, and a contact that ends separating carries no impulse: a
+/// linear complementarity problem), then every impulse is scaled by `1 + e`. Scaling the
+/// inelastic solution this way never adds energy for `e ≤ 1`, keeps momentum, and treats all
+/// contacts alike. The complementarity problem is solved by projected Jacobi iteration, in
+/// which every contact is updated from the same velocities, so the result does not depend on
+/// the order of the contacts. Contacts approaching slower than `HOLD_SPEED` all round are
+/// perfectly inelastic, as single ones are.
+fn simultaneous_impact(g: &mut Scratch, ctx: &Ctx) {
+    /// Sweeps of the iteration before giving up on further accuracy.
+    const MAX_SWEEPS: usize = 10_000;
+    let contacts = &g.component;
+    g.normals.clear();
+    g.lambda.clear();
+    g.delta.clear();
+    g.vel.clear();
+    g.vel.extend(g.states.iter().map(|s| s.vel));
+    let mut fastest: f64 = 0.0;
+    g.degree.clear();
+    g.degree.resize(g.states.len(), 0);
+    for &(a, b) in contacts {
+        let n = (g.states[b].pos - g.states[a].pos).normalize_or_zero();
+        g.normals.push(n);
+        g.lambda.push(0.0);
+        g.delta.push(0.0);
+        fastest = fastest.max(-(g.vel[b] - g.vel[a]).dot(n));
+        g.degree[a] += 1;
+        g.degree[b] += 1;
     }
-    for i in k..items.len() {
-        items.swap(k, i);
-        permute(items, k + 1, visit);
-        items.swap(k, i);
+    // Under-relaxation by the most contacts on one ball keeps the iteration convergent.
+    let omega = 1.0 / g.degree.iter().copied().max().unwrap_or(1).max(1) as f64;
+    let tolerance = 1e-15 * fastest;
+    for _ in 0..MAX_SWEEPS {
+        let mut largest: f64 = 0.0;
+        for (k, &(a, b)) in contacts.iter().enumerate() {
+            // Separating speed; each unit of impulse changes it by 2 (equal masses).
+            let u = (g.vel[b] - g.vel[a]).dot(g.normals[k]);
+            let next = (g.lambda[k] - omega * 0.5 * u).max(0.0);
+            g.delta[k] = next - g.lambda[k];
+            largest = largest.max(g.delta[k].abs());
+        }
+        for (k, &(a, b)) in contacts.iter().enumerate() {
+            let impulse = g.normals[k] * g.delta[k];
+            g.vel[a] -= impulse;
+            g.vel[b] += impulse;
+            g.lambda[k] += g.delta[k];
+        }
+        if largest <= tolerance {
+            break;
+        }
+    }
+    let e = match ctx.models.ball_ball {
+        _ if fastest < HOLD_SPEED => 0.0,
+        BallBallModel::Ideal => 1.0,
+        BallBallModel::Frictional => ctx.params.e_ball,
+    };
+    for (k, &(a, b)) in contacts.iter().enumerate() {
+        let impulse = g.normals[k] * ((1.0 + e) * g.lambda[k]);
+        g.states[a].vel -= impulse;
+        g.states[b].vel += impulse;
     }
 }
 

@@ -12,11 +12,16 @@ use glam::DVec2;
 
 use crate::physics::{ball_cushion, BallState, MotionState, Params, Table, TableKind};
 
-/// Space left between neighbouring balls of a rack (m). Racked balls sit this far apart
-/// rather than exactly frozen, so rounding in the row geometry (`√3/2`) can never make two
-/// of them overlap; a micrometre is far below anything a player could see or the physics
-/// could resolve differently in a break.
-pub const RACK_GAP: f64 = 1e-6;
+/// How far a racked ball may sit from its ideal spot (m). A real rack is never perfectly
+/// frozen: its balls touch some neighbours and miss others by a fraction of a millimetre,
+/// and those gaps are what spread a break (a perfectly frozen rack, hit head on, sends the
+/// cue ball's momentum down the two edges of the triangle to the back corners and leaves
+/// the rest of the pack in place). Spots are spaced `2R + 2·RACK_JITTER` apart and each ball
+/// but the apex is moved off its spot by up to `RACK_JITTER` in a seeded random direction, so
+/// neighbours never overlap and their gaps range from 0 to 0.4 mm.
+pub const RACK_JITTER: f64 = 1e-4;
+/// Space between neighbouring spots of a rack beyond touching (m).
+pub const RACK_GAP: f64 = 2.0 * RACK_JITTER;
 
 /// SplitMix64 (Steele, Lea and Flood, 2014): a 64-bit state advanced by a fixed odd constant
 /// and mixed by two multiply–xorshift rounds. Small, fast, and fully specified here, which is
@@ -49,6 +54,18 @@ impl SplitMix64 {
     }
 
     /// Fisher–Yates shuffle.
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    /// A vector of length at most `radius`, uniform over the disc.
+    pub fn offset(&mut self, radius: f64) -> DVec2 {
+        let angle = 2.0 * std::f64::consts::PI * self.unit();
+        let r = radius * self.unit().sqrt();
+        DVec2::new(r * libm::cos(angle), r * libm::sin(angle))
+    }
+
     pub fn shuffle<T>(&mut self, items: &mut [T]) {
         for i in (1..items.len()).rev() {
             let j = self.below(i as u64 + 1) as usize;
@@ -96,8 +113,9 @@ pub fn ball_radius() -> f64 {
 }
 
 /// Centres of a triangle-like rack: `rows[r]` balls in row `r`, rows `√3/2·d` apart along
-/// `+y` from the foot spot, each row centred on the long string.
-fn rack_positions(kind: TableKind, rows: &[usize]) -> Vec<DVec2> {
+/// `+y` from the foot spot, each row centred on the long string; every ball but the apex
+/// moved off its spot by up to [`RACK_JITTER`], as `jitter` draws.
+fn rack_positions(kind: TableKind, rows: &[usize], jitter: &mut SplitMix64) -> Vec<DVec2> {
     let d = 2.0 * ball_radius() + RACK_GAP;
     let row_step = d * (3.0f64.sqrt() * 0.5);
     let apex = foot_spot(kind);
@@ -106,11 +124,19 @@ fn rack_positions(kind: TableKind, rows: &[usize]) -> Vec<DVec2> {
         let y = apex.y + r as f64 * row_step;
         for k in 0..n {
             let x = apex.x + (k as f64 - 0.5 * (n as f64 - 1.0)) * d;
-            out.push(DVec2::new(x, y));
+            let spot = DVec2::new(x, y);
+            out.push(if r == 0 {
+                spot
+            } else {
+                spot + jitter.offset(RACK_JITTER)
+            });
         }
     }
     out
 }
+
+/// Salt that separates the stream of rack jitter from the stream that places the balls.
+const JITTER_SALT: u64 = 0x6a09_e667_f3bc_c909;
 
 fn pocketed() -> BallState {
     BallState {
@@ -124,7 +150,11 @@ fn pocketed() -> BallState {
 /// on the break spot.
 pub fn eight_ball(kind: TableKind, seed: u64) -> Vec<BallState> {
     let mut rng = SplitMix64::new(seed);
-    let spots = rack_positions(kind, &[1, 2, 3, 4, 5]);
+    let spots = rack_positions(
+        kind,
+        &[1, 2, 3, 4, 5],
+        &mut SplitMix64::new(seed ^ JITTER_SALT),
+    );
     // Spot indices: row 2 middle is 1 + 2 + 1 = 4; back corners are 10 and 14.
     let (middle, corners) = (4, [10, 14]);
     let mut solids: Vec<usize> = (1..=7).collect();
@@ -152,7 +182,11 @@ pub fn eight_ball(kind: TableKind, seed: u64) -> Vec<BallState> {
 /// foot spot, the 9 in the centre, the rest shuffled; the cue ball on the break spot.
 pub fn nine_ball(kind: TableKind, seed: u64) -> Vec<BallState> {
     let mut rng = SplitMix64::new(seed);
-    let spots = rack_positions(kind, &[1, 2, 3, 2, 1]);
+    let spots = rack_positions(
+        kind,
+        &[1, 2, 3, 2, 1],
+        &mut SplitMix64::new(seed ^ JITTER_SALT),
+    );
     // Spot 0 is the apex, spot 4 the middle of the third row (the centre of the diamond).
     let mut rest: Vec<usize> = (2..=8).collect();
     rng.shuffle(&mut rest);
@@ -259,12 +293,12 @@ mod tests {
         let foot = foot_spot(TableKind::NineFoot);
         let row_step = (2.0 * ball_radius() + RACK_GAP) * (3.0f64.sqrt() * 0.5);
         // The 8 is in the middle of the third row.
-        assert_eq!(balls[8].pos.x, foot.x);
-        assert!((balls[8].pos.y - (foot.y + 2.0 * row_step)).abs() < 1e-12);
+        assert!((balls[8].pos.x - foot.x).abs() <= RACK_JITTER);
+        assert!((balls[8].pos.y - (foot.y + 2.0 * row_step)).abs() <= RACK_JITTER);
         // A solid and a stripe on the back corners.
         let back_y = foot.y + 4.0 * row_step;
         let mut corners: Vec<usize> = (1..16)
-            .filter(|&i| (balls[i].pos.y - back_y).abs() < 1e-9)
+            .filter(|&i| (balls[i].pos.y - back_y).abs() <= RACK_JITTER)
             .filter(|&i| (balls[i].pos.x - foot.x).abs() > 1.5 * (2.0 * ball_radius()))
             .collect();
         corners.sort();
@@ -294,8 +328,8 @@ mod tests {
         let foot = foot_spot(TableKind::NineFoot);
         assert_eq!(balls[1].pos, foot);
         let row_step = (2.0 * ball_radius() + RACK_GAP) * (3.0f64.sqrt() * 0.5);
-        assert_eq!(balls[9].pos.x, foot.x);
-        assert!((balls[9].pos.y - (foot.y + 2.0 * row_step)).abs() < 1e-12);
+        assert!((balls[9].pos.x - foot.x).abs() <= RACK_JITTER);
+        assert!((balls[9].pos.y - (foot.y + 2.0 * row_step)).abs() <= RACK_JITTER);
     }
 
     #[test]
