@@ -1,6 +1,9 @@
 //! `breakshot-sim`: simulate scene files (docs/scene.md) from the command line.
 
+mod study;
+
 use std::io::Read;
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -33,6 +36,13 @@ enum Command {
         /// How many timed runs.
         #[arg(long, default_value_t = 1000)]
         runs: usize,
+    },
+    /// Measure what accuracy costs: the event-based engine against fixed-step integration,
+    /// and the cost of each effect (docs/accuracy-cost.md).
+    AccuracyCost {
+        /// Folder for accuracy-cost.md, accuracy-cost.csv and accuracy-cost.png.
+        #[arg(long, value_name = "DIR", default_value = "out/accuracy-cost")]
+        out: PathBuf,
     },
 }
 
@@ -131,6 +141,7 @@ fn run(command: Command) -> Result<(), Failure> {
             });
             println!("{report}");
         }
+        Command::AccuracyCost { out } => study::run(&out)?,
     }
     Ok(())
 }
