@@ -6,7 +6,7 @@ use std::time::Instant;
 
 use anyhow::Context;
 use breakshot_shared::physics::{
-    BallBallModel, CushionModel, Effects, Models, Shot, Simulator, TableKind,
+    BallBallModel, CushionModel, Effects, Models, Shot, Simulator, Table, TableKind,
 };
 use glam::DVec2;
 
@@ -73,14 +73,25 @@ pub struct RungCost {
     pub per_event: f64,
 }
 
+/// The ladder's costs, on the shots that every rung could simulate.
+#[derive(Clone, Debug)]
+pub struct EffectCosts {
+    pub rungs: Vec<RungCost>,
+    pub shots: usize,
+    /// Shots left out because some rung could not simulate them, with the reason.
+    pub left_out: Vec<String>,
+}
+
 /// Times every rung on `shots`; `tick` is called once per simulated shot.
-pub fn cost_of_effects(shots: &[Shot], mut tick: impl FnMut()) -> anyhow::Result<Vec<RungCost>> {
+pub fn cost_of_effects(shots: &[(String, Shot)], mut tick: impl FnMut()) -> EffectCosts {
     let mut sim = Simulator::new();
-    let mut out = Vec::new();
-    for rung in ladder() {
-        let mut times = Vec::new();
-        let mut events = 0usize;
-        for shot in shots {
+    let rungs = ladder();
+    // measured[r][s]: (seconds, events) of shot s on rung r.
+    let mut measured: Vec<Vec<Option<(f64, usize)>>> = Vec::new();
+    let mut left_out = Vec::new();
+    for rung in &rungs {
+        let mut row = Vec::new();
+        for (name, shot) in shots {
             let shot = Shot {
                 models: rung.models,
                 effects: rung.effects,
@@ -88,18 +99,40 @@ pub fn cost_of_effects(shots: &[Shot], mut tick: impl FnMut()) -> anyhow::Result
                 ..shot.clone()
             };
             let (n, secs) = time_median(|| sim.run(&shot).map(|o| o.events.len()));
-            events += n.with_context(|| format!("rung \"{}\"", rung.name))?;
-            times.push(secs);
+            match n {
+                Ok(n) => row.push(Some((secs, n))),
+                Err(e) => {
+                    left_out.push(format!("{name} on rung \"{}\": {e}", rung.name));
+                    row.push(None);
+                }
+            }
             tick();
         }
-        out.push(RungCost {
-            name: rung.name,
-            median_shot: median(&times),
-            mean_events: events as f64 / shots.len().max(1) as f64,
-            per_event: times.iter().sum::<f64>() / events.max(1) as f64,
-        });
+        measured.push(row);
     }
-    Ok(out)
+    let usable: Vec<usize> = (0..shots.len())
+        .filter(|&s| measured.iter().all(|row| row[s].is_some()))
+        .collect();
+    let rungs = rungs
+        .iter()
+        .zip(&measured)
+        .map(|(rung, row)| {
+            let picked: Vec<(f64, usize)> = usable.iter().filter_map(|&s| row[s]).collect();
+            let times: Vec<f64> = picked.iter().map(|p| p.0).collect();
+            let events: usize = picked.iter().map(|p| p.1).sum();
+            RungCost {
+                name: rung.name,
+                median_shot: median(&times),
+                mean_events: events as f64 / picked.len().max(1) as f64,
+                per_event: times.iter().sum::<f64>() / events.max(1) as f64,
+            }
+        })
+        .collect();
+    EffectCosts {
+        rungs,
+        shots: usable.len(),
+        left_out,
+    }
 }
 
 /// The same open-cloth shot on the open table and on a 9 ft table with cushions and pockets
@@ -108,8 +141,11 @@ pub fn cost_of_effects(shots: &[Shot], mut tick: impl FnMut()) -> anyhow::Result
 pub struct DisabledCheck {
     pub events_open: usize,
     pub events_9ft: usize,
-    /// The final positions agree (after moving the 9 ft shot back by its offset) to this (m).
-    pub max_position_difference: f64,
+    /// Both runs gave bit-identical events.
+    pub same_events: bool,
+    /// Largest difference of a final position between the runs, after removing the table
+    /// offset (m): the rounding of adding and removing the offset.
+    pub position_difference: f64,
     pub median_open: f64,
     pub median_9ft: f64,
     /// median_9ft / median_open, both measured interleaved in the same run.
@@ -117,34 +153,58 @@ pub struct DisabledCheck {
 }
 
 /// Runs per timed batch and batches per table in the disabled-effect check.
-const BATCH: usize = 200;
+const BATCH: usize = 20;
 const BATCHES: usize = 150;
 
-pub fn disabled_effects_cost_nothing(open_shot: &Shot) -> anyhow::Result<DisabledCheck> {
-    anyhow::ensure!(
-        open_shot.table == TableKind::Open,
-        "the check needs an open-cloth shot"
-    );
-    // Put the shot in the middle of a 9 ft table.
-    let offset = DVec2::new(0.635, 0.8);
-    let mut on_9ft = open_shot.clone();
+/// Snaps a coordinate to a multiple of 2⁻³⁰ m, so that adding and then removing the table
+/// offset is exact and both runs see bit-identical engine coordinates.
+fn snap(x: f64) -> f64 {
+    let grid = (1u64 << 30) as f64;
+    (x * grid).round() / grid
+}
+
+/// `shot` (on a 9 ft table) moved onto the open cloth, centred on the origin as the engine
+/// centres the 9 ft table, and the same shot back on the 9 ft table with cushions and
+/// pockets off.
+pub fn open_and_9ft(shot: &Shot) -> (Shot, Shot) {
+    let half = Table::new(TableKind::NineFoot).half;
+    let mut open = shot.clone();
+    open.table = TableKind::Open;
+    for b in &mut open.balls {
+        b.pos = DVec2::new(snap(b.pos.x - half.x), snap(b.pos.y - half.y));
+    }
+    let mut on_9ft = open.clone();
     on_9ft.table = TableKind::NineFoot;
     on_9ft.effects.cushions = false;
     on_9ft.effects.pockets = false;
     for b in &mut on_9ft.balls {
-        b.pos += offset;
+        b.pos += half;
     }
-    let mut sim = Simulator::new();
-    let open = sim.run(open_shot).context("open-cloth shot")?.clone();
-    let table = sim
+    (open, on_9ft)
+}
+
+/// Times a 9-ball break played on the open cloth against the same break on a 9 ft table with
+/// cushions and pockets off, interleaved, each with its own simulator.
+pub fn disabled_effects_cost_nothing(break_shot: &Shot) -> anyhow::Result<DisabledCheck> {
+    anyhow::ensure!(
+        break_shot.table == TableKind::NineFoot,
+        "the check needs a shot on a 9 ft table"
+    );
+    let (open_shot, on_9ft) = open_and_9ft(break_shot);
+    let half = Table::new(TableKind::NineFoot).half;
+    let mut sim_open = Simulator::new();
+    let mut sim_9ft = Simulator::new();
+    let open = sim_open.run(&open_shot).context("open-cloth shot")?.clone();
+    let table = sim_9ft
         .run(&on_9ft)
         .context("the shot on a 9 ft table")?
         .clone();
-    let max_position_difference = open
+    let same_events = open.events == table.events;
+    let position_difference = open
         .finals
         .iter()
         .zip(&table.finals)
-        .map(|(a, b)| (b.pos - offset - a.pos).length())
+        .map(|(a, b)| (b.pos - half - a.pos).length())
         .fold(0.0, f64::max);
     let mut times_open = Vec::with_capacity(BATCHES);
     let mut times_9ft = Vec::with_capacity(BATCHES);
@@ -156,14 +216,15 @@ pub fn disabled_effects_cost_nothing(open_shot: &Shot) -> anyhow::Result<Disable
         t0.elapsed().as_secs_f64() / BATCH as f64
     };
     for _ in 0..BATCHES {
-        times_open.push(batch(open_shot, &mut sim));
-        times_9ft.push(batch(&on_9ft, &mut sim));
+        times_open.push(batch(&open_shot, &mut sim_open));
+        times_9ft.push(batch(&on_9ft, &mut sim_9ft));
     }
     let (median_open, median_9ft) = (median(&times_open), median(&times_9ft));
     Ok(DisabledCheck {
         events_open: open.events.len(),
         events_9ft: table.events.len(),
-        max_position_difference,
+        same_events,
+        position_difference,
         median_open,
         median_9ft,
         ratio: median_9ft / median_open,
@@ -199,5 +260,16 @@ mod tests {
         let last = rungs.last().unwrap();
         assert_eq!(last.effects, Effects::default());
         assert_eq!(last.models, Models::default());
+    }
+
+    #[test]
+    fn the_open_and_9ft_versions_of_a_shot_are_the_same_shot() {
+        let shot =
+            crate::study::workload::break_case(crate::study::workload::Category::Break9, 0).shot;
+        let (open, on_9ft) = open_and_9ft(&shot);
+        let a = breakshot_shared::physics::simulate(&open).unwrap();
+        let b = breakshot_shared::physics::simulate(&on_9ft).unwrap();
+        assert!(a.events.len() > 20, "a break, not a trivial shot");
+        assert_eq!(a.events, b.events);
     }
 }

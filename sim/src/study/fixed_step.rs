@@ -40,7 +40,14 @@ pub struct StepRun {
     pub steps: u64,
     /// The deepest overlap of two balls at the moment it was detected (m).
     pub deepest_overlap: f64,
+    /// Balls that went through a cushion or past a pocket and left the table; each is
+    /// stopped where it was found (it would be on the floor).
+    pub escaped: usize,
 }
+
+/// How far beyond the cushion noses a ball's centre must be to have left the table: well
+/// past the back of every pocket's capture circle (m).
+pub const ESCAPE_MARGIN: f64 = 0.15;
 
 /// A contact found at the end of a step.
 #[derive(Clone, Copy, Debug)]
@@ -130,6 +137,7 @@ impl<'a> Stepper<'a> {
             *b = advance(*b, h, &self.model, r);
         }
         self.pockets();
+        self.escapes();
         self.find_contacts(h);
         self.resolve_contacts();
     }
@@ -157,6 +165,20 @@ impl<'a> Stepper<'a> {
                     .trace
                     .contacts
                     .push(Contact::Pocket(i as u16, k as u8));
+            }
+        }
+    }
+
+    /// A ball that tunnelled out of the table stops there.
+    fn escapes(&mut self) {
+        if !self.shot.effects.cushions || !self.table.has_cushions() {
+            return;
+        }
+        let limit = self.table.half + DVec2::splat(ESCAPE_MARGIN);
+        for b in &mut self.balls {
+            if b.motion.is_translating() && (b.pos.x.abs() > limit.x || b.pos.y.abs() > limit.y) {
+                *b = BallState::at_rest(b.pos);
+                self.run.escaped += 1;
             }
         }
     }

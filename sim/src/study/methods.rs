@@ -81,6 +81,7 @@ pub struct Timed {
     pub seconds: f64,
     pub steps: u64,
     pub deepest_overlap: f64,
+    pub escaped: usize,
 }
 
 /// Repeats cheap runs until this much time has passed, to get a median.
@@ -113,6 +114,7 @@ pub fn run(method: Method, shot: &Shot, sim: &mut Simulator) -> anyhow::Result<T
                 seconds,
                 steps: 0,
                 deepest_overlap: 0.0,
+                escaped: 0,
             })
         }
         Method::Fixed(f) => {
@@ -123,6 +125,7 @@ pub fn run(method: Method, shot: &Shot, sim: &mut Simulator) -> anyhow::Result<T
                 seconds,
                 steps: run.steps,
                 deepest_overlap: run.deepest_overlap,
+                escaped: run.escaped,
             })
         }
     }

@@ -19,7 +19,7 @@ use anyhow::Context;
 use breakshot_shared::physics::{Shot, Simulator};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use effects::{DisabledCheck, RungCost};
+use effects::{DisabledCheck, EffectCosts};
 use methods::{Method, Timed};
 use metrics::{compare, first_collision, saw_collision, Comparison};
 use workload::{Case, Category};
@@ -32,6 +32,8 @@ pub struct Row {
     pub seconds: f64,
     pub steps: u64,
     pub deepest_overlap: f64,
+    /// Balls that tunnelled out of the table.
+    pub escaped: usize,
     pub comparison: Comparison,
     /// The first ball–ball collision is the reference's.
     pub first_collision_matches: bool,
@@ -44,33 +46,41 @@ pub struct Study {
     pub cases: Vec<Case>,
     pub methods: Vec<Method>,
     pub rows: Vec<Row>,
-    pub effects: Vec<RungCost>,
+    pub effects: EffectCosts,
+    /// Shots left out because the reference engine could not simulate them, with why.
+    pub skipped: Vec<(Case, String)>,
     pub disabled: DisabledCheck,
 }
 
 /// Runs the whole study, showing progress.
 pub fn run_study() -> anyhow::Result<Study> {
-    let cases = workload::workload();
+    let all_cases = workload::workload();
     let methods = Method::all();
-    let effect_shots: Vec<Shot> = cases
-        .iter()
-        .filter(|c| c.category.is_break())
-        .map(|c| c.shot.clone())
-        .collect();
-    let total = cases.len() * methods.len() + effects::ladder().len() * effect_shots.len() + 1;
+    let ladder_len = effects::ladder().len();
+    let breaks = all_cases.iter().filter(|c| c.category.is_break()).count();
+    let total = all_cases.len() * methods.len() + ladder_len * breaks + 1;
     let bar = ProgressBar::new(total as u64);
     bar.set_style(
         ProgressStyle::with_template(
-            "{msg:28} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})",
+            "{msg:24} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})",
         )
         .context("progress bar template")?,
     );
     let mut sim = Simulator::new();
     let mut rows = Vec::new();
-    for (ci, case) in cases.iter().enumerate() {
+    let mut cases = Vec::new();
+    let mut skipped = Vec::new();
+    for case in all_cases {
         bar.set_message(case.name.split(':').next().unwrap_or("").to_string());
-        let reference = methods::run(Method::Event, &case.shot, &mut sim)
-            .with_context(|| format!("shot {}", case.name))?;
+        let reference = match methods::run(Method::Event, &case.shot, &mut sim) {
+            Ok(r) => r,
+            Err(e) => {
+                skipped.push((case, format!("{e:#}")));
+                bar.inc(methods.len() as u64);
+                continue;
+            }
+        };
+        let ci = cases.len();
         for (mi, &method) in methods.iter().enumerate() {
             let timed = if method == Method::Event {
                 reference.clone()
@@ -81,16 +91,19 @@ pub fn run_study() -> anyhow::Result<Study> {
             rows.push(row(ci, mi, &reference, &timed));
             bar.inc(1);
         }
+        cases.push(case);
     }
     bar.set_message("cost of each effect");
-    let effects = effects::cost_of_effects(&effect_shots, || bar.inc(1))?;
-    bar.set_message("disabled effects");
-    let stun = cases
+    let effect_shots: Vec<(String, Shot)> = cases
         .iter()
-        .find(|c| c.category == Category::SingleSpin)
-        .map(|c| c.shot.clone())
-        .context("the workload has no open-cloth shot")?;
-    let disabled = effects::disabled_effects_cost_nothing(&stun)?;
+        .filter(|c| c.category.is_break())
+        .map(|c| (c.name.clone(), c.shot.clone()))
+        .collect();
+    bar.inc((ladder_len * (breaks - effect_shots.len())) as u64);
+    let effects = effects::cost_of_effects(&effect_shots, || bar.inc(1));
+    bar.set_message("disabled effects");
+    let nine_ball = workload::break_case(Category::Break9, 0);
+    let disabled = effects::disabled_effects_cost_nothing(&nine_ball.shot)?;
     bar.inc(1);
     bar.finish_with_message("done");
     Ok(Study {
@@ -99,6 +112,7 @@ pub fn run_study() -> anyhow::Result<Study> {
         rows,
         effects,
         disabled,
+        skipped,
     })
 }
 
@@ -110,6 +124,7 @@ fn row(case: usize, method: usize, reference: &Timed, timed: &Timed) -> Row {
         seconds: timed.seconds,
         steps: timed.steps,
         deepest_overlap: timed.deepest_overlap,
+        escaped: timed.escaped,
         comparison: compare(r, t),
         first_collision_matches: first_collision(r) == first_collision(t),
         object_contact_matches: saw_collision(r, 0, 1) == saw_collision(t, 0, 1),

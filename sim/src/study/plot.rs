@@ -85,15 +85,19 @@ pub fn draw(study: &Study, path: &Path) -> anyhow::Result<()> {
         .configure_mesh()
         .x_desc("median CPU time per shot (µs)")
         .y_desc("mean final-position error (mm)")
+        .x_label_formatter(&|x| format!("{x}"))
+        .y_label_formatter(&|y| format!("{y}"))
         .axis_desc_style((FONT, 22))
         .label_style((FONT, 18))
         .draw()
         .map_err(|e| anyhow!("{e}"))?;
 
     for (set, (fixed, toi, event), colours) in &sets {
-        for (line, colour, family) in [
-            (fixed, colours[0], "fixed step"),
-            (toi, colours[1], "fixed step + TOI"),
+        // Step labels above the TOI line's points and below the plain line's, so that they
+        // stay apart where the lines meet.
+        for (line, colour, family, shift) in [
+            (fixed, colours[0], "fixed step", 0.55),
+            (toi, colours[1], "fixed step + TOI", 1.3),
         ] {
             let style = ShapeStyle::from(colour).stroke_width(3);
             chart
@@ -111,7 +115,7 @@ pub fn draw(study: &Study, path: &Path) -> anyhow::Result<()> {
                 .draw_series(line.iter().map(|p| {
                     Text::new(
                         p.2.to_string(),
-                        (p.0 * 1.08, p.1 * 1.25),
+                        (p.0 * 1.08, p.1 * shift),
                         (FONT, 16).into_font(),
                     )
                 }))
@@ -131,7 +135,7 @@ pub fn draw(study: &Study, path: &Path) -> anyhow::Result<()> {
     }
     chart
         .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
+        .position(SeriesLabelPosition::LowerRight)
         .background_style(WHITE.mix(0.9))
         .border_style(BLACK)
         .label_font((FONT, 18))

@@ -61,7 +61,7 @@ pub struct Case {
 }
 
 /// Racks per kind of break.
-pub const RACKS: usize = 24;
+pub const RACKS: usize = 30;
 
 /// The whole workload, in a fixed order.
 pub fn workload() -> Vec<Case> {
@@ -123,14 +123,14 @@ fn singles() -> Vec<Case> {
         });
     }
     let spins = [
-        (1.0, 90.0, [0.0, 0.4]),
-        (2.0, 90.0, [0.0, -0.4]),
-        (3.0, 45.0, [0.3, 0.0]),
-        (2.5, 160.0, [-0.3, 0.2]),
-        (4.0, 250.0, [0.2, -0.3]),
-        (1.5, 0.0, [-0.25, -0.25]),
-        (5.0, 315.0, [0.0, 0.45]),
-        (3.5, 100.0, [0.4, -0.1]),
+        (0.5, 90.0, [0.0, 0.4]),
+        (1.0, 90.0, [0.0, -0.4]),
+        (1.5, 45.0, [0.3, 0.0]),
+        (1.2, 160.0, [-0.3, 0.2]),
+        (2.0, 250.0, [0.2, -0.3]),
+        (0.8, 0.0, [-0.25, -0.25]),
+        (2.0, 315.0, [0.0, 0.45]),
+        (1.8, 100.0, [0.4, -0.1]),
     ];
     for (k, (speed, angle, tip)) in spins.into_iter().enumerate() {
         let strike = Strike::at_angle(speed, angle, DVec2::from_array(tip));
