@@ -69,7 +69,8 @@ pub struct RungCost {
     pub median_shot: f64,
     /// Mean events per shot.
     pub mean_events: f64,
-    /// Total time over total events (s).
+    /// Median over the shots of time per event (s): a median, so that a shot slowed by
+    /// another process does not move it.
     pub per_event: f64,
 }
 
@@ -119,12 +120,13 @@ pub fn cost_of_effects(shots: &[(String, Shot)], mut tick: impl FnMut()) -> Effe
         .map(|(rung, row)| {
             let picked: Vec<(f64, usize)> = usable.iter().filter_map(|&s| row[s]).collect();
             let times: Vec<f64> = picked.iter().map(|p| p.0).collect();
+            let per_event: Vec<f64> = picked.iter().map(|p| p.0 / p.1.max(1) as f64).collect();
             let events: usize = picked.iter().map(|p| p.1).sum();
             RungCost {
                 name: rung.name,
                 median_shot: median(&times),
                 mean_events: events as f64 / picked.len().max(1) as f64,
-                per_event: times.iter().sum::<f64>() / events.max(1) as f64,
+                per_event: median(&per_event),
             }
         })
         .collect();

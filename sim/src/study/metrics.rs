@@ -107,7 +107,7 @@ mod tests {
 
     #[test]
     fn only_the_first_ten_contacts_count_and_order_matters() {
-        let base: Vec<Contact> = (0..10).map(|k| Contact::Cushion(k)).collect();
+        let base: Vec<Contact> = (0..10).map(Contact::Cushion).collect();
         let mut later = base.clone();
         later.push(Contact::Balls(0, 1));
         let mut swapped = base.clone();

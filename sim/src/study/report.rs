@@ -243,7 +243,9 @@ pub fn markdown(study: &Study) -> String {
     if !study.effects.left_out.is_empty() {
         out.push('\n');
     }
-    out.push_str("| model | median CPU per shot (µs) | events per shot | CPU per event (ns) |\n");
+    out.push_str(
+        "| model | median CPU per shot (µs) | mean events per shot | median CPU per event (ns) |\n",
+    );
     out.push_str("|---|---:|---:|---:|\n");
     for rung in &study.effects.rungs {
         let _ = writeln!(
