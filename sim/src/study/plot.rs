@@ -77,6 +77,7 @@ pub fn draw(study: &Study, path: &Path) -> anyhow::Result<()> {
             (FONT, 30),
         )
         .margin(25)
+        .margin_right(70)
         .x_label_area_size(70)
         .y_label_area_size(100)
         .build_cartesian_2d(x_range.log_scale(), y_range.log_scale())
