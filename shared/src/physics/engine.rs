@@ -833,24 +833,20 @@ fn validate(shot: &Shot, table: &Table) -> Result<(), ShotError> {
     }
     let r = shot.params.ball_radius;
     let contact = ball_cushion::contact_distance(&shot.params);
-    let on_table: Vec<(usize, DVec2)> = shot
-        .balls
-        .iter()
-        .enumerate()
-        .filter(|(_, b)| b.motion != MotionState::Pocketed)
-        .map(|(i, b)| (i, table.to_engine(b.pos)))
-        .collect();
-    for &(i, p) in &on_table {
-        if !table.fits(p, contact) {
+    let on_table = |i: usize| shot.balls[i].motion != MotionState::Pocketed;
+    let n = shot.balls.len();
+    for i in (0..n).filter(|&i| on_table(i)) {
+        if !table.fits(table.to_engine(shot.balls[i].pos), contact) {
             return Err(ShotError::OffTable { ball: i });
         }
     }
     // Touching is allowed, and so is the overlap rounding leaves between balls the engine
     // itself brought to rest touching; more is not.
     let min_dist = 2.0 * r - OVERLAP_TOLERANCE;
-    for (k, &(i, p)) in on_table.iter().enumerate() {
-        for &(j, q) in &on_table[k + 1..] {
-            if (q - p).length() < min_dist {
+    for i in (0..n).filter(|&i| on_table(i)) {
+        for j in (i + 1..n).filter(|&j| on_table(j)) {
+            // Scene coordinates: the same distance as in the engine's, to rounding.
+            if (shot.balls[j].pos - shot.balls[i].pos).length() < min_dist {
                 return Err(ShotError::Overlap { a: i, b: j });
             }
         }

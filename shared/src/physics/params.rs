@@ -72,9 +72,19 @@ impl Default for Params {
 }
 
 impl Params {
-    /// Every parameter with its name, for validation and messages.
-    pub fn named_values(&self) -> Vec<(&'static str, f64)> {
-        let mut v = vec![
+    /// Every parameter with its name, for validation and messages (an array, not a vector:
+    /// validation runs before every simulation and must not allocate).
+    pub fn named_values(&self) -> [(&'static str, f64); 13] {
+        let (fa, fb, fc, names) = match self.ball_friction {
+            BallFriction::Constant(mu) => (mu, 0.0, 0.0, ["ball_friction"; 3]),
+            BallFriction::SpeedDependent { a, b, c } => (
+                a,
+                b,
+                c,
+                ["ball_friction.a", "ball_friction.b", "ball_friction.c"],
+            ),
+        };
+        [
             ("ball_radius", self.ball_radius),
             ("ball_mass", self.ball_mass),
             ("gravity", self.gravity),
@@ -85,16 +95,10 @@ impl Params {
             ("e_cushion", self.e_cushion),
             ("f_cushion", self.f_cushion),
             ("cushion_height", self.cushion_height),
-        ];
-        match self.ball_friction {
-            BallFriction::Constant(mu) => v.push(("ball_friction", mu)),
-            BallFriction::SpeedDependent { a, b, c } => {
-                v.push(("ball_friction.a", a));
-                v.push(("ball_friction.b", b));
-                v.push(("ball_friction.c", c));
-            }
-        }
-        v
+            (names[0], fa),
+            (names[1], fb),
+            (names[2], fc),
+        ]
     }
 
     /// Checks that every parameter is finite and in its physical range.
