@@ -3,6 +3,7 @@
 
 pub mod hash;
 pub mod physics;
+pub mod protocol;
 pub mod replay;
 pub mod rules;
 pub mod scene;

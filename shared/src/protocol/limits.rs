@@ -1,0 +1,28 @@
+//! Every limit the server enforces, in one place so that the client, the server and the
+//! documentation agree. docs/protocol.md explains each one.
+
+use std::time::Duration;
+
+/// Largest frame payload (bytes) either side accepts. Frames longer than this close the
+/// connection before anything is allocated for them.
+pub const MAX_FRAME: usize = 64 * 1024;
+/// Longest player name (characters).
+pub const MAX_NAME_CHARS: usize = 24;
+/// Longest chat line (characters).
+pub const MAX_CHAT_CHARS: usize = 200;
+/// Chat lines a connection may send in a burst ...
+pub const CHAT_BURST: u32 = 5;
+/// ... and the time it takes to earn one more.
+pub const CHAT_REFILL: Duration = Duration::from_secs(2);
+/// Messages of any kind a connection may send per second before it is closed as abusive.
+pub const MAX_MESSAGES_PER_SECOND: u32 = 50;
+/// How long a seat is held for a player who dropped, before the game is forfeited.
+pub const RECONNECT_WINDOW: Duration = Duration::from_secs(120);
+/// Number of characters in a room code.
+pub const ROOM_CODE_LEN: usize = 6;
+/// Most rooms one server holds at once (each costs a few kilobytes).
+pub const MAX_ROOMS: usize = 10_000;
+/// Spectators allowed in one room.
+pub const MAX_SPECTATORS: usize = 32;
+/// Largest stored game record (bytes) a server will load or verify.
+pub const MAX_RECORD: usize = 4 * 1024 * 1024;

@@ -1,0 +1,27 @@
+//! The wire protocol between clients and the server: messages, framing, limits, invites and
+//! the checks every message passes before the game sees it. Pure: no sockets, no clock.
+//! docs/protocol.md is the reference for people.
+
+pub mod framing;
+pub mod ids;
+pub mod invite;
+pub mod limits;
+pub mod messages;
+pub mod reference;
+pub mod validate;
+
+pub use framing::{decode_payload, encode_frame, payload_len, FrameError, HEADER_LEN};
+pub use ids::{Fingerprint, RoomCode, SeatToken};
+pub use invite::{Invite, InviteError};
+pub use messages::{
+    command_of, AimAid, ClientMessage, ErrorCode, Role, Ruling, SeatView, ServerMessage, Snapshot,
+};
+pub use reference::{reference_hash, reference_shot};
+pub use validate::{validate, InvalidMessage};
+
+/// Bumped whenever a message changes shape or meaning. A client with another version is
+/// refused in the handshake with a reason.
+pub const PROTOCOL_VERSION: u32 = 1;
+
+/// The QUIC application protocol (ALPN) name.
+pub const ALPN: &[u8] = b"breakshot/1";

@@ -1,0 +1,133 @@
+//! Checks on a message's own content, before any game state is consulted: finite numbers,
+//! a normalised aim, speed and tip within the cue's limits, sane texts. Whether the command
+//! is legal *now* is the room's and the rules' business.
+
+use thiserror::Error;
+
+use super::limits::{MAX_CHAT_CHARS, MAX_NAME_CHARS};
+use super::messages::{ClientMessage, ErrorCode};
+use crate::physics::StrikeError;
+
+/// Pockets on a table with pockets.
+pub const POCKETS: u8 = 6;
+
+#[derive(Debug, Error, PartialEq)]
+pub enum InvalidMessage {
+    #[error("{0}")]
+    Strike(#[from] StrikeError),
+    #[error("pocket must be 0..{POCKETS}")]
+    Pocket,
+    #[error("cue ball position must be finite numbers")]
+    Position,
+    #[error("name must be 1 to {MAX_NAME_CHARS} printable characters")]
+    Name,
+    #[error("chat must be 1 to {MAX_CHAT_CHARS} printable characters")]
+    Chat,
+    #[error("malformed room code")]
+    Room,
+}
+
+impl InvalidMessage {
+    pub fn code(&self) -> ErrorCode {
+        ErrorCode::Invalid
+    }
+}
+
+/// Returns the message with its aim normalised, or why it is invalid.
+pub fn validate(msg: ClientMessage) -> Result<ClientMessage, InvalidMessage> {
+    match msg {
+        ClientMessage::Shot { turn, strike, call } => {
+            let strike = strike.validated()?;
+            check_pocket(call)?;
+            Ok(ClientMessage::Shot { turn, strike, call })
+        }
+        ClientMessage::PlaceCueBall { pos, .. } if !pos.iter().all(|x| x.is_finite()) => {
+            Err(InvalidMessage::Position)
+        }
+        ClientMessage::CallPocket { pocket, .. } if pocket >= POCKETS => {
+            Err(InvalidMessage::Pocket)
+        }
+        ClientMessage::CreateRoom { ref name, .. } | ClientMessage::Join { ref name, .. }
+            if !printable(name, MAX_NAME_CHARS) =>
+        {
+            Err(InvalidMessage::Name)
+        }
+        ClientMessage::Join { ref room, .. } | ClientMessage::Spectate { ref room }
+            if !room.is_valid() =>
+        {
+            Err(InvalidMessage::Room)
+        }
+        ClientMessage::Chat { ref text } if !printable(text, MAX_CHAT_CHARS) => {
+            Err(InvalidMessage::Chat)
+        }
+        other => Ok(other),
+    }
+}
+
+fn check_pocket(call: Option<u8>) -> Result<(), InvalidMessage> {
+    match call {
+        Some(p) if p >= POCKETS => Err(InvalidMessage::Pocket),
+        _ => Ok(()),
+    }
+}
+
+/// Non-blank, at most `max` characters, no control characters.
+fn printable(text: &str, max: usize) -> bool {
+    let n = text.chars().count();
+    n > 0 && n <= max && !text.trim().is_empty() && !text.chars().any(char::is_control)
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::DVec2;
+
+    use super::*;
+    use crate::physics::Strike;
+
+    fn shot(speed: f64, dir: DVec2, tip: DVec2) -> ClientMessage {
+        ClientMessage::Shot {
+            turn: 1,
+            strike: Strike { speed, dir, tip },
+            call: None,
+        }
+    }
+
+    #[test]
+    fn a_good_shot_comes_back_with_a_unit_aim() {
+        let Ok(ClientMessage::Shot { strike, .. }) =
+            validate(shot(3.0, DVec2::new(3.0, 4.0), DVec2::ZERO))
+        else {
+            panic!("refused a good shot");
+        };
+        assert_eq!(strike.dir, DVec2::new(0.6, 0.8));
+    }
+
+    #[test]
+    fn bad_numbers_are_refused() {
+        let z = DVec2::ZERO;
+        let y = DVec2::Y;
+        for bad in [
+            shot(f64::NAN, y, z),
+            shot(-1.0, y, z),
+            shot(15.1, y, z),
+            shot(3.0, z, z),
+            shot(3.0, DVec2::new(f64::INFINITY, 0.0), z),
+            shot(3.0, y, DVec2::new(0.6, 0.0)),
+            shot(3.0, y, DVec2::new(f64::NAN, 0.0)),
+            ClientMessage::PlaceCueBall {
+                turn: 0,
+                pos: [f64::NAN, 0.5],
+            },
+            ClientMessage::CallPocket { turn: 0, pocket: 6 },
+            ClientMessage::Chat {
+                text: "x".repeat(MAX_CHAT_CHARS + 1),
+            },
+            ClientMessage::Chat { text: "  ".into() },
+            ClientMessage::Chat {
+                text: "bell\u{7}".into(),
+            },
+        ] {
+            assert!(validate(bad.clone()).is_err(), "accepted {bad:?}");
+        }
+    }
+}
