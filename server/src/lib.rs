@@ -1,1 +1,16 @@
-//! Placeholder: see the crate's issue.
+//! Breakshot's authoritative server: a pure core ([`hub::Hub`] routing connections to
+//! [`room::Room`]s) driven by a thin QUIC layer, with every accepted command stored before
+//! anyone sees its result.
+
+pub mod conn;
+pub mod hub;
+pub mod output;
+pub mod ratelimit;
+pub mod room;
+pub mod secret;
+pub mod server;
+pub mod store;
+pub mod tls;
+pub mod verify;
+
+pub use server::{run, Config, Server, ServerError};

@@ -1,0 +1,352 @@
+//! All connections and rooms of one server, as a pure state machine. It checks the
+//! handshake, validates every message, rate-limits, routes messages to rooms and keeps the
+//! index from seat-token digests to seats. The driver feeds it events with `now` and
+//! carries out the outputs.
+
+use std::collections::BTreeMap;
+use std::time::{Duration, Instant};
+
+use breakshot_shared::protocol::limits::{
+    CHAT_BURST, CHAT_REFILL, MAX_MESSAGES_PER_SECOND, MAX_ROOMS, MAX_SPECTATORS, ROOM_CODE_LEN,
+};
+use breakshot_shared::protocol::{
+    validate, ClientMessage, ErrorCode, Role, RoomCode, ServerMessage, PROTOCOL_VERSION,
+};
+use breakshot_shared::replay::GameRecord;
+use breakshot_shared::rules::{Game, Seat};
+
+use crate::output::{ConnId, Output, RoomMeta};
+use crate::ratelimit::Bucket;
+use crate::room::{Room, RoomRules, Who};
+use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
+
+#[derive(Clone, Copy, Debug)]
+pub struct HubConfig {
+    pub reconnect_window: Duration,
+    pub max_rooms: usize,
+    /// The reference-shot hash of this build's physics; clients must match it.
+    pub physics: u64,
+}
+
+struct Conn {
+    greeted: bool,
+    room: Option<(RoomCode, Role)>,
+    chat: Bucket,
+    messages: Bucket,
+}
+
+pub struct Hub {
+    config: HubConfig,
+    rooms: BTreeMap<RoomCode, Room>,
+    conns: BTreeMap<ConnId, Conn>,
+    tokens: BTreeMap<TokenDigest, (RoomCode, Seat)>,
+    rng: Box<dyn Entropy>,
+}
+
+fn send(to: ConnId, msg: ServerMessage) -> Output {
+    Output::Send { to, msg }
+}
+
+fn error(to: ConnId, code: ErrorCode, message: impl Into<String>) -> Vec<Output> {
+    vec![send(
+        to,
+        ServerMessage::Error {
+            code,
+            message: message.into(),
+        },
+    )]
+}
+
+impl Hub {
+    pub fn new(config: HubConfig, rng: Box<dyn Entropy>) -> Hub {
+        Hub {
+            config,
+            rooms: BTreeMap::new(),
+            conns: BTreeMap::new(),
+            tokens: BTreeMap::new(),
+            rng,
+        }
+    }
+
+    pub fn config(&self) -> &HubConfig {
+        &self.config
+    }
+
+    pub fn room(&self, code: &RoomCode) -> Option<&Room> {
+        self.rooms.get(code)
+    }
+
+    pub fn rooms(&self) -> impl Iterator<Item = &Room> {
+        self.rooms.values()
+    }
+
+    /// Brings back a room from the store (after its record was replayed and checked).
+    pub fn restore(
+        &mut self,
+        now: Instant,
+        meta: RoomMeta,
+        number: u32,
+        record: GameRecord,
+        game: Game,
+    ) {
+        let rules = RoomRules {
+            variant: meta.variant,
+            settings: meta.settings,
+            aim_aid: meta.aim_aid,
+            reconnect_window: self.config.reconnect_window,
+        };
+        let room = Room::restore(now, meta, rules, number, record, game);
+        self.index_tokens(&room);
+        self.rooms.insert(room.code().clone(), room);
+    }
+
+    pub fn connected(&mut self, now: Instant, conn: ConnId) {
+        self.conns.insert(
+            conn,
+            Conn {
+                greeted: false,
+                room: None,
+                chat: Bucket::new(CHAT_BURST, CHAT_REFILL, now),
+                messages: Bucket::new(
+                    MAX_MESSAGES_PER_SECOND,
+                    Duration::from_secs(1) / MAX_MESSAGES_PER_SECOND,
+                    now,
+                ),
+            },
+        );
+    }
+
+    pub fn disconnected(&mut self, now: Instant, conn: ConnId) -> Vec<Output> {
+        let Some(state) = self.conns.remove(&conn) else {
+            return Vec::new();
+        };
+        match state.room.and_then(|(code, _)| self.rooms.get_mut(&code)) {
+            Some(room) => room.disconnect(now, conn),
+            None => Vec::new(),
+        }
+    }
+
+    pub fn handle(&mut self, now: Instant, conn: ConnId, msg: ClientMessage) -> Vec<Output> {
+        let Some(state) = self.conns.get_mut(&conn) else {
+            return Vec::new();
+        };
+        if !state.messages.take(now) {
+            return vec![Output::Close {
+                conn,
+                reason: "too many messages".into(),
+            }];
+        }
+        if !state.greeted {
+            return self.hello(conn, msg);
+        }
+        let msg = match validate(msg) {
+            Ok(msg) => msg,
+            Err(e) => return error(conn, e.code(), e.to_string()),
+        };
+        if matches!(msg, ClientMessage::Chat { .. }) && !state.chat.take(now) {
+            return error(
+                conn,
+                ErrorCode::RateLimited,
+                "chat is limited to a few lines at a time",
+            );
+        }
+        let in_room = state.room.clone();
+        match (msg, in_room) {
+            (ClientMessage::Hello { .. }, _) => {
+                error(conn, ErrorCode::Unexpected, "already greeted")
+            }
+            (
+                ClientMessage::CreateRoom { .. }
+                | ClientMessage::Join { .. }
+                | ClientMessage::Rejoin { .. }
+                | ClientMessage::Spectate { .. },
+                Some(_),
+            ) => error(conn, ErrorCode::Unexpected, "already in a room"),
+            (
+                ClientMessage::CreateRoom {
+                    variant,
+                    mode,
+                    aim_aid,
+                    name,
+                },
+                None,
+            ) => {
+                let rules = RoomRules {
+                    variant,
+                    settings: mode,
+                    aim_aid,
+                    reconnect_window: self.config.reconnect_window,
+                };
+                self.create(now, conn, rules, name)
+            }
+            (ClientMessage::Join { room, name }, None) => self.join(now, conn, room, name),
+            (ClientMessage::Rejoin { token }, None) => self.rejoin(now, conn, token),
+            (ClientMessage::Spectate { room }, None) => match self.rooms.get_mut(&room) {
+                Some(r) => {
+                    let out = r.spectate(now, conn, MAX_SPECTATORS);
+                    if joined(&out, conn) {
+                        self.set_room(conn, room, Role::Spectator);
+                    }
+                    out
+                }
+                None => error(conn, ErrorCode::NoSuchRoom, format!("no room {room}")),
+            },
+            (other, Some((code, role))) => match self.rooms.get_mut(&code) {
+                Some(room) => room.handle(now, Who { conn, role }, other),
+                None => error(conn, ErrorCode::NoSuchRoom, "the room is closed"),
+            },
+            (_, None) => error(conn, ErrorCode::Unexpected, "join or create a room first"),
+        }
+    }
+
+    /// The earliest instant at which [`Hub::tick`] has something to do.
+    pub fn next_deadline(&self) -> Option<Instant> {
+        self.rooms.values().filter_map(Room::next_deadline).min()
+    }
+
+    pub fn tick(&mut self, now: Instant) -> Vec<Output> {
+        let mut out = Vec::new();
+        for room in self.rooms.values_mut() {
+            if room.next_deadline().is_some_and(|d| d <= now) || room.is_closed() {
+                out.extend(room.tick(now));
+            }
+        }
+        let closed: Vec<RoomCode> = self
+            .rooms
+            .values()
+            .filter(|r| r.is_closed())
+            .map(|r| r.code().clone())
+            .collect();
+        for code in closed {
+            self.tokens.retain(|_, (c, _)| *c != code);
+            self.rooms.remove(&code);
+        }
+        out
+    }
+
+    fn hello(&mut self, conn: ConnId, msg: ClientMessage) -> Vec<Output> {
+        let reason = match msg {
+            ClientMessage::Hello { protocol, .. } if protocol != PROTOCOL_VERSION => format!(
+                "protocol version {protocol} is not supported; this server speaks version {PROTOCOL_VERSION}"
+            ),
+            ClientMessage::Hello { physics, .. } if physics != self.config.physics => format!(
+                "physics differ: reference shot hash {physics:016x}, the server's is {:016x}; update the game",
+                self.config.physics
+            ),
+            ClientMessage::Hello { .. } => {
+                if let Some(c) = self.conns.get_mut(&conn) {
+                    c.greeted = true;
+                }
+                return vec![send(
+                    conn,
+                    ServerMessage::Welcome {
+                        protocol: PROTOCOL_VERSION,
+                    },
+                )];
+            }
+            _ => "the first message must be Hello".into(),
+        };
+        vec![
+            send(
+                conn,
+                ServerMessage::Reject {
+                    reason: reason.clone(),
+                },
+            ),
+            Output::Close { conn, reason },
+        ]
+    }
+
+    fn create(
+        &mut self,
+        now: Instant,
+        conn: ConnId,
+        rules: RoomRules,
+        name: String,
+    ) -> Vec<Output> {
+        if self.rooms.len() >= self.config.max_rooms.min(MAX_ROOMS) {
+            return error(conn, ErrorCode::ServerBusy, "the server is full; try later");
+        }
+        let code = loop {
+            let mut bytes = [0u8; ROOM_CODE_LEN];
+            self.rng.fill(&mut bytes);
+            let code = RoomCode::from_random(bytes);
+            if !self.rooms.contains_key(&code) {
+                break code;
+            }
+        };
+        let token = new_token(self.rng.as_mut());
+        let seed = new_seed(self.rng.as_mut());
+        let (room, out) = Room::create(now, code.clone(), rules, seed, conn, name, token);
+        self.tokens
+            .insert(TokenDigest::of(&token), (code.clone(), Seat::A));
+        self.rooms.insert(code.clone(), room);
+        self.set_room(conn, code, Role::Player(Seat::A));
+        out
+    }
+
+    fn join(&mut self, now: Instant, conn: ConnId, code: RoomCode, name: String) -> Vec<Output> {
+        let token = new_token(self.rng.as_mut());
+        let Some(room) = self.rooms.get_mut(&code) else {
+            return error(conn, ErrorCode::NoSuchRoom, format!("no room {code}"));
+        };
+        let out = room.join(now, conn, name, token);
+        if joined(&out, conn) {
+            self.tokens
+                .insert(TokenDigest::of(&token), (code.clone(), Seat::B));
+            self.set_room(conn, code, Role::Player(Seat::B));
+        }
+        out
+    }
+
+    fn rejoin(
+        &mut self,
+        now: Instant,
+        conn: ConnId,
+        token: breakshot_shared::protocol::SeatToken,
+    ) -> Vec<Output> {
+        let Some((code, seat)) = self.tokens.get(&TokenDigest::of(&token)).cloned() else {
+            return error(
+                conn,
+                ErrorCode::BadToken,
+                "unknown seat token (the game may be over)",
+            );
+        };
+        let Some(room) = self.rooms.get_mut(&code) else {
+            return error(conn, ErrorCode::NoSuchRoom, "the room is closed");
+        };
+        let out = room.rejoin(now, conn, seat, token);
+        if joined(&out, conn) {
+            for o in &out {
+                if let Output::Close { conn: old, .. } = o {
+                    if let Some(c) = self.conns.get_mut(old) {
+                        c.room = None;
+                    }
+                }
+            }
+            self.set_room(conn, code, Role::Player(seat));
+        }
+        out
+    }
+
+    fn set_room(&mut self, conn: ConnId, code: RoomCode, role: Role) {
+        if let Some(c) = self.conns.get_mut(&conn) {
+            c.room = Some((code, role));
+        }
+    }
+
+    fn index_tokens(&mut self, room: &Room) {
+        for (seat, digest) in room.seat_digests() {
+            self.tokens.insert(digest, (room.code().clone(), seat));
+        }
+    }
+}
+
+/// Whether the outputs let `conn` into the room.
+fn joined(out: &[Output], conn: ConnId) -> bool {
+    out.iter()
+        .any(|o| matches!(o, Output::Send { to, msg: ServerMessage::Joined { .. } } if *to == conn))
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,428 @@
+//! The hub and its rooms without sockets or a clock: messages in, outputs out.
+
+use std::time::{Duration, Instant};
+
+use breakshot_shared::physics::Strike;
+use breakshot_shared::protocol::limits::{CHAT_BURST, CHAT_REFILL, MAX_MESSAGES_PER_SECOND};
+use breakshot_shared::protocol::{
+    reference_hash, AimAid, ClientMessage, ErrorCode, Role, RoomCode, SeatToken, ServerMessage,
+    PROTOCOL_VERSION,
+};
+use breakshot_shared::replay::GameRecord;
+use breakshot_shared::rules::{Command, EightBallRules, Game, Seat, Settings, Variant};
+use glam::DVec2;
+
+use super::{Hub, HubConfig};
+use crate::output::{ConnId, Output, StoreOp};
+use crate::secret::TestEntropy;
+
+const WINDOW: Duration = Duration::from_secs(120);
+
+struct World {
+    hub: Hub,
+    now: Instant,
+}
+
+fn sent_to(out: &[Output], conn: ConnId) -> Vec<&ServerMessage> {
+    out.iter()
+        .filter_map(|o| match o {
+            Output::Send { to, msg } if *to == conn => Some(msg),
+            _ => None,
+        })
+        .collect()
+}
+
+fn error_code(out: &[Output], conn: ConnId) -> Option<ErrorCode> {
+    sent_to(out, conn).into_iter().find_map(|m| match m {
+        ServerMessage::Error { code, .. } => Some(*code),
+        _ => None,
+    })
+}
+
+fn stores(out: &[Output]) -> usize {
+    out.iter().filter(|o| matches!(o, Output::Store(_))).count()
+}
+
+impl World {
+    fn new() -> World {
+        let config = HubConfig {
+            reconnect_window: WINDOW,
+            max_rooms: 100,
+            physics: reference_hash().unwrap(),
+        };
+        World {
+            hub: Hub::new(config, Box::new(TestEntropy(9))),
+            now: Instant::now(),
+        }
+    }
+
+    fn send(&mut self, conn: ConnId, msg: ClientMessage) -> Vec<Output> {
+        self.hub.handle(self.now, conn, msg)
+    }
+
+    fn greet(&mut self, conn: ConnId) {
+        self.hub.connected(self.now, conn);
+        let out = self.send(
+            conn,
+            ClientMessage::Hello {
+                protocol: PROTOCOL_VERSION,
+                physics: reference_hash().unwrap(),
+            },
+        );
+        assert!(matches!(
+            sent_to(&out, conn)[..],
+            [ServerMessage::Welcome { .. }]
+        ));
+    }
+
+    /// Conn 1 creates a room (seat A), conn 2 joins it (seat B).
+    fn pair(&mut self, settings: Settings) -> (RoomCode, SeatToken, SeatToken) {
+        self.greet(1);
+        self.greet(2);
+        let out = self.send(
+            1,
+            ClientMessage::CreateRoom {
+                variant: Variant::EightBall(EightBallRules::Wpa),
+                mode: settings,
+                aim_aid: AimAid::Off,
+                name: "ann".into(),
+            },
+        );
+        let (room, token_a) = joined(&out, 1);
+        let out = self.send(
+            2,
+            ClientMessage::Join {
+                room: room.clone(),
+                name: "ben".into(),
+            },
+        );
+        let (_, token_b) = joined(&out, 2);
+        assert!(sent_to(&out, 1)
+            .iter()
+            .any(|m| matches!(m, ServerMessage::PlayerJoined { seat: Seat::B, .. })));
+        (room, token_a, token_b)
+    }
+
+    fn game(&self, room: &RoomCode) -> Game {
+        self.hub.room(room).unwrap().game().clone()
+    }
+
+    fn advance(&mut self, d: Duration) -> Vec<Output> {
+        self.now += d;
+        self.hub.tick(self.now)
+    }
+}
+
+fn joined(out: &[Output], conn: ConnId) -> (RoomCode, SeatToken) {
+    sent_to(out, conn)
+        .into_iter()
+        .find_map(|m| match m {
+            ServerMessage::Joined {
+                token: Some(t),
+                snapshot,
+                ..
+            } => Some((snapshot.room.clone(), *t)),
+            _ => None,
+        })
+        .expect("joined with a token")
+}
+
+fn break_shot(game: &Game) -> ClientMessage {
+    let cue = game.balls()[0].pos;
+    let target = game.balls()[1..]
+        .iter()
+        .map(|b| b.pos)
+        .min_by(|a, b| a.distance(cue).total_cmp(&b.distance(cue)))
+        .unwrap();
+    ClientMessage::Shot {
+        turn: game.turn(),
+        strike: Strike {
+            speed: 9.0,
+            dir: target - cue,
+            tip: DVec2::ZERO,
+        },
+        call: None,
+    }
+}
+
+#[test]
+fn the_handshake_refuses_other_versions_other_physics_and_silence() {
+    let mut w = World::new();
+    for (conn, msg, why) in [
+        (
+            1,
+            ClientMessage::Hello {
+                protocol: PROTOCOL_VERSION + 1,
+                physics: reference_hash().unwrap(),
+            },
+            "protocol version",
+        ),
+        (
+            2,
+            ClientMessage::Hello {
+                protocol: PROTOCOL_VERSION,
+                physics: reference_hash().unwrap() ^ 1,
+            },
+            "physics differ",
+        ),
+        (3, ClientMessage::Concede, "first message must be Hello"),
+    ] {
+        w.hub.connected(w.now, conn);
+        let out = w.send(conn, msg);
+        match sent_to(&out, conn)[..] {
+            [ServerMessage::Reject { reason }] => assert!(reason.contains(why), "{reason}"),
+            ref other => panic!("{other:?}"),
+        }
+        assert!(matches!(out.last(), Some(Output::Close { conn: c, .. }) if *c == conn));
+    }
+}
+
+#[test]
+fn an_accepted_shot_is_stored_before_anyone_hears_of_it_and_matches_a_replay() {
+    let mut w = World::new();
+    let (room, _, _) = w.pair(Settings::offline());
+    let before = w.game(&room);
+    let shot = break_shot(&before);
+    let out = w.send(1, shot.clone());
+
+    // The store comes first; then both players get the same accepted command and result.
+    assert!(matches!(
+        out[0],
+        Output::Store(StoreOp::Game {
+            finished: false,
+            ..
+        })
+    ));
+    for conn in [1, 2] {
+        let msgs = sent_to(&out, conn);
+        assert!(matches!(
+            msgs[0],
+            ServerMessage::ShotAccepted {
+                turn: 0,
+                seat: Seat::A,
+                ..
+            }
+        ));
+        assert!(matches!(
+            msgs[1],
+            ServerMessage::ShotResolved { turn: 0, .. }
+        ));
+    }
+    let ServerMessage::ShotResolved { hash, balls, .. } = sent_to(&out, 2)[1] else {
+        unreachable!()
+    };
+    // The same command applied to a copy of the old game gives the same hash.
+    let ClientMessage::Shot { strike, .. } = shot else {
+        unreachable!()
+    };
+    let mut copy = before.clone();
+    let verdict = copy
+        .apply(
+            Seat::A,
+            &Command::Shot {
+                strike: strike.validated().unwrap(),
+                call: None,
+            },
+        )
+        .unwrap();
+    assert_eq!(verdict.shot.unwrap().hash, *hash);
+    assert_eq!(copy.balls(), &balls[..]);
+    // And the stored record replays to the room's game.
+    let Output::Store(StoreOp::Game { record, .. }) = &out[0] else {
+        unreachable!()
+    };
+    let replayed = GameRecord::decode(record).unwrap().replay().unwrap();
+    assert_eq!(replayed, w.game(&room));
+}
+
+#[test]
+fn refused_commands_store_nothing_and_change_nothing() {
+    let mut w = World::new();
+    let (room, _, _) = w.pair(Settings::offline());
+    let before = w.game(&room);
+    let good = break_shot(&before);
+    let stale = match good.clone() {
+        ClientMessage::Shot { strike, call, .. } => ClientMessage::Shot {
+            turn: 5,
+            strike,
+            call,
+        },
+        _ => unreachable!(),
+    };
+    let nan = ClientMessage::Shot {
+        turn: 0,
+        strike: Strike {
+            speed: f64::NAN,
+            dir: DVec2::Y,
+            tip: DVec2::ZERO,
+        },
+        call: None,
+    };
+    for (conn, msg, code) in [
+        (2, good.clone(), ErrorCode::NotYourTurn),
+        (1, stale, ErrorCode::StaleTurn),
+        (1, nan, ErrorCode::Invalid),
+        (1, ClientMessage::Rematch, ErrorCode::Unexpected),
+        (
+            1,
+            ClientMessage::Join {
+                room: room.clone(),
+                name: "x".into(),
+            },
+            ErrorCode::Unexpected,
+        ),
+    ] {
+        let out = w.send(conn, msg);
+        assert_eq!(error_code(&out, conn), Some(code));
+        assert_eq!(stores(&out), 0);
+        assert_eq!(w.game(&room), before);
+    }
+}
+
+#[test]
+fn a_dropped_player_forfeits_only_when_the_window_runs_out() {
+    let mut w = World::new();
+    let (_, _, token_b) = w.pair(Settings::offline());
+    let out = w.hub.disconnected(w.now, 2);
+    assert!(matches!(
+        sent_to(&out, 1)[..],
+        [ServerMessage::PlayerLeft {
+            seat: Seat::B,
+            reconnect_ms: 120_000
+        }]
+    ));
+
+    // Back in time: the seat is theirs again, and the old deadline does nothing.
+    w.now += WINDOW / 2;
+    w.greet(3);
+    let out = w.send(3, ClientMessage::Rejoin { token: token_b });
+    assert!(matches!(
+        sent_to(&out, 1)[..],
+        [ServerMessage::PlayerBack { seat: Seat::B }]
+    ));
+    assert!(matches!(
+        sent_to(&out, 3)[..],
+        [ServerMessage::Joined {
+            role: Role::Player(Seat::B),
+            ..
+        }]
+    ));
+    assert!(w.advance(WINDOW).is_empty());
+
+    // Gone for good this time.
+    w.hub.disconnected(w.now, 3);
+    assert!(w.advance(WINDOW - Duration::from_millis(1)).is_empty());
+    let out = w.advance(Duration::from_millis(1));
+    assert!(sent_to(&out, 1).iter().any(|m| matches!(
+        m,
+        ServerMessage::GameOver {
+            winner: Some(Seat::A),
+            ..
+        }
+    )));
+    assert!(out
+        .iter()
+        .any(|o| matches!(o, Output::Store(StoreOp::Game { finished: true, .. }))));
+}
+
+#[test]
+fn a_wrong_token_takes_no_seat() {
+    let mut w = World::new();
+    w.pair(Settings::offline());
+    w.greet(3);
+    let out = w.send(
+        3,
+        ClientMessage::Rejoin {
+            token: SeatToken([0; 16]),
+        },
+    );
+    assert_eq!(error_code(&out, 3), Some(ErrorCode::BadToken));
+}
+
+#[test]
+fn the_shot_clock_runs_out_but_pauses_while_a_player_is_away() {
+    let mut w = World::new();
+    let settings = Settings {
+        shot_clock: Some(30),
+        ..Settings::offline()
+    };
+    let (room, _, token_b) = w.pair(settings);
+    assert!(w.advance(Duration::from_secs(20)).is_empty());
+
+    // B drops with 10 s left on A's clock: the clock stops.
+    w.hub.disconnected(w.now, 2);
+    assert!(w.advance(Duration::from_secs(60)).is_empty());
+    assert_eq!(w.game(&room).turn(), 0);
+
+    // B is back: the clock goes on from 10 s.
+    w.greet(3);
+    w.send(3, ClientMessage::Rejoin { token: token_b });
+    assert!(w.advance(Duration::from_secs(9)).is_empty());
+    let out = w.advance(Duration::from_secs(1));
+    assert!(sent_to(&out, 1).iter().any(|m| matches!(
+        m,
+        ServerMessage::Applied {
+            seat: Seat::A,
+            command: Command::TimeExpired,
+            ..
+        }
+    )));
+    assert_eq!(stores(&out), 1);
+    assert_eq!(w.game(&room).turn(), 1);
+}
+
+#[test]
+fn chat_is_rate_limited_and_floods_close_the_connection() {
+    let mut w = World::new();
+    w.pair(Settings::offline());
+    let line = || ClientMessage::Chat {
+        text: "nice shot".into(),
+    };
+    for _ in 0..CHAT_BURST {
+        let out = w.send(1, line());
+        assert!(sent_to(&out, 2)
+            .iter()
+            .any(|m| matches!(m, ServerMessage::Chat { .. })));
+    }
+    assert_eq!(
+        error_code(&w.send(1, line()), 1),
+        Some(ErrorCode::RateLimited)
+    );
+    w.now += CHAT_REFILL;
+    assert_eq!(error_code(&w.send(1, line()), 1), None);
+
+    w.now += Duration::from_secs(5);
+    let mut closed = false;
+    for _ in 0..=MAX_MESSAGES_PER_SECOND {
+        let out = w.send(2, ClientMessage::Rematch);
+        closed |= out
+            .iter()
+            .any(|o| matches!(o, Output::Close { conn: 2, .. }));
+    }
+    assert!(closed);
+}
+
+#[test]
+fn spectators_watch_but_cannot_act() {
+    let mut w = World::new();
+    let (room, _, _) = w.pair(Settings::offline());
+    w.greet(3);
+    let out = w.send(3, ClientMessage::Spectate { room: room.clone() });
+    assert!(matches!(
+        sent_to(&out, 3)[..],
+        [ServerMessage::Joined {
+            role: Role::Spectator,
+            token: None,
+            ..
+        }]
+    ));
+    let before = w.game(&room);
+    let out = w.send(3, break_shot(&before));
+    assert_eq!(error_code(&out, 3), Some(ErrorCode::Spectator));
+    assert_eq!(w.game(&room), before);
+    // They do see the players' shots.
+    let out = w.send(1, break_shot(&before));
+    assert!(sent_to(&out, 3)
+        .iter()
+        .any(|m| matches!(m, ServerMessage::ShotResolved { .. })));
+}

@@ -1,0 +1,123 @@
+//! `breakshot-server`: serve games, or verify stored ones.
+
+use std::io::Write;
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context;
+use breakshot_server::verify::verify_dir;
+use breakshot_server::{Config, Server};
+use clap::{Parser, Subcommand};
+use tokio::signal::unix::{signal, SignalKind};
+
+#[derive(Parser)]
+#[command(
+    name = "breakshot-server",
+    about = "Breakshot's authoritative game server"
+)]
+struct Cli {
+    /// UDP address to listen on.
+    #[arg(long, default_value = "127.0.0.1:4433")]
+    bind: SocketAddr,
+    /// Directory for the certificate and the game store.
+    #[arg(long, default_value = "breakshot-data")]
+    data: PathBuf,
+    /// Host name or address players use to reach this server, for the invite (defaults to
+    /// the bound address).
+    #[arg(long)]
+    host: Option<String>,
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Re-simulate every stored game and check every recorded hash.
+    Verify {
+        #[arg(long, default_value = "breakshot-data")]
+        data: PathBuf,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match &cli.command {
+        Some(Command::Verify { data }) => verify(data),
+        None => serve(&cli).map(|()| true),
+    };
+    match result {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("breakshot-server: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn serve(cli: &Cli) -> anyhow::Result<()> {
+    tracing_subscriber::fmt()
+        .with_env_filter(
+            tracing_subscriber::EnvFilter::try_from_default_env()
+                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
+        )
+        .with_writer(std::io::stderr)
+        .init();
+    let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
+    runtime.block_on(async {
+        // Listen for Ctrl-C (and SIGTERM from service managers) before announcing the
+        // server, so a signal sent right after the invite line still shuts down cleanly.
+        let mut interrupt = signal(SignalKind::interrupt()).context("listening for Ctrl-C")?;
+        let mut terminate = signal(SignalKind::terminate()).context("listening for SIGTERM")?;
+        let server = Server::bind(&Config::new(cli.bind, cli.data.clone()))?;
+        let mut invite = server.invite();
+        if let Some(host) = &cli.host {
+            invite.host = host.clone();
+        }
+        let mut out = std::io::stdout().lock();
+        writeln!(out, "{invite}")?;
+        out.flush()?;
+        drop(out);
+        tracing::info!(addr = %server.local_addr(), restored = server.restored(), "serving");
+        server
+            .run(async {
+                tokio::select! {
+                    _ = interrupt.recv() => {}
+                    _ = terminate.recv() => {}
+                }
+            })
+            .await?;
+        tracing::info!("stopped");
+        Ok(())
+    })
+}
+
+fn verify(data: &std::path::Path) -> anyhow::Result<bool> {
+    let checks =
+        verify_dir(data).with_context(|| format!("reading games in {}", data.display()))?;
+    let mut failed = 0;
+    for c in &checks {
+        let state = if c.finished { "finished" } else { "unfinished" };
+        match &c.result {
+            Ok(()) => println!(
+                "verified {} game {} ({} commands, {state})",
+                c.room, c.number, c.commands
+            ),
+            Err(e) => {
+                failed += 1;
+                println!(
+                    "FAILED   {} game {} ({} commands, {state}): {e}",
+                    c.room, c.number, c.commands
+                );
+            }
+        }
+    }
+    println!(
+        "{} games: {} verified, {} failed",
+        checks.len(),
+        checks.len() - failed,
+        failed
+    );
+    Ok(failed == 0)
+}

@@ -1,0 +1,680 @@
+//! One room as a pure state machine: two seats, spectators, the game, its record, the shot
+//! clock and the reconnect windows. It never touches a socket or a clock: the caller passes
+//! `now` and carries out the [`Output`]s it returns, in order.
+
+use std::collections::BTreeSet;
+use std::time::{Duration, Instant};
+
+use breakshot_shared::protocol::{
+    command_of, AimAid, ClientMessage, ErrorCode, Role, RoomCode, Ruling, SeatToken, SeatView,
+    ServerMessage, Snapshot,
+};
+use breakshot_shared::replay::GameRecord;
+use breakshot_shared::rules::{Command, Game, Phase, RuleError, Seat, Settings, Variant};
+
+use crate::output::{ConnId, Output, RoomMeta, StoreOp, StoredSeat};
+use crate::secret::TokenDigest;
+
+pub fn index(seat: Seat) -> usize {
+    match seat {
+        Seat::A => 0,
+        Seat::B => 1,
+    }
+}
+
+pub fn other(seat: Seat) -> Seat {
+    match seat {
+        Seat::A => Seat::B,
+        Seat::B => Seat::A,
+    }
+}
+
+const SEATS: [Seat; 2] = [Seat::A, Seat::B];
+
+/// Who sent a message to the room.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Who {
+    pub conn: ConnId,
+    pub role: Role,
+}
+
+#[derive(Clone, Debug)]
+struct SeatState {
+    name: String,
+    digest: TokenDigest,
+    conn: Option<ConnId>,
+    /// While the player is away: when the seat is forfeited.
+    deadline: Option<Instant>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Clock {
+    Off,
+    Running { deadline: Instant },
+    Paused { left: Duration },
+}
+
+/// A room's fixed choices.
+#[derive(Clone, Copy, Debug)]
+pub struct RoomRules {
+    pub variant: Variant,
+    pub settings: Settings,
+    pub aim_aid: AimAid,
+    /// How long a dropped player's seat is held.
+    pub reconnect_window: Duration,
+}
+
+pub struct Room {
+    code: RoomCode,
+    rules: RoomRules,
+    seats: [Option<SeatState>; 2],
+    spectators: BTreeSet<ConnId>,
+    game: Game,
+    record: GameRecord,
+    game_number: u32,
+    called: Option<u8>,
+    clock: Clock,
+    rematch: [bool; 2],
+    /// Set when the room has nothing left to do and may be dropped from memory.
+    closed: bool,
+}
+
+type Refusal = (ErrorCode, String);
+
+fn refuse(code: ErrorCode, message: impl Into<String>) -> Refusal {
+    (code, message.into())
+}
+
+fn error_to(conn: ConnId, (code, message): Refusal) -> Vec<Output> {
+    vec![Output::Send {
+        to: conn,
+        msg: ServerMessage::Error { code, message },
+    }]
+}
+
+impl Room {
+    /// A new room with its creator in seat A. Returns the room and what to do: store it,
+    /// then welcome the creator (with `token`, which only the caller ever sees whole).
+    pub fn create(
+        now: Instant,
+        code: RoomCode,
+        rules: RoomRules,
+        seed: u64,
+        creator: ConnId,
+        name: String,
+        token: SeatToken,
+    ) -> (Room, Vec<Output>) {
+        let seat = SeatState {
+            name,
+            digest: TokenDigest::of(&token),
+            conn: Some(creator),
+            deadline: None,
+        };
+        let mut room = Room {
+            code,
+            rules,
+            seats: [Some(seat), None],
+            spectators: BTreeSet::new(),
+            game: Game::new(rules.variant, rules.settings, seed),
+            record: GameRecord::new(rules.variant, rules.settings, seed),
+            game_number: 1,
+            called: None,
+            clock: Clock::Off,
+            rematch: [false; 2],
+            closed: false,
+        };
+        room.restart_clock(now, Duration::ZERO);
+        let out = vec![
+            Output::Store(StoreOp::Room(room.meta())),
+            room.store_game(),
+            Output::Send {
+                to: creator,
+                msg: ServerMessage::Joined {
+                    role: Role::Player(Seat::A),
+                    token: Some(token),
+                    snapshot: Box::new(room.snapshot(now)),
+                },
+            },
+        ];
+        (room, out)
+    }
+
+    /// A room brought back from the store after a restart: every seat is away, with a fresh
+    /// reconnect window from `now`, and the shot clock paused.
+    pub fn restore(
+        now: Instant,
+        meta: RoomMeta,
+        rules: RoomRules,
+        game_number: u32,
+        record: GameRecord,
+        game: Game,
+    ) -> Room {
+        let seats = meta.seats.map(|s| {
+            s.map(|s| SeatState {
+                name: s.name,
+                digest: s.digest,
+                conn: None,
+                deadline: Some(now + rules.reconnect_window),
+            })
+        });
+        let mut room = Room {
+            code: meta.code,
+            rules,
+            seats,
+            spectators: BTreeSet::new(),
+            game,
+            record,
+            game_number,
+            called: None,
+            clock: Clock::Off,
+            rematch: [false; 2],
+            closed: false,
+        };
+        room.restart_clock(now, Duration::ZERO);
+        room
+    }
+
+    pub fn code(&self) -> &RoomCode {
+        &self.code
+    }
+
+    pub fn game(&self) -> &Game {
+        &self.game
+    }
+
+    pub fn record(&self) -> &GameRecord {
+        &self.record
+    }
+
+    pub fn is_closed(&self) -> bool {
+        self.closed
+    }
+
+    /// The digests of the seats' tokens, for the caller's token index.
+    pub fn seat_digests(&self) -> impl Iterator<Item = (Seat, TokenDigest)> + '_ {
+        SEATS
+            .into_iter()
+            .filter_map(|s| self.seats[index(s)].as_ref().map(|st| (s, st.digest)))
+    }
+
+    pub fn meta(&self) -> RoomMeta {
+        RoomMeta {
+            code: self.code.clone(),
+            variant: self.rules.variant,
+            settings: self.rules.settings,
+            aim_aid: self.rules.aim_aid,
+            seats: self.seats.clone().map(|s| {
+                s.map(|s| StoredSeat {
+                    name: s.name,
+                    digest: s.digest,
+                })
+            }),
+        }
+    }
+
+    /// Everything a client needs to draw the room from scratch.
+    pub fn snapshot(&self, now: Instant) -> Snapshot {
+        Snapshot {
+            room: self.code.clone(),
+            game_number: self.game_number,
+            game: self.game.clone(),
+            seats: self.seats.clone().map(|s| {
+                s.map(|s| SeatView {
+                    name: s.name,
+                    connected: s.conn.is_some(),
+                    reconnect_ms: s.deadline.map(|d| millis(d.saturating_duration_since(now))),
+                })
+            }),
+            aim_aid: self.rules.aim_aid,
+            called: self.called,
+            shot_clock_ms: match self.clock {
+                Clock::Running { deadline } => {
+                    Some(millis(deadline.saturating_duration_since(now)))
+                }
+                _ => None,
+            },
+        }
+    }
+
+    /// Takes the free seat B.
+    pub fn join(
+        &mut self,
+        now: Instant,
+        conn: ConnId,
+        name: String,
+        token: SeatToken,
+    ) -> Vec<Output> {
+        if self.seats[1].is_some() {
+            return error_to(conn, refuse(ErrorCode::RoomFull, "both seats are taken"));
+        }
+        self.seats[1] = Some(SeatState {
+            name: name.clone(),
+            digest: TokenDigest::of(&token),
+            conn: Some(conn),
+            deadline: None,
+        });
+        self.restart_clock(now, Duration::ZERO);
+        let mut out = vec![Output::Store(StoreOp::Room(self.meta()))];
+        out.extend(self.broadcast_except(
+            conn,
+            ServerMessage::PlayerJoined {
+                seat: Seat::B,
+                name,
+            },
+        ));
+        out.push(Output::Send {
+            to: conn,
+            msg: ServerMessage::Joined {
+                role: Role::Player(Seat::B),
+                token: Some(token),
+                snapshot: Box::new(self.snapshot(now)),
+            },
+        });
+        out
+    }
+
+    /// Gives `seat` back to a player who proved it with its token. An older connection still
+    /// holding the seat is closed.
+    pub fn rejoin(
+        &mut self,
+        now: Instant,
+        conn: ConnId,
+        seat: Seat,
+        token: SeatToken,
+    ) -> Vec<Output> {
+        let mut out = Vec::new();
+        let Some(state) = self.seats[index(seat)].as_mut() else {
+            return error_to(conn, refuse(ErrorCode::BadToken, "no such seat"));
+        };
+        if !state.digest.matches(&TokenDigest::of(&token)) {
+            return error_to(conn, refuse(ErrorCode::BadToken, "unknown seat token"));
+        }
+        if let Some(old) = state.conn.replace(conn) {
+            out.push(Output::Close {
+                conn: old,
+                reason: "replaced by a newer connection".into(),
+            });
+        }
+        let was_away = state.deadline.take().is_some();
+        if was_away {
+            self.resume_clock(now);
+        }
+        out.extend(self.broadcast_except(conn, ServerMessage::PlayerBack { seat }));
+        out.push(Output::Send {
+            to: conn,
+            msg: ServerMessage::Joined {
+                role: Role::Player(seat),
+                token: Some(token),
+                snapshot: Box::new(self.snapshot(now)),
+            },
+        });
+        out
+    }
+
+    pub fn spectate(&mut self, now: Instant, conn: ConnId, max: usize) -> Vec<Output> {
+        if self.spectators.len() >= max {
+            return error_to(conn, refuse(ErrorCode::RoomFull, "too many spectators"));
+        }
+        self.spectators.insert(conn);
+        vec![Output::Send {
+            to: conn,
+            msg: ServerMessage::Joined {
+                role: Role::Spectator,
+                token: None,
+                snapshot: Box::new(self.snapshot(now)),
+            },
+        }]
+    }
+
+    /// A message from someone in the room. Chat is rate-limited by the caller.
+    pub fn handle(&mut self, now: Instant, who: Who, msg: ClientMessage) -> Vec<Output> {
+        let seat = match who.role {
+            Role::Player(seat) => seat,
+            Role::Spectator => {
+                if let ClientMessage::Chat { text } = msg {
+                    return self.broadcast(ServerMessage::Chat {
+                        from: "spectator".into(),
+                        text,
+                    });
+                }
+                return error_to(
+                    who.conn,
+                    refuse(ErrorCode::Spectator, "spectators cannot act on the game"),
+                );
+            }
+        };
+        let result = match msg {
+            ClientMessage::Chat { text } => Ok(self.chat(seat, text)),
+            ClientMessage::Rematch => self.rematch(now, seat),
+            ClientMessage::CallPocket { turn, pocket } => self.call_pocket(seat, turn, pocket),
+            other => match command_of(&other, self.called) {
+                Some((turn, command)) => self.play(now, seat, turn, command),
+                None => Err(refuse(ErrorCode::Unexpected, "not a message for a room")),
+            },
+        };
+        result.unwrap_or_else(|r| error_to(who.conn, r))
+    }
+
+    /// A connection went away.
+    pub fn disconnect(&mut self, now: Instant, conn: ConnId) -> Vec<Output> {
+        self.spectators.remove(&conn);
+        let Some(seat) = SEATS.into_iter().find(|s| {
+            self.seats[index(*s)]
+                .as_ref()
+                .is_some_and(|st| st.conn == Some(conn))
+        }) else {
+            return Vec::new();
+        };
+        let window = self.rules.reconnect_window;
+        if let Some(state) = self.seats[index(seat)].as_mut() {
+            state.conn = None;
+            state.deadline = Some(now + window);
+        }
+        self.pause_clock(now);
+        self.broadcast(ServerMessage::PlayerLeft {
+            seat,
+            reconnect_ms: millis(window),
+        })
+    }
+
+    /// The earliest instant at which [`Room::tick`] has something to do.
+    pub fn next_deadline(&self) -> Option<Instant> {
+        let seats = self.seats.iter().flatten().filter_map(|s| s.deadline);
+        let clock = match self.clock {
+            Clock::Running { deadline } => Some(deadline),
+            _ => None,
+        };
+        seats.chain(clock).min()
+    }
+
+    /// Forfeits seats whose window ran out and runs out the shot clock.
+    pub fn tick(&mut self, now: Instant) -> Vec<Output> {
+        let mut out = Vec::new();
+        for seat in SEATS {
+            let expired = self.seats[index(seat)]
+                .as_ref()
+                .and_then(|s| s.deadline)
+                .is_some_and(|d| d <= now);
+            if !expired {
+                continue;
+            }
+            if let Some(s) = self.seats[index(seat)].as_mut() {
+                s.deadline = None;
+            }
+            let opponent_present = self.seats[index(other(seat))].is_some();
+            if !self.is_over() && opponent_present {
+                out.extend(
+                    self.play(now, seat, None, Command::Concede)
+                        .unwrap_or_default(),
+                );
+            }
+        }
+        if let Clock::Running { deadline } = self.clock {
+            if deadline <= now && !self.is_over() {
+                let seat = self.game.to_move();
+                self.clock = Clock::Off;
+                out.extend(
+                    self.play(now, seat, None, Command::TimeExpired)
+                        .unwrap_or_default(),
+                );
+            }
+        }
+        let nobody_here = self.connections().next().is_none();
+        let nobody_coming = self.seats.iter().flatten().all(|s| s.deadline.is_none());
+        if nobody_here && nobody_coming && !self.closed {
+            self.closed = true;
+            if !self.is_over() {
+                // Abandoned before anyone could forfeit (no opponent ever came).
+                out.push(Output::Store(StoreOp::Game {
+                    room: self.code.clone(),
+                    number: self.game_number,
+                    record: self.record.encode(),
+                    finished: true,
+                }));
+            }
+        }
+        out
+    }
+
+    fn is_over(&self) -> bool {
+        matches!(self.game.phase(), Phase::Over { .. })
+    }
+
+    fn both_seated(&self) -> bool {
+        self.seats.iter().all(Option::is_some) || matches!(self.rules.variant, Variant::Practice)
+    }
+
+    /// Checks, applies, records, and tells everyone, in that order.
+    fn play(
+        &mut self,
+        now: Instant,
+        seat: Seat,
+        turn: Option<u32>,
+        command: Command,
+    ) -> Result<Vec<Output>, Refusal> {
+        if self.is_over() {
+            return Err(refuse(ErrorCode::GameOver, "the game is over"));
+        }
+        if !self.both_seated() {
+            return Err(refuse(ErrorCode::Unexpected, "waiting for an opponent"));
+        }
+        let answered = self.game.turn();
+        if let Some(t) = turn {
+            if t != answered {
+                return Err(refuse(
+                    ErrorCode::StaleTurn,
+                    format!("turn {t} is over; the table is at turn {answered}"),
+                ));
+            }
+        }
+        // Work on a copy: a refusal leaves the game exactly as it was.
+        let mut next = self.game.clone();
+        let verdict = next.apply(seat, &command).map_err(rule_refusal)?;
+        let hash = verdict.shot.as_ref().map(|s| s.hash);
+        let duration = verdict
+            .shot
+            .as_ref()
+            .and_then(|s| s.events.last())
+            .map_or(0.0, |e| e.t);
+        self.record.push(seat, command.clone(), hash);
+        self.game = next;
+        if self.game.turn() != answered {
+            self.called = None;
+        }
+        let ruling = Ruling {
+            foul: verdict.foul,
+            reasons: verdict.reasons.clone(),
+            pocketed: verdict
+                .shot
+                .as_ref()
+                .map(|s| s.pocketed.clone())
+                .unwrap_or_default(),
+            next: verdict.next,
+        };
+        let mut out = vec![self.store_game()];
+        match hash {
+            Some(hash) => {
+                out.extend(self.broadcast(ServerMessage::ShotAccepted {
+                    turn: answered,
+                    seat,
+                    command,
+                }));
+                out.extend(self.broadcast(ServerMessage::ShotResolved {
+                    turn: answered,
+                    hash,
+                    balls: self.game.balls().to_vec(),
+                    ruling,
+                }));
+            }
+            None => out.extend(self.broadcast(ServerMessage::Applied {
+                turn: answered,
+                seat,
+                command,
+                ruling,
+            })),
+        }
+        if let Phase::Over { winner, reason } = self.game.phase() {
+            let msg = ServerMessage::GameOver {
+                winner: *winner,
+                reason: reason.clone(),
+            };
+            self.clock = Clock::Off;
+            out.extend(self.broadcast(msg));
+        } else {
+            let animation = Duration::try_from_secs_f64(duration).unwrap_or(Duration::ZERO);
+            self.restart_clock(now, animation);
+            let msg = ServerMessage::TurnChanged {
+                turn: self.game.turn(),
+                to_move: self.game.to_move(),
+                shot_clock_ms: self.clock_ms(now),
+            };
+            out.extend(self.broadcast(msg));
+        }
+        Ok(out)
+    }
+
+    fn call_pocket(&mut self, seat: Seat, turn: u32, pocket: u8) -> Result<Vec<Output>, Refusal> {
+        if self.is_over() {
+            return Err(refuse(ErrorCode::GameOver, "the game is over"));
+        }
+        if turn != self.game.turn() {
+            return Err(refuse(ErrorCode::StaleTurn, "that turn is over"));
+        }
+        if seat != self.game.to_move() {
+            return Err(refuse(ErrorCode::NotYourTurn, "only the shooter calls"));
+        }
+        self.called = Some(pocket);
+        Ok(self.broadcast(ServerMessage::PocketCalled { turn, seat, pocket }))
+    }
+
+    fn rematch(&mut self, now: Instant, seat: Seat) -> Result<Vec<Output>, Refusal> {
+        if !self.is_over() {
+            return Err(refuse(ErrorCode::Unexpected, "the game is still on"));
+        }
+        self.rematch[index(seat)] = true;
+        if !self.rematch.iter().all(|r| *r) {
+            return Ok(self.broadcast(ServerMessage::RematchOffered { seat }));
+        }
+        // The new game's seed comes from the old one so the room needs no randomness here;
+        // it is recorded, so replays do not depend on how it was chosen.
+        let seed = self
+            .record
+            .seed
+            .wrapping_mul(0x9e37_79b9_7f4a_7c15)
+            .wrapping_add(u64::from(self.game_number));
+        self.game = Game::new(self.rules.variant, self.rules.settings, seed);
+        self.record = GameRecord::new(self.rules.variant, self.rules.settings, seed);
+        self.game_number += 1;
+        self.rematch = [false; 2];
+        self.called = None;
+        self.restart_clock(now, Duration::ZERO);
+        let mut out = vec![self.store_game()];
+        out.extend(self.broadcast(ServerMessage::GameStarted {
+            snapshot: Box::new(self.snapshot(now)),
+        }));
+        Ok(out)
+    }
+
+    fn chat(&self, seat: Seat, text: String) -> Vec<Output> {
+        let from = self.seats[index(seat)]
+            .as_ref()
+            .map_or_else(String::new, |s| s.name.clone());
+        self.broadcast(ServerMessage::Chat { from, text })
+    }
+
+    fn store_game(&self) -> Output {
+        Output::Store(StoreOp::Game {
+            room: self.code.clone(),
+            number: self.game_number,
+            record: self.record.encode(),
+            finished: self.is_over(),
+        })
+    }
+
+    fn connections(&self) -> impl Iterator<Item = ConnId> + '_ {
+        self.seats
+            .iter()
+            .flatten()
+            .filter_map(|s| s.conn)
+            .chain(self.spectators.iter().copied())
+    }
+
+    fn broadcast(&self, msg: ServerMessage) -> Vec<Output> {
+        self.connections()
+            .map(|to| Output::Send {
+                to,
+                msg: msg.clone(),
+            })
+            .collect()
+    }
+
+    fn broadcast_except(&self, except: ConnId, msg: ServerMessage) -> Vec<Output> {
+        self.connections()
+            .filter(|c| *c != except)
+            .map(|to| Output::Send {
+                to,
+                msg: msg.clone(),
+            })
+            .collect()
+    }
+
+    fn everyone_seated_is_here(&self) -> bool {
+        self.seats.iter().flatten().all(|s| s.conn.is_some())
+    }
+
+    /// Starts the shot clock for a new turn (if the room has one), paused if a player is
+    /// away. `animation` is how long the last shot takes to play out on screen.
+    fn restart_clock(&mut self, now: Instant, animation: Duration) {
+        self.clock = match self.rules.settings.shot_clock {
+            Some(secs) if !self.is_over() && self.seats.iter().all(Option::is_some) => {
+                let left = Duration::from_secs(u64::from(secs)) + animation;
+                if self.everyone_seated_is_here() {
+                    Clock::Running {
+                        deadline: now + left,
+                    }
+                } else {
+                    Clock::Paused { left }
+                }
+            }
+            _ => Clock::Off,
+        };
+    }
+
+    fn pause_clock(&mut self, now: Instant) {
+        if let Clock::Running { deadline } = self.clock {
+            self.clock = Clock::Paused {
+                left: deadline.saturating_duration_since(now),
+            };
+        }
+    }
+
+    fn resume_clock(&mut self, now: Instant) {
+        if let Clock::Paused { left } = self.clock {
+            if self.everyone_seated_is_here() {
+                self.clock = Clock::Running {
+                    deadline: now + left,
+                };
+            }
+        }
+    }
+
+    fn clock_ms(&self, now: Instant) -> Option<u64> {
+        match self.clock {
+            Clock::Running { deadline } => Some(millis(deadline.saturating_duration_since(now))),
+            Clock::Paused { left } => Some(millis(left)),
+            Clock::Off => None,
+        }
+    }
+}
+
+fn rule_refusal(e: RuleError) -> Refusal {
+    let code = match e {
+        RuleError::NotYourTurn => ErrorCode::NotYourTurn,
+        _ => ErrorCode::Illegal,
+    };
+    (code, e.to_string())
+}
+
+fn millis(d: Duration) -> u64 {
+    u64::try_from(d.as_millis()).unwrap_or(u64::MAX)
+}

@@ -1,0 +1,377 @@
+//! The driver: binds the QUIC endpoint, runs the hub on its own thread and the store on a
+//! writer thread, and moves bytes between them and the connections.
+//!
+//! ```text
+//! connections --HubEvent--> hub thread --Vec<Output>--> writer thread --Outbound--> connections
+//!                                                       (stores, then sends)
+//! ```
+//!
+//! The writer thread takes whatever batches are waiting, commits all their store operations
+//! in one transaction, and only then hands their messages to the connections: results are
+//! never shown before they are durable, and concurrent games share one disk flush.
+
+use std::collections::BTreeMap;
+use std::future::Future;
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use breakshot_shared::protocol::{limits, reference_hash, Fingerprint, Invite};
+use breakshot_shared::replay::GameRecord;
+use thiserror::Error;
+use tokio::sync::mpsc::{unbounded_channel, UnboundedSender};
+use tokio::sync::Notify;
+
+use crate::conn::{self, HubEvent, Outbound};
+use crate::hub::{Hub, HubConfig};
+use crate::output::{ConnId, Output};
+use crate::secret::{OsEntropy, TestEntropy};
+use crate::store::{Store, StoreError};
+use crate::tls::{Identity, TlsError};
+
+#[derive(Clone, Debug)]
+pub struct Config {
+    pub bind: SocketAddr,
+    pub data: PathBuf,
+    pub reconnect_window: Duration,
+    pub max_rooms: usize,
+    /// Tests only: draw room codes, seat tokens and game seeds from this seed instead of the
+    /// operating system, so a test's games are the same on every run. Never set in service:
+    /// predictable tokens let anyone take a seat.
+    pub predictable_seed: Option<u64>,
+}
+
+impl Config {
+    pub fn new(bind: SocketAddr, data: PathBuf) -> Config {
+        Config {
+            bind,
+            data,
+            reconnect_window: limits::RECONNECT_WINDOW,
+            max_rooms: limits::MAX_ROOMS,
+            predictable_seed: None,
+        }
+    }
+}
+
+#[derive(Debug, Error)]
+pub enum ServerError {
+    #[error("data directory {path}: {source}")]
+    DataDir {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("{0}")]
+    Tls(#[from] TlsError),
+    #[error("store: {0}")]
+    Store(#[from] StoreError),
+    #[error("binding {addr}: {source}")]
+    Bind {
+        addr: SocketAddr,
+        source: std::io::Error,
+    },
+    #[error("the reference shot does not simulate: {0}")]
+    Physics(String),
+    #[error("a storage write failed, so the server stopped: {0}")]
+    StorageFailed(String),
+}
+
+/// A bound server, ready to run.
+pub struct Server {
+    endpoint: quinn::Endpoint,
+    fingerprint: Fingerprint,
+    hub: Hub,
+    store: Store,
+    restored: usize,
+}
+
+/// What the writer thread is told.
+enum WriterMsg {
+    Register(ConnId, UnboundedSender<Outbound>),
+    Unregister(ConnId),
+    Batch(Vec<Output>),
+}
+
+impl Server {
+    /// Opens the data directory (certificate and store), reloads unfinished games, and binds.
+    /// Must be called inside a tokio runtime.
+    pub fn bind(config: &Config) -> Result<Server, ServerError> {
+        std::fs::create_dir_all(&config.data).map_err(|source| ServerError::DataDir {
+            path: config.data.display().to_string(),
+            source,
+        })?;
+        let identity = Identity::load_or_create(&config.data)?;
+        let store = Store::open(&config.data)?;
+        let physics = reference_hash().map_err(|e| ServerError::Physics(e.to_string()))?;
+        let mut hub = Hub::new(
+            HubConfig {
+                reconnect_window: config.reconnect_window,
+                max_rooms: config.max_rooms,
+                physics,
+            },
+            match config.predictable_seed {
+                Some(seed) => Box::new(TestEntropy(seed)),
+                None => Box::new(OsEntropy),
+            },
+        );
+        let restored = restore(&store, &mut hub)?;
+        let endpoint =
+            endpoint(identity.server_config()?, config.bind).map_err(|source| {
+                ServerError::Bind {
+                    addr: config.bind,
+                    source,
+                }
+            })?;
+        Ok(Server {
+            endpoint,
+            fingerprint: identity.fingerprint(),
+            hub,
+            store,
+            restored,
+        })
+    }
+
+    pub fn local_addr(&self) -> SocketAddr {
+        // The endpoint was bound to a real socket in `bind`.
+        self.endpoint
+            .local_addr()
+            .unwrap_or_else(|_| SocketAddr::from(([0, 0, 0, 0], 0)))
+    }
+
+    pub fn fingerprint(&self) -> Fingerprint {
+        self.fingerprint
+    }
+
+    /// Games brought back from the store at start.
+    pub fn restored(&self) -> usize {
+        self.restored
+    }
+
+    /// The server's invite (no room): `breakshot://HOST:PORT#FINGERPRINT`.
+    pub fn invite(&self) -> Invite {
+        let addr = self.local_addr();
+        let host = match addr.ip() {
+            std::net::IpAddr::V6(ip) => format!("[{ip}]"),
+            ip => ip.to_string(),
+        };
+        Invite {
+            host,
+            port: addr.port(),
+            room: None,
+            fingerprint: self.fingerprint,
+        }
+    }
+
+    /// Serves until `shutdown` resolves (or a storage write fails), then closes every
+    /// connection, finishes pending writes and returns.
+    pub async fn run(self, shutdown: impl Future<Output = ()>) -> Result<(), ServerError> {
+        let Server {
+            endpoint,
+            hub,
+            store,
+            ..
+        } = self;
+        let (hub_tx, hub_rx) = mpsc::channel::<HubEvent>();
+        let (writer_tx, writer_rx) = mpsc::channel::<WriterMsg>();
+        let failed = Arc::new(Notify::new());
+        let hub_thread = spawn_hub(hub, hub_rx, writer_tx.clone());
+        let writer_thread = spawn_writer(store, writer_rx, failed.clone());
+
+        let mut next_id: ConnId = 0;
+        tokio::pin!(shutdown);
+        let outcome = loop {
+            tokio::select! {
+                _ = &mut shutdown => break Ok(()),
+                _ = failed.notified() => break Err(()),
+                incoming = endpoint.accept() => {
+                    let Some(incoming) = incoming else { break Ok(()) };
+                    next_id += 1;
+                    let id = next_id;
+                    let (tx, rx) = unbounded_channel();
+                    if writer_tx.send(WriterMsg::Register(id, tx)).is_err() {
+                        break Err(());
+                    }
+                    let hub_tx = hub_tx.clone();
+                    let writer_tx = writer_tx.clone();
+                    tokio::spawn(async move {
+                        match incoming.await {
+                            Ok(connection) => {
+                                tracing::debug!(conn = id, peer = %connection.remote_address(), "connected");
+                                conn::serve(id, connection, hub_tx, rx).await;
+                            }
+                            Err(e) => tracing::debug!(conn = id, error = %e, "handshake failed"),
+                        }
+                        let _ = writer_tx.send(WriterMsg::Unregister(id));
+                    });
+                }
+            }
+        };
+        tracing::info!("shutting down");
+        endpoint.close(conn::CLOSE_NORMAL.into(), b"server shutting down");
+        let _ = hub_tx.send(HubEvent::Shutdown);
+        drop(writer_tx);
+        let joined = tokio::task::spawn_blocking(move || {
+            let _ = hub_thread.join();
+            writer_thread.join()
+        })
+        .await;
+        let _ = tokio::time::timeout(Duration::from_secs(3), endpoint.wait_idle()).await;
+        match (outcome, joined) {
+            (Ok(()), Ok(Ok(Ok(())))) => Ok(()),
+            (_, Ok(Ok(Err(e)))) => Err(ServerError::StorageFailed(e)),
+            _ => Err(ServerError::StorageFailed(
+                "the writer thread stopped".into(),
+            )),
+        }
+    }
+}
+
+/// Socket buffer the server asks for (the kernel may cap it, e.g. at `net.core.rmem_max`).
+const SOCKET_BUFFER: usize = 4 * 1024 * 1024;
+
+/// The QUIC endpoint on one UDP socket for every client. The socket's buffers are enlarged:
+/// with hundreds of connections a burst overflows the default receive buffer, and each
+/// dropped datagram costs a QUIC loss-recovery delay.
+fn endpoint(config: quinn::ServerConfig, addr: SocketAddr) -> std::io::Result<quinn::Endpoint> {
+    let socket = std::net::UdpSocket::bind(addr)?;
+    let state = quinn::udp::UdpSocketState::new((&socket).into())?;
+    for (what, result) in [
+        ("receive", state.set_recv_buffer_size((&socket).into(), SOCKET_BUFFER)),
+        ("send", state.set_send_buffer_size((&socket).into(), SOCKET_BUFFER)),
+    ] {
+        if let Err(e) = result {
+            tracing::warn!(error = %e, "cannot enlarge the UDP {what} buffer");
+        }
+    }
+    quinn::Endpoint::new(
+        quinn::EndpointConfig::default(),
+        Some(config),
+        socket,
+        Arc::new(quinn::TokioRuntime),
+    )
+}
+
+/// Binds and serves until `shutdown` resolves.
+pub async fn run(config: Config, shutdown: impl Future<Output = ()>) -> Result<(), ServerError> {
+    Server::bind(&config)?.run(shutdown).await
+}
+
+/// Replays every unfinished game, checking each stored hash, and hands it to the hub.
+fn restore(store: &Store, hub: &mut Hub) -> Result<usize, ServerError> {
+    let now = Instant::now();
+    let mut restored = 0;
+    for stored in store.unfinished()? {
+        let room = stored.meta.code.clone();
+        let record = match GameRecord::decode(&stored.record) {
+            Ok(r) => r,
+            Err(e) => {
+                tracing::error!(%room, game = stored.number, error = %e, "stored record unreadable; not restored");
+                continue;
+            }
+        };
+        match record.replay() {
+            Ok(game) => {
+                tracing::info!(%room, game = stored.number, commands = record.entries.len(), "game restored");
+                hub.restore(now, stored.meta, stored.number, record, game);
+                restored += 1;
+            }
+            Err(e) => {
+                tracing::error!(%room, game = stored.number, error = %e, "stored game does not replay; not restored")
+            }
+        }
+    }
+    Ok(restored)
+}
+
+fn spawn_hub(
+    mut hub: Hub,
+    events: Receiver<HubEvent>,
+    writer: Sender<WriterMsg>,
+) -> JoinHandle<()> {
+    std::thread::spawn(move || loop {
+        let wait = hub
+            .next_deadline()
+            .map(|d| d.saturating_duration_since(Instant::now()));
+        let event = match wait {
+            Some(w) => events.recv_timeout(w),
+            None => events.recv().map_err(|_| RecvTimeoutError::Disconnected),
+        };
+        let now = Instant::now();
+        let out = match event {
+            Ok(HubEvent::Connected(id)) => {
+                hub.connected(now, id);
+                Vec::new()
+            }
+            Ok(HubEvent::Message(id, msg)) => hub.handle(now, id, msg),
+            Ok(HubEvent::Disconnected(id)) => hub.disconnected(now, id),
+            Ok(HubEvent::Shutdown) | Err(RecvTimeoutError::Disconnected) => return,
+            Err(RecvTimeoutError::Timeout) => hub.tick(now),
+        };
+        // Deadlines that passed while handling messages are handled too.
+        let mut out = out;
+        if hub.next_deadline().is_some_and(|d| d <= now) {
+            out.extend(hub.tick(now));
+        }
+        if !out.is_empty() && writer.send(WriterMsg::Batch(out)).is_err() {
+            return;
+        }
+    })
+}
+
+fn spawn_writer(
+    mut store: Store,
+    inbox: Receiver<WriterMsg>,
+    failed: Arc<Notify>,
+) -> JoinHandle<Result<(), String>> {
+    std::thread::spawn(move || {
+        let mut conns: BTreeMap<ConnId, UnboundedSender<Outbound>> = BTreeMap::new();
+        while let Ok(first) = inbox.recv() {
+            // Group commit: everything already waiting goes into one transaction.
+            let mut msgs = vec![first];
+            msgs.extend(inbox.try_iter());
+            let ops: Vec<_> = msgs
+                .iter()
+                .filter_map(|m| match m {
+                    WriterMsg::Batch(out) => Some(out.iter().filter_map(|o| match o {
+                        Output::Store(op) => Some(op),
+                        _ => None,
+                    })),
+                    _ => None,
+                })
+                .flatten()
+                .collect();
+            if !ops.is_empty() {
+                if let Err(e) = store.apply(&ops) {
+                    tracing::error!(error = %e, "storage write failed; stopping without showing the unstored results");
+                    failed.notify_one();
+                    return Err(e.to_string());
+                }
+            }
+            for msg in msgs {
+                match msg {
+                    WriterMsg::Register(id, tx) => {
+                        conns.insert(id, tx);
+                    }
+                    WriterMsg::Unregister(id) => {
+                        conns.remove(&id);
+                    }
+                    WriterMsg::Batch(out) => {
+                        for o in out {
+                            let (to, what) = match o {
+                                Output::Send { to, msg } => (to, Outbound::Message(msg)),
+                                Output::Close { conn, reason } => (conn, Outbound::Close(reason)),
+                                Output::Store(_) => continue,
+                            };
+                            if let Some(tx) = conns.get(&to) {
+                                let _ = tx.send(what);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        Ok(())
+    })
+}

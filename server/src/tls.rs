@@ -1,0 +1,145 @@
+//! The server's identity: a self-signed certificate made once and kept in the data
+//! directory, so its SHA-256 fingerprint (what invites carry and clients pin) never changes.
+
+use std::fs;
+use std::io::Write;
+use std::os::unix::fs::OpenOptionsExt;
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Duration;
+
+use breakshot_shared::protocol::{Fingerprint, ALPN};
+use rustls::pki_types::{CertificateDer, PrivateKeyDer, PrivatePkcs8KeyDer};
+use sha2::{Digest, Sha256};
+use thiserror::Error;
+
+pub const CERT_FILE: &str = "cert.der";
+pub const KEY_FILE: &str = "key.der";
+
+/// Keep-alive so a thinking player's connection never idles out.
+pub const KEEP_ALIVE: Duration = Duration::from_secs(5);
+/// A peer silent this long is gone.
+pub const IDLE_TIMEOUT: Duration = Duration::from_secs(30);
+
+#[derive(Debug, Error)]
+pub enum TlsError {
+    #[error("{path}: {source}")]
+    Io {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error("making the certificate: {0}")]
+    Generate(#[from] rcgen::Error),
+    #[error("TLS: {0}")]
+    Rustls(#[from] rustls::Error),
+    #[error("QUIC TLS: {0}")]
+    Quic(String),
+}
+
+pub struct Identity {
+    pub cert: CertificateDer<'static>,
+    pub key: PrivatePkcs8KeyDer<'static>,
+}
+
+impl Identity {
+    /// Loads the identity from `dir`, making and saving one on first start.
+    pub fn load_or_create(dir: &Path) -> Result<Identity, TlsError> {
+        let cert_path = dir.join(CERT_FILE);
+        let key_path = dir.join(KEY_FILE);
+        let io = |path: &Path| {
+            let path = path.display().to_string();
+            move |source| TlsError::Io { path, source }
+        };
+        if cert_path.exists() && key_path.exists() {
+            let cert = fs::read(&cert_path).map_err(io(&cert_path))?;
+            let key = fs::read(&key_path).map_err(io(&key_path))?;
+            return Ok(Identity {
+                cert: CertificateDer::from(cert),
+                key: PrivatePkcs8KeyDer::from(key),
+            });
+        }
+        let made = rcgen::generate_simple_self_signed(vec![
+            "breakshot".to_string(),
+            "localhost".to_string(),
+        ])?;
+        let key = made.signing_key.serialize_der();
+        // The key first, readable by the owner only; the certificate last, so a crash in
+        // between leaves no certificate without its key.
+        write_private(&key_path, &key).map_err(io(&key_path))?;
+        fs::write(&cert_path, made.cert.der()).map_err(io(&cert_path))?;
+        Ok(Identity {
+            cert: made.cert.der().clone(),
+            key: PrivatePkcs8KeyDer::from(key),
+        })
+    }
+
+    pub fn fingerprint(&self) -> Fingerprint {
+        fingerprint_of(&self.cert)
+    }
+
+    /// The QUIC server configuration: ring only, TLS 1.3, ALPN `breakshot/1`, keep-alive and
+    /// idle timeout as above.
+    pub fn server_config(&self) -> Result<quinn::ServerConfig, TlsError> {
+        let provider = Arc::new(rustls::crypto::ring::default_provider());
+        let mut tls = rustls::ServerConfig::builder_with_provider(provider)
+            .with_protocol_versions(&[&rustls::version::TLS13])?
+            .with_no_client_auth()
+            .with_single_cert(
+                vec![self.cert.clone()],
+                PrivateKeyDer::Pkcs8(self.key.clone_key()),
+            )?;
+        tls.alpn_protocols = vec![ALPN.to_vec()];
+        let crypto = quinn::crypto::rustls::QuicServerConfig::try_from(tls)
+            .map_err(|e| TlsError::Quic(e.to_string()))?;
+        let mut config = quinn::ServerConfig::with_crypto(Arc::new(crypto));
+        let mut transport = quinn::TransportConfig::default();
+        transport.keep_alive_interval(Some(KEEP_ALIVE));
+        transport.max_idle_timeout(Some(
+            quinn::IdleTimeout::try_from(IDLE_TIMEOUT)
+                .map_err(|e| TlsError::Quic(e.to_string()))?,
+        ));
+        // One stream per client, opened by the client.
+        transport.max_concurrent_bidi_streams(1u32.into());
+        transport.max_concurrent_uni_streams(0u32.into());
+        config.transport_config(Arc::new(transport));
+        Ok(config)
+    }
+}
+
+pub fn fingerprint_of(cert: &CertificateDer<'_>) -> Fingerprint {
+    Fingerprint(Sha256::digest(cert.as_ref()).into())
+}
+
+fn write_private(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let mut f = fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(true)
+        .mode(0o600)
+        .open(path)?;
+    f.write_all(bytes)?;
+    f.sync_all()
+}
+
+#[cfg(test)]
+mod tests {
+    use std::os::unix::fs::PermissionsExt;
+
+    use super::*;
+
+    #[test]
+    fn the_identity_is_made_once_and_kept_private() {
+        let dir = std::env::temp_dir().join(format!("breakshot-tls-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let first = Identity::load_or_create(&dir).unwrap();
+        let again = Identity::load_or_create(&dir).unwrap();
+        assert_eq!(first.fingerprint(), again.fingerprint());
+        let mode = fs::metadata(dir.join(KEY_FILE))
+            .unwrap()
+            .permissions()
+            .mode();
+        assert_eq!(mode & 0o777, 0o600);
+        assert!(first.server_config().is_ok());
+        fs::remove_dir_all(&dir).unwrap();
+    }
+}

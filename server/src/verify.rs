@@ -1,0 +1,49 @@
+//! Offline verification: re-simulate every stored game and check every recorded hash.
+
+use std::path::Path;
+
+use breakshot_shared::protocol::RoomCode;
+use breakshot_shared::replay::GameRecord;
+
+use crate::store::{Store, StoreError, DB_FILE};
+
+/// The verdict on one stored game.
+#[derive(Debug)]
+pub struct GameCheck {
+    pub room: RoomCode,
+    pub number: u32,
+    pub commands: usize,
+    pub finished: bool,
+    /// `Err` names the first command whose replay differs (or why the record is unreadable).
+    pub result: Result<(), String>,
+}
+
+/// Checks every game stored in `dir`.
+pub fn verify_dir(dir: &Path) -> Result<Vec<GameCheck>, StoreError> {
+    if !dir.join(DB_FILE).exists() {
+        return Err(StoreError::Sql(rusqlite::Error::InvalidPath(
+            dir.join(DB_FILE),
+        )));
+    }
+    let store = Store::open(dir)?;
+    Ok(store
+        .all()?
+        .into_iter()
+        .map(|g| {
+            let (commands, result) = match GameRecord::decode(&g.record) {
+                Ok(record) => (
+                    record.entries.len(),
+                    record.replay().map(|_| ()).map_err(|e| e.to_string()),
+                ),
+                Err(e) => (0, Err(format!("unreadable record: {e}"))),
+            };
+            GameCheck {
+                room: g.meta.code,
+                number: g.number,
+                commands,
+                finished: g.finished,
+                result,
+            }
+        })
+        .collect())
+}
