@@ -1,5 +1,7 @@
 //! Breakshot's game client. The window (the `breakshot` binary) only reads input and draws;
 //! everything that can be computed without a window lives here and is tested here.
 
+pub mod bot;
+pub mod net;
 pub mod play;
 pub mod view;

@@ -1,0 +1,73 @@
+//! `breakshot-bot --server URL --games N [--json]`: plays N complete games against a server
+//! (two bot connections per game) and reports shots, desyncs and shot round trips.
+
+use std::process::ExitCode;
+
+use anyhow::Context;
+use breakshot_client::bot::{run, BotConfig};
+use breakshot_shared::protocol::Invite;
+use clap::Parser;
+
+#[derive(Parser)]
+#[command(
+    name = "breakshot-bot",
+    about = "Play complete games against a Breakshot server"
+)]
+struct Cli {
+    /// The server's invite: breakshot://HOST:PORT#FINGERPRINT
+    #[arg(long)]
+    server: String,
+    /// Games to play at once.
+    #[arg(long, default_value_t = 1)]
+    games: usize,
+    /// Seed for the bots' aim noise.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Pause before each move (milliseconds), as a player would think.
+    #[arg(long, default_value_t = 0)]
+    think_ms: u64,
+    /// Print one JSON object instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+fn main() -> ExitCode {
+    match main_inner() {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("breakshot-bot: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn main_inner() -> anyhow::Result<bool> {
+    let cli = Cli::parse();
+    let invite: Invite = cli.server.parse().context("--server")?;
+    let mut config = BotConfig::new(invite, cli.games);
+    config.seed = cli.seed;
+    config.think = std::time::Duration::from_millis(cli.think_ms);
+    let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
+    let report = runtime.block_on(run(&config));
+    for e in &report.errors {
+        eprintln!("breakshot-bot: {e}");
+    }
+    if cli.json {
+        println!("{}", report.to_json());
+    } else {
+        println!(
+            "games completed: {} of {}",
+            report.games_completed, cli.games
+        );
+        println!("shots:           {}", report.shots);
+        println!("desyncs:         {}", report.desyncs);
+        println!("rejoins:         {}", report.rejoins);
+        println!(
+            "shot round trip: p50 {:.2} ms, p99 {:.2} ms",
+            report.percentile_ms(0.5),
+            report.percentile_ms(0.99)
+        );
+    }
+    Ok(report.games_completed as usize == cli.games && report.desyncs == 0)
+}

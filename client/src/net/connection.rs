@@ -1,0 +1,157 @@
+//! One connection to a server: QUIC with a pinned certificate, one bidirectional stream,
+//! `Hello` first, then framed messages both ways.
+
+use std::net::SocketAddr;
+
+use breakshot_shared::protocol::{
+    decode_payload, encode_frame, payload_len, reference_hash, ClientMessage, FrameError, Invite,
+    ServerMessage, HEADER_LEN, PROTOCOL_VERSION,
+};
+use thiserror::Error;
+
+use super::pinned::client_config;
+
+#[derive(Debug, Error)]
+pub enum NetError {
+    #[error("cannot resolve {0}")]
+    Resolve(String),
+    #[error("cannot connect: {0}")]
+    Connect(String),
+    #[error("connection lost: {0}")]
+    Lost(String),
+    #[error("the server refused us: {0}")]
+    Rejected(String),
+    #[error("bad frame from the server: {0}")]
+    Frame(#[from] FrameError),
+    #[error("the server sent {0} before Welcome")]
+    Handshake(String),
+}
+
+/// A client endpoint for any number of connections.
+pub fn endpoint() -> Result<quinn::Endpoint, NetError> {
+    let any: SocketAddr = ([0, 0, 0, 0], 0).into();
+    quinn::Endpoint::client(any).map_err(|e| NetError::Connect(e.to_string()))
+}
+
+pub struct Connection {
+    conn: quinn::Connection,
+    writer: Writer,
+    reader: Reader,
+}
+
+/// The sending half of a connection.
+pub struct Writer {
+    send: quinn::SendStream,
+}
+
+/// The receiving half of a connection.
+pub struct Reader {
+    conn: quinn::Connection,
+    recv: quinn::RecvStream,
+}
+
+impl Connection {
+    /// Connects to the server the invite names, trusting only its fingerprint, and
+    /// completes the handshake (protocol version and physics reference hash).
+    pub async fn open(endpoint: &quinn::Endpoint, invite: &Invite) -> Result<Connection, NetError> {
+        Self::open_as(endpoint, invite, PROTOCOL_VERSION).await
+    }
+
+    /// [`Connection::open`] claiming another protocol version (to test refusals).
+    pub async fn open_as(
+        endpoint: &quinn::Endpoint,
+        invite: &Invite,
+        protocol: u32,
+    ) -> Result<Connection, NetError> {
+        let physics = reference_hash().map_err(|e| NetError::Connect(e.to_string()))?;
+        let addr = tokio::net::lookup_host(invite.authority())
+            .await
+            .map_err(|_| NetError::Resolve(invite.authority()))?
+            .find(SocketAddr::is_ipv4)
+            .ok_or_else(|| NetError::Resolve(invite.authority()))?;
+        let config = client_config(invite.fingerprint).map_err(NetError::Connect)?;
+        let conn = endpoint
+            .connect_with(config, addr, "breakshot")
+            .map_err(|e| NetError::Connect(e.to_string()))?
+            .await
+            .map_err(|e| NetError::Connect(e.to_string()))?;
+        let (send, recv) = conn
+            .open_bi()
+            .await
+            .map_err(|e| NetError::Lost(e.to_string()))?;
+        let mut c = Connection {
+            writer: Writer { send },
+            reader: Reader {
+                conn: conn.clone(),
+                recv,
+            },
+            conn,
+        };
+        // The server sees the stream only once something is written: say Hello at once.
+        c.send(&ClientMessage::Hello { protocol, physics }).await?;
+        match c.recv().await? {
+            ServerMessage::Welcome { .. } => Ok(c),
+            ServerMessage::Reject { reason } => Err(NetError::Rejected(reason)),
+            other => Err(NetError::Handshake(format!("{other:?}"))),
+        }
+    }
+
+    pub async fn send(&mut self, msg: &ClientMessage) -> Result<(), NetError> {
+        self.writer.send(msg).await
+    }
+
+    pub async fn recv(&mut self) -> Result<ServerMessage, NetError> {
+        self.reader.recv().await
+    }
+
+    /// Sends raw bytes (to test how the server treats malformed frames).
+    pub async fn send_raw(&mut self, bytes: &[u8]) -> Result<(), NetError> {
+        self.writer.send_raw(bytes).await
+    }
+
+    /// The QUIC connection, to close it or read why it closed.
+    pub fn quic(&self) -> &quinn::Connection {
+        &self.conn
+    }
+
+    /// Splits into halves that can be used from different tasks (reading is not
+    /// cancel-safe, so a reader belongs in a task of its own rather than a `select!`).
+    pub fn split(self) -> (quinn::Connection, Writer, Reader) {
+        (self.conn, self.writer, self.reader)
+    }
+}
+
+impl Writer {
+    pub async fn send(&mut self, msg: &ClientMessage) -> Result<(), NetError> {
+        let frame = encode_frame(msg)?;
+        self.send_raw(&frame).await
+    }
+
+    pub async fn send_raw(&mut self, bytes: &[u8]) -> Result<(), NetError> {
+        self.send
+            .write_all(bytes)
+            .await
+            .map_err(|e| NetError::Lost(e.to_string()))
+    }
+}
+
+impl Reader {
+    pub async fn recv(&mut self) -> Result<ServerMessage, NetError> {
+        let mut header = [0u8; HEADER_LEN];
+        self.recv
+            .read_exact(&mut header)
+            .await
+            .map_err(|e| NetError::Lost(self.reason(e.to_string())))?;
+        let len = payload_len(header)?;
+        let mut payload = vec![0u8; len];
+        self.recv
+            .read_exact(&mut payload)
+            .await
+            .map_err(|e| NetError::Lost(self.reason(e.to_string())))?;
+        Ok(decode_payload(&payload)?)
+    }
+
+    fn reason(&self, fallback: String) -> String {
+        self.conn.close_reason().map_or(fallback, |r| r.to_string())
+    }
+}
