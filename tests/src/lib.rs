@@ -1,1 +1,217 @@
-//! Integration tests live in tests/.
+//! Helpers for the integration tests: an in-process server on 127.0.0.1 over real QUIC, a
+//! scratch data directory, and a scripted player that keeps a mirror of the game.
+
+use std::net::SocketAddr;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::time::Duration;
+
+use anyhow::{anyhow, bail, Result};
+use breakshot_client::net::{endpoint, Connection, Mirror};
+use breakshot_server::{Config, Server, ServerError};
+use breakshot_shared::physics::Strike;
+use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, RoomCode, ServerMessage};
+use breakshot_shared::rules::Game;
+use breakshot_shared::rules::{EightBallRules, Settings, Variant};
+use tokio::sync::oneshot;
+use tokio::task::JoinHandle;
+
+/// How long a test waits for a message before calling the server stuck. Generous: it only
+/// turns a hang into a failure, it never measures speed.
+pub const PATIENCE: Duration = Duration::from_secs(60);
+
+/// The seed of the test servers' randomness.
+pub const SEED: u64 = 2026;
+
+/// A directory removed when dropped.
+pub struct TempDir(PathBuf);
+
+impl TempDir {
+    pub fn new(name: &str) -> TempDir {
+        static N: AtomicU32 = AtomicU32::new(0);
+        let n = N.fetch_add(1, Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!("breakshot-{name}-{}-{n}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("temporary directory");
+        TempDir(dir)
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// A server running in this process.
+pub struct TestServer {
+    pub invite: Invite,
+    pub addr: SocketAddr,
+    pub restored: usize,
+    stop: Option<oneshot::Sender<()>>,
+    task: JoinHandle<Result<(), ServerError>>,
+}
+
+impl TestServer {
+    /// Starts a server on a free loopback port.
+    pub async fn start(data: &Path) -> Result<TestServer> {
+        Self::start_at(SocketAddr::from(([127, 0, 0, 1], 0)), data).await
+    }
+
+    /// Starts a server on `addr`. Its room codes, tokens and game seeds come from a fixed
+    /// seed, so every run of a test plays the same games.
+    pub async fn start_at(addr: SocketAddr, data: &Path) -> Result<TestServer> {
+        let mut config = Config::new(addr, data.to_path_buf());
+        config.predictable_seed = Some(SEED);
+        Self::start_with(config).await
+    }
+
+    pub async fn start_with(config: Config) -> Result<TestServer> {
+        let server = Server::bind(&config)?;
+        let invite = server.invite();
+        let addr = server.local_addr();
+        let restored = server.restored();
+        let (stop, stopped) = oneshot::channel::<()>();
+        let task = tokio::spawn(server.run(async {
+            let _ = stopped.await;
+        }));
+        Ok(TestServer {
+            invite,
+            addr,
+            restored,
+            stop: Some(stop),
+            task,
+        })
+    }
+
+    /// Stops the server as Ctrl-C would and waits until it has finished.
+    pub async fn stop(mut self) -> Result<()> {
+        if let Some(s) = self.stop.take() {
+            let _ = s.send(());
+        }
+        (&mut self.task).await??;
+        Ok(())
+    }
+}
+
+/// A scripted client: a connection and its mirror of the game.
+pub struct Player {
+    pub conn: Connection,
+    pub mirror: Mirror,
+}
+
+impl Player {
+    pub async fn connect(invite: &Invite) -> Result<Player> {
+        let ep = endpoint()?;
+        let conn = Connection::open(&ep, invite).await?;
+        Ok(Player {
+            conn,
+            mirror: Mirror::default(),
+        })
+    }
+
+    pub async fn send(&mut self, msg: ClientMessage) -> Result<()> {
+        Ok(self.conn.send(&msg).await?)
+    }
+
+    /// The next message (observed by the mirror).
+    pub async fn recv(&mut self) -> Result<ServerMessage> {
+        let msg = tokio::time::timeout(PATIENCE, self.conn.recv())
+            .await
+            .map_err(|_| anyhow!("no message from the server"))??;
+        self.mirror.observe(&msg);
+        Ok(msg)
+    }
+
+    /// Reads messages until one satisfies `want`, and returns it.
+    pub async fn until(
+        &mut self,
+        what: &str,
+        want: impl Fn(&ServerMessage) -> bool,
+    ) -> Result<ServerMessage> {
+        loop {
+            let msg = self.recv().await?;
+            if want(&msg) {
+                return Ok(msg);
+            }
+            if let ServerMessage::Error { .. } | ServerMessage::Reject { .. } = msg {
+                bail!("waiting for {what}, got {msg:?}");
+            }
+        }
+    }
+
+    /// Reads messages until an error arrives, and returns it.
+    pub async fn error(&mut self) -> Result<ServerMessage> {
+        loop {
+            let msg = self.recv().await?;
+            if let ServerMessage::Error { .. } = msg {
+                return Ok(msg);
+            }
+        }
+    }
+}
+
+pub fn eight_ball() -> Variant {
+    Variant::EightBall(EightBallRules::Wpa)
+}
+
+/// Creates an 8-ball room as `name` and returns its code.
+pub async fn create_room(host: &mut Player, name: &str) -> Result<RoomCode> {
+    host.send(ClientMessage::CreateRoom {
+        variant: eight_ball(),
+        mode: Settings::offline(),
+        aim_aid: AimAid::Full,
+        name: name.into(),
+    })
+    .await?;
+    match host
+        .until("Joined", |m| matches!(m, ServerMessage::Joined { .. }))
+        .await?
+    {
+        ServerMessage::Joined { snapshot, .. } => Ok(snapshot.room),
+        other => bail!("expected Joined, got {other:?}"),
+    }
+}
+
+/// Two players seated in a new 8-ball room: (host in seat A, guest in seat B, room).
+pub async fn seated_pair(invite: &Invite) -> Result<(Player, Player, RoomCode)> {
+    let mut a = Player::connect(invite).await?;
+    let room = create_room(&mut a, "alice").await?;
+    let mut b = Player::connect(invite).await?;
+    b.send(ClientMessage::Join {
+        room: room.clone(),
+        name: "bob".into(),
+    })
+    .await?;
+    b.until("Joined", |m| matches!(m, ServerMessage::Joined { .. }))
+        .await?;
+    a.until("PlayerJoined", |m| {
+        matches!(m, ServerMessage::PlayerJoined { .. })
+    })
+    .await?;
+    Ok((a, b, room))
+}
+
+/// A legal, hard break: the cue ball straight at the nearest ball.
+pub fn break_shot(game: &Game) -> ClientMessage {
+    let balls = game.balls();
+    let cue = balls[0].pos;
+    let target = balls[1..]
+        .iter()
+        .map(|b| b.pos)
+        .min_by(|a, b| a.distance(cue).total_cmp(&b.distance(cue)))
+        .unwrap_or(cue);
+    ClientMessage::Shot {
+        turn: game.turn(),
+        strike: Strike {
+            speed: 9.0,
+            dir: (target - cue).normalize_or(glam::DVec2::Y),
+            tip: glam::DVec2::ZERO,
+        },
+        call: None,
+    }
+}

@@ -1,0 +1,71 @@
+//! The polling session a frame loop uses: it never blocks, and it predicts and confirms
+//! shots like the bots do.
+
+use std::time::{Duration, Instant};
+
+use breakshot_client::net::{Check, Session, SessionEvent};
+use breakshot_shared::protocol::{AimAid, ClientMessage, Role, ServerMessage};
+use breakshot_shared::rules::{Seat, Settings};
+use breakshot_tests::{break_shot, eight_ball, TempDir, TestServer, PATIENCE};
+
+/// Polls like a frame loop (try_recv, then "draw" for a few milliseconds) until `want`.
+fn poll_until(session: &Session, what: &str, want: impl Fn(&SessionEvent) -> bool) -> SessionEvent {
+    let start = Instant::now();
+    loop {
+        while let Some(event) = session.try_recv() {
+            if want(&event) {
+                return event;
+            }
+            if let SessionEvent::Closed(why) = &event {
+                panic!("closed while waiting for {what}: {why}");
+            }
+        }
+        assert!(start.elapsed() < PATIENCE, "no {what}");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+#[test]
+fn a_polled_session_plays_and_confirms_a_shot() -> anyhow::Result<()> {
+    let runtime = tokio::runtime::Runtime::new()?;
+    let data = TempDir::new("session");
+    let server = runtime.block_on(TestServer::start(data.path()))?;
+
+    let a = Session::connect(server.invite.clone());
+    poll_until(&a, "Connected", |e| matches!(e, SessionEvent::Connected));
+    a.send(ClientMessage::CreateRoom {
+        variant: eight_ball(),
+        mode: Settings::offline(),
+        aim_aid: AimAid::Full,
+        name: "ann".into(),
+    });
+    let SessionEvent::Message(ServerMessage::Joined { snapshot, .. }) =
+        poll_until(&a, "Joined", |e| {
+            matches!(e, SessionEvent::Message(ServerMessage::Joined { .. }))
+        })
+    else {
+        unreachable!()
+    };
+    assert_eq!(a.mirror().role(), Some(Role::Player(Seat::A)));
+    assert!(a.mirror().token().is_some());
+
+    let b = Session::connect(server.invite.with_room(snapshot.room.clone()));
+    poll_until(&b, "Connected", |e| matches!(e, SessionEvent::Connected));
+    b.send(ClientMessage::Join {
+        room: snapshot.room.clone(),
+        name: "ben".into(),
+    });
+    poll_until(&a, "PlayerJoined", |e| {
+        matches!(e, SessionEvent::Message(ServerMessage::PlayerJoined { .. }))
+    });
+
+    a.send(break_shot(&snapshot.game));
+    for s in [&a, &b] {
+        poll_until(s, "the check", |e| {
+            matches!(e, SessionEvent::Check(Check::Confirmed { turn: 0 }))
+        });
+        assert_eq!(s.mirror().desyncs(), 0);
+    }
+    drop((a, b));
+    runtime.block_on(server.stop())
+}
