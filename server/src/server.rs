@@ -117,13 +117,12 @@ impl Server {
             },
         );
         let restored = restore(&store, &mut hub)?;
-        let endpoint =
-            endpoint(identity.server_config()?, config.bind).map_err(|source| {
-                ServerError::Bind {
-                    addr: config.bind,
-                    source,
-                }
-            })?;
+        let endpoint = endpoint(identity.server_config()?, config.bind).map_err(|source| {
+            ServerError::Bind {
+                addr: config.bind,
+                source,
+            }
+        })?;
         Ok(Server {
             endpoint,
             fingerprint: identity.fingerprint(),
@@ -238,8 +237,14 @@ fn endpoint(config: quinn::ServerConfig, addr: SocketAddr) -> std::io::Result<qu
     let socket = std::net::UdpSocket::bind(addr)?;
     let state = quinn::udp::UdpSocketState::new((&socket).into())?;
     for (what, result) in [
-        ("receive", state.set_recv_buffer_size((&socket).into(), SOCKET_BUFFER)),
-        ("send", state.set_send_buffer_size((&socket).into(), SOCKET_BUFFER)),
+        (
+            "receive",
+            state.set_recv_buffer_size((&socket).into(), SOCKET_BUFFER),
+        ),
+        (
+            "send",
+            state.set_send_buffer_size((&socket).into(), SOCKET_BUFFER),
+        ),
     ] {
         if let Err(e) = result {
             tracing::warn!(error = %e, "cannot enlarge the UDP {what} buffer");
