@@ -179,6 +179,7 @@ impl Server {
         let writer_thread = spawn_writer(store, writer_rx, failed.clone());
 
         let mut next_id: ConnId = 0;
+        let mut connections = tokio::task::JoinSet::new();
         tokio::pin!(shutdown);
         let outcome = loop {
             tokio::select! {
@@ -194,7 +195,7 @@ impl Server {
                     }
                     let hub_tx = hub_tx.clone();
                     let writer_tx = writer_tx.clone();
-                    tokio::spawn(async move {
+                    connections.spawn(async move {
                         match incoming.await {
                             Ok(connection) => {
                                 tracing::debug!(conn = id, peer = %connection.remote_address(), "connected");
@@ -209,6 +210,12 @@ impl Server {
         };
         tracing::info!("shutting down");
         endpoint.close(conn::CLOSE_NORMAL.into(), b"server shutting down");
+        // Closing the endpoint ends every connection task; wait for them so that nothing
+        // of this server is left running when `run` returns.
+        let _ = tokio::time::timeout(Duration::from_secs(5), async {
+            while connections.join_next().await.is_some() {}
+        })
+        .await;
         let _ = hub_tx.send(HubEvent::Shutdown);
         drop(writer_tx);
         let joined = tokio::task::spawn_blocking(move || {

@@ -71,7 +71,19 @@ impl TestServer {
     }
 
     pub async fn start_with(config: Config) -> Result<TestServer> {
-        let server = Server::bind(&config)?;
+        // A port just released by a stopped server can take a moment to be free again.
+        let mut tries = 0;
+        let server = loop {
+            match Server::bind(&config) {
+                Err(ServerError::Bind { source, .. })
+                    if source.kind() == std::io::ErrorKind::AddrInUse && tries < 100 =>
+                {
+                    tries += 1;
+                    tokio::time::sleep(Duration::from_millis(50)).await;
+                }
+                other => break other?,
+            }
+        };
         let invite = server.invite();
         let addr = server.local_addr();
         let restored = server.restored();
