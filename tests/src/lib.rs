@@ -1,4 +1,4 @@
-//! Helpers for the integration tests: an in-process server on 127.0.0.1 over real QUIC, a
+//! What the integration tests share: an in-process server on 127.0.0.1 over real QUIC, a
 //! scratch data directory, and a scripted player that keeps a mirror of the game.
 
 use std::net::SocketAddr;

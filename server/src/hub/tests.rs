@@ -426,3 +426,38 @@ fn spectators_watch_but_cannot_act() {
         .iter()
         .any(|m| matches!(m, ServerMessage::ShotResolved { .. })));
 }
+
+#[test]
+fn a_called_pocket_is_announced_and_carried_by_the_shot() {
+    let mut w = World::new();
+    let (room, _, _) = w.pair(Settings::offline());
+    let call = |turn| ClientMessage::CallPocket { turn, pocket: 3 };
+    assert_eq!(
+        error_code(&w.send(2, call(0)), 2),
+        Some(ErrorCode::NotYourTurn)
+    );
+    assert_eq!(
+        error_code(&w.send(1, call(7)), 1),
+        Some(ErrorCode::StaleTurn)
+    );
+    let out = w.send(1, call(0));
+    for conn in [1, 2] {
+        assert!(matches!(
+            sent_to(&out, conn)[..],
+            [ServerMessage::PocketCalled {
+                turn: 0,
+                seat: Seat::A,
+                pocket: 3
+            }]
+        ));
+    }
+    assert_eq!(stores(&out), 0);
+    let out = w.send(1, break_shot(&w.game(&room)));
+    assert!(sent_to(&out, 2).iter().any(|m| matches!(
+        m,
+        ServerMessage::ShotAccepted {
+            command: Command::Shot { call: Some(3), .. },
+            ..
+        }
+    )));
+}
