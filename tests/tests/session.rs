@@ -3,9 +3,10 @@
 
 use std::time::{Duration, Instant};
 
-use breakshot_client::net::{Check, Session, SessionEvent};
+use breakshot_client::net::{Check, NetLink, Session, SessionEvent};
+use breakshot_client::play::link::{GameEvent, GameLink};
 use breakshot_shared::protocol::{AimAid, ClientMessage, Role, ServerMessage};
-use breakshot_shared::rules::{Seat, Settings};
+use breakshot_shared::rules::{Command, Seat, Settings};
 use breakshot_tests::{break_shot, eight_ball, TempDir, TestServer, PATIENCE};
 
 /// Polls like a frame loop (try_recv, then "draw" for a few milliseconds) until `want`.
@@ -65,6 +66,87 @@ fn a_polled_session_plays_and_confirms_a_shot() -> anyhow::Result<()> {
             matches!(e, SessionEvent::Check(Check::Confirmed { turn: 0 }))
         });
         assert_eq!(s.mirror().desyncs(), 0);
+    }
+    drop((a, b));
+    runtime.block_on(server.stop())
+}
+
+/// Polls a link like a game screen until `want`.
+fn link_until(link: &mut NetLink, what: &str, want: impl Fn(&GameEvent) -> bool) -> GameEvent {
+    let start = Instant::now();
+    loop {
+        while let Some(event) = link.poll() {
+            if want(&event) {
+                return event;
+            }
+        }
+        assert!(start.elapsed() < PATIENCE, "no {what}");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+#[test]
+fn a_network_link_gives_a_game_screen_the_server_s_events() -> anyhow::Result<()> {
+    let runtime = tokio::runtime::Runtime::new()?;
+    let data = TempDir::new("link");
+    let server = runtime.block_on(TestServer::start(data.path()))?;
+
+    let host = Session::connect(server.invite.clone());
+    host.send(ClientMessage::CreateRoom {
+        variant: eight_ball(),
+        mode: Settings::offline(),
+        aim_aid: AimAid::Full,
+        name: "ann".into(),
+    });
+    let mut a = NetLink::new(host);
+    let GameEvent::Started(game) =
+        link_until(&mut a, "Started", |e| matches!(e, GameEvent::Started(_)))
+    else {
+        unreachable!()
+    };
+    assert_eq!(a.seat(), Some(Seat::A));
+    let room = a.session().mirror().room().cloned().expect("room");
+    let guest = Session::connect(server.invite.with_room(room.clone()));
+    guest.send(ClientMessage::Join {
+        room,
+        name: "ben".into(),
+    });
+    let mut b = NetLink::new(guest);
+    link_until(&mut b, "Started", |e| matches!(e, GameEvent::Started(_)));
+    assert_eq!(b.seat(), Some(Seat::B));
+
+    // B may not break; A's break reaches both screens as accepted, then judged with the
+    // hash the rules give here.
+    let ClientMessage::Shot { strike, .. } = break_shot(&game) else {
+        unreachable!()
+    };
+    let command = Command::Shot { strike, call: None };
+    b.send(Seat::B, command.clone());
+    link_until(&mut b, "Refused", |e| matches!(e, GameEvent::Refused(_)));
+    a.send(Seat::A, command.clone());
+    let mut local = (*game).clone();
+    let expected = local.apply(
+        Seat::A,
+        &Command::Shot {
+            strike: strike.validated()?,
+            call: None,
+        },
+    )?;
+    for link in [&mut a, &mut b] {
+        let accepted = link_until(link, "Accepted", |e| {
+            matches!(e, GameEvent::Accepted { .. })
+        });
+        assert!(matches!(
+            accepted,
+            GameEvent::Accepted { seat: Seat::A, .. }
+        ));
+        let GameEvent::Judged(judgement) =
+            link_until(link, "Judged", |e| matches!(e, GameEvent::Judged(_)))
+        else {
+            unreachable!()
+        };
+        assert_eq!(judgement.hash, expected.shot.as_ref().map(|s| s.hash));
+        assert_eq!(judgement.reasons, expected.reasons);
     }
     drop((a, b));
     runtime.block_on(server.stop())

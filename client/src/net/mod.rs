@@ -3,10 +3,12 @@
 //! polling session for frame loops.
 
 pub mod connection;
+pub mod link;
 pub mod mirror;
 pub mod pinned;
 pub mod session;
 
 pub use connection::{endpoint, Connection, NetError, Reader, Writer};
+pub use link::NetLink;
 pub use mirror::{Check, Mirror};
 pub use session::{Session, SessionEvent};
