@@ -461,3 +461,46 @@ fn a_called_pocket_is_announced_and_carried_by_the_shot() {
         }
     )));
 }
+
+#[test]
+fn a_rematch_starts_when_both_players_ask() {
+    let mut w = World::new();
+    let (room, _, _) = w.pair(Settings::offline());
+    assert_eq!(
+        error_code(&w.send(1, ClientMessage::Rematch), 1),
+        Some(ErrorCode::Unexpected)
+    );
+    let out = w.send(2, ClientMessage::Concede);
+    assert!(sent_to(&out, 1).iter().any(|m| matches!(
+        m,
+        ServerMessage::GameOver {
+            winner: Some(Seat::A),
+            ..
+        }
+    )));
+
+    let out = w.send(1, ClientMessage::Rematch);
+    assert!(matches!(
+        sent_to(&out, 2)[..],
+        [ServerMessage::RematchOffered { seat: Seat::A }]
+    ));
+    let out = w.send(2, ClientMessage::Rematch);
+    assert!(matches!(
+        out[0],
+        Output::Store(StoreOp::Game {
+            number: 2,
+            finished: false,
+            ..
+        })
+    ));
+    for conn in [1, 2] {
+        match sent_to(&out, conn)[..] {
+            [ServerMessage::GameStarted { snapshot }] => {
+                assert_eq!(snapshot.game_number, 2);
+                assert_eq!(snapshot.game.turn(), 0);
+            }
+            ref other => panic!("{other:?}"),
+        }
+    }
+    assert_eq!(w.game(&room).turn(), 0);
+}
