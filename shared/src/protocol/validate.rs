@@ -6,7 +6,8 @@ use thiserror::Error;
 
 use super::limits::{MAX_CHAT_CHARS, MAX_NAME_CHARS};
 use super::messages::{ClientMessage, ErrorCode};
-use crate::physics::StrikeError;
+use crate::physics::{StrikeError, TableKind};
+use crate::rules::Settings;
 
 /// Pockets on a table with pockets.
 pub const POCKETS: u8 = 6;
@@ -25,7 +26,13 @@ pub enum InvalidMessage {
     Chat,
     #[error("malformed room code")]
     Room,
+    #[error("a room is played on a 7, 8 or 9-foot table with a shot clock of {MIN_SHOT_CLOCK} to {MAX_SHOT_CLOCK} s, if any")]
+    Mode,
 }
+
+/// Shortest and longest shot clock a room may have (seconds).
+pub const MIN_SHOT_CLOCK: u32 = 10;
+pub const MAX_SHOT_CLOCK: u32 = 600;
 
 impl InvalidMessage {
     pub fn code(&self) -> ErrorCode {
@@ -47,6 +54,7 @@ pub fn validate(msg: ClientMessage) -> Result<ClientMessage, InvalidMessage> {
         ClientMessage::CallPocket { pocket, .. } if pocket >= POCKETS => {
             Err(InvalidMessage::Pocket)
         }
+        ClientMessage::CreateRoom { ref mode, .. } if !playable(mode) => Err(InvalidMessage::Mode),
         ClientMessage::CreateRoom { ref name, .. } | ClientMessage::Join { ref name, .. }
             if !printable(name, MAX_NAME_CHARS) =>
         {
@@ -69,6 +77,14 @@ fn check_pocket(call: Option<u8>) -> Result<(), InvalidMessage> {
         Some(p) if p >= POCKETS => Err(InvalidMessage::Pocket),
         _ => Ok(()),
     }
+}
+
+/// A table with pockets, and a shot clock a person can play with.
+fn playable(mode: &Settings) -> bool {
+    let clock_ok = mode
+        .shot_clock
+        .is_none_or(|s| (MIN_SHOT_CLOCK..=MAX_SHOT_CLOCK).contains(&s));
+    clock_ok && mode.table != TableKind::Open
 }
 
 /// Non-blank, at most `max` characters, no control characters.
@@ -125,6 +141,24 @@ mod tests {
             ClientMessage::Chat { text: "  ".into() },
             ClientMessage::Chat {
                 text: "bell\u{7}".into(),
+            },
+            ClientMessage::CreateRoom {
+                variant: crate::rules::Variant::NineBall,
+                mode: Settings {
+                    table: TableKind::Open,
+                    ..Settings::offline()
+                },
+                aim_aid: super::super::messages::AimAid::Off,
+                name: "ann".into(),
+            },
+            ClientMessage::CreateRoom {
+                variant: crate::rules::Variant::NineBall,
+                mode: Settings {
+                    shot_clock: Some(0),
+                    ..Settings::offline()
+                },
+                aim_aid: super::super::messages::AimAid::Off,
+                name: "ann".into(),
             },
         ] {
             assert!(validate(bad.clone()).is_err(), "accepted {bad:?}");
