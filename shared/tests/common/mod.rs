@@ -64,23 +64,16 @@ pub fn angle_between(a: DVec2, b: DVec2) -> f64 {
     ))
 }
 
-/// SplitMix64: a tiny, stable generator for reproducible test racks.
-pub struct Rng(u64);
+/// The racks' generator (the rules' SplitMix64), with a range helper for test racks.
+pub struct Rng(breakshot_shared::rules::rack::SplitMix64);
 
 impl Rng {
     pub fn new(seed: u64) -> Self {
-        Rng(seed)
-    }
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        Rng(breakshot_shared::rules::rack::SplitMix64::new(seed))
     }
     /// Uniform in [0, 1).
     pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        self.0.unit()
     }
     pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
         lo + (hi - lo) * self.unit()

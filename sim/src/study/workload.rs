@@ -244,26 +244,12 @@ fn cushion_shots() -> Vec<Case> {
         .collect()
 }
 
-/// A small deterministic generator (SplitMix64), so that racks are the same on every run.
-pub struct Rng(u64);
+/// The racks' generator: the rules' SplitMix64, so that racks are the same on every run.
+pub use breakshot_shared::rules::rack::SplitMix64 as Rng;
 
-impl Rng {
-    pub fn new(seed: u64) -> Self {
-        Rng(seed)
-    }
-
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [-1, 1).
-    pub fn symmetric(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-    }
+/// Uniform in [-1, 1).
+fn symmetric(rng: &mut Rng) -> f64 {
+    2.0 * rng.unit() - 1.0
 }
 
 /// Nominal gap between neighbouring balls of a rack (m).
@@ -286,7 +272,7 @@ pub fn rack(category: Category, table: TableKind, radius: f64, rng: &mut Rng) ->
         for k in 0..count {
             let x = apex.x + (k as f64 - 0.5 * (count as f64 - 1.0)) * d;
             let y = apex.y + row as f64 * row_step;
-            let jitter = DVec2::new(rng.symmetric(), rng.symmetric()) * (0.25 * RACK_GAP);
+            let jitter = DVec2::new(symmetric(rng), symmetric(rng)) * (0.25 * RACK_GAP);
             out.push(DVec2::new(x, y) + jitter);
         }
     }
@@ -304,17 +290,17 @@ pub fn break_case(category: Category, k: u64) -> Case {
     let radius = Params::default().ball_radius;
     let mut rng = Rng::new(0xB8EA_0000 + k * 7919 + category as u64);
     let (w, l) = table.size().unwrap_or((1.27, 2.54));
-    let cue = DVec2::new(0.5 * w + 0.08 * rng.symmetric(), 0.25 * l);
+    let cue = DVec2::new(0.5 * w + 0.08 * symmetric(&mut rng), 0.25 * l);
     let rack = rack(category, table, radius, &mut rng);
     let apex = rack[0];
     let mut balls = vec![BallState::at_rest(cue)];
     balls.extend(rack.into_iter().map(BallState::at_rest));
     // Aim at the apex ball, off by up to a tenth of a ball radius.
-    let dir = aim(cue, apex, 0.1 * radius * rng.symmetric());
+    let dir = aim(cue, apex, 0.1 * radius * symmetric(&mut rng));
     let strike = Strike {
         speed: 8.0,
         dir,
-        tip: DVec2::new(0.0, 0.1 * rng.symmetric()),
+        tip: DVec2::new(0.0, 0.1 * symmetric(&mut rng)),
     };
     Case {
         category,
