@@ -329,3 +329,15 @@ fn heathcote_rolling_law_maps_to_mu_roll_and_back() {
     let force = k * libm::pow(w, 5.0 / 3.0) / libm::pow(p.ball_radius, 4.0 / 3.0);
     assert!(rel(force, p.mu_roll * w) < 1e-12);
 }
+
+#[test]
+fn heathcote_k_in_a_scene_rolls_like_the_mu_roll_it_maps_to() {
+    let v = 1.5;
+    let mut shot = open_shot(vec![ball([0.0, 0.0], [0.0, v], [-v / R, 0.0, 0.0])]);
+    let by_mu = run(&shot);
+    shot.params.heathcote_k = Some(shot.params.heathcote_k());
+    shot.params.mu_roll = 0.5; // ignored when heathcote_k is given
+    let by_k = run(&shot);
+    assert!(rel(by_k.finals[0].pos.y, by_mu.finals[0].pos.y) < 1e-12);
+    assert!(rel(by_k.duration, by_mu.duration) < 1e-12);
+}

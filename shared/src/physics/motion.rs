@@ -151,7 +151,10 @@ impl MotionModel {
         MotionModel {
             radius: params.ball_radius,
             slide_decel: on(effects.slide_friction, params.mu_slide * params.gravity),
-            roll_decel: on(effects.roll_friction, params.mu_roll * params.gravity),
+            roll_decel: on(
+                effects.roll_friction,
+                params.rolling_resistance() * params.gravity,
+            ),
             spin_decel: on(effects.spin_friction, params.spin_decel()),
         }
     }

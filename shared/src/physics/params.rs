@@ -47,6 +47,11 @@ pub struct Params {
     pub f_cushion: f64,
     /// Height of the cushion nose above the cloth (m).
     pub cushion_height: f64,
+    /// Rolling resistance as the founding paper gives it, Heathcote's law
+    /// `F = k·W^(5/3)/R^(4/3)`; when present it replaces `mu_roll` (see
+    /// [`Params::mu_roll_from_heathcote`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub heathcote_k: Option<f64>,
 }
 
 impl Default for Params {
@@ -67,6 +72,7 @@ impl Default for Params {
             e_cushion: 0.85,
             f_cushion: 0.2,
             cushion_height: 0.036576,
+            heathcote_k: None,
         }
     }
 }
@@ -101,8 +107,21 @@ impl Params {
         ]
     }
 
+    /// The rolling resistance coefficient in force: `mu_roll`, or Heathcote's `k` converted.
+    pub fn rolling_resistance(&self) -> f64 {
+        match self.heathcote_k {
+            Some(k) => self.mu_roll_from_heathcote(k),
+            None => self.mu_roll,
+        }
+    }
+
     /// Checks that every parameter is finite and in its physical range.
     pub fn validate(&self) -> Result<(), String> {
+        if let Some(k) = self.heathcote_k {
+            if !k.is_finite() || k < 0.0 {
+                return Err("physics.heathcote_k must be a finite, non-negative number".into());
+            }
+        }
         for (name, value) in self.named_values() {
             if !value.is_finite() {
                 return Err(format!("physics.{name} must be a finite number"));
