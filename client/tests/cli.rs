@@ -104,3 +104,14 @@ fn hosting_on_a_port_in_use_says_so_before_any_window_opens() {
         "{err}"
     );
 }
+
+#[test]
+fn an_address_that_cannot_be_in_an_invite_is_refused() {
+    let out = breakshot(&["host", "--bind", "127.0.0.1:0", "--address", "my host:1"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("must be a host name or an IP address"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -41,6 +41,8 @@ pub enum HostError {
     Runtime(String),
     #[error("could not open a room on the game server: {0}")]
     Room(String),
+    #[error("the invite's address must be a host name or an IP address, not {0:?}")]
+    Address(String),
 }
 
 /// What to host.
@@ -110,6 +112,24 @@ pub fn loopback_for(bound: SocketAddr) -> SocketAddr {
         ip => ip,
     };
     SocketAddr::new(ip, bound.port())
+}
+
+/// The host part of an invite for an address the host gives: a name or an IP address (an
+/// IPv6 address is put in brackets).
+pub fn invite_host(address: &str) -> Result<String, HostError> {
+    let a = address.trim();
+    if let Ok(ip) = a
+        .trim_start_matches('[')
+        .trim_end_matches(']')
+        .parse::<IpAddr>()
+    {
+        return Ok(host_text(ip));
+    }
+    let name_char = |c: char| c.is_ascii_alphanumeric() || c == '-' || c == '.';
+    if a.is_empty() || !a.chars().all(name_char) {
+        return Err(HostError::Address(address.to_string()));
+    }
+    Ok(a.to_string())
 }
 
 /// `ip` as an invite writes it (IPv6 in brackets).
@@ -236,6 +256,7 @@ impl Host {
     /// Starts the server, connects to it over loopback, opens a room and returns once this
     /// computer holds seat A, with the invite for the other player.
     pub fn start(options: &HostOptions) -> Result<Host, HostError> {
+        let address = options.address.as_deref().map(invite_host).transpose()?;
         let server = EmbeddedServer::start(Config::new(options.bind, options.data.clone()))?;
         let session = Session::connect(server.loopback_invite());
         session.send(ClientMessage::CreateRoom {
@@ -266,8 +287,8 @@ impl Host {
             std::thread::sleep(Duration::from_millis(5));
         };
         let mut invite = server.invite().with_room(room);
-        if let Some(address) = &options.address {
-            invite.host = address.clone();
+        if let Some(address) = address {
+            invite.host = address;
         }
         Ok(Host {
             link,
@@ -350,6 +371,17 @@ mod tests {
         assert!(names_wildcard(&invite("[::]")));
         for host in ["127.0.0.1", "192.168.1.20", "[::1]", "pool.example.org"] {
             assert!(!names_wildcard(&invite(host)), "{host}");
+        }
+    }
+
+    #[test]
+    fn a_given_address_becomes_the_invite_s_host() {
+        assert_eq!(invite_host("pool.example.org").unwrap(), "pool.example.org");
+        assert_eq!(invite_host("192.168.1.20").unwrap(), "192.168.1.20");
+        assert_eq!(invite_host("2001:db8::7").unwrap(), "[2001:db8::7]");
+        assert_eq!(invite_host("[2001:db8::7]").unwrap(), "[2001:db8::7]");
+        for bad in ["", "host:4433", "a/b", "x#y", "two words"] {
+            assert!(invite_host(bad).is_err(), "{bad:?}");
         }
     }
 

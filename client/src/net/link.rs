@@ -182,3 +182,39 @@ impl GameLink for NetLink {
         self.session.send(ClientMessage::Rematch);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn here(connected: bool, reconnect_ms: Option<u64>) -> Option<SeatView> {
+        Some(SeatView {
+            name: "p".into(),
+            connected,
+            reconnect_ms,
+        })
+    }
+
+    #[test]
+    fn the_other_seat_gives_the_connection_state() {
+        let me = Some(Seat::A);
+        assert_eq!(
+            opponent_state(&[here(true, None), None], me),
+            Connection::WaitingForOpponent
+        );
+        assert_eq!(
+            opponent_state(&[here(true, None), here(true, None)], me),
+            Connection::Connected
+        );
+        assert_eq!(
+            opponent_state(&[here(true, None), here(false, Some(90_500))], me),
+            Connection::OpponentLeft { seconds_left: 90.5 }
+        );
+        // Seat B looks at seat A; a spectator sees the game as connected.
+        assert_eq!(
+            opponent_state(&[None, here(true, None)], Some(Seat::B)),
+            Connection::WaitingForOpponent
+        );
+        assert_eq!(opponent_state(&[None, None], None), Connection::Connected);
+    }
+}

@@ -37,6 +37,9 @@ enum End {
     Lost(String),
 }
 
+/// How long a closing session waits for its close to be sent.
+const CLOSE_GRACE: Duration = Duration::from_millis(500);
+
 /// Pause between attempts to reach a server that went away.
 const RETRY_PAUSE: Duration = Duration::from_millis(500);
 
@@ -150,7 +153,12 @@ impl Session {
                     };
                     quic.close(0u32.into(), b"bye");
                     let reason = match end {
-                        End::Stopped => "session closed".to_string(),
+                        End::Stopped => {
+                            // Let the close reach the server, so the opponent hears at once
+                            // that we left rather than after the idle timeout.
+                            let _ = tokio::time::timeout(CLOSE_GRACE, ep.wait_idle()).await;
+                            "session closed".to_string()
+                        }
                         End::Lost(reason) => match lock(&shared).token() {
                             // A seated player's connection dropped: take the seat back.
                             Some(token) => {
