@@ -235,7 +235,15 @@ impl GameScreen {
 
     pub fn draw(&mut self) {
         let Some(game) = self.flow.game() else {
-            draw::label("Waiting for the game to start...", 40.0, 80.0, 28.0, WHITE);
+            // Before a game, a message is a refusal (no such room, room full).
+            let failed = matches!(self.flow.connection, Connection::Closed(_))
+                || !self.flow.message.is_empty();
+            let headline = if failed {
+                "Could not join the game (Esc: menu)"
+            } else {
+                "Waiting for the game to start..."
+            };
+            draw::label(headline, 40.0, 80.0, 28.0, WHITE);
             let state = connection_text(&self.flow.connection);
             draw::label(&state, 40.0, 120.0, 22.0, LIGHTGRAY);
             draw::label(&self.flow.message, 40.0, 150.0, 22.0, YELLOW);
