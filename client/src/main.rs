@@ -4,12 +4,16 @@
 mod ui;
 
 use std::cell::RefCell;
+use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::rc::Rc;
 
 use anyhow::{bail, Context as _};
+use breakshot_client::net::host::{default_data_dir, ADDRESS_NOTE, DEFAULT_PORT};
+use breakshot_client::net::{Host, HostOptions, NetLink};
 use breakshot_client::play::replay::ReplayViewer;
+use breakshot_shared::protocol::{AimAid, Invite};
 use breakshot_shared::rules::{EightBallRules, Variant};
 use breakshot_shared::scene::Scene;
 use clap::{Parser, Subcommand};
@@ -45,9 +49,21 @@ enum Command {
         mode: String,
         #[arg(long, default_value = "wpa", value_parser = ["wpa", "bar"])]
         rules: String,
-        /// Address the embedded server listens on.
-        #[arg(long)]
-        bind: Option<String>,
+        /// UDP address the game server listens on (open this port to the other player).
+        #[arg(long, default_value_t = SocketAddr::from(([0, 0, 0, 0], DEFAULT_PORT)))]
+        bind: SocketAddr,
+        /// Directory for the server's certificate and game store (default: `breakshot` in
+        /// the user's data directory, e.g. ~/.local/share/breakshot).
+        #[arg(long, value_name = "DIR")]
+        data: Option<PathBuf>,
+        /// The address the other player dials to reach this computer, written into the
+        /// invite (default: the bound address).
+        #[arg(long, value_name = "HOST")]
+        address: Option<String>,
+        /// Aiming aids allowed in the room: full, first-contact (aim line and ghost ball) or
+        /// off.
+        #[arg(long, default_value = "full", value_parser = ["full", "first-contact", "off"])]
+        aids: String,
     },
     /// Two players taking turns at this computer.
     Local {
@@ -91,11 +107,35 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             ui::Start::Practice(Some(Box::new(scene)))
         }
         Some(Command::Local { mode, rules }) => ui::Start::Local(variant(mode, rules)),
-        Some(Command::Host { .. }) => {
-            bail!("hosting is not available yet in this build: network play is not part of it")
+        Some(Command::Host {
+            mode,
+            rules,
+            bind,
+            data,
+            address,
+            aids,
+        }) => {
+            let data = match data {
+                Some(d) => d.clone(),
+                None => default_data_dir()
+                    .context("no user data directory (HOME is not set): give --data DIR")?,
+            };
+            let options = HostOptions {
+                bind: *bind,
+                variant: variant(mode, rules),
+                aim_aid: aim_aid(aids),
+                address: address.clone(),
+                ..HostOptions::new(data)
+            };
+            let host = Host::start(&options)?;
+            announce(&host);
+            ui::Start::Network(Box::new(host))
         }
-        Some(Command::Join { .. }) => {
-            bail!("joining is not available yet in this build: network play is not part of it")
+        Some(Command::Join { invite }) => {
+            let invite: Invite = invite
+                .parse()
+                .with_context(|| format!("{invite:?} is not an invite"))?;
+            ui::Start::Network(Box::new(NetLink::join(invite, "guest")?))
         }
         Some(Command::Replay { file }) => {
             let bytes =
@@ -105,6 +145,28 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             ui::Start::Replay(Box::new(viewer))
         }
     })
+}
+
+/// Tells the terminal where the game is served and what to send the other player.
+fn announce(host: &Host) {
+    println!("{}", host.invite());
+    eprintln!(
+        "breakshot: serving on UDP {} (data in {}); send the invite above to the other player",
+        host.server().local_addr(),
+        host.data().display()
+    );
+    if host.needs_address() {
+        eprintln!("breakshot: {}", ADDRESS_NOTE);
+    }
+}
+
+/// The aim-aid policy named by `--aids` (checked by the parser).
+fn aim_aid(name: &str) -> AimAid {
+    match name {
+        "off" => AimAid::Off,
+        "first-contact" => AimAid::FirstContact,
+        _ => AimAid::Full,
+    }
 }
 
 /// The rules variant named by `--mode` and `--rules` (both checked by the parser).

@@ -68,10 +68,50 @@ fn bad_options_are_refused() {
 }
 
 #[test]
-fn network_commands_say_when_they_are_not_in_the_build() {
-    for args in [&["host"][..], &["join", "some-invite"][..]] {
-        let out = breakshot(args);
-        assert_eq!(out.status.code(), Some(2), "{args:?}");
-        assert!(stderr(&out).contains("not available"), "{}", stderr(&out));
-    }
+fn a_malformed_invite_is_refused_with_what_an_invite_looks_like() {
+    let out = breakshot(&["join", "not-an-invite"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(err.contains("\"not-an-invite\" is not an invite"), "{err}");
+    assert!(err.contains("breakshot://"), "{err}");
+}
+
+#[test]
+fn an_invite_without_a_room_is_refused() {
+    let server_only = format!("breakshot://127.0.0.1:4433#{}", "ab".repeat(32));
+    let out = breakshot(&["join", &server_only]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("no room"), "{}", stderr(&out));
+}
+
+#[test]
+fn hosting_on_a_port_in_use_says_so_before_any_window_opens() {
+    let taken = std::net::UdpSocket::bind("127.0.0.1:0").expect("a free port");
+    let addr = taken.local_addr().expect("bound").to_string();
+    let data = std::env::temp_dir().join(format!("breakshot-cli-host-{}", std::process::id()));
+    let out = breakshot(&[
+        "host",
+        "--bind",
+        &addr,
+        "--data",
+        data.to_str().expect("utf-8"),
+    ]);
+    let _ = std::fs::remove_dir_all(&data);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(
+        err.contains("could not start") && err.contains(&addr),
+        "{err}"
+    );
+}
+
+#[test]
+fn an_address_that_cannot_be_in_an_invite_is_refused() {
+    let out = breakshot(&["host", "--bind", "127.0.0.1:0", "--address", "my host:1"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("must be a host name or an IP address"),
+        "{}",
+        stderr(&out)
+    );
 }

@@ -187,3 +187,76 @@ fn replay_screenshot_shows_the_recorded_games_table() {
     let ids: Vec<&str> = ids.iter().map(|s| s.as_str()).collect();
     balls_are_drawn(&pic, &layout, &ids, racked.balls());
 }
+
+#[test]
+fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
+    let Some(xvfb) = find_in_path("xvfb-run") else {
+        eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
+        return;
+    };
+    let dir = std::env::temp_dir().join(format!("breakshot-window-{}-host", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let out = dir.join("out.png");
+    let run = Process::new(xvfb)
+        .args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(env!("CARGO_BIN_EXE_breakshot"))
+        .args(["host", "--bind", "127.0.0.1:0", "--data"])
+        .arg(dir.join("server"))
+        .arg("--screenshot")
+        .arg(&out)
+        .args(["--frames", "4", "--size", "1280x720"])
+        .output()
+        .expect("xvfb-run runs");
+    assert!(
+        run.status.success(),
+        "breakshot host exited with {}: {}",
+        run.status,
+        String::from_utf8_lossy(&run.stderr)
+    );
+    // The first line on standard output is the invite, naming the bound loopback address.
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    let invite: breakshot_shared::protocol::Invite = stdout
+        .lines()
+        .next()
+        .expect("an invite line")
+        .parse()
+        .expect("a valid invite");
+    assert_eq!(invite.host, "127.0.0.1");
+    assert!(invite.room.is_some());
+
+    let (width, height, pixels) = read_png(&out);
+    let _ = std::fs::remove_dir_all(&dir);
+    let pic = Picture {
+        width,
+        height,
+        pixels,
+    };
+    // The table is drawn behind the panel: cloth above it ...
+    let racked = Game::new(
+        Variant::EightBall(EightBallRules::Wpa),
+        Settings::online(),
+        0,
+    );
+    let layout = Layout::new(
+        width as f32,
+        height as f32,
+        Frame::new(racked.table(), racked.balls()),
+    );
+    let c = layout.cloth;
+    let above = pic.at(c.x + 0.45 * c.w, c.y + 0.1 * c.h);
+    assert!(close(above, CLOTH, 6), "cloth {above:?}");
+    // ... and the panel in the middle: dark, with the invite in yellow across it.
+    let mid = (0.5 * width as f32, 0.5 * height as f32);
+    let dark = pic.at(mid.0, mid.1 - 90.0);
+    assert!(dark.iter().all(|&v| v < 60), "panel background {dark:?}");
+    // The invite's line, in the upper half of the panel (the HUD's yellow is far above).
+    let band = (mid.1 - 60.0) as u32..(mid.1 - 15.0) as u32;
+    let yellow = (0..width)
+        .flat_map(|x| band.clone().map(move |y| (x, y)))
+        .filter(|&(x, y)| {
+            let p = pic.at(x as f32, y as f32);
+            p[0] > 200 && p[1] > 200 && p[2] < 80
+        })
+        .count();
+    assert!(yellow > 200, "{yellow} yellow pixels: no invite drawn");
+}

@@ -3,7 +3,7 @@
 
 use std::collections::VecDeque;
 
-use breakshot_shared::protocol::{ClientMessage, Role, ServerMessage};
+use breakshot_shared::protocol::{ClientMessage, Invite, Role, SeatView, ServerMessage};
 use breakshot_shared::rules::{Command, Seat};
 
 use super::session::{Session, SessionEvent};
@@ -15,7 +15,25 @@ pub struct NetLink {
     events: VecDeque<GameEvent>,
 }
 
+/// An invite that cannot be joined.
+#[derive(Debug, thiserror::Error)]
+#[error("{0} names a server but no room: ask the host for the game's invite")]
+pub struct NoRoom(pub String);
+
 impl NetLink {
+    /// Connects to the server an invite names and asks for the free seat of its room.
+    pub fn join(invite: Invite, name: &str) -> Result<NetLink, NoRoom> {
+        let Some(room) = invite.room.clone() else {
+            return Err(NoRoom(invite.to_string()));
+        };
+        let session = Session::connect(invite);
+        session.send(ClientMessage::Join {
+            room,
+            name: name.into(),
+        });
+        Ok(NetLink::new(session))
+    }
+
     /// A link over a session that has joined (or will join) a room.
     pub fn new(session: Session) -> NetLink {
         NetLink {
@@ -36,13 +54,24 @@ impl NetLink {
             SessionEvent::Closed(why) => {
                 out.push_back(GameEvent::Connection(Connection::Closed(why)))
             }
+            SessionEvent::Reconnecting => {
+                out.push_back(GameEvent::Connection(Connection::Reconnecting))
+            }
             SessionEvent::Check(_) => {}
             SessionEvent::Message(msg) => match msg {
                 ServerMessage::Joined { snapshot, .. }
                 | ServerMessage::GameStarted { snapshot } => {
+                    out.push_back(GameEvent::AimAid(snapshot.aim_aid));
+                    out.push_back(GameEvent::Connection(opponent_state(
+                        &snapshot.seats,
+                        my_seat,
+                    )));
                     out.push_back(GameEvent::Started(Box::new(snapshot.game)));
                     let seconds = snapshot.shot_clock_ms.map(|ms| ms as f64 / 1000.0);
                     out.push_back(GameEvent::ShotClock(seconds));
+                }
+                ServerMessage::PlayerJoined { seat, .. } if Some(seat) != my_seat => {
+                    out.push_back(GameEvent::Connection(Connection::Connected));
                 }
                 ServerMessage::ShotAccepted { seat, command, .. } => {
                     out.push_back(GameEvent::Accepted { seat, command });
@@ -90,6 +119,25 @@ impl NetLink {
     }
 }
 
+/// The connection state a room's seats show to the player in `me`: the other seat empty,
+/// its player away (with the time left to come back), or both there.
+fn opponent_state(seats: &[Option<SeatView>; 2], me: Option<Seat>) -> Connection {
+    let Some(me) = me else {
+        return Connection::Connected;
+    };
+    let other = match me {
+        Seat::A => &seats[1],
+        Seat::B => &seats[0],
+    };
+    match other {
+        None => Connection::WaitingForOpponent,
+        Some(v) if !v.connected => Connection::OpponentLeft {
+            seconds_left: v.reconnect_ms.unwrap_or(0) as f64 / 1000.0,
+        },
+        Some(_) => Connection::Connected,
+    }
+}
+
 impl GameLink for NetLink {
     fn seat(&self) -> Option<Seat> {
         match self.session.mirror().role() {
@@ -132,5 +180,41 @@ impl GameLink for NetLink {
 
     fn rematch(&mut self) {
         self.session.send(ClientMessage::Rematch);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn here(connected: bool, reconnect_ms: Option<u64>) -> Option<SeatView> {
+        Some(SeatView {
+            name: "p".into(),
+            connected,
+            reconnect_ms,
+        })
+    }
+
+    #[test]
+    fn the_other_seat_gives_the_connection_state() {
+        let me = Some(Seat::A);
+        assert_eq!(
+            opponent_state(&[here(true, None), None], me),
+            Connection::WaitingForOpponent
+        );
+        assert_eq!(
+            opponent_state(&[here(true, None), here(true, None)], me),
+            Connection::Connected
+        );
+        assert_eq!(
+            opponent_state(&[here(true, None), here(false, Some(90_500))], me),
+            Connection::OpponentLeft { seconds_left: 90.5 }
+        );
+        // Seat B looks at seat A; a spectator sees the game as connected.
+        assert_eq!(
+            opponent_state(&[None, here(true, None)], Some(Seat::B)),
+            Connection::WaitingForOpponent
+        );
+        assert_eq!(opponent_state(&[None, None], None), Connection::Connected);
     }
 }

@@ -3,12 +3,14 @@
 //! polling session for frame loops.
 
 pub mod connection;
+pub mod host;
 pub mod link;
 pub mod mirror;
 pub mod pinned;
 pub mod session;
 
 pub use connection::{endpoint, Connection, NetError, Reader, Writer};
-pub use link::NetLink;
+pub use host::{EmbeddedServer, Host, HostError, HostOptions};
+pub use link::{NetLink, NoRoom};
 pub use mirror::{Check, Mirror};
 pub use session::{Session, SessionEvent};

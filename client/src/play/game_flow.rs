@@ -4,6 +4,7 @@
 //! spotted, re-racks) appears when it ends.
 
 use breakshot_shared::physics::{simulate, BallState, MotionState, Strike};
+use breakshot_shared::protocol::AimAid;
 use breakshot_shared::rules::{rack, Command, Game, InHand, Phase, Seat, Variant};
 use glam::DVec2;
 
@@ -44,6 +45,8 @@ pub struct GameFlow {
     pub call: Option<u8>,
     /// Seconds left on the shot clock, counting down.
     pub shot_clock: Option<f64>,
+    /// The aiming aids the room allows.
+    pub aim_aid: AimAid,
 }
 
 impl GameFlow {
@@ -59,6 +62,7 @@ impl GameFlow {
             shots: 0,
             call: None,
             shot_clock: None,
+            aim_aid: AimAid::Full,
         }
     }
 
@@ -85,6 +89,7 @@ impl GameFlow {
             GameEvent::Refused(why) => self.message = format!("Refused: {why}"),
             GameEvent::Connection(c) => self.connection = c,
             GameEvent::ShotClock(s) => self.shot_clock = s.filter(|s| s.is_finite()),
+            GameEvent::AimAid(policy) => self.aim_aid = policy,
         }
     }
 

@@ -4,6 +4,7 @@
 
 use std::collections::VecDeque;
 
+use breakshot_shared::protocol::{AimAid, Invite};
 use breakshot_shared::rules::{Command, Game, Seat, Settings, Variant, Verdict};
 
 use crate::view::hud::Connection;
@@ -28,6 +29,8 @@ pub enum GameEvent {
     Connection(Connection),
     /// The shot clock restarted with this many seconds, or stopped (None).
     ShotClock(Option<f64>),
+    /// The aiming aids the room allows (a local game allows them all).
+    AimAid(AimAid),
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -57,6 +60,10 @@ pub trait GameLink {
     fn poll(&mut self) -> Option<GameEvent>;
     /// Starts a new game with the same settings.
     fn rematch(&mut self);
+    /// The invite to show while the opponent's seat is empty, when this computer hosts.
+    fn invite(&self) -> Option<&Invite> {
+        None
+    }
 }
 
 /// Two players at one computer: the rules are applied here.

@@ -7,15 +7,16 @@ use breakshot_client::play::controls::{Context, Controls, Drag, InputFrame, Inte
 use breakshot_client::play::game_flow::{in_hand_area, GameFlow, Turn};
 use breakshot_client::play::link::GameLink;
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
-use breakshot_client::view::hud::Connection;
+use breakshot_client::view::hud::{connection as connection_text, Connection};
 use breakshot_client::view::layout::{Frame, Layout, Rect};
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{MotionState, Params, Shot, Simulator, Table};
+use breakshot_shared::protocol::Invite;
 use breakshot_shared::rules::{pocket_name, rack, Choice, Command, Game, Phase};
 use macroquad::prelude::*;
 
 use super::hud::{game_hud, HudInfo};
-use super::{draw, menu, Next, Screen};
+use super::{draw, invite, menu, Next, Screen};
 
 pub struct GameScreen {
     link: Box<dyn GameLink>,
@@ -26,6 +27,8 @@ pub struct GameScreen {
     predicted: Option<(Shot, Prediction)>,
     debug: bool,
     frame_ms: f64,
+    /// The invite was copied to the clipboard.
+    copied: bool,
 }
 
 /// Ball ids by number: "cue", "1", "2", ...
@@ -64,6 +67,7 @@ impl GameScreen {
             predicted: None,
             debug: false,
             frame_ms: 0.0,
+            copied: false,
         }
     }
 
@@ -85,11 +89,41 @@ impl GameScreen {
         }
     }
 
+    /// The invite to show: this computer hosts and the other seat is still empty.
+    fn waiting_invite(&self) -> Option<&Invite> {
+        self.link
+            .invite()
+            .filter(|_| self.flow.connection == Connection::WaitingForOpponent)
+    }
+
+    /// What the player here may do; nothing until the opponent is seated.
+    fn turn(&self) -> Turn {
+        if self.flow.connection == Connection::WaitingForOpponent {
+            Turn::Wait
+        } else {
+            self.flow.turn(self.link.seat())
+        }
+    }
+
+    /// The aids to draw: those toggled on that the room allows.
+    fn shown_aids(&self) -> AidToggles {
+        self.toggles.allowed_by(self.flow.aim_aid)
+    }
+
     pub fn update(&mut self, input: &InputFrame) -> Next {
         self.frame_ms = 0.9 * self.frame_ms + 0.1 * input.dt * 1000.0;
         while let Some(event) = self.link.poll() {
             self.flow.handle(event);
         }
+        let mut input = input.clone();
+        if let Some(invite) = self.waiting_invite() {
+            if input.left_pressed && invite::copy_clicked(input.mouse) {
+                invite::copy(invite);
+                self.copied = true;
+                input.left_pressed = false;
+            }
+        }
+        let input = &input;
         if self.flow.shot().is_some() && input.pressed.contains(&Key::Shoot) {
             self.flow.skip();
         }
@@ -102,7 +136,7 @@ impl GameScreen {
             };
         };
         let layout = Self::layout(&game);
-        let turn = self.flow.turn(self.link.seat());
+        let turn = self.turn();
         let mut input = input.clone();
 
         match &turn {
@@ -184,7 +218,10 @@ impl GameScreen {
     }
 
     fn refresh_prediction(&mut self, game: &Game, stage: Stage) {
-        if stage == Stage::Watching || game.balls()[0].motion == MotionState::Pocketed {
+        if stage == Stage::Watching
+            || game.balls()[0].motion == MotionState::Pocketed
+            || !self.shown_aids().any()
+        {
             self.predicted = None;
             return;
         }
@@ -198,14 +235,25 @@ impl GameScreen {
 
     pub fn draw(&mut self) {
         let Some(game) = self.flow.game() else {
-            draw::label("Waiting for the game to start...", 40.0, 80.0, 28.0, WHITE);
+            // Before a game, a message is a refusal (no such room, room full).
+            let failed = matches!(self.flow.connection, Connection::Closed(_))
+                || !self.flow.message.is_empty();
+            let headline = if failed {
+                "Could not join the game (Esc: menu)"
+            } else {
+                "Waiting for the game to start..."
+            };
+            draw::label(headline, 40.0, 80.0, 28.0, WHITE);
+            let state = connection_text(&self.flow.connection);
+            draw::label(&state, 40.0, 120.0, 22.0, LIGHTGRAY);
+            draw::label(&self.flow.message, 40.0, 150.0, 22.0, YELLOW);
             return;
         };
         let layout = Self::layout(game);
         let r = Params::default().ball_radius;
         let balls = self.flow.balls();
         let names = ids(balls.len());
-        let turn = self.flow.turn(self.link.seat());
+        let turn = self.turn();
         draw::table(&layout, game.table());
 
         let dragging = match self.controls.drag {
@@ -218,7 +266,7 @@ impl GameScreen {
                 .first_hit
                 .and_then(|b| names.get(b))
                 .map_or("", |s| s.as_str());
-            draw::aids(&layout, pred, self.toggles, cue, r, object);
+            draw::aids(&layout, pred, self.shown_aids(), cue, r, object);
         }
         draw::balls(&layout, &names, &balls, r, dragging.map(|_| 0));
         if let Turn::Shoot {
@@ -310,6 +358,9 @@ impl GameScreen {
         );
         if self.debug {
             self.debug_overlay(&layout, game);
+        }
+        if let Some(invite) = self.waiting_invite() {
+            invite::draw_panel(invite, self.copied);
         }
     }
 

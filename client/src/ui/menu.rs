@@ -1,7 +1,10 @@
 //! The menu the window opens on when no command is given.
 
+use breakshot_client::net::host::default_data_dir;
+use breakshot_client::net::{Host, HostOptions, NetLink};
 use breakshot_client::play::controls::{InputFrame, Key};
 use breakshot_client::view::layout::Rect;
+use breakshot_shared::protocol::Invite;
 use breakshot_shared::rules::{EightBallRules, Variant};
 use macroquad::prelude::*;
 
@@ -21,10 +24,27 @@ const ITEMS: [(Item, &str); 6] = [
     (Item::Practice, "Practice"),
     (Item::Local, "Two players, one computer"),
     (Item::Host, "Host a game"),
-    (Item::Join, "Join a game"),
+    (Item::Join, "Join (invite on clipboard)"),
     (Item::Replay, "Watch a replay"),
     (Item::Quit, "Quit"),
 ];
+
+/// Hosts an 8-ball game with the defaults of `breakshot host`.
+fn host_default() -> Result<Host, String> {
+    let data = default_data_dir()
+        .ok_or("No user data directory (HOME is not set): run breakshot host --data DIR")?;
+    Host::start(&HostOptions::new(data)).map_err(|e| e.to_string())
+}
+
+/// Joins the game whose invite is on the clipboard.
+fn join_from_clipboard() -> Result<NetLink, String> {
+    const HOW: &str = "copy the invite first, or run: breakshot join INVITE";
+    let text = macroquad::miniquad::window::clipboard_get().unwrap_or_default();
+    let invite: Invite = text
+        .parse()
+        .map_err(|e| format!("The clipboard holds no invite ({e}): {HOW}"))?;
+    NetLink::join(invite, "guest").map_err(|e| e.to_string())
+}
 
 pub struct MenuScreen {
     message: String,
@@ -79,9 +99,14 @@ impl MenuScreen {
                     super::fresh_seed(),
                 ))
             }
-            Item::Host | Item::Join => {
-                self.message = "Network play is not available yet in this build.".into();
-            }
+            Item::Host => match host_default() {
+                Ok(host) => return Next::Go(super::network_game(Box::new(host))),
+                Err(e) => self.message = e,
+            },
+            Item::Join => match join_from_clipboard() {
+                Ok(link) => return Next::Go(super::network_game(Box::new(link))),
+                Err(e) => self.message = e,
+            },
             Item::Replay => {
                 self.message = "To watch a game, run: breakshot replay FILE".into();
             }

@@ -6,6 +6,7 @@ mod draw;
 mod game;
 mod hud;
 mod input;
+mod invite;
 mod menu;
 mod practice;
 mod replay;
@@ -16,7 +17,7 @@ use breakshot_shared::scene::Scene;
 use macroquad::prelude::{clear_background, next_frame};
 
 use breakshot_client::play::controls::InputFrame;
-use breakshot_client::play::link::LocalLink;
+use breakshot_client::play::link::{GameLink, LocalLink};
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::palette;
@@ -32,6 +33,8 @@ pub enum Start {
     Replay(Box<ReplayViewer>),
     /// Two players at this computer.
     Local(Variant),
+    /// A game over the network (hosted here, or joined).
+    Network(Box<dyn GameLink>),
 }
 
 /// Options for the whole run.
@@ -48,6 +51,14 @@ pub fn local_game(variant: Variant, seed: u64) -> Screen {
     Screen::Game(Box::new(game::GameScreen::new(
         Box::new(link),
         Connection::Offline,
+    )))
+}
+
+/// A game over the network: hosted here, or joined.
+pub fn network_game(link: Box<dyn GameLink>) -> Screen {
+    Screen::Game(Box::new(game::GameScreen::new(
+        link,
+        Connection::Connecting,
     )))
 }
 
@@ -96,6 +107,7 @@ impl Screen {
 pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
     let mut screen = match start {
         Start::Menu => Screen::Menu(menu::MenuScreen::new()),
+        Start::Network(link) => network_game(link),
         Start::Local(variant) => local_game(variant, options.seed.unwrap_or_else(fresh_seed)),
         Start::Replay(viewer) => Screen::Replay(Box::new(replay::ReplayScreen::new(*viewer))),
         Start::Practice(scene) => Screen::Practice(Box::new(practice::PracticeScreen::new(

@@ -3,6 +3,7 @@
 //! uses, so what the aids show is what the shot will do.
 
 use breakshot_shared::physics::{EventKind, Outcome, Shot, ShotError, Simulator};
+use breakshot_shared::protocol::AimAid;
 use glam::DVec2;
 
 /// Points per second of shot time along a predicted path.
@@ -37,6 +38,27 @@ pub enum Aid {
 }
 
 impl AidToggles {
+    /// The aids shown: those toggled on that the room's policy allows. `FirstContact`
+    /// allows the aim line and the ghost ball (the cue ball's way to its first contact),
+    /// not the paths after it.
+    pub fn allowed_by(self, policy: AimAid) -> AidToggles {
+        let (line, ghost, paths) = match policy {
+            AimAid::Off => (false, false, false),
+            AimAid::FirstContact => (true, true, false),
+            AimAid::Full => (true, true, true),
+        };
+        AidToggles {
+            aim_line: self.aim_line && line,
+            ghost_ball: self.ghost_ball && ghost,
+            paths: self.paths && paths,
+        }
+    }
+
+    /// Whether any aid is shown.
+    pub fn any(self) -> bool {
+        self.aim_line || self.ghost_ball || self.paths
+    }
+
     pub fn toggle(&mut self, aid: Aid) {
         let flag = match aid {
             Aid::AimLine => &mut self.aim_line,
@@ -173,6 +195,19 @@ mod tests {
         assert!(p.ghost.is_none() && p.first_hit.is_none() && p.object_path.is_empty());
         let end = p.aim_end.expect("reaches the cushion");
         assert!(end.y > 2.4 && (end.x - 0.635).abs() < 1e-6, "{end}");
+    }
+
+    #[test]
+    fn a_room_s_policy_limits_the_aids_shown() {
+        let all = AidToggles::default();
+        assert!(!all.allowed_by(AimAid::Off).any());
+        let first = all.allowed_by(AimAid::FirstContact);
+        assert!(first.aim_line && first.ghost_ball && !first.paths);
+        assert_eq!(all.allowed_by(AimAid::Full), all);
+        // The policy never turns on an aid the player turned off.
+        let mut some = all;
+        some.toggle(Aid::AimLine);
+        assert!(!some.allowed_by(AimAid::Full).aim_line);
     }
 
     #[test]

@@ -19,6 +19,8 @@ pub enum Connection {
     /// No server: practice or a replay.
     Offline,
     Connecting,
+    /// In a room whose other seat nobody has taken yet.
+    WaitingForOpponent,
     Connected,
     Reconnecting,
     /// The opponent's connection dropped; the game is forfeited after `seconds_left`.
@@ -121,6 +123,7 @@ pub fn connection(c: &Connection) -> String {
     match c {
         Connection::Offline => "offline".into(),
         Connection::Connecting => "connecting...".into(),
+        Connection::WaitingForOpponent => "waiting for the opponent".into(),
         Connection::Connected => "connected".into(),
         Connection::Reconnecting => "connection lost, reconnecting...".into(),
         Connection::OpponentLeft { seconds_left } => {

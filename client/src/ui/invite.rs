@@ -1,0 +1,113 @@
+//! The invite panel a host sees while the other seat is empty: the invite to send, a button
+//! that copies it to the clipboard, and a note when the invite's address cannot be dialled.
+
+use breakshot_client::net::host::{names_wildcard, ADDRESS_NOTE};
+use breakshot_client::view::layout::Rect;
+use breakshot_shared::protocol::Invite;
+use macroquad::prelude::*;
+
+use super::draw;
+
+const TEXT: f32 = 20.0;
+const NOTE: f32 = 17.0;
+
+/// Where the panel and its button go in a window of this size.
+fn panel(screen: (f32, f32)) -> (Rect, Rect) {
+    let (w, h) = screen;
+    let pw = (0.9 * w).min(1000.0);
+    let ph = 200.0f32.min(0.8 * h);
+    let p = Rect::new(0.5 * (w - pw), 0.5 * (h - ph), pw, ph);
+    let button = Rect::new(p.x + 0.5 * (pw - 220.0), p.y + 96.0, 220.0, 38.0);
+    (p, button)
+}
+
+/// Whether a click at `mouse` hits the copy button.
+pub fn copy_clicked(mouse: [f32; 2]) -> bool {
+    panel((screen_width(), screen_height())).1.contains(mouse)
+}
+
+/// Puts the invite on the system clipboard.
+pub fn copy(invite: &Invite) {
+    macroquad::miniquad::window::clipboard_set(&invite.to_string());
+}
+
+/// The note, cut into lines that fit `width` pixels.
+fn wrap(text: &str, width: f32, size: f32) -> Vec<String> {
+    let mut lines = vec![String::new()];
+    for word in text.split_whitespace() {
+        let last = lines.last_mut().map_or(String::new(), |l| l.clone());
+        let candidate = if last.is_empty() {
+            word.to_string()
+        } else {
+            format!("{last} {word}")
+        };
+        if draw::text_width(&candidate, size) > width && !last.is_empty() {
+            lines.push(word.to_string());
+        } else if let Some(l) = lines.last_mut() {
+            *l = candidate;
+        }
+    }
+    lines
+}
+
+pub fn draw_panel(invite: &Invite, copied: bool) {
+    let (p, button) = panel((screen_width(), screen_height()));
+    let wildcard = names_wildcard(invite);
+    let note = if wildcard {
+        wrap(&format!("Note: {ADDRESS_NOTE}."), p.w - 32.0, NOTE)
+    } else {
+        Vec::new()
+    };
+    let height = p.h + NOTE * 1.3 * note.len() as f32;
+    draw_rectangle(p.x, p.y, p.w, height, Color::new(0.0, 0.0, 0.0, 0.82));
+    draw_rectangle_lines(p.x, p.y, p.w, height, 2.0, WHITE);
+    let centred = |text: &str, y: f32, size: f32, c: Color| {
+        let w = draw::text_width(text, size);
+        draw::label(text, p.x + 0.5 * (p.w - w), y, size, c);
+    };
+    centred(
+        "Waiting for the opponent. Send them this invite:",
+        p.y + 32.0,
+        TEXT,
+        WHITE,
+    );
+    // A 64-digit fingerprint makes the invite long: shrink it to fit the panel.
+    let text = invite.to_string();
+    let size = (TEXT * (p.w - 24.0) / draw::text_width(&text, TEXT).max(1.0)).min(TEXT);
+    centred(&text, p.y + 70.0, size, YELLOW);
+    let fill = if copied {
+        Color::from_rgba(40, 130, 90, 255)
+    } else {
+        Color::from_rgba(30, 60, 120, 255)
+    };
+    draw_rectangle(button.x, button.y, button.w, button.h, fill);
+    draw_rectangle_lines(button.x, button.y, button.w, button.h, 2.0, WHITE);
+    let label = if copied {
+        "Copied"
+    } else {
+        "Copy to clipboard"
+    };
+    let w = draw::text_width(label, TEXT);
+    draw::label(
+        label,
+        button.x + 0.5 * (button.w - w),
+        button.y + 0.5 * button.h + 7.0,
+        TEXT,
+        WHITE,
+    );
+    centred(
+        "They run:  breakshot join '<invite>'",
+        p.y + 170.0,
+        NOTE,
+        LIGHTGRAY,
+    );
+    for (k, line) in note.iter().enumerate() {
+        draw::label(
+            line,
+            p.x + 16.0,
+            p.y + p.h + NOTE * 1.3 * k as f32,
+            NOTE,
+            Color::from_rgba(255, 200, 120, 255),
+        );
+    }
+}

@@ -1,0 +1,216 @@
+//! Hosting from the game: the embedded server, the host's own seat over loopback QUIC, and a
+//! second player who joins through nothing but the invite text.
+
+use std::time::{Duration, Instant};
+
+use breakshot_client::net::{Host, HostOptions, NetLink, Session, SessionEvent};
+use breakshot_client::play::link::{GameEvent, GameLink};
+use breakshot_client::view::hud::Connection;
+use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, Role, ServerMessage};
+use breakshot_shared::rules::{Command, Seat, Settings};
+use breakshot_tests::{break_shot, eight_ball, TempDir, TestServer, PATIENCE};
+
+/// Polls a link like a game screen until `want`.
+fn until(link: &mut dyn GameLink, what: &str, want: impl Fn(&GameEvent) -> bool) -> GameEvent {
+    let start = Instant::now();
+    loop {
+        while let Some(event) = link.poll() {
+            if want(&event) {
+                return event;
+            }
+        }
+        assert!(start.elapsed() < PATIENCE, "no {what}");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+#[test]
+fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Result<()> {
+    let data = TempDir::new("host");
+    let options = HostOptions {
+        bind: ([127, 0, 0, 1], 0).into(),
+        data: data.path().join("server"),
+        variant: eight_ball(),
+        settings: Settings::online(),
+        aim_aid: AimAid::FirstContact,
+        address: None,
+    };
+    let mut host = Host::start(&options)?;
+
+    // The invite is text naming the bound address, a room and the server's certificate.
+    let text = host.invite().to_string();
+    let invite: Invite = text.parse()?;
+    assert_eq!(invite.port, host.server().local_addr().port());
+    assert_eq!(invite.host, "127.0.0.1");
+    assert!(!host.needs_address());
+    let room = invite.room.clone().expect("the invite names the room");
+    assert!(data.path().join("server").join("cert.der").is_file());
+
+    // The host holds seat A and waits for the opponent, with the room's aid policy.
+    let GameEvent::Started(game) =
+        until(&mut host, "Started", |e| matches!(e, GameEvent::Started(_)))
+    else {
+        unreachable!()
+    };
+    assert_eq!(host.seat(), Some(Seat::A));
+
+    let guest = Session::connect(invite);
+    guest.send(ClientMessage::Join {
+        room,
+        name: "guest".into(),
+    });
+    let mut guest = NetLink::new(guest);
+    let policy = until(&mut guest, "the aid policy", |e| {
+        matches!(e, GameEvent::AimAid(_))
+    });
+    assert_eq!(policy, GameEvent::AimAid(AimAid::FirstContact));
+    until(&mut guest, "Started", |e| {
+        matches!(e, GameEvent::Started(_))
+    });
+    assert_eq!(guest.seat(), Some(Seat::B));
+    until(&mut host, "the opponent", |e| {
+        *e == GameEvent::Connection(Connection::Connected)
+    });
+
+    // The host breaks; both sides simulate it and the server's hash confirms both.
+    let ClientMessage::Shot { strike, .. } = break_shot(&game) else {
+        unreachable!()
+    };
+    host.send(Seat::A, Command::Shot { strike, call: None });
+    let mut hashes = Vec::new();
+    for link in [&mut host as &mut dyn GameLink, &mut guest] {
+        let GameEvent::Judged(j) = until(link, "Judged", |e| matches!(e, GameEvent::Judged(_)))
+        else {
+            unreachable!()
+        };
+        hashes.push(j.hash.expect("a shot has a hash"));
+    }
+    assert_eq!(hashes[0], hashes[1]);
+    for mirror in [host.link().session().mirror(), guest.session().mirror()] {
+        assert_eq!((mirror.confirmed(), mirror.desyncs()), (1, 0));
+    }
+    drop(guest);
+    drop(host);
+    // The server stopped with the host: its port is free again.
+    Ok(())
+}
+
+#[test]
+fn the_invite_names_the_address_the_host_gives() -> anyhow::Result<()> {
+    let data = TempDir::new("host-address");
+    let options = HostOptions {
+        bind: ([127, 0, 0, 1], 0).into(),
+        data: data.path().to_path_buf(),
+        variant: eight_ball(),
+        settings: Settings::offline(),
+        aim_aid: AimAid::Full,
+        address: Some("pool.example.org".into()),
+    };
+    let host = Host::start(&options)?;
+    let invite = host.invite();
+    assert_eq!(invite.host, "pool.example.org");
+    assert_eq!(invite.port, host.server().local_addr().port());
+    assert!(!host.needs_address());
+    Ok(())
+}
+
+#[test]
+fn a_port_in_use_is_a_clear_error() -> anyhow::Result<()> {
+    let data = TempDir::new("host-busy");
+    let taken = std::net::UdpSocket::bind("127.0.0.1:0")?;
+    let options = HostOptions {
+        bind: taken.local_addr()?,
+        data: data.path().to_path_buf(),
+        variant: eight_ball(),
+        settings: Settings::offline(),
+        aim_aid: AimAid::Full,
+        address: None,
+    };
+    let Err(e) = Host::start(&options) else {
+        panic!("a second server bound the same port");
+    };
+    assert!(e.to_string().contains("binding"), "{e}");
+    Ok(())
+}
+
+/// Polls a session until `want`, failing on a closed session.
+fn session_until(s: &Session, what: &str, want: impl Fn(&SessionEvent) -> bool) -> SessionEvent {
+    let start = Instant::now();
+    loop {
+        while let Some(event) = s.try_recv() {
+            if want(&event) {
+                return event;
+            }
+            if let SessionEvent::Closed(why) = &event {
+                panic!("closed while waiting for {what}: {why}");
+            }
+        }
+        assert!(start.elapsed() < PATIENCE, "no {what}");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+#[test]
+fn a_session_reconnects_and_takes_its_seat_back_after_a_server_restart() -> anyhow::Result<()> {
+    let runtime = tokio::runtime::Runtime::new()?;
+    let data = TempDir::new("session-restart");
+    let server = runtime.block_on(TestServer::start(data.path()))?;
+    let addr = server.addr;
+
+    let a = Session::connect(server.invite.clone());
+    a.send(ClientMessage::CreateRoom {
+        variant: eight_ball(),
+        mode: Settings::offline(),
+        aim_aid: AimAid::Full,
+        name: "ann".into(),
+    });
+    session_until(&a, "Joined", |e| {
+        matches!(e, SessionEvent::Message(ServerMessage::Joined { .. }))
+    });
+    let room = a.mirror().room().cloned().expect("room");
+    let b = Session::connect(server.invite.clone());
+    b.send(ClientMessage::Join {
+        room: room.clone(),
+        name: "ben".into(),
+    });
+    session_until(&a, "PlayerJoined", |e| {
+        matches!(e, SessionEvent::Message(ServerMessage::PlayerJoined { .. }))
+    });
+
+    // A session with no seat is not reconnected: it reports the loss.
+    let watcher = Session::connect(server.invite.clone());
+    watcher.send(ClientMessage::Spectate { room });
+    session_until(&watcher, "Joined", |e| {
+        matches!(e, SessionEvent::Message(ServerMessage::Joined { .. }))
+    });
+
+    runtime.block_on(server.stop())?;
+    for s in [&a, &b] {
+        session_until(s, "Reconnecting", |e| *e == SessionEvent::Reconnecting);
+    }
+    let start = Instant::now();
+    let closed = loop {
+        match watcher.try_recv() {
+            Some(SessionEvent::Closed(why)) => break why,
+            Some(SessionEvent::Reconnecting) => panic!("a spectator has no seat to take back"),
+            _ => {}
+        }
+        assert!(
+            start.elapsed() < PATIENCE,
+            "the spectator never heard of the loss"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    assert!(!closed.is_empty());
+
+    // The server comes back on the same address; the session rejoins its seat by itself.
+    let server = runtime.block_on(TestServer::start_at(addr, data.path()))?;
+    for (s, seat) in [(&a, Seat::A), (&b, Seat::B)] {
+        session_until(s, "Joined again", |e| {
+            matches!(e, SessionEvent::Message(ServerMessage::Joined { .. }))
+        });
+        assert_eq!(s.mirror().role(), Some(Role::Player(seat)));
+    }
+    drop((a, b, watcher));
+    runtime.block_on(server.stop())
+}
