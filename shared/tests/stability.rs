@@ -578,3 +578,33 @@ fn state_at_is_continuous_in_position() {
     }
     let _ = DVec2::ZERO;
 }
+
+#[test]
+fn a_ball_driven_exactly_into_a_closed_corner_meets_two_cushions_at_once() {
+    // With the pockets off the rails meet at the corners: a ball on the diagonal reaches both
+    // at the same instant (one contact each, resolved one after the other) and comes back out.
+    let table = TableKind::NineFoot;
+    for v in [0.5, 2.0, 8.0] {
+        let mut shot = Shot {
+            table,
+            ..open_shot(vec![ball([0.4, 0.4], [-v, -v], [0.0; 3])])
+        };
+        shot.effects.pockets = false;
+        let out = run(&shot);
+        check_invariants(&shot, &out);
+        assert_stays_on_table(&shot, &out);
+        let first_two: Vec<_> = out
+            .events
+            .iter()
+            .filter(|e| matches!(e.kind, EventKind::BallCushion { .. }))
+            .take(2)
+            .collect();
+        assert_eq!(first_two.len(), 2, "{v}");
+        let apart = (first_two[0].t - first_two[1].t).abs();
+        assert!(
+            apart < 1e-12,
+            "{v}: both rails at one instant, {apart} s apart"
+        );
+        assert!(out.events.len() < 100);
+    }
+}
