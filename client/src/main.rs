@@ -11,12 +11,12 @@ use std::rc::Rc;
 
 use anyhow::{bail, Context as _};
 use breakshot_client::net::host::{default_data_dir, ADDRESS_NOTE, DEFAULT_PORT};
-use breakshot_client::net::{Host, HostOptions, NetLink};
+use breakshot_client::net::{fetch_record_blocking, Host, HostOptions, NetLink};
 use breakshot_client::play::replay::ReplayViewer;
-use breakshot_shared::protocol::{AimAid, Invite};
+use breakshot_shared::protocol::{AimAid, Invite, RoomCode};
 use breakshot_shared::rules::{EightBallRules, Variant};
 use breakshot_shared::scene::Scene;
-use clap::{Parser, Subcommand};
+use clap::{ArgGroup, Parser, Subcommand};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -76,8 +76,20 @@ enum Command {
     Join { invite: String },
     /// Play offline with no server, from a rack or from a scene file.
     Practice { scene: Option<PathBuf> },
-    /// Watch a recorded game.
-    Replay { file: PathBuf },
+    /// Watch a recorded game: from a file, or from a server by its room code.
+    #[command(group(ArgGroup::new("source").required(true).args(["file", "server"])))]
+    Replay {
+        /// A game record file.
+        #[arg(conflicts_with = "server")]
+        file: Option<PathBuf>,
+        /// The server that recorded the game: breakshot://HOST:PORT#FINGERPRINT, as
+        /// breakshot-server prints it (a room invite works too).
+        #[arg(long, value_name = "URL", requires = "game")]
+        server: Option<String>,
+        /// The room code of the game (its latest game is shown).
+        #[arg(long, value_name = "ID", requires = "server")]
+        game: Option<String>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -137,14 +149,43 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
                 .with_context(|| format!("{invite:?} is not an invite"))?;
             ui::Start::Network(Box::new(NetLink::join(invite, "guest")?))
         }
-        Some(Command::Replay { file }) => {
+        Some(Command::Replay {
+            file: Some(file), ..
+        }) => {
             let bytes =
                 std::fs::read(file).with_context(|| format!("cannot read {}", file.display()))?;
             let viewer = ReplayViewer::decode(&bytes)
                 .with_context(|| format!("{} is not a game record", file.display()))?;
             ui::Start::Replay(Box::new(viewer))
         }
+        Some(Command::Replay {
+            server: Some(server),
+            game: Some(game),
+            ..
+        }) => ui::Start::Replay(Box::new(fetch_replay(server, game)?)),
+        Some(Command::Replay { .. }) => bail!("give a record FILE, or --server URL --game ID"),
     })
+}
+
+/// Fetches a game's record from the server `url` names and opens it.
+fn fetch_replay(url: &str, game: &str) -> anyhow::Result<ReplayViewer> {
+    let server: Invite = url.parse().with_context(|| {
+        format!("{url:?} is not a server address (breakshot://HOST:PORT#FINGERPRINT)")
+    })?;
+    let room = RoomCode::parse(game).with_context(|| format!("{game:?} is not a room code"))?;
+    let fetched = fetch_record_blocking(&server, &room)
+        .with_context(|| format!("cannot fetch game {room} from {}", server.authority()))?;
+    eprintln!(
+        "breakshot: game {} of room {room} ({})",
+        fetched.game,
+        if fetched.finished {
+            "finished"
+        } else {
+            "still being played"
+        }
+    );
+    ReplayViewer::decode(&fetched.bytes)
+        .with_context(|| format!("the server sent game {room} as an unreadable record"))
 }
 
 /// Tells the terminal where the game is served and what to send the other player.

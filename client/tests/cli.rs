@@ -115,3 +115,55 @@ fn an_address_that_cannot_be_in_an_invite_is_refused() {
         stderr(&out)
     );
 }
+
+#[test]
+fn replay_from_a_server_needs_a_server_address_and_a_room_code() {
+    let out = breakshot(&["replay", "--server", "not-a-server", "--game", "AAAAAA"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("is not a server address"),
+        "{}",
+        stderr(&out)
+    );
+
+    let server = format!("breakshot://127.0.0.1:4433#{}", "ab".repeat(32));
+    let out = breakshot(&["replay", "--server", &server, "--game", "no!"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("is not a room code"),
+        "{}",
+        stderr(&out)
+    );
+
+    // --server without --game, or a file and a server at once, is a usage error.
+    for args in [
+        &["replay", "--server", &server][..],
+        &[
+            "replay", "game.rec", "--server", &server, "--game", "AAAAAA",
+        ][..],
+        &["replay"][..],
+    ] {
+        let out = breakshot(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+    }
+}
+
+#[test]
+fn replay_of_a_game_the_server_does_not_have_is_refused() {
+    use breakshot_client::net::host::EmbeddedServer;
+    use breakshot_server::Config;
+
+    let data = std::env::temp_dir().join(format!("breakshot-cli-fetch-{}", std::process::id()));
+    let server = EmbeddedServer::start(Config::new(
+        std::net::SocketAddr::from(([127, 0, 0, 1], 0)),
+        data.clone(),
+    ))
+    .expect("a server on loopback");
+    let invite = server.loopback_invite().to_string();
+    let out = breakshot(&["replay", "--server", &invite, "--game", "zzzzzz"]);
+    drop(server);
+    let _ = std::fs::remove_dir_all(&data);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(err.contains("no game in room ZZZZZZ"), "{err}");
+}

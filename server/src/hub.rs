@@ -155,6 +155,8 @@ impl Hub {
             (ClientMessage::Hello { .. }, _) => {
                 error(conn, ErrorCode::Unexpected, "already greeted")
             }
+            // Only the store knows every game (a room that ended is no longer here).
+            (ClientMessage::FetchRecord { room }, _) => vec![Output::SendRecord { to: conn, room }],
             (
                 ClientMessage::CreateRoom { .. }
                 | ClientMessage::Join { .. }

@@ -6,6 +6,7 @@ pub mod conn;
 pub mod hub;
 pub mod output;
 pub mod ratelimit;
+pub mod records;
 pub mod room;
 pub mod secret;
 pub mod server;

@@ -18,6 +18,10 @@ pub enum Output {
     /// Store durably. Every `Send` after a `Store` in the same list must wait until the
     /// store is done: that is how nothing is shown before it is safe on disk.
     Store(StoreOp),
+    /// Send `to` the stored record of `room`'s latest game (or an error). The writer reads
+    /// it after committing every earlier store operation, so it holds every result already
+    /// sent.
+    SendRecord { to: ConnId, room: RoomCode },
 }
 
 #[derive(Debug)]

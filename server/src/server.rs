@@ -28,6 +28,7 @@ use tokio::sync::Notify;
 use crate::conn::{self, HubEvent, Outbound};
 use crate::hub::{Hub, HubConfig};
 use crate::output::{ConnId, Output};
+use crate::records;
 use crate::secret::{OsEntropy, TestEntropy};
 use crate::store::{Store, StoreError};
 use crate::tls::{Identity, TlsError};
@@ -375,6 +376,9 @@ fn spawn_writer(
                                 Output::Send { to, msg } => (to, Outbound::Message(msg)),
                                 Output::Close { conn, reason } => (conn, Outbound::Close(reason)),
                                 Output::Store(_) => continue,
+                                Output::SendRecord { to, room } => {
+                                    (to, Outbound::Message(records::answer(&store, &room)))
+                                }
                             };
                             if let Some(tx) = conns.get(&to) {
                                 let _ = tx.send(what);

@@ -134,6 +134,19 @@ impl Store {
             .optional()?)
     }
 
+    /// The latest game of a room: (number, record, finished).
+    pub fn latest(&self, room: &RoomCode) -> Result<Option<(u32, Vec<u8>, bool)>, StoreError> {
+        Ok(self
+            .db
+            .query_row(
+                "SELECT number, record, finished FROM games WHERE room = ?1
+                 ORDER BY number DESC LIMIT 1",
+                params![room.as_str()],
+                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
+            )
+            .optional()?)
+    }
+
     fn games(&self, filter: &str) -> Result<Vec<StoredGame>, StoreError> {
         let sql = format!(
             "SELECT r.code, r.meta, g.number, g.record, g.finished

@@ -108,7 +108,9 @@ impl MenuScreen {
                 Err(e) => self.message = e,
             },
             Item::Replay => {
-                self.message = "To watch a game, run: breakshot replay FILE".into();
+                self.message =
+                    "To watch a game, run: breakshot replay FILE (or --server URL --game ROOM)"
+                        .into();
             }
             Item::Quit => return Next::Quit,
         }

@@ -504,3 +504,20 @@ fn a_rematch_starts_when_both_players_ask() {
     }
     assert_eq!(w.game(&room).turn(), 0);
 }
+
+#[test]
+fn a_record_is_fetched_without_a_seat_but_only_after_hello() {
+    let mut w = World::new();
+    let room = RoomCode::parse("K7QX2M").unwrap();
+    w.hub.connected(w.now, 5);
+    let out = w.send(5, ClientMessage::FetchRecord { room: room.clone() });
+    assert!(matches!(out.last(), Some(Output::Close { conn: 5, .. })));
+    assert!(!out.iter().any(|o| matches!(o, Output::SendRecord { .. })));
+
+    w.greet(6);
+    let out = w.send(6, ClientMessage::FetchRecord { room: room.clone() });
+    assert!(
+        matches!(&out[..], [Output::SendRecord { to: 6, room: r }] if *r == room),
+        "{out:?}"
+    );
+}

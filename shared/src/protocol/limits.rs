@@ -26,3 +26,6 @@ pub const MAX_ROOMS: usize = 10_000;
 pub const MAX_SPECTATORS: usize = 32;
 /// Largest stored game record (bytes) a server will load or verify.
 pub const MAX_RECORD: usize = 4 * 1024 * 1024;
+/// Largest record (bytes) the server sends in one `Record` message: the rest of a frame is
+/// room for the message's other fields (a few bytes). A game's record is about 2 KB.
+pub const MAX_SENT_RECORD: usize = MAX_FRAME - 1024;

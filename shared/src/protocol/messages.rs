@@ -63,6 +63,10 @@ pub enum ClientMessage {
     Rematch,
     /// A line of chat for the room.
     Chat { text: String },
+    /// Asks for the record of the room's latest game, finished or not, to watch it again.
+    /// Needs no seat and may be sent at any time after `Welcome`: like spectating, a record
+    /// is open to whoever knows the room code. Answered by [`ServerMessage::Record`].
+    FetchRecord { room: RoomCode },
 }
 
 /// What a connection is in a room.
@@ -127,6 +131,9 @@ pub enum ErrorCode {
     RateLimited,
     GameOver,
     ServerBusy,
+    /// The answer would not fit in one frame (a stored record beyond
+    /// [`super::limits::MAX_SENT_RECORD`]).
+    TooLarge,
 }
 
 /// Server to client.
@@ -211,6 +218,15 @@ pub enum ServerMessage {
     Error {
         code: ErrorCode,
         message: String,
+    },
+    /// The answer to [`ClientMessage::FetchRecord`]: the room's latest game (numbered from 1)
+    /// as it is stored, an encoded [`crate::replay::GameRecord`] holding every command
+    /// applied so far.
+    Record {
+        room: RoomCode,
+        game: u32,
+        finished: bool,
+        record: Vec<u8>,
     },
 }
 

@@ -60,7 +60,9 @@ pub fn validate(msg: ClientMessage) -> Result<ClientMessage, InvalidMessage> {
         {
             Err(InvalidMessage::Name)
         }
-        ClientMessage::Join { ref room, .. } | ClientMessage::Spectate { ref room }
+        ClientMessage::Join { ref room, .. }
+        | ClientMessage::Spectate { ref room }
+        | ClientMessage::FetchRecord { ref room }
             if !room.is_valid() =>
         {
             Err(InvalidMessage::Room)

@@ -1,0 +1,145 @@
+//! Fetching a game's record from a server by its room code, to watch it again: one short
+//! connection (pinned certificate, handshake), one `FetchRecord`, one answer.
+
+use std::time::Duration;
+
+use breakshot_shared::protocol::{ClientMessage, ErrorCode, Invite, RoomCode, ServerMessage};
+use thiserror::Error;
+
+use super::connection::{endpoint, Connection, NetError};
+
+/// How long connecting and fetching may take before the server counts as unreachable.
+pub const FETCH_TIMEOUT: Duration = Duration::from_secs(15);
+
+#[derive(Debug, Error)]
+pub enum FetchError {
+    #[error(transparent)]
+    Net(#[from] NetError),
+    #[error("the server has no game in room {0}")]
+    NoSuchGame(RoomCode),
+    #[error("the server refused ({code:?}): {message}")]
+    Refused { code: ErrorCode, message: String },
+    #[error("the server answered with {0} instead of the record")]
+    Unexpected(String),
+    #[error("no answer from {authority} within {} s: is the server running and its UDP port open?", FETCH_TIMEOUT.as_secs())]
+    Timeout { authority: String },
+    #[error("cannot start the network: {0}")]
+    Runtime(String),
+}
+
+/// A room's latest game as the server stores it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FetchedRecord {
+    pub room: RoomCode,
+    /// The game's number in its room, from 1.
+    pub game: u32,
+    pub finished: bool,
+    /// An encoded [`breakshot_shared::replay::GameRecord`].
+    pub bytes: Vec<u8>,
+}
+
+/// Fetches the record of `room`'s latest game from the server `server` names (its room, if
+/// any, is ignored). Gives up after [`FETCH_TIMEOUT`].
+pub async fn fetch_record(server: &Invite, room: &RoomCode) -> Result<FetchedRecord, FetchError> {
+    let ep = endpoint()?;
+    let fetched = tokio::time::timeout(FETCH_TIMEOUT, fetch_on(&ep, server, room)).await;
+    ep.close(0u32.into(), b"done");
+    fetched.map_err(|_| FetchError::Timeout {
+        authority: server.authority(),
+    })?
+}
+
+/// [`fetch_record`] for code outside an async runtime (it makes a small one).
+pub fn fetch_record_blocking(
+    server: &Invite,
+    room: &RoomCode,
+) -> Result<FetchedRecord, FetchError> {
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_all()
+        .build()
+        .map_err(|e| FetchError::Runtime(e.to_string()))?;
+    runtime.block_on(fetch_record(server, room))
+}
+
+async fn fetch_on(
+    ep: &quinn::Endpoint,
+    server: &Invite,
+    room: &RoomCode,
+) -> Result<FetchedRecord, FetchError> {
+    let mut conn = Connection::open(ep, server).await?;
+    conn.send(&ClientMessage::FetchRecord { room: room.clone() })
+        .await?;
+    let answer = conn.recv().await?;
+    conn.quic().close(0u32.into(), b"done");
+    interpret(room, answer)
+}
+
+/// What the server's answer to `FetchRecord { room }` means.
+fn interpret(room: &RoomCode, answer: ServerMessage) -> Result<FetchedRecord, FetchError> {
+    match answer {
+        ServerMessage::Record {
+            room: got,
+            game,
+            finished,
+            record,
+        } if got == *room => Ok(FetchedRecord {
+            room: got,
+            game,
+            finished,
+            bytes: record,
+        }),
+        ServerMessage::Error {
+            code: ErrorCode::NoSuchRoom,
+            ..
+        } => Err(FetchError::NoSuchGame(room.clone())),
+        ServerMessage::Error { code, message } => Err(FetchError::Refused { code, message }),
+        other => Err(FetchError::Unexpected(format!("{other:?}"))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn room(code: &str) -> RoomCode {
+        RoomCode::parse(code).unwrap()
+    }
+
+    #[test]
+    fn only_the_record_of_the_room_asked_for_is_taken() {
+        let record = |code: &str| ServerMessage::Record {
+            room: room(code),
+            game: 2,
+            finished: true,
+            record: vec![1, 2, 3],
+        };
+        let got = interpret(&room("AAAAAA"), record("AAAAAA")).unwrap();
+        assert_eq!(
+            (got.game, got.finished, got.bytes),
+            (2, true, vec![1, 2, 3])
+        );
+        assert!(matches!(
+            interpret(&room("AAAAAA"), record("BBBBBB")),
+            Err(FetchError::Unexpected(_))
+        ));
+    }
+
+    #[test]
+    fn refusals_keep_their_meaning() {
+        let error = |code| ServerMessage::Error {
+            code,
+            message: "why".into(),
+        };
+        assert!(matches!(
+            interpret(&room("AAAAAA"), error(ErrorCode::NoSuchRoom)),
+            Err(FetchError::NoSuchGame(r)) if r == room("AAAAAA")
+        ));
+        assert!(matches!(
+            interpret(&room("AAAAAA"), error(ErrorCode::TooLarge)),
+            Err(FetchError::Refused {
+                code: ErrorCode::TooLarge,
+                ..
+            })
+        ));
+    }
+}

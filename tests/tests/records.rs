@@ -1,0 +1,127 @@
+//! Watching a game again from the server: a fresh client fetches the record by room code,
+//! and replaying it reproduces every hash and the server's table.
+
+use anyhow::{bail, Result};
+use breakshot_client::bot::{run, BotConfig};
+use breakshot_client::net::{fetch_record, FetchError};
+use breakshot_shared::protocol::{ClientMessage, ErrorCode, RoomCode, ServerMessage};
+use breakshot_shared::replay::GameRecord;
+use breakshot_shared::rules::Phase;
+use breakshot_tests::{break_shot, seated_pair, Player, TempDir, TestServer};
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_game_in_play_is_fetched_by_room_code_and_replays_to_the_servers_table() -> Result<()> {
+    let data = TempDir::new("fetch-in-play");
+    let server = TestServer::start(data.path()).await?;
+    let (mut a, mut b, room) = seated_pair(&server.invite).await?;
+
+    let Some(game) = a.mirror.game() else {
+        bail!("no game after joining");
+    };
+    a.send(break_shot(game)).await?;
+    let (hash, balls) = match a
+        .until("ShotResolved", |m| {
+            matches!(m, ServerMessage::ShotResolved { .. })
+        })
+        .await?
+    {
+        ServerMessage::ShotResolved { hash, balls, .. } => (hash, balls),
+        other => bail!("expected ShotResolved, got {other:?}"),
+    };
+    a.until("TurnChanged", |m| {
+        matches!(m, ServerMessage::TurnChanged { .. })
+    })
+    .await?;
+    b.until("TurnChanged", |m| {
+        matches!(m, ServerMessage::TurnChanged { .. })
+    })
+    .await?;
+
+    // A client that never joined the room.
+    let fetched = fetch_record(&server.invite, &room).await?;
+    assert_eq!(fetched.room, room);
+    assert_eq!(fetched.game, 1);
+    assert!(!fetched.finished);
+    let record = GameRecord::decode(&fetched.bytes)?;
+    assert_eq!(record.entries.len(), 1);
+    assert_eq!(record.entries[0].hash, Some(hash));
+
+    // Replaying checks every hash, and ends on the table the server announced.
+    let replayed = record.replay()?;
+    assert_eq!(replayed.balls(), &balls[..]);
+    let Some(mirror) = a.mirror.game() else {
+        bail!("the player lost its game");
+    };
+    assert_eq!(replayed.turn(), mirror.turn());
+    assert_eq!(replayed.to_move(), mirror.to_move());
+
+    server.stop().await?;
+    Ok(())
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_finished_bot_game_is_fetched_whole_and_every_hash_replays() -> Result<()> {
+    let data = TempDir::new("fetch-finished");
+    let server = TestServer::start(data.path()).await?;
+    let report = run(&BotConfig::new(server.invite.clone(), 1)).await;
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert_eq!(report.games_completed, 1);
+    let summary = &report.games[0];
+    let Some(room) = summary.room.clone() else {
+        bail!("the bots' game has no room");
+    };
+
+    // The players have left: the record comes from the store.
+    let fetched = fetch_record(&server.invite, &room).await?;
+    assert!(fetched.finished);
+    let record = GameRecord::decode(&fetched.bytes)?;
+    let recorded: Vec<u64> = record.entries.iter().filter_map(|e| e.hash).collect();
+    let resolved: Vec<u64> = summary.resolved.iter().map(|(_, h)| *h).collect();
+    assert_eq!(recorded, resolved);
+    assert_eq!(recorded.len() as u32, report.shots);
+    let replayed = record.replay()?;
+    assert!(matches!(replayed.phase(), Phase::Over { .. }));
+
+    server.stop().await?;
+    Ok(())
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn fetching_an_unknown_room_is_no_such_room_and_changes_nothing() -> Result<()> {
+    let data = TempDir::new("fetch-unknown");
+    let server = TestServer::start(data.path()).await?;
+    let unknown = RoomCode::parse("ZZZZZZ")?;
+
+    let mut p = Player::connect(&server.invite).await?;
+    p.send(ClientMessage::FetchRecord {
+        room: unknown.clone(),
+    })
+    .await?;
+    match p.recv().await? {
+        ServerMessage::Error {
+            code: ErrorCode::NoSuchRoom,
+            message,
+        } => assert!(message.contains("ZZZZZZ"), "{message}"),
+        other => bail!("expected NoSuchRoom, got {other:?}"),
+    }
+    // The connection is still usable: a refusal is not a failure.
+    p.send(ClientMessage::Spectate {
+        room: unknown.clone(),
+    })
+    .await?;
+    assert!(matches!(
+        p.recv().await?,
+        ServerMessage::Error {
+            code: ErrorCode::NoSuchRoom,
+            ..
+        }
+    ));
+
+    let fetched = fetch_record(&server.invite, &unknown).await;
+    assert!(
+        matches!(&fetched, Err(FetchError::NoSuchGame(r)) if *r == unknown),
+        "{fetched:?}"
+    );
+    server.stop().await?;
+    Ok(())
+}
