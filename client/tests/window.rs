@@ -260,3 +260,67 @@ fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
         .count();
     assert!(yellow > 200, "{yellow} yellow pixels: no invite drawn");
 }
+
+#[test]
+fn replay_from_a_server_shows_the_fetched_games_table() {
+    use breakshot_client::bot::{run, BotConfig};
+    use breakshot_client::net::{fetch_record_blocking, EmbeddedServer};
+
+    let Some(xvfb) = find_in_path("xvfb-run") else {
+        eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
+        return;
+    };
+    let dir = std::env::temp_dir().join(format!("breakshot-window-{}-fetch", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let server = EmbeddedServer::start(breakshot_server::Config::new(
+        std::net::SocketAddr::from(([127, 0, 0, 1], 0)),
+        dir.join("server"),
+    ))
+    .expect("a server on loopback");
+    let invite = server.loopback_invite();
+    // Two bots play a game on the server; its rack depends on the room's random seed.
+    let runtime = tokio::runtime::Runtime::new().expect("a runtime");
+    let report = runtime.block_on(run(&BotConfig::new(invite.clone(), 1)));
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    let room = report.games[0].room.clone().expect("the bots' room");
+    let fetched = fetch_record_blocking(&invite, &room).expect("the record");
+    let record = GameRecord::decode(&fetched.bytes).expect("a record");
+
+    let out = dir.join("out.png");
+    let run = Process::new(xvfb)
+        .args(["-a", "-s", "-screen 0 1280x800x24"])
+        .arg(env!("CARGO_BIN_EXE_breakshot"))
+        .args(["replay", "--server", &invite.to_string(), "--game"])
+        .arg(room.as_str())
+        .arg("--screenshot")
+        .arg(&out)
+        .args(["--frames", "4", "--size", "1280x720"])
+        .output()
+        .expect("xvfb-run runs");
+    drop(server);
+    assert!(
+        run.status.success(),
+        "breakshot replay --server exited with {}: {}",
+        run.status,
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let (width, height, pixels) = read_png(&out);
+    let _ = std::fs::remove_dir_all(&dir);
+    let pic = Picture {
+        width,
+        height,
+        pixels,
+    };
+    // Four frames are well inside the pause before the first shot: this game's rack.
+    let racked = Game::new(record.variant, record.settings, record.seed);
+    let layout = Layout::new(
+        pic.width as f32,
+        pic.height as f32,
+        Frame::new(racked.table(), racked.balls()),
+    );
+    let ids: Vec<String> = (0..racked.balls().len())
+        .map(|n| if n == 0 { "cue".into() } else { n.to_string() })
+        .collect();
+    let ids: Vec<&str> = ids.iter().map(|s| s.as_str()).collect();
+    balls_are_drawn(&pic, &layout, &ids, racked.balls());
+}
