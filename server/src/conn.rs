@@ -1,15 +1,24 @@
 //! One client connection: reads frames into the hub, writes what the hub sends. It only
-//! moves bytes; every decision is the hub's.
+//! moves bytes; every decision is the hub's, except the defences that must act before a
+//! message reaches the hub: the frame size, the time a frame may take, the message rate
+//! (so no connection can fill the hub's queue) and the outgoing queue's length.
 
-use std::sync::mpsc::Sender;
-use std::time::Duration;
+use std::net::IpAddr;
+use std::sync::atomic::Ordering;
+use std::sync::mpsc::{SendError, Sender};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use breakshot_shared::protocol::{
     decode_payload, encode_frame, payload_len, ClientMessage, ServerMessage, HEADER_LEN,
 };
-use tokio::sync::mpsc::UnboundedReceiver;
+use tokio::sync::mpsc::{channel, Receiver};
+use tokio::sync::Notify;
 
+use crate::limits::Limits;
 use crate::output::ConnId;
+use crate::ratelimit::Bucket;
+use crate::stats::Stats;
 
 /// What the writer thread hands a connection.
 #[derive(Debug)]
@@ -21,18 +30,58 @@ pub enum Outbound {
 /// What a connection tells the hub.
 #[derive(Debug)]
 pub enum HubEvent {
-    Connected(ConnId),
+    Connected(ConnId, IpAddr),
     Message(ConnId, ClientMessage),
     Disconnected(ConnId),
     Shutdown,
+}
+
+/// The hub's inbox, counting what waits in it.
+#[derive(Clone)]
+pub struct HubSender {
+    tx: Sender<HubEvent>,
+    stats: Arc<Stats>,
+}
+
+impl HubSender {
+    pub fn new(tx: Sender<HubEvent>, stats: Arc<Stats>) -> HubSender {
+        HubSender { tx, stats }
+    }
+
+    pub fn send(&self, event: HubEvent) -> Result<(), SendError<HubEvent>> {
+        let queued = self.stats.hub_queue.fetch_add(1, Ordering::Relaxed) + 1;
+        self.stats.hub_queue_peak.fetch_max(queued, Ordering::Relaxed);
+        self.tx.send(event).inspect_err(|_| {
+            self.stats.hub_queue.fetch_sub(1, Ordering::Relaxed);
+        })
+    }
+}
+
+/// The writer thread's end of a connection's outgoing queue.
+pub struct Outlet {
+    pub tx: tokio::sync::mpsc::Sender<Outbound>,
+    /// Wakes the connection to close it (its queue is full, so a message cannot say so).
+    pub kill: Arc<Notify>,
+}
+
+/// A bounded outgoing queue: the writer's end, the connection's end, and the kill switch.
+pub fn outlet(capacity: usize) -> (Outlet, Receiver<Outbound>, Arc<Notify>) {
+    let (tx, rx) = channel(capacity.max(1));
+    let kill = Arc::new(Notify::new());
+    (
+        Outlet {
+            tx,
+            kill: kill.clone(),
+        },
+        rx,
+        kill,
+    )
 }
 
 /// Application close codes.
 pub const CLOSE_NORMAL: u32 = 0;
 pub const CLOSE_PROTOCOL: u32 = 1;
 
-/// How long a client has to open its stream after connecting.
-const OPEN_TIMEOUT: Duration = Duration::from_secs(10);
 /// How long queued bytes get to reach the peer before a close.
 const FLUSH_TIMEOUT: Duration = Duration::from_secs(2);
 
@@ -41,35 +90,48 @@ const FLUSH_TIMEOUT: Duration = Duration::from_secs(2);
 pub async fn serve(
     id: ConnId,
     conn: quinn::Connection,
-    hub: Sender<HubEvent>,
-    mut outbound: UnboundedReceiver<Outbound>,
+    hub: HubSender,
+    mut outbound: Receiver<Outbound>,
+    kill: Arc<Notify>,
+    limits: &Limits,
 ) {
-    let Ok(Ok((mut send, mut recv))) = tokio::time::timeout(OPEN_TIMEOUT, conn.accept_bi()).await
+    let Ok(Ok((mut send, mut recv))) =
+        tokio::time::timeout(limits.open_timeout, conn.accept_bi()).await
     else {
         conn.close(CLOSE_PROTOCOL.into(), b"no stream opened");
         return;
     };
-    if hub.send(HubEvent::Connected(id)).is_err() {
+    if hub
+        .send(HubEvent::Connected(id, conn.remote_address().ip().to_canonical()))
+        .is_err()
+    {
         return;
     }
     let reader = {
         let hub = hub.clone();
         let conn = conn.clone();
+        let frame_timeout = limits.frame_timeout;
+        let per_second = limits.messages_per_second.max(1);
         async move {
+            let mut rate = Bucket::new(per_second, Duration::from_secs(1) / per_second, Instant::now());
             loop {
-                match read_message(&mut recv).await {
-                    Ok(msg) => {
+                let why = match read_message(&mut recv, frame_timeout).await {
+                    Ok(msg) if rate.take(Instant::now()) => {
                         if hub.send(HubEvent::Message(id, msg)).is_err() {
                             break;
                         }
+                        continue;
+                    }
+                    Ok(_) => {
+                        hub.stats.flooding.fetch_add(1, Ordering::Relaxed);
+                        "too many messages".to_string()
                     }
                     Err(ReadEnd::Closed) => break,
-                    Err(ReadEnd::Malformed(why)) => {
-                        tracing::info!(conn = id, %why, "closing connection: malformed frame");
-                        conn.close(CLOSE_PROTOCOL.into(), why.as_bytes());
-                        break;
-                    }
-                }
+                    Err(ReadEnd::Malformed(why)) => why,
+                };
+                tracing::info!(conn = id, %why, "closing connection");
+                conn.close(CLOSE_PROTOCOL.into(), why.as_bytes());
+                break;
             }
         }
     };
@@ -97,10 +159,14 @@ pub async fn serve(
             }
         }
     };
-    // Either side ending ends the connection.
+    // Either side ending ends the connection; so does a full outgoing queue (the writer may
+    // be stuck on a peer that grants no more flow-control credit).
     tokio::select! {
         _ = reader => {}
         _ = writer => {}
+        _ = kill.notified() => {
+            conn.close(CLOSE_PROTOCOL.into(), b"not reading: outgoing queue full");
+        }
     }
     conn.close(CLOSE_NORMAL.into(), b"bye");
     let _ = hub.send(HubEvent::Disconnected(id));
@@ -111,15 +177,29 @@ enum ReadEnd {
     Malformed(String),
 }
 
-async fn read_message(recv: &mut quinn::RecvStream) -> Result<ClientMessage, ReadEnd> {
+/// Reads one message. Waiting for a frame to start is unlimited (a player may think), but
+/// once its length has arrived the rest must follow within `frame_timeout`.
+async fn read_message(
+    recv: &mut quinn::RecvStream,
+    frame_timeout: Duration,
+) -> Result<ClientMessage, ReadEnd> {
     let mut header = [0u8; HEADER_LEN];
-    recv.read_exact(&mut header)
+    recv.read_exact(&mut header[..1])
         .await
         .map_err(|_| ReadEnd::Closed)?;
-    let len = payload_len(header).map_err(|e| ReadEnd::Malformed(e.to_string()))?;
-    let mut payload = vec![0u8; len];
-    recv.read_exact(&mut payload)
+    let rest = async {
+        recv.read_exact(&mut header[1..])
+            .await
+            .map_err(|_| ReadEnd::Malformed("truncated frame".into()))?;
+        let len = payload_len(header).map_err(|e| ReadEnd::Malformed(e.to_string()))?;
+        let mut payload = vec![0u8; len];
+        recv.read_exact(&mut payload)
+            .await
+            .map_err(|_| ReadEnd::Malformed("truncated frame".into()))?;
+        Ok(payload)
+    };
+    let payload = tokio::time::timeout(frame_timeout, rest)
         .await
-        .map_err(|_| ReadEnd::Closed)?;
+        .map_err(|_| ReadEnd::Malformed("a frame took too long to arrive".into()))??;
     decode_payload(&payload).map_err(|e| ReadEnd::Malformed(e.to_string()))
 }

@@ -4,10 +4,11 @@
 //! carries out the outputs.
 
 use std::collections::BTreeMap;
+use std::net::IpAddr;
 use std::time::{Duration, Instant};
 
 use breakshot_shared::protocol::limits::{
-    CHAT_BURST, CHAT_REFILL, MAX_MESSAGES_PER_SECOND, MAX_ROOMS, MAX_SPECTATORS, ROOM_CODE_LEN,
+    CHAT_BURST, CHAT_REFILL, MAX_ROOMS, MAX_SPECTATORS, ROOM_CODE_LEN,
 };
 use breakshot_shared::protocol::{
     validate, ClientMessage, ErrorCode, Role, RoomCode, ServerMessage, PROTOCOL_VERSION,
@@ -15,29 +16,42 @@ use breakshot_shared::protocol::{
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Game, Seat};
 
+use crate::limits::Limits;
 use crate::output::{ConnId, Output, RoomMeta};
 use crate::ratelimit::Bucket;
 use crate::room::{Room, RoomRules, Who};
 use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct HubConfig {
-    pub reconnect_window: Duration,
-    pub max_rooms: usize,
+    pub limits: Limits,
     /// The reference-shot hash of this build's physics; clients must match it.
     pub physics: u64,
 }
 
 struct Conn {
+    addr: IpAddr,
     greeted: bool,
     room: Option<(RoomCode, Role)>,
     chat: Bucket,
     messages: Bucket,
 }
 
+/// What the hub remembers about one source address: its room-entry budget and how many
+/// open rooms it created.
+struct Source {
+    entries: Bucket,
+    last_entry: Instant,
+    conns: usize,
+    rooms: usize,
+}
+
 pub struct Hub {
     config: HubConfig,
     rooms: BTreeMap<RoomCode, Room>,
+    /// Who created each open room, for the rooms-per-address limit.
+    creators: BTreeMap<RoomCode, IpAddr>,
+    sources: BTreeMap<IpAddr, Source>,
     conns: BTreeMap<ConnId, Conn>,
     tokens: BTreeMap<TokenDigest, (RoomCode, Seat)>,
     rng: Box<dyn Entropy>,
@@ -62,6 +76,8 @@ impl Hub {
         Hub {
             config,
             rooms: BTreeMap::new(),
+            creators: BTreeMap::new(),
+            sources: BTreeMap::new(),
             conns: BTreeMap::new(),
             tokens: BTreeMap::new(),
             rng,
@@ -93,33 +109,44 @@ impl Hub {
             variant: meta.variant,
             settings: meta.settings,
             aim_aid: meta.aim_aid,
-            reconnect_window: self.config.reconnect_window,
+            reconnect_window: self.config.limits.reconnect_window,
         };
         let room = Room::restore(now, meta, rules, number, record, game);
         self.index_tokens(&room);
         self.rooms.insert(room.code().clone(), room);
     }
 
-    pub fn connected(&mut self, now: Instant, conn: ConnId) {
+    /// A connection from `addr` opened its stream.
+    pub fn connected(&mut self, now: Instant, conn: ConnId, addr: IpAddr) {
+        self.forget_idle_sources(now);
+        let limits = &self.config.limits;
+        let per_second = limits.messages_per_second.max(1);
         self.conns.insert(
             conn,
             Conn {
+                addr,
                 greeted: false,
                 room: None,
                 chat: Bucket::new(CHAT_BURST, CHAT_REFILL, now),
-                messages: Bucket::new(
-                    MAX_MESSAGES_PER_SECOND,
-                    Duration::from_secs(1) / MAX_MESSAGES_PER_SECOND,
-                    now,
-                ),
+                messages: Bucket::new(per_second, Duration::from_secs(1) / per_second, now),
             },
         );
+        let source = self.sources.entry(addr).or_insert_with(|| Source {
+            entries: Bucket::new(limits.entry_burst, limits.entry_refill, now),
+            last_entry: now,
+            conns: 0,
+            rooms: 0,
+        });
+        source.conns += 1;
     }
 
     pub fn disconnected(&mut self, now: Instant, conn: ConnId) -> Vec<Output> {
         let Some(state) = self.conns.remove(&conn) else {
             return Vec::new();
         };
+        if let Some(source) = self.sources.get_mut(&state.addr) {
+            source.conns = source.conns.saturating_sub(1);
+        }
         match state.room.and_then(|(code, _)| self.rooms.get_mut(&code)) {
             Some(room) => room.disconnect(now, conn),
             None => Vec::new(),
@@ -151,6 +178,20 @@ impl Hub {
             );
         }
         let in_room = state.room.clone();
+        let entry = matches!(
+            msg,
+            ClientMessage::CreateRoom { .. }
+                | ClientMessage::Join { .. }
+                | ClientMessage::Rejoin { .. }
+                | ClientMessage::Spectate { .. }
+        );
+        if entry && in_room.is_none() && !self.take_entry(now, conn) {
+            return error(
+                conn,
+                ErrorCode::RateLimited,
+                "too many attempts to enter rooms from this address; wait a little",
+            );
+        }
         match (msg, in_room) {
             (ClientMessage::Hello { .. }, _) => {
                 error(conn, ErrorCode::Unexpected, "already greeted")
@@ -177,7 +218,7 @@ impl Hub {
                     variant,
                     settings: mode,
                     aim_aid,
-                    reconnect_window: self.config.reconnect_window,
+                    reconnect_window: self.config.limits.reconnect_window,
                 };
                 self.create(now, conn, rules, name)
             }
@@ -222,8 +263,44 @@ impl Hub {
         for code in closed {
             self.tokens.retain(|_, (c, _)| *c != code);
             self.rooms.remove(&code);
+            if let Some(addr) = self.creators.remove(&code) {
+                if let Some(source) = self.sources.get_mut(&addr) {
+                    source.rooms = source.rooms.saturating_sub(1);
+                }
+            }
         }
         out
+    }
+
+    /// Source addresses the hub remembers (for tests and statistics).
+    pub fn sources(&self) -> usize {
+        self.sources.len()
+    }
+
+    /// Takes one room entry from the budget of `conn`'s address.
+    fn take_entry(&mut self, now: Instant, conn: ConnId) -> bool {
+        let Some(addr) = self.conns.get(&conn).map(|c| c.addr) else {
+            return false;
+        };
+        match self.sources.get_mut(&addr) {
+            Some(source) => {
+                source.last_entry = now;
+                source.entries.take(now)
+            }
+            None => false,
+        }
+    }
+
+    /// Drops what is remembered about addresses with no connection and no room once their
+    /// entry budget has had time to refill, so the map stays as small as the live set.
+    fn forget_idle_sources(&mut self, now: Instant) {
+        let limits = &self.config.limits;
+        let refill = limits
+            .entry_refill
+            .saturating_mul(limits.entry_burst.min(1_000_000));
+        self.sources.retain(|_, s| {
+            s.conns > 0 || s.rooms > 0 || now.saturating_duration_since(s.last_entry) < refill
+        });
     }
 
     fn hello(&mut self, conn: ConnId, msg: ClientMessage) -> Vec<Output> {
@@ -266,8 +343,19 @@ impl Hub {
         rules: RoomRules,
         name: String,
     ) -> Vec<Output> {
-        if self.rooms.len() >= self.config.max_rooms.min(MAX_ROOMS) {
+        if self.rooms.len() >= self.config.limits.max_rooms.min(MAX_ROOMS) {
             return error(conn, ErrorCode::ServerBusy, "the server is full; try later");
+        }
+        let addr = self.conns.get(&conn).map(|c| c.addr);
+        let owned = addr
+            .and_then(|a| self.sources.get(&a))
+            .map_or(0, |s| s.rooms);
+        if owned >= self.config.limits.rooms_per_address {
+            return error(
+                conn,
+                ErrorCode::ServerBusy,
+                "too many open rooms from this address; finish one first",
+            );
         }
         let code = loop {
             let mut bytes = [0u8; ROOM_CODE_LEN];
@@ -283,6 +371,12 @@ impl Hub {
         self.tokens
             .insert(TokenDigest::of(&token), (code.clone(), Seat::A));
         self.rooms.insert(code.clone(), room);
+        if let Some(addr) = addr {
+            self.creators.insert(code.clone(), addr);
+            if let Some(source) = self.sources.get_mut(&addr) {
+                source.rooms += 1;
+            }
+        }
         self.set_room(conn, code, Role::Player(Seat::A));
         out
     }

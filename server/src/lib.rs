@@ -4,14 +4,18 @@
 
 pub mod conn;
 pub mod hub;
+pub mod limits;
 pub mod output;
 pub mod ratelimit;
 pub mod records;
 pub mod room;
 pub mod secret;
 pub mod server;
+pub mod stats;
 pub mod store;
 pub mod tls;
 pub mod verify;
 
+pub use limits::Limits;
 pub use server::{run, Config, Server, ServerError};
+pub use stats::Stats;

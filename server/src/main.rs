@@ -7,7 +7,7 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use breakshot_server::verify::verify_dir;
-use breakshot_server::{Config, Server};
+use breakshot_server::{Config, Limits, Server};
 use clap::{Parser, Subcommand};
 use tokio::signal::unix::{signal, SignalKind};
 
@@ -27,6 +27,25 @@ struct Cli {
     /// the bound address).
     #[arg(long)]
     host: Option<String>,
+    /// Connections open at once (including handshakes).
+    #[arg(long)]
+    max_connections: Option<usize>,
+    /// Rooms on the server at once.
+    #[arg(long)]
+    max_rooms: Option<usize>,
+    /// Open rooms one source address may create.
+    #[arg(long)]
+    rooms_per_address: Option<usize>,
+    /// Room entries (create, join, rejoin, spectate) one address may attempt per minute.
+    #[arg(long)]
+    entries_per_minute: Option<u32>,
+    /// Messages queued for a client that does not read before it is disconnected.
+    #[arg(long)]
+    outbound_queue: Option<usize>,
+    /// Lift the per-address limits, for a load test from one machine. Never on a public
+    /// server.
+    #[arg(long)]
+    load_test: bool,
     #[command(subcommand)]
     command: Option<Command>,
 }
@@ -70,7 +89,9 @@ fn serve(cli: &Cli) -> anyhow::Result<()> {
         // server, so a signal sent right after the invite line still shuts down cleanly.
         let mut interrupt = signal(SignalKind::interrupt()).context("listening for Ctrl-C")?;
         let mut terminate = signal(SignalKind::terminate()).context("listening for SIGTERM")?;
-        let server = Server::bind(&Config::new(cli.bind, cli.data.clone()))?;
+        let mut config = Config::new(cli.bind, cli.data.clone());
+        config.limits = limits(cli);
+        let server = Server::bind(&config)?;
         let mut invite = server.invite();
         if let Some(host) = &cli.host {
             invite.host = host.clone();
@@ -91,6 +112,32 @@ fn serve(cli: &Cli) -> anyhow::Result<()> {
         tracing::info!("stopped");
         Ok(())
     })
+}
+
+/// The default limits with the command line's changes.
+fn limits(cli: &Cli) -> Limits {
+    let mut limits = if cli.load_test {
+        Limits::single_address_load()
+    } else {
+        Limits::default()
+    };
+    if let Some(n) = cli.max_connections {
+        limits.max_connections = n;
+    }
+    if let Some(n) = cli.max_rooms {
+        limits.max_rooms = n;
+    }
+    if let Some(n) = cli.rooms_per_address {
+        limits.rooms_per_address = n;
+    }
+    if let Some(n) = cli.entries_per_minute {
+        limits.entry_burst = n.max(1);
+        limits.entry_refill = std::time::Duration::from_secs(60) / n.max(1);
+    }
+    if let Some(n) = cli.outbound_queue {
+        limits.outbound_queue = n.max(1);
+    }
+    limits
 }
 
 fn verify(data: &std::path::Path) -> anyhow::Result<bool> {

@@ -14,19 +14,22 @@ use std::collections::BTreeMap;
 use std::future::Future;
 use std::net::SocketAddr;
 use std::path::PathBuf;
+use std::sync::atomic::Ordering;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
 use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use breakshot_shared::protocol::{limits, reference_hash, Fingerprint, Invite};
+use breakshot_shared::protocol::{reference_hash, Fingerprint, Invite};
 use breakshot_shared::replay::GameRecord;
 use thiserror::Error;
-use tokio::sync::mpsc::{unbounded_channel, UnboundedSender};
+use tokio::sync::mpsc::error::TrySendError;
 use tokio::sync::Notify;
 
-use crate::conn::{self, HubEvent, Outbound};
+use crate::conn::{self, HubEvent, Outbound, Outlet};
 use crate::hub::{Hub, HubConfig};
+use crate::limits::Limits;
+use crate::stats::Stats;
 use crate::output::{ConnId, Output};
 use crate::records;
 use crate::secret::{OsEntropy, TestEntropy};
@@ -37,8 +40,7 @@ use crate::tls::{Identity, TlsError};
 pub struct Config {
     pub bind: SocketAddr,
     pub data: PathBuf,
-    pub reconnect_window: Duration,
-    pub max_rooms: usize,
+    pub limits: Limits,
     /// Tests only: draw room codes, seat tokens and game seeds from this seed instead of the
     /// operating system, so a test's games are the same on every run. Never set in service:
     /// predictable tokens let anyone take a seat.
@@ -50,8 +52,7 @@ impl Config {
         Config {
             bind,
             data,
-            reconnect_window: limits::RECONNECT_WINDOW,
-            max_rooms: limits::MAX_ROOMS,
+            limits: Limits::default(),
             predictable_seed: None,
         }
     }
@@ -86,11 +87,13 @@ pub struct Server {
     hub: Hub,
     store: Store,
     restored: usize,
+    limits: Limits,
+    stats: Arc<Stats>,
 }
 
 /// What the writer thread is told.
 enum WriterMsg {
-    Register(ConnId, UnboundedSender<Outbound>),
+    Register(ConnId, Outlet),
     Unregister(ConnId),
     Batch(Vec<Output>),
 }
@@ -108,8 +111,7 @@ impl Server {
         let physics = reference_hash().map_err(|e| ServerError::Physics(e.to_string()))?;
         let mut hub = Hub::new(
             HubConfig {
-                reconnect_window: config.reconnect_window,
-                max_rooms: config.max_rooms,
+                limits: config.limits.clone(),
                 physics,
             },
             match config.predictable_seed {
@@ -130,7 +132,14 @@ impl Server {
             hub,
             store,
             restored,
+            limits: config.limits.clone(),
+            stats: Arc::new(Stats::default()),
         })
+    }
+
+    /// Live counters (connections, queues, refusals), shared with the running server.
+    pub fn stats(&self) -> Arc<Stats> {
+        self.stats.clone()
     }
 
     pub fn local_addr(&self) -> SocketAddr {
@@ -171,13 +180,16 @@ impl Server {
             endpoint,
             hub,
             store,
+            limits,
+            stats,
             ..
         } = self;
         let (hub_tx, hub_rx) = mpsc::channel::<HubEvent>();
         let (writer_tx, writer_rx) = mpsc::channel::<WriterMsg>();
         let failed = Arc::new(Notify::new());
-        let hub_thread = spawn_hub(hub, hub_rx, writer_tx.clone());
-        let writer_thread = spawn_writer(store, writer_rx, failed.clone());
+        let hub_thread = spawn_hub(hub, hub_rx, writer_tx.clone(), stats.clone());
+        let writer_thread = spawn_writer(store, writer_rx, failed.clone(), stats.clone());
+        let hub_tx = conn::HubSender::new(hub_tx, stats.clone());
 
         let mut next_id: ConnId = 0;
         let mut connections = tokio::task::JoinSet::new();
@@ -188,22 +200,32 @@ impl Server {
                 _ = failed.notified() => break Err(()),
                 incoming = endpoint.accept() => {
                     let Some(incoming) = incoming else { break Ok(()) };
+                    // Finished tasks are reaped here so the set holds only live ones.
+                    while connections.try_join_next().is_some() {}
+                    let Some(incoming) = admit(incoming, &limits, &stats) else { continue };
                     next_id += 1;
                     let id = next_id;
-                    let (tx, rx) = unbounded_channel();
-                    if writer_tx.send(WriterMsg::Register(id, tx)).is_err() {
+                    let (outlet, rx, kill) = conn::outlet(limits.outbound_queue);
+                    if writer_tx.send(WriterMsg::Register(id, outlet)).is_err() {
                         break Err(());
                     }
                     let hub_tx = hub_tx.clone();
                     let writer_tx = writer_tx.clone();
+                    let limits = limits.clone();
+                    let stats = stats.clone();
+                    stats.connections.fetch_add(1, Ordering::Relaxed);
+                    stats.handshaking.fetch_add(1, Ordering::Relaxed);
                     connections.spawn(async move {
-                        match incoming.await {
+                        let handshake = incoming.await;
+                        stats.handshaking.fetch_sub(1, Ordering::Relaxed);
+                        match handshake {
                             Ok(connection) => {
                                 tracing::debug!(conn = id, peer = %connection.remote_address(), "connected");
-                                conn::serve(id, connection, hub_tx, rx).await;
+                                conn::serve(id, connection, hub_tx, rx, kill, &limits).await;
                             }
                             Err(e) => tracing::debug!(conn = id, error = %e, "handshake failed"),
                         }
+                        stats.connections.fetch_sub(1, Ordering::Relaxed);
                         let _ = writer_tx.send(WriterMsg::Unregister(id));
                     });
                 }
@@ -266,6 +288,27 @@ fn endpoint(config: quinn::ServerConfig, addr: SocketAddr) -> std::io::Result<qu
     )
 }
 
+/// Decides whether a connection attempt gets a handshake: refused beyond the connection
+/// limit; sent a retry (which a real client answers at once and a spoofed or silent one never
+/// does) when many handshakes are already under way and its address is not yet proven.
+fn admit(incoming: quinn::Incoming, limits: &Limits, stats: &Stats) -> Option<quinn::Incoming> {
+    if stats.connections.load(Ordering::Relaxed) >= limits.max_connections {
+        stats.refused.fetch_add(1, Ordering::Relaxed);
+        incoming.refuse();
+        return None;
+    }
+    if stats.handshaking.load(Ordering::Relaxed) >= limits.max_handshakes
+        && !incoming.remote_address_validated()
+    {
+        stats.retried.fetch_add(1, Ordering::Relaxed);
+        if let Err(e) = incoming.retry() {
+            e.into_incoming().ignore();
+        }
+        return None;
+    }
+    Some(incoming)
+}
+
 /// Binds and serves until `shutdown` resolves.
 pub async fn run(config: Config, shutdown: impl Future<Output = ()>) -> Result<(), ServerError> {
     Server::bind(&config)?.run(shutdown).await
@@ -302,8 +345,10 @@ fn spawn_hub(
     mut hub: Hub,
     events: Receiver<HubEvent>,
     writer: Sender<WriterMsg>,
+    stats: Arc<Stats>,
 ) -> JoinHandle<()> {
     std::thread::spawn(move || loop {
+        stats.rooms.store(hub.rooms().count(), Ordering::Relaxed);
         let wait = hub
             .next_deadline()
             .map(|d| d.saturating_duration_since(Instant::now()));
@@ -312,9 +357,12 @@ fn spawn_hub(
             None => events.recv().map_err(|_| RecvTimeoutError::Disconnected),
         };
         let now = Instant::now();
+        if event.is_ok() {
+            stats.hub_queue.fetch_sub(1, Ordering::Relaxed);
+        }
         let out = match event {
-            Ok(HubEvent::Connected(id)) => {
-                hub.connected(now, id);
+            Ok(HubEvent::Connected(id, addr)) => {
+                hub.connected(now, id, addr);
                 Vec::new()
             }
             Ok(HubEvent::Message(id, msg)) => hub.handle(now, id, msg),
@@ -337,9 +385,10 @@ fn spawn_writer(
     mut store: Store,
     inbox: Receiver<WriterMsg>,
     failed: Arc<Notify>,
+    stats: Arc<Stats>,
 ) -> JoinHandle<Result<(), String>> {
     std::thread::spawn(move || {
-        let mut conns: BTreeMap<ConnId, UnboundedSender<Outbound>> = BTreeMap::new();
+        let mut conns: BTreeMap<ConnId, Outlet> = BTreeMap::new();
         while let Ok(first) = inbox.recv() {
             // Group commit: everything already waiting goes into one transaction.
             let mut msgs = vec![first];
@@ -380,8 +429,14 @@ fn spawn_writer(
                                     (to, Outbound::Message(records::answer(&store, &room)))
                                 }
                             };
-                            if let Some(tx) = conns.get(&to) {
-                                let _ = tx.send(what);
+                            let Some(outlet) = conns.get(&to) else { continue };
+                            if let Err(TrySendError::Full(_)) = outlet.tx.try_send(what) {
+                                // The client is not reading: drop it rather than hold an
+                                // unbounded backlog for it.
+                                tracing::info!(conn = to, "closing connection: it does not read what it is sent");
+                                stats.too_slow.fetch_add(1, Ordering::Relaxed);
+                                outlet.kill.notify_one();
+                                conns.remove(&to);
                             }
                         }
                     }

@@ -49,7 +49,7 @@ fn store_game(dir: &Path, tamper: bool) {
         let last = record.entries.last_mut().unwrap();
         last.hash = last.hash.map(|h| h ^ 1);
     }
-    let code = RoomCode::parse("K7QX2M").unwrap();
+    let code = RoomCode::parse("K7QX2M4B").unwrap();
     let ops = [
         StoreOp::Room(RoomMeta {
             code: code.clone(),
@@ -92,7 +92,7 @@ fn verify_reports_each_game_and_fails_on_a_tampered_one() {
         .unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{text}");
-    assert!(text.contains("verified K7QX2M game 1"), "{text}");
+    assert!(text.contains("verified K7QX2M4B game 1"), "{text}");
     assert!(text.contains("1 games: 1 verified, 0 failed"), "{text}");
 
     store_game(&dir, true);
@@ -103,7 +103,7 @@ fn verify_reports_each_game_and_fails_on_a_tampered_one() {
         .unwrap();
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{text}");
-    assert!(text.contains("FAILED   K7QX2M game 1"), "{text}");
+    assert!(text.contains("FAILED   K7QX2M4B game 1"), "{text}");
     assert!(text.contains("state hash differs"), "{text}");
 
     let out = Command::new(BIN)

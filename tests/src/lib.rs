@@ -3,12 +3,13 @@
 
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Duration;
 
 use anyhow::{anyhow, bail, Result};
 use breakshot_client::net::{endpoint, Connection, Mirror};
-use breakshot_server::{Config, Server, ServerError};
+use breakshot_server::{Config, Server, ServerError, Stats};
 use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, RoomCode, ServerMessage};
 use breakshot_shared::rules::Game;
@@ -52,6 +53,8 @@ pub struct TestServer {
     pub invite: Invite,
     pub addr: SocketAddr,
     pub restored: usize,
+    /// The running server's live counters.
+    pub stats: Arc<Stats>,
     stop: Option<oneshot::Sender<()>>,
     task: JoinHandle<Result<(), ServerError>>,
 }
@@ -65,9 +68,15 @@ impl TestServer {
     /// Starts a server on `addr`. Its room codes, tokens and game seeds come from a fixed
     /// seed, so every run of a test plays the same games.
     pub async fn start_at(addr: SocketAddr, data: &Path) -> Result<TestServer> {
+        Self::start_with(Self::config(addr, data)).await
+    }
+
+    /// The configuration [`TestServer::start_at`] uses, to change before
+    /// [`TestServer::start_with`].
+    pub fn config(addr: SocketAddr, data: &Path) -> Config {
         let mut config = Config::new(addr, data.to_path_buf());
         config.predictable_seed = Some(SEED);
-        Self::start_with(config).await
+        config
     }
 
     pub async fn start_with(config: Config) -> Result<TestServer> {
@@ -87,6 +96,7 @@ impl TestServer {
         let invite = server.invite();
         let addr = server.local_addr();
         let restored = server.restored();
+        let stats = server.stats();
         let (stop, stopped) = oneshot::channel::<()>();
         let task = tokio::spawn(server.run(async {
             let _ = stopped.await;
@@ -95,6 +105,7 @@ impl TestServer {
             invite,
             addr,
             restored,
+            stats,
             stop: Some(stop),
             task,
         })
@@ -165,6 +176,13 @@ impl Player {
             }
         }
     }
+}
+
+/// The resident memory of this process in bytes (Linux), if it can be read.
+pub fn resident_bytes() -> Option<u64> {
+    let statm = std::fs::read_to_string("/proc/self/statm").ok()?;
+    let pages: u64 = statm.split_whitespace().nth(1)?.parse().ok()?;
+    Some(pages * 4096)
 }
 
 pub fn eight_ball() -> Variant {

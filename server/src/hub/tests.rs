@@ -13,10 +13,12 @@ use breakshot_shared::rules::{Command, EightBallRules, Game, Seat, Settings, Var
 use glam::DVec2;
 
 use super::{Hub, HubConfig};
+use crate::limits::Limits;
 use crate::output::{ConnId, Output, StoreOp};
 use crate::secret::TestEntropy;
 
 const WINDOW: Duration = Duration::from_secs(120);
+const PEER: std::net::IpAddr = std::net::IpAddr::V4(std::net::Ipv4Addr::LOCALHOST);
 
 struct World {
     hub: Hub,
@@ -46,8 +48,11 @@ fn stores(out: &[Output]) -> usize {
 impl World {
     fn new() -> World {
         let config = HubConfig {
-            reconnect_window: WINDOW,
-            max_rooms: 100,
+            limits: Limits {
+                reconnect_window: WINDOW,
+                max_rooms: 100,
+                ..Limits::default()
+            },
             physics: reference_hash().unwrap(),
         };
         World {
@@ -61,7 +66,7 @@ impl World {
     }
 
     fn greet(&mut self, conn: ConnId) {
-        self.hub.connected(self.now, conn);
+        self.hub.connected(self.now, conn, PEER);
         let out = self.send(
             conn,
             ClientMessage::Hello {
@@ -167,7 +172,7 @@ fn the_handshake_refuses_other_versions_other_physics_and_silence() {
         ),
         (3, ClientMessage::Concede, "first message must be Hello"),
     ] {
-        w.hub.connected(w.now, conn);
+        w.hub.connected(w.now, conn, PEER);
         let out = w.send(conn, msg);
         match sent_to(&out, conn)[..] {
             [ServerMessage::Reject { reason }] => assert!(reason.contains(why), "{reason}"),

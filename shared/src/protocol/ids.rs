@@ -10,7 +10,7 @@ use super::limits::ROOM_CODE_LEN;
 /// Letters used in room codes: no 0/O, 1/I/L, so a code read aloud is typed right.
 pub const ROOM_ALPHABET: &[u8; 32] = b"23456789ABCDEFGHJKMNPQRSTUVWXYZ_";
 
-/// A short code naming a room, e.g. `K7QX2M`.
+/// A short code naming a room, e.g. `K7QX2M4B`: 8 characters of 5 bits, 40 bits.
 #[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub struct RoomCode(String);
 
@@ -136,11 +136,23 @@ mod tests {
 
     #[test]
     fn room_codes_parse_case_insensitively_and_refuse_ambiguous_letters() {
-        assert_eq!(RoomCode::parse("k7qx2m").unwrap().as_str(), "K7QX2M");
-        assert!(RoomCode::parse("K7QX2O").is_err());
-        assert!(RoomCode::parse("K7QX2").is_err());
-        assert!(RoomCode::from_random([0, 1, 2, 3, 200, 255]).is_valid());
-        assert!(!RoomCode("k7qx2m".into()).is_valid());
+        assert_eq!(RoomCode::parse("k7qx2m4b").unwrap().as_str(), "K7QX2M4B");
+        assert!(RoomCode::parse("K7QX2M4O").is_err());
+        assert!(RoomCode::parse("K7QX2M4").is_err());
+        assert!(RoomCode::from_random([0, 1, 2, 3, 200, 255, 31, 32]).is_valid());
+        assert!(!RoomCode("k7qx2m4b".into()).is_valid());
+    }
+
+    #[test]
+    fn room_codes_carry_at_least_40_bits() {
+        let bits_per_char = ROOM_ALPHABET.len().ilog2() as usize;
+        assert_eq!(1 << bits_per_char, ROOM_ALPHABET.len());
+        assert!(bits_per_char * ROOM_CODE_LEN >= 40);
+        // Every character of the code uses all 5 bits of its byte: 32 values give 32 codes.
+        let distinct: std::collections::BTreeSet<String> = (0..32u8)
+            .map(|b| RoomCode::from_random([b; ROOM_CODE_LEN]).0)
+            .collect();
+        assert_eq!(distinct.len(), 32);
     }
 
     #[test]

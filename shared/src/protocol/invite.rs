@@ -100,9 +100,9 @@ mod tests {
     fn invites_round_trip() {
         let fp = "ab".repeat(32);
         for text in [
-            format!("breakshot://127.0.0.1:4433/K7QX2M#{fp}"),
+            format!("breakshot://127.0.0.1:4433/K7QX2M4B#{fp}"),
             format!("breakshot://example.org:9#{fp}"),
-            format!("breakshot://[::1]:4433/K7QX2M#{fp}"),
+            format!("breakshot://[::1]:4433/K7QX2M4B#{fp}"),
         ] {
             let inv: Invite = text.parse().unwrap();
             assert_eq!(inv.to_string(), text);
@@ -116,11 +116,11 @@ mod tests {
         let fp = "ab".repeat(32);
         assert_eq!("http://x:1".parse::<Invite>(), Err(InviteError::Scheme));
         assert_eq!(
-            "breakshot://x:1/K7QX2M".parse::<Invite>(),
+            "breakshot://x:1/K7QX2M4B".parse::<Invite>(),
             Err(InviteError::MissingFingerprint)
         );
         assert_eq!(
-            format!("breakshot://x/K7QX2M#{fp}").parse::<Invite>(),
+            format!("breakshot://x/K7QX2M4B#{fp}").parse::<Invite>(),
             Err(InviteError::Address)
         );
         assert!(format!("breakshot://x:1/BAD#{fp}")

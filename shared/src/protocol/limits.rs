@@ -18,8 +18,9 @@ pub const CHAT_REFILL: Duration = Duration::from_secs(2);
 pub const MAX_MESSAGES_PER_SECOND: u32 = 50;
 /// How long a seat is held for a player who dropped, before the game is forfeited.
 pub const RECONNECT_WINDOW: Duration = Duration::from_secs(120);
-/// Number of characters in a room code.
-pub const ROOM_CODE_LEN: usize = 6;
+/// Number of characters in a room code: 8 characters of 5 bits each, 40 bits, so guessing
+/// a live room is hopeless at the rate-limited pace of room entries.
+pub const ROOM_CODE_LEN: usize = 8;
 /// Most rooms one server holds at once (each costs a few kilobytes).
 pub const MAX_ROOMS: usize = 10_000;
 /// Spectators allowed in one room.

@@ -1,0 +1,75 @@
+//! Every limit a server enforces, as one setting. The protocol's own limits (frame size,
+//! name and chat length, chat rate) are constants both sides share
+//! (`breakshot_shared::protocol::limits`); these are the server's resources and defences,
+//! which an operator may tune. docs/operations.md explains each one.
+
+use std::time::Duration;
+
+use breakshot_shared::protocol::limits as protocol;
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Limits {
+    /// Connections open at once, counting those still in their handshake. Beyond it new
+    /// connection attempts are refused.
+    pub max_connections: usize,
+    /// Handshakes in progress at once before a client must first prove its address (a QUIC
+    /// retry): a flood of attempts from spoofed or silent addresses then costs the server no
+    /// state and no cryptography.
+    pub max_handshakes: usize,
+    /// How long a connected client has to open its stream.
+    pub open_timeout: Duration,
+    /// How long the rest of a frame may take once its length has arrived: a client that
+    /// sends half a frame and stalls is closed.
+    pub frame_timeout: Duration,
+    /// Messages queued for one client that it has not taken yet. A client that stops reading
+    /// is disconnected when its queue passes this, so it cannot make the server hold an
+    /// ever-growing backlog (its seat is held as for any dropped player).
+    pub outbound_queue: usize,
+    /// Messages of any kind one connection may send per second (a burst of as many is
+    /// allowed); beyond it the connection is closed.
+    pub messages_per_second: u32,
+    /// Rooms on the server at once; `CreateRoom` beyond it gets `ServerBusy`.
+    pub max_rooms: usize,
+    /// Open rooms created from one source address; beyond it `CreateRoom` gets `ServerBusy`.
+    pub rooms_per_address: usize,
+    /// Room entries (create, join, rejoin, spectate) one source address may attempt in a
+    /// burst ...
+    pub entry_burst: u32,
+    /// ... and the time it takes to earn one more. Excess attempts get `RateLimited`, which
+    /// makes guessing room codes or seat tokens hopeless.
+    pub entry_refill: Duration,
+    /// How long a dropped player's seat is held before the game is forfeited.
+    pub reconnect_window: Duration,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits {
+            max_connections: 4_096,
+            max_handshakes: 256,
+            open_timeout: Duration::from_secs(10),
+            frame_timeout: Duration::from_secs(10),
+            outbound_queue: 256,
+            messages_per_second: protocol::MAX_MESSAGES_PER_SECOND,
+            max_rooms: protocol::MAX_ROOMS,
+            rooms_per_address: 32,
+            entry_burst: 20,
+            entry_refill: Duration::from_secs(1),
+            reconnect_window: protocol::RECONNECT_WINDOW,
+        }
+    }
+}
+
+impl Limits {
+    /// Limits for a load test run from one machine: every game comes from the same address,
+    /// so the per-address limits are lifted. Never use this for a public server.
+    pub fn single_address_load() -> Limits {
+        Limits {
+            max_connections: 16_384,
+            rooms_per_address: usize::MAX,
+            entry_burst: u32::MAX,
+            entry_refill: Duration::from_nanos(1),
+            ..Limits::default()
+        }
+    }
+}

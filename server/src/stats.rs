@@ -1,0 +1,32 @@
+//! Live counters of a running server, cheap enough to keep always: what an operator (or a
+//! test) reads to see that queues and connection counts stay bounded.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+#[derive(Debug, Default)]
+pub struct Stats {
+    /// Connections open, counting those still in their handshake.
+    pub connections: AtomicUsize,
+    /// Connections still in their handshake.
+    pub handshaking: AtomicUsize,
+    /// Events waiting for the hub thread.
+    pub hub_queue: AtomicUsize,
+    /// The most events that have waited for the hub at once.
+    pub hub_queue_peak: AtomicUsize,
+    /// Rooms open (updated by the hub thread).
+    pub rooms: AtomicUsize,
+    /// Connection attempts refused at the connection limit.
+    pub refused: AtomicUsize,
+    /// Connection attempts asked to prove their address first.
+    pub retried: AtomicUsize,
+    /// Connections closed because they sent faster than the message limit.
+    pub flooding: AtomicUsize,
+    /// Connections closed because they did not read what they were sent.
+    pub too_slow: AtomicUsize,
+}
+
+impl Stats {
+    pub fn get(counter: &AtomicUsize) -> usize {
+        counter.load(Ordering::Relaxed)
+    }
+}

@@ -1,0 +1,307 @@
+//! Hostile clients against a real server while two bots play a normal game on it: bad
+//! frames, messages in the wrong state, floods, handshakes that never finish and a client
+//! that never reads. Each must cost only its own connection, the game must finish with
+//! every hash agreeing, and the server's queues and connection counts must stay bounded.
+
+use std::net::SocketAddr;
+use std::sync::Arc;
+use std::time::Duration;
+
+use anyhow::{anyhow, bail, Context, Result};
+use breakshot_client::bot::{run, BotConfig};
+use breakshot_client::net::pinned::client_config;
+use breakshot_server::{Limits, Stats};
+use breakshot_shared::protocol::{
+    encode_frame, reference_hash, ClientMessage, ErrorCode, Fingerprint, ServerMessage,
+    PROTOCOL_VERSION,
+};
+use breakshot_tests::{
+    break_shot, create_room, resident_bytes, Player, TempDir, TestServer, PATIENCE,
+};
+
+/// Half-open handshakes the test server allows before it asks for retries.
+const HANDSHAKES: usize = 64;
+/// The test server's outgoing queue per client (small, so a non-reader fills it soon).
+const QUEUE: usize = 16;
+/// Connection attempts that never finish their handshake.
+const HALF_OPEN: usize = 1_000;
+
+fn hostile_limits() -> Limits {
+    Limits {
+        max_handshakes: HANDSHAKES,
+        outbound_queue: QUEUE,
+        frame_timeout: Duration::from_secs(1),
+        ..Limits::default()
+    }
+}
+
+/// A QUIC connection with the stream open and nothing sent: the test writes raw bytes.
+struct Raw {
+    _endpoint: quinn::Endpoint,
+    conn: quinn::Connection,
+    send: quinn::SendStream,
+    _recv: quinn::RecvStream,
+}
+
+impl Raw {
+    /// Connects with a receive window of `window` bytes (what the client lets the server
+    /// send before it reads).
+    async fn connect(server: &TestServer, window: u32) -> Result<Raw> {
+        let mut config = client_config(server.invite.fingerprint).map_err(|e| anyhow!(e))?;
+        let mut transport = quinn::TransportConfig::default();
+        transport.stream_receive_window(window.into());
+        transport.receive_window(window.into());
+        transport.keep_alive_interval(Some(Duration::from_secs(5)));
+        config.transport_config(Arc::new(transport));
+        let endpoint = quinn::Endpoint::client(SocketAddr::from(([127, 0, 0, 1], 0)))?;
+        let conn = endpoint
+            .connect_with(config, server.addr, "breakshot")?
+            .await?;
+        let (send, recv) = conn.open_bi().await?;
+        Ok(Raw {
+            _endpoint: endpoint,
+            conn,
+            send,
+            _recv: recv,
+        })
+    }
+
+    async fn write(&mut self, bytes: &[u8]) -> Result<()> {
+        Ok(self.send.write_all(bytes).await?)
+    }
+
+    async fn hello(&mut self) -> Result<()> {
+        let hello = ClientMessage::Hello {
+            protocol: PROTOCOL_VERSION,
+            physics: reference_hash()?,
+        };
+        self.write(&encode_frame(&hello)?).await
+    }
+
+    /// Waits for the server to close the connection and returns its reason.
+    async fn closed(&self) -> Result<String> {
+        let why = tokio::time::timeout(PATIENCE, self.conn.closed())
+            .await
+            .map_err(|_| anyhow!("the server never closed the connection"))?;
+        match why {
+            quinn::ConnectionError::ApplicationClosed(close) => {
+                Ok(String::from_utf8_lossy(&close.reason).into_owned())
+            }
+            other => bail!("closed otherwise: {other}"),
+        }
+    }
+}
+
+/// Bytes from a fixed generator (xorshift), different for each `seed`.
+fn noise(seed: u64, len: usize) -> Vec<u8> {
+    let mut x = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
+    (0..len)
+        .map(|_| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x as u8
+        })
+        .collect()
+}
+
+/// Starts `n` connections through a relay that passes the client's packets to the server
+/// and drops every answer, so none of them ever finishes its handshake. Returns what keeps
+/// them alive (dropping it lets the client side give up).
+async fn half_open(
+    server: SocketAddr,
+    fingerprint: Fingerprint,
+    n: usize,
+) -> Result<impl Drop> {
+    let front = tokio::net::UdpSocket::bind("127.0.0.1:0").await?;
+    let back = tokio::net::UdpSocket::bind("127.0.0.1:0").await?;
+    let relay_addr = front.local_addr()?;
+    let relay = tokio::spawn(async move {
+        let mut buf = vec![0u8; 65_536];
+        while let Ok((len, _)) = front.recv_from(&mut buf).await {
+            let _ = back.send_to(&buf[..len], server).await;
+        }
+    });
+    let endpoint = quinn::Endpoint::client(SocketAddr::from(([127, 0, 0, 1], 0)))?;
+    let config = client_config(fingerprint).map_err(|e| anyhow!(e))?;
+    let mut pending = Vec::with_capacity(n);
+    for i in 0..n {
+        pending.push(endpoint.connect_with(config.clone(), relay_addr, "breakshot")?);
+        if i % 50 == 49 {
+            // Let the relay keep up, so few first packets are lost in the socket buffers.
+            tokio::time::sleep(Duration::from_millis(5)).await;
+        }
+    }
+    struct Flood {
+        relay: tokio::task::JoinHandle<()>,
+        _pending: Vec<quinn::Connecting>,
+        endpoint: quinn::Endpoint,
+    }
+    impl Drop for Flood {
+        fn drop(&mut self) {
+            self.relay.abort();
+            self.endpoint.close(0u32.into(), b"done");
+        }
+    }
+    Ok(Flood {
+        relay,
+        _pending: pending,
+        endpoint,
+    })
+}
+
+fn count(c: &std::sync::atomic::AtomicUsize) -> usize {
+    Stats::get(c)
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn hostile_clients_cost_only_their_own_connections() -> Result<()> {
+    let data = TempDir::new("hostile");
+    let mut config = TestServer::config(SocketAddr::from(([127, 0, 0, 1], 0)), data.path());
+    config.limits = hostile_limits();
+    let server = TestServer::start_with(config).await?;
+    let stats = server.stats.clone();
+    let rss_before = resident_bytes();
+
+    // Handshakes that never finish: at most HANDSHAKES of them hold state; the rest are
+    // asked to prove their address, which through the silent relay they never do.
+    let flood = half_open(server.addr, server.invite.fingerprint, HALF_OPEN).await?;
+    let deadline = tokio::time::Instant::now() + PATIENCE;
+    while count(&stats.handshaking) + count(&stats.retried) < HALF_OPEN {
+        if tokio::time::Instant::now() > deadline {
+            bail!(
+                "the server saw only {} handshakes and {} retries",
+                count(&stats.handshaking),
+                count(&stats.retried)
+            );
+        }
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    assert!(count(&stats.handshaking) <= HANDSHAKES, "{stats:?}");
+    eprintln!(
+        "{HALF_OPEN} silent handshakes: {} held, {} retried",
+        count(&stats.handshaking),
+        count(&stats.retried)
+    );
+
+    // A normal game, played while everything below goes on. Its clients pass the retry.
+    let bots = {
+        let invite = server.invite.clone();
+        tokio::spawn(async move { run(&BotConfig::new(invite, 1)).await })
+    };
+
+    // An oversized length prefix, before anything else.
+    let mut big = Raw::connect(&server, 1 << 20).await?;
+    big.write(&[0xff, 0xff, 0xff, 0xff]).await?;
+    let why = big.closed().await?;
+    assert!(why.contains("exceeds"), "{why}");
+
+    // A truncated frame: a length, part of the payload, then the end of the stream.
+    let mut cut = Raw::connect(&server, 1 << 20).await?;
+    cut.hello().await?;
+    cut.write(&[0, 0, 0, 100, 1, 2, 3]).await?;
+    cut.send.finish()?;
+    assert_eq!(cut.closed().await?, "truncated frame");
+
+    // A truncated frame whose sender stalls: closed when the frame takes too long.
+    let mut stall = Raw::connect(&server, 1 << 20).await?;
+    stall.hello().await?;
+    stall.write(&[0, 0, 0, 100, 1, 2, 3]).await?;
+    assert_eq!(stall.closed().await?, "a frame took too long to arrive");
+
+    // Random bytes, with and without a greeting first: every one is closed.
+    for seed in 0..20 {
+        let mut r = Raw::connect(&server, 1 << 20).await?;
+        if seed % 2 == 1 {
+            r.hello().await?;
+        }
+        r.write(&noise(seed, 1 + (seed as usize * 397) % 3000)).await?;
+        r.send.finish()?;
+        r.closed().await.with_context(|| format!("noise {seed}"))?;
+    }
+
+    // A valid frame before Hello.
+    let mut early = Raw::connect(&server, 1 << 20).await?;
+    early.write(&encode_frame(&ClientMessage::Concede)?).await?;
+    assert_eq!(early.closed().await?, "the first message must be Hello");
+
+    // Valid frames in the wrong state: a shot before joining, a second join.
+    let mut host = Player::connect(&server.invite).await?;
+    let room = create_room(&mut host, "host").await?;
+    let mut guest = Player::connect(&server.invite).await?;
+    let game = host.mirror.game().expect("snapshot").clone();
+    guest.send(break_shot(&game)).await?;
+    assert!(matches!(
+        guest.error().await?,
+        ServerMessage::Error {
+            code: ErrorCode::Unexpected,
+            ..
+        }
+    ));
+    for _ in 0..2 {
+        guest
+            .send(ClientMessage::Join {
+                room: room.clone(),
+                name: "guest".into(),
+            })
+            .await?;
+    }
+    guest
+        .until("Joined", |m| matches!(m, ServerMessage::Joined { .. }))
+        .await?;
+    assert!(matches!(
+        guest.error().await?,
+        ServerMessage::Error {
+            code: ErrorCode::Unexpected,
+            ..
+        }
+    ));
+
+    // A flood: far more messages than the per-second limit allows, then disconnected.
+    let mut flooder = Player::connect(&server.invite).await?;
+    let frame = encode_frame(&ClientMessage::Concede)?;
+    let burst: Vec<u8> = frame.repeat(3_000);
+    let _ = flooder.conn.send_raw(&burst).await;
+    let why = tokio::time::timeout(PATIENCE, flooder.conn.quic().closed()).await?;
+    assert!(why.to_string().contains("too many messages"), "{why}");
+
+    // A client that never reads: its window is a few hundred bytes, so everything it is sent
+    // beyond that waits in its queue until the queue is full and it is dropped.
+    let mut deaf = Raw::connect(&server, 256).await?;
+    deaf.hello().await?;
+    for _ in 0..45 {
+        deaf.write(&encode_frame(&ClientMessage::Concede)?).await?;
+    }
+    assert_eq!(deaf.closed().await?, "not reading: outgoing queue full");
+
+    // The game went on and finished with every hash agreeing.
+    let report = bots.await?;
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert_eq!(report.games_completed, 1);
+    assert_eq!(report.desyncs, 0);
+    assert_eq!(report.confirmed, 2 * report.shots);
+    eprintln!(
+        "the game beside them: {} shots, p50 {:.1} ms, p99 {:.1} ms",
+        report.shots,
+        report.percentile_ms(0.5),
+        report.percentile_ms(0.99)
+    );
+
+    // Bounded: handshakes held, queues, and every abuser counted once.
+    assert!(count(&stats.handshaking) <= HANDSHAKES);
+    assert!(count(&stats.connections) <= Limits::default().max_connections);
+    assert_eq!(count(&stats.flooding), 1);
+    assert_eq!(count(&stats.too_slow), 1);
+    // The hub never had more waiting than one burst per connection.
+    let peak = count(&stats.hub_queue_peak);
+    assert!(peak <= 60 * 64, "hub queue peaked at {peak}");
+    if let (Some(before), Some(after)) = (rss_before, resident_bytes()) {
+        eprintln!(
+            "resident memory of the test process: {} KiB before, {} KiB after; hub queue peak {peak}",
+            before / 1024,
+            after / 1024
+        );
+    }
+    drop(flood);
+    server.stop().await
+}
