@@ -1,0 +1,173 @@
+//! Who may do what: seat tokens name one seat of one room, spectators cannot act, and the
+//! per-address and per-server limits hold.
+
+use std::net::SocketAddr;
+use std::time::Duration;
+
+use anyhow::Result;
+use breakshot_server::{Limits, Stats};
+use breakshot_shared::protocol::{ClientMessage, ErrorCode, Role, RoomCode, ServerMessage};
+use breakshot_shared::rules::{Choice, Seat};
+use breakshot_tests::{break_shot, create_room, seated_pair, Player, TempDir, TestServer};
+
+fn loopback() -> SocketAddr {
+    SocketAddr::from(([127, 0, 0, 1], 0))
+}
+
+async fn error_code(p: &mut Player) -> Result<ErrorCode> {
+    match p.error().await? {
+        ServerMessage::Error { code, .. } => Ok(code),
+        _ => unreachable!(),
+    }
+}
+
+/// Rejoins with `token` and returns the room and role the server gave.
+async fn rejoin(
+    server: &TestServer,
+    token: breakshot_shared::protocol::SeatToken,
+) -> Result<(Player, RoomCode, Role)> {
+    let mut p = Player::connect(&server.invite).await?;
+    p.send(ClientMessage::Rejoin { token }).await?;
+    match p
+        .until("Joined", |m| matches!(m, ServerMessage::Joined { .. }))
+        .await?
+    {
+        ServerMessage::Joined { role, snapshot, .. } => Ok((p, snapshot.room, role)),
+        _ => unreachable!(),
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_seat_token_opens_only_its_own_room_and_seat() -> Result<()> {
+    let data = TempDir::new("tokens");
+    let server = TestServer::start(data.path()).await?;
+    let (a1, b1, room1) = seated_pair(&server.invite).await?;
+    let (a2, b2, room2) = seated_pair(&server.invite).await?;
+    assert_ne!(room1, room2);
+    let tokens = [
+        (a1.mirror.token().expect("token"), &room1, Seat::A),
+        (b1.mirror.token().expect("token"), &room1, Seat::B),
+        (a2.mirror.token().expect("token"), &room2, Seat::A),
+        (b2.mirror.token().expect("token"), &room2, Seat::B),
+    ];
+    drop((a1, b1, a2, b2));
+    for (token, room, seat) in tokens {
+        let (_p, got_room, role) = rejoin(&server, token).await?;
+        assert_eq!(&got_room, room);
+        assert_eq!(role, Role::Player(seat));
+    }
+    // A token one bit away from a real one opens nothing.
+    let mut forged = tokens[1].0;
+    forged.0[0] ^= 1;
+    let mut p = Player::connect(&server.invite).await?;
+    p.send(ClientMessage::Rejoin { token: forged }).await?;
+    assert_eq!(error_code(&mut p).await?, ErrorCode::BadToken);
+    server.stop().await
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_spectator_cannot_send_any_game_command() -> Result<()> {
+    let data = TempDir::new("spectator-commands");
+    let server = TestServer::start(data.path()).await?;
+    let (a, _b, room) = seated_pair(&server.invite).await?;
+    let mut watcher = Player::connect(&server.invite).await?;
+    watcher.send(ClientMessage::Spectate { room }).await?;
+    watcher
+        .until("Joined", |m| matches!(m, ServerMessage::Joined { .. }))
+        .await?;
+    let game = a.mirror.game().expect("snapshot").clone();
+    let turn = game.turn();
+    for msg in [
+        break_shot(&game),
+        ClientMessage::PlaceCueBall {
+            turn,
+            pos: [0.5, 0.5],
+        },
+        ClientMessage::CallPocket { turn, pocket: 0 },
+        ClientMessage::Decide {
+            turn,
+            choice: Choice::AcceptTable,
+        },
+        ClientMessage::Concede,
+        ClientMessage::Rematch,
+    ] {
+        watcher.send(msg).await?;
+        assert_eq!(error_code(&mut watcher).await?, ErrorCode::Spectator);
+    }
+    server.stop().await
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn room_entries_are_rate_limited_per_address() -> Result<()> {
+    let data = TempDir::new("entry-rate");
+    let mut config = TestServer::config(loopback(), data.path());
+    config.limits = Limits {
+        entry_burst: 4,
+        // Nothing is earned back during the test, so the count is exact.
+        entry_refill: Duration::from_secs(3_600),
+        ..Limits::default()
+    };
+    let server = TestServer::start_with(config).await?;
+    let mut host = Player::connect(&server.invite).await?;
+    let room = create_room(&mut host, "host").await?;
+    // Guessing codes: each wrong guess uses an entry.
+    let mut guesser = Player::connect(&server.invite).await?;
+    for guess in ["22222222", "33333333", "44444444"] {
+        guesser
+            .send(ClientMessage::Join {
+                room: RoomCode::parse(guess)?,
+                name: "guess".into(),
+            })
+            .await?;
+        assert_eq!(error_code(&mut guesser).await?, ErrorCode::NoSuchRoom);
+    }
+    // The budget is spent: even the right code is refused, on a new connection too.
+    let mut again = Player::connect(&server.invite).await?;
+    again
+        .send(ClientMessage::Join {
+            room,
+            name: "guess".into(),
+        })
+        .await?;
+    assert_eq!(error_code(&mut again).await?, ErrorCode::RateLimited);
+    guesser
+        .send(ClientMessage::Spectate {
+            room: RoomCode::parse("55555555")?,
+        })
+        .await?;
+    assert_eq!(error_code(&mut guesser).await?, ErrorCode::RateLimited);
+    server.stop().await
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn rooms_per_address_and_connections_are_capped() -> Result<()> {
+    let data = TempDir::new("caps");
+    let mut config = TestServer::config(loopback(), data.path());
+    config.limits = Limits {
+        rooms_per_address: 2,
+        max_connections: 3,
+        ..Limits::default()
+    };
+    let server = TestServer::start_with(config).await?;
+    let mut players = Vec::new();
+    for name in ["one", "two"] {
+        let mut p = Player::connect(&server.invite).await?;
+        create_room(&mut p, name).await?;
+        players.push(p);
+    }
+    let mut third = Player::connect(&server.invite).await?;
+    third
+        .send(ClientMessage::CreateRoom {
+            variant: breakshot_tests::eight_ball(),
+            mode: breakshot_shared::rules::Settings::offline(),
+            aim_aid: breakshot_shared::protocol::AimAid::Full,
+            name: "three".into(),
+        })
+        .await?;
+    assert_eq!(error_code(&mut third).await?, ErrorCode::ServerBusy);
+    // Three connections are open: a fourth is refused.
+    assert!(Player::connect(&server.invite).await.is_err());
+    assert!(Stats::get(&server.stats.refused) >= 1);
+    drop(third);
+    server.stop().await
+}
