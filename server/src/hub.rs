@@ -192,6 +192,23 @@ impl Hub {
                 "too many attempts to enter rooms from this address; wait a little",
             );
         }
+        let out = self.route(now, conn, msg, in_room.clone());
+        // Only failed entries are charged: guessing codes or tokens is what the budget is
+        // for, and players behind one address (or rejoining after a restart) must not be
+        // locked out by their own successes.
+        if entry && in_room.is_none() && joined(&out, conn) {
+            self.refund_entry(conn);
+        }
+        out
+    }
+
+    fn route(
+        &mut self,
+        now: Instant,
+        conn: ConnId,
+        msg: ClientMessage,
+        in_room: Option<(RoomCode, Role)>,
+    ) -> Vec<Output> {
         match (msg, in_room) {
             (ClientMessage::Hello { .. }, _) => {
                 error(conn, ErrorCode::Unexpected, "already greeted")
@@ -288,6 +305,13 @@ impl Hub {
                 source.entries.take(now)
             }
             None => false,
+        }
+    }
+
+    fn refund_entry(&mut self, conn: ConnId) {
+        let addr = self.conns.get(&conn).map(|c| c.addr);
+        if let Some(source) = addr.and_then(|a| self.sources.get_mut(&a)) {
+            source.entries.refund();
         }
     }
 

@@ -39,6 +39,11 @@ impl Bucket {
         self.tokens -= 1;
         true
     }
+
+    /// Gives back a token taken for an action that turned out not to count.
+    pub fn refund(&mut self) {
+        self.tokens = (self.tokens + 1).min(self.burst);
+    }
 }
 
 #[cfg(test)]

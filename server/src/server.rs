@@ -32,7 +32,7 @@ use crate::limits::Limits;
 use crate::stats::Stats;
 use crate::output::{ConnId, Output};
 use crate::records;
-use crate::secret::{OsEntropy, TestEntropy};
+use crate::secret::{Entropy, OsEntropy, TestEntropy};
 use crate::store::{Store, StoreError};
 use crate::tls::{Identity, TlsError};
 
@@ -120,7 +120,8 @@ impl Server {
             },
         );
         let restored = restore(&store, &mut hub)?;
-        let endpoint = endpoint(identity.server_config()?, config.bind).map_err(|source| {
+        let reset_key = crate::tls::reset_key(&config.data)?;
+        let endpoint = endpoint(identity.server_config()?, reset_key, config.bind).map_err(|source| {
             ServerError::Bind {
                 addr: config.bind,
                 source,
@@ -263,7 +264,11 @@ const SOCKET_BUFFER: usize = 4 * 1024 * 1024;
 /// The QUIC endpoint on one UDP socket for every client. The socket's buffers are enlarged:
 /// with hundreds of connections a burst overflows the default receive buffer, and each
 /// dropped datagram costs a QUIC loss-recovery delay.
-fn endpoint(config: quinn::ServerConfig, addr: SocketAddr) -> std::io::Result<quinn::Endpoint> {
+fn endpoint(
+    config: quinn::ServerConfig,
+    reset_key: [u8; 32],
+    addr: SocketAddr,
+) -> std::io::Result<quinn::Endpoint> {
     let socket = std::net::UdpSocket::bind(addr)?;
     let state = quinn::udp::UdpSocketState::new((&socket).into())?;
     for (what, result) in [
@@ -280,8 +285,11 @@ fn endpoint(config: quinn::ServerConfig, addr: SocketAddr) -> std::io::Result<qu
             tracing::warn!(error = %e, "cannot enlarge the UDP {what} buffer");
         }
     }
+    let reset = ring::hmac::Key::new(ring::hmac::HMAC_SHA256, &reset_key);
+    let mut endpoint_config = quinn::EndpointConfig::new(Arc::new(reset));
+    endpoint_config.cid_generator(|| Box::new(RandomCids));
     quinn::Endpoint::new(
-        quinn::EndpointConfig::default(),
+        endpoint_config,
         Some(config),
         socket,
         Arc::new(quinn::TokioRuntime),
@@ -307,6 +315,30 @@ fn admit(incoming: quinn::Incoming, limits: &Limits, stats: &Stats) -> Option<qu
         return None;
     }
     Some(incoming)
+}
+
+/// Connection IDs drawn at random, all accepted as well-formed. quinn's default generator
+/// marks its IDs with a per-process key and silently drops packets for IDs it did not make,
+/// so after a restart the clients of the previous run would get no stateless reset and
+/// would wait for their idle timeout before reconnecting.
+struct RandomCids;
+
+const CID_LEN: usize = 8;
+
+impl quinn::ConnectionIdGenerator for RandomCids {
+    fn generate_cid(&mut self) -> quinn::ConnectionId {
+        let mut bytes = [0u8; CID_LEN];
+        OsEntropy.fill(&mut bytes);
+        quinn::ConnectionId::new(&bytes)
+    }
+
+    fn cid_len(&self) -> usize {
+        CID_LEN
+    }
+
+    fn cid_lifetime(&self) -> Option<Duration> {
+        None
+    }
 }
 
 /// Binds and serves until `shutdown` resolves.

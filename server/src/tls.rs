@@ -15,6 +15,10 @@ use thiserror::Error;
 
 pub const CERT_FILE: &str = "cert.der";
 pub const KEY_FILE: &str = "key.der";
+/// The secret behind QUIC stateless resets, kept so that a restarted server can tell the
+/// clients of its previous run at once that their connections are gone (instead of leaving
+/// them to wait for the idle timeout).
+pub const RESET_KEY_FILE: &str = "reset.key";
 
 /// Keep-alive so a thinking player's connection never idles out.
 pub const KEEP_ALIVE: Duration = Duration::from_secs(5);
@@ -104,6 +108,28 @@ impl Identity {
         config.transport_config(Arc::new(transport));
         Ok(config)
     }
+}
+
+/// Loads the stateless-reset secret from `dir`, or makes and keeps a new one (mode 0600).
+pub fn reset_key(dir: &Path) -> Result<[u8; 32], TlsError> {
+    let path = dir.join(RESET_KEY_FILE);
+    let io = |source| TlsError::Io {
+        path: path.display().to_string(),
+        source,
+    };
+    match fs::read(&path) {
+        Ok(bytes) => {
+            if let Ok(key) = <[u8; 32]>::try_from(bytes.as_slice()) {
+                return Ok(key);
+            }
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(io(e)),
+    }
+    let mut key = [0u8; 32];
+    getrandom::fill(&mut key).map_err(|e| io(std::io::Error::other(e.to_string())))?;
+    write_private(&path, &key).map_err(io)?;
+    Ok(key)
 }
 
 pub fn fingerprint_of(cert: &CertificateDer<'_>) -> Fingerprint {

@@ -1,0 +1,162 @@
+//! Crashes: the real `breakshot-server` killed with SIGKILL while bots play and the store is
+//! being written, then started again on the same data directory. Nothing a player was shown
+//! may be lost, `verify` must pass, and the bots must rejoin with their tokens and finish.
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+
+use breakshot_client::bot::{run, BotConfig};
+use breakshot_server::store::Store;
+use breakshot_server::verify::verify_dir;
+use breakshot_shared::protocol::Invite;
+use breakshot_shared::replay::GameRecord;
+
+const BIN: &str = env!("CARGO_BIN_EXE_breakshot-server");
+/// Games played at once while the server is killed.
+const GAMES: usize = 4;
+/// Times the server is killed.
+const KILLS: usize = 3;
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("breakshot-faults-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    dir
+}
+
+/// Starts the server on `bind` and returns it with its invite line.
+fn start(bind: &str, data: &Path) -> (Child, Invite) {
+    let mut child = Command::new(BIN)
+        .args(["--bind", bind, "--data"])
+        .arg(data)
+        .env("RUST_LOG", std::env::var("FAULTS_LOG").unwrap_or_else(|_| "warn".into()))
+        .stdout(Stdio::piped())
+        .stderr(
+            std::fs::OpenOptions::new()
+                .create(true)
+                .append(true)
+                .open(data.with_extension("log"))
+                .expect("log file"),
+        )
+        .spawn()
+        .expect("starting breakshot-server");
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().expect("stdout"))
+        .read_line(&mut line)
+        .expect("the invite line");
+    let invite = line.trim().parse().expect("an invite");
+    (child, invite)
+}
+
+/// Commands stored so far, over all games.
+fn stored_commands(data: &Path) -> usize {
+    verify_dir(data)
+        .map(|checks| checks.iter().map(|c| c.commands).sum())
+        .unwrap_or(0)
+}
+
+/// Every game's record, by room.
+fn records(data: &Path) -> Vec<(String, GameRecord)> {
+    let store = Store::open(data).expect("store");
+    store
+        .all()
+        .expect("games")
+        .into_iter()
+        .map(|g| {
+            (
+                g.meta.code.to_string(),
+                GameRecord::decode(&g.record).expect("record"),
+            )
+        })
+        .collect()
+}
+
+fn verify_passes(data: &Path) {
+    let out = Command::new(BIN)
+        .args(["verify", "--data"])
+        .arg(data)
+        .output()
+        .expect("running verify");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "verify failed:\n{text}");
+}
+
+#[test]
+fn killing_the_server_loses_nothing_and_players_rejoin() {
+    let data = scratch("kill");
+    // A fixed port, so the bots' invite stays valid across restarts.
+    let port = std::net::UdpSocket::bind("127.0.0.1:0")
+        .and_then(|s| s.local_addr())
+        .expect("a free port")
+        .port();
+    let bind = format!("127.0.0.1:{port}");
+    let (mut server, invite) = start(&bind, &data);
+
+    let runtime = tokio::runtime::Runtime::new().expect("runtime");
+    let mut config = BotConfig::new(invite, GAMES);
+    config.think = Duration::from_millis(20);
+    let bots = runtime.spawn(async move { run(&config).await });
+
+    let started = std::time::Instant::now();
+    let mut kills = 0;
+    let mut seen = 0;
+    while kills < KILLS {
+        // Kill once a few more commands have been stored: the bots are mid-game and shots
+        // are being resolved and written.
+        let stored = stored_commands(&data);
+        if stored < seen + 8 {
+            std::thread::sleep(Duration::from_millis(10));
+            continue;
+        }
+        server.kill().expect("SIGKILL");
+        server.wait().expect("reaped");
+        kills += 1;
+        let before = records(&data);
+        verify_passes(&data);
+        seen = before.iter().map(|(_, r)| r.entries.len()).sum();
+        eprintln!(
+            "kill {kills} at {:.1} s: {seen} commands stored",
+            started.elapsed().as_secs_f64()
+        );
+        let (next, _) = start(&bind, &data);
+        server = next;
+    }
+
+    let report = runtime.block_on(bots).expect("bots");
+    eprintln!(
+        "games over at {:.1} s: {} shots, {} rejoins",
+        started.elapsed().as_secs_f64(),
+        report.shots,
+        report.rejoins
+    );
+    let _ = server.kill();
+    let _ = server.wait();
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert_eq!(report.games_completed as usize, GAMES);
+    assert_eq!(report.desyncs, 0);
+    assert!(report.rejoins > 0);
+    verify_passes(&data);
+
+    // Every result a host was shown is in its game's stored record, in order.
+    let stored = records(&data);
+    for game in &report.games {
+        let room = game.room.as_ref().expect("room").to_string();
+        let record = &stored
+            .iter()
+            .find(|(r, _)| *r == room)
+            .expect("stored game")
+            .1;
+        // A result stored just before a kill may never have been shown, and a host away
+        // during a restart misses some: what was shown is a subsequence of what is stored.
+        let mut stored_hashes = record.entries.iter().filter_map(|e| e.hash);
+        for (turn, shown) in &game.resolved {
+            assert!(
+                stored_hashes.any(|h| h == *shown),
+                "room {room}: the result of turn {turn} was shown but is not stored"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&data);
+}
