@@ -10,7 +10,7 @@ pub mod messages;
 pub mod reference;
 pub mod validate;
 
-pub use framing::{decode_payload, encode_frame, payload_len, FrameError, HEADER_LEN};
+pub use framing::{decode_payload, encode_frame, payload_len, split_frame, FrameError, HEADER_LEN};
 pub use ids::{Fingerprint, RoomCode, SeatToken};
 pub use invite::{Invite, InviteError};
 pub use messages::{
