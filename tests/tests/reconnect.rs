@@ -141,3 +141,81 @@ async fn a_server_restarted_on_its_data_loses_no_shot() -> anyhow::Result<()> {
     }
     Ok(())
 }
+
+#[test]
+fn a_client_killed_mid_shot_rejoins_and_gets_its_seat_back() -> anyhow::Result<()> {
+    let main = tokio::runtime::Runtime::new()?;
+    // The victim runs on a runtime of its own; shutting it down stops its QUIC driver at
+    // once, so the server gets no goodbye, as when a process is killed.
+    let victim = tokio::runtime::Runtime::new()?;
+    let data = TempDir::new("killed-client");
+    let server = main.block_on(TestServer::start(data.path()))?;
+    let mut a = victim.block_on(async {
+        let mut a = Player::connect(&server.invite).await?;
+        breakshot_tests::create_room(&mut a, "ann").await?;
+        anyhow::Ok(a)
+    })?;
+    let room = a.mirror.room().cloned().expect("room");
+    let token = a.mirror.token().expect("token");
+    let mut b = main.block_on(async {
+        let mut b = Player::connect(&server.invite).await?;
+        b.send(ClientMessage::Join {
+            room,
+            name: "ben".into(),
+        })
+        .await?;
+        b.until("Joined", |m| matches!(m, ServerMessage::Joined { .. }))
+            .await?;
+        anyhow::Ok(b)
+    })?;
+    victim.block_on(a.until("PlayerJoined", |m| {
+        matches!(m, ServerMessage::PlayerJoined { .. })
+    }))?;
+
+    // A shoots and dies before it sees the result.
+    let game = a.mirror.game().expect("game").clone();
+    victim.block_on(a.send(break_shot(&game)))?;
+    main.block_on(b.until("ShotResolved", |m| {
+        matches!(m, ServerMessage::ShotResolved { .. })
+    }))?;
+    victim.shutdown_background();
+    std::mem::forget(a);
+
+    // A comes back with its token: its seat, the table after its shot, and play goes on.
+    main.block_on(async {
+        b.until("TurnChanged", |m| {
+            matches!(m, ServerMessage::TurnChanged { .. })
+        })
+        .await?;
+        let mut a2 = Player::connect(&server.invite).await?;
+        a2.send(ClientMessage::Rejoin { token }).await?;
+        let ServerMessage::Joined { role, snapshot, .. } = a2
+            .until("Joined", |m| matches!(m, ServerMessage::Joined { .. }))
+            .await?
+        else {
+            unreachable!()
+        };
+        assert_eq!(role, Role::Player(Seat::A));
+        assert_eq!(snapshot.game, *b.mirror.game().expect("game"));
+        assert!(snapshot.game.turn() > game.turn());
+        let now = snapshot.game.clone();
+        let mv = Chooser::new(3).choose(&now).expect("the game is on");
+        let shooter = if now.to_move() == Seat::A {
+            &mut a2
+        } else {
+            &mut b
+        };
+        shooter.send(mv).await?;
+        for p in [&mut a2, &mut b] {
+            p.until("TurnChanged", |m| {
+                matches!(
+                    m,
+                    ServerMessage::TurnChanged { .. } | ServerMessage::GameOver { .. }
+                )
+            })
+            .await?;
+            assert!(p.mirror.game().expect("game").turn() > now.turn());
+        }
+        server.stop().await
+    })
+}
