@@ -50,7 +50,9 @@ impl HubSender {
 
     pub fn send(&self, event: HubEvent) -> Result<(), SendError<HubEvent>> {
         let queued = self.stats.hub_queue.fetch_add(1, Ordering::Relaxed) + 1;
-        self.stats.hub_queue_peak.fetch_max(queued, Ordering::Relaxed);
+        self.stats
+            .hub_queue_peak
+            .fetch_max(queued, Ordering::Relaxed);
         self.tx.send(event).inspect_err(|_| {
             self.stats.hub_queue.fetch_sub(1, Ordering::Relaxed);
         })
@@ -102,7 +104,10 @@ pub async fn serve(
         return;
     };
     if hub
-        .send(HubEvent::Connected(id, conn.remote_address().ip().to_canonical()))
+        .send(HubEvent::Connected(
+            id,
+            conn.remote_address().ip().to_canonical(),
+        ))
         .is_err()
     {
         return;
@@ -113,7 +118,11 @@ pub async fn serve(
         let frame_timeout = limits.frame_timeout;
         let per_second = limits.messages_per_second.max(1);
         async move {
-            let mut rate = Bucket::new(per_second, Duration::from_secs(1) / per_second, Instant::now());
+            let mut rate = Bucket::new(
+                per_second,
+                Duration::from_secs(1) / per_second,
+                Instant::now(),
+            );
             loop {
                 let why = match read_message(&mut recv, frame_timeout).await {
                     Ok(msg) if rate.take(Instant::now()) => {

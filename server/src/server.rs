@@ -29,10 +29,10 @@ use tokio::sync::Notify;
 use crate::conn::{self, HubEvent, Outbound, Outlet};
 use crate::hub::{Hub, HubConfig};
 use crate::limits::Limits;
-use crate::stats::Stats;
 use crate::output::{ConnId, Output};
 use crate::records;
 use crate::secret::{Entropy, OsEntropy, TestEntropy};
+use crate::stats::Stats;
 use crate::store::{Store, StoreError};
 use crate::tls::{Identity, TlsError};
 
@@ -121,12 +121,13 @@ impl Server {
         );
         let restored = restore(&store, &mut hub)?;
         let reset_key = crate::tls::reset_key(&config.data)?;
-        let endpoint = endpoint(identity.server_config()?, reset_key, config.bind).map_err(|source| {
-            ServerError::Bind {
-                addr: config.bind,
-                source,
-            }
-        })?;
+        let endpoint =
+            endpoint(identity.server_config()?, reset_key, config.bind).map_err(|source| {
+                ServerError::Bind {
+                    addr: config.bind,
+                    source,
+                }
+            })?;
         Ok(Server {
             endpoint,
             fingerprint: identity.fingerprint(),
@@ -461,11 +462,16 @@ fn spawn_writer(
                                     (to, Outbound::Message(records::answer(&store, &room)))
                                 }
                             };
-                            let Some(outlet) = conns.get(&to) else { continue };
+                            let Some(outlet) = conns.get(&to) else {
+                                continue;
+                            };
                             if let Err(TrySendError::Full(_)) = outlet.tx.try_send(what) {
                                 // The client is not reading: drop it rather than hold an
                                 // unbounded backlog for it.
-                                tracing::info!(conn = to, "closing connection: it does not read what it is sent");
+                                tracing::info!(
+                                    conn = to,
+                                    "closing connection: it does not read what it is sent"
+                                );
                                 stats.too_slow.fetch_add(1, Ordering::Relaxed);
                                 outlet.kill.notify_one();
                                 conns.remove(&to);

@@ -31,7 +31,10 @@ fn start(bind: &str, data: &Path) -> (Child, Invite) {
     let mut child = Command::new(BIN)
         .args(["--bind", bind, "--data"])
         .arg(data)
-        .env("RUST_LOG", std::env::var("FAULTS_LOG").unwrap_or_else(|_| "warn".into()))
+        .env(
+            "RUST_LOG",
+            std::env::var("FAULTS_LOG").unwrap_or_else(|_| "warn".into()),
+        )
         .stdout(Stdio::piped())
         .stderr(
             std::fs::OpenOptions::new()

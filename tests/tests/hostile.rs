@@ -108,11 +108,7 @@ fn noise(seed: u64, len: usize) -> Vec<u8> {
 /// Starts `n` connections through a relay that passes the client's packets to the server
 /// and drops every answer, so none of them ever finishes its handshake. Returns what keeps
 /// them alive (dropping it lets the client side give up).
-async fn half_open(
-    server: SocketAddr,
-    fingerprint: Fingerprint,
-    n: usize,
-) -> Result<impl Drop> {
+async fn half_open(server: SocketAddr, fingerprint: Fingerprint, n: usize) -> Result<impl Drop> {
     let front = tokio::net::UdpSocket::bind("127.0.0.1:0").await?;
     let back = tokio::net::UdpSocket::bind("127.0.0.1:0").await?;
     let relay_addr = front.local_addr()?;
@@ -215,7 +211,8 @@ async fn hostile_clients_cost_only_their_own_connections() -> Result<()> {
         if seed % 2 == 1 {
             r.hello().await?;
         }
-        r.write(&noise(seed, 1 + (seed as usize * 397) % 3000)).await?;
+        r.write(&noise(seed, 1 + (seed as usize * 397) % 3000))
+            .await?;
         r.send.finish()?;
         r.closed().await.with_context(|| format!("noise {seed}"))?;
     }

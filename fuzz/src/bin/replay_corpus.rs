@@ -76,7 +76,9 @@ fn mutate(seed: &[u8], rng: &mut u64) -> Vec<u8> {
 /// inputs that reach deep into each parser.
 fn write_seeds(corpus: &Path) -> Result<(), String> {
     use breakshot_shared::physics::Strike;
-    use breakshot_shared::protocol::{encode_frame, reference_hash, AimAid, ClientMessage, RoomCode};
+    use breakshot_shared::protocol::{
+        encode_frame, reference_hash, AimAid, ClientMessage, RoomCode,
+    };
     use breakshot_shared::replay::GameRecord;
     use breakshot_shared::rules::{Command, EightBallRules, Game, Settings, Variant};
     use glam::DVec2;
@@ -94,12 +96,50 @@ fn write_seeds(corpus: &Path) -> Result<(), String> {
     };
     let room = RoomCode::parse("K7QX2M4B").map_err(|e| e.to_string())?;
     let messages = [
-        ("hello", ClientMessage::Hello { protocol: 1, physics: reference_hash().map_err(|e| e.to_string())? }),
-        ("create", ClientMessage::CreateRoom { variant, mode: Settings::online(), aim_aid: AimAid::Full, name: "ann".into() }),
-        ("join", ClientMessage::Join { room, name: "ben".into() }),
-        ("shot", ClientMessage::Shot { turn: 0, strike, call: Some(3) }),
-        ("place", ClientMessage::PlaceCueBall { turn: 4, pos: [0.5, 0.6] }),
-        ("chat", ClientMessage::Chat { text: "nice shot".into() }),
+        (
+            "hello",
+            ClientMessage::Hello {
+                protocol: 1,
+                physics: reference_hash().map_err(|e| e.to_string())?,
+            },
+        ),
+        (
+            "create",
+            ClientMessage::CreateRoom {
+                variant,
+                mode: Settings::online(),
+                aim_aid: AimAid::Full,
+                name: "ann".into(),
+            },
+        ),
+        (
+            "join",
+            ClientMessage::Join {
+                room,
+                name: "ben".into(),
+            },
+        ),
+        (
+            "shot",
+            ClientMessage::Shot {
+                turn: 0,
+                strike,
+                call: Some(3),
+            },
+        ),
+        (
+            "place",
+            ClientMessage::PlaceCueBall {
+                turn: 4,
+                pos: [0.5, 0.6],
+            },
+        ),
+        (
+            "chat",
+            ClientMessage::Chat {
+                text: "nice shot".into(),
+            },
+        ),
     ];
     for (name, msg) in &messages {
         let frame = encode_frame(msg).map_err(|e| e.to_string())?;
@@ -107,7 +147,13 @@ fn write_seeds(corpus: &Path) -> Result<(), String> {
     }
     // Shot seeds: table, ball count, positions, then the strike's numbers, then a command.
     let mut shot = vec![3u8, 5];
-    for (x, y) in [(0.5, 0.25), (0.5, 0.75), (0.48, 0.78), (0.52, 0.78), (0.2, 0.9)] {
+    for (x, y) in [
+        (0.5, 0.25),
+        (0.5, 0.75),
+        (0.48, 0.78),
+        (0.52, 0.78),
+        (0.2, 0.9),
+    ] {
         shot.extend_from_slice(&((x * 65535.0) as u16).to_le_bytes());
         shot.extend_from_slice(&((y * 65535.0) as u16).to_le_bytes());
     }
@@ -126,7 +172,11 @@ fn write_seeds(corpus: &Path) -> Result<(), String> {
         let cue = game.balls()[0].pos;
         let target = game.balls()[1].pos;
         let command = Command::Shot {
-            strike: Strike { speed, dir: (target - cue).normalize(), tip: DVec2::ZERO },
+            strike: Strike {
+                speed,
+                dir: (target - cue).normalize(),
+                tip: DVec2::ZERO,
+            },
             call: None,
         };
         match game.apply(seat, &command) {
@@ -135,6 +185,10 @@ fn write_seeds(corpus: &Path) -> Result<(), String> {
         }
     }
     write("record", "short-game", &record.encode())?;
-    write("record", "new-game", &GameRecord::of(&Game::new(Variant::NineBall, Settings::online(), 7)).encode())?;
+    write(
+        "record",
+        "new-game",
+        &GameRecord::of(&Game::new(Variant::NineBall, Settings::online(), 7)).encode(),
+    )?;
     Ok(())
 }
