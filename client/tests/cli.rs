@@ -118,7 +118,7 @@ fn an_address_that_cannot_be_in_an_invite_is_refused() {
 
 #[test]
 fn replay_from_a_server_needs_a_server_address_and_a_room_code() {
-    let out = breakshot(&["replay", "--server", "not-a-server", "--game", "AAAAAA"]);
+    let out = breakshot(&["replay", "--server", "not-a-server", "--game", "AAAAAAAA"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
         stderr(&out).contains("is not a server address"),
@@ -139,7 +139,7 @@ fn replay_from_a_server_needs_a_server_address_and_a_room_code() {
     for args in [
         &["replay", "--server", &server][..],
         &[
-            "replay", "game.rec", "--server", &server, "--game", "AAAAAA",
+            "replay", "game.rec", "--server", &server, "--game", "AAAAAAAA",
         ][..],
         &["replay"][..],
     ] {
@@ -160,10 +160,10 @@ fn replay_of_a_game_the_server_does_not_have_is_refused() {
     ))
     .expect("a server on loopback");
     let invite = server.loopback_invite().to_string();
-    let out = breakshot(&["replay", "--server", &invite, "--game", "zzzzzz"]);
+    let out = breakshot(&["replay", "--server", &invite, "--game", "zzzzzzzz"]);
     drop(server);
     let _ = std::fs::remove_dir_all(&data);
     assert_eq!(out.status.code(), Some(2));
     let err = stderr(&out);
-    assert!(err.contains("no game in room ZZZZZZ"), "{err}");
+    assert!(err.contains("no game in room ZZZZZZZZ"), "{err}");
 }

@@ -178,14 +178,17 @@ impl Hub {
             );
         }
         let in_room = state.room.clone();
-        let entry = matches!(
-            msg,
+        // Anything that names a room or a seat by a secret the sender may be guessing uses
+        // the address's entry budget. A stored record can be fetched from inside a room too.
+        let entry = match msg {
             ClientMessage::CreateRoom { .. }
-                | ClientMessage::Join { .. }
-                | ClientMessage::Rejoin { .. }
-                | ClientMessage::Spectate { .. }
-        );
-        if entry && in_room.is_none() && !self.take_entry(now, conn) {
+            | ClientMessage::Join { .. }
+            | ClientMessage::Rejoin { .. }
+            | ClientMessage::Spectate { .. } => in_room.is_none(),
+            ClientMessage::FetchRecord { .. } => true,
+            _ => false,
+        };
+        if entry && !self.take_entry(now, conn) {
             return error(
                 conn,
                 ErrorCode::RateLimited,
@@ -196,7 +199,7 @@ impl Hub {
         // Only failed entries are charged: guessing codes or tokens is what the budget is
         // for, and players behind one address (or rejoining after a restart) must not be
         // locked out by their own successes.
-        if entry && in_room.is_none() && joined(&out, conn) {
+        if entry && joined(&out, conn) {
             self.refund_entry(conn);
         }
         out

@@ -52,7 +52,7 @@ mod tests {
     use super::*;
 
     fn room() -> RoomCode {
-        RoomCode::parse("K7QX2M").unwrap()
+        RoomCode::parse("K7QX2M4B").unwrap()
     }
 
     #[test]

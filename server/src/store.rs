@@ -220,18 +220,18 @@ mod tests {
         {
             let mut store = Store::open(&dir).unwrap();
             let ops = [
-                StoreOp::Room(meta("AAAAAA")),
-                game("AAAAAA", false),
-                StoreOp::Room(meta("BBBBBB")),
-                game("BBBBBB", false),
+                StoreOp::Room(meta("AAAAAAAA")),
+                game("AAAAAAAA", false),
+                StoreOp::Room(meta("BBBBBBBB")),
+                game("BBBBBBBB", false),
             ];
             store.apply(&ops.iter().collect::<Vec<_>>()).unwrap();
-            store.apply(&[&game("BBBBBB", true)]).unwrap();
+            store.apply(&[&game("BBBBBBBB", true)]).unwrap();
         }
         let store = Store::open(&dir).unwrap();
         let open = store.unfinished().unwrap();
         assert_eq!(open.len(), 1);
-        assert_eq!(open[0].meta.code.as_str(), "AAAAAA");
+        assert_eq!(open[0].meta.code.as_str(), "AAAAAAAA");
         assert_eq!(open[0].record, vec![1, 2, 3]);
         assert_eq!(
             open[0].meta.seats[0].as_ref().unwrap().digest,

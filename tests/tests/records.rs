@@ -90,7 +90,7 @@ async fn a_finished_bot_game_is_fetched_whole_and_every_hash_replays() -> Result
 async fn fetching_an_unknown_room_is_no_such_room_and_changes_nothing() -> Result<()> {
     let data = TempDir::new("fetch-unknown");
     let server = TestServer::start(data.path()).await?;
-    let unknown = RoomCode::parse("ZZZZZZ")?;
+    let unknown = RoomCode::parse("ZZZZZZZZ")?;
 
     let mut p = Player::connect(&server.invite).await?;
     p.send(ClientMessage::FetchRecord {
@@ -101,7 +101,7 @@ async fn fetching_an_unknown_room_is_no_such_room_and_changes_nothing() -> Resul
         ServerMessage::Error {
             code: ErrorCode::NoSuchRoom,
             message,
-        } => assert!(message.contains("ZZZZZZ"), "{message}"),
+        } => assert!(message.contains("ZZZZZZZZ"), "{message}"),
         other => bail!("expected NoSuchRoom, got {other:?}"),
     }
     // The connection is still usable: a refusal is not a failure.

@@ -363,7 +363,7 @@ mod tests {
     fn only_a_wildcard_address_needs_replacing_in_an_invite() {
         let fp = "ab".repeat(32);
         let invite = |host: &str| -> Invite {
-            format!("breakshot://{host}:4433/K7QX2M#{fp}")
+            format!("breakshot://{host}:4433/K7QX2M4B#{fp}")
                 .parse()
                 .unwrap()
         };

@@ -113,13 +113,13 @@ mod tests {
             finished: true,
             record: vec![1, 2, 3],
         };
-        let got = interpret(&room("AAAAAA"), record("AAAAAA")).unwrap();
+        let got = interpret(&room("AAAAAAAA"), record("AAAAAAAA")).unwrap();
         assert_eq!(
             (got.game, got.finished, got.bytes),
             (2, true, vec![1, 2, 3])
         );
         assert!(matches!(
-            interpret(&room("AAAAAA"), record("BBBBBB")),
+            interpret(&room("AAAAAAAA"), record("BBBBBBBB")),
             Err(FetchError::Unexpected(_))
         ));
     }
@@ -131,11 +131,11 @@ mod tests {
             message: "why".into(),
         };
         assert!(matches!(
-            interpret(&room("AAAAAA"), error(ErrorCode::NoSuchRoom)),
-            Err(FetchError::NoSuchGame(r)) if r == room("AAAAAA")
+            interpret(&room("AAAAAAAA"), error(ErrorCode::NoSuchRoom)),
+            Err(FetchError::NoSuchGame(r)) if r == room("AAAAAAAA")
         ));
         assert!(matches!(
-            interpret(&room("AAAAAA"), error(ErrorCode::TooLarge)),
+            interpret(&room("AAAAAAAA"), error(ErrorCode::TooLarge)),
             Err(FetchError::Refused {
                 code: ErrorCode::TooLarge,
                 ..

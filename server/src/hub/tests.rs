@@ -513,8 +513,8 @@ fn a_rematch_starts_when_both_players_ask() {
 #[test]
 fn a_record_is_fetched_without_a_seat_but_only_after_hello() {
     let mut w = World::new();
-    let room = RoomCode::parse("K7QX2M").unwrap();
-    w.hub.connected(w.now, 5);
+    let room = RoomCode::parse("K7QX2M4B").unwrap();
+    w.hub.connected(w.now, 5, PEER);
     let out = w.send(5, ClientMessage::FetchRecord { room: room.clone() });
     assert!(matches!(out.last(), Some(Output::Close { conn: 5, .. })));
     assert!(!out.iter().any(|o| matches!(o, Output::SendRecord { .. })));
