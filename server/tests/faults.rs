@@ -110,7 +110,7 @@ fn killing_the_server_loses_nothing_and_players_rejoin() {
         // are being resolved and written.
         let stored = stored_commands(&data);
         if stored < seen + 8 {
-            std::thread::sleep(Duration::from_millis(10));
+            std::thread::sleep(Duration::from_millis(50));
             continue;
         }
         server.kill().expect("SIGKILL");

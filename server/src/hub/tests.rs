@@ -526,3 +526,59 @@ fn a_record_is_fetched_without_a_seat_but_only_after_hello() {
         "{out:?}"
     );
 }
+
+#[test]
+fn failed_entries_spend_an_address_budget_that_refills_and_successes_are_free() {
+    let mut w = World::new();
+    let budget = Limits::default().entry_burst;
+    // Two players seated: their successful entries cost nothing.
+    let (room, _, _) = w.pair(Settings::offline());
+    w.greet(3);
+    let guess = |n: u32| ClientMessage::Join {
+        room: RoomCode::from_random([n as u8; breakshot_shared::protocol::limits::ROOM_CODE_LEN]),
+        name: "eve".into(),
+    };
+    for n in 0..budget {
+        let out = w.send(3, guess(n + 1));
+        assert_eq!(
+            error_code(&out, 3),
+            Some(ErrorCode::NoSuchRoom),
+            "guess {n}"
+        );
+    }
+    // Spent: even a real code is refused, from another connection of the same address.
+    w.greet(4);
+    let out = w.send(4, ClientMessage::Spectate { room: room.clone() });
+    assert_eq!(error_code(&out, 4), Some(ErrorCode::RateLimited));
+    // One refill later, one more attempt.
+    w.now += Limits::default().entry_refill;
+    let out = w.send(4, ClientMessage::Spectate { room });
+    assert!(sent_to(&out, 4)
+        .iter()
+        .any(|m| matches!(m, ServerMessage::Joined { .. })));
+}
+
+#[test]
+fn an_address_may_hold_only_so_many_open_rooms() {
+    let mut w = World::new();
+    let cap = Limits::default().rooms_per_address;
+    let create = ClientMessage::CreateRoom {
+        variant: Variant::EightBall(EightBallRules::Wpa),
+        mode: Settings::offline(),
+        aim_aid: AimAid::Off,
+        name: "ann".into(),
+    };
+    for conn in 0..cap as ConnId {
+        w.greet(100 + conn);
+        let out = w.send(100 + conn, create.clone());
+        joined(&out, 100 + conn);
+    }
+    w.greet(99);
+    let out = w.send(99, create.clone());
+    assert_eq!(error_code(&out, 99), Some(ErrorCode::ServerBusy));
+    // A room that closes (its creator left and nobody joined) frees a place.
+    w.hub.disconnected(w.now, 100);
+    w.advance(WINDOW + Duration::from_secs(1));
+    let out = w.send(99, create);
+    joined(&out, 99);
+}
