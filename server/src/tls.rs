@@ -128,6 +128,9 @@ pub fn reset_key(dir: &Path) -> Result<[u8; 32], TlsError> {
     }
     let mut key = [0u8; 32];
     getrandom::fill(&mut key).map_err(|e| io(std::io::Error::other(e.to_string())))?;
+    // A damaged file is removed first, so the new one is created with mode 0600 whatever
+    // mode the old one had.
+    let _ = fs::remove_file(&path);
     write_private(&path, &key).map_err(io)?;
     Ok(key)
 }
@@ -166,6 +169,29 @@ mod tests {
             .mode();
         assert_eq!(mode & 0o777, 0o600);
         assert!(first.server_config().is_ok());
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn the_reset_secret_is_made_once_and_kept_private() {
+        let dir = std::env::temp_dir().join(format!("breakshot-reset-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let first = reset_key(&dir).unwrap();
+        assert_eq!(reset_key(&dir).unwrap(), first);
+        let mode = fs::metadata(dir.join(RESET_KEY_FILE))
+            .unwrap()
+            .permissions()
+            .mode();
+        assert_eq!(mode & 0o777, 0o600);
+        // A damaged file is replaced rather than trusted.
+        fs::write(dir.join(RESET_KEY_FILE), b"short").unwrap();
+        fs::set_permissions(dir.join(RESET_KEY_FILE), fs::Permissions::from_mode(0o644)).unwrap();
+        assert_ne!(reset_key(&dir).unwrap(), first);
+        let mode = fs::metadata(dir.join(RESET_KEY_FILE))
+            .unwrap()
+            .permissions()
+            .mode();
+        assert_eq!(mode & 0o777, 0o600);
         fs::remove_dir_all(&dir).unwrap();
     }
 }
