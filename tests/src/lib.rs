@@ -5,10 +5,10 @@ use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, bail, Result};
-use breakshot_client::net::{endpoint, Connection, Mirror};
+use breakshot_client::net::{endpoint, Connection, Mirror, Session, SessionEvent};
 use breakshot_server::{Config, Server, ServerError, Stats};
 use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, RoomCode, ServerMessage};
@@ -243,5 +243,27 @@ pub fn break_shot(game: &Game) -> ClientMessage {
             tip: glam::DVec2::ZERO,
         },
         call: None,
+    }
+}
+
+/// Polls a session the way a frame loop does (`try_recv`, then a few milliseconds of
+/// "drawing") until an event `want` accepts; fails on a closed session or after [`PATIENCE`].
+pub fn poll_until(
+    session: &Session,
+    what: &str,
+    want: impl Fn(&SessionEvent) -> bool,
+) -> SessionEvent {
+    let start = Instant::now();
+    loop {
+        while let Some(event) = session.try_recv() {
+            if want(&event) {
+                return event;
+            }
+            if let SessionEvent::Closed(why) = &event {
+                panic!("closed while waiting for {what}: {why}");
+            }
+        }
+        assert!(start.elapsed() < PATIENCE, "no {what}");
+        std::thread::sleep(Duration::from_millis(5));
     }
 }

@@ -8,7 +8,7 @@ use breakshot_client::play::link::{GameEvent, GameLink};
 use breakshot_client::view::hud::Connection;
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, Role, ServerMessage};
 use breakshot_shared::rules::{Command, Seat, Settings};
-use breakshot_tests::{break_shot, eight_ball, TempDir, TestServer, PATIENCE};
+use breakshot_tests::{break_shot, eight_ball, poll_until, TempDir, TestServer, PATIENCE};
 
 /// Polls a link like a game screen until `want`.
 fn until(link: &mut dyn GameLink, what: &str, want: impl Fn(&GameEvent) -> bool) -> GameEvent {
@@ -133,23 +133,6 @@ fn a_port_in_use_is_a_clear_error() -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Polls a session until `want`, failing on a closed session.
-fn session_until(s: &Session, what: &str, want: impl Fn(&SessionEvent) -> bool) -> SessionEvent {
-    let start = Instant::now();
-    loop {
-        while let Some(event) = s.try_recv() {
-            if want(&event) {
-                return event;
-            }
-            if let SessionEvent::Closed(why) = &event {
-                panic!("closed while waiting for {what}: {why}");
-            }
-        }
-        assert!(start.elapsed() < PATIENCE, "no {what}");
-        std::thread::sleep(Duration::from_millis(5));
-    }
-}
-
 #[test]
 fn a_session_reconnects_and_takes_its_seat_back_after_a_server_restart() -> anyhow::Result<()> {
     let runtime = tokio::runtime::Runtime::new()?;
@@ -164,7 +147,7 @@ fn a_session_reconnects_and_takes_its_seat_back_after_a_server_restart() -> anyh
         aim_aid: AimAid::Full,
         name: "ann".into(),
     });
-    session_until(&a, "Joined", |e| {
+    poll_until(&a, "Joined", |e| {
         matches!(e, SessionEvent::Message(ServerMessage::Joined { .. }))
     });
     let room = a.mirror().room().cloned().expect("room");
@@ -173,20 +156,20 @@ fn a_session_reconnects_and_takes_its_seat_back_after_a_server_restart() -> anyh
         room: room.clone(),
         name: "ben".into(),
     });
-    session_until(&a, "PlayerJoined", |e| {
+    poll_until(&a, "PlayerJoined", |e| {
         matches!(e, SessionEvent::Message(ServerMessage::PlayerJoined { .. }))
     });
 
     // A session with no seat is not reconnected: it reports the loss.
     let watcher = Session::connect(server.invite.clone());
     watcher.send(ClientMessage::Spectate { room });
-    session_until(&watcher, "Joined", |e| {
+    poll_until(&watcher, "Joined", |e| {
         matches!(e, SessionEvent::Message(ServerMessage::Joined { .. }))
     });
 
     runtime.block_on(server.stop())?;
     for s in [&a, &b] {
-        session_until(s, "Reconnecting", |e| *e == SessionEvent::Reconnecting);
+        poll_until(s, "Reconnecting", |e| *e == SessionEvent::Reconnecting);
     }
     let start = Instant::now();
     let closed = loop {
@@ -206,7 +189,7 @@ fn a_session_reconnects_and_takes_its_seat_back_after_a_server_restart() -> anyh
     // The server comes back on the same address; the session rejoins its seat by itself.
     let server = runtime.block_on(TestServer::start_at(addr, data.path()))?;
     for (s, seat) in [(&a, Seat::A), (&b, Seat::B)] {
-        session_until(s, "Joined again", |e| {
+        poll_until(s, "Joined again", |e| {
             matches!(e, SessionEvent::Message(ServerMessage::Joined { .. }))
         });
         assert_eq!(s.mirror().role(), Some(Role::Player(seat)));

@@ -7,24 +7,7 @@ use breakshot_client::net::{Check, NetLink, Session, SessionEvent};
 use breakshot_client::play::link::{GameEvent, GameLink};
 use breakshot_shared::protocol::{AimAid, ClientMessage, Role, ServerMessage};
 use breakshot_shared::rules::{Command, Seat, Settings};
-use breakshot_tests::{break_shot, eight_ball, TempDir, TestServer, PATIENCE};
-
-/// Polls like a frame loop (try_recv, then "draw" for a few milliseconds) until `want`.
-fn poll_until(session: &Session, what: &str, want: impl Fn(&SessionEvent) -> bool) -> SessionEvent {
-    let start = Instant::now();
-    loop {
-        while let Some(event) = session.try_recv() {
-            if want(&event) {
-                return event;
-            }
-            if let SessionEvent::Closed(why) = &event {
-                panic!("closed while waiting for {what}: {why}");
-            }
-        }
-        assert!(start.elapsed() < PATIENCE, "no {what}");
-        std::thread::sleep(Duration::from_millis(5));
-    }
-}
+use breakshot_tests::{break_shot, eight_ball, poll_until, TempDir, TestServer, PATIENCE};
 
 #[test]
 fn a_polled_session_plays_and_confirms_a_shot() -> anyhow::Result<()> {
