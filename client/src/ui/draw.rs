@@ -339,6 +339,23 @@ pub fn in_hand(layout: &Layout, area: Rect, dragged: Option<(DVec2, bool)>, radi
 }
 
 /// How much text grows with the window, so it stays readable on large screens.
+/// The debug overlay (F3): lines of text on a dark box at the cloth's top-left corner.
+pub fn debug_lines(layout: &Layout, lines: &[String], width: f32) {
+    let x = layout.cloth.x + 8.0;
+    let mut y = layout.cloth.y + 20.0;
+    draw_rectangle(
+        x - 4.0,
+        y - 16.0,
+        width,
+        20.0 * lines.len() as f32 + 6.0,
+        Color::new(0.0, 0.0, 0.0, 0.6),
+    );
+    for line in lines {
+        label(line, x, y, 18.0, YELLOW);
+        y += 20.0;
+    }
+}
+
 pub fn text_scale() -> f32 {
     (screen_height() / 720.0).clamp(1.0, 1.5)
 }

@@ -414,18 +414,6 @@ impl GameScreen {
                 o.events.len()
             ));
         }
-        let x = layout.cloth.x + 8.0;
-        let mut y = layout.cloth.y + 20.0;
-        draw_rectangle(
-            x - 4.0,
-            y - 16.0,
-            360.0,
-            20.0 * lines.len() as f32 + 6.0,
-            Color::new(0.0, 0.0, 0.0, 0.6),
-        );
-        for line in lines {
-            draw::label(&line, x, y, 18.0, YELLOW);
-            y += 20.0;
-        }
+        draw::debug_lines(layout, &lines, 360.0);
     }
 }
