@@ -105,7 +105,12 @@ fn killing_the_server_loses_nothing_and_players_rejoin() {
     let started = std::time::Instant::now();
     let mut kills = 0;
     let mut seen = 0;
-    while kills < KILLS {
+    while kills < KILLS && !bots.is_finished() {
+        // A hang becomes a failure (the bots' own retries give up after two minutes).
+        assert!(
+            started.elapsed() < Duration::from_secs(300),
+            "no progress after {kills} kills"
+        );
         // Kill once a few more commands have been stored: the bots are mid-game and shots
         // are being resolved and written.
         let stored = stored_commands(&data);
@@ -127,6 +132,12 @@ fn killing_the_server_loses_nothing_and_players_rejoin() {
         server = next;
     }
 
+    // The games may end before every planned kill on a fast machine; at least one must have
+    // landed mid-game.
+    assert!(
+        kills >= 1,
+        "the games ended before the server could be killed"
+    );
     let report = runtime.block_on(bots).expect("bots");
     eprintln!(
         "games over at {:.1} s: {} shots, {} rejoins",
