@@ -4,7 +4,7 @@
 //! keep the engine's invariants.
 
 use breakshot_shared::physics::{
-    simulate, BallState, Effects, Models, MotionState, Params, Shot, Strike, TableKind,
+    simulate, BallState, MotionState, Params, Shot, Strike, TableKind,
 };
 use breakshot_shared::protocol::{
     command_of, decode_payload, split_frame, validate, ClientMessage, ServerMessage,
@@ -77,15 +77,7 @@ pub fn shot(data: &[u8]) {
         tip: DVec2::new(bytes.f64(), bytes.f64()),
     };
     if let Ok(strike) = strike.validated() {
-        let shot = Shot {
-            table,
-            params: Params::default(),
-            models: Models::default(),
-            effects: Effects::default(),
-            horizon: None,
-            balls,
-            strike: Some((0, strike)),
-        };
+        let shot = Shot::new(table, balls).struck(0, strike);
         if let Ok(outcome) = simulate(&shot) {
             check_table(&outcome.finals, Params::default().ball_radius);
         }

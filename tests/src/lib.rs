@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, bail, Result};
 use breakshot_client::net::{endpoint, Connection, Mirror, Session, SessionEvent};
+use breakshot_client::play::link::{GameEvent, GameLink};
 use breakshot_server::{Config, Server, ServerError, Stats};
 use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, RoomCode, ServerMessage};
@@ -261,6 +262,25 @@ pub fn poll_until(
             }
             if let SessionEvent::Closed(why) = &event {
                 panic!("closed while waiting for {what}: {why}");
+            }
+        }
+        assert!(start.elapsed() < PATIENCE, "no {what}");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// Polls a game link the way a game screen does until an event `want` accepts; fails after
+/// [`PATIENCE`].
+pub fn poll_link_until(
+    link: &mut dyn GameLink,
+    what: &str,
+    want: impl Fn(&GameEvent) -> bool,
+) -> GameEvent {
+    let start = Instant::now();
+    loop {
+        while let Some(event) = link.poll() {
+            if want(&event) {
+                return event;
             }
         }
         assert!(start.elapsed() < PATIENCE, "no {what}");

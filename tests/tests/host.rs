@@ -8,21 +8,9 @@ use breakshot_client::play::link::{GameEvent, GameLink};
 use breakshot_client::view::hud::Connection;
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, Role, ServerMessage};
 use breakshot_shared::rules::{Command, Seat, Settings};
-use breakshot_tests::{break_shot, eight_ball, poll_until, TempDir, TestServer, PATIENCE};
-
-/// Polls a link like a game screen until `want`.
-fn until(link: &mut dyn GameLink, what: &str, want: impl Fn(&GameEvent) -> bool) -> GameEvent {
-    let start = Instant::now();
-    loop {
-        while let Some(event) = link.poll() {
-            if want(&event) {
-                return event;
-            }
-        }
-        assert!(start.elapsed() < PATIENCE, "no {what}");
-        std::thread::sleep(Duration::from_millis(5));
-    }
-}
+use breakshot_tests::{
+    break_shot, eight_ball, poll_link_until, poll_until, TempDir, TestServer, PATIENCE,
+};
 
 #[test]
 fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Result<()> {
@@ -48,7 +36,7 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
 
     // The host holds seat A and waits for the opponent, with the room's aid policy.
     let GameEvent::Started(game) =
-        until(&mut host, "Started", |e| matches!(e, GameEvent::Started(_)))
+        poll_link_until(&mut host, "Started", |e| matches!(e, GameEvent::Started(_)))
     else {
         unreachable!()
     };
@@ -60,15 +48,15 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
         name: "guest".into(),
     });
     let mut guest = NetLink::new(guest);
-    let policy = until(&mut guest, "the aid policy", |e| {
+    let policy = poll_link_until(&mut guest, "the aid policy", |e| {
         matches!(e, GameEvent::AimAid(_))
     });
     assert_eq!(policy, GameEvent::AimAid(AimAid::FirstContact));
-    until(&mut guest, "Started", |e| {
+    poll_link_until(&mut guest, "Started", |e| {
         matches!(e, GameEvent::Started(_))
     });
     assert_eq!(guest.seat(), Some(Seat::B));
-    until(&mut host, "the opponent", |e| {
+    poll_link_until(&mut host, "the opponent", |e| {
         *e == GameEvent::Connection(Connection::Connected)
     });
 
@@ -79,7 +67,8 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
     host.send(Seat::A, Command::Shot { strike, call: None });
     let mut hashes = Vec::new();
     for link in [&mut host as &mut dyn GameLink, &mut guest] {
-        let GameEvent::Judged(j) = until(link, "Judged", |e| matches!(e, GameEvent::Judged(_)))
+        let GameEvent::Judged(j) =
+            poll_link_until(link, "Judged", |e| matches!(e, GameEvent::Judged(_)))
         else {
             unreachable!()
         };

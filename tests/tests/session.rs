@@ -1,13 +1,11 @@
 //! The polling session a frame loop uses: it never blocks, and it predicts and confirms
 //! shots like the bots do.
 
-use std::time::{Duration, Instant};
-
 use breakshot_client::net::{Check, NetLink, Session, SessionEvent};
 use breakshot_client::play::link::{GameEvent, GameLink};
 use breakshot_shared::protocol::{AimAid, ClientMessage, Role, ServerMessage};
 use breakshot_shared::rules::{Command, Seat, Settings};
-use breakshot_tests::{break_shot, eight_ball, poll_until, TempDir, TestServer, PATIENCE};
+use breakshot_tests::{break_shot, eight_ball, poll_link_until, poll_until, TempDir, TestServer};
 
 #[test]
 fn a_polled_session_plays_and_confirms_a_shot() -> anyhow::Result<()> {
@@ -54,20 +52,6 @@ fn a_polled_session_plays_and_confirms_a_shot() -> anyhow::Result<()> {
     runtime.block_on(server.stop())
 }
 
-/// Polls a link like a game screen until `want`.
-fn link_until(link: &mut NetLink, what: &str, want: impl Fn(&GameEvent) -> bool) -> GameEvent {
-    let start = Instant::now();
-    loop {
-        while let Some(event) = link.poll() {
-            if want(&event) {
-                return event;
-            }
-        }
-        assert!(start.elapsed() < PATIENCE, "no {what}");
-        std::thread::sleep(Duration::from_millis(5));
-    }
-}
-
 #[test]
 fn a_network_link_gives_a_game_screen_the_server_s_events() -> anyhow::Result<()> {
     let runtime = tokio::runtime::Runtime::new()?;
@@ -83,7 +67,7 @@ fn a_network_link_gives_a_game_screen_the_server_s_events() -> anyhow::Result<()
     });
     let mut a = NetLink::new(host);
     let GameEvent::Started(game) =
-        link_until(&mut a, "Started", |e| matches!(e, GameEvent::Started(_)))
+        poll_link_until(&mut a, "Started", |e| matches!(e, GameEvent::Started(_)))
     else {
         unreachable!()
     };
@@ -95,7 +79,7 @@ fn a_network_link_gives_a_game_screen_the_server_s_events() -> anyhow::Result<()
         name: "ben".into(),
     });
     let mut b = NetLink::new(guest);
-    link_until(&mut b, "Started", |e| matches!(e, GameEvent::Started(_)));
+    poll_link_until(&mut b, "Started", |e| matches!(e, GameEvent::Started(_)));
     assert_eq!(b.seat(), Some(Seat::B));
 
     // B may not break; A's break reaches both screens as accepted, then judged with the
@@ -105,7 +89,7 @@ fn a_network_link_gives_a_game_screen_the_server_s_events() -> anyhow::Result<()
     };
     let command = Command::Shot { strike, call: None };
     b.send(Seat::B, command.clone());
-    link_until(&mut b, "Refused", |e| matches!(e, GameEvent::Refused(_)));
+    poll_link_until(&mut b, "Refused", |e| matches!(e, GameEvent::Refused(_)));
     a.send(Seat::A, command.clone());
     let mut local = (*game).clone();
     let expected = local.apply(
@@ -116,7 +100,7 @@ fn a_network_link_gives_a_game_screen_the_server_s_events() -> anyhow::Result<()
         },
     )?;
     for link in [&mut a, &mut b] {
-        let accepted = link_until(link, "Accepted", |e| {
+        let accepted = poll_link_until(link, "Accepted", |e| {
             matches!(e, GameEvent::Accepted { .. })
         });
         assert!(matches!(
@@ -124,7 +108,7 @@ fn a_network_link_gives_a_game_screen_the_server_s_events() -> anyhow::Result<()
             GameEvent::Accepted { seat: Seat::A, .. }
         ));
         let GameEvent::Judged(judgement) =
-            link_until(link, "Judged", |e| matches!(e, GameEvent::Judged(_)))
+            poll_link_until(link, "Judged", |e| matches!(e, GameEvent::Judged(_)))
         else {
             unreachable!()
         };

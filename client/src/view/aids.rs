@@ -159,15 +159,8 @@ mod tests {
     use breakshot_shared::physics::{BallState, Strike, TableKind};
 
     fn shot(balls: Vec<DVec2>, angle: f64) -> Shot {
-        Shot {
-            table: TableKind::NineFoot,
-            params: Default::default(),
-            models: Default::default(),
-            effects: Default::default(),
-            horizon: None,
-            balls: balls.into_iter().map(BallState::at_rest).collect(),
-            strike: Some((0, Strike::at_angle(2.0, angle, DVec2::ZERO))),
-        }
+        let balls = balls.into_iter().map(BallState::at_rest).collect();
+        Shot::new(TableKind::NineFoot, balls).struck(0, Strike::at_angle(2.0, angle, DVec2::ZERO))
     }
 
     #[test]

@@ -79,18 +79,12 @@ mod tests {
 
     fn straight_in() -> Outcome {
         // The cue ball drives ball 1 into the bottom-left corner pocket.
-        let shot = Shot {
-            table: TableKind::NineFoot,
-            params: Default::default(),
-            models: Default::default(),
-            effects: Default::default(),
-            horizon: None,
-            balls: vec![
-                BallState::at_rest(DVec2::new(0.3, 0.3)),
-                BallState::at_rest(DVec2::new(0.15, 0.15)),
-            ],
-            strike: Some((0, Strike::at_angle(3.0, 225.0, DVec2::ZERO))),
-        };
+        let balls = vec![
+            BallState::at_rest(DVec2::new(0.3, 0.3)),
+            BallState::at_rest(DVec2::new(0.15, 0.15)),
+        ];
+        let shot = Shot::new(TableKind::NineFoot, balls)
+            .struck(0, Strike::at_angle(3.0, 225.0, DVec2::ZERO));
         simulate(&shot).expect("valid shot")
     }
 

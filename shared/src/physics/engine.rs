@@ -50,6 +50,29 @@ pub struct Shot {
     pub strike: Option<(usize, Strike)>,
 }
 
+impl Shot {
+    /// `balls` on `table` with the default physics, models and effects: no horizon, no strike.
+    pub fn new(table: TableKind, balls: Vec<BallState>) -> Shot {
+        Shot {
+            table,
+            params: Params::default(),
+            models: Models::default(),
+            effects: Effects::default(),
+            horizon: None,
+            balls,
+            strike: None,
+        }
+    }
+
+    /// The same shot with the cue striking ball `ball` at t = 0.
+    pub fn struck(self, ball: usize, strike: Strike) -> Shot {
+        Shot {
+            strike: Some((ball, strike)),
+            ..self
+        }
+    }
+}
+
 /// Why a shot cannot be simulated. Ball numbers are indices into [`Shot::balls`].
 #[derive(Clone, Debug, Error, PartialEq)]
 pub enum ShotError {

@@ -217,14 +217,6 @@ impl Table {
         p + self.half
     }
 
-    /// Index of the pocket called `name`.
-    pub fn pocket_index(&self, name: &str) -> Option<u8> {
-        self.pockets
-            .iter()
-            .position(|p| p.name == name)
-            .map(|i| i as u8)
-    }
-
     /// Can a ball rest with its centre at `p` (engine coordinates)? It must be clear of every
     /// rail and jaw (`contact` is the horizontal distance at which a ball touches a cushion
     /// nose), not inside a pocket's capture circle, and either within the rails or hanging in

@@ -4,9 +4,7 @@
 
 use glam::DVec2;
 
-use crate::physics::{
-    simulate, BallState, Effects, Models, Params, Shot, ShotError, Strike, TableKind,
-};
+use crate::physics::{simulate, BallState, Params, Shot, ShotError, Strike, TableKind};
 
 /// A six-ball triangle on a 9-foot table, broken hard with a little side and follow, so the
 /// shot exercises ball–ball and cushion collisions, pockets and every motion state.
@@ -30,22 +28,12 @@ pub fn reference_shot() -> Shot {
         }
     }
     let aim = apex - balls[0].pos;
-    Shot {
-        table,
-        params: Params::default(),
-        models: Models::default(),
-        effects: Effects::default(),
-        horizon: None,
-        balls,
-        strike: Some((
-            0,
-            Strike {
-                speed: 8.0,
-                dir: aim / aim.length(),
-                tip: DVec2::new(0.1, 0.2),
-            },
-        )),
-    }
+    let strike = Strike {
+        speed: 8.0,
+        dir: aim / aim.length(),
+        tip: DVec2::new(0.1, 0.2),
+    };
+    Shot::new(table, balls).struck(0, strike)
 }
 
 /// The state hash of [`reference_shot`] as this build computes it.

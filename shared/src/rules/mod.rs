@@ -44,10 +44,7 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::physics::{
-    simulate, BallState, Effects, Event, Models, MotionState, Params, Shot, Strike, Table,
-    TableKind,
-};
+use crate::physics::{simulate, BallState, Event, MotionState, Shot, Strike, Table, TableKind};
 pub use facts::ShotFacts;
 pub use practice::layout_from_scene;
 
@@ -480,15 +477,7 @@ impl Game {
 
     /// The physics shot that `strike` on the cue ball would be from the current table.
     pub fn shot_for(&self, strike: &Strike) -> Shot {
-        Shot {
-            table: self.table(),
-            params: Params::default(),
-            models: Models::default(),
-            effects: Effects::default(),
-            horizon: None,
-            balls: self.balls.clone(),
-            strike: Some((0, *strike)),
-        }
+        Shot::new(self.table(), self.balls.clone()).struck(0, *strike)
     }
 
     /// May the cue ball, in hand, go at `pos` (scene coordinates)?

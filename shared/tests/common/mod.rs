@@ -2,8 +2,7 @@
 #![allow(dead_code)]
 
 use breakshot_shared::physics::{
-    simulate, BallBallModel, BallState, Effects, Models, MotionState, Outcome, Params, Piece, Shot,
-    TableKind,
+    simulate, BallBallModel, BallState, MotionState, Outcome, Params, Piece, Shot, TableKind,
 };
 use glam::{DVec2, DVec3};
 
@@ -23,15 +22,7 @@ pub fn ball(pos: [f64; 2], vel: [f64; 2], spin: [f64; 3]) -> BallState {
 }
 
 pub fn open_shot(balls: Vec<BallState>) -> Shot {
-    Shot {
-        table: TableKind::Open,
-        params: Params::default(),
-        models: Models::default(),
-        effects: Effects::default(),
-        horizon: None,
-        balls,
-        strike: None,
-    }
+    Shot::new(TableKind::Open, balls)
 }
 
 pub fn ideal(mut shot: Shot) -> Shot {

@@ -5,7 +5,7 @@
 //! model the same physics; cloth friction, spin and cushions are the engine's full models.
 
 use breakshot_shared::physics::{
-    BallBallModel, BallState, Effects, Models, Params, Shot, Strike, TableKind,
+    BallBallModel, BallState, Models, Params, Shot, Strike, TableKind,
 };
 use glam::DVec2;
 
@@ -87,13 +87,8 @@ fn models() -> Models {
 
 fn shot(table: TableKind, balls: Vec<BallState>, strike: (usize, Strike)) -> Shot {
     Shot {
-        table,
-        params: Params::default(),
         models: models(),
-        effects: Effects::default(),
-        horizon: None,
-        balls,
-        strike: Some(strike),
+        ..Shot::new(table, balls).struck(strike.0, strike.1)
     }
 }
 
