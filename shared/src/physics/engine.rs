@@ -455,6 +455,13 @@ impl Simulator {
 
     /// Ball `i` starts a new piece at `t` in state `s`: record it and re-predict.
     fn restart(&mut self, i: usize, t: f64, s: BallState, ctx: &Ctx) {
+        self.start_piece(i, t, s, ctx);
+        self.predict_own(i, t, ctx);
+        self.predict_pairs_of(i, t, |_| false, ctx);
+    }
+
+    /// Records ball `i`'s new piece from `t` in state `s`, without predicting anything.
+    fn start_piece(&mut self, i: usize, t: f64, s: BallState, ctx: &Ctx) {
         let piece = Piece::new(t, s, &ctx.motion);
         self.pieces[i] = piece;
         self.boxes[i] = piece_box(&piece, ctx.limit);
@@ -463,14 +470,12 @@ impl Simulator {
             MotionState::Stationary | MotionState::Pocketed => Some(t),
             _ => None,
         };
-        self.predict_own(i, t, ctx);
-        let n = self.own.len();
-        for j in 0..n {
-            if j < i {
-                self.predict_pair(j, i, t, ctx);
-            } else if j > i {
-                self.predict_pair(i, j, t, ctx);
-            }
+    }
+
+    /// Re-predicts every pair of ball `i` from `t`, except with the balls `done` names.
+    fn predict_pairs_of(&mut self, i: usize, t: f64, done: impl Fn(usize) -> bool, ctx: &Ctx) {
+        for j in (0..self.own.len()).filter(|&j| j != i && !done(j)) {
+            self.predict_pair(i.min(j), i.max(j), t, ctx);
         }
     }
 
@@ -606,11 +611,22 @@ impl Simulator {
                 },
             });
         }
-        for k in 0..self.scratch.balls.len() {
-            let ball = self.scratch.balls[k];
+        // Every involved ball gets its new piece first, so that each pair among them is
+        // predicted once, from both new pieces and both new own events.
+        let involved = self.scratch.balls.len();
+        for k in 0..involved {
             let mut s = self.scratch.states[k];
             s.classify(r);
-            self.restart(ball, t, s, ctx);
+            self.start_piece(self.scratch.balls[k], t, s, ctx);
+        }
+        for k in 0..involved {
+            self.predict_own(self.scratch.balls[k], t, ctx);
+        }
+        for k in 0..involved {
+            let ball = self.scratch.balls[k];
+            let earlier = std::mem::take(&mut self.scratch.balls);
+            self.predict_pairs_of(ball, t, |j| earlier[..k].contains(&j), ctx);
+            self.scratch.balls = earlier;
         }
     }
 }
