@@ -181,6 +181,12 @@ pub enum Choice {
     PushOut,
     /// 9-ball, after the opponent's push-out: make the opponent shoot again.
     HandBack,
+    /// 8-ball, after an object ball left the table on the break: take the cue ball in hand
+    /// behind the head string instead of accepting the table in position.
+    CueBallInKitchen,
+    /// With the cue ball in hand behind the head string and every legal ball behind it too:
+    /// have the legal ball nearest the head string spotted (WPA 1.5).
+    SpotNearestBall,
 }
 
 impl fmt::Display for Choice {
@@ -192,6 +198,8 @@ impl fmt::Display for Choice {
             Choice::SpotEightAndContinue => "spot the 8 and continue",
             Choice::PushOut => "push out",
             Choice::HandBack => "hand the table back",
+            Choice::CueBallInKitchen => "take the cue ball in hand behind the head string",
+            Choice::SpotNearestBall => "have the ball nearest the head string spotted",
         })
     }
 }
@@ -313,9 +321,11 @@ pub enum RuleError {
 enum Pending {
     /// 8-ball: the break was illegal (`offender` broke; `scratched` with it).
     IllegalBreak { offender: Seat, scratched: bool },
-    /// 8-ball: the 8 fell on the break (`scratched`: the breaker scratched too, and the
-    /// opponent chooses).
-    EightOnBreak { scratched: bool },
+    /// 8-ball: the 8 fell or left the table on the break (`foul`: the breaker fouled too,
+    /// and the opponent chooses).
+    EightOnBreak { foul: bool },
+    /// 8-ball: an object ball left the table on an otherwise legal break.
+    JumpedOnBreak,
     /// 9-ball: `pusher` pushed out.
     PushOut { pusher: Seat },
 }
@@ -473,6 +483,64 @@ impl Game {
             Variant::NineBall => nine::lowest_ball(&self.balls).into_iter().collect(),
             Variant::Practice => Vec::new(),
         }
+    }
+
+    /// The shot being judged was played with the cue ball in hand behind the head string,
+    /// and was not a break (WPA 6.11 judges where it went first).
+    fn shooting_from_kitchen(&self) -> bool {
+        !self.breaking
+            && matches!(
+                self.phase,
+                Phase::Shooting {
+                    in_hand: Some(InHand::Kitchen),
+                    ..
+                }
+            )
+    }
+
+    /// The legal balls of the player to move, if all of them lie behind the head string:
+    /// then the one nearest it may be spotted on request (WPA 1.5).
+    fn legal_balls_all_behind_head_string(&self) -> Option<Vec<u8>> {
+        let head = rack::head_string(self.table());
+        let legal = self.legal_first_balls();
+        let behind = |&b: &u8| {
+            self.balls
+                .get(usize::from(b))
+                .is_some_and(|s| s.pos.y < head)
+        };
+        (!legal.is_empty() && legal.iter().all(behind)).then_some(legal)
+    }
+
+    /// Adds [`Choice::SpotNearestBall`] to the options of a shot from behind the head string
+    /// when every legal ball lies behind it too.
+    fn offer_spot_nearest_ball(&mut self) {
+        let eligible =
+            self.shooting_from_kitchen() && self.legal_balls_all_behind_head_string().is_some();
+        if let Phase::Shooting { options, .. } = &mut self.phase {
+            options.retain(|&c| c != Choice::SpotNearestBall);
+            if eligible {
+                options.push(Choice::SpotNearestBall);
+            }
+        }
+    }
+
+    /// Spots the legal ball nearest the head string (the lowest-numbered of equally near
+    /// ones) and returns what happened.
+    fn spot_nearest_ball(&mut self) -> Option<String> {
+        let legal = self.legal_balls_all_behind_head_string()?;
+        let y = |b: u8| self.balls.get(usize::from(b)).map_or(f64::MIN, |s| s.pos.y);
+        let nearest = legal
+            .iter()
+            .copied()
+            .reduce(|best, b| if y(b) > y(best) { b } else { best })?;
+        let kind = self.table();
+        let spotted = rack::spot(&mut self.balls, usize::from(nearest), kind);
+        self.offer_spot_nearest_ball();
+        Some(format!(
+            "{} is spotted {}",
+            capitalise(&ball_name(nearest)),
+            spotted.describe()
+        ))
     }
 
     /// The physics shot that `strike` on the cue ball would be from the current table.
@@ -724,7 +792,7 @@ impl Game {
     ) -> Result<Verdict, RuleError> {
         let outcome =
             simulate(&self.shot_for(strike)).map_err(|e| RuleError::InvalidShot(e.to_string()))?;
-        let facts = ShotFacts::from_outcome(&outcome);
+        let facts = ShotFacts::from_outcome(&outcome, self.table());
         let report = ShotReport {
             hash: outcome.hash(),
             events: outcome.events.clone(),
@@ -760,7 +828,11 @@ impl Game {
     }
 
     fn decide(&mut self, seat: Seat, choice: Choice) -> Verdict {
-        let reasons = vec![format!("{seat} chooses to {choice}")];
+        let mut reasons = vec![format!("{seat} chooses to {choice}")];
+        if choice == Choice::SpotNearestBall {
+            reasons.extend(self.spot_nearest_ball());
+            return self.verdict(reasons);
+        }
         if choice == Choice::PushOut {
             if let Phase::Shooting { in_hand, .. } = self.phase {
                 self.phase = Phase::Shooting {
@@ -780,15 +852,21 @@ impl Game {
             (Some(Pending::IllegalBreak { offender, .. }), Choice::OpponentRebreaks) => {
                 Next::Rerack { breaker: offender }
             }
-            (Some(Pending::EightOnBreak { scratched }), Choice::SpotEightAndContinue) => {
+            (Some(Pending::EightOnBreak { foul }), Choice::SpotEightAndContinue) => {
                 let kind = self.table();
-                rack::spot(&mut self.balls, 8, kind);
+                let spotted = rack::spot(&mut self.balls, 8, kind);
+                reasons.push(format!("The 8 is spotted {}", spotted.describe()));
                 Next::Shoot {
                     seat,
-                    in_hand: scratched.then_some(InHand::Kitchen),
+                    in_hand: foul.then_some(InHand::Kitchen),
                     options: Vec::new(),
                 }
             }
+            (Some(Pending::JumpedOnBreak), choice) => Next::Shoot {
+                seat,
+                in_hand: (choice == Choice::CueBallInKitchen).then_some(InHand::Kitchen),
+                options: Vec::new(),
+            },
             (Some(Pending::PushOut { .. }), Choice::AcceptTable) => Next::Shoot {
                 seat,
                 in_hand: None,
@@ -873,6 +951,7 @@ impl Game {
                     options,
                     push_out: false,
                 };
+                self.offer_spot_nearest_ball();
             }
             Next::Decide {
                 seat,
@@ -939,12 +1018,33 @@ fn off_table() -> BallState {
     }
 }
 
+/// WPA 6.11 (with 1.5): from the cue ball in hand behind the head string, the first ball hit
+/// may lie behind the head string only if the cue ball crossed it first.
+fn kitchen_foul(game: &Game, facts: &ShotFacts) -> Option<String> {
+    match facts.first_contact {
+        Some(b) if game.shooting_from_kitchen() && facts.contact_behind_head_string => Some(format!(
+            "Foul: from behind the head string, the cue ball hit {} behind it without first crossing it",
+            ball_name(b)
+        )),
+        _ => None,
+    }
+}
+
 /// "the 8", "the cue ball".
 fn ball_name(ball: u8) -> String {
     if ball == facts::CUE {
         "the cue ball".into()
     } else {
         format!("the {ball}")
+    }
+}
+
+/// `s` with its first letter in upper case ("The 8").
+fn capitalise(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(first) => first.to_uppercase().chain(c).collect(),
+        None => String::new(),
     }
 }
 

@@ -689,7 +689,7 @@ fn eight_on_the_break_with_a_scratch_wpa_opponent_chooses_bar_loses() {
         v.reasons,
         vec![
             "Foul: scratch — the cue ball was pocketed".to_string(),
-            "The 8 fell on the break with a scratch: Player B chooses to spot it and take ball in hand behind the head string, or to re-rack".to_string()
+            "The 8 fell on the break with a foul: Player B chooses to spot it and take ball in hand behind the head string, or to re-rack".to_string()
         ]
     );
     assert_eq!(g.to_move(), Seat::B);
@@ -992,8 +992,11 @@ fn nine_ball_break_must_hit_the_one_first() {
         (g.to_move(), in_hand(&g)),
         (Seat::B, Some(InHand::Anywhere))
     );
-    // The incoming player may still push out.
-    assert_eq!(options(&g), vec![Choice::PushOut]);
+    assert_eq!(
+        options(&g),
+        Vec::<Choice>::new(),
+        "WPA 9-ball 2.4: a push-out is allowed only after a break without a foul"
+    );
 }
 
 #[test]
@@ -1112,7 +1115,7 @@ fn nine_ball_nine_pocketed_on_a_foul_is_spotted() {
         v.reasons,
         vec![
             "Foul: wrong ball first — hit the 9 before the 2".to_string(),
-            "The 9 is spotted".to_string(),
+            "The 9 is spotted on the foot spot".to_string(),
             "Player B has ball in hand".to_string()
         ]
     );
