@@ -1328,3 +1328,5 @@ fn turn_counts_every_applied_command() {
     );
     assert_eq!(g.turn(), 1);
 }
+
+mod wpa;
