@@ -27,8 +27,45 @@
 //! - 9-ball: illegal breaks (no ball down and fewer than four object balls to a cushion) are
 //!   fouls; a push-out that scratches is a foul and gives no choice. The warning before a
 //!   third foul is a reason in the verdict of the second.
-//! - The engine is two-dimensional, so no ball ever leaves the table; the clauses about balls
-//!   off the table are kept (see [`ShotFacts::off_table`]) and tested with crafted facts.
+//! - A ball's position (behind the head string or not) is its centre's; a ball touches
+//!   ("is frozen to") a cushion when its centre is within 1 µm of the contact distance. The
+//!   game has no referee to declare a ball frozen, so geometry decides.
+//! - The 8 driven off the table on the break (8-ball 3.3 makes it a foul, 3.6 spots it or
+//!   re-racks) is judged as the 8 pocketed with a foul: the opponent spots it and takes the
+//!   cue ball in hand behind the head string, or re-racks. Under bar rules it loses.
+//! - WPA 6.11 (play from behind the head string) is not judged on the break, where every
+//!   object ball is racked beyond the head string. Of legal balls equally near the head
+//!   string, the lowest-numbered is the one spotted on request.
+//!
+//! What the rules implement, clause by clause (WPA World Standardized Rules, Rules of Play;
+//! numbers as in the 2008 text):
+//! - 1.4 Spotting balls: on the long string as near the foot spot as possible, behind it,
+//!   else in front of it ([`rack::spot`]; if the string were ever full, the free place nearest
+//!   the foot spot, so spotting never fails).
+//! - 1.5 Cue ball in hand behind the head string: placed with its centre behind the line; if
+//!   every legal ball lies behind the head string too, the shooter may have the one nearest it
+//!   spotted ([`Choice::SpotNearestBall`]).
+//! - 6.1 to 6.3, 6.5: scratch or cue ball off the table, wrong ball first, no rail after
+//!   contact, object ball driven off the table (all fouls).
+//! - 6.11 Bad play from behind the head string: from the kitchen, hitting first a ball behind
+//!   the head string before the cue ball has crossed it is a foul.
+//! - 8.4 Driven to a rail: a ball not touching a rail that then touches it; a ball frozen to a
+//!   rail and pressed into it is not driven to it unless it leaves and comes back; a ball
+//!   pocketed or driven off the table counts. This feeds both the no-rail foul and the
+//!   break's four balls to a rail.
+//! - 8.5 Driven off the table: the physics reports it through [`facts::departures`] ("ball X
+//!   left the table at time t"); the engine is two-dimensional and reports none yet, so these
+//!   clauses are tested with departures handed to [`ShotFacts::read`].
+//! - 8-ball: 3.3 break (legal break, the three options after an illegal one, the 8 on the
+//!   break, an object ball off the table on the break: a foul, the incoming player accepts
+//!   the table in position or takes the cue ball behind the head string); 3.5 scratch on a
+//!   legal break (cue ball in hand behind the head string); open table and groups; the 8
+//!   called, lost if pocketed early, on a foul, in another pocket or driven off the table;
+//!   jumped balls other than the 8 stay off (3.6).
+//! - 9-ball: 2.3 legal break (the 1 first, a ball down or four to a rail, else a foul); 2.4
+//!   push-out on the shot after a break without a foul only; the 9 spotted when it falls on a
+//!   foul or a push-out or leaves the table, other jumped balls stay off; three consecutive
+//!   fouls lose.
 
 mod eight;
 pub mod facts;
@@ -258,7 +295,7 @@ impl Group {
 pub enum Phase {
     /// `to_move()` shoots. `in_hand`: the cue ball may (or, if it is off the table, must) be
     /// placed first. `options`: declarations the shooter may make before shooting (the 9-ball
-    /// push-out). `push_out`: this shot was declared a push-out.
+    /// push-out, the spot on request of WPA 1.5). `push_out`: this shot was declared a push-out.
     Shooting {
         in_hand: Option<InHand>,
         options: Vec<Choice>,

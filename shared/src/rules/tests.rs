@@ -719,57 +719,6 @@ fn eight_on_the_break_with_a_scratch_wpa_opponent_chooses_bar_loses() {
     );
 }
 
-/// The engine never drives a ball off the table; these clauses are judged from crafted facts.
-#[test]
-fn balls_off_the_table() {
-    let mk = || {
-        let mut g = table(WPA, &[(0, HIT.cue), (3, HIT.object)], &all_but(&[3]));
-        g.group_a = Some(Group::Solids);
-        g
-    };
-    let legal_hit = ShotFacts {
-        first_contact: Some(3),
-        cushion_after_contact: true,
-        ..ShotFacts::default()
-    };
-    // An object ball off the table: a foul, and it stays off.
-    let mut g = mk();
-    let facts = ShotFacts {
-        off_table: vec![12],
-        ..legal_hit.clone()
-    };
-    let v = g.judge_shot(Seat::A, None, g.balls.clone(), &facts, dummy_report());
-    assert_eq!(v.reasons[0], "Foul: the 12 left the table (it stays off)");
-    assert!(v.foul && pocketed(&g, 12) && g.balls()[12].pocket.is_none());
-    assert_eq!(
-        (g.to_move(), in_hand(&g)),
-        (Seat::B, Some(InHand::Anywhere))
-    );
-    // The cue ball off the table: a foul.
-    let mut g = mk();
-    let facts = ShotFacts {
-        off_table: vec![0],
-        ..legal_hit.clone()
-    };
-    let v = g.judge_shot(Seat::A, None, g.balls.clone(), &facts, dummy_report());
-    assert_eq!(v.reasons[0], "Foul: the cue ball left the table");
-    assert_eq!(in_hand(&g), Some(InHand::Anywhere));
-    // The 8 off the table loses.
-    let mut g = mk();
-    let facts = ShotFacts {
-        off_table: vec![8],
-        ..legal_hit
-    };
-    let v = g.judge_shot(Seat::A, None, g.balls.clone(), &facts, dummy_report());
-    assert_eq!(
-        v.over,
-        Some((
-            Some(Seat::B),
-            "Player A loses: drove the 8 off the table".into()
-        ))
-    );
-}
-
 #[test]
 fn ball_in_hand_after_a_foul_goes_anywhere_free() {
     let (mut g, _) = case("", MISS, 3, "Foul: the cue ball hit no ball")
