@@ -97,7 +97,8 @@ fn over(winner: Seat, reason: String, mut reasons: Vec<String>, foul: bool) -> R
 
 /// The fouls a break can commit besides being illegal: a scratch (the cue ball pocketed or
 /// off the table) and object balls driven off the table (WPA 8-ball 3.3: a foul; they stay
-/// off, 3.6, except the 8, which is judged with the 8 on the break).
+/// off, as the 8-ball rule on spotting balls says, except the 8, which is judged with the
+/// 8 on the break).
 fn break_fouls(facts: &ShotFacts) -> Vec<String> {
     let mut fouls = Vec::new();
     if facts.scratched() {
@@ -141,7 +142,7 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Rulin
                 Vec::new(),
                 false,
             ),
-            // WPA 3.3 (e), 3.6: the breaker spots the 8 and continues, or re-breaks.
+            // WPA 8-ball 3.3 (e): the breaker spots the 8 and continues, or re-breaks.
             EightBallRules::Wpa if fouls.is_empty() => Ruling {
                 reasons: vec![format!(
                     "The 8 fell on the break: {breaker} chooses to spot it and continue, or to re-rack"
@@ -153,7 +154,7 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Rulin
                     pending: Pending::EightOnBreak { foul: false },
                 },
             },
-            // WPA 3.3 (f), 3.6: after a foul the opponent spots the 8 and takes the cue ball
+            // WPA 8-ball 3.3 (f): after a foul the opponent spots the 8 and takes the cue ball
             // in hand behind the head string, or re-racks and breaks. The 8 driven off the
             // table is a foul of its own (3.3) and is judged the same way.
             EightBallRules::Wpa => {
@@ -207,7 +208,8 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Rulin
         };
     }
     if scratched {
-        // WPA 3.5: the cue ball in hand behind the head string.
+        // WPA 8-ball: a scratch on a legal break gives the cue ball in hand behind the head
+        // string.
         let mut reasons = fouls;
         reasons.push(format!(
             "{opponent} has the cue ball in hand behind the head string; the table is open"

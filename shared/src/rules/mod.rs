@@ -30,9 +30,10 @@
 //! - A ball's position (behind the head string or not) is its centre's; a ball touches
 //!   ("is frozen to") a cushion when its centre is within 1 µm of the contact distance. The
 //!   game has no referee to declare a ball frozen, so geometry decides.
-//! - The 8 driven off the table on the break (8-ball 3.3 makes it a foul, 3.6 spots it or
-//!   re-racks) is judged as the 8 pocketed with a foul: the opponent spots it and takes the
-//!   cue ball in hand behind the head string, or re-racks. Under bar rules it loses.
+//! - The 8 driven off the table on the break (8-ball 3.3 makes it a foul; the 8-ball rule on
+//!   spotting balls spots it or re-racks) is judged as the 8 pocketed with a foul: the
+//!   opponent spots it and takes the cue ball in hand behind the head string, or re-racks.
+//!   Under bar rules it loses.
 //! - WPA 6.11 (play from behind the head string) is not judged on the break, where every
 //!   object ball is racked beyond the head string. Of legal balls equally near the head
 //!   string, the lowest-numbered is the one spotted on request.
@@ -58,10 +59,10 @@
 //!   clauses are tested with departures handed to [`ShotFacts::read`].
 //! - 8-ball: 3.3 break (legal break, the three options after an illegal one, the 8 on the
 //!   break, an object ball off the table on the break: a foul, the incoming player accepts
-//!   the table in position or takes the cue ball behind the head string); 3.5 scratch on a
+//!   the table in position or takes the cue ball behind the head string); a scratch on a
 //!   legal break (cue ball in hand behind the head string); open table and groups; the 8
 //!   called, lost if pocketed early, on a foul, in another pocket or driven off the table;
-//!   jumped balls other than the 8 stay off (3.6).
+//!   jumped balls other than the 8 stay off (spotting balls).
 //! - 9-ball: 2.3 legal break (the 1 first, a ball down or four to a rail, else a foul); 2.4
 //!   push-out on the shot after a break without a foul only; the 9 spotted when it falls on a
 //!   foul or a push-out or leaves the table, other jumped balls stay off; three consecutive

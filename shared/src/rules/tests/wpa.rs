@@ -406,7 +406,7 @@ fn wpa_cue_ball_off_the_table_gives_ball_in_hand() {
     assert_eq!(
         (g.to_move(), in_hand(&g)),
         (Seat::B, Some(InHand::Kitchen)),
-        "WPA 8-ball 3.5: the cue ball off the table on a legal break gives ball in hand behind the head string"
+        "WPA 8-ball 3.3 and scratch on a legal break: the cue ball off the table on a legal break gives ball in hand behind the head string"
     );
 
     let mut g = table(NINE, &[(0, HIT.cue), (2, HIT.object)], &[9]);
