@@ -3,9 +3,10 @@
 use crate::physics::{BallState, MotionState};
 
 use super::facts::{ShotFacts, CUE};
+use super::kitchen::kitchen_foul;
 use super::{
-    ball_name, kitchen_foul, pocket_name, Choice, EightBallRules, Game, Group, InHand, Next,
-    Pending, Ruling, Seat,
+    ball_name, pocket_name, Choice, EightBallRules, Game, Group, InHand, Next, Pending, Ruling,
+    Seat,
 };
 
 const EIGHT: u8 = 8;

@@ -70,6 +70,7 @@
 
 mod eight;
 pub mod facts;
+mod kitchen;
 mod nine;
 mod practice;
 pub mod rack;
@@ -296,7 +297,8 @@ impl Group {
 pub enum Phase {
     /// `to_move()` shoots. `in_hand`: the cue ball may (or, if it is off the table, must) be
     /// placed first. `options`: declarations the shooter may make before shooting (the 9-ball
-    /// push-out, the spot on request of WPA 1.5). `push_out`: this shot was declared a push-out.
+    /// push-out, the spot on request of WPA 1.5). `push_out`: this shot was declared a
+    /// push-out.
     Shooting {
         in_hand: Option<InHand>,
         options: Vec<Choice>,
@@ -521,64 +523,6 @@ impl Game {
             Variant::NineBall => nine::lowest_ball(&self.balls).into_iter().collect(),
             Variant::Practice => Vec::new(),
         }
-    }
-
-    /// The shot being judged was played with the cue ball in hand behind the head string,
-    /// and was not a break (WPA 6.11 judges where it went first).
-    fn shooting_from_kitchen(&self) -> bool {
-        !self.breaking
-            && matches!(
-                self.phase,
-                Phase::Shooting {
-                    in_hand: Some(InHand::Kitchen),
-                    ..
-                }
-            )
-    }
-
-    /// The legal balls of the player to move, if all of them lie behind the head string:
-    /// then the one nearest it may be spotted on request (WPA 1.5).
-    fn legal_balls_all_behind_head_string(&self) -> Option<Vec<u8>> {
-        let head = rack::head_string(self.table());
-        let legal = self.legal_first_balls();
-        let behind = |&b: &u8| {
-            self.balls
-                .get(usize::from(b))
-                .is_some_and(|s| s.pos.y < head)
-        };
-        (!legal.is_empty() && legal.iter().all(behind)).then_some(legal)
-    }
-
-    /// Adds [`Choice::SpotNearestBall`] to the options of a shot from behind the head string
-    /// when every legal ball lies behind it too.
-    fn offer_spot_nearest_ball(&mut self) {
-        let eligible =
-            self.shooting_from_kitchen() && self.legal_balls_all_behind_head_string().is_some();
-        if let Phase::Shooting { options, .. } = &mut self.phase {
-            options.retain(|&c| c != Choice::SpotNearestBall);
-            if eligible {
-                options.push(Choice::SpotNearestBall);
-            }
-        }
-    }
-
-    /// Spots the legal ball nearest the head string (the lowest-numbered of equally near
-    /// ones) and returns what happened.
-    fn spot_nearest_ball(&mut self) -> Option<String> {
-        let legal = self.legal_balls_all_behind_head_string()?;
-        let y = |b: u8| self.balls.get(usize::from(b)).map_or(f64::MIN, |s| s.pos.y);
-        let nearest = legal
-            .iter()
-            .copied()
-            .reduce(|best, b| if y(b) > y(best) { b } else { best })?;
-        let kind = self.table();
-        let spotted = rack::spot(&mut self.balls, usize::from(nearest), kind);
-        self.offer_spot_nearest_ball();
-        Some(format!(
-            "{} is spotted {}",
-            capitalise(&ball_name(nearest)),
-            spotted.describe()
-        ))
     }
 
     /// The physics shot that `strike` on the cue ball would be from the current table.
@@ -1053,18 +997,6 @@ fn off_table() -> BallState {
         motion: MotionState::Pocketed,
         pocket: None,
         ..BallState::at_rest(DVec2::ZERO)
-    }
-}
-
-/// WPA 6.11 (with 1.5): from the cue ball in hand behind the head string, the first ball hit
-/// may lie behind the head string only if the cue ball crossed it first.
-fn kitchen_foul(game: &Game, facts: &ShotFacts) -> Option<String> {
-    match facts.first_contact {
-        Some(b) if game.shooting_from_kitchen() && facts.contact_behind_head_string => Some(format!(
-            "Foul: from behind the head string, the cue ball hit {} behind it without first crossing it",
-            ball_name(b)
-        )),
-        _ => None,
     }
 }
 

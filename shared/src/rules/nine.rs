@@ -4,9 +4,8 @@ use crate::physics::{BallState, MotionState};
 
 use super::eight::BREAK_CUSHION_BALLS;
 use super::facts::{ShotFacts, CUE};
-use super::{
-    ball_name, kitchen_foul, pocket_name, rack, Choice, Game, InHand, Next, Pending, Ruling, Seat,
-};
+use super::kitchen::kitchen_foul;
+use super::{ball_name, pocket_name, rack, Choice, Game, InHand, Next, Pending, Ruling, Seat};
 
 const NINE: u8 = 9;
 /// Consecutive fouls that lose the game.
