@@ -3,6 +3,7 @@
 use crate::physics::{BallState, MotionState};
 
 use super::facts::{ShotFacts, CUE};
+use super::kitchen::kitchen_foul;
 use super::{
     ball_name, pocket_name, Choice, EightBallRules, Game, Group, InHand, Next, Pending, Ruling,
     Seat,
@@ -95,28 +96,55 @@ fn over(winner: Seat, reason: String, mut reasons: Vec<String>, foul: bool) -> R
     }
 }
 
+/// The fouls a break can commit besides being illegal: a scratch (the cue ball pocketed or
+/// off the table) and object balls driven off the table (WPA 8-ball 3.3: a foul; they stay
+/// off, as the 8-ball rule on spotting balls says, except the 8, which is judged with the
+/// 8 on the break).
+fn break_fouls(facts: &ShotFacts) -> Vec<String> {
+    let mut fouls = Vec::new();
+    if facts.scratched() {
+        fouls.push(scratch_reason(facts));
+    }
+    for b in facts.object_balls_off_table() {
+        fouls.push(if b == EIGHT {
+            "Foul: the 8 left the table".to_string()
+        } else {
+            format!("Foul: {} left the table (it stays off)", ball_name(b))
+        });
+    }
+    fouls
+}
+
 fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Ruling {
     let opponent = breaker.other();
     let scratched = facts.scratched();
-    let eight_down = facts.fell(EIGHT) || facts.off_table.contains(&EIGHT);
-    if eight_down {
+    let fouls = break_fouls(facts);
+    if facts.gone(EIGHT) {
         // The 8 is off the table until someone chooses to spot it.
-        return match (rules, scratched) {
-            (EightBallRules::Bar, false) => over(
+        let eight_off = facts.off_table.contains(&EIGHT);
+        return match rules {
+            EightBallRules::Bar if eight_off => over(
+                opponent,
+                format!("{breaker} loses: drove the 8 off the table on the break (bar rules)"),
+                fouls,
+                true,
+            ),
+            EightBallRules::Bar if scratched => over(
+                opponent,
+                format!(
+                    "{breaker} loses: scratched while pocketing the 8 on the break (bar rules)"
+                ),
+                fouls,
+                true,
+            ),
+            EightBallRules::Bar => over(
                 breaker,
                 format!("{breaker} wins: the 8 fell on the break (bar rules)"),
                 Vec::new(),
                 false,
             ),
-            (EightBallRules::Bar, true) => over(
-                opponent,
-                format!(
-                    "{breaker} loses: scratched while pocketing the 8 on the break (bar rules)"
-                ),
-                vec![scratch_reason(facts)],
-                true,
-            ),
-            (EightBallRules::Wpa, false) => Ruling {
+            // WPA 8-ball 3.3 (e): the breaker spots the 8 and continues, or re-breaks.
+            EightBallRules::Wpa if fouls.is_empty() => Ruling {
                 reasons: vec![format!(
                     "The 8 fell on the break: {breaker} chooses to spot it and continue, or to re-rack"
                 )],
@@ -124,34 +152,42 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Rulin
                 next: Next::Decide {
                     seat: breaker,
                     options: vec![Choice::SpotEightAndContinue, Choice::Rerack],
-                    pending: Pending::EightOnBreak { scratched: false },
+                    pending: Pending::EightOnBreak { foul: false },
                 },
             },
-            (EightBallRules::Wpa, true) => Ruling {
-                reasons: vec![
-                    scratch_reason(facts),
-                    format!(
-                        "The 8 fell on the break with a scratch: {opponent} chooses to spot it and take ball in hand behind the head string, or to re-rack"
-                    ),
-                ],
-                foul: true,
-                next: Next::Decide {
-                    seat: opponent,
-                    options: vec![Choice::SpotEightAndContinue, Choice::Rerack],
-                    pending: Pending::EightOnBreak { scratched: true },
-                },
-            },
+            // WPA 8-ball 3.3 (f): after a foul the opponent spots the 8 and takes the cue ball
+            // in hand behind the head string, or re-racks and breaks. The 8 driven off the
+            // table is a foul of its own (3.3) and is judged the same way.
+            EightBallRules::Wpa => {
+                let what = if eight_off {
+                    "The 8 left the table on the break"
+                } else {
+                    "The 8 fell on the break with a foul"
+                };
+                let mut reasons = fouls;
+                reasons.push(format!(
+                    "{what}: {opponent} chooses to spot it and take ball in hand behind the head string, or to re-rack"
+                ));
+                Ruling {
+                    reasons,
+                    foul: true,
+                    next: Next::Decide {
+                        seat: opponent,
+                        options: vec![Choice::SpotEightAndContinue, Choice::Rerack],
+                        pending: Pending::EightOnBreak { foul: true },
+                    },
+                }
+            }
         };
     }
+    // Balls that left the table count as driven to a rail (WPA 8.4).
     let to_cushion = facts.object_balls_to_cushion.len();
     let legal = facts.any_object_ball_pocketed() || to_cushion >= BREAK_CUSHION_BALLS;
     if !legal {
         let mut reasons = vec![format!(
             "Illegal break: no ball pocketed and only {to_cushion} object balls reached a cushion ({BREAK_CUSHION_BALLS} needed)"
         )];
-        if scratched {
-            reasons.push(scratch_reason(facts));
-        }
+        reasons.extend(fouls);
         reasons.push(format!(
             "{opponent} chooses to accept the table, re-rack and break, or have {breaker} break again"
         ));
@@ -172,24 +208,33 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Rulin
             },
         };
     }
-    let mut fouls = Vec::new();
     if scratched {
-        fouls.push(scratch_reason(facts));
-    }
-    for &b in facts.off_table.iter().filter(|&&b| b != CUE) {
-        fouls.push(format!("Foul: {} left the table", ball_name(b)));
-    }
-    if !fouls.is_empty() {
-        fouls.push(format!(
+        // WPA 8-ball: a scratch on a legal break gives the cue ball in hand behind the head
+        // string.
+        let mut reasons = fouls;
+        reasons.push(format!(
             "{opponent} has the cue ball in hand behind the head string; the table is open"
         ));
         return Ruling {
-            reasons: fouls,
+            reasons,
             foul: true,
-            next: Next::Shoot {
+            next: shoot(opponent, Some(InHand::Kitchen)),
+        };
+    }
+    if !fouls.is_empty() {
+        // WPA 3.3: an object ball off the table on the break; the incoming player accepts
+        // the table in position or takes the cue ball in hand behind the head string.
+        let mut reasons = fouls;
+        reasons.push(format!(
+            "{opponent} chooses to accept the table in position or take the cue ball in hand behind the head string; the table is open"
+        ));
+        return Ruling {
+            reasons,
+            foul: true,
+            next: Next::Decide {
                 seat: opponent,
-                in_hand: Some(InHand::Kitchen),
-                options: Vec::new(),
+                options: vec![Choice::AcceptTable, Choice::CueBallInKitchen],
+                pending: Pending::JumpedOnBreak,
             },
         };
     }
@@ -236,6 +281,9 @@ fn judge_shot(
     let mut fouls = Vec::new();
     if facts.scratched() {
         fouls.push(scratch_reason(facts));
+    }
+    if let Some(reason) = kitchen_foul(game, facts) {
+        fouls.push(reason);
     }
     match facts.first_contact {
         None => fouls.push("Foul: the cue ball hit no ball".into()),

@@ -27,11 +27,50 @@
 //! - 9-ball: illegal breaks (no ball down and fewer than four object balls to a cushion) are
 //!   fouls; a push-out that scratches is a foul and gives no choice. The warning before a
 //!   third foul is a reason in the verdict of the second.
-//! - The engine is two-dimensional, so no ball ever leaves the table; the clauses about balls
-//!   off the table are kept (see [`ShotFacts::off_table`]) and tested with crafted facts.
+//! - A ball's position (behind the head string or not) is its centre's; a ball touches
+//!   ("is frozen to") a cushion when its centre is within 1 µm of the contact distance. The
+//!   game has no referee to declare a ball frozen, so geometry decides.
+//! - The 8 driven off the table on the break (8-ball 3.3 makes it a foul; the 8-ball rule on
+//!   spotting balls spots it or re-racks) is judged as the 8 pocketed with a foul: the
+//!   opponent spots it and takes the cue ball in hand behind the head string, or re-racks.
+//!   Under bar rules it loses.
+//! - WPA 6.11 (play from behind the head string) is not judged on the break, where every
+//!   object ball is racked beyond the head string. Of legal balls equally near the head
+//!   string, the lowest-numbered is the one spotted on request.
+//!
+//! What the rules implement, clause by clause (WPA World Standardized Rules, Rules of Play;
+//! numbers as in the 2008 text):
+//! - 1.4 Spotting balls: on the long string as near the foot spot as possible, behind it,
+//!   else in front of it ([`rack::spot`]; if the string were ever full, the free place nearest
+//!   the foot spot, so spotting never fails).
+//! - 1.5 Cue ball in hand behind the head string: placed with its centre behind the line; if
+//!   every legal ball lies behind the head string too, the shooter may have the one nearest it
+//!   spotted ([`Choice::SpotNearestBall`]).
+//! - 6.1 to 6.3, 6.5: scratch or cue ball off the table, wrong ball first, no rail after
+//!   contact, object ball driven off the table (all fouls).
+//! - 6.11 Bad play from behind the head string: from the kitchen, hitting first a ball behind
+//!   the head string before the cue ball has crossed it is a foul.
+//! - 8.4 Driven to a rail: a ball not touching a rail that then touches it; a ball frozen to a
+//!   rail and pressed into it is not driven to it unless it leaves and comes back; a ball
+//!   pocketed or driven off the table counts. This feeds both the no-rail foul and the
+//!   break's four balls to a rail.
+//! - 8.5 Driven off the table: the physics reports it through [`facts::departures`] ("ball X
+//!   left the table at time t"); the engine is two-dimensional and reports none yet, so these
+//!   clauses are tested with departures handed to [`ShotFacts::read`].
+//! - 8-ball: 3.3 break (legal break, the three options after an illegal one, the 8 on the
+//!   break, an object ball off the table on the break: a foul, the incoming player accepts
+//!   the table in position or takes the cue ball behind the head string); a scratch on a
+//!   legal break (cue ball in hand behind the head string); open table and groups; the 8
+//!   called, lost if pocketed early, on a foul, in another pocket or driven off the table;
+//!   jumped balls other than the 8 stay off (spotting balls).
+//! - 9-ball: 2.3 legal break (the 1 first, a ball down or four to a rail, else a foul); 2.4
+//!   push-out on the shot after a break without a foul only; the 9 spotted when it falls on a
+//!   foul or a push-out or leaves the table, other jumped balls stay off; three consecutive
+//!   fouls lose.
 
 mod eight;
 pub mod facts;
+mod kitchen;
 mod nine;
 mod practice;
 pub mod rack;
@@ -181,6 +220,12 @@ pub enum Choice {
     PushOut,
     /// 9-ball, after the opponent's push-out: make the opponent shoot again.
     HandBack,
+    /// 8-ball, after an object ball left the table on the break: take the cue ball in hand
+    /// behind the head string instead of accepting the table in position.
+    CueBallInKitchen,
+    /// With the cue ball in hand behind the head string and every legal ball behind it too:
+    /// have the legal ball nearest the head string spotted (WPA 1.5).
+    SpotNearestBall,
 }
 
 impl fmt::Display for Choice {
@@ -192,6 +237,8 @@ impl fmt::Display for Choice {
             Choice::SpotEightAndContinue => "spot the 8 and continue",
             Choice::PushOut => "push out",
             Choice::HandBack => "hand the table back",
+            Choice::CueBallInKitchen => "take the cue ball in hand behind the head string",
+            Choice::SpotNearestBall => "have the ball nearest the head string spotted",
         })
     }
 }
@@ -250,7 +297,8 @@ impl Group {
 pub enum Phase {
     /// `to_move()` shoots. `in_hand`: the cue ball may (or, if it is off the table, must) be
     /// placed first. `options`: declarations the shooter may make before shooting (the 9-ball
-    /// push-out). `push_out`: this shot was declared a push-out.
+    /// push-out, the spot on request of WPA 1.5). `push_out`: this shot was declared a
+    /// push-out.
     Shooting {
         in_hand: Option<InHand>,
         options: Vec<Choice>,
@@ -313,9 +361,11 @@ pub enum RuleError {
 enum Pending {
     /// 8-ball: the break was illegal (`offender` broke; `scratched` with it).
     IllegalBreak { offender: Seat, scratched: bool },
-    /// 8-ball: the 8 fell on the break (`scratched`: the breaker scratched too, and the
-    /// opponent chooses).
-    EightOnBreak { scratched: bool },
+    /// 8-ball: the 8 fell or left the table on the break (`foul`: the breaker fouled too,
+    /// and the opponent chooses).
+    EightOnBreak { foul: bool },
+    /// 8-ball: an object ball left the table on an otherwise legal break.
+    JumpedOnBreak,
     /// 9-ball: `pusher` pushed out.
     PushOut { pusher: Seat },
 }
@@ -724,7 +774,7 @@ impl Game {
     ) -> Result<Verdict, RuleError> {
         let outcome =
             simulate(&self.shot_for(strike)).map_err(|e| RuleError::InvalidShot(e.to_string()))?;
-        let facts = ShotFacts::from_outcome(&outcome);
+        let facts = ShotFacts::from_outcome(&outcome, self.table());
         let report = ShotReport {
             hash: outcome.hash(),
             events: outcome.events.clone(),
@@ -760,7 +810,11 @@ impl Game {
     }
 
     fn decide(&mut self, seat: Seat, choice: Choice) -> Verdict {
-        let reasons = vec![format!("{seat} chooses to {choice}")];
+        let mut reasons = vec![format!("{seat} chooses to {choice}")];
+        if choice == Choice::SpotNearestBall {
+            reasons.extend(self.spot_nearest_ball());
+            return self.verdict(reasons);
+        }
         if choice == Choice::PushOut {
             if let Phase::Shooting { in_hand, .. } = self.phase {
                 self.phase = Phase::Shooting {
@@ -780,15 +834,21 @@ impl Game {
             (Some(Pending::IllegalBreak { offender, .. }), Choice::OpponentRebreaks) => {
                 Next::Rerack { breaker: offender }
             }
-            (Some(Pending::EightOnBreak { scratched }), Choice::SpotEightAndContinue) => {
+            (Some(Pending::EightOnBreak { foul }), Choice::SpotEightAndContinue) => {
                 let kind = self.table();
-                rack::spot(&mut self.balls, 8, kind);
+                let spotted = rack::spot(&mut self.balls, 8, kind);
+                reasons.push(format!("The 8 is spotted {}", spotted.describe()));
                 Next::Shoot {
                     seat,
-                    in_hand: scratched.then_some(InHand::Kitchen),
+                    in_hand: foul.then_some(InHand::Kitchen),
                     options: Vec::new(),
                 }
             }
+            (Some(Pending::JumpedOnBreak), choice) => Next::Shoot {
+                seat,
+                in_hand: (choice == Choice::CueBallInKitchen).then_some(InHand::Kitchen),
+                options: Vec::new(),
+            },
             (Some(Pending::PushOut { .. }), Choice::AcceptTable) => Next::Shoot {
                 seat,
                 in_hand: None,
@@ -873,6 +933,7 @@ impl Game {
                     options,
                     push_out: false,
                 };
+                self.offer_spot_nearest_ball();
             }
             Next::Decide {
                 seat,
@@ -945,6 +1006,15 @@ fn ball_name(ball: u8) -> String {
         "the cue ball".into()
     } else {
         format!("the {ball}")
+    }
+}
+
+/// `s` with its first letter in upper case ("The 8").
+fn capitalise(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(first) => first.to_uppercase().chain(c).collect(),
+        None => String::new(),
     }
 }
 

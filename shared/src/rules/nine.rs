@@ -4,6 +4,7 @@ use crate::physics::{BallState, MotionState};
 
 use super::eight::BREAK_CUSHION_BALLS;
 use super::facts::{ShotFacts, CUE};
+use super::kitchen::kitchen_foul;
 use super::{ball_name, pocket_name, rack, Choice, Game, InHand, Next, Pending, Ruling, Seat};
 
 const NINE: u8 = 9;
@@ -59,13 +60,6 @@ pub(super) fn judge(
     let breaking = game.breaking;
     let lowest = lowest_ball(before);
     let table = game.table();
-    // The player who shoots after the break may push out, whatever the break did.
-    let options = if breaking {
-        vec![Choice::PushOut]
-    } else {
-        Vec::new()
-    };
-
     let mut fouls = Vec::new();
     if facts.scratched() {
         if facts.off_table.contains(&CUE) {
@@ -73,6 +67,9 @@ pub(super) fn judge(
         } else {
             fouls.push("Foul: scratch — the cue ball was pocketed".to_string());
         }
+    }
+    if let Some(reason) = kitchen_foul(game, facts) {
+        fouls.push(reason);
     }
     // A push-out need not hit anything or reach a cushion.
     if !push_out {
@@ -104,13 +101,13 @@ pub(super) fn judge(
         });
     }
     let foul = !fouls.is_empty();
-    let nine_down = facts.fell(NINE) || facts.off_table.contains(&NINE);
+    let nine_down = facts.gone(NINE);
 
     if foul {
         let mut reasons = fouls;
         if nine_down {
-            rack::spot(&mut game.balls, usize::from(NINE), table);
-            reasons.push("The 9 is spotted".into());
+            let spotted = rack::spot(&mut game.balls, usize::from(NINE), table);
+            reasons.push(format!("The 9 is spotted {}", spotted.describe()));
         }
         if let Some(end) = count_foul(game, shooter, &mut reasons) {
             return Ruling {
@@ -126,7 +123,8 @@ pub(super) fn judge(
             next: Next::Shoot {
                 seat: opponent,
                 in_hand: Some(InHand::Anywhere),
-                options,
+                // WPA 9-ball 2.4: no push-out after a foul on the break.
+                options: Vec::new(),
             },
         };
     }
@@ -135,8 +133,11 @@ pub(super) fn judge(
     if push_out {
         let mut reasons = vec![format!("{shooter} pushed out")];
         if nine_down {
-            rack::spot(&mut game.balls, usize::from(NINE), table);
-            reasons.push("The 9 is spotted (pocketed on a push-out)".into());
+            let spotted = rack::spot(&mut game.balls, usize::from(NINE), table);
+            reasons.push(format!(
+                "The 9 is spotted {} (pocketed on a push-out)",
+                spotted.describe()
+            ));
         }
         reasons.push(format!(
             "{opponent} chooses to shoot from here or hand the table back"
@@ -166,10 +167,11 @@ pub(super) fn judge(
                 },
             };
         }
-        rack::spot(&mut game.balls, usize::from(NINE), table);
+        let spotted = rack::spot(&mut game.balls, usize::from(NINE), table);
         reasons.push(format!(
-            "The 9 fell in the {}, not the called pocket, and is spotted",
-            pocket_name(table, pocket)
+            "The 9 fell in the {}, not the called pocket, and is spotted {}",
+            pocket_name(table, pocket),
+            spotted.describe()
         ));
     }
     let scored = facts
@@ -188,7 +190,12 @@ pub(super) fn judge(
         next: Next::Shoot {
             seat: next_seat,
             in_hand: None,
-            options,
+            // WPA 9-ball: the player who shoots after a legal break may push out.
+            options: if breaking {
+                vec![Choice::PushOut]
+            } else {
+                Vec::new()
+            },
         },
     }
 }

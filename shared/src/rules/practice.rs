@@ -7,7 +7,10 @@ use crate::physics::{BallState, MotionState};
 use crate::scene::Scene;
 
 use super::facts::ShotFacts;
-use super::{ball_name, off_table, pocket_name, rack, Game, InHand, Next, RuleError, Ruling, Seat};
+use super::{
+    ball_name, capitalise, off_table, pocket_name, rack, Game, InHand, Next, RuleError, Ruling,
+    Seat,
+};
 
 /// Practice layouts hold the cue ball and the fifteen object balls.
 pub const PRACTICE_BALLS: usize = 16;
@@ -131,13 +134,5 @@ pub(super) fn judge(game: &mut Game, shooter: Seat, facts: &ShotFacts) -> Ruling
             in_hand: Some(InHand::Anywhere),
             options: Vec::new(),
         },
-    }
-}
-
-fn capitalise(s: &str) -> String {
-    let mut c = s.chars();
-    match c.next() {
-        Some(first) => first.to_uppercase().chain(c).collect(),
-        None => String::new(),
     }
 }

@@ -221,15 +221,53 @@ pub fn is_free(balls: &[BallState], ball: usize, pos: DVec2, kind: TableKind) ->
     })
 }
 
-/// Puts `ball` back on the table on the long string: on the foot spot if it is free, else
-/// as near to it as possible behind it (towards the foot rail), else in front of it.
-/// Returns false (and changes nothing) if the whole long string is taken.
-pub fn spot(balls: &mut [BallState], ball: usize, kind: TableKind) -> bool {
-    if ball >= balls.len() {
-        return false;
+/// Where [`spot`] put a ball (WPA 1.4 Spotting Balls).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Spotted {
+    /// On the foot spot.
+    FootSpot,
+    /// On the long string behind the foot spot (towards the foot rail), as near it as
+    /// possible.
+    BehindFootSpot,
+    /// On the long string in front of the foot spot, as near it as possible: the string
+    /// behind it was full.
+    InFrontOfFootSpot,
+    /// The whole long string was full: the free place nearest the foot spot.
+    NearFootSpot,
+}
+
+impl Spotted {
+    /// "on the foot spot", for a reason text.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Spotted::FootSpot => "on the foot spot",
+            Spotted::BehindFootSpot => "behind the foot spot",
+            Spotted::InFrontOfFootSpot => "in front of the foot spot",
+            Spotted::NearFootSpot => "as near the foot spot as the table allows",
+        }
     }
+}
+
+/// Puts `ball` back on the table (WPA 1.4): on the foot spot if it is free, else on the long
+/// string as near to it as possible behind it (towards the foot rail), else in front of it.
+/// The string holds about forty balls, so it is never full in play; if it were, the ball
+/// goes to the free place nearest the foot spot. Spotting always succeeds: a game never
+/// waits on a ball that could not be put back. (A ball number out of range changes
+/// nothing.)
+#[must_use]
+pub fn spot(balls: &mut [BallState], ball: usize, kind: TableKind) -> Spotted {
+    let (place, spotted) = spot_place(balls, ball, kind);
+    if let Some(b) = balls.get_mut(ball) {
+        *b = BallState::at_rest(place);
+    }
+    spotted
+}
+
+/// Where [`spot`] puts `ball`.
+fn spot_place(balls: &[BallState], ball: usize, kind: TableKind) -> (DVec2, Spotted) {
     let foot = foot_spot(kind);
     let d = 2.0 * ball_radius() + RACK_GAP;
+    let free = |p: DVec2| is_free(balls, ball, p, kind);
     // Candidates: the spot itself and, for every ball near the string, the places just
     // touching it on either side. The first free one in order of preference wins.
     let mut behind = vec![foot.y];
@@ -250,18 +288,30 @@ pub fn spot(balls: &mut [BallState], ball: usize, kind: TableKind) -> bool {
     }
     behind.sort_by(f64::total_cmp);
     front.sort_by(|a, b| b.total_cmp(a));
-    let found = behind
-        .into_iter()
-        .chain(front)
-        .map(|y| DVec2::new(foot.x, y))
-        .find(|p| is_free(balls, ball, *p, kind));
-    match found {
-        Some(p) => {
-            balls[ball] = BallState::at_rest(p);
-            true
-        }
-        None => false,
+    let on_string = |y: f64| DVec2::new(foot.x, y);
+    if let Some(p) = behind.into_iter().map(on_string).find(|p| free(*p)) {
+        let spotted = if p == foot {
+            Spotted::FootSpot
+        } else {
+            Spotted::BehindFootSpot
+        };
+        return (p, spotted);
     }
+    if let Some(p) = front.into_iter().map(on_string).find(|p| free(*p)) {
+        return (p, Spotted::InFrontOfFootSpot);
+    }
+    // Off the string: a grid of places a quarter ball apart over the whole table, nearest
+    // the foot spot first. Sixteen balls cannot cover it, so one is free; the foot spot
+    // itself is only the answer the types need.
+    let (w, l) = table_size(kind);
+    let step = 0.5 * ball_radius();
+    let (nx, ny) = ((w / step) as i64, (l / step) as i64);
+    let mut grid: Vec<DVec2> = (0..=ny)
+        .flat_map(|j| (0..=nx).map(move |i| DVec2::new(i as f64 * step, j as f64 * step)))
+        .collect();
+    grid.sort_by(|a, b| (*a - foot).length().total_cmp(&(*b - foot).length()));
+    let place = grid.into_iter().find(|p| free(*p)).unwrap_or(foot);
+    (place, Spotted::NearFootSpot)
 }
 
 #[cfg(test)]
@@ -337,7 +387,10 @@ mod tests {
         let mut balls = eight_ball(TableKind::NineFoot, 1);
         balls[8].motion = MotionState::Pocketed;
         // The apex ball occupies the foot spot, so the 8 must go elsewhere on the string.
-        assert!(spot(&mut balls, 8, TableKind::NineFoot));
+        assert_eq!(
+            spot(&mut balls, 8, TableKind::NineFoot),
+            Spotted::BehindFootSpot
+        );
         let foot = foot_spot(TableKind::NineFoot);
         assert_eq!(balls[8].pos.x, foot.x);
         assert_ne!(balls[8].pos.y, foot.y);
@@ -345,7 +398,7 @@ mod tests {
         // With the table clear, the 8 goes on the foot spot itself.
         let mut clear: Vec<BallState> = balls.iter().map(|_| pocketed()).collect();
         clear[0] = BallState::at_rest(break_spot(TableKind::NineFoot));
-        assert!(spot(&mut clear, 8, TableKind::NineFoot));
+        assert_eq!(spot(&mut clear, 8, TableKind::NineFoot), Spotted::FootSpot);
         assert_eq!(clear[8].pos, foot);
     }
 }

@@ -689,7 +689,7 @@ fn eight_on_the_break_with_a_scratch_wpa_opponent_chooses_bar_loses() {
         v.reasons,
         vec![
             "Foul: scratch — the cue ball was pocketed".to_string(),
-            "The 8 fell on the break with a scratch: Player B chooses to spot it and take ball in hand behind the head string, or to re-rack".to_string()
+            "The 8 fell on the break with a foul: Player B chooses to spot it and take ball in hand behind the head string, or to re-rack".to_string()
         ]
     );
     assert_eq!(g.to_move(), Seat::B);
@@ -715,57 +715,6 @@ fn eight_on_the_break_with_a_scratch_wpa_opponent_chooses_bar_loses() {
         Some((
             Some(Seat::B),
             "Player A loses: scratched while pocketing the 8 on the break (bar rules)".into()
-        ))
-    );
-}
-
-/// The engine never drives a ball off the table; these clauses are judged from crafted facts.
-#[test]
-fn balls_off_the_table() {
-    let mk = || {
-        let mut g = table(WPA, &[(0, HIT.cue), (3, HIT.object)], &all_but(&[3]));
-        g.group_a = Some(Group::Solids);
-        g
-    };
-    let legal_hit = ShotFacts {
-        first_contact: Some(3),
-        cushion_after_contact: true,
-        ..ShotFacts::default()
-    };
-    // An object ball off the table: a foul, and it stays off.
-    let mut g = mk();
-    let facts = ShotFacts {
-        off_table: vec![12],
-        ..legal_hit.clone()
-    };
-    let v = g.judge_shot(Seat::A, None, g.balls.clone(), &facts, dummy_report());
-    assert_eq!(v.reasons[0], "Foul: the 12 left the table (it stays off)");
-    assert!(v.foul && pocketed(&g, 12) && g.balls()[12].pocket.is_none());
-    assert_eq!(
-        (g.to_move(), in_hand(&g)),
-        (Seat::B, Some(InHand::Anywhere))
-    );
-    // The cue ball off the table: a foul.
-    let mut g = mk();
-    let facts = ShotFacts {
-        off_table: vec![0],
-        ..legal_hit.clone()
-    };
-    let v = g.judge_shot(Seat::A, None, g.balls.clone(), &facts, dummy_report());
-    assert_eq!(v.reasons[0], "Foul: the cue ball left the table");
-    assert_eq!(in_hand(&g), Some(InHand::Anywhere));
-    // The 8 off the table loses.
-    let mut g = mk();
-    let facts = ShotFacts {
-        off_table: vec![8],
-        ..legal_hit
-    };
-    let v = g.judge_shot(Seat::A, None, g.balls.clone(), &facts, dummy_report());
-    assert_eq!(
-        v.over,
-        Some((
-            Some(Seat::B),
-            "Player A loses: drove the 8 off the table".into()
         ))
     );
 }
@@ -992,8 +941,11 @@ fn nine_ball_break_must_hit_the_one_first() {
         (g.to_move(), in_hand(&g)),
         (Seat::B, Some(InHand::Anywhere))
     );
-    // The incoming player may still push out.
-    assert_eq!(options(&g), vec![Choice::PushOut]);
+    assert_eq!(
+        options(&g),
+        Vec::<Choice>::new(),
+        "WPA 9-ball 2.4: a push-out is allowed only after a break without a foul"
+    );
 }
 
 #[test]
@@ -1112,7 +1064,7 @@ fn nine_ball_nine_pocketed_on_a_foul_is_spotted() {
         v.reasons,
         vec![
             "Foul: wrong ball first — hit the 9 before the 2".to_string(),
-            "The 9 is spotted".to_string(),
+            "The 9 is spotted on the foot spot".to_string(),
             "Player B has ball in hand".to_string()
         ]
     );
@@ -1325,3 +1277,5 @@ fn turn_counts_every_applied_command() {
     );
     assert_eq!(g.turn(), 1);
 }
+
+mod wpa;
