@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 
 use breakshot_server::{Config, Server, ServerError};
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite};
-use breakshot_shared::rules::{Command, EightBallRules, Seat, Settings, Variant};
+use breakshot_shared::rules::{Command, EightBallRules, Game, Seat, Settings, Variant};
 use thiserror::Error;
 use tokio::sync::oneshot;
 
@@ -278,7 +278,7 @@ impl Host {
                     _ => pending.push_back(event),
                 }
             }
-            if let Some(room) = link.session().mirror().room().cloned() {
+            if let Some(room) = link.session().room().cloned() {
                 break room;
             }
             if since.elapsed() > SEATING {
@@ -328,8 +328,8 @@ impl GameLink for Host {
         self.link.seat()
     }
 
-    fn send(&mut self, seat: Seat, command: Command) {
-        self.link.send(seat, command)
+    fn send(&mut self, game: &Game, seat: Seat, command: Command) {
+        self.link.send(game, seat, command)
     }
 
     fn poll(&mut self) -> Option<GameEvent> {

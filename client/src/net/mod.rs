@@ -2,17 +2,17 @@
 //! framed message stream, the local game mirror that predicts and checks every shot, a polling
 //! session for frame loops, and fetching a stored game's record.
 
+pub mod client;
 pub mod connection;
 pub mod host;
 pub mod link;
-pub mod mirror;
 pub mod pinned;
 pub mod records;
 pub mod session;
 
+pub use client::{Client, ClientEvent, Reconnect};
 pub use connection::{endpoint, Connection, NetError, Reader, Writer};
 pub use host::{EmbeddedServer, Host, HostError, HostOptions};
 pub use link::{NetLink, NoRoom};
-pub use mirror::{Check, Mirror};
 pub use records::{fetch_record, fetch_record_blocking, FetchError, FetchedRecord};
 pub use session::{Session, SessionEvent};

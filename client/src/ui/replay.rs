@@ -6,7 +6,6 @@ use breakshot_client::play::link::Judgement;
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::layout::{Frame, Layout};
-use breakshot_shared::physics::Params;
 use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
 
@@ -43,7 +42,7 @@ impl ReplayScreen {
     pub fn draw(&mut self) {
         let layout = Layout::new(screen_width(), screen_height(), self.frame);
         let v = &self.viewer;
-        let r = Params::default().ball_radius;
+        let r = v.game().params().ball_radius;
         let ids: Vec<String> = (0..v.game().balls().len())
             .map(|n| {
                 if n == 0 {
