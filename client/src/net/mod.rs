@@ -4,6 +4,8 @@
 
 pub mod client;
 pub mod connection;
+#[cfg(feature = "host")]
+mod embedded;
 pub mod host;
 pub mod link;
 pub mod pinned;
@@ -12,7 +14,9 @@ pub mod session;
 
 pub use client::{Client, ClientEvent, Reconnect};
 pub use connection::{endpoint, Connection, NetError, Reader, Writer};
-pub use host::{EmbeddedServer, Host, HostError, HostOptions};
+#[cfg(feature = "host")]
+pub use embedded::{EmbeddedServer, Host};
+pub use host::{HostError, HostOptions};
 pub use link::{NetLink, NoRoom};
 pub use records::{fetch_record, fetch_record_blocking, FetchError, FetchedRecord};
 pub use session::{Session, SessionEvent};

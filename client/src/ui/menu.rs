@@ -1,8 +1,9 @@
 //! The menu the window opens on when no command is given.
 
 use breakshot_client::net::host::default_data_dir;
-use breakshot_client::net::{Host, HostOptions, NetLink};
+use breakshot_client::net::{HostOptions, NetLink};
 use breakshot_client::play::controls::{InputFrame, Key};
+use breakshot_client::play::link::GameLink;
 use breakshot_client::view::layout::Rect;
 use breakshot_shared::protocol::Invite;
 use breakshot_shared::rules::{EightBallRules, Variant};
@@ -30,10 +31,20 @@ const ITEMS: [(Item, &str); 6] = [
 ];
 
 /// Hosts an 8-ball game with the defaults of `breakshot host`.
-fn host_default() -> Result<Host, String> {
+fn host_default() -> Result<Box<dyn GameLink>, String> {
     let data = default_data_dir()
         .ok_or("No user data directory (HOME is not set): run breakshot host --data DIR")?;
-    Host::start(&HostOptions::new(data)).map_err(|e| e.to_string())
+    let options = HostOptions::new(data);
+    #[cfg(feature = "host")]
+    let hosted = breakshot_client::net::Host::start(&options)
+        .map(|h| Box::new(h) as Box<dyn GameLink>)
+        .map_err(|e| e.to_string());
+    #[cfg(not(feature = "host"))]
+    let hosted = {
+        let _ = options;
+        Err(breakshot_client::net::HostError::NotBuilt.to_string())
+    };
+    hosted
 }
 
 /// Joins the game whose invite is on the clipboard.
@@ -100,7 +111,7 @@ impl MenuScreen {
                 ))
             }
             Item::Host => match host_default() {
-                Ok(host) => return Next::Go(super::network_game(Box::new(host))),
+                Ok(host) => return Next::Go(super::network_game(host)),
                 Err(e) => self.message = e,
             },
             Item::Join => match join_from_clipboard() {
