@@ -12,18 +12,25 @@ use thiserror::Error;
 use super::pinned::client_config;
 
 #[derive(Debug, Error)]
+/// Why a connection failed or ended.
 pub enum NetError {
     #[error("cannot resolve {0}")]
+    /// The server's name did not resolve.
     Resolve(String),
     #[error("cannot connect: {0}")]
+    /// No QUIC connection could be made.
     Connect(String),
     #[error("connection lost: {0}")]
+    /// The connection dropped.
     Lost(String),
     #[error("the server refused us: {0}")]
+    /// The server answered and refused us.
     Rejected(String),
     #[error("bad frame from the server: {0}")]
+    /// A frame from the server could not be read.
     Frame(#[from] FrameError),
     #[error("the server sent {0} before Welcome")]
+    /// The server's first answer was not `Welcome`.
     Handshake(String),
 }
 
@@ -33,6 +40,7 @@ pub fn endpoint() -> Result<quinn::Endpoint, NetError> {
     quinn::Endpoint::client(any).map_err(|e| NetError::Connect(e.to_string()))
 }
 
+/// One handshaken connection to a server.
 pub struct Connection {
     conn: quinn::Connection,
     writer: Writer,
@@ -96,10 +104,12 @@ impl Connection {
         }
     }
 
+    /// Sends one message.
     pub async fn send(&mut self, msg: &ClientMessage) -> Result<(), NetError> {
         self.writer.send(msg).await
     }
 
+    /// Receives one message (not cancel-safe: see [`Connection::split`]).
     pub async fn recv(&mut self) -> Result<ServerMessage, NetError> {
         self.reader.recv().await
     }
@@ -122,11 +132,13 @@ impl Connection {
 }
 
 impl Writer {
+    /// Sends one message.
     pub async fn send(&mut self, msg: &ClientMessage) -> Result<(), NetError> {
         let frame = encode_frame(msg)?;
         self.send_raw(&frame).await
     }
 
+    /// Sends raw bytes (to test how the server treats malformed frames).
     pub async fn send_raw(&mut self, bytes: &[u8]) -> Result<(), NetError> {
         self.send
             .write_all(bytes)
@@ -136,6 +148,7 @@ impl Writer {
 }
 
 impl Reader {
+    /// Receives one message; not cancel-safe.
     pub async fn recv(&mut self) -> Result<ServerMessage, NetError> {
         let mut header = [0u8; HEADER_LEN];
         self.recv

@@ -197,10 +197,12 @@ impl Host {
         &self.data
     }
 
+    /// The embedded server.
     pub fn server(&self) -> &EmbeddedServer {
         &self.server
     }
 
+    /// The link this computer plays through.
     pub fn link(&self) -> &NetLink {
         &self.link
     }

@@ -20,6 +20,7 @@ pub const ADDRESS_NOTE: &str = "the game listens on every network interface, so 
      the UDP port forwarded), or start again with --address HOST";
 
 #[derive(Debug, Error)]
+/// Why hosting failed.
 pub enum HostError {
     /// The server could not start.
     #[cfg(feature = "host")]
@@ -30,10 +31,13 @@ pub enum HostError {
     #[error("this build cannot host games (it was built without the `host` feature): run breakshot-server and join its invite")]
     NotBuilt,
     #[error("the game server could not start: {0}")]
+    /// No runtime for the server's thread.
     Runtime(String),
     #[error("could not open a room on the game server: {0}")]
+    /// The room could not be opened.
     Room(String),
     #[error("the invite's address must be a host name or an IP address, not {0:?}")]
+    /// The address given for the invite is not one.
     Address(String),
 }
 
@@ -44,8 +48,11 @@ pub struct HostOptions {
     pub bind: SocketAddr,
     /// The server's data directory (certificate and game store).
     pub data: PathBuf,
+    /// The game played.
     pub variant: Variant,
+    /// The room's settings.
     pub settings: Settings,
+    /// The aiming aids the room allows.
     pub aim_aid: AimAid,
     /// The address written into the invite instead of the bound one: what the other player
     /// dials to reach this computer.

@@ -12,27 +12,44 @@ use super::connection::{endpoint, Connection, NetError};
 pub const FETCH_TIMEOUT: Duration = Duration::from_secs(15);
 
 #[derive(Debug, Error)]
+/// Why a game's record could not be fetched.
 pub enum FetchError {
     #[error(transparent)]
+    /// The connection failed.
     Net(#[from] NetError),
     #[error("the server has no game in room {0}")]
+    /// The server has no game in that room.
     NoSuchGame(RoomCode),
     #[error("the server refused ({code:?}): {message}")]
-    Refused { code: ErrorCode, message: String },
+    /// The server refused to send it.
+    Refused {
+        /// Why, as a code.
+        code: ErrorCode,
+        /// Why, in words.
+        message: String,
+    },
     #[error("the server answered with {0} instead of the record")]
+    /// The server answered something else.
     Unexpected(String),
     #[error("no answer from {authority} within {} s: is the server running and its UDP port open?", FETCH_TIMEOUT.as_secs())]
-    Timeout { authority: String },
+    /// The server did not answer in time.
+    Timeout {
+        /// The server asked.
+        authority: String,
+    },
     #[error("cannot start the network: {0}")]
+    /// No runtime to fetch with.
     Runtime(String),
 }
 
 /// A room's latest game as the server stores it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FetchedRecord {
+    /// The room the game was played in.
     pub room: RoomCode,
     /// The game's number in its room, from 1.
     pub game: u32,
+    /// The game is over (else it is still being played).
     pub finished: bool,
     /// An encoded [`breakshot_shared::replay::GameRecord`].
     pub bytes: Vec<u8>,
