@@ -2,8 +2,8 @@
 //! framed message stream, the local game mirror that predicts and checks every shot, a polling
 //! session for frame loops, and fetching a stored game's record.
 
+pub mod channel;
 pub mod client;
-pub mod connection;
 #[cfg(feature = "host")]
 mod embedded;
 pub mod host;
@@ -12,8 +12,8 @@ pub mod pinned;
 pub mod records;
 pub mod session;
 
+pub use channel::{endpoint, Channel, NetError, Reader, Writer};
 pub use client::{Client, ClientEvent, Reconnect};
-pub use connection::{endpoint, Connection, NetError, Reader, Writer};
 #[cfg(feature = "host")]
 pub use embedded::{EmbeddedServer, Host};
 pub use host::{HostError, HostOptions};

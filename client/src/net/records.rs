@@ -6,7 +6,7 @@ use std::time::Duration;
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, Invite, RoomCode, ServerMessage};
 use thiserror::Error;
 
-use super::connection::{endpoint, Connection, NetError};
+use super::channel::{endpoint, Channel, NetError};
 
 /// How long connecting and fetching may take before the server counts as unreachable.
 pub const FETCH_TIMEOUT: Duration = Duration::from_secs(15);
@@ -83,7 +83,7 @@ async fn fetch_on(
     server: &Invite,
     room: &RoomCode,
 ) -> Result<FetchedRecord, FetchError> {
-    let mut conn = Connection::open(ep, server).await?;
+    let mut conn = Channel::open(ep, server).await?;
     conn.send(&ClientMessage::FetchRecord { room: room.clone() })
         .await?;
     let answer = conn.recv().await?;

@@ -9,7 +9,7 @@ use breakshot_shared::protocol::Invite;
 use breakshot_shared::rules::{EightBallRules, Variant};
 use macroquad::prelude::*;
 
-use super::{draw, practice::PracticeScreen, Next, Screen};
+use super::{draw, practice::PracticeScreen, Screen, Step};
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Item {
@@ -86,36 +86,36 @@ impl MenuScreen {
             .collect()
     }
 
-    pub fn update(&mut self, input: &InputFrame) -> Next {
+    pub fn update(&mut self, input: &InputFrame) -> Step {
         if input.pressed.contains(&Key::Back) {
-            return Next::Quit;
+            return Step::Quit;
         }
         if !input.left_pressed {
-            return Next::Stay;
+            return Step::Stay;
         }
         let Some((item, _, _)) = Self::buttons()
             .into_iter()
             .find(|(_, _, r)| r.contains(input.mouse))
         else {
-            return Next::Stay;
+            return Step::Stay;
         };
         match item {
             Item::Practice => match PracticeScreen::new(None, super::fresh_seed()) {
-                Ok(s) => return Next::Go(Screen::Practice(Box::new(s))),
+                Ok(s) => return Step::Go(Screen::Practice(Box::new(s))),
                 Err(e) => self.message = e.to_string(),
             },
             Item::Local => {
-                return Next::Go(super::local_game(
+                return Step::Go(super::local_game(
                     Variant::EightBall(EightBallRules::Wpa),
                     super::fresh_seed(),
                 ))
             }
             Item::Host => match host_default() {
-                Ok(host) => return Next::Go(super::network_game(host)),
+                Ok(host) => return Step::Go(super::network_game(host)),
                 Err(e) => self.message = e,
             },
             Item::Join => match join_from_clipboard() {
-                Ok(link) => return Next::Go(super::network_game(Box::new(link))),
+                Ok(link) => return Step::Go(super::network_game(Box::new(link))),
                 Err(e) => self.message = e,
             },
             Item::Replay => {
@@ -123,9 +123,9 @@ impl MenuScreen {
                     "To watch a game, run: breakshot replay FILE (or --server URL --game ROOM)"
                         .into();
             }
-            Item::Quit => return Next::Quit,
+            Item::Quit => return Step::Quit,
         }
-        Next::Stay
+        Step::Stay
     }
 
     pub fn draw(&mut self) {

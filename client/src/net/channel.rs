@@ -1,4 +1,4 @@
-//! One connection to a server: QUIC with a pinned certificate, one bidirectional stream,
+//! One channel to a server (the framing under [`Client`](super::Client)): QUIC with a pinned certificate, one bidirectional stream,
 //! `Hello` first, then framed messages both ways.
 
 use std::net::SocketAddr;
@@ -41,7 +41,7 @@ pub fn endpoint() -> Result<quinn::Endpoint, NetError> {
 }
 
 /// One handshaken connection to a server.
-pub struct Connection {
+pub struct Channel {
     conn: quinn::Connection,
     writer: Writer,
     reader: Reader,
@@ -58,19 +58,19 @@ pub struct Reader {
     recv: quinn::RecvStream,
 }
 
-impl Connection {
+impl Channel {
     /// Connects to the server the invite names, trusting only its fingerprint, and
     /// completes the handshake (protocol version and physics reference hash).
-    pub async fn open(endpoint: &quinn::Endpoint, invite: &Invite) -> Result<Connection, NetError> {
+    pub async fn open(endpoint: &quinn::Endpoint, invite: &Invite) -> Result<Channel, NetError> {
         Self::open_as(endpoint, invite, PROTOCOL_VERSION).await
     }
 
-    /// [`Connection::open`] claiming another protocol version (to test refusals).
+    /// [`Channel::open`] claiming another protocol version (to test refusals).
     pub async fn open_as(
         endpoint: &quinn::Endpoint,
         invite: &Invite,
         protocol: u32,
-    ) -> Result<Connection, NetError> {
+    ) -> Result<Channel, NetError> {
         let physics = reference_hash().map_err(|e| NetError::Connect(e.to_string()))?;
         let addr = tokio::net::lookup_host(invite.authority())
             .await
@@ -87,7 +87,7 @@ impl Connection {
             .open_bi()
             .await
             .map_err(|e| NetError::Lost(e.to_string()))?;
-        let mut c = Connection {
+        let mut c = Channel {
             writer: Writer { send },
             reader: Reader {
                 conn: conn.clone(),
@@ -109,7 +109,7 @@ impl Connection {
         self.writer.send(msg).await
     }
 
-    /// Receives one message (not cancel-safe: see [`Connection::split`]).
+    /// Receives one message (not cancel-safe: see [`Channel::split`]).
     pub async fn recv(&mut self) -> Result<ServerMessage, NetError> {
         self.reader.recv().await
     }
