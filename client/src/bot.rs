@@ -5,31 +5,39 @@
 
 use std::time::{Duration, Instant};
 
-use breakshot_shared::physics::{BallState, MotionState, Strike, Table};
-use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, RoomCode, ServerMessage};
+use breakshot_shared::physics::{Strike, Table};
+use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, Role, RoomCode, ServerMessage};
 use breakshot_shared::rules::{
-    Choice, EightBallRules, Game, InHand, Phase, Settings, TurnId, Variant,
+    is_off_table, rack::SplitMix64, Choice, EightBallRules, Game, InHand, Phase, Seat, Settings,
+    TurnId, Variant,
 };
 use glam::DVec2;
 use tokio::sync::oneshot;
 
-use crate::net::{endpoint, Connection, Mirror, NetError};
+use crate::net::{Client, ClientEvent, NetError, Reconnect};
+use crate::play::replica::Replica;
 
 /// How long a bot keeps trying to reach a server that went away.
 pub const RETRY_FOR: Duration = Duration::from_secs(120);
-/// Pause between reconnection attempts.
-const RETRY_PAUSE: Duration = Duration::from_millis(250);
 /// A bot refused this many times in a row concedes (its aim logic is stuck).
 const MAX_REFUSALS: u32 = 30;
 /// A bot that has shot this many times in one game concedes (keeps tests bounded).
 const MAX_SHOTS: u32 = 300;
 
 #[derive(Clone, Debug)]
+/// What the bots play, and against which server.
 pub struct BotConfig {
+    /// The server the bots connect to.
     pub server: Invite,
+    /// Games played at once (two bots each).
     pub games: usize,
+    /// Seeds the bots' aim and pauses.
     pub seed: u64,
+    /// The game the rooms are created for.
     pub variant: Variant,
+    /// The room's settings (called shots, shot clock, table).
+    pub settings: Settings,
+    /// How long a bot keeps trying to take its seat back after a drop.
     pub retry_for: Duration,
     /// Pause before each move, as a player would think (on average; each pause is drawn
     /// between half and one and a half times this).
@@ -37,12 +45,14 @@ pub struct BotConfig {
 }
 
 impl BotConfig {
+    /// `games` 8-ball games (WPA rules, no shot clock) on `server`, without pauses.
     pub fn new(server: Invite, games: usize) -> BotConfig {
         BotConfig {
             server,
             games,
             seed: 1,
             variant: Variant::EightBall(EightBallRules::Wpa),
+            settings: Settings::offline(),
             retry_for: RETRY_FOR,
             think: Duration::ZERO,
         }
@@ -52,23 +62,34 @@ impl BotConfig {
 /// One game as the bots saw it.
 #[derive(Clone, Debug, Default)]
 pub struct GameSummary {
+    /// The room the game was played in.
     pub room: Option<RoomCode>,
+    /// Both bots saw the game end.
     pub completed: bool,
+    /// Why the game ended, as the host saw it.
     pub reason: String,
     /// Every shot result the host saw: (turn, server hash).
     pub resolved: Vec<(TurnId, u64)>,
 }
 
 #[derive(Clone, Debug, Default)]
+/// What a run of bots measured.
 pub struct Report {
+    /// Games both bots saw to the end.
     pub games_completed: u32,
+    /// Shots the bots took.
     pub shots: u32,
     /// Shots whose local prediction matched the server's hash (counted by each player).
     pub confirmed: u32,
+    /// Shots (or commands) whose local result differed from the server's.
     pub desyncs: u32,
+    /// Times a bot took its seat back after a drop.
     pub rejoins: u32,
+    /// Each shot's round trip, from sending it to its result (ms).
     pub round_trips_ms: Vec<f64>,
+    /// Each game, as the bots saw it.
     pub games: Vec<GameSummary>,
+    /// What went wrong, one line per bot that failed.
     pub errors: Vec<String>,
 }
 
@@ -144,7 +165,7 @@ async fn play_game(config: &BotConfig, g: u64) -> (GameSummary, PlayerResult, Pl
     let guest = Bot::new(config, format!("bot{g}b"), config.seed ^ (g * 2 + 2));
     let create = ClientMessage::CreateRoom {
         variant: config.variant,
-        mode: Settings::offline(),
+        mode: config.settings,
         aim_aid: AimAid::Full,
         name: host.name.clone(),
     };
@@ -196,10 +217,11 @@ struct Bot {
     server: Invite,
     name: String,
     chooser: Chooser,
-    retry_for: Duration,
+    policy: Reconnect,
     think: Duration,
     pause_rng: Rng,
-    mirror: Mirror,
+    replica: Replica,
+    seat: Option<Seat>,
     result: PlayerResult,
     /// The turn this bot last answered, while its answer is pending.
     acted: Option<TurnId>,
@@ -213,10 +235,14 @@ impl Bot {
             server: config.server.clone(),
             name,
             chooser: Chooser::new(seed),
-            retry_for: config.retry_for,
+            policy: Reconnect {
+                rejoin_for: config.retry_for,
+                ..Reconnect::default()
+            },
             think: config.think,
-            pause_rng: Rng(!seed),
-            mirror: Mirror::default(),
+            pause_rng: Rng::new(!seed),
+            replica: Replica::default(),
+            seat: None,
             result: PlayerResult::default(),
             acted: None,
             sent_shot: None,
@@ -225,10 +251,6 @@ impl Bot {
     }
 
     async fn play(mut self, start: Start) -> PlayerResult {
-        let endpoint = match endpoint() {
-            Ok(e) => e,
-            Err(e) => return PlayerResult::failed(e.to_string()),
-        };
         let (first, mut room_tx) = match start {
             Start::Create(msg, tx) => (msg, Some(tx)),
             Start::Join(rx) => match rx.await {
@@ -242,64 +264,48 @@ impl Bot {
                 Err(_) => return PlayerResult::failed("the host never created a room".into()),
             },
         };
-        let mut conn = match Connection::open(&endpoint, &self.server).await {
+        let mut client = match Client::connect(self.server.clone(), self.policy).await {
             Ok(c) => c,
             Err(e) => return PlayerResult::failed(e.to_string()),
         };
-        let mut hello = first;
-        loop {
-            match self.session(&mut conn, hello, &mut room_tx).await {
-                Ok(()) => break,
-                Err(e) => {
-                    // The server went away: reconnect and take the seat back.
-                    let Some(token) = self.mirror.token() else {
-                        self.result.error = Some(e.to_string());
-                        break;
-                    };
-                    match self.reconnect(&endpoint).await {
-                        Ok(c) => {
-                            conn = c;
-                            hello = ClientMessage::Rejoin { token };
-                            self.result.rejoins += 1;
-                            self.acted = None;
-                            self.sent_shot = None;
-                        }
-                        Err(e) => {
-                            self.result.error = Some(e.to_string());
-                            break;
-                        }
-                    }
-                }
-            }
+        if let Err(e) = self.run(&mut client, &first, &mut room_tx).await {
+            self.result.error = Some(e.to_string());
         }
-        conn.quic().close(0u32.into(), b"done");
-        self.result.confirmed = self.mirror.confirmed();
-        self.result.desyncs = self.mirror.desyncs();
+        client.close(Duration::ZERO).await;
+        self.result.confirmed = self.replica.confirmed();
+        self.result.desyncs = self.replica.desyncs();
         self.result
     }
 
-    async fn reconnect(&self, endpoint: &quinn::Endpoint) -> Result<Connection, NetError> {
-        let since = Instant::now();
-        loop {
-            match Connection::open(endpoint, &self.server).await {
-                Ok(c) => return Ok(c),
-                Err(e) if since.elapsed() > self.retry_for => return Err(e),
-                Err(_) => tokio::time::sleep(RETRY_PAUSE).await,
-            }
-        }
-    }
-
-    /// Plays on one connection until the game ends (`Ok`) or the connection is lost.
-    async fn session(
+    /// Plays until the game ends (`Ok`) or the connection is lost for good.
+    async fn run(
         &mut self,
-        conn: &mut Connection,
-        first: ClientMessage,
+        client: &mut Client,
+        first: &ClientMessage,
         room_tx: &mut Option<oneshot::Sender<RoomCode>>,
     ) -> Result<(), NetError> {
-        conn.send(&first).await?;
+        client.send(first).await?;
         loop {
-            let msg = conn.recv().await?;
-            self.mirror.observe(&msg);
+            let msg = match client.recv().await? {
+                ClientEvent::Message(msg) => msg,
+                ClientEvent::Reconnecting(why) => {
+                    tracing::debug!(bot = %self.name, %why, "reconnecting");
+                    continue;
+                }
+                ClientEvent::Reconnected => {
+                    self.result.rejoins += 1;
+                    self.acted = None;
+                    self.sent_shot = None;
+                    continue;
+                }
+            };
+            if let ServerMessage::Joined { role, .. } = &msg {
+                self.seat = match role {
+                    Role::Player(seat) => Some(*seat),
+                    Role::Spectator => None,
+                };
+            }
+            self.replica.observe(&msg, self.seat);
             match &msg {
                 ServerMessage::Joined { snapshot, .. } => {
                     self.result.room = Some(snapshot.room.clone());
@@ -311,7 +317,7 @@ impl Bot {
                         return Ok(());
                     }
                 }
-                ServerMessage::ShotAccepted { seat, .. } if Some(*seat) == self.mirror.seat() => {
+                ServerMessage::ShotAccepted { seat, .. } if Some(*seat) == self.seat => {
                     self.result.shots += 1;
                 }
                 ServerMessage::ShotResolved { turn, hash, .. } => {
@@ -333,7 +339,7 @@ impl Bot {
                     self.refusals += 1;
                     self.acted = None;
                     if self.refusals > MAX_REFUSALS {
-                        conn.send(&ClientMessage::Concede).await?;
+                        client.send(&ClientMessage::Concede).await?;
                     }
                     tracing::debug!(bot = %self.name, ?code, %message, "refused");
                 }
@@ -352,17 +358,20 @@ impl Bot {
                 if matches!(cmd, ClientMessage::Shot { .. }) {
                     self.sent_shot = self.acted.map(|t| (t, Instant::now()));
                 }
-                conn.send(&cmd).await?;
+                // A message lost with the connection is answered again after the rejoin.
+                if client.send(&cmd).await.is_err() {
+                    self.acted = None;
+                }
             }
         }
     }
 
     /// What to send now, if it is this bot's move and it has not answered it yet.
     fn next_move(&mut self) -> Option<ClientMessage> {
-        if !self.mirror.my_move() {
+        if !self.seat.is_some_and(|s| self.replica.waits_for(s)) {
             return None;
         }
-        let game = self.mirror.game()?;
+        let game = self.replica.game()?;
         let turn = game.turn();
         if self.acted == Some(turn) {
             return None;
@@ -381,8 +390,11 @@ pub struct Chooser {
 }
 
 impl Chooser {
+    /// A chooser whose randomness starts from `seed`.
     pub fn new(seed: u64) -> Chooser {
-        Chooser { rng: Rng(seed) }
+        Chooser {
+            rng: Rng::new(seed),
+        }
     }
 
     /// The move for the seat to move, `None` if the game is over.
@@ -400,12 +412,14 @@ impl Chooser {
             Phase::Shooting {
                 in_hand: Some(area),
                 ..
-            } if off_table(&game.balls()[0]) => ClientMessage::PlaceCueBall {
+            } if is_off_table(&game.balls()[0]) => ClientMessage::PlaceCueBall {
                 turn,
                 pos: self.placement(game, *area)?,
             },
             Phase::Shooting { .. } => {
-                let (strike, call) = self.aim(game);
+                let (strike, pocket) = self.aim(game);
+                // Name the pocket aimed at when the rules ask for a call.
+                let call = pocket.filter(|_| game.needs_call());
                 ClientMessage::Shot { turn, strike, call }
             }
             Phase::Over { .. } => return None,
@@ -414,17 +428,13 @@ impl Chooser {
     }
 
     fn placement(&mut self, game: &Game, area: InHand) -> Option<[f64; 2]> {
-        let (w, l) = game.table().size()?;
-        let r = breakshot_shared::physics::Params::default().ball_radius;
-        let max_y = match area {
-            InHand::Kitchen => l / 4.0 - r,
-            InHand::Anywhere => l - 2.0 * r,
-        };
+        let (lo, hi) = game.in_hand_area(area);
+        let r = game.params().ball_radius;
         (0..200)
             .map(|_| {
                 [
-                    self.rng.range(2.0 * r, w - 2.0 * r),
-                    self.rng.range(2.0 * r, max_y),
+                    self.rng.range(lo.x + 2.0 * r, hi.x - 2.0 * r),
+                    self.rng.range(lo.y + 2.0 * r, hi.y - r),
                 ]
             })
             .find(|p| game.legal_cue_placement(*p).is_ok())
@@ -434,7 +444,7 @@ impl Chooser {
     fn aim(&mut self, game: &Game) -> (Strike, Option<u8>) {
         let balls = game.balls();
         let cue = balls[0].pos;
-        let r = breakshot_shared::physics::Params::default().ball_radius;
+        let r = game.params().ball_radius;
         let table = Table::new(game.table());
         let pockets: Vec<DVec2> = table
             .pockets
@@ -446,7 +456,7 @@ impl Chooser {
             .iter()
             .enumerate()
             .skip(1)
-            .filter(|(i, b)| !off_table(b) && (legal.is_empty() || legal.contains(&(*i as u8))))
+            .filter(|(i, b)| !is_off_table(b) && (legal.is_empty() || legal.contains(&(*i as u8))))
             .map(|(i, b)| (i as u8, b.pos))
             .collect();
         if game.is_break() || targets.is_empty() {
@@ -500,41 +510,30 @@ impl Chooser {
     }
 }
 
-fn off_table(b: &BallState) -> bool {
-    b.pocket.is_some() || b.motion == MotionState::Pocketed
-}
-
 /// Rotates `v` by `angle` radians (small angles: aim noise).
 fn rotate(v: DVec2, angle: f64) -> DVec2 {
     let (s, c) = angle.sin_cos();
     DVec2::new(v.x * c - v.y * s, v.x * s + v.y * c)
 }
 
-/// SplitMix64: small, seedable, good enough for aim noise.
-struct Rng(u64);
+/// Aim noise and pauses, from the rules' SplitMix64 generator.
+struct Rng(SplitMix64);
 
 impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    fn new(seed: u64) -> Rng {
+        Rng(SplitMix64::new(seed))
     }
 
     fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
+        lo + (hi - lo) * self.0.unit()
     }
 
+    /// A number in `0..n`, or 0 when `n` is 0.
     fn below(&mut self, n: usize) -> usize {
         if n == 0 {
             0
         } else {
-            (self.next() % n as u64) as usize
+            self.0.below(n as u64) as usize
         }
     }
 }

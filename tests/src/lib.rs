@@ -1,5 +1,5 @@
 //! What the integration tests share: an in-process server on 127.0.0.1 over real QUIC, a
-//! scratch data directory, and a scripted player that keeps a mirror of the game.
+//! scratch data directory, and a scripted player on the client core (network client and replica).
 
 use std::net::SocketAddr;
 use std::path::{Path, PathBuf};
@@ -8,11 +8,13 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, bail, Result};
-use breakshot_client::net::{endpoint, Connection, Mirror, Session, SessionEvent};
+use breakshot_client::net::{Client, ClientEvent, Reconnect, Session, SessionEvent};
+use breakshot_client::play::game_flow::GameFlow;
 use breakshot_client::play::link::{GameEvent, GameLink};
+use breakshot_client::play::replica::Replica;
 use breakshot_server::{Config, Server, ServerError, Stats};
 use breakshot_shared::physics::Strike;
-use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, RoomCode, ServerMessage};
+use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, Role, RoomCode, ServerMessage};
 use breakshot_shared::rules::Game;
 use breakshot_shared::rules::{EightBallRules, Settings, Variant};
 use tokio::sync::oneshot;
@@ -122,33 +124,56 @@ impl TestServer {
     }
 }
 
-/// A scripted client: a connection and its mirror of the game.
+/// A scripted client: the client core's network client (with no reconnect, so a test
+/// scripts every connection) and its replica of the game.
 pub struct Player {
-    pub conn: Connection,
-    pub mirror: Mirror,
+    /// The network client.
+    pub client: Client,
+    /// The copy of the game, fed every message received.
+    pub replica: Replica,
 }
 
 impl Player {
+    /// Connects and says hello, once.
     pub async fn connect(invite: &Invite) -> Result<Player> {
-        let ep = endpoint()?;
-        let conn = Connection::open(&ep, invite).await?;
+        let client = Client::connect(invite.clone(), Reconnect::never()).await?;
         Ok(Player {
-            conn,
-            mirror: Mirror::default(),
+            client,
+            replica: Replica::default(),
         })
     }
 
+    /// Sends a message.
     pub async fn send(&mut self, msg: ClientMessage) -> Result<()> {
-        Ok(self.conn.send(&msg).await?)
+        Ok(self.client.send(&msg).await?)
     }
 
-    /// The next message (observed by the mirror).
+    /// The next message (applied to the replica).
     pub async fn recv(&mut self) -> Result<ServerMessage> {
-        let msg = tokio::time::timeout(PATIENCE, self.conn.recv())
+        let event = tokio::time::timeout(PATIENCE, self.client.recv())
             .await
             .map_err(|_| anyhow!("no message from the server"))??;
-        self.mirror.observe(&msg);
+        let ClientEvent::Message(msg) = event else {
+            bail!("a client that never reconnects reported {event:?}");
+        };
+        let me = match self.client.role() {
+            Some(Role::Player(seat)) => Some(seat),
+            _ => None,
+        };
+        self.replica.observe(&msg, me);
         Ok(msg)
+    }
+
+    /// The game as this player's replica holds it.
+    pub fn game(&self) -> Option<&Game> {
+        self.replica.game()
+    }
+
+    /// Closes the connection at once, as a pulled cable would.
+    pub fn pull_cable(&self) {
+        if let Some(quic) = self.client.quic() {
+            quic.close(0u32.into(), b"cable pulled");
+        }
     }
 
     /// Reads messages until one satisfies `want`, and returns it.
@@ -250,7 +275,7 @@ pub fn break_shot(game: &Game) -> ClientMessage {
 /// Polls a session the way a frame loop does (`try_recv`, then a few milliseconds of
 /// "drawing") until an event `want` accepts; fails on a closed session or after [`PATIENCE`].
 pub fn poll_until(
-    session: &Session,
+    session: &mut Session,
     what: &str,
     want: impl Fn(&SessionEvent) -> bool,
 ) -> SessionEvent {
@@ -269,16 +294,18 @@ pub fn poll_until(
     }
 }
 
-/// Polls a game link the way a game screen does until an event `want` accepts; fails after
-/// [`PATIENCE`].
+/// Polls a game link the way a game screen does, handing every event to the screen's
+/// `flow`, until an event `want` accepts; fails after [`PATIENCE`].
 pub fn poll_link_until(
     link: &mut dyn GameLink,
+    flow: &mut GameFlow,
     what: &str,
     want: impl Fn(&GameEvent) -> bool,
 ) -> GameEvent {
     let start = Instant::now();
     loop {
         while let Some(event) = link.poll() {
+            flow.handle(event.clone());
             if want(&event) {
                 return event;
             }

@@ -123,7 +123,7 @@ async fn a_spectator_sees_the_game_but_cannot_act() -> anyhow::Result<()> {
     assert_eq!(role, Role::Spectator);
     assert!(token.is_none(), "a spectator gets no seat token");
 
-    let game = watcher.mirror.game().expect("snapshot").clone();
+    let game = watcher.game().expect("snapshot").clone();
     for msg in [
         break_shot(&game),
         ClientMessage::Concede,
@@ -140,8 +140,8 @@ async fn a_spectator_sees_the_game_but_cannot_act() -> anyhow::Result<()> {
             matches!(m, ServerMessage::ShotResolved { .. })
         })
         .await?;
-    assert_eq!(watcher.mirror.confirmed(), 1);
-    assert_eq!(watcher.mirror.desyncs(), 0);
+    assert_eq!(watcher.replica.confirmed(), 1);
+    assert_eq!(watcher.replica.desyncs(), 0);
     server.stop().await
 }
 
@@ -151,7 +151,7 @@ async fn a_malformed_frame_closes_only_that_connection() -> anyhow::Result<()> {
     let server = TestServer::start(data.path()).await?;
     let (mut a, mut b, room) = seated_pair(&server.invite).await?;
     // A length prefix over the limit.
-    b.conn.send_raw(&[0x7f, 0xff, 0xff, 0xff]).await?;
+    b.client.send_raw(&[0x7f, 0xff, 0xff, 0xff]).await?;
     let left = a
         .until("PlayerLeft", |m| {
             matches!(m, ServerMessage::PlayerLeft { .. })

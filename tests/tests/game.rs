@@ -1,7 +1,10 @@
 //! Whole games between bots through a real server.
 
 use breakshot_client::bot::{run, BotConfig};
+use breakshot_client::net::fetch_record;
 use breakshot_server::verify::verify_dir;
+use breakshot_shared::replay::GameRecord;
+use breakshot_shared::rules::{Command, Game, Phase, Settings, Variant};
 use breakshot_tests::{TempDir, TestServer};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
@@ -26,5 +29,48 @@ async fn two_bots_play_a_full_eight_ball_game_and_every_hash_agrees() -> anyhow:
     assert_eq!(checks.len(), 1);
     assert!(checks[0].result.is_ok(), "{:?}", checks[0].result);
     assert!(checks[0].finished);
+    Ok(())
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_nine_ball_game_with_called_shots_is_played_through_the_client_core() -> anyhow::Result<()>
+{
+    let data = TempDir::new("nine-called");
+    let server = TestServer::start(data.path()).await?;
+    let mut config = BotConfig::new(server.invite.clone(), 1);
+    config.variant = Variant::NineBall;
+    config.settings = Settings {
+        call_every_shot: true,
+        ..Settings::offline()
+    };
+    let report = run(&config).await;
+    let room = report.games[0].room.clone().expect("a room was opened");
+    let fetched = fetch_record(&server.invite, &room).await?;
+    server.stop().await?;
+
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert_eq!(report.games_completed, 1);
+    assert_eq!(report.desyncs, 0);
+    assert_eq!(report.confirmed, 2 * report.shots);
+    // The rules asked for a pocket on every shot after the break, the players named one,
+    // and the server accepted each: the game ended by the rules, not by a concession.
+    let record = GameRecord::decode(&fetched.bytes)?;
+    assert!(fetched.finished);
+    let mut game = Game::new(record.variant, record.settings, record.seed);
+    let mut called = 0;
+    for e in &record.entries {
+        if let Command::Shot { call, .. } = &e.command {
+            assert_eq!(call.is_some(), game.needs_call(), "turn {}", game.turn());
+            called += usize::from(call.is_some());
+        }
+        assert_ne!(e.command, Command::Concede, "{}", report.games[0].reason);
+        game.apply(e.seat, &e.command)?;
+    }
+    assert!(called > 0, "no shot after the break");
+    assert!(matches!(game.phase(), Phase::Over { .. }));
+    eprintln!(
+        "9-ball over after {} shots ({called} called): {}",
+        report.shots, report.games[0].reason
+    );
     Ok(())
 }

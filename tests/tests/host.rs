@@ -4,6 +4,7 @@
 use std::time::{Duration, Instant};
 
 use breakshot_client::net::{Host, HostOptions, NetLink, Session, SessionEvent};
+use breakshot_client::play::game_flow::GameFlow;
 use breakshot_client::play::link::{GameEvent, GameLink};
 use breakshot_client::view::hud::Connection;
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, Role, ServerMessage};
@@ -24,6 +25,8 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
         address: None,
     };
     let mut host = Host::start(&options)?;
+    let mut host_flow = GameFlow::new(Connection::Connecting);
+    let mut guest_flow = GameFlow::new(Connection::Connecting);
 
     // The invite is text naming the bound address, a room and the server's certificate.
     let text = host.invite().to_string();
@@ -35,9 +38,9 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
     assert!(data.path().join("server").join("cert.der").is_file());
 
     // The host holds seat A and waits for the opponent, with the room's aid policy.
-    let GameEvent::Started(game) =
-        poll_link_until(&mut host, "Started", |e| matches!(e, GameEvent::Started(_)))
-    else {
+    let GameEvent::Started(game) = poll_link_until(&mut host, &mut host_flow, "Started", |e| {
+        matches!(e, GameEvent::Started(_))
+    }) else {
         unreachable!()
     };
     assert_eq!(host.seat(), Some(Seat::A));
@@ -48,15 +51,15 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
         name: "guest".into(),
     });
     let mut guest = NetLink::new(guest);
-    let policy = poll_link_until(&mut guest, "the aid policy", |e| {
+    let policy = poll_link_until(&mut guest, &mut guest_flow, "the aid policy", |e| {
         matches!(e, GameEvent::AimAid(_))
     });
     assert_eq!(policy, GameEvent::AimAid(AimAid::FirstContact));
-    poll_link_until(&mut guest, "Started", |e| {
+    poll_link_until(&mut guest, &mut guest_flow, "Started", |e| {
         matches!(e, GameEvent::Started(_))
     });
     assert_eq!(guest.seat(), Some(Seat::B));
-    poll_link_until(&mut host, "the opponent", |e| {
+    poll_link_until(&mut host, &mut host_flow, "the opponent", |e| {
         *e == GameEvent::Connection(Connection::Connected)
     });
 
@@ -64,19 +67,23 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
     let ClientMessage::Shot { strike, .. } = break_shot(&game) else {
         unreachable!()
     };
-    host.send(Seat::A, Command::Shot { strike, call: None });
+    host.send(&game, Seat::A, Command::Shot { strike, call: None });
     let mut hashes = Vec::new();
-    for link in [&mut host as &mut dyn GameLink, &mut guest] {
+    for (link, flow) in [
+        (&mut host as &mut dyn GameLink, &mut host_flow),
+        (&mut guest, &mut guest_flow),
+    ] {
         let GameEvent::Judged(j) =
-            poll_link_until(link, "Judged", |e| matches!(e, GameEvent::Judged(_)))
+            poll_link_until(link, flow, "Judged", |e| matches!(e, GameEvent::Judged(_)))
         else {
             unreachable!()
         };
         hashes.push(j.hash.expect("a shot has a hash"));
     }
     assert_eq!(hashes[0], hashes[1]);
-    for mirror in [host.link().session().mirror(), guest.session().mirror()] {
-        assert_eq!((mirror.confirmed(), mirror.desyncs()), (1, 0));
+    for flow in [&host_flow, &guest_flow] {
+        let replica = flow.replica();
+        assert_eq!((replica.confirmed(), replica.desyncs()), (1, 0));
     }
     drop(guest);
     drop(host);
@@ -129,35 +136,35 @@ fn a_session_reconnects_and_takes_its_seat_back_after_a_server_restart() -> anyh
     let server = runtime.block_on(TestServer::start(data.path()))?;
     let addr = server.addr;
 
-    let a = Session::connect(server.invite.clone());
+    let mut a = Session::connect(server.invite.clone());
     a.send(ClientMessage::CreateRoom {
         variant: eight_ball(),
         mode: Settings::offline(),
         aim_aid: AimAid::Full,
         name: "ann".into(),
     });
-    poll_until(&a, "Joined", |e| {
+    poll_until(&mut a, "Joined", |e| {
         matches!(e, SessionEvent::Message(ServerMessage::Joined { .. }))
     });
-    let room = a.mirror().room().cloned().expect("room");
-    let b = Session::connect(server.invite.clone());
+    let room = a.room().cloned().expect("room");
+    let mut b = Session::connect(server.invite.clone());
     b.send(ClientMessage::Join {
         room: room.clone(),
         name: "ben".into(),
     });
-    poll_until(&a, "PlayerJoined", |e| {
+    poll_until(&mut a, "PlayerJoined", |e| {
         matches!(e, SessionEvent::Message(ServerMessage::PlayerJoined { .. }))
     });
 
     // A session with no seat is not reconnected: it reports the loss.
-    let watcher = Session::connect(server.invite.clone());
+    let mut watcher = Session::connect(server.invite.clone());
     watcher.send(ClientMessage::Spectate { room });
-    poll_until(&watcher, "Joined", |e| {
+    poll_until(&mut watcher, "Joined", |e| {
         matches!(e, SessionEvent::Message(ServerMessage::Joined { .. }))
     });
 
     runtime.block_on(server.stop())?;
-    for s in [&a, &b] {
+    for s in [&mut a, &mut b] {
         poll_until(s, "Reconnecting", |e| *e == SessionEvent::Reconnecting);
     }
     let start = Instant::now();
@@ -177,11 +184,11 @@ fn a_session_reconnects_and_takes_its_seat_back_after_a_server_restart() -> anyh
 
     // The server comes back on the same address; the session rejoins its seat by itself.
     let server = runtime.block_on(TestServer::start_at(addr, data.path()))?;
-    for (s, seat) in [(&a, Seat::A), (&b, Seat::B)] {
+    for (s, seat) in [(&mut a, Seat::A), (&mut b, Seat::B)] {
         poll_until(s, "Joined again", |e| {
             matches!(e, SessionEvent::Message(ServerMessage::Joined { .. }))
         });
-        assert_eq!(s.mirror().role(), Some(Role::Player(seat)));
+        assert_eq!(s.role(), Some(Role::Player(seat)));
     }
     drop((a, b, watcher));
     runtime.block_on(server.stop())

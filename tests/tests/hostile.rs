@@ -226,7 +226,7 @@ async fn hostile_clients_cost_only_their_own_connections() -> Result<()> {
     let mut host = Player::connect(&server.invite).await?;
     let room = create_room(&mut host, "host").await?;
     let mut guest = Player::connect(&server.invite).await?;
-    let game = host.mirror.game().expect("snapshot").clone();
+    let game = host.game().expect("snapshot").clone();
     guest.send(break_shot(&game)).await?;
     assert!(matches!(
         guest.error().await?,
@@ -258,8 +258,9 @@ async fn hostile_clients_cost_only_their_own_connections() -> Result<()> {
     let mut flooder = Player::connect(&server.invite).await?;
     let frame = encode_frame(&ClientMessage::Concede)?;
     let burst: Vec<u8> = frame.repeat(3_000);
-    let _ = flooder.conn.send_raw(&burst).await;
-    let why = tokio::time::timeout(PATIENCE, flooder.conn.quic().closed()).await?;
+    let _ = flooder.client.send_raw(&burst).await;
+    let why =
+        tokio::time::timeout(PATIENCE, flooder.client.quic().expect("connected").closed()).await?;
     assert!(why.to_string().contains("too many messages"), "{why}");
 
     // A client that never reads: its window is a few hundred bytes, so everything it is sent

@@ -15,10 +15,10 @@ async fn a_dropped_player_rejoins_with_its_token_and_play_continues() -> anyhow:
     let data = TempDir::new("rejoin");
     let server = TestServer::start(data.path()).await?;
     let (mut a, b, _room) = seated_pair(&server.invite).await?;
-    let token = b.mirror.token().expect("seat B got a token");
+    let token = b.client.token().expect("seat B got a token");
 
     // B's connection dies; A is told, with the reconnect window.
-    b.conn.quic().close(0u32.into(), b"cable pulled");
+    b.pull_cable();
     let left = a
         .until("PlayerLeft", |m| {
             matches!(m, ServerMessage::PlayerLeft { .. })
@@ -31,13 +31,13 @@ async fn a_dropped_player_rejoins_with_its_token_and_play_continues() -> anyhow:
     assert!(reconnect_ms > 0);
 
     // A breaks while B is away; the seat is held.
-    let game = a.mirror.game().expect("A has the game").clone();
+    let game = a.game().expect("A has the game").clone();
     a.send(break_shot(&game)).await?;
     a.until("TurnChanged", |m| {
         matches!(m, ServerMessage::TurnChanged { .. })
     })
     .await?;
-    let turn_after_break = a.mirror.game().expect("game").turn();
+    let turn_after_break = a.game().expect("game").turn();
 
     // B comes back on a new connection with its token and sees the table as it is now.
     let mut b2 = Player::connect(&server.invite).await?;
@@ -49,7 +49,7 @@ async fn a_dropped_player_rejoins_with_its_token_and_play_continues() -> anyhow:
         unreachable!()
     };
     assert_eq!(role, Role::Player(Seat::B));
-    assert_eq!(snapshot.game, *a.mirror.game().expect("game"));
+    assert_eq!(snapshot.game, *a.game().expect("game"));
     assert_eq!(snapshot.game.turn(), turn_after_break);
     a.until("PlayerBack", |m| {
         matches!(m, ServerMessage::PlayerBack { seat: Seat::B })
@@ -57,7 +57,7 @@ async fn a_dropped_player_rejoins_with_its_token_and_play_continues() -> anyhow:
     .await?;
 
     // And play continues: whoever is to move shoots, both see the result with equal hashes.
-    let game = b2.mirror.game().expect("game").clone();
+    let game = b2.game().expect("game").clone();
     let shooter = if game.to_move() == Seat::B {
         &mut b2
     } else {
@@ -74,11 +74,11 @@ async fn a_dropped_player_rejoins_with_its_token_and_play_continues() -> anyhow:
             )
         })
         .await?;
-        assert!(p.mirror.game().expect("game").turn() > turn_after_break);
+        assert!(p.game().expect("game").turn() > turn_after_break);
     }
-    assert_eq!(a.mirror.desyncs() + b2.mirror.desyncs(), 0);
+    assert_eq!(a.replica.desyncs() + b2.replica.desyncs(), 0);
     if shot {
-        assert_eq!(b2.mirror.confirmed(), 1);
+        assert_eq!(b2.replica.confirmed(), 1);
     }
     drop(b);
     server.stop().await
@@ -155,8 +155,8 @@ fn a_client_killed_mid_shot_rejoins_and_gets_its_seat_back() -> anyhow::Result<(
         breakshot_tests::create_room(&mut a, "ann").await?;
         anyhow::Ok(a)
     })?;
-    let room = a.mirror.room().cloned().expect("room");
-    let token = a.mirror.token().expect("token");
+    let room = a.client.room().cloned().expect("room");
+    let token = a.client.token().expect("token");
     let mut b = main.block_on(async {
         let mut b = Player::connect(&server.invite).await?;
         b.send(ClientMessage::Join {
@@ -173,7 +173,7 @@ fn a_client_killed_mid_shot_rejoins_and_gets_its_seat_back() -> anyhow::Result<(
     }))?;
 
     // A shoots and dies before it sees the result.
-    let game = a.mirror.game().expect("game").clone();
+    let game = a.game().expect("game").clone();
     victim.block_on(a.send(break_shot(&game)))?;
     main.block_on(b.until("ShotResolved", |m| {
         matches!(m, ServerMessage::ShotResolved { .. })
@@ -196,7 +196,7 @@ fn a_client_killed_mid_shot_rejoins_and_gets_its_seat_back() -> anyhow::Result<(
             unreachable!()
         };
         assert_eq!(role, Role::Player(Seat::A));
-        assert_eq!(snapshot.game, *b.mirror.game().expect("game"));
+        assert_eq!(snapshot.game, *b.game().expect("game"));
         assert!(snapshot.game.turn() > game.turn());
         let now = snapshot.game.clone();
         let mv = Chooser::new(3).choose(&now).expect("the game is on");
@@ -214,7 +214,7 @@ fn a_client_killed_mid_shot_rejoins_and_gets_its_seat_back() -> anyhow::Result<(
                 )
             })
             .await?;
-            assert!(p.mirror.game().expect("game").turn() > now.turn());
+            assert!(p.game().expect("game").turn() > now.turn());
         }
         server.stop().await
     })

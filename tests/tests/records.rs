@@ -15,7 +15,7 @@ async fn a_game_in_play_is_fetched_by_room_code_and_replays_to_the_servers_table
     let server = TestServer::start(data.path()).await?;
     let (mut a, mut b, room) = seated_pair(&server.invite).await?;
 
-    let Some(game) = a.mirror.game() else {
+    let Some(game) = a.game() else {
         bail!("no game after joining");
     };
     a.send(break_shot(game)).await?;
@@ -49,7 +49,7 @@ async fn a_game_in_play_is_fetched_by_room_code_and_replays_to_the_servers_table
     // Replaying checks every hash, and ends on the table the server announced.
     let replayed = record.replay()?;
     assert_eq!(replayed.balls(), &balls[..]);
-    let Some(mirror) = a.mirror.game() else {
+    let Some(mirror) = a.game() else {
         bail!("the player lost its game");
     };
     assert_eq!(replayed.turn(), mirror.turn());

@@ -45,10 +45,10 @@ async fn a_seat_token_opens_only_its_own_room_and_seat() -> Result<()> {
     let (a2, b2, room2) = seated_pair(&server.invite).await?;
     assert_ne!(room1, room2);
     let tokens = [
-        (a1.mirror.token().expect("token"), &room1, Seat::A),
-        (b1.mirror.token().expect("token"), &room1, Seat::B),
-        (a2.mirror.token().expect("token"), &room2, Seat::A),
-        (b2.mirror.token().expect("token"), &room2, Seat::B),
+        (a1.client.token().expect("token"), &room1, Seat::A),
+        (b1.client.token().expect("token"), &room1, Seat::B),
+        (a2.client.token().expect("token"), &room2, Seat::A),
+        (b2.client.token().expect("token"), &room2, Seat::B),
     ];
     drop((a1, b1, a2, b2));
     for (token, room, seat) in tokens {
@@ -75,7 +75,7 @@ async fn a_spectator_cannot_send_any_game_command() -> Result<()> {
     watcher
         .until("Joined", |m| matches!(m, ServerMessage::Joined { .. }))
         .await?;
-    let game = a.mirror.game().expect("snapshot").clone();
+    let game = a.game().expect("snapshot").clone();
     let turn = game.turn();
     for msg in [
         break_shot(&game),

@@ -1,11 +1,18 @@
 //! The polling session a frame loop uses: it never blocks, and it predicts and confirms
 //! shots like the bots do.
 
-use breakshot_client::net::{Check, NetLink, Session, SessionEvent};
+use std::time::{Duration, Instant};
+
+use breakshot_client::net::{NetLink, Session, SessionEvent};
+use breakshot_client::play::game_flow::GameFlow;
 use breakshot_client::play::link::{GameEvent, GameLink};
+use breakshot_client::play::replica::{Check, Replica};
+use breakshot_client::view::hud::Connection;
 use breakshot_shared::protocol::{AimAid, ClientMessage, Role, ServerMessage};
 use breakshot_shared::rules::{Command, Seat, Settings};
-use breakshot_tests::{break_shot, eight_ball, poll_link_until, poll_until, TempDir, TestServer};
+use breakshot_tests::{
+    break_shot, eight_ball, poll_link_until, poll_until, TempDir, TestServer, PATIENCE,
+};
 
 #[test]
 fn a_polled_session_plays_and_confirms_a_shot() -> anyhow::Result<()> {
@@ -13,8 +20,10 @@ fn a_polled_session_plays_and_confirms_a_shot() -> anyhow::Result<()> {
     let data = TempDir::new("session");
     let server = runtime.block_on(TestServer::start(data.path()))?;
 
-    let a = Session::connect(server.invite.clone());
-    poll_until(&a, "Connected", |e| matches!(e, SessionEvent::Connected));
+    let mut a = Session::connect(server.invite.clone());
+    poll_until(&mut a, "Connected", |e| {
+        matches!(e, SessionEvent::Connected)
+    });
     a.send(ClientMessage::CreateRoom {
         variant: eight_ball(),
         mode: Settings::offline(),
@@ -22,31 +31,47 @@ fn a_polled_session_plays_and_confirms_a_shot() -> anyhow::Result<()> {
         name: "ann".into(),
     });
     let SessionEvent::Message(ServerMessage::Joined { snapshot, .. }) =
-        poll_until(&a, "Joined", |e| {
+        poll_until(&mut a, "Joined", |e| {
             matches!(e, SessionEvent::Message(ServerMessage::Joined { .. }))
         })
     else {
         unreachable!()
     };
-    assert_eq!(a.mirror().role(), Some(Role::Player(Seat::A)));
-    assert!(a.mirror().token().is_some());
+    assert_eq!(a.role(), Some(Role::Player(Seat::A)));
 
-    let b = Session::connect(server.invite.with_room(snapshot.room.clone()));
-    poll_until(&b, "Connected", |e| matches!(e, SessionEvent::Connected));
+    let mut b = Session::connect(server.invite.with_room(snapshot.room.clone()));
+    poll_until(&mut b, "Connected", |e| {
+        matches!(e, SessionEvent::Connected)
+    });
     b.send(ClientMessage::Join {
         room: snapshot.room.clone(),
         name: "ben".into(),
     });
-    poll_until(&a, "PlayerJoined", |e| {
+    poll_until(&mut a, "PlayerJoined", |e| {
         matches!(e, SessionEvent::Message(ServerMessage::PlayerJoined { .. }))
     });
 
     a.send(break_shot(&snapshot.game));
-    for s in [&a, &b] {
-        poll_until(s, "the check", |e| {
-            matches!(e, SessionEvent::Check(Check::Confirmed { turn: 0 }))
-        });
-        assert_eq!(s.mirror().desyncs(), 0);
+    for s in [&mut a, &mut b] {
+        // The session's messages drive a replica, as the bot's and the screen's do.
+        let mut replica = Replica::default();
+        replica.start(snapshot.game.clone());
+        let start = Instant::now();
+        let checks = loop {
+            assert!(start.elapsed() < PATIENCE, "no shot result");
+            match s.recv_timeout(Duration::from_millis(50)) {
+                Some(SessionEvent::Message(msg)) => {
+                    let checks = replica.observe(&msg, s.seat());
+                    if matches!(msg, ServerMessage::ShotResolved { .. }) {
+                        break checks;
+                    }
+                }
+                Some(SessionEvent::Closed(why)) => panic!("closed: {why}"),
+                _ => {}
+            }
+        };
+        assert_eq!(checks, vec![Check::Confirmed { turn: 0 }]);
+        assert_eq!(replica.desyncs(), 0);
     }
     drop((a, b));
     runtime.block_on(server.stop())
@@ -66,20 +91,24 @@ fn a_network_link_gives_a_game_screen_the_server_s_events() -> anyhow::Result<()
         name: "ann".into(),
     });
     let mut a = NetLink::new(host);
-    let GameEvent::Started(game) =
-        poll_link_until(&mut a, "Started", |e| matches!(e, GameEvent::Started(_)))
-    else {
+    let mut a_flow = GameFlow::new(Connection::Connecting);
+    let mut b_flow = GameFlow::new(Connection::Connecting);
+    let GameEvent::Started(game) = poll_link_until(&mut a, &mut a_flow, "Started", |e| {
+        matches!(e, GameEvent::Started(_))
+    }) else {
         unreachable!()
     };
     assert_eq!(a.seat(), Some(Seat::A));
-    let room = a.session().mirror().room().cloned().expect("room");
+    let room = a.session().room().cloned().expect("room");
     let guest = Session::connect(server.invite.with_room(room.clone()));
     guest.send(ClientMessage::Join {
         room,
         name: "ben".into(),
     });
     let mut b = NetLink::new(guest);
-    poll_link_until(&mut b, "Started", |e| matches!(e, GameEvent::Started(_)));
+    poll_link_until(&mut b, &mut b_flow, "Started", |e| {
+        matches!(e, GameEvent::Started(_))
+    });
     assert_eq!(b.seat(), Some(Seat::B));
 
     // B may not break; A's break reaches both screens as accepted, then judged with the
@@ -88,9 +117,11 @@ fn a_network_link_gives_a_game_screen_the_server_s_events() -> anyhow::Result<()
         unreachable!()
     };
     let command = Command::Shot { strike, call: None };
-    b.send(Seat::B, command.clone());
-    poll_link_until(&mut b, "Refused", |e| matches!(e, GameEvent::Refused(_)));
-    a.send(Seat::A, command.clone());
+    b.send(&game, Seat::B, command.clone());
+    poll_link_until(&mut b, &mut b_flow, "Refused", |e| {
+        matches!(e, GameEvent::Refused(_))
+    });
+    a.send(&game, Seat::A, command.clone());
     let mut local = (*game).clone();
     let expected = local.apply(
         Seat::A,
@@ -99,8 +130,8 @@ fn a_network_link_gives_a_game_screen_the_server_s_events() -> anyhow::Result<()
             call: None,
         },
     )?;
-    for link in [&mut a, &mut b] {
-        let accepted = poll_link_until(link, "Accepted", |e| {
+    for (link, flow) in [(&mut a, &mut a_flow), (&mut b, &mut b_flow)] {
+        let accepted = poll_link_until(link, flow, "Accepted", |e| {
             matches!(e, GameEvent::Accepted { .. })
         });
         assert!(matches!(
@@ -108,7 +139,7 @@ fn a_network_link_gives_a_game_screen_the_server_s_events() -> anyhow::Result<()
             GameEvent::Accepted { seat: Seat::A, .. }
         ));
         let GameEvent::Judged(judgement) =
-            poll_link_until(link, "Judged", |e| matches!(e, GameEvent::Judged(_)))
+            poll_link_until(link, flow, "Judged", |e| matches!(e, GameEvent::Judged(_)))
         else {
             unreachable!()
         };

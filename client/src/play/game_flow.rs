@@ -3,12 +3,12 @@
 //! plays, its hash checked against the verdict's, and the table the rules leave (balls
 //! spotted, re-racks) appears when it ends.
 
-use breakshot_shared::physics::{simulate, BallState, MotionState, Strike};
+use breakshot_shared::physics::{BallState, Strike};
 use breakshot_shared::protocol::AimAid;
-use breakshot_shared::rules::{rack, Command, Game, InHand, Phase, Seat, Variant};
-use glam::DVec2;
+use breakshot_shared::rules::{Choice, Command, Game, InHand, Phase, Seat, TurnId};
 
 use super::link::{GameEvent, Judgement};
+use super::replica::Replica;
 use crate::view::hud::Connection;
 use crate::view::playback::Playback;
 
@@ -19,28 +19,31 @@ pub enum Turn {
     Wait,
     /// Shoot (placing the cue ball first if `in_hand`); `call` says a pocket must be called.
     Shoot {
+        /// The seat to shoot.
         seat: Seat,
+        /// Where the cue ball may be placed first, if it is in hand.
         in_hand: Option<InHand>,
+        /// The shot must name a pocket.
         call: bool,
     },
     /// Pick one of the rules' options.
     Decide {
+        /// The seat to choose.
         seat: Seat,
-        options: Vec<breakshot_shared::rules::Choice>,
+        /// The options offered.
+        options: Vec<Choice>,
     },
 }
 
+/// A game screen's state: the [`Replica`] of the game, and what the screen shows around it.
 pub struct GameFlow {
-    game: Option<Game>,
-    shot: Option<Playback>,
+    replica: Replica,
+    /// The judgement of the last command, as shown.
     pub last_verdict: Option<Judgement>,
-    /// The hash of the last shot as simulated here, until its judgement arrives.
-    predicted: Option<u64>,
+    /// The line of text under the table.
     pub message: String,
+    /// The connection state shown.
     pub connection: Connection,
-    /// Shots whose hash here differed from the verdict's.
-    pub desyncs: u32,
-    pub shots: u32,
     /// The pocket called for the next shot.
     pub call: Option<u8>,
     /// Seconds left on the shot clock, counting down.
@@ -50,77 +53,82 @@ pub struct GameFlow {
 }
 
 impl GameFlow {
+    /// A screen with no game yet.
     pub fn new(connection: Connection) -> GameFlow {
         GameFlow {
-            game: None,
-            shot: None,
+            replica: Replica::default(),
             last_verdict: None,
-            predicted: None,
             message: String::new(),
             connection,
-            desyncs: 0,
-            shots: 0,
             call: None,
             shot_clock: None,
             aim_aid: AimAid::Full,
         }
     }
 
-    pub fn game(&self) -> Option<&Game> {
-        self.game.as_ref()
+    /// The copy of the game shown (its desync count is the one the overlay shows).
+    pub fn replica(&self) -> &Replica {
+        &self.replica
     }
 
+    /// The game as the rules left it.
+    pub fn game(&self) -> Option<&Game> {
+        self.replica.game()
+    }
+
+    /// The shot being shown.
     pub fn shot(&self) -> Option<&Playback> {
-        self.shot.as_ref()
+        self.replica.playback()
     }
 
     /// Applies one event from the link.
     pub fn handle(&mut self, event: GameEvent) {
-        match event {
-            GameEvent::Started(game) => {
-                self.game = Some(*game);
-                self.shot = None;
+        match &event {
+            GameEvent::Started(_) => {
                 self.last_verdict = None;
                 self.call = None;
                 self.message = "New game".into();
             }
-            GameEvent::Accepted { seat, command } => self.accepted(seat, &command),
-            GameEvent::Judged(j) => self.judged(j),
+            GameEvent::Accepted {
+                turn,
+                seat,
+                command,
+            } => {
+                self.accepted(*turn, *seat, command);
+                return;
+            }
+            GameEvent::Decided {
+                turn,
+                seat,
+                command,
+            } => {
+                // The rules here decide: their verdict is the judgement.
+                if let Some(v) = self.accepted(*turn, *seat, command) {
+                    self.last_verdict = Some(Judgement::of(&v));
+                }
+                return;
+            }
+            GameEvent::Judged(j) => self.last_verdict = Some(j.clone()),
             GameEvent::Refused(why) => self.message = format!("Refused: {why}"),
-            GameEvent::Connection(c) => self.connection = c,
+            GameEvent::Connection(c) => self.connection = c.clone(),
             GameEvent::ShotClock(s) => self.shot_clock = s.filter(|s| s.is_finite()),
-            GameEvent::AimAid(policy) => self.aim_aid = policy,
+            GameEvent::AimAid(policy) => self.aim_aid = *policy,
         }
+        self.replica.handle(&event);
     }
 
-    /// Applies an accepted command to the copy here; a shot starts playing at once.
-    fn accepted(&mut self, seat: Seat, command: &Command) {
-        let Some(game) = &mut self.game else { return };
-        self.shot = None;
-        self.predicted = None;
-        if let Command::Shot { strike, .. } = command {
-            if let Ok(outcome) = simulate(&game.shot_for(strike)) {
-                self.predicted = Some(outcome.hash());
-                self.shot = Some(Playback::new(outcome));
-            }
-            self.shots += 1;
+    /// Applies an accepted command to the replica; a shot starts playing at once.
+    fn accepted(
+        &mut self,
+        turn: TurnId,
+        seat: Seat,
+        command: &Command,
+    ) -> Option<breakshot_shared::rules::Verdict> {
+        if matches!(command, Command::Shot { .. }) {
             self.call = None;
         }
-        if game.apply(seat, command).is_err() {
-            // The copy here disagrees with the side that decides.
-            self.desyncs += 1;
-        }
         self.message = String::new();
-    }
-
-    /// The judgement of the last command; a shot's hash must match the one computed here.
-    fn judged(&mut self, j: Judgement) {
-        if let Some(hash) = j.hash {
-            if self.predicted.take() != Some(hash) {
-                self.desyncs += 1;
-            }
-        }
-        self.last_verdict = Some(j);
+        self.replica.accept(turn, seat, command).ok().flatten()
     }
 
     /// Moves the shot being shown on, and the clocks down.
@@ -136,41 +144,30 @@ impl GameFlow {
         if let Connection::OpponentLeft { seconds_left } = &mut self.connection {
             *seconds_left = (*seconds_left - dt).max(0.0);
         }
-        if let Some(p) = &mut self.shot {
-            p.advance(wall_dt, 1.0);
-            if p.finished() {
-                self.shot = None;
-            }
-        }
+        self.replica.tick(wall_dt, 1.0);
     }
 
+    /// Stops showing the shot.
     pub fn skip(&mut self) {
-        self.shot = None;
+        self.replica.skip();
     }
 
     /// The balls as shown now.
     pub fn balls(&self) -> Vec<BallState> {
-        match (&self.shot, &self.game) {
-            (Some(p), _) => p.balls(),
-            (None, Some(g)) => g.balls().to_vec(),
-            (None, None) => Vec::new(),
-        }
+        self.replica.balls()
     }
 
     /// Balls off the table now.
     pub fn tray(&self) -> Vec<usize> {
-        let balls = self.balls();
-        (1..balls.len())
-            .filter(|&b| balls[b].motion == MotionState::Pocketed)
-            .collect()
+        self.replica.tray()
     }
 
     /// What `me` (None: whoever is to move) may do now.
     pub fn turn(&self, me: Option<Seat>) -> Turn {
-        let Some(game) = &self.game else {
+        let Some(game) = self.game() else {
             return Turn::Wait;
         };
-        if self.shot.is_some() {
+        if self.shot().is_some() {
             return Turn::Wait;
         }
         let seat = game.to_move();
@@ -181,7 +178,7 @@ impl GameFlow {
             Phase::Shooting { in_hand, .. } => Turn::Shoot {
                 seat,
                 in_hand: *in_hand,
-                call: needs_call(game),
+                call: game.needs_call(),
             },
             Phase::Deciding { options } => Turn::Decide {
                 seat,
@@ -194,8 +191,8 @@ impl GameFlow {
     /// The shot command for `strike`, with the called pocket; None (and a message) if a
     /// call is needed and missing.
     pub fn shot_command(&mut self, strike: Strike) -> Option<Command> {
-        let game = self.game.as_ref()?;
-        if needs_call(game) && self.call.is_none() {
+        let game = self.game()?;
+        if game.needs_call() && self.call.is_none() {
             self.message = "Call a pocket first: click the pocket".into();
             return None;
         }
@@ -206,30 +203,13 @@ impl GameFlow {
     }
 }
 
-/// Whether the shot must name a pocket: 8-ball when shooting at the 8, or every shot when the
-/// game is played with called shots. Never on the break.
-pub fn needs_call(game: &Game) -> bool {
-    if game.is_break() || !matches!(game.variant(), Variant::EightBall(_)) {
-        return false;
-    }
-    game.settings().call_every_shot || game.legal_first_balls() == [8]
-}
-
-/// The part of the cloth where the cue ball may go in hand, as scene-coordinate corners
-/// (min, max) of a rectangle.
-pub fn in_hand_area(game: &Game, area: InHand) -> (DVec2, DVec2) {
-    let (w, l) = rack::table_size(game.table());
-    match area {
-        InHand::Kitchen => (DVec2::ZERO, DVec2::new(w, rack::head_string(game.table()))),
-        InHand::Anywhere => (DVec2::ZERO, DVec2::new(w, l)),
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::play::link::{GameLink, LocalLink};
-    use breakshot_shared::rules::{EightBallRules, Settings};
+    use breakshot_shared::physics::simulations_on_this_thread;
+    use breakshot_shared::rules::{EightBallRules, Settings, Variant};
+    use glam::DVec2;
 
     fn drain(link: &mut LocalLink, flow: &mut GameFlow) {
         while let Some(e) = link.poll() {
@@ -248,6 +228,12 @@ mod tests {
         (link, flow)
     }
 
+    fn send(link: &mut LocalLink, flow: &mut GameFlow, seat: Seat, command: Command) {
+        let game = flow.game().expect("a game").clone();
+        link.send(&game, seat, command);
+        drain(link, flow);
+    }
+
     #[test]
     fn a_shot_is_shown_then_the_rules_table_appears() {
         let (mut link, mut flow) = local();
@@ -263,11 +249,10 @@ mod tests {
         assert_eq!(in_hand, Some(InHand::Kitchen));
         let strike = Strike::at_angle(8.0, 90.0, DVec2::ZERO);
         let cmd = flow.shot_command(strike).expect("no call on the break");
-        link.send(seat, cmd);
-        drain(&mut link, &mut flow);
+        send(&mut link, &mut flow, seat, cmd);
         assert!(flow.shot().is_some());
         assert_eq!(flow.turn(None), Turn::Wait, "nobody moves while balls roll");
-        assert_eq!(flow.desyncs, 0);
+        assert_eq!(flow.replica().desyncs(), 0);
         let rack = flow.balls();
         flow.tick(0.01);
         assert_ne!(flow.balls()[0].pos, rack[0].pos, "the cue ball is moving");
@@ -275,6 +260,33 @@ mod tests {
         assert!(flow.shot().is_none());
         assert_eq!(flow.game().expect("game").balls(), flow.balls().as_slice());
         assert!(flow.last_verdict.is_some());
+    }
+
+    #[test]
+    fn a_shot_is_simulated_once_by_a_screen() {
+        for (name, deciding_elsewhere) in [("local", false), ("network", true)] {
+            let (mut link, mut flow) = local();
+            let game = flow.game().expect("game").clone();
+            let strike = Strike::at_angle(8.0, 90.0, DVec2::ZERO);
+            let command = Command::Shot { strike, call: None };
+            let before = simulations_on_this_thread();
+            if deciding_elsewhere {
+                // As a network link gives it: accepted, then judged with the server's hash
+                // (computed beforehand, outside the count).
+                flow.handle(GameEvent::Accepted {
+                    turn: game.turn(),
+                    seat: Seat::A,
+                    command,
+                });
+                flow.handle(GameEvent::Judged(Judgement::default()));
+            } else {
+                send(&mut link, &mut flow, Seat::A, command);
+            }
+            while flow.shot().is_some() {
+                flow.tick(0.05);
+            }
+            assert_eq!(simulations_on_this_thread() - before, 1, "{name}");
+        }
     }
 
     #[test]
@@ -288,8 +300,12 @@ mod tests {
     fn refusals_change_nothing_and_are_shown() {
         let (mut link, mut flow) = local();
         let before = flow.game().cloned();
-        link.send(Seat::B, Command::PlaceCueBall { pos: [0.5, 0.3] });
-        drain(&mut link, &mut flow);
+        send(
+            &mut link,
+            &mut flow,
+            Seat::B,
+            Command::PlaceCueBall { pos: [0.5, 0.3] },
+        );
         assert_eq!(flow.game().cloned(), before);
         assert!(flow.message.starts_with("Refused"), "{}", flow.message);
     }
@@ -303,31 +319,59 @@ mod tests {
         let verdict = other.apply(Seat::A, &command).expect("legal");
         let mut judgement = Judgement::of(&verdict);
         flow.handle(GameEvent::Accepted {
+            turn: 0,
             seat: Seat::A,
             command: command.clone(),
         });
         flow.handle(GameEvent::Judged(judgement.clone()));
-        assert_eq!(flow.desyncs, 0, "the same engine gives the same hash");
+        assert_eq!(
+            flow.replica().desyncs(),
+            0,
+            "the same engine gives the same hash"
+        );
+        assert_eq!(flow.replica().confirmed(), 1);
         assert_eq!(flow.game(), Some(&other));
 
         let (_, mut flow) = local();
         judgement.hash = judgement.hash.map(|h| h ^ 1);
         flow.handle(GameEvent::Accepted {
+            turn: 0,
             seat: Seat::A,
             command,
         });
         flow.handle(GameEvent::Judged(judgement));
-        assert_eq!(flow.desyncs, 1);
+        assert_eq!(flow.replica().desyncs(), 1);
     }
 
     #[test]
-    fn kitchen_is_the_head_quarter_of_the_table() {
+    fn a_nine_ball_game_with_called_shots_asks_for_a_pocket_after_the_break() {
+        let settings = Settings {
+            call_every_shot: true,
+            ..Settings::offline()
+        };
+        let mut link = LocalLink::new(Variant::NineBall, settings, 5);
+        let mut flow = GameFlow::new(Connection::Offline);
+        drain(&mut link, &mut flow);
+        let strike = Strike::at_angle(9.0, 90.0, DVec2::ZERO);
+        let cmd = flow.shot_command(strike).expect("no call on the break");
+        send(&mut link, &mut flow, Seat::A, cmd);
+        flow.skip();
+        let Turn::Shoot { seat, call, .. } = flow.turn(None) else {
+            panic!("a shot is due after the break: {:?}", flow.turn(None))
+        };
+        assert!(call, "every shot names a pocket");
+        let gentle = Strike::at_angle(1.0, 90.0, DVec2::ZERO);
+        assert_eq!(flow.shot_command(gentle), None, "refused without a call");
+        flow.call = Some(0);
+        let cmd = flow.shot_command(gentle).expect("called");
+        let game = flow.game().expect("game").clone();
+        assert_eq!(game.check(seat, &cmd), Ok(()), "the rules accept it");
+    }
+
+    #[test]
+    fn no_call_is_asked_on_the_break() {
         let (_, flow) = local();
-        let g = flow.game().expect("game");
-        let (lo, hi) = in_hand_area(g, InHand::Kitchen);
-        assert_eq!(lo, DVec2::ZERO);
-        assert!((hi.y - 2.54 / 4.0).abs() < 1e-12 && (hi.x - 1.27).abs() < 1e-12);
-        assert!(!needs_call(g), "no call on the break");
+        assert!(!flow.game().expect("game").needs_call());
     }
 
     #[test]
@@ -352,8 +396,7 @@ mod tests {
     #[test]
     fn rematch_starts_a_new_game() {
         let (mut link, mut flow) = local();
-        link.send(Seat::A, Command::Concede);
-        drain(&mut link, &mut flow);
+        send(&mut link, &mut flow, Seat::A, Command::Concede);
         assert_eq!(flow.turn(None), Turn::Wait);
         link.rematch();
         drain(&mut link, &mut flow);

@@ -1,24 +1,38 @@
 //! Where a game is decided, as a game screen sees it: it sends [`Command`]s and hears
 //! [`GameEvent`]s. The same screen plays over the network (the server decides) or on one
-//! computer with two players taking turns ([`LocalLink`], the rules run here).
+//! computer with two players taking turns ([`LocalLink`]: the rules here decide).
 
 use std::collections::VecDeque;
 
-use breakshot_shared::protocol::{AimAid, Invite};
-use breakshot_shared::rules::{Command, Game, Seat, Settings, Variant, Verdict};
+use breakshot_shared::protocol::{AimAid, Invite, SeatView, ServerMessage};
+use breakshot_shared::rules::{Command, Game, Seat, Settings, TurnId, Variant, Verdict};
 
 use crate::view::hud::Connection;
 
 /// What a game screen hears. A server announces an accepted shot at once, so every client
-/// starts showing it, and its judgement when it has simulated it; the same two steps are
-/// used when the rules run here.
+/// starts showing it, and its judgement when it has simulated it.
 #[derive(Clone, Debug, PartialEq)]
 pub enum GameEvent {
     /// A new game starts from this state (first game, rematch or resynchronisation).
     Started(Box<Game>),
-    /// `seat`'s command was accepted and is to be applied.
+    /// `seat`'s command on `turn` was accepted by the side that decides; its judgement
+    /// follows.
     Accepted {
+        /// The turn the command was accepted on.
+        turn: TurnId,
+        /// Who sent it.
         seat: Seat,
+        /// The command.
+        command: Command,
+    },
+    /// `seat`'s command on `turn` passed the rules' check here: the copy of the game here
+    /// decides it, and its verdict is the judgement.
+    Decided {
+        /// The turn the command was checked on.
+        turn: TurnId,
+        /// Who sent it.
+        seat: Seat,
+        /// The command.
         command: Command,
     },
     /// The judgement of the last accepted command: readable reasons, whether it was a foul,
@@ -26,6 +40,7 @@ pub enum GameEvent {
     Judged(Judgement),
     /// Our command was refused; nothing changed.
     Refused(String),
+    /// The connection changed.
     Connection(Connection),
     /// The shot clock restarted with this many seconds, or stopped (None).
     ShotClock(Option<f64>),
@@ -33,10 +48,14 @@ pub enum GameEvent {
     AimAid(AimAid),
 }
 
+/// The rules' judgement of a command, as shown.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Judgement {
+    /// Readable reasons, most important first.
     pub reasons: Vec<String>,
+    /// The command was a foul.
     pub foul: bool,
+    /// For a shot, the state hash of the table at rest.
     pub hash: Option<u64>,
 }
 
@@ -56,7 +75,9 @@ pub trait GameLink {
     /// The seat played here, or None when both seats are (players take turns at one
     /// computer).
     fn seat(&self) -> Option<Seat>;
-    fn send(&mut self, seat: Seat, command: Command);
+    /// Sends `seat`'s command on the game as it stands here.
+    fn send(&mut self, game: &Game, seat: Seat, command: Command);
+    /// The next event, if one is waiting. Never blocks.
     fn poll(&mut self) -> Option<GameEvent>;
     /// Starts a new game with the same settings.
     fn rematch(&mut self);
@@ -66,20 +87,24 @@ pub trait GameLink {
     }
 }
 
-/// Two players at one computer: the rules are applied here.
+/// Two players at one computer: the rules here check each command, and the screen's copy of
+/// the game applies it.
 pub struct LocalLink {
-    game: Game,
+    variant: Variant,
+    settings: Settings,
     seed: u64,
     events: VecDeque<GameEvent>,
 }
 
 impl LocalLink {
+    /// A new local game.
     pub fn new(variant: Variant, settings: Settings, seed: u64) -> LocalLink {
         let game = Game::new(variant, settings, seed);
         LocalLink {
-            events: VecDeque::from([GameEvent::Started(Box::new(game.clone()))]),
-            game,
+            variant,
+            settings,
             seed,
+            events: VecDeque::from([GameEvent::Started(Box::new(game))]),
         }
     }
 }
@@ -89,15 +114,16 @@ impl GameLink for LocalLink {
         None
     }
 
-    fn send(&mut self, seat: Seat, command: Command) {
-        match self.game.apply(seat, &command) {
-            Ok(verdict) => {
-                self.events.push_back(GameEvent::Accepted { seat, command });
-                self.events
-                    .push_back(GameEvent::Judged(Judgement::of(&verdict)));
-            }
-            Err(e) => self.events.push_back(GameEvent::Refused(e.to_string())),
-        }
+    fn send(&mut self, game: &Game, seat: Seat, command: Command) {
+        let event = match game.check(seat, &command) {
+            Ok(()) => GameEvent::Decided {
+                turn: game.turn(),
+                seat,
+                command,
+            },
+            Err(e) => GameEvent::Refused(e.to_string()),
+        };
+        self.events.push_back(event);
     }
 
     fn poll(&mut self) -> Option<GameEvent> {
@@ -106,8 +132,124 @@ impl GameLink for LocalLink {
 
     fn rematch(&mut self) {
         self.seed = self.seed.wrapping_add(1);
-        self.game = Game::new(self.game.variant(), self.game.settings(), self.seed);
-        self.events
-            .push_back(GameEvent::Started(Box::new(self.game.clone())));
+        let game = Game::new(self.variant, self.settings, self.seed);
+        self.events.push_back(GameEvent::Started(Box::new(game)));
+    }
+}
+
+/// What a server message means for a game screen of the player in seat `me` (None: a
+/// spectator, or not seated yet).
+pub fn game_events(msg: &ServerMessage, me: Option<Seat>) -> Vec<GameEvent> {
+    let secs = |ms: u64| ms as f64 / 1000.0;
+    match msg {
+        ServerMessage::Joined { snapshot, .. } | ServerMessage::GameStarted { snapshot } => vec![
+            GameEvent::AimAid(snapshot.aim_aid),
+            GameEvent::Connection(opponent_state(&snapshot.seats, me)),
+            GameEvent::Started(Box::new(snapshot.game.clone())),
+            GameEvent::ShotClock(snapshot.shot_clock_ms.map(secs)),
+        ],
+        ServerMessage::PlayerJoined { seat, .. } if Some(*seat) != me => {
+            vec![GameEvent::Connection(Connection::Connected)]
+        }
+        ServerMessage::ShotAccepted {
+            turn,
+            seat,
+            command,
+        } => vec![GameEvent::Accepted {
+            turn: *turn,
+            seat: *seat,
+            command: command.clone(),
+        }],
+        ServerMessage::ShotResolved { hash, ruling, .. } => vec![GameEvent::Judged(Judgement {
+            reasons: ruling.reasons.clone(),
+            foul: ruling.foul,
+            hash: Some(*hash),
+        })],
+        ServerMessage::Applied {
+            turn,
+            seat,
+            command,
+            ruling,
+        } => vec![
+            GameEvent::Accepted {
+                turn: *turn,
+                seat: *seat,
+                command: command.clone(),
+            },
+            GameEvent::Judged(Judgement {
+                reasons: ruling.reasons.clone(),
+                foul: ruling.foul,
+                hash: None,
+            }),
+        ],
+        ServerMessage::TurnChanged { shot_clock_ms, .. } => {
+            vec![GameEvent::ShotClock(shot_clock_ms.map(secs))]
+        }
+        ServerMessage::PlayerLeft { seat, reconnect_ms } if Some(*seat) != me => {
+            vec![GameEvent::Connection(Connection::OpponentLeft {
+                seconds_left: secs(*reconnect_ms),
+            })]
+        }
+        ServerMessage::PlayerBack { .. } => vec![GameEvent::Connection(Connection::Connected)],
+        ServerMessage::Error { message, .. } => vec![GameEvent::Refused(message.clone())],
+        ServerMessage::Reject { reason } => {
+            vec![GameEvent::Connection(Connection::Closed(reason.clone()))]
+        }
+        _ => Vec::new(),
+    }
+}
+
+/// The connection state a room's seats show to the player in `me`: the other seat empty,
+/// its player away (with the time left to come back), or both there.
+fn opponent_state(seats: &[Option<SeatView>; 2], me: Option<Seat>) -> Connection {
+    let Some(me) = me else {
+        return Connection::Connected;
+    };
+    let other = match me {
+        Seat::A => &seats[1],
+        Seat::B => &seats[0],
+    };
+    match other {
+        None => Connection::WaitingForOpponent,
+        Some(v) if !v.connected => Connection::OpponentLeft {
+            seconds_left: v.reconnect_ms.unwrap_or(0) as f64 / 1000.0,
+        },
+        Some(_) => Connection::Connected,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn here(connected: bool, reconnect_ms: Option<u64>) -> Option<SeatView> {
+        Some(SeatView {
+            name: "p".into(),
+            connected,
+            reconnect_ms,
+        })
+    }
+
+    #[test]
+    fn the_other_seat_gives_the_connection_state() {
+        let me = Some(Seat::A);
+        assert_eq!(
+            opponent_state(&[here(true, None), None], me),
+            Connection::WaitingForOpponent
+        );
+        assert_eq!(
+            opponent_state(&[here(true, None), here(true, None)], me),
+            Connection::Connected
+        );
+        assert_eq!(
+            opponent_state(&[here(true, None), here(false, Some(90_500))], me),
+            Connection::OpponentLeft { seconds_left: 90.5 }
+        );
+        // Seat B looks at seat A; a spectator sees the game as connected.
+        assert_eq!(
+            opponent_state(&[None, here(true, None)], Some(Seat::B)),
+            Connection::WaitingForOpponent
+        );
+        assert_eq!(opponent_state(&[None, None], None), Connection::Connected);
     }
 }

@@ -7,3 +7,4 @@ pub mod game_flow;
 pub mod link;
 pub mod practice;
 pub mod replay;
+pub mod replica;

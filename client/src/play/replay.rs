@@ -1,20 +1,25 @@
-//! Watching a recorded game: the record's commands are applied to a fresh [`Game`] one by
-//! one; each shot is simulated again with the same engine and shown as it plays, and its
-//! hash is checked against the recorded one. Pause, step shot by shot (both ways) and speed.
+//! Watching a recorded game: the record's commands are applied one by one to a [`Replica`]
+//! of the game, which shows each shot from the trajectory the rules computed (one
+//! simulation per shot) while its hash is checked against the recorded one. Pause, step shot
+//! by shot (both ways) and speed.
 
-use breakshot_shared::physics::{simulate, BallState, MotionState};
+use breakshot_shared::physics::BallState;
 use breakshot_shared::replay::{GameRecord, RecordError, RECORD_VERSION};
 use breakshot_shared::rules::{Command, Game, Verdict};
 
+use super::replica::Replica;
 use crate::view::playback::{Playback, MAX_SPEED, MIN_SPEED};
 
 /// Pause between two entries at normal speed (s), so a viewer can follow.
 const HOLD: f64 = 0.8;
 
+/// Why a record cannot be watched.
 #[derive(Debug, thiserror::Error)]
 pub enum ReplayOpenError {
+    /// The bytes are not a game record.
     #[error("cannot read the game record: {0}")]
     Record(#[from] RecordError),
+    /// A record of another version.
     #[error("game record version {0} cannot be shown (this build reads {RECORD_VERSION})")]
     Version(u32),
 }
@@ -23,16 +28,19 @@ pub enum ReplayOpenError {
 #[derive(Clone, Debug)]
 pub struct ReplayViewer {
     record: GameRecord,
-    /// The game before entry `next`.
-    game: Game,
+    /// The game, with entry `next` applied while its shot is shown.
+    replica: Replica,
     /// The next entry to apply.
     next: usize,
-    /// The shot of entry `next` being shown.
-    shot: Option<Playback>,
+    /// The verdict of entry `next`, shown once its shot has played.
+    pending: Option<Verdict>,
     /// Time left before the next entry starts (s of real time at speed 1).
     hold: f64,
+    /// Playback is paused.
     pub paused: bool,
+    /// Playback speed (times real speed).
     pub speed: f64,
+    /// The verdict of the last entry shown.
     pub last_verdict: Option<Verdict>,
     /// Entries whose replayed hash differs from the recorded one.
     pub mismatches: Vec<usize>,
@@ -44,22 +52,26 @@ pub struct ReplayViewer {
 }
 
 impl ReplayViewer {
+    /// Opens an encoded record.
     pub fn decode(bytes: &[u8]) -> Result<ReplayViewer, ReplayOpenError> {
         let record = GameRecord::decode(bytes)?;
         ReplayViewer::new(record)
     }
 
+    /// Opens a record, at its start.
     pub fn new(record: GameRecord) -> Result<ReplayViewer, ReplayOpenError> {
         if record.version != RECORD_VERSION {
             return Err(ReplayOpenError::Version(record.version));
         }
         let game = Game::new(record.variant, record.settings, record.seed);
         let balls = game.balls().len();
+        let mut replica = Replica::default();
+        replica.start(game);
         Ok(ReplayViewer {
             record,
-            game,
+            replica,
             next: 0,
-            shot: None,
+            pending: None,
             hold: HOLD,
             paused: false,
             speed: 1.0,
@@ -71,10 +83,13 @@ impl ReplayViewer {
         })
     }
 
+    /// The game as the rules leave it (with the shot being shown applied).
     pub fn game(&self) -> &Game {
-        &self.game
+        // The replica holds a game from the start.
+        self.replica.game().unwrap_or_else(|| unreachable!())
     }
 
+    /// The record watched.
     pub fn record(&self) -> &GameRecord {
         &self.record
     }
@@ -84,34 +99,25 @@ impl ReplayViewer {
         (self.next, self.record.entries.len())
     }
 
+    /// No entry is left to show.
     pub fn at_end(&self) -> bool {
         self.next >= self.record.entries.len() || self.stopped.is_some()
     }
 
     /// The shot being shown, if any.
     pub fn shot(&self) -> Option<&Playback> {
-        self.shot.as_ref()
+        self.replica.playback()
     }
 
     /// The balls as shown now.
     pub fn balls(&self) -> Vec<BallState> {
-        match &self.shot {
-            Some(p) => p.balls(),
-            None => self.game.balls().to_vec(),
-        }
+        self.replica.balls()
     }
 
     /// Balls off the table now, in the order they fell.
     pub fn tray(&self) -> Vec<usize> {
-        let balls = self.balls();
-        let mut off: Vec<usize> = (1..balls.len())
-            .filter(|&b| balls[b].motion == MotionState::Pocketed)
-            .collect();
-        let live = self
-            .shot
-            .as_ref()
-            .map(|p| p.pocketed_so_far())
-            .unwrap_or_default();
+        let mut off = self.replica.tray();
+        let live = self.shot().map(|p| p.pocketed_so_far()).unwrap_or_default();
         let order = |b: usize| match live.iter().position(|&x| x == b) {
             Some(k) => self.falls + 1 + k as u64,
             None => self.fell.get(b).copied().unwrap_or(0),
@@ -120,10 +126,12 @@ impl ReplayViewer {
         off
     }
 
+    /// Doubles the speed.
     pub fn faster(&mut self) {
         self.speed = (self.speed * 2.0).min(MAX_SPEED);
     }
 
+    /// Halves the speed.
     pub fn slower(&mut self) {
         self.speed = (self.speed * 0.5).max(MIN_SPEED);
     }
@@ -133,9 +141,9 @@ impl ReplayViewer {
         if self.paused || !wall_dt.is_finite() || wall_dt <= 0.0 {
             return;
         }
-        if let Some(p) = &mut self.shot {
-            p.advance(wall_dt, self.speed);
-            if p.finished() {
+        if self.shot().is_some() {
+            self.replica.tick(wall_dt, self.speed);
+            if self.shot().is_none() {
                 self.commit();
             }
             return;
@@ -152,7 +160,7 @@ impl ReplayViewer {
     /// Shows the next shot to its end at once (finishing the one under way first), applying
     /// any commands before it.
     pub fn step(&mut self) {
-        if self.shot.is_some() {
+        if self.shot().is_some() {
             self.finish_shot();
             return;
         }
@@ -168,7 +176,7 @@ impl ReplayViewer {
 
     /// Goes back to just before the shot being shown, or when none is, the last one shown.
     pub fn step_back(&mut self) {
-        let target = if self.shot.is_some() {
+        let target = if self.shot().is_some() {
             self.next
         } else {
             (0..self.next.min(self.record.entries.len()))
@@ -194,64 +202,55 @@ impl ReplayViewer {
     }
 
     fn finish_shot(&mut self) {
-        if let Some(p) = &mut self.shot {
-            p.finish();
+        if self.shot().is_some() {
+            self.replica.skip();
             self.commit();
         }
     }
 
-    /// Starts entry `next`: a shot is simulated and shown; any other command applies at once.
+    /// Starts entry `next`: it is applied, and a shot is shown as it plays; any other
+    /// command is done at once.
     fn begin(&mut self) {
         let Some(entry) = self.record.entries.get(self.next) else {
             return;
         };
         self.hold = HOLD;
-        if let Command::Shot { strike, .. } = &entry.command {
-            match simulate(&self.game.shot_for(strike)) {
-                Ok(outcome) => {
-                    if entry.hash.is_some_and(|h| h != outcome.hash()) {
-                        self.mismatches.push(self.next);
-                    }
-                    self.shot = Some(Playback::new(outcome));
+        let turn = self.game().turn();
+        match self.replica.accept(turn, entry.seat, &entry.command) {
+            Ok(Some(verdict)) => {
+                if verdict.shot.as_ref().map(|s| s.hash) != entry.hash {
+                    self.mismatches.push(self.next);
                 }
-                Err(e) => self.stopped = Some(format!("entry {}: {e}", self.next)),
-            }
-            return;
-        }
-        if entry.hash.is_some() {
-            // Only shots have hashes: a recorded one here means the record is not this game.
-            self.mismatches.push(self.next);
-        }
-        self.commit();
-    }
-
-    /// Applies entry `next` to the game and moves on.
-    fn commit(&mut self) {
-        let Some(entry) = self.record.entries.get(self.next) else {
-            return;
-        };
-        if let Some(p) = self.shot.take() {
-            for b in p.pocketed_so_far() {
-                self.falls += 1;
-                if let Some(slot) = self.fell.get_mut(b) {
-                    *slot = self.falls;
+                self.pending = Some(verdict);
+                if self.shot().is_none() {
+                    self.commit();
                 }
             }
-        }
-        match self.game.apply(entry.seat, &entry.command) {
-            Ok(v) => {
-                self.last_verdict = Some(v);
-                self.next += 1;
-            }
+            Ok(None) => self.stopped = Some(format!("entry {} is out of turn", self.next)),
             Err(e) => self.stopped = Some(format!("entry {} refused: {e}", self.next)),
         }
+    }
+
+    /// Ends entry `next`: its verdict shows and the replay moves on.
+    fn commit(&mut self) {
+        let Some(verdict) = self.pending.take() else {
+            return;
+        };
+        for &(b, _) in verdict.shot.iter().flat_map(|s| &s.pocketed) {
+            self.falls += 1;
+            if let Some(slot) = self.fell.get_mut(usize::from(b)) {
+                *slot = self.falls;
+            }
+        }
+        self.last_verdict = Some(verdict);
+        self.next += 1;
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use breakshot_shared::physics::Strike;
+    use breakshot_shared::physics::{MotionState, Strike};
     use breakshot_shared::rules::{EightBallRules, Phase, Seat, Settings, Variant};
     use glam::DVec2;
 

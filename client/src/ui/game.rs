@@ -4,19 +4,19 @@
 use ::glam::DVec2;
 use breakshot_client::play::aim::Aim;
 use breakshot_client::play::controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
-use breakshot_client::play::game_flow::{in_hand_area, GameFlow, Turn};
+use breakshot_client::play::game_flow::{GameFlow, Turn};
 use breakshot_client::play::link::GameLink;
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{connection as connection_text, Connection};
 use breakshot_client::view::layout::{Frame, Layout, Rect};
 use breakshot_shared::hash::hash_hex;
-use breakshot_shared::physics::{MotionState, Params, Shot, Simulator, Table};
+use breakshot_shared::physics::{Shot, Simulator, Table};
 use breakshot_shared::protocol::Invite;
-use breakshot_shared::rules::{pocket_name, rack, Choice, Command, Game, Phase};
+use breakshot_shared::rules::{is_off_table, pocket_name, rack, Choice, Command, Game, Phase};
 use macroquad::prelude::*;
 
 use super::hud::{game_hud, HudInfo};
-use super::{draw, invite, menu, Next, Screen};
+use super::{draw, invite, menu, Screen, Step};
 
 pub struct GameScreen {
     link: Box<dyn GameLink>,
@@ -82,7 +82,7 @@ impl GameScreen {
     /// Where the cue ball is, or waits to be placed when it is off the table.
     fn cue_spot(game: &Game) -> DVec2 {
         let cue = game.balls()[0];
-        if cue.motion == MotionState::Pocketed {
+        if is_off_table(&cue) {
             rack::break_spot(game.table())
         } else {
             cue.pos
@@ -110,7 +110,7 @@ impl GameScreen {
         self.toggles.allowed_by(self.flow.aim_aid)
     }
 
-    pub fn update(&mut self, input: &InputFrame) -> Next {
+    pub fn update(&mut self, input: &InputFrame) -> Step {
         self.frame_ms = 0.9 * self.frame_ms + 0.1 * input.dt * 1000.0;
         while let Some(event) = self.link.poll() {
             self.flow.handle(event);
@@ -130,9 +130,9 @@ impl GameScreen {
         self.flow.tick(input.dt);
         let Some(game) = self.flow.game().cloned() else {
             return if input.pressed.contains(&Key::Back) {
-                Next::Go(Screen::Menu(menu::MenuScreen::new()))
+                Step::Go(Screen::Menu(menu::MenuScreen::new()))
             } else {
-                Next::Stay
+                Step::Stay
             };
         };
         let layout = Self::layout(&game);
@@ -145,7 +145,7 @@ impl GameScreen {
                     .into_iter()
                     .find(|(_, r)| r.contains(input.mouse));
                 if let Some((choice, _)) = hit {
-                    self.link.send(*seat, Command::Decide(choice));
+                    self.link.send(&game, *seat, Command::Decide(choice));
                 }
                 input.left_pressed = false;
             }
@@ -155,7 +155,7 @@ impl GameScreen {
                         .into_iter()
                         .find(|(_, r)| r.contains(input.mouse));
                     if let Some((choice, _)) = hit {
-                        self.link.send(*seat, Command::Decide(choice));
+                        self.link.send(&game, *seat, Command::Decide(choice));
                         input.left_pressed = false;
                     }
                 }
@@ -182,7 +182,7 @@ impl GameScreen {
         let ctx = Context {
             layout: &layout,
             cue: Self::cue_spot(&game),
-            radius: Params::default().ball_radius,
+            radius: game.params().ball_radius,
             stage,
         };
         let legal = |p: DVec2| game.legal_cue_placement([p.x, p.y]).is_ok();
@@ -194,34 +194,31 @@ impl GameScreen {
         for intent in intents {
             match (intent, seat) {
                 (Intent::Shoot(strike), Some(seat)) => {
-                    if game.balls()[0].motion == MotionState::Pocketed {
+                    if is_off_table(&game.balls()[0]) {
                         self.flow.message =
                             "Place the cue ball first: drag it onto the table".into();
                     } else if let Some(cmd) = self.flow.shot_command(strike) {
-                        self.link.send(seat, cmd);
+                        self.link.send(&game, seat, cmd);
                     }
                 }
                 (Intent::PlaceCueBall(pos), Some(seat)) => {
-                    self.link.send(seat, Command::PlaceCueBall { pos })
+                    self.link.send(&game, seat, Command::PlaceCueBall { pos })
                 }
                 (Intent::Toggle(aid), _) => self.toggles.toggle(aid),
                 (Intent::ToggleDebug, _) => self.debug = !self.debug,
                 (Intent::Rerack, _) if matches!(game.phase(), Phase::Over { .. }) => {
                     self.link.rematch()
                 }
-                (Intent::Back, _) => return Next::Go(Screen::Menu(menu::MenuScreen::new())),
+                (Intent::Back, _) => return Step::Go(Screen::Menu(menu::MenuScreen::new())),
                 _ => {}
             }
         }
         self.refresh_prediction(&game, stage);
-        Next::Stay
+        Step::Stay
     }
 
     fn refresh_prediction(&mut self, game: &Game, stage: Stage) {
-        if stage == Stage::Watching
-            || game.balls()[0].motion == MotionState::Pocketed
-            || !self.shown_aids().any()
-        {
+        if stage == Stage::Watching || is_off_table(&game.balls()[0]) || !self.shown_aids().any() {
             self.predicted = None;
             return;
         }
@@ -250,7 +247,7 @@ impl GameScreen {
             return;
         };
         let layout = Self::layout(game);
-        let r = Params::default().ball_radius;
+        let r = game.params().ball_radius;
         let balls = self.flow.balls();
         let names = ids(balls.len());
         let turn = self.turn();
@@ -274,7 +271,7 @@ impl GameScreen {
             ..
         } = &turn
         {
-            let (lo, hi) = in_hand_area(game, *area);
+            let (lo, hi) = game.in_hand_area(*area);
             let (a, b) = (layout.to_screen(lo), layout.to_screen(hi));
             let rect = Rect::new(
                 a[0].min(b[0]),
@@ -283,7 +280,7 @@ impl GameScreen {
                 (b[1] - a[1]).abs(),
             );
             draw::in_hand(&layout, rect, dragging, r);
-            if balls[0].motion == MotionState::Pocketed && dragging.is_none() {
+            if is_off_table(&balls[0]) && dragging.is_none() {
                 let p = layout.to_screen(cue);
                 draw::ball("cue", p, layout.px(r));
             }
@@ -399,8 +396,12 @@ impl GameScreen {
     fn debug_overlay(&self, layout: &Layout, game: &Game) {
         let mut lines = vec![
             format!("frame {:.1} ms", self.frame_ms),
-            format!("turn {}, shots {}", game.turn(), self.flow.shots),
-            format!("desyncs {}", self.flow.desyncs),
+            format!(
+                "turn {}, shots {}",
+                game.turn(),
+                self.flow.replica().shots()
+            ),
+            format!("desyncs {}", self.flow.replica().desyncs()),
         ];
         if let Some(hash) = self.flow.last_verdict.as_ref().and_then(|v| v.hash) {
             lines.push(format!("last hash {}", hash_hex(hash)));

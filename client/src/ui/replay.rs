@@ -6,12 +6,11 @@ use breakshot_client::play::link::Judgement;
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::layout::{Frame, Layout};
-use breakshot_shared::physics::Params;
 use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
 
 use super::hud::{game_hud, HudInfo};
-use super::{draw, menu, Next, Screen};
+use super::{draw, menu, Screen, Step};
 
 pub struct ReplayScreen {
     viewer: ReplayViewer,
@@ -24,7 +23,7 @@ impl ReplayScreen {
         ReplayScreen { viewer, frame }
     }
 
-    pub fn update(&mut self, input: &InputFrame) -> Next {
+    pub fn update(&mut self, input: &InputFrame) -> Step {
         for key in &input.pressed {
             match key {
                 Key::Shoot => self.viewer.paused = !self.viewer.paused,
@@ -32,18 +31,18 @@ impl ReplayScreen {
                 Key::Previous => self.viewer.step_back(),
                 Key::Faster => self.viewer.faster(),
                 Key::Slower => self.viewer.slower(),
-                Key::Back => return Next::Go(Screen::Menu(menu::MenuScreen::new())),
+                Key::Back => return Step::Go(Screen::Menu(menu::MenuScreen::new())),
                 _ => {}
             }
         }
         self.viewer.tick(input.dt);
-        Next::Stay
+        Step::Stay
     }
 
     pub fn draw(&mut self) {
         let layout = Layout::new(screen_width(), screen_height(), self.frame);
         let v = &self.viewer;
-        let r = Params::default().ball_radius;
+        let r = v.game().params().ball_radius;
         let ids: Vec<String> = (0..v.game().balls().len())
             .map(|n| {
                 if n == 0 {

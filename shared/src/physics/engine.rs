@@ -201,6 +201,16 @@ pub fn simulate(shot: &Shot) -> Result<Outcome, ShotError> {
     Ok(sim.take())
 }
 
+thread_local! {
+    static RUNS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// How many shots this thread has simulated so far. Changes nothing in any result; it lets
+/// tests check that a client simulates each shot once.
+pub fn simulations_on_this_thread() -> u64 {
+    RUNS.with(|n| n.get())
+}
+
 struct Ctx<'a> {
     table: &'a Table,
     params: &'a Params,
@@ -223,6 +233,7 @@ impl Simulator {
 
     /// Simulates `shot`; the outcome stays valid until the next run.
     pub fn run(&mut self, shot: &Shot) -> Result<&Outcome, ShotError> {
+        RUNS.with(|n| n.set(n.get().wrapping_add(1)));
         let build = || Table::for_shot(shot.table, shot.effects.pockets);
         let wanted = (shot.table, shot.effects.pockets);
         if self.table.as_ref().map(|t| (t.kind, t.has_pockets())) != Some(wanted) {

@@ -12,7 +12,9 @@ pub mod roots;
 pub mod table;
 
 pub use cue::{Strike, StrikeError};
-pub use engine::{kinetic_energy, simulate, Outcome, Shot, ShotError, Simulator, Work};
+pub use engine::{
+    kinetic_energy, simulate, simulations_on_this_thread, Outcome, Shot, ShotError, Simulator, Work,
+};
 pub use event::{Event, EventKind};
 pub use motion::{BallState, MotionState, Piece};
 pub use params::{BallBallModel, BallFriction, CushionModel, Effects, Models, Params};

@@ -83,7 +83,9 @@ use glam::DVec2;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::physics::{simulate, BallState, Event, MotionState, Shot, Strike, Table, TableKind};
+use crate::physics::{
+    simulate, BallState, Event, MotionState, Outcome, Params, Shot, Strike, Table, TableKind,
+};
 pub use facts::ShotFacts;
 pub use practice::layout_from_scene;
 
@@ -335,6 +337,10 @@ pub struct Verdict {
     pub next: Seat,
     /// The game ended: the winner (if any) and why.
     pub over: Option<(Option<Seat>, String)>,
+    /// A shot's whole trajectory, so whoever shows it need not simulate it again. Not part
+    /// of any encoding: it is rebuilt by applying the command.
+    #[serde(skip)]
+    pub outcome: Option<Outcome>,
 }
 
 /// Why a command was refused. Nothing changed.
@@ -530,6 +536,44 @@ impl Game {
         Shot::new(self.table(), self.balls.clone()).struck(0, *strike)
     }
 
+    /// The physical parameters every shot of this game is simulated with.
+    pub fn params(&self) -> Params {
+        Shot::new(self.table(), Vec::new()).params
+    }
+
+    /// Must the next shot name a pocket? The same answer [`Game::check`] enforces: never on
+    /// a break; in 8-ball when shooting at the 8; with `call_every_shot`, every shot.
+    pub fn needs_call(&self) -> bool {
+        self.missing_call().is_some()
+    }
+
+    /// Why a shot without a call would be refused now, if it would.
+    fn missing_call(&self) -> Option<&'static str> {
+        if self.breaking {
+            return None;
+        }
+        match self.variant {
+            Variant::EightBall(_) if eight::on_eight(self, self.to_move) => {
+                Some("call a pocket for the 8")
+            }
+            Variant::EightBall(_) | Variant::NineBall if self.settings.call_every_shot => {
+                Some("this game requires a called pocket on every shot")
+            }
+            _ => None,
+        }
+    }
+
+    /// The part of the cloth where the cue ball may go when in hand in `area`: the corners
+    /// (min, max) of a rectangle in scene coordinates. The cue ball must also lie clear of
+    /// the cushions and the other balls ([`Game::legal_cue_placement`]).
+    pub fn in_hand_area(&self, area: InHand) -> (DVec2, DVec2) {
+        let (w, l) = rack::table_size(self.table());
+        match area {
+            InHand::Kitchen => (DVec2::ZERO, DVec2::new(w, rack::head_string(self.table()))),
+            InHand::Anywhere => (DVec2::ZERO, DVec2::new(w, l)),
+        }
+    }
+
     /// May the cue ball, in hand, go at `pos` (scene coordinates)?
     pub fn legal_cue_placement(&self, pos: [f64; 2]) -> Result<(), RuleError> {
         let area = match (&self.phase, self.variant) {
@@ -554,7 +598,7 @@ impl Game {
                 "the position must be finite numbers".into(),
             ));
         }
-        if area == InHand::Kitchen && p.y >= rack::head_string(self.table()) {
+        if area == InHand::Kitchen && p.y >= self.in_hand_area(area).1.y {
             return Err(RuleError::IllegalPlacement(
                 "the cue ball must be behind the head string".into(),
             ));
@@ -663,7 +707,7 @@ impl Game {
             Phase::Over { .. } => return Err(RuleError::GameOver),
         };
         let cue = match self.balls.first() {
-            Some(b) if b.motion != MotionState::Pocketed => *b,
+            Some(b) if !is_off_table(b) => *b,
             _ => return Err(RuleError::WrongPhase("place the cue ball first".into())),
         };
         if let (Some(area), false) = (in_hand, self.variant == Variant::Practice) {
@@ -677,20 +721,10 @@ impl Game {
                 )));
             }
         }
-        if call.is_none() && !self.breaking {
-            match self.variant {
-                Variant::EightBall(_) if eight::on_eight(self, self.to_move) => {
-                    return Err(RuleError::InvalidShot("call a pocket for the 8".into()));
-                }
-                Variant::EightBall(_) | Variant::NineBall if self.settings.call_every_shot => {
-                    return Err(RuleError::InvalidShot(
-                        "this game requires a called pocket on every shot".into(),
-                    ));
-                }
-                _ => {}
-            }
+        match (call, self.missing_call()) {
+            (None, Some(why)) => Err(RuleError::InvalidShot(why.into())),
+            _ => Ok(()),
         }
-        Ok(())
     }
 
     /// Applies `cmd` from `seat`: the only way a game changes. On error nothing changes.
@@ -763,6 +797,7 @@ impl Game {
             shot: None,
             next: self.to_move,
             over: None,
+            outcome: None,
         }
     }
 
@@ -780,7 +815,9 @@ impl Game {
             events: outcome.events.clone(),
             pocketed: facts.pocketed.clone(),
         };
-        Ok(self.judge_shot(seat, call, outcome.finals, &facts, report))
+        let mut verdict = self.judge_shot(seat, call, outcome.finals.clone(), &facts, report);
+        verdict.outcome = Some(outcome);
+        Ok(verdict)
     }
 
     /// Judges a shot that left the balls at `finals` with `facts`, and moves the game on.
@@ -919,10 +956,7 @@ impl Game {
                 mut in_hand,
                 options,
             } => {
-                let cue_off = self
-                    .balls
-                    .first()
-                    .is_none_or(|b| b.motion == MotionState::Pocketed);
+                let cue_off = self.balls.first().is_none_or(is_off_table);
                 if cue_off && in_hand.is_none() {
                     in_hand = Some(InHand::Anywhere);
                 }
@@ -960,6 +994,7 @@ impl Game {
             shot,
             next: self.to_move,
             over,
+            outcome: None,
         }
     }
 
@@ -989,6 +1024,12 @@ impl Game {
             push_out: false,
         };
     }
+}
+
+/// Is `ball` off the table (pocketed, or gone over a rail)? Balls off the table keep their
+/// place in the list.
+pub fn is_off_table(ball: &BallState) -> bool {
+    ball.motion == MotionState::Pocketed
 }
 
 /// A ball that left the table (not through a pocket).

@@ -1,0 +1,333 @@
+//! The client's one copy of the game. Every accepted command is applied here once, with the
+//! same rules and physics as the side that decides; a shot's verdict carries its trajectory,
+//! which is played back as it is, so a shot is simulated once per client. The deciding
+//! side's hash then confirms the shot bit for bit, or counts a desync. The window, the bot,
+//! the replay viewer's checks and the tests all read this copy.
+
+use breakshot_shared::physics::BallState;
+use breakshot_shared::protocol::ServerMessage;
+use breakshot_shared::rules::{
+    is_off_table, Command, Game, Phase, RuleError, Seat, TurnId, Verdict,
+};
+
+use super::link::{game_events, GameEvent};
+use crate::view::playback::Playback;
+
+/// What the replica learned from an event.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Check {
+    /// A shot was simulated here; its hash is `hash`.
+    Predicted {
+        /// The turn the shot was played on.
+        turn: TurnId,
+        /// The hash of the table at rest, as computed here.
+        hash: u64,
+    },
+    /// The deciding side's hash equals the one computed here.
+    Confirmed {
+        /// The turn the shot was played on.
+        turn: TurnId,
+    },
+    /// The deciding side's result differs from the one here (or the rules here refused a
+    /// command it accepted).
+    Desync {
+        /// The turn of the command.
+        turn: TurnId,
+        /// The hash computed here, if the command was a shot the rules here played.
+        local: Option<u64>,
+        /// The deciding side's hash (0 for a refused command).
+        server: u64,
+    },
+}
+
+/// See the module documentation.
+#[derive(Clone, Debug, Default)]
+pub struct Replica {
+    game: Option<Game>,
+    /// The last shot, as it is being shown.
+    playback: Option<Playback>,
+    /// The turn and hash of the last shot played here, until the deciding side's hash.
+    predicted: Option<(TurnId, Option<u64>)>,
+    confirmed: u32,
+    desyncs: u32,
+    shots: u32,
+}
+
+impl Replica {
+    /// The game as the rules left it after the last accepted command.
+    pub fn game(&self) -> Option<&Game> {
+        self.game.as_ref()
+    }
+
+    /// The shot being shown, if one is.
+    pub fn playback(&self) -> Option<&Playback> {
+        self.playback.as_ref()
+    }
+
+    /// Shots whose hash was confirmed.
+    pub fn confirmed(&self) -> u32 {
+        self.confirmed
+    }
+
+    /// Shots (or commands) on which this copy and the deciding side disagreed.
+    pub fn desyncs(&self) -> u32 {
+        self.desyncs
+    }
+
+    /// Shots applied here since the replica was made.
+    pub fn shots(&self) -> u32 {
+        self.shots
+    }
+
+    /// Whether the game waits for `seat`.
+    pub fn waits_for(&self, seat: Seat) -> bool {
+        self.game
+            .as_ref()
+            .is_some_and(|g| g.to_move() == seat && !matches!(g.phase(), Phase::Over { .. }))
+    }
+
+    /// Applies what a server message says happened, as seen from `me`.
+    pub fn observe(&mut self, msg: &ServerMessage, me: Option<Seat>) -> Vec<Check> {
+        game_events(msg, me)
+            .iter()
+            .filter_map(|e| self.handle(e))
+            .collect()
+    }
+
+    /// Applies one game event; events about anything but the game are ignored.
+    pub fn handle(&mut self, event: &GameEvent) -> Option<Check> {
+        match event {
+            GameEvent::Started(game) => {
+                self.start((**game).clone());
+                None
+            }
+            GameEvent::Accepted {
+                turn,
+                seat,
+                command,
+            }
+            | GameEvent::Decided {
+                turn,
+                seat,
+                command,
+            } => match self.accept(*turn, *seat, command) {
+                Ok(_) => None,
+                Err(_) => Some(Check::Desync {
+                    turn: *turn,
+                    local: None,
+                    server: 0,
+                }),
+            },
+            GameEvent::Judged(j) => self.judge(j.hash),
+            _ => None,
+        }
+    }
+
+    /// A new game from this state (first game, rematch, or back in after a reconnect).
+    pub fn start(&mut self, game: Game) {
+        self.game = Some(game);
+        self.playback = None;
+        self.predicted = None;
+    }
+
+    /// Applies an accepted command once; a shot starts playing at once, from the
+    /// trajectory the rules computed. Returns the verdict, or why the rules here refuse
+    /// the command (counted as a desync: the deciding side accepted it). A command for
+    /// another turn (one the snapshot already holds) is ignored.
+    pub fn accept(
+        &mut self,
+        turn: TurnId,
+        seat: Seat,
+        command: &Command,
+    ) -> Result<Option<Verdict>, RuleError> {
+        let Some(game) = &mut self.game else {
+            return Ok(None);
+        };
+        if game.turn() != turn {
+            return Ok(None);
+        }
+        self.playback = None;
+        self.predicted = None;
+        let shot = matches!(command, Command::Shot { .. });
+        if shot {
+            self.shots += 1;
+        }
+        match game.apply(seat, command) {
+            Ok(mut verdict) => {
+                if shot {
+                    self.predicted = Some((turn, verdict.shot.as_ref().map(|s| s.hash)));
+                }
+                self.playback = verdict.outcome.take().map(Playback::new);
+                Ok(Some(verdict))
+            }
+            Err(e) => {
+                self.desyncs += 1;
+                Err(e)
+            }
+        }
+    }
+
+    /// The deciding side's judgement of the last command: a shot's hash must match the
+    /// one computed here.
+    pub fn judge(&mut self, hash: Option<u64>) -> Option<Check> {
+        let server = hash?;
+        let (turn, local) = self.predicted.take()?;
+        if local == Some(server) {
+            self.confirmed += 1;
+            Some(Check::Confirmed { turn })
+        } else {
+            self.desyncs += 1;
+            Some(Check::Desync {
+                turn,
+                local,
+                server,
+            })
+        }
+    }
+
+    /// The last shot's prediction, while its judgement is awaited.
+    pub fn prediction(&self) -> Option<Check> {
+        match self.predicted {
+            Some((turn, Some(hash))) => Some(Check::Predicted { turn, hash }),
+            _ => None,
+        }
+    }
+
+    /// Moves the shot being shown on by `wall_dt` seconds at `speed` times real speed; it
+    /// is dropped when it has ended, and the rules' table shows.
+    pub fn tick(&mut self, wall_dt: f64, speed: f64) {
+        if let Some(p) = &mut self.playback {
+            p.advance(wall_dt, speed);
+            if p.finished() {
+                self.playback = None;
+            }
+        }
+    }
+
+    /// Stops showing the shot: the rules' table shows.
+    pub fn skip(&mut self) {
+        self.playback = None;
+    }
+
+    /// The balls as shown now: the shot playing, or the table the rules left.
+    pub fn balls(&self) -> Vec<BallState> {
+        match (&self.playback, &self.game) {
+            (Some(p), _) => p.balls(),
+            (None, Some(g)) => g.balls().to_vec(),
+            (None, None) => Vec::new(),
+        }
+    }
+
+    /// Object balls off the table as shown now.
+    pub fn tray(&self) -> Vec<usize> {
+        let balls = self.balls();
+        (1..balls.len())
+            .filter(|&b| is_off_table(&balls[b]))
+            .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::play::game_flow::GameFlow;
+    use crate::view::hud::Connection;
+    use breakshot_shared::physics::{simulations_on_this_thread, Strike};
+    use breakshot_shared::protocol::Ruling;
+    use breakshot_shared::rules::{EightBallRules, Settings, Variant};
+    use glam::DVec2;
+
+    /// A break, as a server announces it: accepted, then resolved with `hash`.
+    fn announced_break(game: &Game, hash: u64) -> [ServerMessage; 2] {
+        let strike = Strike::at_angle(8.0, 90.0, DVec2::ZERO);
+        let ruling = Ruling {
+            foul: false,
+            reasons: Vec::new(),
+            pocketed: Vec::new(),
+            next: Seat::A,
+        };
+        [
+            ServerMessage::ShotAccepted {
+                turn: game.turn(),
+                seat: Seat::A,
+                command: Command::Shot { strike, call: None },
+            },
+            ServerMessage::ShotResolved {
+                turn: game.turn(),
+                hash,
+                balls: Vec::new(),
+                ruling,
+            },
+        ]
+    }
+
+    fn new_game() -> Game {
+        Game::new(
+            Variant::EightBall(EightBallRules::Wpa),
+            Settings::offline(),
+            4,
+        )
+    }
+
+    /// The hash the deciding side computes for the break.
+    fn true_hash(game: &Game) -> u64 {
+        let strike = Strike::at_angle(8.0, 90.0, DVec2::ZERO);
+        let mut decider = game.clone();
+        let verdict = decider
+            .apply(Seat::A, &Command::Shot { strike, call: None })
+            .expect("legal break");
+        verdict.shot.expect("a shot").hash
+    }
+
+    #[test]
+    fn a_shot_is_simulated_once_and_confirmed() {
+        let game = new_game();
+        let hash = true_hash(&game);
+        let mut replica = Replica::default();
+        replica.start(game.clone());
+        let before = simulations_on_this_thread();
+        let mut checks = Vec::new();
+        for msg in announced_break(&game, hash) {
+            checks.extend(replica.observe(&msg, Some(Seat::B)));
+        }
+        while replica.playback().is_some() {
+            replica.tick(0.05, 1.0);
+        }
+        assert_eq!(simulations_on_this_thread() - before, 1);
+        assert_eq!(checks, vec![Check::Confirmed { turn: 0 }]);
+        assert_eq!((replica.confirmed(), replica.desyncs()), (1, 0));
+    }
+
+    #[test]
+    fn the_screen_and_the_bot_count_desyncs_in_the_same_replica() {
+        let game = new_game();
+        let wrong = true_hash(&game) ^ 1;
+        // The bot and the tests' player feed server messages to a replica...
+        let mut bot = Replica::default();
+        bot.start(game.clone());
+        // ...and a screen hears the same messages as game events through its link.
+        let mut screen = GameFlow::new(Connection::Connected);
+        screen.handle(GameEvent::Started(Box::new(game.clone())));
+        for msg in announced_break(&game, wrong) {
+            bot.observe(&msg, Some(Seat::A));
+            for event in game_events(&msg, Some(Seat::A)) {
+                screen.handle(event);
+            }
+        }
+        // The overlay prints `screen.replica().desyncs()`; the bot reports `desyncs()`.
+        assert_eq!(bot.desyncs(), 1);
+        assert_eq!(screen.replica().desyncs(), bot.desyncs());
+        assert_eq!(screen.replica().game(), bot.game());
+    }
+
+    #[test]
+    fn a_command_for_another_turn_is_ignored() {
+        let game = new_game();
+        let mut replica = Replica::default();
+        replica.start(game.clone());
+        let stale = replica.accept(game.turn() + 3, Seat::A, &Command::Concede);
+        assert_eq!(stale, Ok(None));
+        assert_eq!(replica.game(), Some(&game));
+        assert_eq!(replica.desyncs(), 0);
+    }
+}
