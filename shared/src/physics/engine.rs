@@ -199,6 +199,8 @@ pub struct Simulator {
     pair: Vec<f64>,
     /// For each pair `i < j` (at `i·n + j`), when it last took part in an impact.
     last: Vec<f64>,
+    /// For each pair `i < j`, whether its last impact left it held (moving as one).
+    held: Vec<bool>,
     /// For each ball, a box holding its current piece's whole path.
     boxes: Vec<(DVec2, DVec2)>,
     scratch: Scratch,
@@ -303,6 +305,8 @@ impl Simulator {
         self.pair.resize(n * n, f64::INFINITY);
         self.last.clear();
         self.last.resize(n * n, f64::NEG_INFINITY);
+        self.held.clear();
+        self.held.resize(n * n, false);
         for i in 0..n {
             self.predict_own(i, 0.0, &ctx);
         }
@@ -614,6 +618,7 @@ impl Simulator {
         }
         g.contacts.clear();
         g.recent.clear();
+        g.kept.clear();
         for a in 0..g.balls.len() {
             for b in a + 1..g.balls.len() {
                 let d = g.states[b].pos - g.states[a].pos;
@@ -621,6 +626,7 @@ impl Simulator {
                     g.contacts.push((a, b));
                     let last = self.last[g.balls[a] * n + g.balls[b]];
                     g.recent.push(t - last < PERSIST_TIME);
+                    g.kept.push(self.held[g.balls[a] * n + g.balls[b]]);
                 }
             }
         }
@@ -628,6 +634,7 @@ impl Simulator {
         g.start.extend(g.states.iter().map(|s| (s.vel, s.spin)));
         group_impact(g, ctx);
         for (k, &(a, b)) in g.contacts.iter().enumerate() {
+            self.held[g.balls[a] * n + g.balls[b]] = root(&g.parent, a) == root(&g.parent, b);
             if g.acted[k] {
                 let (i, j) = (g.balls[a], g.balls[b]);
                 self.last[i * n + j] = t;
@@ -684,8 +691,10 @@ struct Scratch {
     contacts: Vec<(usize, usize)>,
     acted: Vec<bool>,
     normals: Vec<DVec2>,
-    /// Whether each contact's pair took part in an impact less than `PERSIST_TIME` ago.
+    /// Whether each contact's pair took part in an impact less than `PERSIST_TIME` ago, and
+    /// whether that impact left it held.
     recent: Vec<bool>,
+    kept: Vec<bool>,
     /// Contacts (indices) taking part in the current round, and which of them are resolved.
     active: Vec<usize>,
     done: Vec<bool>,
@@ -824,9 +833,19 @@ fn settle(g: &mut Scratch, ctx: &Ctx) {
     /// Passes of inelastic impact and holding: holding can make a neighbour approach.
     const PASSES: usize = 8;
     // Held contacts stay held for the rest of the impact: balls moving as one no longer
-    // press into each other, but must still share what a later pass gives one of them.
+    // press into each other, but must still share what a later pass gives one of them. A
+    // contact held before that the rounds left moving as one is still held: a push on a
+    // held set moves it as one body, without an event inside it.
     g.parent.clear();
     g.parent.extend(0..g.states.len());
+    for k in 0..g.contacts.len() {
+        let (a, b) = g.contacts[k];
+        let (sa, sb) = (&g.states[a], &g.states[b]);
+        if g.kept[k] && sa.vel == sb.vel && sa.spin == sb.spin {
+            let (ra, rb) = (root(&g.parent, a), root(&g.parent, b));
+            g.parent[ra.max(rb)] = ra.min(rb);
+        }
+    }
     for _ in 0..PASSES {
         // Every contact between different bodies takes part; the impact itself decides
         // which carry an impulse.
