@@ -616,6 +616,12 @@ impl Simulator {
         for &b in &g.balls {
             g.states.push(self.pieces[b].state_at(t, r));
         }
+        g.walls.clear();
+        if ctx.effects.cushions {
+            for slot in 0..g.balls.len() {
+                walls_touching(g, slot, ctx);
+            }
+        }
         g.contacts.clear();
         g.recent.clear();
         g.kept.clear();
@@ -643,6 +649,18 @@ impl Simulator {
                     kind: EventKind::BallBall {
                         a: i as u16,
                         b: j as u16,
+                    },
+                });
+            }
+        }
+        for w in 0..g.walls.len() {
+            if g.wall_acted[w] {
+                let (slot, _, cushion) = g.walls[w];
+                self.outcome.events.push(Event {
+                    t,
+                    kind: EventKind::BallCushion {
+                        ball: g.balls[slot] as u16,
+                        cushion,
                     },
                 });
             }
@@ -691,6 +709,10 @@ struct Scratch {
     contacts: Vec<(usize, usize)>,
     acted: Vec<bool>,
     normals: Vec<DVec2>,
+    /// Cushions touching a ball of the group (slot, normal into the table, which), and
+    /// whether each took part.
+    walls: Vec<(usize, DVec2, Cushion)>,
+    wall_acted: Vec<bool>,
     /// Whether each contact's pair took part in an impact less than `PERSIST_TIME` ago, and
     /// whether that impact left it held.
     recent: Vec<bool>,
@@ -755,8 +777,9 @@ fn group_impact(g: &mut Scratch, ctx: &Ctx) {
     }
     // A pair pressed together by the cloth that meets again soon after its last impact is a
     // sustained push: it is settled (held), not bounced.
+    // Slot `n` is the cushions: one body that does not move.
     g.parent.clear();
-    g.parent.extend(0..g.states.len());
+    g.parent.extend(0..=g.states.len());
     accelerations(g, ctx);
     for k in 0..g.contacts.len() {
         let (a, b) = g.contacts[k];
@@ -764,7 +787,9 @@ fn group_impact(g: &mut Scratch, ctx: &Ctx) {
             && approach(g, k) < PERSIST_SPEED
             && (g.acc[a] - g.acc[b]).dot(g.normals[k]) > TOUCH_ACCEL;
     }
-    let rounds = 4 * g.contacts.len() + 8;
+    g.wall_acted.clear();
+    g.wall_acted.resize(g.walls.len(), false);
+    let rounds = 4 * (g.contacts.len() + g.walls.len()) + 8;
     for _ in 0..rounds {
         g.active.clear();
         for k in 0..g.contacts.len() {
@@ -773,7 +798,11 @@ fn group_impact(g: &mut Scratch, ctx: &Ctx) {
                 g.acted[k] = true;
             }
         }
-        if g.active.is_empty() {
+        let walls_approach = g
+            .walls
+            .iter()
+            .any(|&(slot, normal, _)| -g.states[slot].vel.dot(normal) > HOLD_SPEED);
+        if g.active.is_empty() && !walls_approach {
             break;
         }
         g.done.clear();
@@ -811,6 +840,23 @@ fn group_impact(g: &mut Scratch, ctx: &Ctx) {
                 simultaneous_impact(g, e);
             }
         }
+        // A ball driven into a cushion bounces off it, unless one of its ball contacts
+        // acts in this round (then the cushion waits for the next round).
+        for w in 0..g.walls.len() {
+            let (slot, normal, _) = g.walls[w];
+            let s = &g.states[slot];
+            let busy = g.active.iter().any(|&k| {
+                let (a, b) = g.contacts[k];
+                a == slot || b == slot
+            });
+            if -s.vel.dot(normal) > HOLD_SPEED && !busy {
+                let (v, w_) =
+                    ball_cushion::bounce(s.vel, s.spin, normal, ctx.models.cushion, ctx.params);
+                g.states[slot].vel = v;
+                g.states[slot].spin = w_;
+                g.wall_acted[w] = true;
+            }
+        }
     }
     settle(g, ctx);
 }
@@ -836,8 +882,9 @@ fn settle(g: &mut Scratch, ctx: &Ctx) {
     // press into each other, but must still share what a later pass gives one of them. A
     // contact held before that the rounds left moving as one is still held: a push on a
     // held set moves it as one body, without an event inside it.
+    // Slot `n` is the cushions: one body that does not move.
     g.parent.clear();
-    g.parent.extend(0..g.states.len());
+    g.parent.extend(0..=g.states.len());
     for k in 0..g.contacts.len() {
         let (a, b) = g.contacts[k];
         let (sa, sb) = (&g.states[a], &g.states[b]);
@@ -862,11 +909,22 @@ fn settle(g: &mut Scratch, ctx: &Ctx) {
                 g.active.push(k);
             }
         }
+        let wall_body = g.states.len();
+        for w in 0..g.walls.len() {
+            let (slot, normal, _) = g.walls[w];
+            approaching |= -g.states[slot].vel.dot(normal) > TOUCH_SPEED;
+            g.component.push((wall_body, slot));
+            g.component_normals.push(normal);
+        }
         if approaching {
             simultaneous_impact(g, 0.0);
-            for m in 0..g.active.len() {
+            for m in 0..g.component.len() {
                 if g.lambda[m] > 0.0 {
-                    g.acted[g.active[m]] = true;
+                    if m < g.active.len() {
+                        g.acted[g.active[m]] = true;
+                    } else {
+                        g.wall_acted[m - g.active.len()] = true;
+                    }
                 }
             }
         }
@@ -877,6 +935,7 @@ fn settle(g: &mut Scratch, ctx: &Ctx) {
                 break;
             }
         }
+        held |= hold_against_walls(g, ctx);
         if !approaching && !held {
             break;
         }
@@ -887,6 +946,7 @@ fn settle(g: &mut Scratch, ctx: &Ctx) {
 /// changed anything.
 fn share_motion(g: &mut Scratch) -> bool {
     let n = g.states.len();
+    // (The cushions' body, slot n, is never joined to a ball.)
     let mut changed = false;
     for top in 0..n {
         if g.parent[top] != top {
@@ -933,6 +993,60 @@ fn join_pressed(g: &mut Scratch, ctx: &Ctx) -> bool {
     joined
 }
 
+/// Records every cushion (rail or jaw) that the ball in `slot` touches.
+fn walls_touching(g: &mut Scratch, slot: usize, ctx: &Ctx) {
+    let p = g.states[slot].pos;
+    let reach = ctx.contact + CONTACT_GAP;
+    // Every cushion lies beyond the nose lines: a ball well inside them touches none.
+    let inside = ctx.table.half - DVec2::splat(reach + ctx.params.ball_radius);
+    if p.x.abs() < inside.x && p.y.abs() < inside.y {
+        return;
+    }
+    for (k, rail) in ctx.table.rails.iter().enumerate() {
+        let along = rail.b - rail.a;
+        let s = along.dot(p - rail.a) / along.length_squared();
+        if rail.normal.dot(p - rail.a) <= reach && (0.0..=1.0).contains(&s) {
+            g.walls.push((slot, rail.normal, Cushion::Rail(k as u8)));
+        }
+    }
+    for (k, jaw) in ctx.table.jaws.iter().enumerate() {
+        let d = p - jaw.center;
+        if d.length() <= jaw.radius + reach {
+            g.walls
+                .push((slot, d.normalize_or_zero(), Cushion::Jaw(k as u8)));
+        }
+    }
+}
+
+/// A held set pressed into a cushion by the cloth is held by it, as a single ball is
+/// ([`Simulator::bounce`]): every ball of the set keeps only its motion along the cushion.
+/// True if that changed anything.
+fn hold_against_walls(g: &mut Scratch, ctx: &Ctx) -> bool {
+    let r = ctx.params.ball_radius;
+    let mut changed = false;
+    for w in 0..g.walls.len() {
+        accelerations(g, ctx);
+        let (slot, normal, _) = g.walls[w];
+        let s = g.states[slot];
+        if s.vel.dot(normal) < HOLD_SPEED && g.acc[slot].dot(normal) < 0.0 {
+            let top = root(&g.parent, slot);
+            let mut vel = s.vel;
+            vel -= normal * vel.dot(normal).min(0.0);
+            let spin = without_normal_slip(vel, s.spin, normal, r);
+            for m in 0..g.states.len() {
+                let t = &mut g.states[m];
+                if root(&g.parent, m) == top && (t.vel != vel || t.spin != spin) {
+                    t.vel = vel;
+                    t.spin = spin;
+                    changed = true;
+                    g.wall_acted[w] = true;
+                }
+            }
+        }
+    }
+    changed
+}
+
 /// Each slot's acceleration on the cloth in its current state.
 fn accelerations(g: &mut Scratch, ctx: &Ctx) {
     g.acc.clear();
@@ -967,14 +1081,17 @@ fn simultaneous_impact(g: &mut Scratch, e: f64) {
     g.delta.clear();
     g.vel.clear();
     g.vel.extend(g.states.iter().map(|s| s.vel));
+    // Body n, the cushions, does not move: infinite mass.
+    g.vel.push(DVec2::ZERO);
     g.size.clear();
     g.size.resize(n, 0.0);
     for m in 0..n {
         g.size[root(&g.parent, m)] += 1.0;
     }
+    g.size.push(f64::INFINITY);
     let mut fastest: f64 = 0.0;
     g.degree.clear();
-    g.degree.resize(n, 0);
+    g.degree.resize(n + 1, 0);
     g.bodies.clear();
     for (k, &(a, b)) in g.component.iter().enumerate() {
         let (a, b) = (root(&g.parent, a), root(&g.parent, b));
@@ -1012,6 +1129,7 @@ fn simultaneous_impact(g: &mut Scratch, e: f64) {
     for m in 0..n {
         g.vel[m] = g.states[m].vel;
     }
+    g.vel[n] = DVec2::ZERO;
     for (k, &(a, b)) in g.bodies.iter().enumerate() {
         let impulse = g.component_normals[k] * ((1.0 + e) * g.lambda[k]);
         g.vel[a] -= impulse / g.size[a];
