@@ -584,25 +584,31 @@ impl Simulator {
             }
         }
         let seeds = g.balls.len();
-        // Grow the group by every ball touching one of its balls, transitively.
-        g.positions.clear();
-        for i in 0..n {
-            let p = &self.pieces[i];
-            g.positions
-                .push(if p.start.motion == MotionState::Pocketed {
-                    DVec2::INFINITY
-                } else {
-                    p.pos_at(t)
-                });
-        }
+        // Grow the group by every ball touching one of its balls, transitively. A ball whose
+        // path's box is out of reach cannot touch (most balls, most of the time).
         let reach = 2.0 * r + CONTACT_GAP;
+        g.positions.clear();
+        g.positions.resize(n, DVec2::INFINITY);
+        for k in 0..seeds {
+            let b = g.balls[k];
+            g.positions[b] = self.pieces[b].pos_at(t);
+        }
         let mut k = 0;
         while k < g.balls.len() {
             let b = g.balls[k];
+            let p = g.positions[b];
             for j in 0..n {
-                if (g.positions[j] - g.positions[b]).length_squared() <= reach * reach
-                    && !g.balls.contains(&j)
-                {
+                let (lo, hi) = self.boxes[j];
+                let near = p.x >= lo.x - reach
+                    && p.x <= hi.x + reach
+                    && p.y >= lo.y - reach
+                    && p.y <= hi.y + reach;
+                if !near || j == b || self.pieces[j].start.motion == MotionState::Pocketed {
+                    continue;
+                }
+                let q = self.pieces[j].pos_at(t);
+                if (q - p).length_squared() <= reach * reach && !g.balls.contains(&j) {
+                    g.positions[j] = q;
                     g.balls.push(j);
                 }
             }
@@ -780,7 +786,9 @@ fn group_impact(g: &mut Scratch, ctx: &Ctx) {
     // Slot `n` is the cushions: one body that does not move.
     g.parent.clear();
     g.parent.extend(0..=g.states.len());
-    accelerations(g, ctx);
+    if g.recent.contains(&true) {
+        accelerations(g, ctx);
+    }
     for k in 0..g.contacts.len() {
         let (a, b) = g.contacts[k];
         g.recent[k] = g.recent[k]
@@ -858,7 +866,12 @@ fn group_impact(g: &mut Scratch, ctx: &Ctx) {
             }
         }
     }
-    settle(g, ctx);
+    // Nothing to settle when every contact opens faster than a push could hold it and no
+    // ball touches a cushion (the common case: two balls that bounced apart).
+    let open = (0..g.contacts.len()).all(|k| approach(g, k) < -HOLD_SPEED);
+    if !(open && g.walls.is_empty()) {
+        settle(g, ctx);
+    }
 }
 
 /// The speed at which contact `k` of the group closes (negative: opening).
