@@ -1,5 +1,6 @@
 //! `breakshot-sim`: simulate scene files (docs/scene.md) from the command line.
 
+mod cluster_study;
 mod study;
 
 use std::io::Read;
@@ -43,6 +44,18 @@ enum Command {
         /// Folder for accuracy-cost.md, accuracy-cost.csv and accuracy-cost.png.
         #[arg(long, value_name = "DIR", default_value = "out/accuracy-cost")]
         out: PathBuf,
+    },
+    /// Play random games and report events per shot as JSON (docs/stability.md).
+    ClusterStudy {
+        /// How many games.
+        #[arg(long, default_value_t = 1000)]
+        games: usize,
+        /// Most strikes per game, the break included.
+        #[arg(long, default_value_t = 10)]
+        shots: usize,
+        /// Seed of the games.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
     },
 }
 
@@ -142,6 +155,10 @@ fn run(command: Command) -> Result<(), Failure> {
             println!("{report}");
         }
         Command::AccuracyCost { out } => study::run(&out)?,
+        Command::ClusterStudy { games, shots, seed } => {
+            let summary = cluster_study::run(games, shots, seed);
+            println!("{}", serde_json::to_string(&summary).context("encoding")?);
+        }
     }
     Ok(())
 }

@@ -21,6 +21,7 @@ use super::cue::{Strike, StrikeError};
 use super::event::{Event, EventKind};
 use super::motion::{BallState, MotionModel, MotionState, Piece};
 use super::params::{BallBallModel, Effects, Models, Params};
+use super::roots::{TOUCH_ACCEL, TOUCH_SPEED};
 use super::table::{Cushion, Table, TableKind};
 
 /// A shot stops with an error past this many events: a safety net that no real shot nears
@@ -30,6 +31,14 @@ pub const MAX_EVENTS: usize = 100_000;
 /// accelerations, not by speed) is held instead of bounced: bouncing would repeat forever
 /// in ever shorter hops.
 pub const HOLD_SPEED: f64 = 1e-3;
+/// Gap between two balls (m) under which they count as touching: they take part in each
+/// other's impacts. At the fastest legal speed the gap would close in under 1e-10 s.
+pub const CONTACT_GAP: f64 = 1e-9;
+/// A pair pressed together by the cloth that meets again within `PERSIST_TIME` (s) of its
+/// last impact, slower than `PERSIST_SPEED` (m/s), is held rather than bounced (the
+/// persistence rule of a sustained push): bounced, it would come back in ever shorter hops.
+pub const PERSIST_TIME: f64 = 0.5;
+pub const PERSIST_SPEED: f64 = 0.05;
 /// Overlap between two balls (m) that a shot may start with: rounding, not a real overlap.
 pub const OVERLAP_TOLERANCE: f64 = 1e-9;
 /// Most balls a shot may have (a pool rack has 16, snooker 22).
@@ -188,6 +197,10 @@ pub struct Simulator {
     pieces: Vec<Piece>,
     own: Vec<Own>,
     pair: Vec<f64>,
+    /// For each pair `i < j` (at `i·n + j`), when it last took part in an impact.
+    last: Vec<f64>,
+    /// For each pair `i < j`, whether its last impact left it held (moving as one).
+    held: Vec<bool>,
     /// For each ball, a box holding its current piece's whole path.
     boxes: Vec<(DVec2, DVec2)>,
     scratch: Scratch,
@@ -301,6 +314,10 @@ impl Simulator {
         self.own.resize(n, NO_OWN);
         self.pair.clear();
         self.pair.resize(n * n, f64::INFINITY);
+        self.last.clear();
+        self.last.resize(n * n, f64::NEG_INFINITY);
+        self.held.clear();
+        self.held.resize(n * n, false);
         for i in 0..n {
             self.predict_own(i, 0.0, &ctx);
         }
@@ -560,16 +577,15 @@ impl Simulator {
         s
     }
 
-    /// Resolves every collision predicted for time `t`, as one group.
+    /// Resolves every collision predicted for time `t`, together with every ball touching
+    /// the colliding balls, as one impact of the touching group ([`group_impact`]).
     fn resolve_group(&mut self, t: f64, n: usize, ctx: &Ctx) {
         let r = ctx.params.ball_radius;
         let g = &mut self.scratch;
-        g.pairs.clear();
         g.balls.clear();
         for i in 0..n {
             for j in i + 1..n {
                 if self.pair[i * n + j] == t {
-                    g.pairs.push((i, j));
                     for b in [i, j] {
                         if !g.balls.contains(&b) {
                             g.balls.push(b);
@@ -578,90 +594,167 @@ impl Simulator {
                 }
             }
         }
-        // Work on the involved balls' states at t, indexed by slot.
+        let seeds = g.balls.len();
+        // Grow the group by every ball touching one of its balls, transitively. A ball whose
+        // path's box is out of reach cannot touch (most balls, most of the time).
+        let reach = 2.0 * r + CONTACT_GAP;
+        g.positions.clear();
+        g.positions.resize(n, DVec2::INFINITY);
+        for k in 0..seeds {
+            let b = g.balls[k];
+            g.positions[b] = self.pieces[b].pos_at(t);
+        }
+        let mut k = 0;
+        while k < g.balls.len() {
+            let b = g.balls[k];
+            let p = g.positions[b];
+            for j in 0..n {
+                let (lo, hi) = self.boxes[j];
+                let near = p.x >= lo.x - reach
+                    && p.x <= hi.x + reach
+                    && p.y >= lo.y - reach
+                    && p.y <= hi.y + reach;
+                if !near || j == b || self.pieces[j].start.motion == MotionState::Pocketed {
+                    continue;
+                }
+                let q = self.pieces[j].pos_at(t);
+                if (q - p).length_squared() <= reach * reach && !g.balls.contains(&j) {
+                    g.positions[j] = q;
+                    g.balls.push(j);
+                }
+            }
+            k += 1;
+        }
+        g.seeds.clear();
+        g.seeds.extend_from_slice(&g.balls[..seeds]);
+        // Slots in ball order: the impact must not depend on how the group was found.
+        g.balls.sort_unstable();
         g.states.clear();
         for &b in &g.balls {
             g.states.push(self.pieces[b].state_at(t, r));
         }
-        for k in 0..g.pairs.len() {
-            let (i, j) = g.pairs[k];
-            let slot = |b: usize| g.balls.iter().position(|&x| x == b).unwrap_or(0);
-            g.pairs[k] = (slot(i), slot(j));
-        }
-        // Resolve each connected set of collisions on its own.
-        g.done.clear();
-        g.done.resize(g.pairs.len(), false);
-        for start in 0..g.pairs.len() {
-            if g.done[start] {
-                continue;
+        g.walls.clear();
+        if ctx.effects.cushions {
+            for slot in 0..g.balls.len() {
+                walls_touching(g, slot, ctx);
             }
-            g.done[start] = true;
-            g.component.clear();
-            g.component.push(g.pairs[start]);
-            let mut k = 0;
-            while k < g.component.len() {
-                let (a, b) = g.component[k];
-                for m in 0..g.pairs.len() {
-                    let (c, d) = g.pairs[m];
-                    if !g.done[m] && (c == a || c == b || d == a || d == b) {
-                        g.done[m] = true;
-                        g.component.push((c, d));
-                    }
+        }
+        g.contacts.clear();
+        g.recent.clear();
+        g.kept.clear();
+        for a in 0..g.balls.len() {
+            for b in a + 1..g.balls.len() {
+                let d = g.states[b].pos - g.states[a].pos;
+                if d.length_squared() <= reach * reach {
+                    g.contacts.push((a, b));
+                    let last = self.last[g.balls[a] * n + g.balls[b]];
+                    g.recent.push(t - last < PERSIST_TIME);
+                    g.kept.push(self.held[g.balls[a] * n + g.balls[b]]);
                 }
-                k += 1;
             }
-            resolve_component(g, ctx);
         }
-        for &(a, b) in &g.pairs {
-            let (i, j) = (g.balls[a], g.balls[b]);
-            self.outcome.events.push(Event {
-                t,
-                kind: EventKind::BallBall {
-                    a: i.min(j) as u16,
-                    b: i.max(j) as u16,
-                },
-            });
+        g.start.clear();
+        g.start.extend(g.states.iter().map(|s| (s.vel, s.spin)));
+        group_impact(g, ctx);
+        for (k, &(a, b)) in g.contacts.iter().enumerate() {
+            self.held[g.balls[a] * n + g.balls[b]] = root(&g.parent, a) == root(&g.parent, b);
+            if g.acted[k] {
+                let (i, j) = (g.balls[a], g.balls[b]);
+                self.last[i * n + j] = t;
+                self.outcome.events.push(Event {
+                    t,
+                    kind: EventKind::BallBall {
+                        a: i as u16,
+                        b: j as u16,
+                    },
+                });
+            }
         }
-        // Every involved ball gets its new piece first, so that each pair among them is
-        // predicted once, from both new pieces and both new own events.
-        let involved = self.scratch.balls.len();
-        for k in 0..involved {
+        for w in 0..g.walls.len() {
+            if g.wall_acted[w] {
+                let (slot, _, cushion) = g.walls[w];
+                self.outcome.events.push(Event {
+                    t,
+                    kind: EventKind::BallCushion {
+                        ball: g.balls[slot] as u16,
+                        cushion,
+                    },
+                });
+            }
+        }
+        // Every changed ball (and every colliding one) gets its new piece first, so that each
+        // pair among them is predicted once, from both new pieces and both new own events.
+        g.changed.clear();
+        for k in 0..g.balls.len() {
+            let s = g.states[k];
+            if (s.vel, s.spin) != g.start[k] || g.seeds.contains(&g.balls[k]) {
+                g.changed.push(k);
+            }
+        }
+        let changed = std::mem::take(&mut self.scratch.changed);
+        for &k in &changed {
             let mut s = self.scratch.states[k];
             s.classify(r);
             self.start_piece(self.scratch.balls[k], t, s, ctx);
         }
-        for k in 0..involved {
+        for &k in &changed {
             self.predict_own(self.scratch.balls[k], t, ctx);
         }
-        for k in 0..involved {
-            let ball = self.scratch.balls[k];
-            let earlier = std::mem::take(&mut self.scratch.balls);
-            self.predict_pairs_of(ball, t, |j| earlier[..k].contains(&j), ctx);
-            self.scratch.balls = earlier;
+        let balls = std::mem::take(&mut self.scratch.balls);
+        for (m, &k) in changed.iter().enumerate() {
+            let earlier = |j: usize| changed[..m].iter().any(|&c| balls[c] == j);
+            self.predict_pairs_of(balls[k], t, earlier, ctx);
         }
+        self.scratch.balls = balls;
+        self.scratch.changed = changed;
     }
 }
 
 /// Buffers reused from one collision group to the next.
 #[derive(Default)]
 struct Scratch {
-    /// Colliding pairs (ball indices, then slots into `balls`).
-    pairs: Vec<(usize, usize)>,
-    /// The balls involved, and their states at the collision instant.
+    /// The balls of the touching group (ball indices, in order), those among them whose
+    /// collision was predicted, and their states during the impact (indexed by slot).
     balls: Vec<usize>,
+    seeds: Vec<usize>,
     states: Vec<BallState>,
-    done: Vec<bool>,
-    /// The pairs (slots) of the connected set being resolved.
-    component: Vec<(usize, usize)>,
-    /// The simultaneous impact's contact normals, impulses, their last change, and the
-    /// velocities during the iteration and before it.
+    /// Velocity and spin of each slot before the impact.
+    start: Vec<(DVec2, DVec3)>,
+    /// Every ball's position at the impact instant (pocketed balls at infinity).
+    positions: Vec<DVec2>,
+    /// The group's contacts (slots `a < b`), whether each took part, and their normals.
+    contacts: Vec<(usize, usize)>,
+    acted: Vec<bool>,
     normals: Vec<DVec2>,
+    /// Cushions touching a ball of the group (slot, normal into the table, which), and
+    /// whether each took part.
+    walls: Vec<(usize, DVec2, Cushion)>,
+    wall_acted: Vec<bool>,
+    /// Whether each contact's pair took part in an impact less than `PERSIST_TIME` ago, and
+    /// whether that impact left it held.
+    recent: Vec<bool>,
+    kept: Vec<bool>,
+    /// Contacts (indices) taking part in the current round, and which of them are resolved.
+    active: Vec<usize>,
+    done: Vec<bool>,
+    /// The contacts (slots) of the connected set being resolved, and their normals.
+    component: Vec<(usize, usize)>,
+    component_normals: Vec<DVec2>,
+    /// The simultaneous impact's impulses, their last change, and the velocities during the
+    /// iteration.
     lambda: Vec<f64>,
     delta: Vec<f64>,
     vel: Vec<DVec2>,
-    before: Vec<DVec2>,
-    /// Contacts per ball in the impact.
+    /// Contacts per body in the impact, each body's mass (in balls), and each contact's
+    /// bodies.
     degree: Vec<usize>,
+    size: Vec<f64>,
+    bodies: Vec<(usize, usize)>,
+    /// Slots whose state changed; each slot's acceleration after the impact; union-find
+    /// parents of held contacts.
+    changed: Vec<usize>,
+    acc: Vec<DVec2>,
+    parent: Vec<usize>,
 }
 
 /// A box holding the whole path of a piece (up to the horizon `limit`).
@@ -680,151 +773,420 @@ enum Next {
     Pair,
 }
 
-/// Resolves collisions that share balls at one instant. One collision is resolved by its
-/// model; several are one simultaneous impact ([`simultaneous_impact`]), which does not
-/// depend on how the balls are numbered, so a mirror-symmetric rack stays symmetric.
-fn resolve_component(g: &mut Scratch, ctx: &Ctx) {
-    if g.component.len() == 1 {
-        let (a, b) = g.component[0];
-        collide_pair(&mut g.states, a, b, ctx);
-        return;
+/// Resolves the impact of a touching group: every contact of the group within
+/// `CONTACT_GAP` takes part, whether or not its own collision was predicted.
+///
+/// The impact runs in rounds. Each round takes every contact approaching faster than
+/// `HOLD_SPEED` and resolves it from the velocities the previous round left: a contact that
+/// shares no ball with another by the pairwise model (restitution, throw, spin transfer), a
+/// connected set of them as one simultaneous impact ([`simultaneous_impact`]). A line of
+/// touching balls is so resolved as the wave a real cradle carries, one contact after the
+/// other, and the far ball leaves. Within a round every contact is updated from the same
+/// velocities, so the result does not depend on how the balls are numbered. What the rounds
+/// leave is settled ([`settle`]). Each contact that took part gives one event.
+fn group_impact(g: &mut Scratch, ctx: &Ctx) {
+    g.acted.clear();
+    g.acted.resize(g.contacts.len(), false);
+    g.normals.clear();
+    for &(a, b) in &g.contacts {
+        g.normals
+            .push((g.states[b].pos - g.states[a].pos).normalize_or_zero());
     }
-    g.before.clear();
-    g.before.extend(g.states.iter().map(|s| s.vel));
-    simultaneous_impact(g, ctx);
-    // A contact the impact left exactly as it was (a push, not an approach) would be found
-    // again at this instant: its balls move on together.
-    for k in 0..g.component.len() {
-        let (a, b) = g.component[k];
-        if g.states[a].vel == g.before[a] && g.states[b].vel == g.before[b] {
-            merge(&mut g.states, a, b);
+    // A pair pressed together by the cloth that meets again soon after its last impact is a
+    // sustained push: it is settled (held), not bounced.
+    // Slot `n` is the cushions: one body that does not move.
+    g.parent.clear();
+    g.parent.extend(0..=g.states.len());
+    if g.recent.contains(&true) {
+        accelerations(g, ctx);
+    }
+    for k in 0..g.contacts.len() {
+        let (a, b) = g.contacts[k];
+        g.recent[k] = g.recent[k]
+            && approach(g, k) < PERSIST_SPEED
+            && (g.acc[a] - g.acc[b]).dot(g.normals[k]) > TOUCH_ACCEL;
+    }
+    g.wall_acted.clear();
+    g.wall_acted.resize(g.walls.len(), false);
+    let rounds = 4 * (g.contacts.len() + g.walls.len()) + 8;
+    for _ in 0..rounds {
+        g.active.clear();
+        for k in 0..g.contacts.len() {
+            if approach(g, k) > HOLD_SPEED && !g.recent[k] {
+                g.active.push(k);
+                g.acted[k] = true;
+            }
+        }
+        let walls_approach = g
+            .walls
+            .iter()
+            .any(|&(slot, normal, _)| -g.states[slot].vel.dot(normal) > HOLD_SPEED);
+        if g.active.is_empty() && !walls_approach {
+            break;
+        }
+        g.done.clear();
+        g.done.resize(g.active.len(), false);
+        for first in 0..g.active.len() {
+            if g.done[first] {
+                continue;
+            }
+            g.done[first] = true;
+            g.component.clear();
+            g.component_normals.clear();
+            g.component.push(g.contacts[g.active[first]]);
+            g.component_normals.push(g.normals[g.active[first]]);
+            let mut k = 0;
+            while k < g.component.len() {
+                let (a, b) = g.component[k];
+                for m in 0..g.active.len() {
+                    let (c, d) = g.contacts[g.active[m]];
+                    if !g.done[m] && (c == a || c == b || d == a || d == b) {
+                        g.done[m] = true;
+                        g.component.push((c, d));
+                        g.component_normals.push(g.normals[g.active[m]]);
+                    }
+                }
+                k += 1;
+            }
+            if g.component.len() == 1 {
+                let (a, b) = g.component[0];
+                collide_pair(&mut g.states, a, b, ctx);
+            } else {
+                let e = match ctx.models.ball_ball {
+                    BallBallModel::Ideal => 1.0,
+                    BallBallModel::Frictional => ctx.params.e_ball,
+                };
+                simultaneous_impact(g, e);
+            }
+        }
+        // A ball driven into a cushion bounces off it, unless one of its ball contacts
+        // acts in this round (then the cushion waits for the next round).
+        for w in 0..g.walls.len() {
+            let (slot, normal, _) = g.walls[w];
+            let s = &g.states[slot];
+            let busy = g.active.iter().any(|&k| {
+                let (a, b) = g.contacts[k];
+                a == slot || b == slot
+            });
+            if -s.vel.dot(normal) > HOLD_SPEED && !busy {
+                let (v, w_) =
+                    ball_cushion::bounce(s.vel, s.spin, normal, ctx.models.cushion, ctx.params);
+                g.states[slot].vel = v;
+                g.states[slot].spin = w_;
+                g.wall_acted[w] = true;
+            }
+        }
+    }
+    // Nothing to settle when every contact opens faster than a push could hold it and no
+    // ball touches a cushion (the common case: two balls that bounced apart).
+    let open = (0..g.contacts.len()).all(|k| approach(g, k) < -HOLD_SPEED);
+    if !(open && g.walls.is_empty()) {
+        settle(g, ctx);
+    }
+}
+
+/// The speed at which contact `k` of the group closes (negative: opening).
+fn approach(g: &Scratch, k: usize) -> f64 {
+    let (a, b) = g.contacts[k];
+    (g.states[a].vel - g.states[b].vel).dot(g.normals[k])
+}
+
+/// Ends a group impact so that no contact of the group is left to collide again at the same
+/// instant. A contact still approaching (slower than `HOLD_SPEED`, or after the last round)
+/// takes a perfectly inelastic impact. A contact pressed together by the cloth (friction,
+/// or a ball's own spin driving it on) that is not opening faster than `HOLD_SPEED` is
+/// *held*: the balls it joins move on as one body, each with the group's average velocity
+/// and spin, until something separates them. Without holding, the push would come back as
+/// an endless stream of ever smaller bounces. Both steps keep momentum and never add energy
+/// (the average minimises kinetic energy at fixed momentum).
+fn settle(g: &mut Scratch, ctx: &Ctx) {
+    /// Passes of inelastic impact and holding: holding can make a neighbour approach.
+    const PASSES: usize = 8;
+    // Held contacts stay held for the rest of the impact: balls moving as one no longer
+    // press into each other, but must still share what a later pass gives one of them. A
+    // contact held before that the rounds left moving as one is still held: a push on a
+    // held set moves it as one body, without an event inside it.
+    // Slot `n` is the cushions: one body that does not move.
+    g.parent.clear();
+    g.parent.extend(0..=g.states.len());
+    for k in 0..g.contacts.len() {
+        let (a, b) = g.contacts[k];
+        let (sa, sb) = (&g.states[a], &g.states[b]);
+        if g.kept[k] && sa.vel == sb.vel && sa.spin == sb.spin {
+            let (ra, rb) = (root(&g.parent, a), root(&g.parent, b));
+            g.parent[ra.max(rb)] = ra.min(rb);
+        }
+    }
+    for _ in 0..PASSES {
+        // Every contact between different bodies takes part; the impact itself decides
+        // which carry an impulse.
+        g.component.clear();
+        g.component_normals.clear();
+        g.active.clear();
+        let mut approaching = false;
+        for k in 0..g.contacts.len() {
+            let (a, b) = g.contacts[k];
+            if root(&g.parent, a) != root(&g.parent, b) {
+                approaching |= approach(g, k) > TOUCH_SPEED;
+                g.component.push(g.contacts[k]);
+                g.component_normals.push(g.normals[k]);
+                g.active.push(k);
+            }
+        }
+        let wall_body = g.states.len();
+        for w in 0..g.walls.len() {
+            let (slot, normal, _) = g.walls[w];
+            approaching |= -g.states[slot].vel.dot(normal) > TOUCH_SPEED;
+            g.component.push((wall_body, slot));
+            g.component_normals.push(normal);
+        }
+        if approaching {
+            simultaneous_impact(g, 0.0);
+            for m in 0..g.component.len() {
+                if g.lambda[m] > 0.0 {
+                    if m < g.active.len() {
+                        g.acted[g.active[m]] = true;
+                    } else {
+                        g.wall_acted[m - g.active.len()] = true;
+                    }
+                }
+            }
+        }
+        let mut held = false;
+        loop {
+            held |= share_motion(g);
+            if !join_pressed(g, ctx) {
+                break;
+            }
+        }
+        held |= hold_against_walls(g, ctx);
+        if !approaching && !held {
+            break;
         }
     }
 }
 
-/// Several contacts at one instant as one frictionless impact with Poisson's restitution:
-/// the normal impulses `λ ≥ 0` of a perfectly inelastic impact are found first (every
+/// Gives every ball of each held set the set's average velocity and spin; true if that
+/// changed anything.
+fn share_motion(g: &mut Scratch) -> bool {
+    let n = g.states.len();
+    // (The cushions' body, slot n, is never joined to a ball.)
+    let mut changed = false;
+    for top in 0..n {
+        if g.parent[top] != top {
+            continue;
+        }
+        let (mut vel, mut spin, mut count) = (DVec2::ZERO, DVec3::ZERO, 0.0);
+        for m in 0..n {
+            if root(&g.parent, m) == top {
+                vel += g.states[m].vel;
+                spin += g.states[m].spin;
+                count += 1.0;
+            }
+        }
+        if count > 1.0 {
+            let (vel, spin) = (vel / count, spin / count);
+            for m in 0..n {
+                let s = &mut g.states[m];
+                if root(&g.parent, m) == top && (s.vel != vel || s.spin != spin) {
+                    s.vel = vel;
+                    s.spin = spin;
+                    changed = true;
+                }
+            }
+        }
+    }
+    changed
+}
+
+/// Joins the held sets of every contact pressed together by the cloth and not opening faster
+/// than `HOLD_SPEED`; true if any joined.
+fn join_pressed(g: &mut Scratch, ctx: &Ctx) -> bool {
+    accelerations(g, ctx);
+    let mut joined = false;
+    for k in 0..g.contacts.len() {
+        let (a, b) = g.contacts[k];
+        let (ra, rb) = (root(&g.parent, a), root(&g.parent, b));
+        let pressed = (g.acc[a] - g.acc[b]).dot(g.normals[k]) > TOUCH_ACCEL;
+        if ra != rb && pressed && approach(g, k) > -HOLD_SPEED {
+            g.parent[ra.max(rb)] = ra.min(rb);
+            g.acted[k] = true;
+            joined = true;
+        }
+    }
+    joined
+}
+
+/// Records every cushion (rail or jaw) that the ball in `slot` touches.
+fn walls_touching(g: &mut Scratch, slot: usize, ctx: &Ctx) {
+    let p = g.states[slot].pos;
+    let reach = ctx.contact + CONTACT_GAP;
+    // Every cushion lies beyond the nose lines: a ball well inside them touches none.
+    let inside = ctx.table.half - DVec2::splat(reach + ctx.params.ball_radius);
+    if p.x.abs() < inside.x && p.y.abs() < inside.y {
+        return;
+    }
+    for (k, rail) in ctx.table.rails.iter().enumerate() {
+        let along = rail.b - rail.a;
+        let s = along.dot(p - rail.a) / along.length_squared();
+        if rail.normal.dot(p - rail.a) <= reach && (0.0..=1.0).contains(&s) {
+            g.walls.push((slot, rail.normal, Cushion::Rail(k as u8)));
+        }
+    }
+    for (k, jaw) in ctx.table.jaws.iter().enumerate() {
+        let d = p - jaw.center;
+        if d.length() <= jaw.radius + reach {
+            g.walls
+                .push((slot, d.normalize_or_zero(), Cushion::Jaw(k as u8)));
+        }
+    }
+}
+
+/// A held set pressed into a cushion by the cloth is held by it, as a single ball is
+/// ([`Simulator::bounce`]): every ball of the set keeps only its motion along the cushion.
+/// True if that changed anything.
+fn hold_against_walls(g: &mut Scratch, ctx: &Ctx) -> bool {
+    let r = ctx.params.ball_radius;
+    let mut changed = false;
+    for w in 0..g.walls.len() {
+        accelerations(g, ctx);
+        let (slot, normal, _) = g.walls[w];
+        let s = g.states[slot];
+        if s.vel.dot(normal) < HOLD_SPEED && g.acc[slot].dot(normal) < 0.0 {
+            let top = root(&g.parent, slot);
+            let mut vel = s.vel;
+            vel -= normal * vel.dot(normal).min(0.0);
+            let spin = without_normal_slip(vel, s.spin, normal, r);
+            for m in 0..g.states.len() {
+                let t = &mut g.states[m];
+                if root(&g.parent, m) == top && (t.vel != vel || t.spin != spin) {
+                    t.vel = vel;
+                    t.spin = spin;
+                    changed = true;
+                    g.wall_acted[w] = true;
+                }
+            }
+        }
+    }
+    changed
+}
+
+/// Each slot's acceleration on the cloth in its current state.
+fn accelerations(g: &mut Scratch, ctx: &Ctx) {
+    g.acc.clear();
+    for s in &g.states {
+        let mut c = *s;
+        c.classify(ctx.params.ball_radius);
+        g.acc.push(Piece::new(0.0, c, &ctx.motion).acc);
+    }
+}
+
+fn root(parent: &[usize], mut k: usize) -> usize {
+    while parent[k] != k {
+        k = parent[k];
+    }
+    k
+}
+
+/// Several contacts at one instant as one frictionless impact with Poisson's restitution
+/// `e`: the normal impulses `λ ≥ 0` of a perfectly inelastic impact are found first (every
 /// contact ends not approaching, and a contact that ends separating carries no impulse: a
 /// linear complementarity problem), then every impulse is scaled by `1 + e`. Scaling the
 /// inelastic solution this way never adds energy for `e ≤ 1`, keeps momentum, and treats all
 /// contacts alike. The complementarity problem is solved by projected Jacobi iteration, in
 /// which every contact is updated from the same velocities, so the result does not depend on
-/// the order of the contacts. Contacts approaching slower than `HOLD_SPEED` all round are
-/// perfectly inelastic, as single ones are.
-fn simultaneous_impact(g: &mut Scratch, ctx: &Ctx) {
+/// the order of the contacts. A held set of balls (`Scratch::parent`) moves as one body of
+/// their total mass.
+fn simultaneous_impact(g: &mut Scratch, e: f64) {
     /// Sweeps of the iteration before giving up on further accuracy.
     const MAX_SWEEPS: usize = 10_000;
-    let contacts = &g.component;
-    g.normals.clear();
+    let n = g.states.len();
     g.lambda.clear();
     g.delta.clear();
     g.vel.clear();
     g.vel.extend(g.states.iter().map(|s| s.vel));
+    // Body n, the cushions, does not move: infinite mass.
+    g.vel.push(DVec2::ZERO);
+    g.size.clear();
+    g.size.resize(n, 0.0);
+    for m in 0..n {
+        g.size[root(&g.parent, m)] += 1.0;
+    }
+    g.size.push(f64::INFINITY);
     let mut fastest: f64 = 0.0;
     g.degree.clear();
-    g.degree.resize(g.states.len(), 0);
-    for &(a, b) in contacts {
-        let n = (g.states[b].pos - g.states[a].pos).normalize_or_zero();
-        g.normals.push(n);
+    g.degree.resize(n + 1, 0);
+    g.bodies.clear();
+    for (k, &(a, b)) in g.component.iter().enumerate() {
+        let (a, b) = (root(&g.parent, a), root(&g.parent, b));
+        g.bodies.push((a, b));
         g.lambda.push(0.0);
         g.delta.push(0.0);
-        fastest = fastest.max(-(g.vel[b] - g.vel[a]).dot(n));
+        fastest = fastest.max(-(g.vel[b] - g.vel[a]).dot(g.component_normals[k]));
         g.degree[a] += 1;
         g.degree[b] += 1;
     }
-    // Under-relaxation by the most contacts on one ball keeps the iteration convergent.
+    // Under-relaxation by the most contacts on one body keeps the iteration convergent.
     let omega = 1.0 / g.degree.iter().copied().max().unwrap_or(1).max(1) as f64;
     let tolerance = 1e-15 * fastest;
     for _ in 0..MAX_SWEEPS {
         let mut largest: f64 = 0.0;
-        for (k, &(a, b)) in contacts.iter().enumerate() {
-            // Separating speed; each unit of impulse changes it by 2 (equal masses).
-            let u = (g.vel[b] - g.vel[a]).dot(g.normals[k]);
-            let next = (g.lambda[k] - omega * 0.5 * u).max(0.0);
+        for (k, &(a, b)) in g.bodies.iter().enumerate() {
+            // Separating speed, and how much each unit of impulse changes it.
+            let u = (g.vel[b] - g.vel[a]).dot(g.component_normals[k]);
+            let w = 1.0 / g.size[a] + 1.0 / g.size[b];
+            let next = (g.lambda[k] - omega * u / w).max(0.0);
             g.delta[k] = next - g.lambda[k];
             largest = largest.max(g.delta[k].abs());
         }
-        for (k, &(a, b)) in contacts.iter().enumerate() {
-            let impulse = g.normals[k] * g.delta[k];
-            g.vel[a] -= impulse;
-            g.vel[b] += impulse;
+        for (k, &(a, b)) in g.bodies.iter().enumerate() {
+            let impulse = g.component_normals[k] * g.delta[k];
+            g.vel[a] -= impulse / g.size[a];
+            g.vel[b] += impulse / g.size[b];
             g.lambda[k] += g.delta[k];
         }
         if largest <= tolerance {
             break;
         }
     }
-    let e = match ctx.models.ball_ball {
-        _ if fastest < HOLD_SPEED => 0.0,
-        BallBallModel::Ideal => 1.0,
-        BallBallModel::Frictional => ctx.params.e_ball,
-    };
-    for (k, &(a, b)) in contacts.iter().enumerate() {
-        let impulse = g.normals[k] * ((1.0 + e) * g.lambda[k]);
-        g.states[a].vel -= impulse;
-        g.states[b].vel += impulse;
+    // The impulses, scaled by 1 + e, on each body's own velocity.
+    for m in 0..n {
+        g.vel[m] = g.states[m].vel;
+    }
+    g.vel[n] = DVec2::ZERO;
+    for (k, &(a, b)) in g.bodies.iter().enumerate() {
+        let impulse = g.component_normals[k] * ((1.0 + e) * g.lambda[k]);
+        g.vel[a] -= impulse / g.size[a];
+        g.vel[b] += impulse / g.size[b];
+    }
+    // Members of a held set share one velocity already: they keep sharing it.
+    for m in 0..n {
+        g.states[m].vel = g.vel[root(&g.parent, m)];
     }
 }
 
+/// One contact approaching on its own, by the pairwise collision model.
 fn collide_pair(states: &mut [BallState], a: usize, b: usize, ctx: &Ctx) {
-    let r = ctx.params.ball_radius;
     let (sa, sb) = (states[a], states[b]);
-    let n = (sb.pos - sa.pos).normalize_or_zero();
-    let approach = (sa.vel - sb.vel).dot(n);
-    let accel = |s: &BallState| {
-        let mut c = *s;
-        c.classify(r);
-        Piece::new(0.0, c, &ctx.motion).acc
-    };
-    let pushing = (accel(&sa) - accel(&sb)).dot(n) > 0.0;
-    if approach < HOLD_SPEED && pushing {
-        merge(states, a, b);
-        return;
-    }
-    if approach < HOLD_SPEED {
-        // Too slow to bounce: perfectly inelastic along the line of centres. Without this a
-        // frozen cluster would trade ever smaller bounces forever (inelastic collapse).
-        let common = 0.5 * (sa.vel.dot(n) + sb.vel.dot(n));
-        states[a].vel += n * (common - sa.vel.dot(n));
-        states[b].vel += n * (common - sb.vel.dot(n));
-    } else {
-        let (ka, kb) = ball_ball::collide(
-            sa.pos,
-            sb.pos,
-            Kinematics {
-                vel: sa.vel,
-                spin: sa.spin,
-            },
-            Kinematics {
-                vel: sb.vel,
-                spin: sb.spin,
-            },
-            ctx.models.ball_ball,
-            ctx.effects.ball_friction,
-            ctx.params,
-        );
-        states[a].vel = ka.vel;
-        states[a].spin = ka.spin;
-        states[b].vel = kb.vel;
-        states[b].spin = kb.spin;
-    }
-    if states[a].vel == sa.vel && states[b].vel == sb.vel {
-        // Nothing changed (a contact within rounding of at rest): make sure the pair cannot
-        // be found touching-and-approaching again at this instant.
-        merge(states, a, b);
-    }
-}
-
-/// Two touching balls pushed together by friction (a sustained contact) move on as one:
-/// both take the average velocity and spin. Momentum is kept, energy can only drop (it is
-/// convex), and with identical motion they can no longer press into each other.
-fn merge(states: &mut [BallState], a: usize, b: usize) {
-    let vel = 0.5 * (states[a].vel + states[b].vel);
-    let spin = 0.5 * (states[a].spin + states[b].spin);
-    for k in [a, b] {
-        states[k].vel = vel;
-        states[k].spin = spin;
-    }
+    let (ka, kb) = ball_ball::collide(
+        sa.pos,
+        sb.pos,
+        Kinematics {
+            vel: sa.vel,
+            spin: sa.spin,
+        },
+        Kinematics {
+            vel: sb.vel,
+            spin: sb.spin,
+        },
+        ctx.models.ball_ball,
+        ctx.effects.ball_friction,
+        ctx.params,
+    );
+    states[a].vel = ka.vel;
+    states[a].spin = ka.spin;
+    states[b].vel = kb.vel;
+    states[b].spin = kb.spin;
 }
 
 /// The spin that leaves the ball's cloth slip with no component along `n`, changing only the
