@@ -6,6 +6,7 @@ use breakshot_client::play::link::Judgement;
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::layout::{Frame, Layout};
+use breakshot_client::view::orientation::Orientations;
 use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
 
@@ -15,12 +16,18 @@ use super::{draw, menu, Next, Screen};
 pub struct ReplayScreen {
     viewer: ReplayViewer,
     frame: Frame,
+    /// How each ball is turned, for drawing.
+    turns: Orientations,
 }
 
 impl ReplayScreen {
     pub fn new(viewer: ReplayViewer) -> ReplayScreen {
         let frame = Frame::new(viewer.game().table(), viewer.game().balls());
-        ReplayScreen { viewer, frame }
+        ReplayScreen {
+            viewer,
+            frame,
+            turns: Orientations::new(),
+        }
     }
 
     pub fn update(&mut self, input: &InputFrame) -> Next {
@@ -40,6 +47,7 @@ impl ReplayScreen {
     }
 
     pub fn draw(&mut self) {
+        self.turns.follow(self.viewer.shot());
         let layout = Layout::new(screen_width(), screen_height(), self.frame);
         let v = &self.viewer;
         let r = v.game().params().ball_radius;
@@ -53,7 +61,7 @@ impl ReplayScreen {
             })
             .collect();
         draw::table(&layout, v.game().table());
-        draw::balls(&layout, &ids, &v.balls(), r, None);
+        draw::balls(&layout, &ids, &v.balls(), r, None, &self.turns);
         draw::tray(&layout, &ids, &v.tray(), r);
         // The panel shows the strike of the shot being played (or the next one).
         let (done, total) = v.position();
