@@ -10,8 +10,8 @@ use std::process::ExitCode;
 use std::rc::Rc;
 
 use anyhow::{bail, Context as _};
-use breakshot_client::net::host::{default_data_dir, ADDRESS_NOTE, DEFAULT_PORT};
-use breakshot_client::net::{fetch_record_blocking, Host, HostOptions, NetLink};
+use breakshot_client::net::host::{default_data_dir, DEFAULT_PORT};
+use breakshot_client::net::{fetch_record_blocking, HostOptions, NetLink};
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_shared::protocol::{AimAid, Invite, RoomCode};
 use breakshot_shared::rules::{EightBallRules, Variant};
@@ -139,9 +139,7 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
                 address: address.clone(),
                 ..HostOptions::new(data)
             };
-            let host = Host::start(&options)?;
-            announce(&host);
-            ui::Start::Network(Box::new(host))
+            host(&options)?
         }
         Some(Command::Join { invite }) => {
             let invite: Invite = invite
@@ -188,8 +186,23 @@ fn fetch_replay(url: &str, game: &str) -> anyhow::Result<ReplayViewer> {
         .with_context(|| format!("the server sent game {room} as an unreadable record"))
 }
 
+/// Hosts a game, tells the terminal where it is served, and plays in it.
+#[cfg(feature = "host")]
+fn host(options: &HostOptions) -> anyhow::Result<ui::Start> {
+    let host = breakshot_client::net::Host::start(options)?;
+    announce(&host);
+    Ok(ui::Start::Network(Box::new(host)))
+}
+
+/// This build has no embedded server.
+#[cfg(not(feature = "host"))]
+fn host(_: &HostOptions) -> anyhow::Result<ui::Start> {
+    Err(breakshot_client::net::HostError::NotBuilt.into())
+}
+
 /// Tells the terminal where the game is served and what to send the other player.
-fn announce(host: &Host) {
+#[cfg(feature = "host")]
+fn announce(host: &breakshot_client::net::Host) {
     println!("{}", host.invite());
     eprintln!(
         "breakshot: serving on UDP {} (data in {}); send the invite above to the other player",
@@ -197,7 +210,7 @@ fn announce(host: &Host) {
         host.data().display()
     );
     if host.needs_address() {
-        eprintln!("breakshot: {}", ADDRESS_NOTE);
+        eprintln!("breakshot: {}", breakshot_client::net::host::ADDRESS_NOTE);
     }
 }
 
