@@ -10,6 +10,7 @@ use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{connection as connection_text, Connection};
 use breakshot_client::view::layout::{Frame, Layout, Rect};
 use breakshot_client::view::orientation::Orientations;
+use breakshot_client::view::playback::Playback;
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
 use breakshot_shared::protocol::Invite;
@@ -232,6 +233,11 @@ impl GameScreen {
         }
         let prediction = aids::predict(&mut self.sim, &shot, 0).unwrap_or_default();
         self.predicted = Some((shot, prediction));
+    }
+
+    /// The shot being shown, if any.
+    pub fn shot(&self) -> Option<&Playback> {
+        self.flow.shot()
     }
 
     pub fn draw(&mut self) {

@@ -5,6 +5,7 @@ use breakshot_client::play::practice::Practice;
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::layout::{Frame, Layout};
 use breakshot_client::view::orientation::Orientations;
+use breakshot_client::view::playback::Playback;
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, TableKind};
 use breakshot_shared::scene::Scene;
@@ -127,6 +128,11 @@ impl PracticeScreen {
         }
         let prediction = aids::predict(&mut self.sim, &shot, self.practice.cue).unwrap_or_default();
         self.predicted = Some((shot, prediction));
+    }
+
+    /// The shot being shown, if any.
+    pub fn shot(&self) -> Option<&Playback> {
+        self.practice.playback.as_ref()
     }
 
     pub fn draw(&mut self) {

@@ -7,6 +7,7 @@ use breakshot_client::play::replay::ReplayViewer;
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::layout::{Frame, Layout};
 use breakshot_client::view::orientation::Orientations;
+use breakshot_client::view::playback::Playback;
 use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
 
@@ -44,6 +45,11 @@ impl ReplayScreen {
         }
         self.viewer.tick(input.dt);
         Step::Stay
+    }
+
+    /// The shot being shown, if any.
+    pub fn shot(&self) -> Option<&Playback> {
+        self.viewer.shot()
     }
 
     pub fn draw(&mut self) {

@@ -42,6 +42,7 @@ pub struct Orientations {
 }
 
 impl Orientations {
+    /// Every ball unturned.
     pub fn new() -> Orientations {
         Orientations::default()
     }

@@ -21,6 +21,7 @@ pub enum Sound {
 }
 
 impl Sound {
+    /// Every kind, once.
     pub const ALL: [Sound; 4] = [Sound::Strike, Sound::Click, Sound::Thump, Sound::Drop];
 
     /// The impact speed (m/s) that sounds at full volume.
@@ -37,8 +38,11 @@ impl Sound {
 /// One sound to play at shot time `t`, at `volume` in 0..=1.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cue {
+    /// When (s of shot time).
     pub t: f64,
+    /// Which sound.
     pub sound: Sound,
+    /// How loud, 0..=1, before the player's volume.
     pub volume: f32,
 }
 
@@ -166,7 +170,9 @@ pub fn wav(samples: &[i16]) -> Vec<u8> {
 /// The player's sound settings: volume 0..=1 and mute.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Mixer {
+    /// 0..=1.
     pub volume: f32,
+    /// Nothing is played.
     pub muted: bool,
 }
 
@@ -195,6 +201,10 @@ impl Mixer {
     }
 }
 
+/// Sounds further behind the time shown than this (s of shot time) are dropped: after a skip
+/// to the end of a shot, the table is not heard all at once.
+const LATE: f64 = 0.25;
+
 /// Follows a shot being shown and says which sounds are due each frame.
 #[derive(Clone, Debug, Default)]
 pub struct SoundTrack {
@@ -203,8 +213,8 @@ pub struct SoundTrack {
 }
 
 impl SoundTrack {
-    /// The cues between the last call and shot time `now` of `outcome` (all of them since
-    /// the start, for a new shot).
+    /// The cues between the last call and shot time `now` of `outcome` (since the start, for
+    /// a new shot), except those more than [`LATE`] behind.
     pub fn due(&mut self, outcome: &Outcome, now: f64) -> Vec<Cue> {
         let mark = (outcome.duration.to_bits(), outcome.events.len());
         let from = match self.heard {
@@ -212,7 +222,7 @@ impl SoundTrack {
             _ => -1.0,
         };
         self.heard = Some((mark, now));
-        cues(outcome, from, now)
+        cues(outcome, from.max(now - LATE), now)
     }
 }
 
@@ -279,6 +289,10 @@ mod tests {
         heard.extend(track.due(&o, o.duration));
         assert_eq!(heard, cues(&o, -1.0, o.duration));
         assert!(track.due(&o, o.duration).is_empty());
+        // Skipping to the end of a new shot plays only its last moments.
+        let mut skip = SoundTrack::default();
+        let late = skip.due(&o, o.duration);
+        assert!(late.iter().all(|c| c.t >= o.duration - LATE));
     }
 
     #[test]

@@ -7,8 +7,10 @@ use glam::{DQuat, DVec3};
 
 use super::palette::{self, BallLook, Rgb};
 
-/// Rings and sectors of the fan: fine enough that a spot's edge stays smooth on a big window.
+/// Rings of the fan: with [`SECTORS`], fine enough that a spot's edge stays smooth on a big
+/// window.
 pub const RINGS: usize = 14;
+/// Points on each ring.
 pub const SECTORS: usize = 48;
 /// Angular radius of a number spot: cos of the half-angle it covers.
 const SPOT_COS: f64 = 0.9;
@@ -24,7 +26,9 @@ const AMBIENT: f64 = 0.38;
 /// (unit length). Top-down, the scene's z points at the viewer.
 #[derive(Clone, Copy, Debug)]
 pub struct ScreenAxes {
+    /// The scene's x axis on the screen.
     pub x: [f64; 2],
+    /// The scene's y axis on the screen.
     pub y: [f64; 2],
 }
 
@@ -51,13 +55,17 @@ impl ScreenAxes {
 /// One point of the fan: offset from the centre in ball radii, and colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Point {
+    /// Offset from the ball's centre (right, down) in ball radii.
     pub at: [f32; 2],
+    /// Colour, lit.
     pub rgba: [u8; 4],
 }
 
 /// The fan: points (the centre first, then ring by ring) and triangles as index triples.
 pub struct Fan {
+    /// The centre, then ring by ring from the inside out.
     pub points: Vec<Point>,
+    /// Triangles as indices into `points`.
     pub triangles: Vec<[u16; 3]>,
 }
 
