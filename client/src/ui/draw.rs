@@ -1,13 +1,23 @@
 //! Drawing the table, the balls and the panel. Positions come from the library's
 //! [`Layout`]; physics values become f32 only here, at the last moment.
 
-use ::glam::DVec2;
+use ::glam::{DQuat, DVec2};
 use breakshot_client::play::aim::Aim;
 use breakshot_client::view::aids::{AidToggles, Prediction};
 use breakshot_client::view::layout::{Layout, Rect, RAIL_WIDTH};
+use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::palette::{self, ball_look, Rgb};
+use breakshot_client::view::sphere::{self, ScreenAxes};
 use breakshot_shared::physics::{BallState, MotionState, Table, TableKind};
+use macroquad::models::Vertex;
 use macroquad::prelude::*;
+
+/// The layout's mapping of scene directions: x down the screen, y to the right
+/// ([`Layout::dir_to_screen`]).
+const SCREEN_AXES: ScreenAxes = ScreenAxes {
+    x: [0.0, 1.0],
+    y: [1.0, 0.0],
+};
 
 /// Width of the cushion rubber drawn behind the nose line (m).
 const CUSHION_WIDTH: f64 = 0.045;
@@ -109,74 +119,92 @@ fn diamonds(layout: &Layout) {
     }
 }
 
-/// One ball at pixel `at` with radius `r` pixels.
+/// One ball at pixel `at` with radius `r` pixels, unturned.
 pub fn ball(id: &str, at: [f32; 2], r: f32) {
+    ball_turned(id, at, r, DQuat::IDENTITY);
+}
+
+/// One ball turned by `turn` ([`Orientations`]): a soft shadow, the shaded sphere with its
+/// spots and stripe where the turn puts them, the numbers on the spots that face up, and a
+/// highlight.
+pub fn ball_turned(id: &str, at: [f32; 2], r: f32, turn: DQuat) {
     let look = ball_look(id);
     let (x, y) = (at[0], at[1]);
-    draw_poly(
-        x,
-        y,
-        BALL_SIDES,
-        r + 1.0,
-        0.0,
-        Color::new(0.0, 0.0, 0.0, 0.45),
-    );
-    if look.stripe {
-        draw_poly(x, y, BALL_SIDES, r, 0.0, color(palette::BALL_WHITE));
-        stripe_band(x, y, r, 0.55 * r, color(look.color));
-    } else {
-        draw_poly(x, y, BALL_SIDES, r, 0.0, color(look.color));
+    // The shadow falls down-right, away from the light; three layers make its edge soft.
+    for (grow, alpha) in [(1.25, 0.10), (1.1, 0.14), (0.95, 0.18)] {
+        draw_poly(
+            x + 0.22 * r,
+            y + 0.28 * r,
+            BALL_SIDES,
+            r * grow,
+            0.0,
+            Color::new(0.0, 0.0, 0.0, alpha),
+        );
     }
+    let f = sphere::fan(&look, turn, SCREEN_AXES);
+    let vertices = f
+        .points
+        .iter()
+        .map(|p| Vertex {
+            position: vec3(x + r * p.at[0], y + r * p.at[1], 0.0),
+            uv: Vec2::ZERO,
+            color: p.rgba,
+            normal: Vec4::ZERO,
+        })
+        .collect();
+    let indices = f.triangles.iter().flatten().copied().collect();
+    draw_mesh(&Mesh {
+        vertices,
+        indices,
+        texture: None,
+    });
     if let Some(n) = look.number {
-        draw_poly(x, y, 24, 0.5 * r, 0.0, color(palette::BALL_WHITE));
-        let text = n.to_string();
-        let size = (1.1 * r).max(6.0) as u16;
-        let dims = measure_text(&text, None, size, 1.0);
-        draw_text(
-            &text,
-            x - 0.5 * dims.width,
-            y + 0.5 * dims.offset_y - 0.5,
-            size as f32,
-            BLACK,
+        for (spot, facing) in sphere::spots(turn, SCREEN_AXES) {
+            // The number fades and shrinks as its spot turns away.
+            if facing < 0.45 {
+                continue;
+            }
+            let text = n.to_string();
+            let size = ((1.1 * r) as f64 * facing).max(6.0) as u16;
+            let dims = measure_text(&text, None, size, 1.0);
+            let (cx, cy) = (x + r * spot[0] as f32, y + r * spot[1] as f32);
+            let alpha = ((facing - 0.45) / 0.35).min(1.0) as f32;
+            draw_text(
+                &text,
+                cx - 0.5 * dims.width,
+                cy + 0.5 * dims.offset_y - 0.5,
+                size as f32,
+                Color::new(0.0, 0.0, 0.0, alpha),
+            );
+        }
+    }
+    for (dx, grow, alpha) in [(0.36, 0.28, 0.25), (0.38, 0.14, 0.55)] {
+        draw_poly(
+            x - dx * r,
+            y - 1.3 * dx * r,
+            24,
+            grow * r,
+            0.0,
+            Color::new(1.0, 1.0, 1.0, alpha),
         );
     }
 }
 
-/// The band of a striped ball: the part of the disc within `half` of its horizontal middle.
-fn stripe_band(x: f32, y: f32, r: f32, half: f32, c: Color) {
-    let steps = 16;
-    let a0 = (half / r).clamp(-1.0, 1.0).asin();
-    // The outline of the band: the right arc going down, then the left arc going up.
-    let mut outline = Vec::with_capacity(2 * steps + 2);
-    for k in 0..=steps {
-        let a = -a0 + 2.0 * a0 * k as f32 / steps as f32;
-        outline.push(vec2(x + r * a.cos(), y + r * a.sin()));
-    }
-    for k in 0..=steps {
-        let a = -a0 + 2.0 * a0 * k as f32 / steps as f32;
-        outline.push(vec2(x - r * a.cos(), y - r * a.sin()));
-    }
-    let centre = vec2(x, y);
-    for i in 0..outline.len() {
-        let j = (i + 1) % outline.len();
-        draw_triangle(centre, outline[i], outline[j], c);
-    }
-}
-
-/// The balls still on the table.
+/// The balls still on the table, each turned as `turns` says.
 pub fn balls(
     layout: &Layout,
     ids: &[String],
     states: &[BallState],
     radius: f64,
     skip: Option<usize>,
+    turns: &Orientations,
 ) {
     let r = layout.px(radius);
     for (i, (id, s)) in ids.iter().zip(states).enumerate() {
         if s.motion == MotionState::Pocketed || Some(i) == skip {
             continue;
         }
-        ball(id, layout.to_screen(s.pos), r);
+        ball_turned(id, layout.to_screen(s.pos), r, turns.get(i));
     }
 }
 

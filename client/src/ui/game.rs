@@ -9,6 +9,8 @@ use breakshot_client::play::link::GameLink;
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{connection as connection_text, Connection};
 use breakshot_client::view::layout::{Frame, Layout, Rect};
+use breakshot_client::view::orientation::Orientations;
+use breakshot_client::view::playback::Playback;
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
 use breakshot_shared::protocol::Invite;
@@ -29,6 +31,8 @@ pub struct GameScreen {
     frame_ms: f64,
     /// The invite was copied to the clipboard.
     copied: bool,
+    /// How each ball is turned, for drawing.
+    turns: Orientations,
 }
 
 /// Ball ids by number: "cue", "1", "2", ...
@@ -68,6 +72,7 @@ impl GameScreen {
             debug: false,
             frame_ms: 0.0,
             copied: false,
+            turns: Orientations::new(),
         }
     }
 
@@ -230,7 +235,13 @@ impl GameScreen {
         self.predicted = Some((shot, prediction));
     }
 
+    /// The shot being shown, if any.
+    pub fn shot(&self) -> Option<&Playback> {
+        self.flow.shot()
+    }
+
     pub fn draw(&mut self) {
+        self.turns.follow(self.flow.shot());
         let Some(game) = self.flow.game() else {
             // Before a game, a message is a refusal (no such room, room full).
             let failed = matches!(self.flow.connection, Connection::Closed(_))
@@ -265,7 +276,7 @@ impl GameScreen {
                 .map_or("", |s| s.as_str());
             draw::aids(&layout, pred, self.shown_aids(), cue, r, object);
         }
-        draw::balls(&layout, &names, &balls, r, dragging.map(|_| 0));
+        draw::balls(&layout, &names, &balls, r, dragging.map(|_| 0), &self.turns);
         if let Turn::Shoot {
             in_hand: Some(area),
             ..

@@ -10,6 +10,7 @@ mod invite;
 mod menu;
 mod practice;
 mod replay;
+mod speaker;
 
 use std::path::PathBuf;
 
@@ -21,6 +22,7 @@ use breakshot_client::play::link::{GameLink, LocalLink};
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::palette;
+use breakshot_client::view::playback::Playback;
 use breakshot_shared::rules::{Settings, Variant};
 
 /// Target frame rate: frames are paced by the clock because a virtual display has no vsync.
@@ -93,6 +95,16 @@ impl Screen {
         }
     }
 
+    /// The shot being shown, if any.
+    fn shot(&self) -> Option<&Playback> {
+        match self {
+            Screen::Menu(_) => None,
+            Screen::Practice(s) => s.shot(),
+            Screen::Replay(s) => s.shot(),
+            Screen::Game(s) => s.shot(),
+        }
+    }
+
     fn draw(&mut self) {
         match self {
             Screen::Menu(s) => s.draw(),
@@ -117,10 +129,13 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
     };
     let mut clock = clock::FrameClock::new(FPS);
     let mut frames = 0u32;
+    let mut speaker = speaker::Speaker::new().await;
     loop {
         let dt = clock.frame_time();
         let input = input::read(dt);
         let next = screen.update(&input);
+        speaker.keys();
+        speaker.hear(screen.shot());
         clear_background(draw::color(palette::BACKGROUND));
         screen.draw();
         frames += 1;

@@ -4,6 +4,8 @@ use breakshot_client::play::controls::{Context, Controls, Drag, InputFrame, Inte
 use breakshot_client::play::practice::Practice;
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::layout::{Frame, Layout};
+use breakshot_client::view::orientation::Orientations;
+use breakshot_client::view::playback::Playback;
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, TableKind};
 use breakshot_shared::scene::Scene;
@@ -25,6 +27,8 @@ pub struct PracticeScreen {
     message: String,
     shots: u32,
     frame_ms: f64,
+    /// How each ball is turned, for drawing.
+    turns: Orientations,
 }
 
 impl PracticeScreen {
@@ -47,6 +51,7 @@ impl PracticeScreen {
             message: "Aim with the mouse, pull back or press Space to shoot".into(),
             shots: 0,
             frame_ms: 0.0,
+            turns: Orientations::new(),
         })
     }
 
@@ -125,7 +130,13 @@ impl PracticeScreen {
         self.predicted = Some((shot, prediction));
     }
 
+    /// The shot being shown, if any.
+    pub fn shot(&self) -> Option<&Playback> {
+        self.practice.playback.as_ref()
+    }
+
     pub fn draw(&mut self) {
+        self.turns.follow(self.practice.playback.as_ref());
         let layout = self.layout();
         let p = &self.practice;
         let r = p.params.ball_radius;
@@ -145,7 +156,14 @@ impl PracticeScreen {
                 draw::aids(&layout, pred, self.toggles, cue, r, object);
             }
         }
-        draw::balls(&layout, &p.ids, &shown, r, dragging.map(|_| p.cue));
+        draw::balls(
+            &layout,
+            &p.ids,
+            &shown,
+            r,
+            dragging.map(|_| p.cue),
+            &self.turns,
+        );
         if !p.busy() && p.in_hand {
             draw::in_hand(&layout, layout.cloth, dragging, r);
         }

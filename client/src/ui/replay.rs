@@ -6,6 +6,8 @@ use breakshot_client::play::link::Judgement;
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::layout::{Frame, Layout};
+use breakshot_client::view::orientation::Orientations;
+use breakshot_client::view::playback::Playback;
 use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
 
@@ -15,12 +17,18 @@ use super::{draw, menu, Screen, Step};
 pub struct ReplayScreen {
     viewer: ReplayViewer,
     frame: Frame,
+    /// How each ball is turned, for drawing.
+    turns: Orientations,
 }
 
 impl ReplayScreen {
     pub fn new(viewer: ReplayViewer) -> ReplayScreen {
         let frame = Frame::new(viewer.game().table(), viewer.game().balls());
-        ReplayScreen { viewer, frame }
+        ReplayScreen {
+            viewer,
+            frame,
+            turns: Orientations::new(),
+        }
     }
 
     pub fn update(&mut self, input: &InputFrame) -> Step {
@@ -39,7 +47,13 @@ impl ReplayScreen {
         Step::Stay
     }
 
+    /// The shot being shown, if any.
+    pub fn shot(&self) -> Option<&Playback> {
+        self.viewer.shot()
+    }
+
     pub fn draw(&mut self) {
+        self.turns.follow(self.viewer.shot());
         let layout = Layout::new(screen_width(), screen_height(), self.frame);
         let v = &self.viewer;
         let r = v.game().params().ball_radius;
@@ -53,7 +67,7 @@ impl ReplayScreen {
             })
             .collect();
         draw::table(&layout, v.game().table());
-        draw::balls(&layout, &ids, &v.balls(), r, None);
+        draw::balls(&layout, &ids, &v.balls(), r, None, &self.turns);
         draw::tray(&layout, &ids, &v.tray(), r);
         // The panel shows the strike of the shot being played (or the next one).
         let (done, total) = v.position();

@@ -4,5 +4,8 @@
 pub mod aids;
 pub mod hud;
 pub mod layout;
+pub mod orientation;
 pub mod palette;
 pub mod playback;
+pub mod sound;
+pub mod sphere;

@@ -20,6 +20,8 @@ pub const BACKGROUND: Rgb = [26, 28, 34];
 pub const CUE_BALL: Rgb = [246, 244, 232];
 /// The white of stripes and of the number disc.
 pub const BALL_WHITE: Rgb = [244, 240, 226];
+/// The dots on the cue ball that show its spin.
+pub const CUE_MARKER: Rgb = [200, 40, 40];
 /// A ball whose id is not a pool ball number.
 pub const OTHER_BALL: Rgb = [200, 200, 200];
 
