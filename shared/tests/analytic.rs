@@ -282,6 +282,7 @@ fn cue_strike_speed_and_natural_roll() {
         speed: 1.0,
         dir: DVec2::Y,
         tip: DVec2::ZERO,
+        elevation_deg: 0.0,
     };
     let (v, w) = centre.ball_motion(&p).expect("valid");
     let expected = 2.0 / (1.0 + p.ball_mass / 0.567);
@@ -293,6 +294,7 @@ fn cue_strike_speed_and_natural_roll() {
         speed: 1.0,
         dir: DVec2::Y,
         tip: DVec2::new(0.0, 0.4),
+        elevation_deg: 0.0,
     };
     let (v, w) = roll.ball_motion(&p).expect("valid");
     assert!((v.y + R * w.x).abs() < 1e-12 * v.y, "no slip");
@@ -310,6 +312,7 @@ fn squirt_angle_matches_alciatore() {
             speed: 2.0,
             dir: DVec2::Y,
             tip: DVec2::new(a, 0.0),
+            elevation_deg: 0.0,
         };
         let (v, _) = s.ball_motion(&p).expect("valid");
         let squirt = angle_between(v, DVec2::Y);

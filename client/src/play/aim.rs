@@ -75,6 +75,7 @@ impl Aim {
             speed: self.speed(),
             dir: self.dir(),
             tip: self.tip,
+            elevation_deg: 0.0,
         }
     }
 

@@ -1,6 +1,7 @@
 //! The physics engine: closed-form motion between events, exact event times, and the
 //! collision models. Pure and deterministic (see docs/physics.md).
 
+pub mod airborne;
 pub mod ball_ball;
 pub mod ball_cushion;
 pub mod cue;
@@ -11,8 +12,10 @@ pub mod params;
 pub mod roots;
 pub mod table;
 
-pub use cue::{Strike, StrikeError};
-pub use engine::{kinetic_energy, simulate, Outcome, Shot, ShotError, Simulator, Work};
+pub use cue::{Launch, Strike, StrikeError};
+pub use engine::{
+    kinetic_energy, mechanical_energy, simulate, Outcome, Shot, ShotError, Simulator, Work,
+};
 pub use event::{Event, EventKind};
 pub use motion::{BallState, MotionState, Piece};
 pub use params::{BallBallModel, BallFriction, CushionModel, Effects, Models, Params};

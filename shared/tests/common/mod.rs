@@ -18,6 +18,8 @@ pub fn ball(pos: [f64; 2], vel: [f64; 2], spin: [f64; 3]) -> BallState {
         spin: DVec3::from_array(spin),
         motion: MotionState::Stationary,
         pocket: None,
+        lift: 0.0,
+        vz: 0.0,
     }
 }
 
