@@ -204,3 +204,21 @@ fn scenes_take_an_elevation_and_report_heights_in_flight() {
         )
     );
 }
+
+#[test]
+fn a_bounce_at_the_cut_off_ends_either_way() {
+    use breakshot_shared::physics::airborne::SETTLE_HEIGHT;
+    let e = breakshot_shared::physics::Params::default().e_table;
+    // Drops whose first rebound rises the cut-off height, to rounding, and a hair either side.
+    let exact = SETTLE_HEIGHT / (e * e);
+    for h in [exact * (1.0 - 1e-12), exact, exact * (1.0 + 1e-12)] {
+        let mut b = ball([0.0, 0.0], [0.3, 0.0], [0.0, 0.3 / R, 0.0]);
+        b.lift = h;
+        b.motion = MotionState::Airborne;
+        let shot = Shot::new(TableKind::Open, vec![b]);
+        let out = run(&shot);
+        invariant_figures(&shot, &out);
+        assert!(out.events.len() <= 4, "{h}: {:?}", out.events);
+        assert_eq!(out.finals[0].motion, MotionState::Stationary);
+    }
+}
