@@ -222,3 +222,69 @@ fn a_bounce_at_the_cut_off_ends_either_way() {
         assert_eq!(out.finals[0].motion, MotionState::Stationary);
     }
 }
+
+/// A ball dropped onto a cushion nose edge, from well inside it to exactly above it: it
+/// bounces off the edge into the bed (or, centred right above the edge, off the table), and
+/// every case ends in a handful of events.
+#[test]
+fn landing_on_a_cushion_nose() {
+    let (w, l) = TableKind::NineFoot.size().expect("pocket table");
+    let ulp = l - f64::from_bits(l.to_bits() - 1);
+    for d in [0.9 * R, 0.5 * R, 1e-3 * R, 1e-9 * R, ulp, 0.0] {
+        let mut b = ball([0.5 * w, l - d], [0.0; 2], [0.0; 3]);
+        b.lift = 0.1;
+        b.motion = MotionState::Airborne;
+        let shot = Shot::new(TableKind::NineFoot, vec![b]);
+        let out = run(&shot);
+        invariant_figures(&shot, &out);
+        assert!(
+            matches!(out.events[0].kind, EventKind::BallCushion { ball: 0, .. })
+                || out.events[0].kind == EventKind::BallOffTable { ball: 0 },
+            "{d}: {:?}",
+            out.events[0]
+        );
+        assert!(out.events.len() < 100, "{d}: {} events", out.events.len());
+        let last = out.finals[0];
+        assert!(matches!(
+            last.motion,
+            MotionState::Stationary | MotionState::OffTable
+        ));
+        if last.motion == MotionState::Stationary {
+            assert!(last.pos.y < l, "{d}: {:?}", last.pos);
+        }
+        println!(
+            "drop {d:e} m from the nose line: {} events, {:?}",
+            out.events.len(),
+            last.motion
+        );
+    }
+}
+
+/// A ball in flight grazing a ball on the cloth: the 3-D distance's double root, told apart
+/// a nanometre either way.
+#[test]
+fn grazing_a_ball_in_flight() {
+    // A ball in flight passes a resting one at the top of its hop, where the centres'
+    // closest 3-D distance is 2R·(1 ∓ 1e-9).
+    let w = 0.6;
+    let v = 2.0;
+    let t_top = w / G;
+    let top = w * w / (2.0 * G);
+    for (sign, expect_hit) in [(-1.0, true), (1.0, false)] {
+        let miss = 2.0 * R * (1.0 + sign * 1e-9);
+        // Horizontal offset at the top so that the 3-D distance there is `miss`.
+        let dx = (miss * miss - top * top).sqrt();
+        let mut flying = ball([0.0, -v * t_top], [0.0, v], [0.0; 3]);
+        flying.vz = w;
+        let resting = ball([dx, 0.0], [0.0; 2], [0.0; 3]);
+        let out = run(&Shot::new(TableKind::Open, vec![flying, resting]));
+        let hit = out
+            .events
+            .iter()
+            .find(|e| e.kind == EventKind::BallBall { a: 0, b: 1 });
+        assert_eq!(hit.is_some(), expect_hit, "{miss}: {:?}", out.events);
+        if let Some(hit) = hit {
+            assert!((hit.t - t_top).abs() < 1e-3, "{}", hit.t);
+        }
+    }
+}

@@ -180,12 +180,26 @@ pub fn resolve(
         Flight::Nose(k) => {
             let rail = &table.rails[k as usize];
             let d = rail.normal.dot(s.pos - rail.a);
+            if d <= 0.0 {
+                // Centred right above the nose edge: the ball is not on the bed's side of
+                // it, and bouncing straight up and down on the edge would never end.
+                return (
+                    gone(s, MotionState::OffTable, None),
+                    EventKind::BallOffTable { ball },
+                );
+            }
             let e = r + s.lift - params.cushion_height;
             let n = DVec3::new(rail.normal.x * d, rail.normal.y * d, e).normalize_or_zero();
             let mut v = DVec3::new(s.vel.x, s.vel.y, s.vz);
             let approach = v.dot(n);
+            // A ball bouncing on the edge from above, ever lower, would bounce without end
+            // (ever shorter hops in a finite time): once the hops are lower than the cut-off
+            // they are elastic, and the balance on the edge, which is unstable, ends in a few
+            // dozen hops at most, with the ball falling to one side.
+            let weak = e > 0.0 && approach * approach < 2.0 * params.gravity * SETTLE_HEIGHT;
+            let restitution = if weak { 1.0 } else { params.e_cushion };
             if approach < 0.0 {
-                v -= n * ((1.0 + params.e_cushion) * approach);
+                v -= n * ((1.0 + restitution) * approach);
             }
             (s.vel, s.vz) = (DVec2::new(v.x, v.y), v.z);
             (
