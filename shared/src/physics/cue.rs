@@ -246,8 +246,33 @@ mod tests {
                 elevation_deg: 0.0,
             },
         ];
-        for s in bad {
+        let level = Strike::at_angle(1.0, 90.0, DVec2::ZERO);
+        let elevated = [-1.0, 90.5, f64::NAN].map(|e| level.elevated(e));
+        for s in bad.into_iter().chain(elevated) {
             assert!(s.ball_motion(&p).is_err(), "{s:?}");
         }
+    }
+
+    #[test]
+    fn an_elevated_strike_drives_the_ball_into_the_slate_and_tilts_its_spin() {
+        let p = Params::default();
+        let level = Strike::at_angle(2.0, 90.0, DVec2::new(0.3, 0.0));
+        let flat = level.launch(&p).expect("valid");
+        assert_eq!(flat.vz, 0.0);
+        assert_eq!(
+            flat.spin.y, 0.0,
+            "a level side hit spins about the vertical only"
+        );
+        let steep = level.elevated(60.0).launch(&p).expect("valid");
+        // Same impulse magnitude, split between the cloth and the slate.
+        let (h, v) = (steep.vel.length(), -steep.vz);
+        assert!((h * h + v * v).sqrt() - flat.vel.length() < 1e-12);
+        assert!((v / h - 3f64.sqrt()).abs() < 0.05, "{h} {v}");
+        // The spin axis gains a component along the travel: a massé.
+        assert!(steep.spin.y.abs() > 0.1 * steep.spin.length());
+        // Straight down through the centre: no horizontal motion, no spin.
+        let down = Strike::at_angle(2.0, 90.0, DVec2::ZERO).elevated(90.0);
+        let l = down.launch(&p).expect("valid");
+        assert!(l.vel.length() < 1e-12 && l.spin.length() < 1e-9 && l.vz < 0.0);
     }
 }
