@@ -473,6 +473,7 @@ impl Chooser {
                 speed: self.rng.range(8.0, 10.0),
                 dir,
                 tip: DVec2::ZERO,
+                elevation_deg: 0.0,
             };
             return (strike, None);
         }
@@ -505,6 +506,7 @@ impl Chooser {
             speed: self.rng.range(2.5, 5.0),
             dir: rotate(aim, self.rng.range(-0.008, 0.008)),
             tip: DVec2::new(0.0, self.rng.range(-0.2, 0.3)),
+            elevation_deg: 0.0,
         };
         (strike, call)
     }

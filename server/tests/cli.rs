@@ -35,6 +35,7 @@ fn store_game(dir: &Path, tamper: bool) {
                 speed,
                 dir: nearest_ball(&game) - cue,
                 tip: DVec2::ZERO,
+                elevation_deg: 0.0,
             },
             call: None,
         };

@@ -2,8 +2,8 @@
 
 use crate::physics::{BallState, MotionState};
 
-/// FNV-1a (64-bit) over every ball's position, velocity, spin, motion state and pocket, in
-/// ball order. `-0.0` is folded into `0.0` so that equal numbers hash equal.
+/// FNV-1a (64-bit) over every ball's position, velocity, spin, motion state and pocket (and
+/// height and vertical velocity of a ball in flight), in ball order. `-0.0` is folded into `0.0` so that equal numbers hash equal.
 pub fn state_hash(balls: &[BallState]) -> u64 {
     let mut h = Fnv::new();
     h.write(&(balls.len() as u64).to_le_bytes());
@@ -20,8 +20,17 @@ pub fn state_hash(balls: &[BallState]) -> u64 {
             MotionState::Sliding => 2,
             MotionState::Rolling => 3,
             MotionState::Pocketed => 4,
+            MotionState::Airborne => 5,
+            MotionState::OffTable => 6,
         };
         h.write(&[state, b.pocket.map_or(255, |p| p)]);
+        if b.motion == MotionState::Airborne {
+            // Only a ball in flight has a height and a vertical velocity.
+            for x in [b.lift, b.vz] {
+                let x = if x == 0.0 { 0.0 } else { x };
+                h.write(&x.to_bits().to_le_bytes());
+            }
+        }
     }
     h.finish()
 }

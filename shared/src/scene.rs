@@ -54,6 +54,13 @@ pub struct SceneStrike {
     pub angle_deg: Option<f64>,
     #[serde(default)]
     pub tip: [f64; 2],
+    /// Cue elevation in degrees (0 level, 90 straight down).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub elevation_deg: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 /// A scene that cannot be simulated; the message names the field or balls at fault.
@@ -94,6 +101,8 @@ impl Scene {
                 spin: DVec3::from_array(b.spin),
                 motion: MotionState::Stationary,
                 pocket: None,
+                lift: 0.0,
+                vz: 0.0,
             })
             .collect();
         let strike = match &self.strike {
@@ -111,6 +120,7 @@ impl Scene {
                         speed: s.speed,
                         dir: DVec2::from_array(dir),
                         tip,
+                        elevation_deg: 0.0,
                     },
                     (None, Some(angle)) if angle.is_finite() => {
                         Strike::at_angle(s.speed, angle, tip)
@@ -126,7 +136,7 @@ impl Scene {
                         ))
                     }
                 };
-                Some((idx, strike))
+                Some((idx, strike.elevated(s.elevation_deg)))
             }
         };
         let shot = Shot {
@@ -209,6 +219,7 @@ impl Scene {
                 pos: s.pos.to_array(),
                 vel: s.vel.to_array(),
                 spin: s.spin.to_array(),
+                z: height(s, shot),
                 state: s.motion.name().to_string(),
                 rest_time: outcome.rest_time[i],
                 pocket: s
@@ -240,6 +251,7 @@ impl Scene {
                                         SampleBall {
                                             id: self.balls[i].id.clone(),
                                             pos: s.pos.to_array(),
+                                            z: height(&s, shot),
                                             vel: s.vel.to_array(),
                                             spin: s.spin.to_array(),
                                             state: s.motion.name().to_string(),
@@ -261,6 +273,11 @@ impl Scene {
             samples,
         })
     }
+}
+
+/// The height of the centre above the cloth of a ball in flight, as results show it.
+fn height(s: &BallState, shot: &Shot) -> Option<f64> {
+    (s.motion == MotionState::Airborne).then_some(shot.params.ball_radius + s.lift)
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -285,6 +302,9 @@ pub struct ResultEvent {
 pub struct ResultBall {
     pub id: String,
     pub pos: [f64; 2],
+    /// Height of the centre above the cloth, for a ball in flight only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z: Option<f64>,
     pub vel: [f64; 2],
     pub spin: [f64; 3],
     pub state: String,
@@ -302,6 +322,9 @@ pub struct Sample {
 pub struct SampleBall {
     pub id: String,
     pub pos: [f64; 2],
+    /// Height of the centre above the cloth, for a ball in flight only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub z: Option<f64>,
     pub vel: [f64; 2],
     pub spin: [f64; 3],
     pub state: String,

@@ -282,6 +282,7 @@ fn cue_strike_speed_and_natural_roll() {
         speed: 1.0,
         dir: DVec2::Y,
         tip: DVec2::ZERO,
+        elevation_deg: 0.0,
     };
     let (v, w) = centre.ball_motion(&p).expect("valid");
     let expected = 2.0 / (1.0 + p.ball_mass / 0.567);
@@ -293,6 +294,7 @@ fn cue_strike_speed_and_natural_roll() {
         speed: 1.0,
         dir: DVec2::Y,
         tip: DVec2::new(0.0, 0.4),
+        elevation_deg: 0.0,
     };
     let (v, w) = roll.ball_motion(&p).expect("valid");
     assert!((v.y + R * w.x).abs() < 1e-12 * v.y, "no slip");
@@ -310,6 +312,7 @@ fn squirt_angle_matches_alciatore() {
             speed: 2.0,
             dir: DVec2::Y,
             tip: DVec2::new(a, 0.0),
+            elevation_deg: 0.0,
         };
         let (v, _) = s.ball_motion(&p).expect("valid");
         let squirt = angle_between(v, DVec2::Y);
@@ -340,4 +343,136 @@ fn heathcote_k_in_a_scene_rolls_like_the_mu_roll_it_maps_to() {
     let by_k = run(&shot);
     assert!(rel(by_k.finals[0].pos.y, by_mu.finals[0].pos.y) < 1e-12);
     assert!(rel(by_k.duration, by_mu.duration) < 1e-12);
+}
+
+/// The ball's velocity when it first rolls without slip (the end of the last slide).
+fn first_rolling_velocity(out: &breakshot_shared::physics::Outcome) -> DVec2 {
+    out.history[0]
+        .iter()
+        .find(|p| p.start.motion == MotionState::Rolling)
+        .expect("the ball ends up rolling")
+        .start
+        .vel
+}
+
+/// Coriolis' massé rule (Alciatore TP A.19): the cue's impulse J along the cue line, acting
+/// at the tip, and the slate's (vertical, and frictional in a bounce) at the contact point,
+/// leave the angular momentum about the contact point unchanged, so the ball ends up rolling
+/// from where it was struck towards the point A where the cue's line meets the cloth, at
+/// (5/7)·|J_z|·|CA|/(m·R). Squirt adds a sideways impulse through the centre, which adds
+/// 5/7 of its velocity; with no side offset there is none. Through every bounce of a ball
+/// that flies (the `airborne` effect on) and with the slate taking the vertical impulse at
+/// once (off) alike.
+#[test]
+fn masse_follows_coriolis_rule() {
+    let p = Params::default();
+    let m = p.ball_mass;
+    let mut squirt_seen: f64 = 0.0;
+    for elevation in [15.0, 40.0, 65.0, 85.0] {
+        for tip in [
+            [0.0, 0.3],
+            [0.3, 0.0],
+            [-0.25, 0.2],
+            [0.4, -0.2],
+            [0.1, -0.45],
+        ] {
+            for airborne in [true, false] {
+                let strike =
+                    Strike::at_angle(3.0, 70.0, DVec2::from_array(tip)).elevated(elevation);
+                let (impulse, contact) = strike.impulse(&p).expect("valid");
+                let launch = strike.launch(&p).expect("valid");
+                // Where the cue's line meets the cloth (height −R from the centre).
+                let s = (-R - contact.z) / impulse.z;
+                let ca = DVec2::new(contact.x + s * impulse.x, contact.y + s * impulse.y);
+                let squirt = launch.vel * m - DVec2::new(impulse.x, impulse.y);
+                squirt_seen = squirt_seen.max(squirt.length() / (m * launch.vel.length()));
+                let expected =
+                    ca * (5.0 / 7.0 * impulse.z.abs() / (m * R)) + squirt * (5.0 / 7.0 / m);
+                let mut shot = open_shot(vec![ball([0.0, 0.0], [0.0; 2], [0.0; 3])]);
+                shot.effects.airborne = airborne;
+                let out = run(&shot.struck(0, strike));
+                let v = first_rolling_velocity(&out);
+                let label = format!("θ {elevation}, tip {tip:?}, airborne {airborne}");
+                assert!(
+                    angle_between(v, expected) < 0.01,
+                    "{label}: {v} vs {expected}"
+                );
+                assert!(
+                    rel(v.length(), expected.length()) < 1e-9,
+                    "{label}: {v} vs {expected}"
+                );
+                if tip[0] == 0.0 {
+                    // The plain rule, with no squirt at all.
+                    let plain = ca * (5.0 / 7.0 * impulse.z.abs() / (m * R));
+                    assert!(angle_between(v, plain) < 0.01, "{label}");
+                    assert!(rel(v.length(), plain.length()) < 1e-9, "{label}");
+                }
+            }
+        }
+    }
+    // The squirt correction is a few percent of the speed, not nothing.
+    assert!(squirt_seen > 0.01, "{squirt_seen}");
+}
+
+/// A ball dropped from height h lands after √(2h/g) and bounces back up to e²·h, again and
+/// again, until a bounce would rise less than the cut-off.
+#[test]
+fn dropped_ball_bounces_to_e_squared_h() {
+    let p = Params::default();
+    let h = 0.3;
+    let mut dropped = ball([0.0, 0.0], [0.0; 2], [0.0; 3]);
+    dropped.lift = h;
+    dropped.motion = MotionState::Airborne;
+    let out = run(&open_shot(vec![dropped]));
+    let landing = out.events[0];
+    assert_eq!(landing.kind, EventKind::BallTable { ball: 0 });
+    assert!(rel(landing.t, (2.0 * h / G).sqrt()) < 1e-12);
+    let mut height = h;
+    let mut bounces = 0;
+    for piece in out.history[0].iter().skip(1) {
+        if piece.start.motion != MotionState::Airborne {
+            break;
+        }
+        let apex = piece.start.vz * piece.start.vz / (2.0 * G);
+        height *= p.e_table * p.e_table;
+        assert!(
+            rel(apex, height) < 1e-9,
+            "bounce {bounces}: {apex} vs {height}"
+        );
+        bounces += 1;
+    }
+    // 0.3 m, then 75 mm, 19 mm; the third bounce would rise 4.7 mm, under the cut-off.
+    assert_eq!(bounces, 2);
+    let settle = out.events[bounces];
+    assert!(matches!(
+        settle.kind,
+        EventKind::Transition {
+            from: MotionState::Airborne,
+            to: MotionState::Stationary,
+            ..
+        }
+    ));
+    assert_eq!(out.finals[0].motion, MotionState::Stationary);
+    assert_eq!(out.finals[0].pos, DVec2::ZERO);
+}
+
+/// A ball leaving the cloth at vertical speed w lands 2w/g later, vt·2w/g further on.
+#[test]
+fn launched_ball_lands_at_the_ballistic_time() {
+    for (w, v) in [(0.5, [0.0, 1.0]), (1.7, [0.8, -0.6]), (3.0, [0.0, 0.0])] {
+        let mut b = ball([0.0, 0.0], v, [0.0; 3]);
+        // Rolling spin, so the bounce's friction has no slip to act on.
+        b.spin = glam::DVec3::new(-v[1] / R, v[0] / R, 0.0);
+        b.vz = w;
+        let out = run(&open_shot(vec![b]));
+        assert_eq!(out.history[0][0].start.motion, MotionState::Airborne);
+        let landing = out.events[0];
+        let t = 2.0 * w / G;
+        assert!(rel(landing.t, t) < 1e-12, "{w}: {} vs {t}", landing.t);
+        let at = out.state_at(0, landing.t).pos;
+        assert!(
+            (at - DVec2::from_array(v) * t).length() < 1e-12,
+            "{w}: {at}"
+        );
+    }
 }

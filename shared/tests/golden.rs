@@ -58,6 +58,16 @@ fn shots() -> Vec<(String, Shot)> {
     rail.table = TableKind::EightFoot;
     rail.strike = Some((0, Strike::at_angle(3.0, 63.0, DVec2::new(-0.3, 0.2))));
     shots.push(("cushions_english_8ft".into(), rail));
+    // A massé around a blocker and a jump over one, on a 9 ft table (cue elevation).
+    let blocker = |y: f64| ball([0.635, y], [0.0; 2], [0.0; 3]);
+    let mut masse = open_shot(vec![ball([0.6, 0.5], [0.0; 2], [0.0; 3]), blocker(0.9)]);
+    masse.table = TableKind::NineFoot;
+    let strike = Strike::at_angle(2.5, 88.0, DVec2::new(0.35, 0.1)).elevated(70.0);
+    shots.push(("masse_9ft".into(), masse.struck(0, strike)));
+    let mut jump = open_shot(vec![ball([0.635, 0.4], [0.0; 2], [0.0; 3]), blocker(1.09)]);
+    jump.table = TableKind::NineFoot;
+    let strike = Strike::at_angle(4.0, 90.0, DVec2::new(0.0, -0.1)).elevated(45.0);
+    shots.push(("jump_9ft".into(), jump.struck(0, strike)));
     shots
 }
 

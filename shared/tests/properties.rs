@@ -112,6 +112,7 @@ proptest! {
                 dir: Some(s.dir.to_array()),
                 angle_deg: None,
                 tip: s.tip.to_array(),
+                elevation_deg: s.elevation_deg,
             }),
         };
         let text = scene.to_json();

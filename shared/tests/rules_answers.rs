@@ -14,6 +14,7 @@ fn break_strike(game: &Game) -> Strike {
         speed: 9.0,
         dir: (target - cue).normalize(),
         tip: DVec2::ZERO,
+        elevation_deg: 0.0,
     }
 }
 
@@ -55,6 +56,7 @@ fn needs_call_agrees_with_the_check_in_every_variant() {
             speed: 1.0,
             dir: DVec2::Y,
             tip: DVec2::ZERO,
+            elevation_deg: 0.0,
         };
         let seat = game.to_move();
         if game

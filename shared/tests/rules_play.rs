@@ -98,6 +98,7 @@ fn a_ball_at_rest_in_a_pocket_mouth_can_be_played_from() {
         speed: 1.0,
         dir: DVec2::Y,
         tip: DVec2::ZERO,
+        elevation_deg: 0.0,
     });
     shot.balls = vec![
         BallState::at_rest(DVec2::new(0.635, 1.0)),
@@ -121,6 +122,7 @@ fn the_table_after_a_break_can_be_played_from() {
         speed: 8.589167982291059,
         dir: DVec2::new(-0.006228677793305784, 0.9999806015983247),
         tip: DVec2::new(-0.28413973704444134, 0.28252918689229706),
+        elevation_deg: 0.0,
     };
     let cmd = Command::Shot { strike, call: None };
     game.apply(Seat::A, &cmd).expect("the break is played");

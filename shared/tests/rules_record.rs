@@ -110,6 +110,7 @@ fn small_record() -> GameRecord {
                 speed: 1.5,
                 dir: DVec2::new(0.0, 1.0),
                 tip: DVec2::new(0.0, 0.25),
+                elevation_deg: 0.0,
             },
             call: Some(2),
         },

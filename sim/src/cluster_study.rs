@@ -46,9 +46,7 @@ pub fn run(games: usize, shots_per_game: usize, seed: u64) -> Summary {
             rack::nine_ball(kind, rack_seed)
         };
         for shot_no in 0..shots_per_game {
-            if !place_cue_ball(&mut balls, kind) {
-                break;
-            }
+            place_cue_ball(&mut balls, kind);
             let Some(strike) = random_strike(&balls, shot_no == 0, &mut rng) else {
                 break;
             };
@@ -96,20 +94,20 @@ pub fn run(games: usize, shots_per_game: usize, seed: u64) -> Summary {
 }
 
 /// Ball in hand after a scratch: the cue ball (index 0) goes back to the break spot, or as
-/// near the foot spot as the rules' spotting allows. False if it cannot be placed.
-fn place_cue_ball(balls: &mut [BallState], kind: TableKind) -> bool {
+/// near the foot spot as the rules' spotting allows (which always finds a place).
+fn place_cue_ball(balls: &mut [BallState], kind: TableKind) {
     let cue = &balls[0];
     if cue.motion != MotionState::Pocketed {
-        return true;
+        return;
     }
     let spot = rack::break_spot(kind);
     if rack::is_free(balls, 0, spot, kind) {
         balls[0] = BallState::at_rest(spot);
-        return true;
+        return;
     }
     balls[0] = BallState::at_rest(spot);
     balls[0].motion = MotionState::Pocketed;
-    rack::spot(balls, 0, kind)
+    let _ = rack::spot(balls, 0, kind);
 }
 
 /// The break (hard, at the rack) or a strike at a random object ball still on the table,
@@ -131,7 +129,14 @@ fn random_strike(balls: &[BallState], brk: bool, rng: &mut SplitMix64) -> Option
         0.3 + 7.7 * rng.unit()
     };
     let tip = rng.offset(0.45);
-    Strike { speed, dir, tip }.validated().ok()
+    Strike {
+        speed,
+        dir,
+        tip,
+        elevation_deg: 0.0,
+    }
+    .validated()
+    .ok()
 }
 
 #[cfg(test)]

@@ -267,6 +267,7 @@ pub fn break_shot(game: &Game) -> ClientMessage {
             speed: 9.0,
             dir: (target - cue).normalize_or(glam::DVec2::Y),
             tip: glam::DVec2::ZERO,
+            elevation_deg: 0.0,
         },
         call: None,
     }

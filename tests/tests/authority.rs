@@ -33,7 +33,12 @@ async fn refused(p: &mut Player, msg: ClientMessage) -> anyhow::Result<ErrorCode
 fn shot(turn: u32, speed: f64, dir: DVec2, tip: DVec2) -> ClientMessage {
     ClientMessage::Shot {
         turn,
-        strike: Strike { speed, dir, tip },
+        strike: Strike {
+            speed,
+            dir,
+            tip,
+            elevation_deg: 0.0,
+        },
         call: None,
     }
 }

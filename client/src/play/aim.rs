@@ -79,6 +79,7 @@ impl Aim {
             speed: self.speed(),
             dir: self.dir(),
             tip: self.tip,
+            elevation_deg: 0.0,
         }
     }
 

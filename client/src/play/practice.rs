@@ -241,6 +241,7 @@ impl Practice {
             speed: 0.0,
             dir: DVec2::X,
             tip: DVec2::ZERO,
+            elevation_deg: 0.0,
         });
         shot.strike = None;
         shot.balls[self.cue] = BallState::at_rest(pos);

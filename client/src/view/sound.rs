@@ -71,7 +71,12 @@ pub fn cues(outcome: &Outcome, from: f64, to: f64) -> Vec<Cue> {
                 EventKind::BallPocket { ball, .. } => {
                     (Sound::Drop, vel(ball, e.t).length().max(0.5))
                 }
-                EventKind::Transition { .. } => return None,
+                // A ball landing on the slate thumps like a soft cushion hit.
+                EventKind::BallTable { ball } => {
+                    let s = outcome.state_at(ball as usize, (e.t - BEFORE).max(0.0));
+                    (Sound::Thump, s.vz.abs())
+                }
+                EventKind::Transition { .. } | EventKind::BallOffTable { .. } => return None,
             };
             let volume = (speed / sound.loud_speed()).clamp(0.0, 1.0).sqrt() as f32;
             (volume.is_finite() && volume >= SILENT).then_some(Cue {

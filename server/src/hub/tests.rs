@@ -145,6 +145,7 @@ fn break_shot(game: &Game) -> ClientMessage {
             speed: 9.0,
             dir: target - cue,
             tip: DVec2::ZERO,
+            elevation_deg: 0.0,
         },
         call: None,
     }
@@ -260,6 +261,7 @@ fn refused_commands_store_nothing_and_change_nothing() {
             speed: f64::NAN,
             dir: DVec2::Y,
             tip: DVec2::ZERO,
+            elevation_deg: 0.0,
         },
         call: None,
     };

@@ -15,6 +15,7 @@
 use glam::{DVec2, DVec3};
 use thiserror::Error;
 
+use super::airborne::{self, Flight};
 use super::ball_ball::{self, Kinematics};
 use super::ball_cushion;
 use super::cue::{Strike, StrikeError};
@@ -91,6 +92,8 @@ pub enum ShotError {
     NotFinite { ball: usize, field: &'static str },
     #[error("balls {a} and {b} overlap")]
     Overlap { a: usize, b: usize },
+    #[error("ball {ball}: lift must be a finite height, not negative, and zero (with vz) when the airborne effect is off")]
+    Lift { ball: usize },
     #[error("ball {ball} is not on the playing surface")]
     OffTable { ball: usize },
     #[error("horizon is required when slide_friction, roll_friction or spin_friction is off")]
@@ -150,12 +153,24 @@ impl Outcome {
             .map(|i| kinetic_energy(&self.state_at(i, t), params))
             .sum()
     }
+
+    /// Total kinetic and potential energy of all balls at time `t`.
+    pub fn mechanical_energy(&self, t: f64, params: &Params) -> f64 {
+        (0..self.history.len())
+            .map(|i| mechanical_energy(&self.state_at(i, t), params))
+            .sum()
+    }
 }
 
 /// Kinetic energy of one ball.
 pub fn kinetic_energy(s: &BallState, params: &Params) -> f64 {
-    0.5 * params.ball_mass * s.vel.length_squared()
+    0.5 * params.ball_mass * (s.vel.length_squared() + s.vz * s.vz)
         + 0.5 * params.inertia() * s.spin.length_squared()
+}
+
+/// Kinetic plus potential energy of one ball (zero potential at rest on the cloth).
+pub fn mechanical_energy(s: &BallState, params: &Params) -> f64 {
+    kinetic_energy(s, params) + params.ball_mass * params.gravity * s.lift
 }
 
 /// Counts of event-time predictions made during a shot, by kind: what an effect that is
@@ -168,6 +183,8 @@ pub struct Work {
     pub cushion_checks: u64,
     /// Ball–pocket capture predictions.
     pub pocket_checks: u64,
+    /// Predictions for balls in flight (their own events and their pairs).
+    pub flight_checks: u64,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -177,6 +194,8 @@ enum OwnKind {
     Rail(u8),
     Jaw(u8),
     Pocket(u8),
+    /// An event of a ball in flight.
+    Flight(Flight),
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -285,13 +304,18 @@ impl Simulator {
         for (i, ball) in shot.balls.iter().enumerate() {
             let mut s = *ball;
             s.pos = table.to_engine(s.pos);
-            if s.motion != MotionState::Pocketed {
+            if !s.motion.is_gone() {
                 s.pocket = None;
                 if let Some((struck, strike)) = shot.strike {
                     if struck == i {
-                        let (v, w) = strike.ball_motion(&shot.params)?;
-                        s.vel = v;
-                        s.spin = w;
+                        let launch = strike.launch(&shot.params)?;
+                        s.vel = launch.vel;
+                        s.spin = launch.spin;
+                        if ctx.effects.airborne && launch.vz < 0.0 {
+                            // Driven into the slate: the ball bounces, and may fly.
+                            s.vz = launch.vz;
+                            s = airborne::off_slate(s, &shot.params);
+                        }
                         out.events.push(Event {
                             t: 0.0,
                             kind: EventKind::Strike { ball: i as u16 },
@@ -303,7 +327,7 @@ impl Simulator {
             let piece = Piece::new(0.0, s, &ctx.motion);
             self.pieces.push(piece);
             out.history[i].push(piece);
-            let at_rest = matches!(s.motion, MotionState::Stationary | MotionState::Pocketed);
+            let at_rest = s.motion == MotionState::Stationary || s.motion.is_gone();
             out.rest_time.push(at_rest.then_some(0.0));
         }
         self.boxes.clear();
@@ -347,12 +371,10 @@ impl Simulator {
                 Next::Pair => self.resolve_group(t, n, &ctx),
             }
         }
-        let moving = self.pieces.iter().any(|p| {
-            !matches!(
-                p.start.motion,
-                MotionState::Stationary | MotionState::Pocketed
-            )
-        });
+        let moving = self
+            .pieces
+            .iter()
+            .any(|p| !(p.start.motion == MotionState::Stationary || p.start.motion.is_gone()));
         let end = if stopped_by_horizon || (moving && ctx.limit.is_finite()) {
             ctx.limit
         } else {
@@ -391,6 +413,16 @@ impl Simulator {
     /// Sets ball `i`'s next own event from `now`.
     fn predict_own(&mut self, i: usize, now: f64, ctx: &Ctx) {
         let piece = &self.pieces[i];
+        if piece.start.motion == MotionState::Airborne {
+            self.outcome.work.flight_checks += 1;
+            let cushions = ctx.effects.cushions;
+            let (t, flight) = airborne::next_event(piece, now, ctx.table, ctx.params, cushions);
+            self.own[i] = Own {
+                t,
+                kind: OwnKind::Flight(flight),
+            };
+            return;
+        }
         let mut best = Own {
             t: piece.t_end,
             kind: if piece.t_end.is_finite() {
@@ -458,7 +490,7 @@ impl Simulator {
     fn predict_pair(&mut self, i: usize, j: usize, now: f64, ctx: &Ctx) {
         let (a, b) = (&self.pieces[i], &self.pieces[j]);
         let n = self.own.len();
-        let pocketed = |p: &Piece| p.start.motion == MotionState::Pocketed;
+        let pocketed = |p: &Piece| p.start.motion.is_gone();
         let moving = |p: &Piece| p.start.motion.is_translating();
         let t = if pocketed(a) || pocketed(b) || !(moving(a) || moving(b)) {
             None
@@ -475,7 +507,13 @@ impl Simulator {
             } else {
                 // Either ball's own next event re-predicts this pair anyway: look no further.
                 let until = self.own[i].t.min(self.own[j].t).min(ctx.limit);
-                ball_ball::collision_time(a, b, now, until, ctx.params.ball_radius)
+                let flying = |p: &Piece| p.start.motion == MotionState::Airborne;
+                if flying(a) || flying(b) {
+                    self.outcome.work.flight_checks += 1;
+                    airborne::collision_time(a, b, now, until, ctx.params.ball_radius)
+                } else {
+                    ball_ball::collision_time(a, b, now, until, ctx.params.ball_radius)
+                }
             }
         };
         self.pair[i * n + j] = t.unwrap_or(f64::INFINITY);
@@ -495,7 +533,7 @@ impl Simulator {
         self.boxes[i] = piece_box(&piece, ctx.limit);
         self.outcome.history[i].push(piece);
         self.outcome.rest_time[i] = match s.motion {
-            MotionState::Stationary | MotionState::Pocketed => Some(t),
+            MotionState::Stationary | MotionState::Pocketed | MotionState::OffTable => Some(t),
             _ => None,
         };
     }
@@ -540,6 +578,9 @@ impl Simulator {
                         cushion: Cushion::Rail(k),
                     },
                 )
+            }
+            OwnKind::Flight(flight) => {
+                airborne::resolve(&piece, t, flight, ball, ctx.table, ctx.params, &ctx.effects)
             }
             OwnKind::Jaw(k) => {
                 let center = ctx.table.jaws[k as usize].center;
@@ -595,6 +636,10 @@ impl Simulator {
             }
         }
         let seeds = g.balls.len();
+        // Balls in flight meet one pair at a time, only as predicted: a ball in the air is
+        // never part of a touching group (its shadow may lie on one without touching it).
+        let flying = |b: usize| self.pieces[b].start.motion == MotionState::Airborne;
+        let in_flight = g.balls.iter().any(|&b| flying(b));
         // Grow the group by every ball touching one of its balls, transitively. A ball whose
         // path's box is out of reach cannot touch (most balls, most of the time).
         let reach = 2.0 * r + CONTACT_GAP;
@@ -604,7 +649,7 @@ impl Simulator {
             let b = g.balls[k];
             g.positions[b] = self.pieces[b].pos_at(t);
         }
-        let mut k = 0;
+        let mut k = if in_flight { g.balls.len() } else { 0 };
         while k < g.balls.len() {
             let b = g.balls[k];
             let p = g.positions[b];
@@ -614,7 +659,11 @@ impl Simulator {
                     && p.x <= hi.x + reach
                     && p.y >= lo.y - reach
                     && p.y <= hi.y + reach;
-                if !near || j == b || self.pieces[j].start.motion == MotionState::Pocketed {
+                if !near
+                    || j == b
+                    || self.pieces[j].start.motion == MotionState::Pocketed
+                    || flying(j)
+                {
                     continue;
                 }
                 let q = self.pieces[j].pos_at(t);
@@ -634,7 +683,7 @@ impl Simulator {
             g.states.push(self.pieces[b].state_at(t, r));
         }
         g.walls.clear();
-        if ctx.effects.cushions {
+        if ctx.effects.cushions && !in_flight {
             for slot in 0..g.balls.len() {
                 walls_touching(g, slot, ctx);
             }
@@ -645,7 +694,12 @@ impl Simulator {
         for a in 0..g.balls.len() {
             for b in a + 1..g.balls.len() {
                 let d = g.states[b].pos - g.states[a].pos;
-                if d.length_squared() <= reach * reach {
+                let touching = if in_flight {
+                    self.pair[g.balls[a] * n + g.balls[b]] == t
+                } else {
+                    d.length_squared() <= reach * reach
+                };
+                if touching {
                     g.contacts.push((a, b));
                     let last = self.last[g.balls[a] * n + g.balls[b]];
                     g.recent.push(t - last < PERSIST_TIME);
@@ -655,7 +709,11 @@ impl Simulator {
         }
         g.start.clear();
         g.start.extend(g.states.iter().map(|s| (s.vel, s.spin)));
-        group_impact(g, ctx);
+        if in_flight {
+            flight_impact(g, ctx);
+        } else {
+            group_impact(g, ctx);
+        }
         for (k, &(a, b)) in g.contacts.iter().enumerate() {
             self.held[g.balls[a] * n + g.balls[b]] = root(&g.parent, a) == root(&g.parent, b);
             if g.acted[k] {
@@ -1165,9 +1223,31 @@ fn simultaneous_impact(g: &mut Scratch, e: f64) {
     }
 }
 
+/// Collisions involving a ball in flight: the predicted pairs, one after the other (in
+/// flight, contacts meet at one instant only by chance), with nothing held.
+fn flight_impact(g: &mut Scratch, ctx: &Ctx) {
+    g.parent.clear();
+    g.parent.extend(0..=g.states.len());
+    g.acted.clear();
+    g.acted.resize(g.contacts.len(), true);
+    g.wall_acted.clear();
+    for k in 0..g.contacts.len() {
+        let (a, b) = g.contacts[k];
+        collide_pair(&mut g.states, a, b, ctx);
+    }
+}
+
 /// One contact approaching on its own, by the pairwise collision model.
 fn collide_pair(states: &mut [BallState], a: usize, b: usize, ctx: &Ctx) {
     let (sa, sb) = (states[a], states[b]);
+    if sa.motion == MotionState::Airborne || sb.motion == MotionState::Airborne {
+        let e = match ctx.models.ball_ball {
+            BallBallModel::Ideal => 1.0,
+            BallBallModel::Frictional => ctx.params.e_ball,
+        };
+        airborne::collide(states, a, b, e, ctx.params);
+        return;
+    }
     let (ka, kb) = ball_ball::collide(
         sa.pos,
         sb.pos,
@@ -1236,19 +1316,32 @@ fn validate(shot: &Shot, table: &Table) -> Result<(), ShotError> {
                 field: "spin",
             });
         }
+        let flying = b.lift != 0.0 || b.vz != 0.0;
+        if !(b.lift.is_finite() && b.vz.is_finite() && b.lift >= 0.0)
+            || (flying && !shot.effects.airborne)
+        {
+            return Err(ShotError::Lift { ball: i });
+        }
     }
     if let Some((i, strike)) = shot.strike {
-        if i >= shot.balls.len() || shot.balls[i].motion == MotionState::Pocketed {
+        if i >= shot.balls.len() || shot.balls[i].motion.is_gone() {
             return Err(ShotError::StrikeBall);
         }
         strike.validated()?;
     }
     let r = shot.params.ball_radius;
     let contact = ball_cushion::contact_distance(&shot.params);
-    let on_table = |i: usize| shot.balls[i].motion != MotionState::Pocketed;
+    let on_table = |i: usize| !shot.balls[i].motion.is_gone();
     let n = shot.balls.len();
     for i in (0..n).filter(|&i| on_table(i)) {
-        if !table.fits(table.to_engine(shot.balls[i].pos), contact) {
+        // A ball in flight may be above the cushion noses' reach; its centre must still be
+        // over the bed.
+        let margin = if shot.balls[i].lift > 0.0 {
+            0.0
+        } else {
+            contact
+        };
+        if !table.fits(table.to_engine(shot.balls[i].pos), margin) {
             return Err(ShotError::OffTable { ball: i });
         }
     }
@@ -1258,7 +1351,10 @@ fn validate(shot: &Shot, table: &Table) -> Result<(), ShotError> {
     for i in (0..n).filter(|&i| on_table(i)) {
         for j in (i + 1..n).filter(|&j| on_table(j)) {
             // Scene coordinates: the same distance as in the engine's, to rounding.
-            if (shot.balls[j].pos - shot.balls[i].pos).length() < min_dist {
+            let d = (shot.balls[j].pos - shot.balls[i].pos).length();
+            // A ball in flight may be above another.
+            let dz = shot.balls[j].lift - shot.balls[i].lift;
+            if d < min_dist && (dz == 0.0 || d * d + dz * dz < min_dist * min_dist) {
                 return Err(ShotError::Overlap { a: i, b: j });
             }
         }

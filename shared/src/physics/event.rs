@@ -22,12 +22,18 @@ pub enum EventKind {
     BallCushion { ball: u16, cushion: Cushion },
     /// A ball fell into a pocket (index into the table's pockets).
     BallPocket { ball: u16, pocket: u8 },
-    /// A ball's motion state changed by itself (friction).
+    /// A ball's motion state changed by itself (friction, or a ball in flight settling on
+    /// the cloth).
     Transition {
         ball: u16,
         from: MotionState,
         to: MotionState,
     },
+    /// A ball in flight bounced on the cloth and flies on.
+    BallTable { ball: u16 },
+    /// A ball flew over a rail and left the table; it stays off the table (its final state
+    /// is `OffTable` and its rest time the time it left).
+    BallOffTable { ball: u16 },
 }
 
 impl EventKind {
@@ -39,6 +45,8 @@ impl EventKind {
             EventKind::BallCushion { .. } => "ball_cushion".into(),
             EventKind::BallPocket { .. } => "ball_pocket".into(),
             EventKind::Transition { from, to, .. } => format!("{}_to_{}", from.name(), to.name()),
+            EventKind::BallTable { .. } => "ball_table".into(),
+            EventKind::BallOffTable { .. } => "ball_off_table".into(),
         }
     }
 
@@ -48,7 +56,9 @@ impl EventKind {
             EventKind::Strike { ball }
             | EventKind::BallCushion { ball, .. }
             | EventKind::BallPocket { ball, .. }
-            | EventKind::Transition { ball, .. } => ([ball, 0], 1),
+            | EventKind::Transition { ball, .. }
+            | EventKind::BallTable { ball }
+            | EventKind::BallOffTable { ball } => ([ball, 0], 1),
             EventKind::BallBall { a, b } => ([a, b], 2),
         }
     }

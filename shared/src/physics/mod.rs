@@ -1,6 +1,7 @@
 //! The physics engine: closed-form motion between events, exact event times, and the
 //! collision models. Pure and deterministic (see docs/physics.md).
 
+pub mod airborne;
 pub mod ball_ball;
 pub mod ball_cushion;
 pub mod cue;
@@ -11,9 +12,10 @@ pub mod params;
 pub mod roots;
 pub mod table;
 
-pub use cue::{Strike, StrikeError};
+pub use cue::{Launch, Strike, StrikeError};
 pub use engine::{
-    kinetic_energy, simulate, simulations_on_this_thread, Outcome, Shot, ShotError, Simulator, Work,
+    kinetic_energy, mechanical_energy, simulate, simulations_on_this_thread, Outcome, Shot,
+    ShotError, Simulator, Work,
 };
 pub use event::{Event, EventKind};
 pub use motion::{BallState, MotionState, Piece};

@@ -12,6 +12,12 @@
 //!
 //! Spin about the vertical decays at that same rate in every state and does not change the
 //! path, so it is clamped at zero rather than given an event of its own.
+//!
+//! - airborne: a ball in flight (after an elevated strike, a bounce or a collision that
+//!   lifted it) follows a ballistic arc: its centre keeps its horizontal velocity, its height
+//!   above rest `z(τ) = z0 + vz·τ − ½·g·τ²`, and its spin is kept; the piece ends when it lands
+//!   (see `airborne.rs` for the landing, the bounces and what a ball in flight meets);
+//! - off the table: a ball that flew over a rail; like a pocketed one, it no longer moves.
 
 use glam::{DVec2, DVec3};
 use serde::{Deserialize, Serialize};
@@ -33,6 +39,10 @@ pub enum MotionState {
     Sliding,
     Rolling,
     Pocketed,
+    /// In flight above the cloth.
+    Airborne,
+    /// Flew over a rail and left the table.
+    OffTable,
 }
 
 impl MotionState {
@@ -43,12 +53,22 @@ impl MotionState {
             MotionState::Sliding => "sliding",
             MotionState::Rolling => "rolling",
             MotionState::Pocketed => "pocketed",
+            MotionState::Airborne => "airborne",
+            MotionState::OffTable => "off_table",
         }
     }
 
     /// True when the ball's centre moves.
     pub fn is_translating(self) -> bool {
-        matches!(self, MotionState::Sliding | MotionState::Rolling)
+        matches!(
+            self,
+            MotionState::Sliding | MotionState::Rolling | MotionState::Airborne
+        )
+    }
+
+    /// True when the ball is no longer on the table (pocketed or flown off it).
+    pub fn is_gone(self) -> bool {
+        matches!(self, MotionState::Pocketed | MotionState::OffTable)
     }
 }
 
@@ -61,6 +81,13 @@ pub struct BallState {
     pub motion: MotionState,
     /// The pocket the ball fell into, if it did (index into the table's pockets).
     pub pocket: Option<u8>,
+    /// Height of the centre above its resting height `R` (m): zero on the cloth.
+    /// Not carried by the wire protocol or records, which only hold balls at rest.
+    #[serde(skip)]
+    pub lift: f64,
+    /// Vertical velocity (m/s), up positive: zero on the cloth. Not carried on the wire.
+    #[serde(skip)]
+    pub vz: f64,
 }
 
 impl BallState {
@@ -72,6 +99,8 @@ impl BallState {
             spin: DVec3::ZERO,
             motion: MotionState::Stationary,
             pocket: None,
+            lift: 0.0,
+            vz: 0.0,
         }
     }
 
@@ -83,6 +112,8 @@ impl BallState {
             spin,
             motion: MotionState::Stationary,
             pocket: None,
+            lift: 0.0,
+            vz: 0.0,
         };
         s.classify(radius);
         s
@@ -109,8 +140,13 @@ impl BallState {
 
     /// Sets the motion state from velocity and spin, snapping values within rounding of a
     /// state onto it (a rolling ball gets the exact rolling spin, a ball at rest exact zeros).
+    /// A ball above the cloth or leaving it is airborne whatever its other values.
     pub fn classify(&mut self, radius: f64) {
-        if self.motion == MotionState::Pocketed {
+        if self.motion.is_gone() {
+            return;
+        }
+        if self.lift > 0.0 || self.vz > 0.0 {
+            self.motion = MotionState::Airborne;
             return;
         }
         let speed = self.vel.length();
@@ -143,6 +179,8 @@ pub struct MotionModel {
     roll_decel: f64,
     /// 5μsp·g/(2R), or 0 without spin friction.
     spin_decel: f64,
+    /// g, for balls in flight.
+    gravity: f64,
 }
 
 impl MotionModel {
@@ -156,6 +194,7 @@ impl MotionModel {
                 params.rolling_resistance() * params.gravity,
             ),
             spin_decel: on(effects.spin_friction, params.spin_decel()),
+            gravity: params.gravity,
         }
     }
 }
@@ -172,6 +211,8 @@ pub struct Piece {
     spin_acc: DVec2,
     /// Deceleration of |ω_z| (rad/s²).
     spin_decel: f64,
+    /// Downward acceleration of a ball in flight (g), zero on the cloth.
+    gravity: f64,
     /// When the motion state next changes by itself (∞ if never).
     pub t_end: f64,
 }
@@ -207,12 +248,19 @@ impl Piece {
                     duration = start.spin.z.abs() / model.spin_decel;
                 }
             }
-            MotionState::Stationary | MotionState::Pocketed => {}
+            MotionState::Airborne => duration = flight_time(start.lift, start.vz, model.gravity),
+            MotionState::Stationary | MotionState::Pocketed | MotionState::OffTable => {}
         }
-        let spin_decel = if start.motion == MotionState::Pocketed {
+        // Nothing slows the spin of a ball in flight or gone.
+        let spin_decel = if start.motion.is_gone() || start.motion == MotionState::Airborne {
             0.0
         } else {
             model.spin_decel
+        };
+        let gravity = if start.motion == MotionState::Airborne {
+            model.gravity
+        } else {
+            0.0
         };
         Piece {
             t0,
@@ -220,6 +268,7 @@ impl Piece {
             acc,
             spin_acc,
             spin_decel,
+            gravity,
             t_end: t0 + duration,
         }
     }
@@ -237,12 +286,34 @@ impl Piece {
         self.start.vel + self.acc * (t - self.t0)
     }
 
+    /// Height above rest and vertical velocity at absolute time `t` (zero on the cloth).
+    #[inline]
+    pub fn height_at(&self, t: f64) -> (f64, f64) {
+        let dt = t - self.t0;
+        let s = &self.start;
+        (
+            s.lift + s.vz * dt - 0.5 * self.gravity * dt * dt,
+            s.vz - self.gravity * dt,
+        )
+    }
+
+    /// Downward acceleration of the centre: g in flight, zero on the cloth.
+    #[inline]
+    pub fn gravity(&self) -> f64 {
+        self.gravity
+    }
+
     /// The full state at absolute time `t` (within this piece); the motion state is the
     /// piece's own.
     pub fn state_at(&self, t: f64, radius: f64) -> BallState {
         let dt = t - self.t0;
         let mut s = self.start;
-        if s.motion == MotionState::Pocketed || s.motion == MotionState::Stationary {
+        if s.motion.is_gone() || s.motion == MotionState::Stationary {
+            return s;
+        }
+        if s.motion == MotionState::Airborne {
+            s.pos = self.pos_at(t);
+            (s.lift, s.vz) = self.height_at(t);
             return s;
         }
         s.pos = self.pos_at(t);
@@ -290,7 +361,11 @@ impl Piece {
                 s.spin = DVec3::ZERO;
                 s.motion = MotionState::Stationary;
             }
-            MotionState::Stationary | MotionState::Pocketed => {}
+            // A landing is resolved by the engine (`airborne::land`), not here.
+            MotionState::Stationary
+            | MotionState::Pocketed
+            | MotionState::Airborne
+            | MotionState::OffTable => {}
         }
         s
     }
@@ -319,5 +394,18 @@ impl Piece {
         let v = self.vel_at(from).length();
         let dt = to - from;
         v * dt + 0.5 * self.acc.length() * dt * dt
+    }
+}
+
+/// How long a ball at height `lift` above rest, rising at `vz`, flies before it lands.
+fn flight_time(lift: f64, vz: f64, g: f64) -> f64 {
+    let root = (vz * vz + 2.0 * g * lift).sqrt();
+    if vz > 0.0 {
+        (vz + root) / g
+    } else if root - vz > 0.0 {
+        // The same root, written without cancellation for a falling ball.
+        2.0 * lift / (root - vz)
+    } else {
+        0.0
     }
 }

@@ -47,6 +47,8 @@ pub struct Params {
     pub f_cushion: f64,
     /// Height of the cushion nose above the cloth (m).
     pub cushion_height: f64,
+    /// Ball–table (slate) coefficient of restitution, for a ball landing or driven into it.
+    pub e_table: f64,
     /// Rolling resistance as the founding paper gives it, Heathcote's law
     /// `F = k·W^(5/3)/R^(4/3)`; when present it replaces `mu_roll` (see
     /// [`Params::mu_roll_from_heathcote`]).
@@ -72,6 +74,7 @@ impl Default for Params {
             e_cushion: 0.85,
             f_cushion: 0.2,
             cushion_height: 0.036576,
+            e_table: 0.5,
             heathcote_k: None,
         }
     }
@@ -80,7 +83,7 @@ impl Default for Params {
 impl Params {
     /// Every parameter with its name, for validation and messages (an array, not a vector:
     /// validation runs before every simulation and must not allocate).
-    pub fn named_values(&self) -> [(&'static str, f64); 13] {
+    pub fn named_values(&self) -> [(&'static str, f64); 14] {
         let (fa, fb, fc, names) = match self.ball_friction {
             BallFriction::Constant(mu) => (mu, 0.0, 0.0, ["ball_friction"; 3]),
             BallFriction::SpeedDependent { a, b, c } => (
@@ -101,6 +104,7 @@ impl Params {
             ("e_cushion", self.e_cushion),
             ("f_cushion", self.f_cushion),
             ("cushion_height", self.cushion_height),
+            ("e_table", self.e_table),
             (names[0], fa),
             (names[1], fb),
             (names[2], fc),
@@ -143,7 +147,11 @@ impl Params {
         if self.ball_radius > 1.0 {
             return Err("physics.ball_radius must be at most 1 m".into());
         }
-        for (name, value) in [("e_ball", self.e_ball), ("e_cushion", self.e_cushion)] {
+        for (name, value) in [
+            ("e_ball", self.e_ball),
+            ("e_cushion", self.e_cushion),
+            ("e_table", self.e_table),
+        ] {
             if value > 1.0 {
                 return Err(format!("physics.{name} must be between 0 and 1"));
             }
@@ -189,6 +197,9 @@ pub struct Effects {
     pub ball_friction: bool,
     pub cushions: bool,
     pub pockets: bool,
+    /// Balls leave the cloth: an elevated strike drives the ball into the slate and it may
+    /// bounce up; when off, the slate takes the vertical part of every impulse.
+    pub airborne: bool,
 }
 
 impl Default for Effects {
@@ -200,6 +211,7 @@ impl Default for Effects {
             ball_friction: true,
             cushions: true,
             pockets: true,
+            airborne: true,
         }
     }
 }
@@ -214,6 +226,7 @@ impl Effects {
             ball_friction: false,
             cushions: false,
             pockets: false,
+            airborne: false,
         }
     }
 

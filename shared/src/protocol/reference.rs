@@ -32,6 +32,7 @@ pub fn reference_shot() -> Shot {
         speed: 8.0,
         dir: aim / aim.length(),
         tip: DVec2::new(0.1, 0.2),
+        elevation_deg: 0.0,
     };
     Shot::new(table, balls).struck(0, strike)
 }

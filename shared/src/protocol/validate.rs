@@ -105,7 +105,12 @@ mod tests {
     fn shot(speed: f64, dir: DVec2, tip: DVec2) -> ClientMessage {
         ClientMessage::Shot {
             turn: 1,
-            strike: Strike { speed, dir, tip },
+            strike: Strike {
+                speed,
+                dir,
+                tip,
+                elevation_deg: 0.0,
+            },
             call: None,
         }
     }

@@ -89,7 +89,10 @@ impl ShotFacts {
                     }
                 }
                 EventKind::BallPocket { ball, pocket } => facts.pocketed.push((ball as u8, pocket)),
-                EventKind::Strike { .. } | EventKind::Transition { .. } => {}
+                EventKind::Strike { .. }
+                | EventKind::Transition { .. }
+                | EventKind::BallTable { .. }
+                | EventKind::BallOffTable { .. } => {}
             }
             let (balls, n) = event.kind.balls();
             for &b in &balls[..n] {

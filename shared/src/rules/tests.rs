@@ -107,6 +107,7 @@ impl Geometry {
             speed: self.speed,
             dir: DVec2::from_array(self.dir).normalize(),
             tip: DVec2::new(0.0, self.tip),
+            elevation_deg: 0.0,
         }
     }
 }
@@ -767,6 +768,7 @@ fn stalemate_offered_by_both_reracks_with_the_same_breaker() {
                 speed: 8.0,
                 dir: DVec2::Y,
                 tip: DVec2::ZERO,
+                elevation_deg: 0.0,
             },
             call: None,
         },
@@ -908,6 +910,7 @@ fn commands_out_of_turn_or_phase_change_nothing() {
             speed: f64::NAN,
             dir: DVec2::Y,
             tip: DVec2::ZERO,
+            elevation_deg: 0.0,
         },
         call: None,
     };
@@ -974,6 +977,7 @@ fn nine_ball_push_out_after_the_break() {
         speed: 1.0,
         dir: DVec2::new(1.0, 0.0),
         tip: DVec2::ZERO,
+        elevation_deg: 0.0,
     };
     let v = g
         .apply(Seat::A, &Command::Shot { strike, call: None })

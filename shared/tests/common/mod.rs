@@ -18,6 +18,8 @@ pub fn ball(pos: [f64; 2], vel: [f64; 2], spin: [f64; 3]) -> BallState {
         spin: DVec3::from_array(spin),
         motion: MotionState::Stationary,
         pocket: None,
+        lift: 0.0,
+        vz: 0.0,
     }
 }
 
@@ -140,12 +142,18 @@ pub fn invariant_figures(shot: &Shot, out: &Outcome) -> (f64, f64) {
         }
         for i in 0..states.len() {
             for j in i + 1..states.len() {
-                if states[i].motion == MotionState::Pocketed
-                    || states[j].motion == MotionState::Pocketed
-                {
+                if states[i].motion.is_gone() || states[j].motion.is_gone() {
                     continue;
                 }
-                let gap = (states[i].pos - states[j].pos).length() - 2.0 * p.ball_radius;
+                // In 3-D: a ball in flight may pass above another.
+                let dz = states[i].lift - states[j].lift;
+                let d = (states[i].pos - states[j].pos).length();
+                let d = if dz == 0.0 {
+                    d
+                } else {
+                    (d * d + dz * dz).sqrt()
+                };
+                let gap = d - 2.0 * p.ball_radius;
                 worst_overlap = worst_overlap.max(-gap);
             }
         }
@@ -162,7 +170,7 @@ pub fn invariant_figures(shot: &Shot, out: &Outcome) -> (f64, f64) {
     (worst_overlap, worst_rise)
 }
 
-/// Kinetic energy just before and just after time `t`.
+/// Mechanical energy (kinetic, and potential in flight) just before and just after time `t`.
 pub fn energy_across(out: &Outcome, t: f64, p: &Params) -> (f64, f64) {
     let mut before = 0.0;
     let mut after = 0.0;
@@ -172,7 +180,7 @@ pub fn energy_across(out: &Outcome, t: f64, p: &Params) -> (f64, f64) {
         let at = |k: usize| {
             let q = &pieces[k];
             let s = q.state_at(t.min(q.t_end).max(q.t0), p.ball_radius);
-            breakshot_shared::physics::kinetic_energy(&s, p)
+            breakshot_shared::physics::mechanical_energy(&s, p)
         };
         before += at(k_before);
         after += at(k_after);

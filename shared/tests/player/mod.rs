@@ -93,6 +93,7 @@ pub fn random_strike(game: &Game, dice: &mut Dice) -> Strike {
         speed,
         dir: dir.normalize(),
         tip,
+        elevation_deg: 0.0,
     }
 }
 
@@ -170,6 +171,7 @@ pub fn check_table(game: &Game, before: &Game, cmd: &Command) -> Result<(), Stri
         speed: 1.0,
         dir: DVec2::Y,
         tip: DVec2::ZERO,
+        elevation_deg: 0.0,
     };
     let mut shot = game.shot_for(&probe);
     shot.strike = None;

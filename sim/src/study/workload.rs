@@ -171,6 +171,7 @@ fn two_ball_hits() -> Vec<Case> {
             speed,
             dir: aim(cue, obj, 0.0),
             tip,
+            elevation_deg: 0.0,
         };
         cases.push(Case {
             category: Category::Stun,
@@ -183,6 +184,7 @@ fn two_ball_hits() -> Vec<Case> {
             speed,
             dir: aim(cue, obj, side * r),
             tip: DVec2::new(0.0, 0.4),
+            elevation_deg: 0.0,
         };
         cases.push(Case {
             category: Category::HalfBall,
@@ -195,6 +197,7 @@ fn two_ball_hits() -> Vec<Case> {
             speed: speed + 1.0,
             dir: aim(cue, obj, side * offset),
             tip: DVec2::new(0.0, 0.2),
+            elevation_deg: 0.0,
         };
         cases.push(Case {
             category: Category::ThinCut,
@@ -296,6 +299,7 @@ pub fn break_case(category: Category, k: u64) -> Case {
         speed: 8.0,
         dir,
         tip: DVec2::new(0.0, 0.1 * symmetric(&mut rng)),
+        elevation_deg: 0.0,
     };
     Case {
         category,

@@ -89,6 +89,7 @@ fn wpa_kitchen_shot_at_a_ball_behind_the_head_string_is_a_foul() {
         speed: 1.5,
         dir: DVec2::Y,
         tip: DVec2::ZERO,
+        elevation_deg: 0.0,
     };
     let v = g
         .apply(Seat::B, &Command::Shot { strike, call: None })
@@ -112,6 +113,7 @@ fn wpa_kitchen_shot_that_crosses_the_head_string_first_may_hit_a_ball_behind_it(
         speed: 3.0,
         dir: DVec2::new(0.15, 1.0).normalize(),
         tip: DVec2::ZERO,
+        elevation_deg: 0.0,
     };
     // Where the cue ball comes back down the table past y = 0.3, after the foot rail: the
     // object ball goes there (the way up is far from it).
@@ -205,6 +207,7 @@ fn wpa_a_ball_frozen_to_a_rail_pressed_into_it_is_not_driven_to_it() {
         speed: 0.5,
         dir: DVec2::Y,
         tip: DVec2::new(0.0, -0.3),
+        elevation_deg: 0.0,
     };
     let mk = |object: [f64; 2]| {
         let mut g = table(WPA, &[(0, cue), (3, object)], &all_but(&[3]));

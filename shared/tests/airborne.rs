@@ -1,0 +1,290 @@
+//! Balls in flight: jump shots over a ball and over a rail, energy across every event, the
+//! `airborne` switch, and elevation in scenes.
+
+mod common;
+
+use breakshot_shared::physics::{
+    simulate, EventKind, MotionState, Outcome, Shot, Strike, TableKind,
+};
+use breakshot_shared::scene::Scene;
+use common::*;
+use glam::DVec2;
+
+/// A shot on a 9 ft table: the cue ball at `cue` struck along +y at `speed` with the cue
+/// elevated by `elevation` degrees, and object balls at `others` (scene coordinates).
+fn jump_shot(cue: [f64; 2], others: &[[f64; 2]], speed: f64, elevation: f64) -> Shot {
+    let mut balls = vec![ball(cue, [0.0; 2], [0.0; 3])];
+    balls.extend(others.iter().map(|&p| ball(p, [0.0; 2], [0.0; 3])));
+    let shot = Shot::new(TableKind::NineFoot, balls);
+    shot.struck(
+        0,
+        Strike::at_angle(speed, 90.0, DVec2::ZERO).elevated(elevation),
+    )
+}
+
+fn hits(out: &Outcome, a: u16, b: u16) -> bool {
+    out.events
+        .iter()
+        .any(|e| e.kind == EventKind::BallBall { a, b })
+}
+
+fn flies(out: &Outcome, i: usize) -> bool {
+    out.history[i]
+        .iter()
+        .any(|p| p.start.motion == MotionState::Airborne)
+}
+
+/// Where the cue ball's first hop is highest, relative to where it started, and how high.
+fn first_apex(shot: &Shot) -> (f64, f64, f64) {
+    let out = run(shot);
+    let hop = out.history[0][0];
+    assert_eq!(
+        hop.start.motion,
+        MotionState::Airborne,
+        "the strike lifts the ball"
+    );
+    let t = hop.t0 + hop.start.vz / G;
+    (
+        hop.pos_at(t).y - hop.start.pos.y,
+        hop.height_at(t).0,
+        hop.t_end,
+    )
+}
+
+#[test]
+fn a_jump_shot_clears_a_ball_a_lower_one_hits_it() {
+    let cue = [0.635, 0.4];
+    let (speed, elevation) = (4.0, 45.0);
+    let (ahead, height, landing) = first_apex(&jump_shot(cue, &[], speed, elevation));
+    assert!(ahead > 0.6, "the hop's top is {ahead} m ahead");
+    assert!(height > 2.0 * R, "the hop rises {height} m");
+    // A blocker right under the top of the hop, about half the table's length away.
+    let blocker = [cue[0], cue[1] + ahead];
+    let mut over = jump_shot(cue, &[blocker], speed, elevation);
+    over.horizon = Some(landing);
+    let out = run(&over);
+    assert!(!hits(&out, 0, 1), "cleared: {:?}", out.events);
+    assert!(
+        out.finals[0].pos.y > blocker[1] + 2.0 * R,
+        "passed the blocker"
+    );
+    assert_eq!(out.finals[1].motion, MotionState::Stationary);
+    // The same blocker is hit by a lower elevation and by a slower stroke.
+    for (speed, elevation) in [(speed, 10.0), (1.5, elevation)] {
+        let out = run(&jump_shot(cue, &[blocker], speed, elevation));
+        assert!(
+            hits(&out, 0, 1),
+            "{speed} m/s at {elevation}°: {:?}",
+            out.events
+        );
+    }
+}
+
+#[test]
+fn a_ball_jumped_over_the_rail_leaves_the_table() {
+    let (_, length) = TableKind::NineFoot.size().expect("pocket table");
+    let shot = jump_shot([0.635, length - 0.3], &[], 4.0, 45.0);
+    let out = run(&shot);
+    let left = out
+        .events
+        .iter()
+        .find(|e| e.kind == EventKind::BallOffTable { ball: 0 })
+        .expect("the ball leaves the table");
+    assert_eq!(out.finals[0].motion, MotionState::OffTable);
+    assert_eq!(out.rest_time[0], Some(left.t));
+    assert!(
+        (out.finals[0].pos.y - length).abs() < 1e-9,
+        "left over the far rail"
+    );
+    // A low hop towards the rail meets the cushion nose instead and stays on the table.
+    let low = run(&jump_shot([0.635, length - 0.2], &[], 2.0, 20.0));
+    assert!(low
+        .events
+        .iter()
+        .any(|e| matches!(e.kind, EventKind::BallCushion { ball: 0, .. })));
+    assert!(!low.finals[0].motion.is_gone());
+}
+
+#[test]
+fn energy_never_rises_across_any_event() {
+    let mut shots = Vec::new();
+    // Jumps and massé shots among a few balls, on every pocket table.
+    let mut rng = Rng::new(7);
+    for table in [
+        TableKind::SevenFoot,
+        TableKind::EightFoot,
+        TableKind::NineFoot,
+    ] {
+        let (w, l) = table.size().expect("pocket table");
+        for k in 0..12 {
+            let mut balls = vec![ball([0.5 * w, 0.25 * l], [0.0; 2], [0.0; 3])];
+            for m in 0..4 {
+                let x = 0.2 * w + 0.15 * w * m as f64;
+                balls.push(ball([x, 0.4 * l + 0.05 * k as f64], [0.0; 2], [0.0; 3]));
+            }
+            let tip = DVec2::new(rng.range(-0.35, 0.35), rng.range(-0.35, 0.35));
+            let strike = Strike::at_angle(rng.range(1.0, 8.0), rng.range(60.0, 120.0), tip)
+                .elevated(rng.range(5.0, 85.0));
+            shots.push(Shot::new(table, balls).struck(0, strike));
+        }
+    }
+    // A jumped break into a full rack.
+    let mut rng = Rng::new(3);
+    let mut jump_break = break_shot(TableKind::NineFoot, 1e-4, 0.0, 0.0, &mut rng);
+    jump_break.strike = Some((0, Strike::at_angle(9.0, 90.0, DVec2::ZERO).elevated(25.0)));
+    shots.push(jump_break);
+    let mut flew = 0;
+    for shot in &shots {
+        let out = run(shot);
+        let (overlap, _) = invariant_figures(shot, &out);
+        assert!(overlap < 1e-9, "balls overlap by {overlap} m");
+        flew += usize::from(flies(&out, 0));
+    }
+    assert!(flew > shots.len() / 2, "only {flew} shots left the cloth");
+}
+
+#[test]
+fn with_the_switch_off_nothing_flies_and_no_flight_is_predicted() {
+    let mut shot = jump_shot([0.635, 0.4], &[[0.635, 1.0]], 4.0, 45.0);
+    shot.effects.airborne = false;
+    let out = run(&shot);
+    assert!(out
+        .history
+        .iter()
+        .flatten()
+        .all(|p| p.start.motion != MotionState::Airborne));
+    assert_eq!(out.work.flight_checks, 0);
+    // A level shot predicts no flight even with the switch on, and costs the same.
+    let mut level = jump_shot([0.635, 0.4], &[[0.635, 1.0]], 4.0, 0.0);
+    let on = run(&level);
+    level.effects.airborne = false;
+    let off = run(&level);
+    assert_eq!(on.work.flight_checks, 0);
+    assert_eq!((on.events, on.work), (off.events, off.work));
+}
+
+#[test]
+fn scenes_take_an_elevation_and_report_heights_in_flight() {
+    let text = r#"{
+        "table": "9ft",
+        "balls": [{ "id": "cue", "pos": [0.635, 0.4] }],
+        "strike": { "ball": "cue", "speed": 4.0, "angle_deg": 90, "elevation_deg": 45 }
+    }"#;
+    let scene = Scene::from_json(text).expect("valid scene");
+    let result = scene.run(Some(0.05)).expect("runs");
+    assert!(result.events.iter().any(|e| e.kind == "ball_table"));
+    let samples = result.samples.expect("samples");
+    let flying: Vec<_> = samples
+        .iter()
+        .flat_map(|s| &s.balls)
+        .filter(|b| b.state == "airborne")
+        .collect();
+    assert!(!flying.is_empty());
+    assert!(flying.iter().all(|b| b.z.is_some_and(|z| z >= R)));
+    assert!(samples
+        .iter()
+        .flat_map(|s| &s.balls)
+        .filter(|b| b.state != "airborne")
+        .all(|b| b.z.is_none()));
+    for bad in ["-1", "91", "1e300"] {
+        let text = text.replace(
+            "\"elevation_deg\": 45",
+            &format!("\"elevation_deg\": {bad}"),
+        );
+        let err = Scene::from_json(&text).expect_err("refused");
+        assert!(err.to_string().contains("elevation_deg"), "{err}");
+    }
+    // The simulated shot is the one the scene describes.
+    assert_eq!(
+        result.hash,
+        breakshot_shared::hash::hash_hex(
+            simulate(&scene.to_shot().expect("valid"))
+                .expect("runs")
+                .hash()
+        )
+    );
+}
+
+#[test]
+fn a_bounce_at_the_cut_off_ends_either_way() {
+    use breakshot_shared::physics::airborne::SETTLE_HEIGHT;
+    let e = breakshot_shared::physics::Params::default().e_table;
+    // Drops whose first rebound rises the cut-off height, to rounding, and a hair either side.
+    let exact = SETTLE_HEIGHT / (e * e);
+    for h in [exact * (1.0 - 1e-12), exact, exact * (1.0 + 1e-12)] {
+        let mut b = ball([0.0, 0.0], [0.3, 0.0], [0.0, 0.3 / R, 0.0]);
+        b.lift = h;
+        b.motion = MotionState::Airborne;
+        let shot = Shot::new(TableKind::Open, vec![b]);
+        let out = run(&shot);
+        invariant_figures(&shot, &out);
+        assert!(out.events.len() <= 4, "{h}: {:?}", out.events);
+        assert_eq!(out.finals[0].motion, MotionState::Stationary);
+    }
+}
+
+/// A ball dropped onto a cushion nose edge, from well inside it to exactly above it: it
+/// bounces off the edge into the bed (or, centred right above the edge, off the table), and
+/// every case ends in a handful of events.
+#[test]
+fn landing_on_a_cushion_nose() {
+    let (w, l) = TableKind::NineFoot.size().expect("pocket table");
+    let ulp = l - f64::from_bits(l.to_bits() - 1);
+    for d in [0.9 * R, 0.5 * R, 1e-3 * R, 1e-9 * R, ulp, 0.0] {
+        let mut b = ball([0.5 * w, l - d], [0.0; 2], [0.0; 3]);
+        b.lift = 0.1;
+        b.motion = MotionState::Airborne;
+        let shot = Shot::new(TableKind::NineFoot, vec![b]);
+        let out = run(&shot);
+        invariant_figures(&shot, &out);
+        assert!(
+            matches!(out.events[0].kind, EventKind::BallCushion { ball: 0, .. })
+                || out.events[0].kind == EventKind::BallOffTable { ball: 0 },
+            "{d}: {:?}",
+            out.events[0]
+        );
+        assert!(out.events.len() < 100, "{d}: {} events", out.events.len());
+        let last = out.finals[0];
+        assert!(matches!(
+            last.motion,
+            MotionState::Stationary | MotionState::OffTable
+        ));
+        if last.motion == MotionState::Stationary {
+            assert!(last.pos.y < l, "{d}: {:?}", last.pos);
+        }
+        println!(
+            "drop {d:e} m from the nose line: {} events, {:?}",
+            out.events.len(),
+            last.motion
+        );
+    }
+}
+
+/// A ball in flight grazing a ball on the cloth: the 3-D distance's double root, told apart
+/// a nanometre either way.
+#[test]
+fn grazing_a_ball_in_flight() {
+    // A ball in flight passes a resting one at the top of its hop, where the centres'
+    // closest 3-D distance is 2R·(1 ∓ 1e-9).
+    let w = 0.6;
+    let v = 2.0;
+    let t_top = w / G;
+    let top = w * w / (2.0 * G);
+    for (sign, expect_hit) in [(-1.0, true), (1.0, false)] {
+        let miss = 2.0 * R * (1.0 + sign * 1e-9);
+        // Horizontal offset at the top so that the 3-D distance there is `miss`.
+        let dx = (miss * miss - top * top).sqrt();
+        let mut flying = ball([0.0, -v * t_top], [0.0, v], [0.0; 3]);
+        flying.vz = w;
+        let resting = ball([dx, 0.0], [0.0; 2], [0.0; 3]);
+        let out = run(&Shot::new(TableKind::Open, vec![flying, resting]));
+        let hit = out
+            .events
+            .iter()
+            .find(|e| e.kind == EventKind::BallBall { a: 0, b: 1 });
+        assert_eq!(hit.is_some(), expect_hit, "{miss}: {:?}", out.events);
+        if let Some(hit) = hit {
+            assert!((hit.t - t_top).abs() < 1e-3, "{}", hit.t);
+        }
+    }
+}
