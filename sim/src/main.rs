@@ -1,5 +1,6 @@
 //! `breakshot-sim`: simulate scene files (docs/scene.md) from the command line.
 
+mod fit;
 mod study;
 
 use std::io::Read;
@@ -44,6 +45,9 @@ enum Command {
         #[arg(long, value_name = "DIR", default_value = "out/accuracy-cost")]
         out: PathBuf,
     },
+    /// Fit cue strikes (and the shared cloth and cushion parameters) to recorded shots and
+    /// report how close the simulation comes (docs/reality.md).
+    Fit(fit::cli::Args),
 }
 
 /// Exit code for a scene or argument that is not valid (the contract's).
@@ -142,6 +146,10 @@ fn run(command: Command) -> Result<(), Failure> {
             println!("{report}");
         }
         Command::AccuracyCost { out } => study::run(&out)?,
+        Command::Fit(args) => fit::cli::run(args).map_err(|e| match e {
+            fit::cli::Error::Invalid(msg) => Failure::Invalid(msg),
+            fit::cli::Error::Other(e) => Failure::Other(e),
+        })?,
     }
     Ok(())
 }
