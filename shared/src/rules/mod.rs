@@ -37,6 +37,7 @@ mod practice;
 pub mod rack;
 #[cfg(test)]
 mod tests;
+pub mod three_cushion;
 
 use std::fmt;
 
