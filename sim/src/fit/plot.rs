@@ -99,7 +99,7 @@ fn paths(fit: &Fit, path: &Path) -> anyhow::Result<()> {
             let steps = (rec.end() / 0.02).ceil() as usize;
             let simulated: Vec<(f64, f64)> = (0..=steps)
                 .map(|s| {
-                    let p = outcome.state_at(i, s as f64 * 0.02).pos;
+                    let p = outcome.state_at(i, s as f64 * 0.02 - f.delay).pos;
                     (p.x, p.y)
                 })
                 .collect();

@@ -60,6 +60,17 @@ impl Recording {
             .fold(0.0, f64::max)
     }
 
+    /// Latest time the cue can have struck: the cue ball's first sample after the start,
+    /// where it has moved (the recordings start their clock a little before the strike).
+    pub fn max_delay(&self) -> f64 {
+        self.balls[self.cue]
+            .t
+            .get(1)
+            .copied()
+            .unwrap_or(0.0)
+            .min(0.1)
+    }
+
     /// Number of (ball, time) samples.
     pub fn samples(&self) -> usize {
         self.balls.iter().map(|b| b.t.len()).sum()

@@ -51,13 +51,13 @@ pub fn write(fit: &Fit, out: &Path) -> anyhow::Result<()> {
 
 fn csv(fit: &Fit) -> String {
     let mut s = String::from(
-        "id,rmse_m,rmse_start_m,angle_deg,speed_m_s,tip_side,tip_height,samples,duration_s\n",
+        "id,rmse_m,rmse_start_m,angle_deg,speed_m_s,tip_side,tip_height,delay_s,samples,duration_s\n",
     );
     for (k, rec) in fit.recordings.iter().enumerate() {
         let f = &fit.fitted_fits[k];
         let _ = writeln!(
             s,
-            "{},{:.6},{:.6},{:.4},{:.4},{:.4},{:.4},{},{:.2}",
+            "{},{:.6},{:.6},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.2}",
             rec.id,
             f.rmse,
             fit.start_fits[k].rmse,
@@ -65,6 +65,7 @@ fn csv(fit: &Fit) -> String {
             f.speed,
             f.tip[0],
             f.tip[1],
+            f.delay,
             rec.samples(),
             rec.end()
         );
@@ -110,14 +111,21 @@ fn markdown(fit: &Fit) -> String {
     }
     let _ = writeln!(
         s,
-        "\n## Shots\n\n| id | RMSE (m) | start RMSE (m) | aim (°) | cue speed (m/s) | tip side | tip height |\n|---|---|---|---|---|---|---|"
+        "\n## Shots\n\n| id | RMSE (m) | start RMSE (m) | aim (°) | cue speed (m/s) | tip side | tip height | strike at (s) |\n|---|---|---|---|---|---|---|---|"
     );
     for (k, rec) in fit.recordings.iter().enumerate() {
         let f = &fit.fitted_fits[k];
         let _ = writeln!(
             s,
-            "| {} | {:.3} | {:.3} | {:.2} | {:.3} | {:.2} | {:.2} |",
-            rec.id, f.rmse, fit.start_fits[k].rmse, f.angle_deg, f.speed, f.tip[0], f.tip[1]
+            "| {} | {:.3} | {:.3} | {:.2} | {:.3} | {:.2} | {:.2} | {:.3} |",
+            rec.id,
+            f.rmse,
+            fit.start_fits[k].rmse,
+            f.angle_deg,
+            f.speed,
+            f.tip[0],
+            f.tip[1],
+            f.delay
         );
     }
     s

@@ -37,27 +37,31 @@ pub struct StrikeFit {
     pub angle_deg: f64,
     pub speed: f64,
     pub tip: [f64; 2],
+    /// When the cue struck, after the recording's first sample (s).
+    pub delay: f64,
     pub rmse: f64,
 }
 
 impl StrikeFit {
-    fn from_vector(x: &[f64], rmse: f64) -> StrikeFit {
+    fn from_vector(x: &[f64], max_delay: f64, rmse: f64) -> StrikeFit {
         let (strike, _) = decode(x);
         StrikeFit {
             angle_deg: libm::atan2(strike.dir.y, strike.dir.x).to_degrees(),
             speed: strike.speed,
             tip: strike.tip.to_array(),
+            delay: x[4].clamp(0.0, max_delay),
             rmse,
         }
     }
 
-    /// The strike as an optimiser vector [angle (rad), speed, side, height].
+    /// The strike as an optimiser vector [angle (rad), speed, side, height, delay].
     pub fn vector(&self) -> Vec<f64> {
         vec![
             self.angle_deg.to_radians(),
             self.speed,
             self.tip[0],
             self.tip[1],
+            self.delay,
         ]
     }
 
@@ -121,8 +125,9 @@ pub fn base_shot(rec: &Recording, params: &Params, models: Models) -> anyhow::Re
 }
 
 /// Root mean square distance (m) between the recorded and simulated positions of every
-/// ball at every recorded time up to `until`, from the engine's exact motion at those times.
-pub fn rmse(outcome: &Outcome, rec: &Recording, until: f64) -> f64 {
+/// ball at every recorded time up to `until`, from the engine's exact motion at those times,
+/// the strike coming `delay` seconds after the recording's start.
+pub fn rmse(outcome: &Outcome, rec: &Recording, until: f64, delay: f64) -> f64 {
     let mut sum = 0.0;
     let mut count = 0usize;
     for (i, track) in rec.balls.iter().enumerate() {
@@ -132,7 +137,7 @@ pub fn rmse(outcome: &Outcome, rec: &Recording, until: f64) -> f64 {
             .zip(&track.pos)
             .take_while(|(&t, _)| t <= until)
         {
-            sum += (outcome.state_at(i, t).pos - p).length_squared();
+            sum += (outcome.state_at(i, t - delay).pos - p).length_squared();
             count += 1;
         }
     }
@@ -163,7 +168,10 @@ impl<'a> Problem<'a> {
     /// RMSE of the strike vector `x` over the samples up to `until` (simulating no
     /// further), with the out-of-range penalty.
     pub fn evaluate_until(&self, x: &[f64], until: f64) -> f64 {
-        let (strike, excess) = decode(x);
+        let (strike, mut excess) = decode(x);
+        let delay = x[4].clamp(0.0, self.rec.max_delay());
+        // A second of delay out of range costs like 10 m of error.
+        excess += 10.0 * (x[4] - delay).abs();
         let horizon = self.shot.horizon.map(|h| h.min(until.max(0.1)));
         let shot = Shot {
             strike: Some((self.rec.cue, strike)),
@@ -172,7 +180,7 @@ impl<'a> Problem<'a> {
         };
         let mut sim = self.sim.borrow_mut();
         let cost = match sim.run(&shot) {
-            Ok(outcome) => rmse(outcome, self.rec, until),
+            Ok(outcome) => rmse(outcome, self.rec, until, delay),
             Err(_) => FAILED,
         };
         cost + excess
@@ -270,7 +278,16 @@ pub fn fit(
 ) -> anyhow::Result<StrikeFit> {
     let problem = Problem::new(rec, params, models)?;
     let whole = |x: &[f64]| problem.evaluate(x);
-    let fine = |x: &[f64]| [0.004, 0.03 * x[1].abs().max(0.1), 0.04, 0.04];
+    let max_delay = rec.max_delay();
+    let fine = |x: &[f64]| {
+        [
+            0.004,
+            0.03 * x[1].abs().max(0.1),
+            0.04,
+            0.04,
+            0.1 * max_delay,
+        ]
+    };
     let mut best = match warm {
         Some(w) => {
             let x = w.vector();
@@ -280,10 +297,10 @@ pub fn fit(
             let (angle, speed) = first_guess(rec, params);
             let mut cands: Vec<(Vec<f64>, f64)> = Vec::new();
             let first = |x: &[f64]| problem.evaluate_until(x, STAGES[0]);
-            let step = [0.02, 0.1 * speed, 0.1, 0.1];
+            let step = [0.02, 0.1 * speed, 0.1, 0.1, 0.3 * max_delay];
             for tip in TIPS {
                 for da in [-0.03, 0.0, 0.03] {
-                    let start = [angle + da, speed, tip[0], tip[1]];
+                    let start = [angle + da, speed, tip[0], tip[1], 0.5 * max_delay];
                     cands.push(nelder_mead(&first, &start, &step, iters));
                 }
             }
@@ -299,7 +316,7 @@ pub fn fit(
             cands
                 .into_iter()
                 .min_by(|a, b| a.1.total_cmp(&b.1))
-                .unwrap_or((vec![angle, speed, 0.0, 0.0], f64::INFINITY))
+                .unwrap_or((vec![angle, speed, 0.0, 0.0, 0.0], f64::INFINITY))
         }
     };
     let refined = nelder_mead(&whole, &best.0, &fine(&best.0), 2 * iters);
@@ -307,5 +324,5 @@ pub fn fit(
         best = refined;
     }
     let rmse = problem.evaluate(&best.0);
-    Ok(StrikeFit::from_vector(&best.0, rmse))
+    Ok(StrikeFit::from_vector(&best.0, max_delay, rmse))
 }

@@ -20,9 +20,10 @@ impl Noise {
     }
 }
 
-/// A recording (JSON, metres) of `strike` on the cue ball at `cue` among `balls`, every
-/// ball sampled every 20 ms with up to `noise` metres of error on each coordinate.
-fn record(id: u32, balls: &[DVec2], strike: Strike, noise: f64) -> String {
+/// A recording (JSON, metres) of `strike` on the first of `balls`, `delay` seconds after
+/// the recording starts, every ball sampled every 20 ms with up to `noise` metres of error
+/// on each coordinate.
+fn record(id: u32, balls: &[DVec2], strike: Strike, delay: f64, noise: f64) -> String {
     let mut shot = Shot::new(
         TableKind::Carom,
         balls.iter().map(|&p| BallState::at_rest(p)).collect(),
@@ -36,9 +37,9 @@ fn record(id: u32, balls: &[DVec2], strike: Strike, noise: f64) -> String {
         .map(|i| {
             let (mut t, mut x, mut y) = (Vec::new(), Vec::new(), Vec::new());
             let mut k = 0;
-            while f64::from(k) * 0.02 <= outcome.duration {
+            while f64::from(k) * 0.02 <= outcome.duration + delay {
                 let time = f64::from(k) * 0.02;
-                let p = outcome.state_at(i, time).pos;
+                let p = outcome.state_at(i, time - delay).pos;
                 let (rx, ry) = from_scene(p, 1.0);
                 t.push(time);
                 x.push(rx + noise * rng.next());
@@ -59,7 +60,7 @@ fn a_simulated_shot_is_fitted_back_to_its_strike() {
         DVec2::new(0.3, 2.2),
     ];
     let truth = Strike::at_angle(2.5, 63.0, DVec2::new(0.25, 0.15));
-    let text = format!("[{}]", record(1, &balls, truth, 0.002));
+    let text = format!("[{}]", record(1, &balls, truth, 0.012, 0.002));
     let recordings = parse(&text, Units::Metres).expect("parses");
     assert_eq!(recordings[0].cue, 0, "the struck ball moves first");
     let options = Options {
@@ -74,6 +75,11 @@ fn a_simulated_shot_is_fitted_back_to_its_strike() {
     assert!((got.speed - 2.5).abs() < 0.1, "speed {}", got.speed);
     let tip = DVec2::from_array(got.tip);
     assert!((tip - truth.tip).length() < 0.1, "tip {tip}");
+    assert!(
+        (got.delay - 0.012).abs() < 0.003,
+        "strike at {} s",
+        got.delay
+    );
     // Fitting under the same parameters as the recording, the start and fitted fits agree.
     assert_eq!(fit.start, fit.fitted);
 }
