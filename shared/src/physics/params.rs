@@ -7,12 +7,12 @@ use super::table::TableKind;
 // Heated carom cloth, carom balls and cushions: fitted once to 40 shots recorded on real
 // three-cushion tables by `breakshot-sim fit` (Han 2005 cushions), starting from the pool
 // values below and kept within physical ranges (docs/reality.md).
-const CAROM_MU_SLIDE: f64 = 0.2425;
-const CAROM_MU_ROLL: f64 = 0.00504;
-const CAROM_MU_SPIN: f64 = 0.0063;
-const CAROM_E_BALL: f64 = 0.982;
-const CAROM_E_CUSHION: f64 = 0.835;
-const CAROM_F_CUSHION: f64 = 0.258;
+const CAROM_MU_SLIDE: f64 = 0.229;
+const CAROM_MU_ROLL: f64 = 0.0045;
+const CAROM_MU_SPIN: f64 = 0.0058;
+const CAROM_E_BALL: f64 = 0.962;
+const CAROM_E_CUSHION: f64 = 0.80;
+const CAROM_F_CUSHION: f64 = 0.292;
 
 /// Ball–ball friction: a constant, or Alciatore's fit μ(v) = a + b·exp(−c·v) of the
 /// relative surface speed at the contact.
