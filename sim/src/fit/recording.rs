@@ -94,6 +94,9 @@ pub fn from_scene(p: DVec2, scale: f64) -> (f64, f64) {
 /// Parses a recordings file.
 pub fn parse(text: &str, units: Units) -> anyhow::Result<Vec<Recording>> {
     let raw: Vec<RawShot> = serde_json::from_str(text).context("reading the recordings")?;
+    if raw.is_empty() {
+        bail!("the recordings hold no shot");
+    }
     let scale = match units {
         Units::Recording => UNITS_TO_METRES,
         Units::Metres => 1.0,
@@ -180,6 +183,7 @@ mod tests {
     fn bad_recordings_are_refused() {
         for text in [
             "{}",
+            "[]",
             r#"[{"id": 1, "balls": {"1": {"t": [0], "x": [0], "y": [0]}}}]"#,
             r#"[{"id": 1, "balls": {"1": {"t": [0, 1], "x": [0], "y": [0, 0]},
                                     "2": {"t": [0], "x": [0], "y": [0]}}}]"#,
