@@ -124,9 +124,9 @@ pub fn bounce(
 /// impulse that stops the slip. The impulse's vertical part is taken by the cloth.
 ///
 /// With the two corrections pooltool made to its copy of the paper's equations (its PR
-/// #247): the slip stops during the impact when `P_zS ≤ μ·P_zE` (the paper compares
-/// `P_zS ≤ P_zE`, without μ), and a sliding impulse points against the slip vector
-/// `(sx, sy)/|s|` (the paper's sliding case takes it along the cushion's x only).
+/// #247): the slip stops during the impact when `P_zS ≤ μ·P_zE` (the uncorrected test left
+/// out μ), and a sliding impulse points against the slip vector `(sx, sy)/|s|` (the
+/// uncorrected code gave it a fixed direction).
 fn han2005(vel: DVec2, spin: DVec3, normal: DVec2, params: &Params) -> (DVec2, DVec3) {
     let r = params.ball_radius;
     let m = params.ball_mass;
