@@ -15,10 +15,11 @@ pub const RESULT_VERSION: u32 = 1;
 pub const MAX_SAMPLES: usize = 1_000_000;
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, try_from = "RawScene")]
 pub struct Scene {
     #[serde(default)]
     pub table: TableKind,
+    /// The table's default parameters ([`Params::for_table`]) with the scene's overrides.
     #[serde(default)]
     pub physics: Params,
     #[serde(default)]
@@ -30,6 +31,49 @@ pub struct Scene {
     pub balls: Vec<SceneBall>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub strike: Option<SceneStrike>,
+}
+
+/// A scene as written: `physics` holds only the parameters it overrides, since the defaults
+/// of the others depend on the table.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScene {
+    #[serde(default)]
+    table: TableKind,
+    #[serde(default)]
+    physics: serde_json::Map<String, serde_json::Value>,
+    #[serde(default)]
+    models: Models,
+    #[serde(default)]
+    effects: Effects,
+    #[serde(default)]
+    horizon: Option<f64>,
+    balls: Vec<SceneBall>,
+    #[serde(default)]
+    strike: Option<SceneStrike>,
+}
+
+impl TryFrom<RawScene> for Scene {
+    type Error = String;
+
+    fn try_from(raw: RawScene) -> Result<Scene, String> {
+        let mut physics = match serde_json::to_value(Params::for_table(raw.table)) {
+            Ok(serde_json::Value::Object(map)) => map,
+            _ => return Err("physics: the table's defaults cannot be encoded".into()),
+        };
+        physics.extend(raw.physics);
+        let physics: Params = serde_json::from_value(serde_json::Value::Object(physics))
+            .map_err(|e| format!("physics: {e}"))?;
+        Ok(Scene {
+            table: raw.table,
+            physics,
+            models: raw.models,
+            effects: raw.effects,
+            horizon: raw.horizon,
+            balls: raw.balls,
+            strike: raw.strike,
+        })
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

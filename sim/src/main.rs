@@ -1,6 +1,7 @@
 //! `breakshot-sim`: simulate scene files (docs/scene.md) from the command line.
 
 mod cluster_study;
+mod fit;
 mod study;
 
 use std::io::Read;
@@ -57,6 +58,9 @@ enum Command {
         #[arg(long, default_value_t = 1)]
         seed: u64,
     },
+    /// Fit cue strikes (and the shared cloth and cushion parameters) to recorded shots and
+    /// report how close the simulation comes (docs/reality.md).
+    Fit(fit::cli::Args),
 }
 
 /// Exit code for a scene or argument that is not valid (the contract's).
@@ -159,6 +163,10 @@ fn run(command: Command) -> Result<(), Failure> {
             let summary = cluster_study::run(games, shots, seed);
             println!("{}", serde_json::to_string(&summary).context("encoding")?);
         }
+        Command::Fit(args) => fit::cli::run(args).map_err(|e| match e {
+            fit::cli::Error::Invalid(msg) => Failure::Invalid(msg),
+            fit::cli::Error::Other(e) => Failure::Other(e),
+        })?,
     }
     Ok(())
 }

@@ -6,9 +6,11 @@
 
 use glam::{DVec2, DVec3};
 
+use super::mathavan;
 use super::motion::Piece;
 use super::params::{CushionModel, Params};
 use super::roots::{first_contact, stays_apart, Poly, Touch};
+use super::stronge;
 use super::table::{Jaw, Rail};
 
 /// sin θ and cos θ of the contact angle at the cushion nose.
@@ -97,6 +99,22 @@ pub fn bounce(
             (vel - (1.0 + params.e_cushion) * vn * normal, spin)
         }
         CushionModel::Han2005 => han2005(vel, spin, normal, params),
+        CushionModel::Mathavan2010 => {
+            let (sin, cos) = nose_angle(params);
+            // Into the cushion frame (x into the nose, y along it) and back.
+            let ex = -normal;
+            let ey = DVec2::new(normal.y, -normal.x);
+            let to = |a: DVec2, z: f64| DVec3::new(a.dot(ex), a.dot(ey), z);
+            let back = |a: DVec3| (ex * a.x + ey * a.y, a.z);
+            let (v, w) =
+                mathavan::bounce(to(vel, 0.0), to(spin.truncate(), spin.z), sin, cos, params);
+            let (w_xy, w_z) = back(w);
+            (back(v).0, w_xy.extend(w_z))
+        }
+        CushionModel::Stronge => {
+            let (v, w) = stronge::bounce(vel.extend(0.0), spin, normal.extend(0.0), params);
+            (v.truncate(), w)
+        }
     }
 }
 
@@ -104,6 +122,11 @@ pub fn bounce(
 /// a single impulse at the nose contact, with restitution `e_cushion` along the contact
 /// normal and Coulomb friction `f_cushion` in the contact's tangent plane, capped at the
 /// impulse that stops the slip. The impulse's vertical part is taken by the cloth.
+///
+/// With the two corrections pooltool made to its copy of the paper's equations (its PR
+/// #247): the slip stops during the impact when `P_zS ≤ μ·P_zE` (the uncorrected test left
+/// out μ), and a sliding impulse points against the slip vector `(sx, sy)/|s|` (the
+/// uncorrected code gave it a fixed direction).
 fn han2005(vel: DVec2, spin: DVec3, normal: DVec2, params: &Params) -> (DVec2, DVec3) {
     let r = params.ball_radius;
     let m = params.ball_mass;
@@ -173,6 +196,70 @@ mod tests {
             0.5 * p.ball_mass * v.length_squared() + 0.5 * p.inertia() * w.length_squared()
         };
         assert!(ke(v, w) <= ke(DVec2::new(0.0, -1.0), DVec3::ZERO));
+    }
+
+    /// The Han bounce in the cushion frame: (vx into the cushion, vy along it) and spin.
+    fn han_in_frame(vx: f64, vy: f64, w: DVec3, p: &Params) -> (DVec2, DVec3) {
+        // normal +y: into the cushion is −y; along it is (normal.y, −normal.x) = +x.
+        bounce(DVec2::new(vy, -vx), w, DVec2::Y, CushionModel::Han2005, p)
+    }
+
+    #[test]
+    fn han_stick_test_carries_mu() {
+        // pooltool's first correction: the slip stops when P_zS ≤ μ·P_zE. A ball sliding
+        // along the cushion with slip just over μ·P_zE·(7/2m) must slide, and the impulse
+        // along the cushion is then exactly μ·P_zE.
+        let p = Params::default();
+        let (sin, cos) = nose_angle(&p);
+        let (vx, m) = (1.0, p.ball_mass);
+        let pze = (1.0 + p.e_cushion) * vx * cos * m;
+        // Slip along the cushion only: sy = −vy for a ball without spin, and sx = vx·sin.
+        let sx = vx * sin;
+        let target = 1.01 * p.f_cushion * pze * 3.5 / m;
+        let vy = -(target * target - sx * sx).sqrt();
+        let (v, _) = han_in_frame(vx, vy, DVec3::ZERO, &p);
+        let slip = (sx * sx + vy * vy).sqrt();
+        let py = p.f_cushion * pze * (-vy) / slip;
+        assert!((v.x - (vy + py / m)).abs() < 1e-12, "{v}");
+        // Under the uncorrected test (P_zS ≤ P_zE) this slip would stop: vy' = vy + sy·(2/7).
+        let uncorrected = vy + (-vy) / 3.5;
+        assert!((v.x - uncorrected).abs() > 1e-3);
+    }
+
+    #[test]
+    fn han_slide_follows_the_slip_vector() {
+        // pooltool's second correction: the sliding impulse points against the slip. With
+        // pure side spin the slip at the nose is along the cushion (sx = vx·sin θ is the
+        // only other part), so the impulse along the cushion is μ·P_zE·sy/|s|, not zero.
+        let p = Params::default();
+        let (sin, cos) = nose_angle(&p);
+        let (vx, wz, m, r) = (1.0, 200.0, p.ball_mass, p.ball_radius);
+        let (v, _) = han_in_frame(vx, 0.0, DVec3::new(0.0, 0.0, wz), &p);
+        let (sx, sy) = (vx * sin, -r * wz * cos);
+        let pze = (1.0 + p.e_cushion) * vx * cos * m;
+        let slip = (sx * sx + sy * sy).sqrt();
+        assert!(slip / 3.5 * m > p.f_cushion * pze, "this spin must slide");
+        let py = p.f_cushion * pze * sy / slip;
+        assert!((v.x - py / m).abs() < 1e-12, "{v}");
+    }
+
+    #[test]
+    fn every_model_turns_the_ball_back_and_takes_energy() {
+        let p = Params::default();
+        let ke = |v: DVec2, w: DVec3| {
+            0.5 * p.ball_mass * v.length_squared() + 0.5 * p.inertia() * w.length_squared()
+        };
+        let (v0, w0) = (DVec2::new(0.6, -1.0), DVec3::new(10.0, -5.0, 40.0));
+        for model in [
+            CushionModel::Han2005,
+            CushionModel::Mathavan2010,
+            CushionModel::Stronge,
+            CushionModel::Simple,
+        ] {
+            let (v, w) = bounce(v0, w0, DVec2::Y, model, &p);
+            assert!(v.y > 0.0, "{model:?}: {v}");
+            assert!(ke(v, w) <= ke(v0, w0) * 1.001, "{model:?}: {v} {w}");
+        }
     }
 
     #[test]

@@ -65,7 +65,7 @@ impl Shot {
     pub fn new(table: TableKind, balls: Vec<BallState>) -> Shot {
         Shot {
             table,
-            params: Params::default(),
+            params: Params::for_table(table),
             models: Models::default(),
             effects: Effects::default(),
             horizon: None,

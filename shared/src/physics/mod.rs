@@ -7,9 +7,11 @@ pub mod ball_cushion;
 pub mod cue;
 pub mod engine;
 pub mod event;
+pub mod mathavan;
 pub mod motion;
 pub mod params;
 pub mod roots;
+pub mod stronge;
 pub mod table;
 
 pub use cue::{Launch, Strike, StrikeError};

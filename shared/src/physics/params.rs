@@ -2,6 +2,18 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::table::TableKind;
+
+// Heated carom cloth, carom balls and cushions: fitted once to 40 shots recorded on real
+// three-cushion tables by `breakshot-sim fit` (Han 2005 cushions), starting from the pool
+// values below and kept within physical ranges (docs/reality.md).
+const CAROM_MU_SLIDE: f64 = 0.229;
+const CAROM_MU_ROLL: f64 = 0.0045;
+const CAROM_MU_SPIN: f64 = 0.0058;
+const CAROM_E_BALL: f64 = 0.962;
+const CAROM_E_CUSHION: f64 = 0.80;
+const CAROM_F_CUSHION: f64 = 0.292;
+
 /// Ball–ball friction: a constant, or Alciatore's fit μ(v) = a + b·exp(−c·v) of the
 /// relative surface speed at the contact.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -81,6 +93,30 @@ impl Default for Params {
 }
 
 impl Params {
+    /// The default parameters of a table: pool balls and cloth for the pocket tables and the
+    /// open cloth, carom balls on heated cloth for the carom table (docs/physics.md, "The
+    /// carom table", gives the sources and how the cloth and cushion constants were fitted to
+    /// recorded shots).
+    pub fn for_table(kind: TableKind) -> Params {
+        match kind {
+            TableKind::Carom => Params {
+                // UMB: balls of 61–61.5 mm and 205–220 g.
+                ball_radius: 0.03075,
+                ball_mass: 0.21,
+                // UMB: cushion nose 37 mm ± 1 mm above the bed.
+                cushion_height: 0.037,
+                mu_slide: CAROM_MU_SLIDE,
+                mu_roll: CAROM_MU_ROLL,
+                mu_spin: CAROM_MU_SPIN,
+                e_ball: CAROM_E_BALL,
+                e_cushion: CAROM_E_CUSHION,
+                f_cushion: CAROM_F_CUSHION,
+                ..Params::default()
+            },
+            _ => Params::default(),
+        }
+    }
+
     /// Every parameter with its name, for validation and messages (an array, not a vector:
     /// validation runs before every simulation and must not allocate).
     pub fn named_values(&self) -> [(&'static str, f64); 14] {
@@ -255,6 +291,12 @@ pub enum CushionModel {
     /// Han (2005): impulses at the cushion nose, with restitution and friction.
     #[default]
     Han2005,
+    /// Mathavan, Jackson and Parkin (2010): the compression and restitution phases integrated
+    /// over the normal impulse, with slip at the cushion and at the cloth.
+    Mathavan2010,
+    /// Stronge's compliant-contact frictional impact, as pooltool 0.6.0 applies it to
+    /// cushions.
+    Stronge,
     /// Mirror reflection of the normal velocity scaled by `e_cushion`; spin unchanged.
     Simple,
 }

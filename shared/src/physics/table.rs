@@ -46,6 +46,9 @@ pub enum TableKind {
     #[default]
     #[serde(rename = "9ft")]
     NineFoot,
+    /// A UMB match table for carom games: no pockets, cushions all round.
+    #[serde(rename = "carom")]
+    Carom,
 }
 
 impl TableKind {
@@ -55,6 +58,7 @@ impl TableKind {
             TableKind::SevenFoot => "7ft",
             TableKind::EightFoot => "8ft",
             TableKind::NineFoot => "9ft",
+            TableKind::Carom => "carom",
         }
     }
 
@@ -65,7 +69,14 @@ impl TableKind {
             TableKind::SevenFoot => Some((0.9906, 1.9812)),
             TableKind::EightFoot => Some((1.1176, 2.2352)),
             TableKind::NineFoot => Some((1.27, 2.54)),
+            // UMB rules, art. 3: 2.84 m × 1.42 m between the cushion noses.
+            TableKind::Carom => Some((1.42, 2.84)),
         }
+    }
+
+    /// Does this table have pockets?
+    pub fn has_pockets(self) -> bool {
+        !matches!(self, TableKind::Open | TableKind::Carom)
     }
 }
 
@@ -123,6 +134,9 @@ impl Table {
         };
         let hw = 0.5 * width;
         let hl = 0.5 * length;
+        if !kind.has_pockets() {
+            return Table::closed(kind, DVec2::new(hw, hl));
+        }
         let c = CORNER_MOUTH / std::f64::consts::SQRT_2;
         let s = 0.5 * SIDE_MOUTH;
         let rail = |a: DVec2, b: DVec2, normal: DVec2| Rail { a, b, normal };
@@ -180,23 +194,27 @@ impl Table {
     /// The table a shot plays on: without pockets (the `pockets` effect off) its rails run
     /// unbroken around the bed, as on a carom table, so no ball can leave through a mouth.
     pub fn for_shot(kind: TableKind, pockets: bool) -> Table {
-        if pockets {
-            return Table::new(kind);
+        match kind.size() {
+            Some((w, l)) if !pockets => Table::closed(kind, DVec2::new(0.5 * w, 0.5 * l)),
+            _ => Table::new(kind),
         }
-        let mut t = Table::new(kind);
-        let h = t.half;
-        t.jaws.clear();
-        t.pockets.clear();
-        if t.has_cushions() {
-            let rail = |a: DVec2, b: DVec2, normal: DVec2| Rail { a, b, normal };
-            t.rails = vec![
+    }
+
+    /// Four unbroken rails around a bed of half-extents `h`: no jaws, no pockets.
+    fn closed(kind: TableKind, h: DVec2) -> Table {
+        let rail = |a: DVec2, b: DVec2, normal: DVec2| Rail { a, b, normal };
+        Table {
+            kind,
+            half: h,
+            rails: vec![
                 rail(DVec2::new(-h.x, -h.y), DVec2::new(h.x, -h.y), DVec2::Y),
                 rail(DVec2::new(-h.x, h.y), DVec2::new(h.x, h.y), -DVec2::Y),
                 rail(DVec2::new(-h.x, -h.y), DVec2::new(-h.x, h.y), DVec2::X),
                 rail(DVec2::new(h.x, -h.y), DVec2::new(h.x, h.y), -DVec2::X),
-            ];
+            ],
+            jaws: Vec::new(),
+            pockets: Vec::new(),
         }
-        t
     }
 
     pub fn has_pockets(&self) -> bool {
@@ -280,6 +298,19 @@ mod tests {
             assert!(t.pockets.iter().any(|q| q.center == mirror(p.center)));
         }
         assert_eq!(t.jaws.len(), 12);
+    }
+
+    #[test]
+    fn carom_table_is_closed_and_umb_sized() {
+        let t = Table::new(TableKind::Carom);
+        assert_eq!(t.half, DVec2::new(0.71, 1.42));
+        assert_eq!(t.rails.len(), 4);
+        assert!(t.jaws.is_empty() && t.pockets.is_empty());
+        assert_eq!(t, Table::for_shot(TableKind::Carom, true));
+        // A carom ball (R = 30.75 mm) fits into a corner but not past the cushion noses.
+        let contact = 0.03;
+        assert!(t.fits(DVec2::new(0.71 - contact, 1.42 - contact), contact));
+        assert!(!t.fits(DVec2::new(0.71 - 0.5 * contact, 0.0), contact));
     }
 
     #[test]

@@ -76,6 +76,7 @@ mod practice;
 pub mod rack;
 #[cfg(test)]
 mod tests;
+pub mod three_cushion;
 
 use std::fmt;
 

@@ -1,0 +1,96 @@
+//! Fitting the parameters every shot shares (cloth, ball and cushion constants):
+//! Nelder–Mead on the mean RMSE over the recordings, each parameter kept inside a
+//! physically sensible range. Every trial of the parameters refits each shot's strike
+//! briefly from its last fit, since a strike tuned to one cloth is not the best on another.
+
+use breakshot_shared::physics::{Models, Params};
+
+use super::recording::Recording;
+use super::strike::{self, nelder_mead, StrikeFit};
+
+/// The fitted parameters and the range each may take.
+pub const RANGES: [(&str, f64, f64); 6] = [
+    // Ball–cloth sliding friction: 0.1–0.4 covers pool and carom cloths.
+    ("mu_slide", 0.1, 0.4),
+    // Rolling resistance: heated carom cloth is fast, 0.003–0.02.
+    ("mu_roll", 0.003, 0.02),
+    // Spin friction length (m).
+    ("mu_spin", 0.002, 0.03),
+    // Ball–ball restitution of phenolic balls.
+    ("e_ball", 0.85, 0.99),
+    // Cushion restitution and friction.
+    ("e_cushion", 0.6, 0.98),
+    ("f_cushion", 0.05, 0.4),
+];
+
+/// Nelder–Mead iterations of the strike refit inside each trial of the parameters.
+const REFIT_ITERS: u64 = 15;
+
+/// The parameters' values, in the order of [`RANGES`].
+pub fn values(p: &Params) -> [f64; 6] {
+    [
+        p.mu_slide,
+        p.mu_roll,
+        p.mu_spin,
+        p.e_ball,
+        p.e_cushion,
+        p.f_cushion,
+    ]
+}
+
+/// `base` with the values `x` (clamped into their ranges), and how far outside they were.
+pub fn with_values(base: &Params, x: &[f64]) -> (Params, f64) {
+    let mut v = [0.0; 6];
+    let mut excess = 0.0;
+    for (k, (_, lo, hi)) in RANGES.iter().enumerate() {
+        v[k] = x[k].clamp(*lo, *hi);
+        excess += (x[k] - v[k]).abs() / (hi - lo);
+    }
+    let p = Params {
+        mu_slide: v[0],
+        mu_roll: v[1],
+        mu_spin: v[2],
+        e_ball: v[3],
+        e_cushion: v[4],
+        f_cushion: v[5],
+        ..*base
+    };
+    (p, excess)
+}
+
+/// Mean RMSE (m) over the recordings under `params`, each strike refitted from `fits` with
+/// `iters` Nelder–Mead iterations.
+pub fn mean_rmse(
+    recs: &[Recording],
+    fits: &[StrikeFit],
+    params: &Params,
+    models: Models,
+    iters: u64,
+) -> f64 {
+    let mut sum = 0.0;
+    for (rec, fit) in recs.iter().zip(fits) {
+        sum += match strike::fit(rec, params, models, Some(fit), iters) {
+            Ok(f) => f.rmse,
+            Err(_) => 10.0,
+        };
+    }
+    sum / recs.len().max(1) as f64
+}
+
+/// Fits the shared parameters from `start`, the strikes held at `fits`.
+pub fn fit(
+    recs: &[Recording],
+    fits: &[StrikeFit],
+    start: &Params,
+    models: Models,
+    iters: u64,
+) -> Params {
+    let cost = |x: &[f64]| {
+        let (p, excess) = with_values(start, x);
+        mean_rmse(recs, fits, &p, models, REFIT_ITERS) + excess
+    };
+    let x0 = values(start);
+    let step: Vec<f64> = RANGES.iter().map(|(_, lo, hi)| 0.15 * (hi - lo)).collect();
+    let (best, _) = nelder_mead(&cost, &x0, &step, iters);
+    with_values(start, &best).0
+}
