@@ -1,6 +1,8 @@
 //! `breakshot-sim`: simulate scene files (docs/scene.md) from the command line.
 
+mod ai_study;
 mod study;
+mod suggest;
 
 use std::io::Read;
 use std::path::PathBuf;
@@ -43,6 +45,36 @@ enum Command {
         /// Folder for accuracy-cost.md, accuracy-cost.csv and accuracy-cost.png.
         #[arg(long, value_name = "DIR", default_value = "out/accuracy-cost")]
         out: PathBuf,
+    },
+    /// Suggest a strike for the cue ball that hits and pockets one of the targets.
+    Suggest {
+        /// Scene file, or - for standard input.
+        scene: String,
+        /// Ids of the balls that may be hit first and pocketed, comma-separated.
+        #[arg(long, value_name = "ID[,ID...]")]
+        targets: String,
+        /// Playing strength, 1 to 5.
+        #[arg(long, default_value_t = 5)]
+        level: u8,
+        /// Seed of the search's noise.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+    },
+    /// Measure the computer player: win rates, shot success, decision time, budget
+    /// (docs/computer-player.md).
+    AiStudy {
+        /// Folder for computer-player.md, the CSV files and strength-budget.png.
+        #[arg(long, value_name = "DIR", default_value = "out/ai-study")]
+        out: PathBuf,
+        /// Games per pairing.
+        #[arg(long, default_value_t = 60)]
+        games: usize,
+        /// Positions for the budget curve.
+        #[arg(long, default_value_t = 60)]
+        positions: usize,
+        /// Worker threads.
+        #[arg(long, default_value_t = 1)]
+        jobs: usize,
     },
 }
 
@@ -142,6 +174,30 @@ fn run(command: Command) -> Result<(), Failure> {
             println!("{report}");
         }
         Command::AccuracyCost { out } => study::run(&out)?,
+        Command::Suggest {
+            scene,
+            targets,
+            level,
+            seed,
+        } => {
+            let scene = load(&scene)?;
+            let json = suggest::suggest(&scene, &targets, level, seed)
+                .map_err(|e| Failure::Invalid(one_line(&e)))?;
+            println!("{json}");
+        }
+        Command::AiStudy {
+            out,
+            games,
+            positions,
+            jobs,
+        } => ai_study::run(
+            &out,
+            ai_study::Size {
+                games,
+                positions,
+                jobs,
+            },
+        )?,
     }
     Ok(())
 }
