@@ -25,7 +25,8 @@ pub struct GameRecord {
     pub shots: [u32; 2],
     /// … of which kept the table or won.
     pub successes: [u32; 2],
-    /// Decision times (s) of each seat's shots and placements.
+    /// Decision times (s) of each seat's shots and placements: CPU time of the deciding
+    /// thread where the system reports it (see [`cpu_seconds`]), wall time otherwise.
     pub times: [Vec<f64>; 2],
     /// Simulations per decision.
     pub sims: [Vec<usize>; 2],
@@ -53,6 +54,7 @@ pub fn play(variant: Variant, a: Agent, b: Agent, seed: u64) -> GameRecord {
         let i = index(seat);
         let decision_seed = seed.wrapping_mul(1_000_003).wrapping_add(n as u64);
         let start = Instant::now();
+        let cpu_start = cpu_seconds();
         let (command, sims) = match agent {
             Agent::Computer(player) => match ai::plan(&game, &player, decision_seed) {
                 Some(d) => (
@@ -66,7 +68,10 @@ pub fn play(variant: Variant, a: Agent, b: Agent, seed: u64) -> GameRecord {
                 None => break,
             },
         };
-        let elapsed = start.elapsed().as_secs_f64();
+        let elapsed = match (cpu_start, cpu_seconds()) {
+            (Some(a), Some(b)) => b - a,
+            _ => start.elapsed().as_secs_f64(),
+        };
         let is_shot = matches!(command, Command::Shot { .. });
         if !matches!(command, Command::Decide(_)) {
             record.times[i].push(elapsed);
@@ -99,4 +104,13 @@ pub fn play(variant: Variant, a: Agent, b: Agent, seed: u64) -> GameRecord {
     }
     record.break_and_run = record.winner == Some(breaker) && !opponent_shot;
     record
+}
+
+/// CPU time (s) the calling thread has run, from Linux's `/proc/thread-self/schedstat` (its
+/// first field, in nanoseconds): on a loaded machine it still measures one core's work,
+/// where wall time would count the waits for a core.
+pub fn cpu_seconds() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: u64 = text.split_whitespace().next()?.parse().ok()?;
+    Some(ns as f64 * 1e-9)
 }

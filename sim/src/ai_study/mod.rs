@@ -173,8 +173,12 @@ fn budget_point(label: &str, player: Player, positions: &[Game], jobs: usize) ->
     let rows = parallel(positions.len(), jobs, |k| {
         let game = &positions[k];
         let start = Instant::now();
+        let cpu_start = games::cpu_seconds();
         let d = ai::plan(game, &player, k as u64 + 11);
-        let t = start.elapsed().as_secs_f64();
+        let t = match (cpu_start, games::cpu_seconds()) {
+            (Some(a), Some(b)) => b - a,
+            _ => start.elapsed().as_secs_f64(),
+        };
         let Some(d) = d else {
             return (0, 0, 0, t);
         };
