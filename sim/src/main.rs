@@ -75,6 +75,9 @@ enum Command {
         /// Worker threads.
         #[arg(long, default_value_t = 1)]
         jobs: usize,
+        /// Levels to pair (each against the ghost-ball player and the level below).
+        #[arg(long, value_delimiter = ',', default_values_t = [1u8, 2, 3, 4, 5])]
+        levels: Vec<u8>,
     },
 }
 
@@ -190,12 +193,14 @@ fn run(command: Command) -> Result<(), Failure> {
             games,
             positions,
             jobs,
+            levels,
         } => ai_study::run(
             &out,
             ai_study::Size {
                 games,
                 positions,
                 jobs,
+                levels,
             },
         )?,
     }

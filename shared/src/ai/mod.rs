@@ -69,7 +69,7 @@ impl Level {
             2 => 2.5,
             3 => 1.6,
             4 => 1.0,
-            _ => 0.5,
+            _ => 0.4,
         };
         Noise { factor }
     }
@@ -78,7 +78,7 @@ impl Level {
     pub fn breadth(self) -> Breadth {
         let n = self.0;
         Breadth {
-            pots: [3, 4, 6, 8, 10][usize::from(n - 1)],
+            pots: [3, 4, 6, 8, 12][usize::from(n - 1)],
             speeds: [1, 2, 2, 3, 3][usize::from(n - 1)],
             side: n >= 3,
             banks: n >= 4,
@@ -113,8 +113,8 @@ impl Level {
                 look_ahead: true,
             },
             _ => Schedule {
-                samples: [4, 12, 24],
-                keep: [16, 4],
+                samples: [5, 16, 32],
+                keep: [20, 5],
                 look_ahead: true,
             },
         }

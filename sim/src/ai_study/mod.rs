@@ -28,7 +28,7 @@ const VARIANTS: [Variant; 3] = [
 ];
 
 /// Study size.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Size {
     /// Games per pairing.
     pub games: usize,
@@ -36,6 +36,9 @@ pub struct Size {
     pub positions: usize,
     /// Worker threads.
     pub jobs: usize,
+    /// The levels whose pairings are played (against the ghost-ball player and the level
+    /// below).
+    pub levels: Vec<u8>,
 }
 
 /// One pairing's games, seen from the first player ("us").
@@ -234,7 +237,7 @@ pub fn run(out: &Path, size: Size) -> anyhow::Result<()> {
     let mut md = String::new();
     let mut csv = String::from("pairing,level,games,wins,draws,win_rate,shots,shot_success,breaks,break_and_runs,median_decision_s,p95_decision_s,median_sims\n");
     let mut rows = Vec::new();
-    for n in 1..=5u8 {
+    for &n in &size.levels {
         let level = Agent::Computer(Player::from(Level::new(n)));
         eprintln!("level {n} against the ghost-ball player…");
         let vs_ghost = pairing(level, Agent::Ghost, size.games, size.jobs, u64::from(n));
