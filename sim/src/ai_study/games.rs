@@ -12,7 +12,7 @@ const MAX_COMMANDS: usize = 400;
 
 /// Who plays a seat.
 #[derive(Clone, Copy, Debug)]
-pub enum Agent {
+pub enum Contestant {
     Computer(Player),
     Ghost,
 }
@@ -42,7 +42,7 @@ fn index(seat: Seat) -> usize {
 }
 
 /// Plays one game of `variant` from `seed`: `a` sits in seat A (which breaks), `b` in B.
-pub fn play(variant: Variant, a: Agent, b: Agent, seed: u64) -> GameRecord {
+pub fn play(variant: Variant, a: Contestant, b: Contestant, seed: u64) -> GameRecord {
     let mut game = Game::new(variant, Settings::offline(), seed);
     let mut ghosts = [Ghost::new(seed ^ 0xA), Ghost::new(seed ^ 0xB)];
     let mut record = GameRecord::default();
@@ -50,20 +50,20 @@ pub fn play(variant: Variant, a: Agent, b: Agent, seed: u64) -> GameRecord {
     let breaker = game.to_move();
     for n in 0..MAX_COMMANDS {
         let seat = game.to_move();
-        let agent = if seat == Seat::A { a } else { b };
+        let contestant = if seat == Seat::A { a } else { b };
         let i = index(seat);
         let decision_seed = seed.wrapping_mul(1_000_003).wrapping_add(n as u64);
         let start = Instant::now();
         let cpu_start = cpu_seconds();
-        let (command, sims) = match agent {
-            Agent::Computer(player) => match ai::plan(&game, &player, decision_seed) {
+        let (command, sims) = match contestant {
+            Contestant::Computer(player) => match ai::plan(&game, &player, decision_seed) {
                 Some(d) => (
                     ai::execute(d.command, player.noise, decision_seed),
                     d.simulations,
                 ),
                 None => break,
             },
-            Agent::Ghost => match ghosts[i].choose(&game) {
+            Contestant::Ghost => match ghosts[i].choose(&game) {
                 Some(c) => (c, 0),
                 None => break,
             },

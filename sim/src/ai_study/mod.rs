@@ -17,7 +17,7 @@ use anyhow::Context;
 use breakshot_shared::ai::{self, Level, Player};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Phase, Seat, Settings, Variant};
 
-use games::{play, Agent, GameRecord};
+use games::{play, Contestant, GameRecord};
 use ghost::Ghost;
 
 /// The variants the games cycle through.
@@ -112,7 +112,7 @@ fn parallel<T: Send>(count: usize, jobs: usize, f: impl Fn(usize) -> T + Sync) -
 }
 
 /// `games` games of `us` against `them`, seats and variants alternating.
-fn pairing(us: Agent, them: Agent, games: usize, jobs: usize, salt: u64) -> Match {
+fn pairing(us: Contestant, them: Contestant, games: usize, jobs: usize, salt: u64) -> Match {
     let records = parallel(games, jobs, |k| {
         let variant = VARIANTS[(k / 2) % VARIANTS.len()];
         let seed = salt.wrapping_mul(7919).wrapping_add(k as u64 / 2);
@@ -238,12 +238,18 @@ pub fn run(out: &Path, size: Size) -> anyhow::Result<()> {
     let mut csv = String::from("pairing,level,games,wins,draws,win_rate,shots,shot_success,breaks,break_and_runs,median_decision_s,p95_decision_s,median_sims\n");
     let mut rows = Vec::new();
     for &n in &size.levels {
-        let level = Agent::Computer(Player::from(Level::new(n)));
+        let level = Contestant::Computer(Player::from(Level::new(n)));
         eprintln!("level {n} against the ghost-ball player…");
-        let vs_ghost = pairing(level, Agent::Ghost, size.games, size.jobs, u64::from(n));
+        let vs_ghost = pairing(
+            level,
+            Contestant::Ghost,
+            size.games,
+            size.jobs,
+            u64::from(n),
+        );
         let vs_below = (n > 1).then(|| {
             eprintln!("level {n} against level {}…", n - 1);
-            let below = Agent::Computer(Player::from(Level::new(n - 1)));
+            let below = Contestant::Computer(Player::from(Level::new(n - 1)));
             pairing(level, below, size.games, size.jobs, 100 + u64::from(n))
         });
         rows.push((n, vs_ghost, vs_below));
