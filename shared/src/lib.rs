@@ -1,6 +1,7 @@
 //! Breakshot's shared core: the physics engine, scenes, and the state hash. Pure and
 //! deterministic: no I/O, no clock, no threads.
 
+pub mod ai;
 pub mod hash;
 pub mod physics;
 pub mod protocol;

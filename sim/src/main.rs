@@ -2,7 +2,9 @@
 
 mod cluster_study;
 mod fit;
+mod ai_study;
 mod study;
+mod suggest;
 
 use std::io::Read;
 use std::path::PathBuf;
@@ -61,6 +63,39 @@ enum Command {
     /// Fit cue strikes (and the shared cloth and cushion parameters) to recorded shots and
     /// report how close the simulation comes (docs/reality.md).
     Fit(fit::cli::Args),
+    /// Suggest a strike for the cue ball that hits and pockets one of the targets.
+    Suggest {
+        /// Scene file, or - for standard input.
+        scene: String,
+        /// Ids of the balls that may be hit first and pocketed, comma-separated.
+        #[arg(long, value_name = "ID[,ID...]")]
+        targets: String,
+        /// Playing strength, 1 to 5.
+        #[arg(long, default_value_t = 5)]
+        level: u8,
+        /// Seed of the search's noise.
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+    },
+    /// Measure the computer player: win rates, shot success, decision time, budget
+    /// (docs/computer-player.md).
+    AiStudy {
+        /// Folder for computer-player.md, the CSV files and strength-budget.png.
+        #[arg(long, value_name = "DIR", default_value = "out/ai-study")]
+        out: PathBuf,
+        /// Games per pairing.
+        #[arg(long, default_value_t = 60)]
+        games: usize,
+        /// Positions for the budget curve.
+        #[arg(long, default_value_t = 60)]
+        positions: usize,
+        /// Worker threads.
+        #[arg(long, default_value_t = 1)]
+        jobs: usize,
+        /// Levels to pair (each against the ghost-ball player and the level below).
+        #[arg(long, value_delimiter = ',', default_values_t = [1u8, 2, 3, 4, 5])]
+        levels: Vec<u8>,
+    },
 }
 
 /// Exit code for a scene or argument that is not valid (the contract's).
@@ -167,6 +202,32 @@ fn run(command: Command) -> Result<(), Failure> {
             fit::cli::Error::Invalid(msg) => Failure::Invalid(msg),
             fit::cli::Error::Other(e) => Failure::Other(e),
         })?,
+        Command::Suggest {
+            scene,
+            targets,
+            level,
+            seed,
+        } => {
+            let scene = load(&scene)?;
+            let json = suggest::suggest(&scene, &targets, level, seed)
+                .map_err(|e| Failure::Invalid(one_line(&e)))?;
+            println!("{json}");
+        }
+        Command::AiStudy {
+            out,
+            games,
+            positions,
+            jobs,
+            levels,
+        } => ai_study::run(
+            &out,
+            ai_study::Size {
+                games,
+                positions,
+                jobs,
+                levels,
+            },
+        )?,
     }
     Ok(())
 }

@@ -1,0 +1,124 @@
+//! Execution noise: the gap between the shot a player means and the shot the cue delivers.
+//!
+//! The model of the computational pool tournaments: independent Gaussian errors on the aim
+//! angle, the cue speed and both tip offsets (and the cue elevation, once the engine has one),
+//! scaled by one factor per level. Draws come from the rules' [`SplitMix64`] so a seed gives
+//! the same errors on every machine.
+
+use glam::DVec2;
+
+use crate::physics::cue::{MAX_CUE_SPEED, MISCUE_LIMIT};
+use crate::physics::{Params, Strike};
+use crate::rules::rack::SplitMix64;
+
+/// Standard deviation of the aim angle at factor 1 (degrees).
+pub const AIM_SIGMA_DEG: f64 = 0.125;
+/// Standard deviation of the cue elevation at factor 1 (degrees). The engine has no
+/// elevation yet, so it is not drawn.
+pub const ELEVATION_SIGMA_DEG: f64 = 0.1;
+/// Standard deviation of the cue speed at factor 1 (m/s).
+pub const SPEED_SIGMA: f64 = 0.075;
+/// Standard deviation of each tip offset at factor 1 (m).
+pub const TIP_SIGMA_M: f64 = 0.0005;
+
+/// A seeded source of uniform and Gaussian numbers.
+#[derive(Clone, Copy, Debug)]
+pub struct Rng(SplitMix64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Rng {
+        Rng(SplitMix64::new(seed))
+    }
+
+    pub fn next_u64(&mut self) -> u64 {
+        self.0.next_u64()
+    }
+
+    /// Uniform in [0, 1).
+    pub fn unit(&mut self) -> f64 {
+        self.0.unit()
+    }
+
+    /// A standard normal number (Box–Muller; one of the pair is dropped to keep the state a
+    /// single word).
+    pub fn gaussian(&mut self) -> f64 {
+        // 1 - unit() is in (0, 1], so the logarithm is finite.
+        let u = 1.0 - self.unit();
+        let v = self.unit();
+        libm::sqrt(-2.0 * libm::log(u)) * libm::cos(2.0 * std::f64::consts::PI * v)
+    }
+}
+
+/// Mixes a seed with a salt into an independent stream (one SplitMix64 step of both).
+pub fn mix(seed: u64, salt: u64) -> u64 {
+    SplitMix64::new(seed ^ salt.wrapping_mul(0x9E37_79B9_7F4A_7C15)).next_u64()
+}
+
+/// The execution noise of one player.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Noise {
+    /// Multiplies every standard deviation (0 = a perfect cue).
+    pub factor: f64,
+}
+
+impl Noise {
+    /// The aim angle's standard deviation (radians).
+    pub fn aim_sigma(&self) -> f64 {
+        self.factor * AIM_SIGMA_DEG * (std::f64::consts::PI / 180.0)
+    }
+
+    /// `strike` as this player delivers it, with errors drawn from `rng`. The result is
+    /// always a valid strike: speed and tip are clamped into what the cue accepts.
+    pub fn perturb(&self, strike: &Strike, rng: &mut Rng) -> Strike {
+        if self.factor == 0.0 {
+            return *strike;
+        }
+        let f = self.factor;
+        let angle = f * AIM_SIGMA_DEG * (std::f64::consts::PI / 180.0) * rng.gaussian();
+        let speed = strike.speed + f * SPEED_SIGMA * rng.gaussian();
+        let tip_sigma = f * TIP_SIGMA_M / Params::default().ball_radius;
+        let mut tip = strike.tip + DVec2::new(rng.gaussian(), rng.gaussian()) * tip_sigma;
+        // Keep clear of the miscue limit by a hair so the clamped tip is always accepted.
+        let limit = MISCUE_LIMIT * 0.999;
+        if tip.length() > limit {
+            tip *= limit / tip.length();
+        }
+        let (s, c) = (libm::sin(angle), libm::cos(angle));
+        let d = strike.dir;
+        Strike {
+            speed: speed.clamp(0.05, MAX_CUE_SPEED),
+            dir: DVec2::new(d.x * c - d.y * s, d.x * s + d.y * c),
+            tip,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gaussian_has_unit_spread() {
+        let mut rng = Rng::new(5);
+        let n = 20_000;
+        let xs: Vec<f64> = (0..n).map(|_| rng.gaussian()).collect();
+        let mean = xs.iter().sum::<f64>() / n as f64;
+        let var = xs.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / n as f64;
+        assert!(mean.abs() < 0.03, "mean {mean}");
+        assert!((var - 1.0).abs() < 0.05, "variance {var}");
+    }
+
+    #[test]
+    fn perturbed_strikes_stay_valid() {
+        let mut rng = Rng::new(1);
+        let noise = Noise { factor: 50.0 };
+        let strike = Strike {
+            speed: 0.1,
+            dir: DVec2::Y,
+            tip: DVec2::new(0.0, 0.49),
+        };
+        for _ in 0..1000 {
+            assert!(noise.perturb(&strike, &mut rng).validated().is_ok());
+        }
+    }
+}

@@ -1,0 +1,116 @@
+//! Whole games between two players, with what each decision cost and what each shot did.
+
+use std::time::Instant;
+
+use breakshot_shared::ai::{self, Player};
+use breakshot_shared::rules::{Command, Game, Seat, Settings, Variant};
+
+use super::ghost::Ghost;
+
+/// A game stops as a draw after this many commands (keeps the study bounded).
+const MAX_COMMANDS: usize = 400;
+
+/// Who plays a seat.
+#[derive(Clone, Copy, Debug)]
+pub enum Contestant {
+    Computer(Player),
+    Ghost,
+}
+
+/// What happened in one game, per seat (index 0 = A).
+#[derive(Clone, Debug, Default)]
+pub struct GameRecord {
+    pub winner: Option<Seat>,
+    /// Shots that were not breaks.
+    pub shots: [u32; 2],
+    /// … of which kept the table or won.
+    pub successes: [u32; 2],
+    /// Decision times (s) of each seat's shots and placements: CPU time of the deciding
+    /// thread where the system reports it (see [`cpu_seconds`]), wall time otherwise.
+    pub times: [Vec<f64>; 2],
+    /// Simulations per decision.
+    pub sims: [Vec<usize>; 2],
+    /// The breaker won without the opponent ever shooting.
+    pub break_and_run: bool,
+}
+
+fn index(seat: Seat) -> usize {
+    match seat {
+        Seat::A => 0,
+        Seat::B => 1,
+    }
+}
+
+/// Plays one game of `variant` from `seed`: `a` sits in seat A (which breaks), `b` in B.
+pub fn play(variant: Variant, a: Contestant, b: Contestant, seed: u64) -> GameRecord {
+    let mut game = Game::new(variant, Settings::offline(), seed);
+    let mut ghosts = [Ghost::new(seed ^ 0xA), Ghost::new(seed ^ 0xB)];
+    let mut record = GameRecord::default();
+    let mut opponent_shot = false;
+    let breaker = game.to_move();
+    for n in 0..MAX_COMMANDS {
+        let seat = game.to_move();
+        let contestant = if seat == Seat::A { a } else { b };
+        let i = index(seat);
+        let decision_seed = seed.wrapping_mul(1_000_003).wrapping_add(n as u64);
+        let start = Instant::now();
+        let cpu_start = cpu_seconds();
+        let (command, sims) = match contestant {
+            Contestant::Computer(player) => match ai::plan(&game, &player, decision_seed) {
+                Some(d) => (
+                    ai::execute(d.command, player.noise, decision_seed),
+                    d.simulations,
+                ),
+                None => break,
+            },
+            Contestant::Ghost => match ghosts[i].choose(&game) {
+                Some(c) => (c, 0),
+                None => break,
+            },
+        };
+        let elapsed = match (cpu_start, cpu_seconds()) {
+            (Some(a), Some(b)) => b - a,
+            _ => start.elapsed().as_secs_f64(),
+        };
+        let is_shot = matches!(command, Command::Shot { .. });
+        if !matches!(command, Command::Decide(_)) {
+            record.times[i].push(elapsed);
+            record.sims[i].push(sims);
+        }
+        let breaking = game.is_break();
+        if is_shot && seat != breaker {
+            opponent_shot = true;
+        }
+        let verdict = match game.apply(seat, &command) {
+            Ok(v) => v,
+            // A refused command would be a bug in a player: the other seat wins.
+            Err(_) => {
+                record.winner = Some(seat.other());
+                break;
+            }
+        };
+        if is_shot && !breaking {
+            record.shots[i] += 1;
+            let kept = match &verdict.over {
+                Some((w, _)) => *w == Some(seat),
+                None => !verdict.foul && verdict.next == seat,
+            };
+            record.successes[i] += u32::from(kept);
+        }
+        if let Some((winner, _)) = verdict.over {
+            record.winner = winner;
+            break;
+        }
+    }
+    record.break_and_run = record.winner == Some(breaker) && !opponent_shot;
+    record
+}
+
+/// CPU time (s) the calling thread has run, from Linux's `/proc/thread-self/schedstat` (its
+/// first field, in nanoseconds): on a loaded machine it still measures one core's work,
+/// where wall time would count the waits for a core.
+pub fn cpu_seconds() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: u64 = text.split_whitespace().next()?.parse().ok()?;
+    Some(ns as f64 * 1e-9)
+}
