@@ -2,6 +2,7 @@
 //! [`room::Room`]s) driven by a thin QUIC layer, with every accepted command stored before
 //! anyone sees its result.
 
+pub mod admission;
 pub mod conn;
 pub mod hub;
 pub mod limits;

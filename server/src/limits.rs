@@ -16,6 +16,14 @@ pub struct Limits {
     /// retry): a flood of attempts from spoofed or silent addresses then costs the server no
     /// state and no cryptography.
     pub max_handshakes: usize,
+    /// The share of both totals above one source address may hold: at most
+    /// `max_connections / address_share` connections and `max_handshakes / address_share`
+    /// handshakes in progress (at least one of each). Beyond them its attempts are refused,
+    /// so one address can never take the slots every other address needs.
+    pub address_share: usize,
+    /// How long a handshake may take before it is abandoned and its slots freed (a
+    /// handshake that never finishes would otherwise hold them for the 30 s idle timeout).
+    pub handshake_timeout: Duration,
     /// How long a connected client has to open its stream.
     pub open_timeout: Duration,
     /// How long the rest of a frame may take once its length has arrived: a client that
@@ -47,6 +55,8 @@ impl Default for Limits {
         Limits {
             max_connections: 4_096,
             max_handshakes: 256,
+            address_share: 16,
+            handshake_timeout: Duration::from_secs(5),
             open_timeout: Duration::from_secs(10),
             frame_timeout: Duration::from_secs(10),
             outbound_queue: 256,
@@ -61,11 +71,24 @@ impl Default for Limits {
 }
 
 impl Limits {
+    /// Connections one source address may hold (a share of `max_connections`).
+    pub fn connections_per_address(&self) -> usize {
+        (self.max_connections / self.address_share.max(1)).max(1)
+    }
+
+    /// Handshakes one source address may have in progress (a share of `max_handshakes`).
+    pub fn handshakes_per_address(&self) -> usize {
+        (self.max_handshakes / self.address_share.max(1)).max(1)
+    }
+
     /// Limits for a load test run from one machine: every game comes from the same address,
     /// so the per-address limits are lifted. Never use this for a public server.
     pub fn single_address_load() -> Limits {
         Limits {
             max_connections: 16_384,
+            // Thousands of bots connect at once from one address: none is asked to retry.
+            max_handshakes: 16_384,
+            address_share: 1,
             rooms_per_address: usize::MAX,
             entry_burst: u32::MAX,
             entry_refill: Duration::from_nanos(1),

@@ -26,6 +26,7 @@ use thiserror::Error;
 use tokio::sync::mpsc::error::TrySendError;
 use tokio::sync::Notify;
 
+use crate::admission::{Entry, Gate, Refusal, Ticket};
 use crate::conn::{self, HubEvent, Outbound, Outlet};
 use crate::hub::{Hub, HubConfig};
 use crate::limits::Limits;
@@ -193,6 +194,7 @@ impl Server {
         let writer_thread = spawn_writer(store, writer_rx, failed.clone(), stats.clone());
         let hub_tx = conn::HubSender::new(hub_tx, stats.clone());
 
+        let gate = Gate::new(stats.clone());
         let mut next_id: ConnId = 0;
         let mut connections = tokio::task::JoinSet::new();
         tokio::pin!(shutdown);
@@ -204,7 +206,7 @@ impl Server {
                     let Some(incoming) = incoming else { break Ok(()) };
                     // Finished tasks are reaped here so the set holds only live ones.
                     while connections.try_join_next().is_some() {}
-                    let Some(incoming) = admit(incoming, &limits, &stats) else { continue };
+                    let Some((incoming, mut ticket)) = admit(incoming, &gate, &limits, &stats) else { continue };
                     next_id += 1;
                     let id = next_id;
                     let (outlet, rx, kill) = conn::outlet(limits.outbound_queue);
@@ -214,20 +216,19 @@ impl Server {
                     let hub_tx = hub_tx.clone();
                     let writer_tx = writer_tx.clone();
                     let limits = limits.clone();
-                    let stats = stats.clone();
-                    stats.connections.fetch_add(1, Ordering::Relaxed);
-                    stats.handshaking.fetch_add(1, Ordering::Relaxed);
                     connections.spawn(async move {
-                        let handshake = incoming.await;
-                        stats.handshaking.fetch_sub(1, Ordering::Relaxed);
+                        // Dropping an unfinished handshake abandons it.
+                        let handshake = tokio::time::timeout(limits.handshake_timeout, incoming).await;
+                        ticket.handshake_over();
                         match handshake {
-                            Ok(connection) => {
+                            Ok(Ok(connection)) => {
                                 tracing::debug!(conn = id, peer = %connection.remote_address(), "connected");
                                 conn::serve(id, connection, hub_tx, rx, kill, &limits).await;
                             }
-                            Err(e) => tracing::debug!(conn = id, error = %e, "handshake failed"),
+                            Ok(Err(e)) => tracing::debug!(conn = id, error = %e, "handshake failed"),
+                            Err(_) => tracing::debug!(conn = id, "handshake took too long"),
                         }
-                        stats.connections.fetch_sub(1, Ordering::Relaxed);
+                        drop(ticket);
                         let _ = writer_tx.send(WriterMsg::Unregister(id));
                     });
                 }
@@ -297,25 +298,36 @@ fn endpoint(
     )
 }
 
-/// Decides whether a connection attempt gets a handshake: refused beyond the connection
-/// limit; sent a retry (which a real client answers at once and a spoofed or silent one never
-/// does) when many handshakes are already under way and its address is not yet proven.
-fn admit(incoming: quinn::Incoming, limits: &Limits, stats: &Stats) -> Option<quinn::Incoming> {
-    if stats.connections.load(Ordering::Relaxed) >= limits.max_connections {
-        stats.refused.fetch_add(1, Ordering::Relaxed);
-        incoming.refuse();
-        return None;
-    }
-    if stats.handshaking.load(Ordering::Relaxed) >= limits.max_handshakes
-        && !incoming.remote_address_validated()
-    {
-        stats.retried.fetch_add(1, Ordering::Relaxed);
-        if let Err(e) = incoming.retry() {
-            e.into_incoming().ignore();
+/// Decides whether a connection attempt gets a handshake (see [`crate::admission`]):
+/// refused beyond the connection limit or its address's share; sent a retry (which a real
+/// client answers at once and a spoofed one never does) when many handshakes are already
+/// under way and its address is not yet proven.
+fn admit(
+    incoming: quinn::Incoming,
+    gate: &Gate,
+    limits: &Limits,
+    stats: &Stats,
+) -> Option<(quinn::Incoming, Ticket)> {
+    let source = incoming.remote_address().ip().to_canonical();
+    match gate.admit(limits, source, incoming.remote_address_validated()) {
+        Entry::Admitted(ticket) => Some((incoming, ticket)),
+        Entry::Retry => {
+            stats.retried.fetch_add(1, Ordering::Relaxed);
+            if let Err(e) = incoming.retry() {
+                e.into_incoming().ignore();
+            }
+            None
         }
-        return None;
+        Entry::Refused(why) => {
+            let counter = match why {
+                Refusal::Full => &stats.refused,
+                Refusal::AddressShare => &stats.refused_address,
+            };
+            counter.fetch_add(1, Ordering::Relaxed);
+            incoming.refuse();
+            None
+        }
     }
-    Some(incoming)
 }
 
 /// Connection IDs drawn at random, all accepted as well-formed. quinn's default generator

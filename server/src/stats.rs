@@ -17,6 +17,8 @@ pub struct Stats {
     pub rooms: AtomicUsize,
     /// Connection attempts refused at the connection limit.
     pub refused: AtomicUsize,
+    /// Connection attempts refused because their address held its share.
+    pub refused_address: AtomicUsize,
     /// Connection attempts asked to prove their address first.
     pub retried: AtomicUsize,
     /// Connections closed because they sent faster than the message limit.
