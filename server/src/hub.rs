@@ -21,6 +21,7 @@ use crate::output::{ConnId, Output, RoomMeta};
 use crate::ratelimit::Bucket;
 use crate::room::{Room, RoomRules, Who};
 use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
+use crate::source::source_key;
 
 #[derive(Clone, Debug)]
 pub struct HubConfig {
@@ -118,6 +119,8 @@ impl Hub {
 
     /// A connection from `addr` opened its stream.
     pub fn connected(&mut self, now: Instant, conn: ConnId, addr: IpAddr) {
+        // Every per-address limit counts under the source's key (an IPv6 /64).
+        let addr = source_key(addr);
         self.forget_idle_sources(now);
         let limits = &self.config.limits;
         let per_second = limits.messages_per_second.max(1);

@@ -12,6 +12,7 @@ pub mod records;
 pub mod room;
 pub mod secret;
 pub mod server;
+pub mod source;
 pub mod stats;
 pub mod store;
 pub mod tls;

@@ -33,6 +33,7 @@ use crate::limits::Limits;
 use crate::output::{ConnId, Output};
 use crate::records;
 use crate::secret::{Entropy, OsEntropy, TestEntropy};
+use crate::source::source_key;
 use crate::stats::Stats;
 use crate::store::{Store, StoreError};
 use crate::tls::{Identity, TlsError};
@@ -308,7 +309,7 @@ fn admit(
     limits: &Limits,
     stats: &Stats,
 ) -> Option<(quinn::Incoming, Ticket)> {
-    let source = incoming.remote_address().ip().to_canonical();
+    let source = source_key(incoming.remote_address().ip());
     match gate.admit(limits, source, incoming.remote_address_validated()) {
         Entry::Admitted(ticket) => Some((incoming, ticket)),
         Entry::Retry => {

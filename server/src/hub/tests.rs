@@ -582,3 +582,46 @@ fn an_address_may_hold_only_so_many_open_rooms() {
     let out = w.send(99, create);
     joined(&out, 99);
 }
+
+#[test]
+fn ipv6_addresses_of_one_64_share_one_entry_budget() {
+    let mut w = World::new();
+    let budget = Limits::default().entry_burst;
+    let guess = |n: u64| ClientMessage::Join {
+        room: RoomCode::from_random([n as u8; breakshot_shared::protocol::limits::ROOM_CODE_LEN]),
+        name: "eve".into(),
+    };
+    // A host rotating through its /64: every guess from a fresh address.
+    let mut codes = Vec::new();
+    for n in 0..u64::from(budget) + 5 {
+        let conn = 200 + n;
+        let addr: std::net::IpAddr = format!("2001:db8:7:8::{:x}", n + 1).parse().unwrap();
+        w.hub.connected(w.now, conn, addr);
+        let hello = ClientMessage::Hello {
+            protocol: PROTOCOL_VERSION,
+            physics: reference_hash().unwrap(),
+        };
+        w.send(conn, hello);
+        codes.push(error_code(&w.send(conn, guess(n + 1)), conn));
+    }
+    let guessed = codes
+        .iter()
+        .filter(|c| **c == Some(ErrorCode::NoSuchRoom))
+        .count();
+    assert_eq!(guessed, budget as usize, "{codes:?}");
+    assert_eq!(codes.last(), Some(&Some(ErrorCode::RateLimited)));
+    // Another /64 has its own budget.
+    let addr: std::net::IpAddr = "2001:db8:7:9::1".parse().unwrap();
+    w.hub.connected(w.now, 999, addr);
+    w.send(
+        999,
+        ClientMessage::Hello {
+            protocol: PROTOCOL_VERSION,
+            physics: reference_hash().unwrap(),
+        },
+    );
+    assert_eq!(
+        error_code(&w.send(999, guess(1)), 999),
+        Some(ErrorCode::NoSuchRoom)
+    );
+}
