@@ -111,6 +111,7 @@ impl Hub {
             settings: meta.settings,
             aim_aid: meta.aim_aid,
             reconnect_window: self.config.limits.reconnect_window,
+            max_commands: self.config.limits.max_commands(meta.variant),
         };
         let room = Room::restore(now, meta, rules, number, record, game);
         self.index_tokens(&room);
@@ -242,6 +243,7 @@ impl Hub {
                     settings: mode,
                     aim_aid,
                     reconnect_window: self.config.limits.reconnect_window,
+                    max_commands: self.config.limits.max_commands(variant),
                 };
                 self.create(now, conn, rules, name)
             }

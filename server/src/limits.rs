@@ -6,6 +6,7 @@
 use std::time::Duration;
 
 use breakshot_shared::protocol::limits as protocol;
+use breakshot_shared::rules::Variant;
 
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Limits {
@@ -48,6 +49,12 @@ pub struct Limits {
     pub entry_refill: Duration,
     /// How long a dropped player's seat is held before the game is forfeited.
     pub reconnect_window: Duration,
+    /// Most commands one game of two players may hold; the last place goes to a concession
+    /// of the player to move, which ends it. Real games take tens of commands; this bounds
+    /// a game's record (and so what is stored, restored and verified for it).
+    pub max_game_commands: usize,
+    /// The same for a practice session, which one connection drives alone.
+    pub max_practice_commands: usize,
 }
 
 impl Default for Limits {
@@ -66,11 +73,23 @@ impl Default for Limits {
             entry_burst: 20,
             entry_refill: Duration::from_secs(1),
             reconnect_window: protocol::RECONNECT_WINDOW,
+            max_game_commands: 1_000,
+            max_practice_commands: 500,
         }
     }
 }
 
 impl Limits {
+    /// Most commands a game of `variant` may hold (at least two: a command and the
+    /// concession that ends the game).
+    pub fn max_commands(&self, variant: Variant) -> usize {
+        let max = match variant {
+            Variant::Practice => self.max_practice_commands,
+            _ => self.max_game_commands,
+        };
+        max.max(2)
+    }
+
     /// Connections one source address may hold (a share of `max_connections`).
     pub fn connections_per_address(&self) -> usize {
         (self.max_connections / self.address_share.max(1)).max(1)
@@ -93,6 +112,58 @@ impl Limits {
             entry_burst: u32::MAX,
             entry_refill: Duration::from_nanos(1),
             ..Limits::default()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use breakshot_shared::physics::Strike;
+    use breakshot_shared::protocol::limits::{MAX_RECORD, MAX_SENT_RECORD};
+    use breakshot_shared::replay::{GameRecord, RecordEntry};
+    use breakshot_shared::rules::{Command, EightBallRules, Seat, Settings};
+    use glam::DVec2;
+
+    use super::*;
+
+    /// The longest entry a client can cause: a shot with every number at full width, a
+    /// called pocket and a hash.
+    fn longest_entry() -> RecordEntry {
+        RecordEntry {
+            seat: Seat::B,
+            command: Command::Shot {
+                strike: Strike {
+                    speed: -f64::MAX,
+                    dir: DVec2::new(f64::MIN_POSITIVE, -f64::MAX),
+                    tip: DVec2::new(-f64::MAX, f64::MAX),
+                },
+                call: Some(u8::MAX),
+            },
+            hash: Some(u64::MAX),
+        }
+    }
+
+    #[test]
+    fn the_longest_game_the_limits_allow_is_loaded_verified_and_sent_whole() {
+        let limits = Limits::default();
+        for variant in [Variant::EightBall(EightBallRules::Wpa), Variant::Practice] {
+            let mut record = GameRecord::new(variant, Settings::offline(), u64::MAX);
+            record.entries.extend(std::iter::repeat_n(
+                longest_entry(),
+                limits.max_commands(variant),
+            ));
+            let bytes = record.encode();
+            eprintln!(
+                "{variant:?}: {} commands in {} bytes ({} per command)",
+                record.entries.len(),
+                bytes.len(),
+                longest_entry().encode().len()
+            );
+            // Loaded by a restart and by `verify` (decoded within MAX_RECORD) ...
+            assert!(bytes.len() <= MAX_RECORD);
+            assert_eq!(GameRecord::decode(&bytes).unwrap(), record);
+            // ... and sent whole to whoever asks for it to watch again.
+            assert!(bytes.len() <= MAX_SENT_RECORD, "{} bytes", bytes.len());
         }
     }
 }

@@ -21,7 +21,6 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use breakshot_shared::protocol::{reference_hash, Fingerprint, Invite};
-use breakshot_shared::replay::GameRecord;
 use thiserror::Error;
 use tokio::sync::mpsc::error::TrySendError;
 use tokio::sync::Notify;
@@ -366,7 +365,7 @@ fn restore(store: &Store, hub: &mut Hub) -> Result<usize, ServerError> {
     let mut restored = 0;
     for stored in store.unfinished()? {
         let room = stored.meta.code.clone();
-        let record = match GameRecord::decode(&stored.record) {
+        let record = match stored.record {
             Ok(r) => r,
             Err(e) => {
                 tracing::error!(%room, game = stored.number, error = %e, "stored record unreadable; not restored");

@@ -297,7 +297,9 @@ async fn hostile_clients_cost_only_their_own_connections() -> Result<()> {
     assert_eq!(deaf.closed().await?, "not reading: outgoing queue full");
 
     // The game went on and finished with every hash agreeing.
-    let report = bots.await?;
+    let report = tokio::time::timeout(PATIENCE, bots)
+        .await
+        .map_err(|_| anyhow!("the game beside the hostile clients never finished"))??;
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.games_completed, 1);
     assert_eq!(report.desyncs, 0);

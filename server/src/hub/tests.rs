@@ -8,7 +8,7 @@ use breakshot_shared::protocol::{
     reference_hash, AimAid, ClientMessage, ErrorCode, Role, RoomCode, SeatToken, ServerMessage,
     PROTOCOL_VERSION,
 };
-use breakshot_shared::replay::GameRecord;
+use breakshot_shared::replay::{GameRecord, RecordEntry};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Seat, Settings, Variant};
 use glam::DVec2;
 
@@ -193,8 +193,9 @@ fn an_accepted_shot_is_stored_before_anyone_hears_of_it_and_matches_a_replay() {
     // The store comes first; then both players get the same accepted command and result.
     assert!(matches!(
         out[0],
-        Output::Store(StoreOp::Game {
-            finished: false,
+        Output::Store(StoreOp::Command {
+            number: 1,
+            index: 0,
             ..
         })
     ));
@@ -232,11 +233,13 @@ fn an_accepted_shot_is_stored_before_anyone_hears_of_it_and_matches_a_replay() {
         .unwrap();
     assert_eq!(verdict.shot.unwrap().hash, *hash);
     assert_eq!(copy.balls(), &balls[..]);
-    // And the stored record replays to the room's game.
-    let Output::Store(StoreOp::Game { record, .. }) = &out[0] else {
+    // And the stored header and command replay to the room's game.
+    let Output::Store(StoreOp::Command { entry, .. }) = &out[0] else {
         unreachable!()
     };
-    let replayed = GameRecord::decode(record).unwrap().replay().unwrap();
+    let mut record = GameRecord::of(&before);
+    record.entries.push(RecordEntry::decode(entry).unwrap());
+    let replayed = record.replay().unwrap();
     assert_eq!(replayed, w.game(&room));
 }
 
@@ -325,9 +328,13 @@ fn a_dropped_player_forfeits_only_when_the_window_runs_out() {
             ..
         }
     )));
-    assert!(out
-        .iter()
-        .any(|o| matches!(o, Output::Store(StoreOp::Game { finished: true, .. }))));
+    assert!(out.iter().any(|o| matches!(
+        o,
+        Output::Store(StoreOp::GameEnded {
+            winner: Some(Seat::A),
+            ..
+        })
+    )));
 }
 
 #[test]
@@ -492,11 +499,7 @@ fn a_rematch_starts_when_both_players_ask() {
     let out = w.send(2, ClientMessage::Rematch);
     assert!(matches!(
         out[0],
-        Output::Store(StoreOp::Game {
-            number: 2,
-            finished: false,
-            ..
-        })
+        Output::Store(StoreOp::GameStarted { number: 2, .. })
     ));
     for conn in [1, 2] {
         match sent_to(&out, conn)[..] {
@@ -624,4 +627,57 @@ fn ipv6_addresses_of_one_64_share_one_entry_budget() {
         error_code(&w.send(999, guess(1)), 999),
         Some(ErrorCode::NoSuchRoom)
     );
+}
+
+#[test]
+fn a_practice_session_ends_at_its_length_limit_and_its_record_stays_bounded() {
+    let mut w = World::new();
+    let limit = Limits::default().max_practice_commands;
+    w.greet(1);
+    let out = w.send(
+        1,
+        ClientMessage::CreateRoom {
+            variant: Variant::Practice,
+            mode: Settings::offline(),
+            aim_aid: AimAid::Off,
+            name: "solo".into(),
+        },
+    );
+    let (room, _) = joined(&out, 1);
+    let mut over = None;
+    let mut sent = 0;
+    while over.is_none() {
+        assert!(sent < limit, "still playing after {sent} commands");
+        // Within the message rate.
+        w.now += Duration::from_millis(25);
+        let game = w.game(&room);
+        let pos = [0.4 + 0.001 * f64::from(sent as u32 % 100), 0.6];
+        let out = w.send(
+            1,
+            ClientMessage::PlaceCueBall {
+                turn: game.turn(),
+                pos,
+            },
+        );
+        assert_eq!(error_code(&out, 1), None, "command {sent}");
+        sent += 1;
+        over = sent_to(&out, 1).into_iter().find_map(|m| match m {
+            ServerMessage::GameOver { reason, .. } => Some(reason.clone()),
+            _ => None,
+        });
+    }
+    // The last place went to the concession that ended the session.
+    assert_eq!(sent, limit - 1);
+    let record = w.hub.room(&room).unwrap().record().clone();
+    assert_eq!(record.entries.len(), limit);
+    assert_eq!(record.entries.last().unwrap().command, Command::Concede);
+    assert_eq!(record.replay().unwrap(), w.game(&room));
+    let out = w.send(
+        1,
+        ClientMessage::PlaceCueBall {
+            turn: w.game(&room).turn(),
+            pos: [0.5, 0.5],
+        },
+    );
+    assert_eq!(error_code(&out, 1), Some(ErrorCode::GameOver));
 }
