@@ -52,14 +52,14 @@ impl Ledger {
     /// The decision for an attempt from `source`; `validated` says whether it has proven its
     /// address (answered a retry).
     pub fn decide(&self, limits: &Limits, source: IpAddr, validated: bool) -> Decision {
+        if self.total.connections >= limits.max_connections {
+            return Decision::Refuse(Refusal::Full);
+        }
         let mine = self.sources.get(&source).copied().unwrap_or_default();
         if mine.connections >= limits.connections_per_address()
             || mine.handshakes >= limits.handshakes_per_address()
         {
             return Decision::Refuse(Refusal::AddressShare);
-        }
-        if self.total.connections >= limits.max_connections {
-            return Decision::Refuse(Refusal::Full);
         }
         if self.total.handshakes >= limits.max_handshakes && !validated {
             return Decision::Retry;
