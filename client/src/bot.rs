@@ -6,7 +6,9 @@
 use std::time::{Duration, Instant};
 
 use breakshot_shared::physics::{BallState, MotionState, Strike, Table};
-use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, RoomCode, ServerMessage};
+use breakshot_shared::protocol::{
+    AimAid, ClientMessage, ErrorCode, Invite, RoomCode, ServerMessage,
+};
 use breakshot_shared::rules::{
     Choice, EightBallRules, Game, InHand, Phase, Settings, TurnId, Variant,
 };
@@ -325,8 +327,19 @@ impl Bot {
                         }
                     }
                 }
-                ServerMessage::GameOver { reason, .. } => {
+                ServerMessage::GameOver { reason, .. }
+                | ServerMessage::GameFinished { reason, .. } => {
+                    // `GameFinished`: the game ended while this bot was away.
                     self.result.over = Some(reason.clone());
+                    return Ok(());
+                }
+                ServerMessage::Error {
+                    code: ErrorCode::BadToken,
+                    message,
+                } => {
+                    // The seat is gone (a server that no longer knows the game): waiting
+                    // would wait forever.
+                    self.result.error = Some(format!("rejoin refused: {message}"));
                     return Ok(());
                 }
                 ServerMessage::Error { code, message } => {

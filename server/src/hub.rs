@@ -14,8 +14,9 @@ use breakshot_shared::protocol::{
     validate, ClientMessage, ErrorCode, Role, RoomCode, ServerMessage, PROTOCOL_VERSION,
 };
 use breakshot_shared::replay::GameRecord;
-use breakshot_shared::rules::{Game, Seat};
+use breakshot_shared::rules::{Game, Phase, Seat};
 
+use crate::endings::{Ending, Endings};
 use crate::limits::Limits;
 use crate::output::{ConnId, Output, RoomMeta};
 use crate::ratelimit::Bucket;
@@ -55,6 +56,8 @@ pub struct Hub {
     sources: BTreeMap<IpAddr, Source>,
     conns: BTreeMap<ConnId, Conn>,
     tokens: BTreeMap<TokenDigest, (RoomCode, Seat)>,
+    /// Seats of games that ended, for players who come back after their room is gone.
+    endings: Endings,
     rng: Box<dyn Entropy>,
 }
 
@@ -81,6 +84,7 @@ impl Hub {
             sources: BTreeMap::new(),
             conns: BTreeMap::new(),
             tokens: BTreeMap::new(),
+            endings: Endings::default(),
             rng,
         }
     }
@@ -116,6 +120,18 @@ impl Hub {
         let room = Room::restore(now, meta, rules, number, record, game);
         self.index_tokens(&room);
         self.rooms.insert(room.code().clone(), room);
+    }
+
+    /// Remembers a game found over in the store at start, `age` after it ended.
+    pub fn restore_ending(&mut self, now: Instant, meta: &RoomMeta, ending: Ending, age: Duration) {
+        let Some(left) = self.config.limits.finished_retention.checked_sub(age) else {
+            return;
+        };
+        let seats = [Seat::A, Seat::B]
+            .into_iter()
+            .zip(&meta.seats)
+            .filter_map(|(seat, s)| s.as_ref().map(|s| (seat, s.digest)));
+        self.endings.keep(&ending, seats, now + left);
     }
 
     /// A connection from `addr` opened its stream.
@@ -203,7 +219,7 @@ impl Hub {
         // Only failed entries are charged: guessing codes or tokens is what the budget is
         // for, and players behind one address (or rejoining after a restart) must not be
         // locked out by their own successes.
-        if entry && joined(&out, conn) {
+        if entry && (joined(&out, conn) || told_result(&out, conn)) {
             self.refund_entry(conn);
         }
         out
@@ -285,9 +301,12 @@ impl Hub {
             .filter(|r| r.is_closed())
             .map(|r| r.code().clone())
             .collect();
+        self.endings.expire(now);
         for code in closed {
             self.tokens.retain(|_, (c, _)| *c != code);
-            self.rooms.remove(&code);
+            if let Some(room) = self.rooms.remove(&code) {
+                self.keep_ending(now, &room);
+            }
             if let Some(addr) = self.creators.remove(&code) {
                 if let Some(source) = self.sources.get_mut(&addr) {
                     source.rooms = source.rooms.saturating_sub(1);
@@ -433,7 +452,11 @@ impl Hub {
         conn: ConnId,
         token: breakshot_shared::protocol::SeatToken,
     ) -> Vec<Output> {
-        let Some((code, seat)) = self.tokens.get(&TokenDigest::of(&token)).cloned() else {
+        let digest = TokenDigest::of(&token);
+        let Some((code, seat)) = self.tokens.get(&digest).cloned() else {
+            if let Some(result) = self.endings.answer(now, &digest) {
+                return vec![send(conn, result)];
+            }
             return error(
                 conn,
                 ErrorCode::BadToken,
@@ -457,6 +480,22 @@ impl Hub {
         out
     }
 
+    /// Keeps the seats of a closing room's last game, so its players learn how it ended.
+    fn keep_ending(&mut self, now: Instant, room: &Room) {
+        let (winner, reason) = match room.game().phase() {
+            Phase::Over { winner, reason } => (*winner, reason.clone()),
+            _ => (None, "abandoned".to_string()),
+        };
+        let ending = Ending {
+            room: room.code().clone(),
+            game: room.game_number(),
+            winner,
+            reason,
+        };
+        let until = now + self.config.limits.finished_retention;
+        self.endings.keep(&ending, room.seat_digests(), until);
+    }
+
     fn set_room(&mut self, conn: ConnId, code: RoomCode, role: Role) {
         if let Some(c) = self.conns.get_mut(&conn) {
             c.room = Some((code, role));
@@ -474,6 +513,13 @@ impl Hub {
 fn joined(out: &[Output], conn: ConnId) -> bool {
     out.iter()
         .any(|o| matches!(o, Output::Send { to, msg: ServerMessage::Joined { .. } } if *to == conn))
+}
+
+/// Whether the outputs tell `conn` how its game ended (a valid token of a finished game).
+fn told_result(out: &[Output], conn: ConnId) -> bool {
+    out.iter().any(
+        |o| matches!(o, Output::Send { to, msg: ServerMessage::GameFinished { .. } } if *to == conn),
+    )
 }
 
 #[cfg(test)]

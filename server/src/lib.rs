@@ -4,6 +4,7 @@
 
 pub mod admission;
 pub mod conn;
+pub mod endings;
 pub mod hub;
 pub mod limits;
 pub mod output;

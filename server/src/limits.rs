@@ -55,6 +55,10 @@ pub struct Limits {
     pub max_game_commands: usize,
     /// The same for a practice session, which one connection drives alone.
     pub max_practice_commands: usize,
+    /// How long the seats of a finished game stay known after its room is gone (also
+    /// across restarts): a player who comes back with their token in that time is told the
+    /// result instead of `BadToken`.
+    pub finished_retention: Duration,
 }
 
 impl Default for Limits {
@@ -75,6 +79,7 @@ impl Default for Limits {
             reconnect_window: protocol::RECONNECT_WINDOW,
             max_game_commands: 1_000,
             max_practice_commands: 500,
+            finished_retention: Duration::from_secs(3_600),
         }
     }
 }

@@ -186,6 +186,11 @@ impl Room {
         &self.game
     }
 
+    /// The current game's number in this room, from 1.
+    pub fn game_number(&self) -> u32 {
+        self.game_number
+    }
+
     pub fn record(&self) -> &GameRecord {
         &self.record
     }

@@ -27,6 +27,7 @@ use tokio::sync::Notify;
 
 use crate::admission::{Entry, Gate, Refusal, Ticket};
 use crate::conn::{self, HubEvent, Outbound, Outlet};
+use crate::endings::Ending;
 use crate::hub::{Hub, HubConfig};
 use crate::limits::Limits;
 use crate::output::{ConnId, Output};
@@ -382,6 +383,19 @@ fn restore(store: &Store, hub: &mut Hub) -> Result<usize, ServerError> {
                 tracing::error!(%room, game = stored.number, error = %e, "stored game does not replay; not restored")
             }
         }
+    }
+    // Games that ended recently: their players may still come back to learn the result.
+    let retention = hub.config().limits.finished_retention.as_secs();
+    let today = crate::store::unix_now();
+    for ended in store.ended_since(today.saturating_sub(retention))? {
+        let ending = Ending {
+            room: ended.meta.code.clone(),
+            game: ended.number,
+            winner: ended.winner,
+            reason: ended.reason,
+        };
+        let age = Duration::from_secs(today.saturating_sub(ended.at));
+        hub.restore_ending(now, &ended.meta, ending, age);
     }
     Ok(restored)
 }

@@ -222,3 +222,49 @@ fn a_client_killed_mid_shot_rejoins_and_gets_its_seat_back() -> anyhow::Result<(
         server.stop().await
     })
 }
+
+/// A player away when the game ended (their opponent made its last move), with the server
+/// restarted before they come back, is told the result for their seat instead of being told
+/// their token is unknown.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_player_away_when_the_game_ended_is_told_the_result_after_a_restart() -> anyhow::Result<()>
+{
+    let data = TempDir::new("ended-away");
+    let server = TestServer::start(data.path()).await?;
+    let addr = server.addr;
+    let (mut a, b, room) = seated_pair(&server.invite).await?;
+    let token = b.mirror.token().expect("seat B got a token");
+    b.conn.quic().close(0u32.into(), b"away");
+    a.until("PlayerLeft", |m| {
+        matches!(m, ServerMessage::PlayerLeft { .. })
+    })
+    .await?;
+    // The game's last command while B is away.
+    a.send(ClientMessage::Concede).await?;
+    a.until("GameOver", |m| matches!(m, ServerMessage::GameOver { .. }))
+        .await?;
+    server.stop().await?;
+
+    let again = TestServer::start_at(addr, data.path()).await?;
+    assert_eq!(again.restored, 0, "a finished game is not played again");
+    let mut b2 = Player::connect(&again.invite).await?;
+    b2.send(ClientMessage::Rejoin { token }).await?;
+    match b2.recv().await? {
+        ServerMessage::GameFinished {
+            room: r,
+            game,
+            seat,
+            winner,
+            reason,
+        } => {
+            assert_eq!(r, room);
+            assert_eq!(game, 1);
+            assert_eq!(seat, Seat::B);
+            assert_eq!(winner, Some(Seat::B));
+            assert!(reason.contains("conceded"), "{reason}");
+        }
+        other => anyhow::bail!("expected the game's result, got {other:?}"),
+    }
+    drop(b);
+    again.stop().await
+}

@@ -681,3 +681,42 @@ fn a_practice_session_ends_at_its_length_limit_and_its_record_stays_bounded() {
     );
     assert_eq!(error_code(&out, 1), Some(ErrorCode::GameOver));
 }
+
+#[test]
+fn a_player_away_when_the_game_ended_is_told_the_result_after_the_room_is_gone() {
+    let mut w = World::new();
+    let (room, _, token_b) = w.pair(Settings::offline());
+    // B drops; A takes the last shot (concedes here), then leaves too.
+    w.hub.disconnected(w.now, 2);
+    let out = w.send(1, ClientMessage::Concede);
+    assert!(sent_to(&out, 1)
+        .iter()
+        .any(|m| matches!(m, ServerMessage::GameOver { .. })));
+    w.hub.disconnected(w.now, 1);
+    w.advance(WINDOW + Duration::from_secs(1));
+    assert!(w.hub.room(&room).is_none(), "the room is still open");
+
+    w.greet(3);
+    let out = w.send(3, ClientMessage::Rejoin { token: token_b });
+    match sent_to(&out, 3)[..] {
+        [ServerMessage::GameFinished {
+            room: r,
+            game: 1,
+            seat: Seat::B,
+            winner: Some(Seat::B),
+            reason,
+        }] => {
+            assert_eq!(*r, room);
+            assert!(reason.contains("conceded"), "{reason}");
+        }
+        ref other => panic!("{other:?}"),
+    }
+    // Not in a room: the connection may create or join another.
+    let out = w.send(3, ClientMessage::Spectate { room: room.clone() });
+    assert_eq!(error_code(&out, 3), Some(ErrorCode::NoSuchRoom));
+    // Kept only for a while.
+    w.advance(Limits::default().finished_retention);
+    w.greet(4);
+    let out = w.send(4, ClientMessage::Rejoin { token: token_b });
+    assert_eq!(error_code(&out, 4), Some(ErrorCode::BadToken));
+}
