@@ -321,6 +321,21 @@ impl Hub {
         self.sources.len()
     }
 
+    /// Rooms created from `addr` whose game is not over. A finished room stays in memory
+    /// until its players leave, but no longer counts against its creator's limit.
+    fn rooms_in_play(&self, addr: IpAddr) -> usize {
+        self.creators
+            .iter()
+            .filter(|(code, creator)| {
+                **creator == addr
+                    && self
+                        .rooms
+                        .get(*code)
+                        .is_some_and(|r| !matches!(r.game().phase(), Phase::Over { .. }))
+            })
+            .count()
+    }
+
     /// Takes one room entry from the budget of `conn`'s address.
     fn take_entry(&mut self, now: Instant, conn: ConnId) -> bool {
         let Some(addr) = self.conns.get(&conn).map(|c| c.addr) else {
@@ -398,9 +413,7 @@ impl Hub {
             return error(conn, ErrorCode::ServerBusy, "the server is full; try later");
         }
         let addr = self.conns.get(&conn).map(|c| c.addr);
-        let owned = addr
-            .and_then(|a| self.sources.get(&a))
-            .map_or(0, |s| s.rooms);
+        let owned = addr.map_or(0, |a| self.rooms_in_play(a));
         if owned >= self.config.limits.rooms_per_address {
             return error(
                 conn,

@@ -720,3 +720,48 @@ fn a_player_away_when_the_game_ended_is_told_the_result_after_the_room_is_gone()
     let out = w.send(4, ClientMessage::Rejoin { token: token_b });
     assert_eq!(error_code(&out, 4), Some(ErrorCode::BadToken));
 }
+
+#[test]
+fn a_finished_room_no_longer_counts_against_its_creators_limit() {
+    let mut w = World::new();
+    let cap = Limits::default().rooms_per_address;
+    let create = ClientMessage::CreateRoom {
+        variant: Variant::EightBall(EightBallRules::Wpa),
+        mode: Settings::offline(),
+        aim_aid: AimAid::Off,
+        name: "ann".into(),
+    };
+    let mut rooms = Vec::new();
+    for conn in 0..cap as ConnId {
+        w.greet(100 + conn);
+        rooms.push(joined(&w.send(100 + conn, create.clone()), 100 + conn).0);
+    }
+    w.greet(99);
+    assert_eq!(
+        error_code(&w.send(99, create.clone()), 99),
+        Some(ErrorCode::ServerBusy)
+    );
+    // One game ends (its creator concedes): the room stays open, its players may still talk
+    // or ask for a rematch, but it is not in play any more.
+    let out = w.send(100, ClientMessage::Concede);
+    assert_eq!(
+        error_code(&out, 100),
+        Some(ErrorCode::Unexpected),
+        "no opponent yet"
+    );
+    w.greet(200);
+    let out = w.send(
+        200,
+        ClientMessage::Join {
+            room: rooms[0].clone(),
+            name: "ben".into(),
+        },
+    );
+    joined(&out, 200);
+    let out = w.send(100, ClientMessage::Concede);
+    assert!(sent_to(&out, 100)
+        .iter()
+        .any(|m| matches!(m, ServerMessage::GameOver { .. })));
+    assert!(w.hub.room(&rooms[0]).is_some());
+    joined(&w.send(99, create), 99);
+}
