@@ -16,6 +16,7 @@ pub mod server;
 pub mod source;
 pub mod stats;
 pub mod store;
+pub mod timing;
 pub mod tls;
 pub mod verify;
 

@@ -30,7 +30,7 @@ use crate::conn::{self, HubEvent, Outbound, Outlet};
 use crate::endings::Ending;
 use crate::hub::{Hub, HubConfig};
 use crate::limits::Limits;
-use crate::output::{ConnId, Output};
+use crate::output::{ConnId, Output, StoreOp};
 use crate::records;
 use crate::secret::{Entropy, OsEntropy, TestEntropy};
 use crate::source::source_key;
@@ -97,7 +97,9 @@ pub struct Server {
 enum WriterMsg {
     Register(ConnId, Outlet),
     Unregister(ConnId),
-    Batch(Vec<Output>),
+    /// What the hub made of one event; `read` is when the message it answers was read, for
+    /// the server's time per command.
+    Batch(Vec<Output>, Option<Instant>),
 }
 
 impl Server {
@@ -251,6 +253,7 @@ impl Server {
         })
         .await;
         let _ = tokio::time::timeout(Duration::from_secs(3), endpoint.wait_idle()).await;
+        report_command_time(&stats);
         match (outcome, joined) {
             (Ok(()), Ok(Ok(Ok(())))) => Ok(()),
             (_, Ok(Ok(Err(e)))) => Err(ServerError::StorageFailed(e)),
@@ -258,6 +261,21 @@ impl Server {
                 "the writer thread stopped".into(),
             )),
         }
+    }
+}
+
+/// Logs the server's own time per command over the run (see [`crate::timing`]).
+fn report_command_time(stats: &Stats) {
+    let h = &stats.command_time;
+    let ms = |q| h.quantile(q).map_or(0.0, |d| d.as_secs_f64() * 1e3);
+    if h.count() > 0 {
+        tracing::info!(
+            commands = h.count(),
+            p50_ms = format!("{:.2}", ms(0.5)),
+            p99_ms = format!("{:.2}", ms(0.99)),
+            max_ms = format!("{:.2}", ms(1.0)),
+            "server time per command (read, queue, rules and simulation, durable write)"
+        );
     }
 }
 
@@ -419,12 +437,16 @@ fn spawn_hub(
         if event.is_ok() {
             stats.hub_queue.fetch_sub(1, Ordering::Relaxed);
         }
+        let read = match &event {
+            Ok(HubEvent::Message(_, _, at)) => Some(*at),
+            _ => None,
+        };
         let out = match event {
             Ok(HubEvent::Connected(id, addr)) => {
                 hub.connected(now, id, addr);
                 Vec::new()
             }
-            Ok(HubEvent::Message(id, msg)) => hub.handle(now, id, msg),
+            Ok(HubEvent::Message(id, msg, _)) => hub.handle(now, id, msg),
             Ok(HubEvent::Disconnected(id)) => hub.disconnected(now, id),
             Ok(HubEvent::Shutdown) | Err(RecvTimeoutError::Disconnected) => return,
             Err(RecvTimeoutError::Timeout) => hub.tick(now),
@@ -434,7 +456,7 @@ fn spawn_hub(
         if hub.next_deadline().is_some_and(|d| d <= now) {
             out.extend(hub.tick(now));
         }
-        if !out.is_empty() && writer.send(WriterMsg::Batch(out)).is_err() {
+        if !out.is_empty() && writer.send(WriterMsg::Batch(out, read)).is_err() {
             return;
         }
     })
@@ -455,7 +477,7 @@ fn spawn_writer(
             let ops: Vec<_> = msgs
                 .iter()
                 .filter_map(|m| match m {
-                    WriterMsg::Batch(out) => Some(out.iter().filter_map(|o| match o {
+                    WriterMsg::Batch(out, _) => Some(out.iter().filter_map(|o| match o {
                         Output::Store(op) => Some(op),
                         _ => None,
                     })),
@@ -478,7 +500,10 @@ fn spawn_writer(
                     WriterMsg::Unregister(id) => {
                         conns.remove(&id);
                     }
-                    WriterMsg::Batch(out) => {
+                    WriterMsg::Batch(out, read) => {
+                        let command = out
+                            .iter()
+                            .any(|o| matches!(o, Output::Store(StoreOp::Command { .. })));
                         for o in out {
                             let (to, what) = match o {
                                 Output::Send { to, msg } => (to, Outbound::Message(msg)),
@@ -502,6 +527,9 @@ fn spawn_writer(
                                 outlet.kill.notify_one();
                                 conns.remove(&to);
                             }
+                        }
+                        if let (true, Some(read)) = (command, read) {
+                            stats.command_time.record(read.elapsed());
                         }
                     }
                 }

@@ -3,6 +3,8 @@
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use crate::timing::Histogram;
+
 #[derive(Debug, Default)]
 pub struct Stats {
     /// Connections open, counting those still in their handshake.
@@ -25,6 +27,9 @@ pub struct Stats {
     pub flooding: AtomicUsize,
     /// Connections closed because they did not read what they were sent.
     pub too_slow: AtomicUsize,
+    /// The server's own time per applied command: from reading its frame to handing its
+    /// (stored) result to the connections.
+    pub command_time: Histogram,
 }
 
 impl Stats {
