@@ -1,10 +1,11 @@
 //! The store's write cost per command as a game grows: one durable transaction per command
 //! (as the writer thread commits when games are not sharing a flush), appending one command
-//! row, against rewriting the whole record (how games were stored before).
+//! row. Beside it, the size of the whole record, which is what each command rewrote before
+//! games were stored as a log.
 //!
 //! `cargo bench -p breakshot-server --bench store` prints the median time of a commit at
-//! several game lengths, for both ways, in a scratch directory under the system's temporary
-//! directory (on the same disk as a real store only if that is where it lives: set TMPDIR).
+//! several game lengths, in a scratch directory under the system's temporary directory (on
+//! the same disk as a real store only if that is where it lives: set TMPDIR).
 
 use std::time::{Duration, Instant};
 
@@ -61,7 +62,7 @@ fn main() {
     ops.extend(StoreOp::whole_game(&code, 1, &record));
     store.apply(&ops.iter().collect::<Vec<_>>()).expect("start");
 
-    println!("game length | append one row | rewrite the whole record | record size");
+    println!("game length | append one row | row size | whole record (rewritten before)");
     let mut length = 0;
     for target in LENGTHS {
         // Grow the game to just before `target`, then time SAMPLES commits of each kind.
@@ -77,33 +78,10 @@ fn main() {
             length += 1;
         }
         let bytes = record.encode();
-        let mut rewrites = Vec::new();
-        for _ in 0..SAMPLES {
-            let t = Instant::now();
-            store.overwrite_record(&code, 1, &bytes).expect("rewrite");
-            rewrites.push(t.elapsed());
-        }
-        // Back to one row per command for the next lengths.
-        let mut again = StoreOp::whole_game(&code, 1, &record);
-        again.remove(0);
-        store
-            .overwrite_record(
-                &code,
-                1,
-                &GameRecord {
-                    entries: Vec::new(),
-                    ..record.clone()
-                }
-                .encode(),
-            )
-            .expect("reset");
-        store
-            .apply(&again.iter().collect::<Vec<_>>())
-            .expect("refill");
         println!(
-            "{length:>11} | {:>14.2?} | {:>24.2?} | {} bytes",
+            "{length:>11} | {:>14.2?} | {:>5} bytes | {} bytes",
             median(appends),
-            median(rewrites),
+            entry(length).encode().len(),
             bytes.len()
         );
     }
