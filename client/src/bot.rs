@@ -6,7 +6,9 @@
 use std::time::{Duration, Instant};
 
 use breakshot_shared::physics::{Strike, Table};
-use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, Role, RoomCode, ServerMessage};
+use breakshot_shared::protocol::{
+    AimAid, ClientMessage, ErrorCode, Invite, Role, RoomCode, ServerMessage,
+};
 use breakshot_shared::rules::{
     is_off_table, rack::SplitMix64, Choice, EightBallRules, Game, InHand, Phase, Seat, Settings,
     TurnId, Variant,
@@ -331,8 +333,19 @@ impl Bot {
                         }
                     }
                 }
-                ServerMessage::GameOver { reason, .. } => {
+                ServerMessage::GameOver { reason, .. }
+                | ServerMessage::GameFinished { reason, .. } => {
+                    // `GameFinished`: the game ended while this bot was away.
                     self.result.over = Some(reason.clone());
+                    return Ok(());
+                }
+                ServerMessage::Error {
+                    code: ErrorCode::BadToken,
+                    message,
+                } => {
+                    // The seat is gone (a server that no longer knows the game): waiting
+                    // would wait forever.
+                    self.result.error = Some(format!("rejoin refused: {message}"));
                     return Ok(());
                 }
                 ServerMessage::Error { code, message } => {

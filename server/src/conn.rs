@@ -31,7 +31,8 @@ pub enum Outbound {
 #[derive(Debug)]
 pub enum HubEvent {
     Connected(ConnId, IpAddr),
-    Message(ConnId, ClientMessage),
+    /// A message and when its frame was read (the start of the server's time for it).
+    Message(ConnId, ClientMessage, Instant),
     Disconnected(ConnId),
     Shutdown,
 }
@@ -126,7 +127,10 @@ pub async fn serve(
             loop {
                 let why = match read_message(&mut recv, frame_timeout).await {
                     Ok(msg) if rate.take(Instant::now()) => {
-                        if hub.send(HubEvent::Message(id, msg)).is_err() {
+                        if hub
+                            .send(HubEvent::Message(id, msg, Instant::now()))
+                            .is_err()
+                        {
                             break;
                         }
                         continue;

@@ -14,13 +14,15 @@ use breakshot_shared::protocol::{
     validate, ClientMessage, ErrorCode, Role, RoomCode, ServerMessage, PROTOCOL_VERSION,
 };
 use breakshot_shared::replay::GameRecord;
-use breakshot_shared::rules::{Game, Seat};
+use breakshot_shared::rules::{Game, Phase, Seat};
 
+use crate::endings::{Ending, Endings};
 use crate::limits::Limits;
 use crate::output::{ConnId, Output, RoomMeta};
 use crate::ratelimit::Bucket;
 use crate::room::{Entry, Room, RoomRules, Who};
 use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
+use crate::source::source_key;
 
 #[derive(Clone, Debug)]
 pub struct HubConfig {
@@ -54,6 +56,8 @@ pub struct Hub {
     sources: BTreeMap<IpAddr, Source>,
     conns: BTreeMap<ConnId, Conn>,
     tokens: BTreeMap<TokenDigest, (RoomCode, Seat)>,
+    /// Seats of games that ended, for players who come back after their room is gone.
+    endings: Endings,
     rng: Box<dyn Entropy>,
 }
 
@@ -80,6 +84,7 @@ impl Hub {
             sources: BTreeMap::new(),
             conns: BTreeMap::new(),
             tokens: BTreeMap::new(),
+            endings: Endings::default(),
             rng,
         }
     }
@@ -110,14 +115,29 @@ impl Hub {
             settings: meta.settings,
             aim_aid: meta.aim_aid,
             reconnect_window: self.config.limits.reconnect_window,
+            max_commands: self.config.limits.max_commands(meta.variant),
         };
         let room = Room::restore(now, meta, rules, number, record, game);
         self.index_tokens(&room);
         self.rooms.insert(room.code().clone(), room);
     }
 
+    /// Remembers a game found over in the store at start, `age` after it ended.
+    pub fn restore_ending(&mut self, now: Instant, meta: &RoomMeta, ending: Ending, age: Duration) {
+        let Some(left) = self.config.limits.finished_retention.checked_sub(age) else {
+            return;
+        };
+        let seats = [Seat::A, Seat::B]
+            .into_iter()
+            .zip(&meta.seats)
+            .filter_map(|(seat, s)| s.as_ref().map(|s| (seat, s.digest)));
+        self.endings.keep(&ending, seats, now + left);
+    }
+
     /// A connection from `addr` opened its stream.
     pub fn connected(&mut self, now: Instant, conn: ConnId, addr: IpAddr) {
+        // Every per-address limit counts under the source's key (an IPv6 /64).
+        let addr = source_key(addr);
         self.forget_idle_sources(now);
         let limits = &self.config.limits;
         let per_second = limits.messages_per_second.max(1);
@@ -200,7 +220,7 @@ impl Hub {
         // for, and players behind one address (or rejoining after a restart) must not be
         // locked out by their own successes.
         let entered = in_room.is_none() && self.conns.get(&conn).is_some_and(|c| c.room.is_some());
-        if entry && entered {
+        if entry && (entered || told_result(&out, conn)) {
             self.refund_entry(conn);
         }
         out
@@ -240,6 +260,7 @@ impl Hub {
                     settings: mode,
                     aim_aid,
                     reconnect_window: self.config.limits.reconnect_window,
+                    max_commands: self.config.limits.max_commands(variant),
                 };
                 self.create(now, conn, rules, name)
             }
@@ -279,9 +300,12 @@ impl Hub {
             .filter(|r| r.is_closed())
             .map(|r| r.code().clone())
             .collect();
+        self.endings.expire(now);
         for code in closed {
             self.tokens.retain(|_, (c, _)| *c != code);
-            self.rooms.remove(&code);
+            if let Some(room) = self.rooms.remove(&code) {
+                self.keep_ending(now, &room);
+            }
             if let Some(addr) = self.creators.remove(&code) {
                 if let Some(source) = self.sources.get_mut(&addr) {
                     source.rooms = source.rooms.saturating_sub(1);
@@ -294,6 +318,21 @@ impl Hub {
     /// Source addresses the hub remembers (for tests and statistics).
     pub fn sources(&self) -> usize {
         self.sources.len()
+    }
+
+    /// Rooms created from `addr` whose game is not over. A finished room stays in memory
+    /// until its players leave, but no longer counts against its creator's limit.
+    fn rooms_in_play(&self, addr: IpAddr) -> usize {
+        self.creators
+            .iter()
+            .filter(|(code, creator)| {
+                **creator == addr
+                    && self
+                        .rooms
+                        .get(*code)
+                        .is_some_and(|r| !matches!(r.game().phase(), Phase::Over { .. }))
+            })
+            .count()
     }
 
     /// Takes one room entry from the budget of `conn`'s address.
@@ -373,9 +412,7 @@ impl Hub {
             return error(conn, ErrorCode::ServerBusy, "the server is full; try later");
         }
         let addr = self.conns.get(&conn).map(|c| c.addr);
-        let owned = addr
-            .and_then(|a| self.sources.get(&a))
-            .map_or(0, |s| s.rooms);
+        let owned = addr.map_or(0, |a| self.rooms_in_play(a));
         if owned >= self.config.limits.rooms_per_address {
             return error(
                 conn,
@@ -427,7 +464,11 @@ impl Hub {
         conn: ConnId,
         token: breakshot_shared::protocol::SeatToken,
     ) -> Vec<Output> {
-        let Some((code, seat)) = self.tokens.get(&TokenDigest::of(&token)).cloned() else {
+        let digest = TokenDigest::of(&token);
+        let Some((code, seat)) = self.tokens.get(&digest).cloned() else {
+            if let Some(result) = self.endings.answer(now, &digest) {
+                return vec![send(conn, result)];
+            }
             return error(
                 conn,
                 ErrorCode::BadToken,
@@ -452,6 +493,22 @@ impl Hub {
         self.set_room(conn, code, role);
     }
 
+    /// Keeps the seats of a closing room's last game, so its players learn how it ended.
+    fn keep_ending(&mut self, now: Instant, room: &Room) {
+        let (winner, reason) = match room.game().phase() {
+            Phase::Over { winner, reason } => (*winner, reason.clone()),
+            _ => (None, "abandoned".to_string()),
+        };
+        let ending = Ending {
+            room: room.code().clone(),
+            game: room.game_number(),
+            winner,
+            reason,
+        };
+        let until = now + self.config.limits.finished_retention;
+        self.endings.keep(&ending, room.seat_digests(), until);
+    }
+
     fn set_room(&mut self, conn: ConnId, code: RoomCode, role: Role) {
         if let Some(c) = self.conns.get_mut(&conn) {
             c.room = Some((code, role));
@@ -463,6 +520,13 @@ impl Hub {
             self.tokens.insert(digest, (room.code().clone(), seat));
         }
     }
+}
+
+/// Whether the outputs tell `conn` how its game ended (a valid token of a finished game).
+fn told_result(out: &[Output], conn: ConnId) -> bool {
+    out.iter().any(
+        |o| matches!(o, Output::Send { to, msg: ServerMessage::GameFinished { .. } } if *to == conn),
+    )
 }
 
 #[cfg(test)]

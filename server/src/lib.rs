@@ -2,7 +2,9 @@
 //! [`room::Room`]s) driven by a thin QUIC layer, with every accepted command stored before
 //! anyone sees its result.
 
+pub mod admission;
 pub mod conn;
+pub mod endings;
 pub mod hub;
 pub mod limits;
 pub mod output;
@@ -11,8 +13,10 @@ pub mod records;
 pub mod room;
 pub mod secret;
 pub mod server;
+pub mod source;
 pub mod stats;
 pub mod store;
+pub mod timing;
 pub mod tls;
 pub mod verify;
 

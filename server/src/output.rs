@@ -1,7 +1,8 @@
 //! What the sans-IO core asks its driver to do, in order.
 
 use breakshot_shared::protocol::{AimAid, RoomCode, ServerMessage};
-use breakshot_shared::rules::{Settings, Variant};
+use breakshot_shared::replay::GameRecord;
+use breakshot_shared::rules::{Seat, Settings, Variant};
 use serde::{Deserialize, Serialize};
 
 use crate::secret::TokenDigest;
@@ -28,13 +29,57 @@ pub enum Output {
 pub enum StoreOp {
     /// A room's lasting facts: settings and who holds the seats (as token digests).
     Room(RoomMeta),
-    /// One game's record (encoded [`breakshot_shared::replay::GameRecord`]), replaced whole.
-    Game {
+    /// A game begins: its header, an encoded [`breakshot_shared::replay::GameRecord`] with
+    /// no entries yet (rules, settings, seed).
+    GameStarted {
         room: RoomCode,
         number: u32,
-        record: Vec<u8>,
-        finished: bool,
+        header: Vec<u8>,
     },
+    /// One more command of a game: an encoded [`breakshot_shared::replay::RecordEntry`],
+    /// `index` counting from 0. Appended; nothing already stored is rewritten.
+    Command {
+        room: RoomCode,
+        number: u32,
+        index: u32,
+        entry: Vec<u8>,
+    },
+    /// The game ended (`winner: None` for no winner, or a game abandoned before anyone
+    /// could win).
+    GameEnded {
+        room: RoomCode,
+        number: u32,
+        winner: Option<Seat>,
+        reason: String,
+    },
+}
+
+impl StoreOp {
+    /// The operations that store `record` as game `number` of `room` from scratch.
+    pub fn whole_game(room: &RoomCode, number: u32, record: &GameRecord) -> Vec<StoreOp> {
+        let header = GameRecord {
+            entries: Vec::new(),
+            ..record.clone()
+        };
+        let mut ops = vec![StoreOp::GameStarted {
+            room: room.clone(),
+            number,
+            header: header.encode(),
+        }];
+        ops.extend(
+            record
+                .entries
+                .iter()
+                .zip(0..)
+                .map(|(e, index)| StoreOp::Command {
+                    room: room.clone(),
+                    number,
+                    index,
+                    entry: e.encode(),
+                }),
+        );
+        ops
+    }
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]

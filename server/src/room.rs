@@ -62,6 +62,10 @@ pub struct RoomRules {
     pub aim_aid: AimAid,
     /// How long a dropped player's seat is held.
     pub reconnect_window: Duration,
+    /// Most commands one game may hold (its record stays bounded): the command that leaves
+    /// one place is followed by a concession of the player to move, which ends the game
+    /// (and a practice session) in the last place.
+    pub max_commands: usize,
 }
 
 pub struct Room {
@@ -148,7 +152,7 @@ impl Room {
         room.restart_clock(now, Duration::ZERO);
         let out = vec![
             Output::Store(StoreOp::Room(room.meta())),
-            room.store_game(),
+            room.store_start(),
             Output::Send {
                 to: creator,
                 msg: ServerMessage::Joined {
@@ -202,6 +206,11 @@ impl Room {
 
     pub fn game(&self) -> &Game {
         &self.game
+    }
+
+    /// The current game's number in this room, from 1.
+    pub fn game_number(&self) -> u32 {
+        self.game_number
     }
 
     pub fn record(&self) -> &GameRecord {
@@ -449,11 +458,11 @@ impl Room {
             self.closed = true;
             if !self.is_over() {
                 // Abandoned before anyone could forfeit (no opponent ever came).
-                out.push(Output::Store(StoreOp::Game {
+                out.push(Output::Store(StoreOp::GameEnded {
                     room: self.code.clone(),
                     number: self.game_number,
-                    record: self.record.encode(),
-                    finished: true,
+                    winner: None,
+                    reason: "abandoned".into(),
                 }));
             }
         }
@@ -501,6 +510,7 @@ impl Room {
             .and_then(|s| s.events.last())
             .map_or(0.0, |e| e.t);
         self.record.push(seat, command.clone(), hash);
+        let stored = self.store_command();
         self.game = next;
         if self.game.turn() != answered {
             self.called = None;
@@ -515,7 +525,15 @@ impl Room {
                 .unwrap_or_default(),
             next: verdict.next,
         };
-        let mut out = vec![self.store_game()];
+        let mut out = vec![stored];
+        if let Phase::Over { winner, reason } = self.game.phase() {
+            out.push(Output::Store(StoreOp::GameEnded {
+                room: self.code.clone(),
+                number: self.game_number,
+                winner: *winner,
+                reason: reason.clone(),
+            }));
+        }
         match hash {
             Some(hash) => {
                 out.extend(self.broadcast(ServerMessage::ShotAccepted {
@@ -553,8 +571,29 @@ impl Room {
                 shot_clock_ms: self.clock_ms(now),
             };
             out.extend(self.broadcast(msg));
+            if self.record.entries.len() + 1 >= self.rules.max_commands {
+                out.extend(self.end_at_length_limit(now));
+            }
         }
         Ok(out)
+    }
+
+    /// Ends a game that has one place left in its record: the player to move concedes
+    /// (in practice, the session ends), so the record never grows past the limit.
+    fn end_at_length_limit(&mut self, now: Instant) -> Vec<Output> {
+        let mut out = self.broadcast(ServerMessage::Chat {
+            from: String::new(),
+            text: format!(
+                "this game reached its length limit of {} commands and ends now",
+                self.rules.max_commands
+            ),
+        });
+        let seat = self.game.to_move();
+        out.extend(
+            self.play(now, seat, None, Command::Concede)
+                .unwrap_or_default(),
+        );
+        out
     }
 
     fn call_pocket(&mut self, seat: Seat, turn: u32, pocket: u8) -> Result<Vec<Output>, Refusal> {
@@ -592,7 +631,7 @@ impl Room {
         self.rematch = [false; 2];
         self.called = None;
         self.restart_clock(now, Duration::ZERO);
-        let mut out = vec![self.store_game()];
+        let mut out = vec![self.store_start()];
         out.extend(self.broadcast(ServerMessage::GameStarted {
             snapshot: Box::new(self.snapshot(now)),
         }));
@@ -606,12 +645,28 @@ impl Room {
         self.broadcast(ServerMessage::Chat { from, text })
     }
 
-    fn store_game(&self) -> Output {
-        Output::Store(StoreOp::Game {
+    /// Stores the start of the current game (its record's header).
+    fn store_start(&self) -> Output {
+        Output::Store(StoreOp::GameStarted {
             room: self.code.clone(),
             number: self.game_number,
-            record: self.record.encode(),
-            finished: self.is_over(),
+            header: self.record.encode(),
+        })
+    }
+
+    /// Stores the record's last entry.
+    fn store_command(&self) -> Output {
+        let index = self.record.entries.len().saturating_sub(1);
+        Output::Store(StoreOp::Command {
+            room: self.code.clone(),
+            number: self.game_number,
+            index: u32::try_from(index).unwrap_or(u32::MAX),
+            entry: self
+                .record
+                .entries
+                .last()
+                .map(|e| e.encode())
+                .unwrap_or_default(),
         })
     }
 

@@ -21,17 +21,19 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use breakshot_shared::protocol::{reference_hash, Fingerprint, Invite};
-use breakshot_shared::replay::GameRecord;
 use thiserror::Error;
 use tokio::sync::mpsc::error::TrySendError;
 use tokio::sync::Notify;
 
+use crate::admission::{Entry, Gate, Refusal, Ticket};
 use crate::conn::{self, HubEvent, Outbound, Outlet};
+use crate::endings::Ending;
 use crate::hub::{Hub, HubConfig};
 use crate::limits::Limits;
-use crate::output::{ConnId, Output};
+use crate::output::{ConnId, Output, StoreOp};
 use crate::records;
 use crate::secret::{Entropy, OsEntropy, TestEntropy};
+use crate::source::source_key;
 use crate::stats::Stats;
 use crate::store::{Store, StoreError};
 use crate::tls::{Identity, TlsError};
@@ -95,7 +97,9 @@ pub struct Server {
 enum WriterMsg {
     Register(ConnId, Outlet),
     Unregister(ConnId),
-    Batch(Vec<Output>),
+    /// What the hub made of one event; `read` is when the message it answers was read, for
+    /// the server's time per command.
+    Batch(Vec<Output>, Option<Instant>),
 }
 
 impl Server {
@@ -193,6 +197,7 @@ impl Server {
         let writer_thread = spawn_writer(store, writer_rx, failed.clone(), stats.clone());
         let hub_tx = conn::HubSender::new(hub_tx, stats.clone());
 
+        let gate = Gate::new(stats.clone());
         let mut next_id: ConnId = 0;
         let mut connections = tokio::task::JoinSet::new();
         tokio::pin!(shutdown);
@@ -204,7 +209,7 @@ impl Server {
                     let Some(incoming) = incoming else { break Ok(()) };
                     // Finished tasks are reaped here so the set holds only live ones.
                     while connections.try_join_next().is_some() {}
-                    let Some(incoming) = admit(incoming, &limits, &stats) else { continue };
+                    let Some((incoming, mut ticket)) = admit(incoming, &gate, &limits, &stats) else { continue };
                     next_id += 1;
                     let id = next_id;
                     let (outlet, rx, kill) = conn::outlet(limits.outbound_queue);
@@ -214,20 +219,19 @@ impl Server {
                     let hub_tx = hub_tx.clone();
                     let writer_tx = writer_tx.clone();
                     let limits = limits.clone();
-                    let stats = stats.clone();
-                    stats.connections.fetch_add(1, Ordering::Relaxed);
-                    stats.handshaking.fetch_add(1, Ordering::Relaxed);
                     connections.spawn(async move {
-                        let handshake = incoming.await;
-                        stats.handshaking.fetch_sub(1, Ordering::Relaxed);
+                        // Dropping an unfinished handshake abandons it.
+                        let handshake = tokio::time::timeout(limits.handshake_timeout, incoming).await;
+                        ticket.handshake_over();
                         match handshake {
-                            Ok(connection) => {
+                            Ok(Ok(connection)) => {
                                 tracing::debug!(conn = id, peer = %connection.remote_address(), "connected");
                                 conn::serve(id, connection, hub_tx, rx, kill, &limits).await;
                             }
-                            Err(e) => tracing::debug!(conn = id, error = %e, "handshake failed"),
+                            Ok(Err(e)) => tracing::debug!(conn = id, error = %e, "handshake failed"),
+                            Err(_) => tracing::debug!(conn = id, "handshake took too long"),
                         }
-                        stats.connections.fetch_sub(1, Ordering::Relaxed);
+                        drop(ticket);
                         let _ = writer_tx.send(WriterMsg::Unregister(id));
                     });
                 }
@@ -249,6 +253,7 @@ impl Server {
         })
         .await;
         let _ = tokio::time::timeout(Duration::from_secs(3), endpoint.wait_idle()).await;
+        report_command_time(&stats);
         match (outcome, joined) {
             (Ok(()), Ok(Ok(Ok(())))) => Ok(()),
             (_, Ok(Ok(Err(e)))) => Err(ServerError::StorageFailed(e)),
@@ -256,6 +261,21 @@ impl Server {
                 "the writer thread stopped".into(),
             )),
         }
+    }
+}
+
+/// Logs the server's own time per command over the run (see [`crate::timing`]).
+fn report_command_time(stats: &Stats) {
+    let h = &stats.command_time;
+    let ms = |q| h.quantile(q).map_or(0.0, |d| d.as_secs_f64() * 1e3);
+    if h.count() > 0 {
+        tracing::info!(
+            commands = h.count(),
+            p50_ms = format!("{:.2}", ms(0.5)),
+            p99_ms = format!("{:.2}", ms(0.99)),
+            max_ms = format!("{:.2}", ms(1.0)),
+            "server time per command (read, queue, rules and simulation, durable write)"
+        );
     }
 }
 
@@ -297,25 +317,36 @@ fn endpoint(
     )
 }
 
-/// Decides whether a connection attempt gets a handshake: refused beyond the connection
-/// limit; sent a retry (which a real client answers at once and a spoofed or silent one never
-/// does) when many handshakes are already under way and its address is not yet proven.
-fn admit(incoming: quinn::Incoming, limits: &Limits, stats: &Stats) -> Option<quinn::Incoming> {
-    if stats.connections.load(Ordering::Relaxed) >= limits.max_connections {
-        stats.refused.fetch_add(1, Ordering::Relaxed);
-        incoming.refuse();
-        return None;
-    }
-    if stats.handshaking.load(Ordering::Relaxed) >= limits.max_handshakes
-        && !incoming.remote_address_validated()
-    {
-        stats.retried.fetch_add(1, Ordering::Relaxed);
-        if let Err(e) = incoming.retry() {
-            e.into_incoming().ignore();
+/// Decides whether a connection attempt gets a handshake (see [`crate::admission`]):
+/// refused beyond the connection limit or its address's share; sent a retry (which a real
+/// client answers at once and a spoofed one never does) when many handshakes are already
+/// under way and its address is not yet proven.
+fn admit(
+    incoming: quinn::Incoming,
+    gate: &Gate,
+    limits: &Limits,
+    stats: &Stats,
+) -> Option<(quinn::Incoming, Ticket)> {
+    let source = source_key(incoming.remote_address().ip());
+    match gate.admit(limits, source, incoming.remote_address_validated()) {
+        Entry::Admitted(ticket) => Some((incoming, ticket)),
+        Entry::Retry => {
+            stats.retried.fetch_add(1, Ordering::Relaxed);
+            if let Err(e) = incoming.retry() {
+                e.into_incoming().ignore();
+            }
+            None
         }
-        return None;
+        Entry::Refused(why) => {
+            let counter = match why {
+                Refusal::Full => &stats.refused,
+                Refusal::AddressShare => &stats.refused_address,
+            };
+            counter.fetch_add(1, Ordering::Relaxed);
+            incoming.refuse();
+            None
+        }
     }
-    Some(incoming)
 }
 
 /// Connection IDs drawn at random, all accepted as well-formed. quinn's default generator
@@ -353,7 +384,7 @@ fn restore(store: &Store, hub: &mut Hub) -> Result<usize, ServerError> {
     let mut restored = 0;
     for stored in store.unfinished()? {
         let room = stored.meta.code.clone();
-        let record = match GameRecord::decode(&stored.record) {
+        let record = match stored.record {
             Ok(r) => r,
             Err(e) => {
                 tracing::error!(%room, game = stored.number, error = %e, "stored record unreadable; not restored");
@@ -370,6 +401,19 @@ fn restore(store: &Store, hub: &mut Hub) -> Result<usize, ServerError> {
                 tracing::error!(%room, game = stored.number, error = %e, "stored game does not replay; not restored")
             }
         }
+    }
+    // Games that ended recently: their players may still come back to learn the result.
+    let retention = hub.config().limits.finished_retention.as_secs();
+    let today = crate::store::unix_now();
+    for ended in store.ended_since(today.saturating_sub(retention))? {
+        let ending = Ending {
+            room: ended.meta.code.clone(),
+            game: ended.number,
+            winner: ended.winner,
+            reason: ended.reason,
+        };
+        let age = Duration::from_secs(today.saturating_sub(ended.at));
+        hub.restore_ending(now, &ended.meta, ending, age);
     }
     Ok(restored)
 }
@@ -393,12 +437,16 @@ fn spawn_hub(
         if event.is_ok() {
             stats.hub_queue.fetch_sub(1, Ordering::Relaxed);
         }
+        let read = match &event {
+            Ok(HubEvent::Message(_, _, at)) => Some(*at),
+            _ => None,
+        };
         let out = match event {
             Ok(HubEvent::Connected(id, addr)) => {
                 hub.connected(now, id, addr);
                 Vec::new()
             }
-            Ok(HubEvent::Message(id, msg)) => hub.handle(now, id, msg),
+            Ok(HubEvent::Message(id, msg, _)) => hub.handle(now, id, msg),
             Ok(HubEvent::Disconnected(id)) => hub.disconnected(now, id),
             Ok(HubEvent::Shutdown) | Err(RecvTimeoutError::Disconnected) => return,
             Err(RecvTimeoutError::Timeout) => hub.tick(now),
@@ -408,7 +456,7 @@ fn spawn_hub(
         if hub.next_deadline().is_some_and(|d| d <= now) {
             out.extend(hub.tick(now));
         }
-        if !out.is_empty() && writer.send(WriterMsg::Batch(out)).is_err() {
+        if !out.is_empty() && writer.send(WriterMsg::Batch(out, read)).is_err() {
             return;
         }
     })
@@ -429,7 +477,7 @@ fn spawn_writer(
             let ops: Vec<_> = msgs
                 .iter()
                 .filter_map(|m| match m {
-                    WriterMsg::Batch(out) => Some(out.iter().filter_map(|o| match o {
+                    WriterMsg::Batch(out, _) => Some(out.iter().filter_map(|o| match o {
                         Output::Store(op) => Some(op),
                         _ => None,
                     })),
@@ -452,7 +500,10 @@ fn spawn_writer(
                     WriterMsg::Unregister(id) => {
                         conns.remove(&id);
                     }
-                    WriterMsg::Batch(out) => {
+                    WriterMsg::Batch(out, read) => {
+                        let command = out
+                            .iter()
+                            .any(|o| matches!(o, Output::Store(StoreOp::Command { .. })));
                         for o in out {
                             let (to, what) = match o {
                                 Output::Send { to, msg } => (to, Outbound::Message(msg)),
@@ -476,6 +527,9 @@ fn spawn_writer(
                                 outlet.kill.notify_one();
                                 conns.remove(&to);
                             }
+                        }
+                        if let (true, Some(read)) = (command, read) {
+                            stats.command_time.record(read.elapsed());
                         }
                     }
                 }

@@ -3,6 +3,8 @@
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+use crate::timing::Histogram;
+
 #[derive(Debug, Default)]
 pub struct Stats {
     /// Connections open, counting those still in their handshake.
@@ -17,12 +19,17 @@ pub struct Stats {
     pub rooms: AtomicUsize,
     /// Connection attempts refused at the connection limit.
     pub refused: AtomicUsize,
+    /// Connection attempts refused because their address held its share.
+    pub refused_address: AtomicUsize,
     /// Connection attempts asked to prove their address first.
     pub retried: AtomicUsize,
     /// Connections closed because they sent faster than the message limit.
     pub flooding: AtomicUsize,
     /// Connections closed because they did not read what they were sent.
     pub too_slow: AtomicUsize,
+    /// The server's own time per applied command: from reading its frame to handing its
+    /// (stored) result to the connections.
+    pub command_time: Histogram,
 }
 
 impl Stats {

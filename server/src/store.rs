@@ -1,15 +1,20 @@
 //! The game store: SQLite in the data directory, WAL with `synchronous=FULL`, so a commit
 //! that returned survives a crash or a power cut. One row per room (its settings and seat
-//! token digests), one row per game (its whole record, replaced on every command).
+//! token digests), one per game (its header: rules, settings, seed; and, once it is over, its
+//! result) and one per accepted command. A command is one appended row, so a write costs the
+//! same at the thousandth command as at the first; a game's record is assembled on read.
 //!
 //! Everything here blocks; the server calls it from its own writer thread, never from an
 //! async worker.
 
 use std::path::Path;
+use std::time::{SystemTime, UNIX_EPOCH};
 
 use bincode::config;
 use breakshot_shared::protocol::limits::MAX_RECORD;
 use breakshot_shared::protocol::RoomCode;
+use breakshot_shared::replay::{GameRecord, RecordEntry, RecordError};
+use breakshot_shared::rules::Seat;
 use rusqlite::{params, Connection, OptionalExtension};
 use thiserror::Error;
 
@@ -17,12 +22,25 @@ use crate::output::{RoomMeta, StoreOp};
 
 pub const DB_FILE: &str = "games.sqlite3";
 
+/// The schema this build writes (`PRAGMA user_version`). Version 1 (no version set) kept
+/// each game's whole record in `games.record`; it is migrated in place on open: the record
+/// becomes the game's header, with no command rows after it.
+const SCHEMA: i64 = 2;
+
 #[derive(Debug, Error)]
 pub enum StoreError {
     #[error("database: {0}")]
     Sql(#[from] rusqlite::Error),
     #[error("room {room}: stored settings are unreadable: {why}")]
     Meta { room: String, why: String },
+    #[error("room {room} game {number}: {why}")]
+    Record {
+        room: String,
+        number: u32,
+        why: RecordError,
+    },
+    #[error("the store's schema version {0} is newer than this build's ({SCHEMA})")]
+    Schema(i64),
 }
 
 /// One stored game with its room.
@@ -30,8 +48,27 @@ pub enum StoreError {
 pub struct StoredGame {
     pub meta: RoomMeta,
     pub number: u32,
-    pub record: Vec<u8>,
+    /// The record assembled from the header and the command rows (or why it cannot be).
+    pub record: Result<GameRecord, RecordError>,
     pub finished: bool,
+}
+
+/// A stored game that is over, with its room.
+#[derive(Clone, Debug)]
+pub struct EndedGame {
+    pub meta: RoomMeta,
+    pub number: u32,
+    pub winner: Option<Seat>,
+    pub reason: String,
+    /// When the store recorded the end (seconds since the Unix epoch).
+    pub at: u64,
+}
+
+/// Seconds since the Unix epoch, the store's clock for when games ended.
+pub fn unix_now() -> u64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs())
 }
 
 pub struct Store {
@@ -39,12 +76,30 @@ pub struct Store {
 }
 
 impl Store {
-    /// Opens (or creates) the store in `dir`.
+    /// Opens (or creates) the store in `dir`, migrating an older schema.
     pub fn open(dir: &Path) -> Result<Store, StoreError> {
         let db = Connection::open(dir.join(DB_FILE))?;
         db.pragma_update(None, "journal_mode", "WAL")?;
         db.pragma_update(None, "synchronous", "FULL")?;
-        db.execute_batch(
+        let version: i64 = db.pragma_query_value(None, "user_version", |r| r.get(0))?;
+        if version > SCHEMA {
+            return Err(StoreError::Schema(version));
+        }
+        let has_v1_games: bool = db.query_row(
+            "SELECT COUNT(*) FROM pragma_table_info('games') WHERE name = 'record'",
+            [],
+            |r| r.get(0),
+        )?;
+        let tx = db.unchecked_transaction()?;
+        if has_v1_games {
+            tx.execute_batch(
+                "ALTER TABLE games RENAME COLUMN record TO header;
+                 ALTER TABLE games ADD COLUMN winner INTEGER;
+                 ALTER TABLE games ADD COLUMN reason TEXT;
+                 ALTER TABLE games ADD COLUMN finished_at INTEGER;",
+            )?;
+        }
+        tx.execute_batch(
             "CREATE TABLE IF NOT EXISTS rooms (
                  code TEXT PRIMARY KEY,
                  meta BLOB NOT NULL
@@ -52,11 +107,24 @@ impl Store {
              CREATE TABLE IF NOT EXISTS games (
                  room TEXT NOT NULL REFERENCES rooms(code),
                  number INTEGER NOT NULL,
-                 record BLOB NOT NULL,
+                 header BLOB NOT NULL,
                  finished INTEGER NOT NULL,
+                 winner INTEGER,
+                 reason TEXT,
+                 finished_at INTEGER,
                  PRIMARY KEY (room, number)
-             );",
+             );
+             CREATE TABLE IF NOT EXISTS commands (
+                 room TEXT NOT NULL,
+                 number INTEGER NOT NULL,
+                 idx INTEGER NOT NULL,
+                 entry BLOB NOT NULL,
+                 PRIMARY KEY (room, number, idx)
+             ) WITHOUT ROWID;
+             CREATE INDEX IF NOT EXISTS games_finished ON games (finished, finished_at);",
         )?;
+        tx.pragma_update(None, "user_version", SCHEMA)?;
+        tx.commit()?;
         Ok(Store { db })
     }
 
@@ -73,24 +141,56 @@ impl Store {
                                 why: e.to_string(),
                             }
                         })?;
-                    tx.execute(
+                    tx.prepare_cached(
                         "INSERT INTO rooms (code, meta) VALUES (?1, ?2)
                          ON CONFLICT(code) DO UPDATE SET meta = excluded.meta",
-                        params![meta.code.as_str(), blob],
-                    )?;
+                    )?
+                    .execute(params![meta.code.as_str(), blob])?;
                 }
-                StoreOp::Game {
+                StoreOp::GameStarted {
                     room,
                     number,
-                    record,
-                    finished,
+                    header,
                 } => {
-                    tx.execute(
-                        "INSERT INTO games (room, number, record, finished) VALUES (?1, ?2, ?3, ?4)
+                    tx.prepare_cached(
+                        "INSERT INTO games (room, number, header, finished) VALUES (?1, ?2, ?3, 0)
                          ON CONFLICT(room, number) DO UPDATE
-                         SET record = excluded.record, finished = excluded.finished",
-                        params![room.as_str(), number, record, finished],
-                    )?;
+                         SET header = excluded.header, finished = 0, winner = NULL,
+                             reason = NULL, finished_at = NULL",
+                    )?
+                    .execute(params![room.as_str(), number, header])?;
+                    tx.prepare_cached("DELETE FROM commands WHERE room = ?1 AND number = ?2")?
+                        .execute(params![room.as_str(), number])?;
+                }
+                StoreOp::Command {
+                    room,
+                    number,
+                    index,
+                    entry,
+                } => {
+                    tx.prepare_cached(
+                        "INSERT INTO commands (room, number, idx, entry) VALUES (?1, ?2, ?3, ?4)",
+                    )?
+                    .execute(params![room.as_str(), number, index, entry])?;
+                }
+                StoreOp::GameEnded {
+                    room,
+                    number,
+                    winner,
+                    reason,
+                } => {
+                    let at = unix_now();
+                    tx.prepare_cached(
+                        "UPDATE games SET finished = 1, winner = ?3, reason = ?4, finished_at = ?5
+                         WHERE room = ?1 AND number = ?2",
+                    )?
+                    .execute(params![
+                        room.as_str(),
+                        number,
+                        winner.map(seat_number),
+                        reason,
+                        i64::try_from(at).unwrap_or(i64::MAX)
+                    ])?;
                 }
             }
         }
@@ -103,53 +203,141 @@ impl Store {
         self.games("WHERE g.finished = 0")
     }
 
+    /// The latest game of each room if it ended at `since` (Unix seconds) or later: the
+    /// games whose players may still come back to learn the result.
+    pub fn ended_since(&self, since: u64) -> Result<Vec<EndedGame>, StoreError> {
+        let mut stmt = self.db.prepare(
+            "SELECT r.code, r.meta, g.number, g.winner, g.reason, g.finished_at
+             FROM games g JOIN rooms r ON r.code = g.room
+             WHERE g.finished = 1 AND g.finished_at >= ?1
+               AND g.number = (SELECT MAX(number) FROM games WHERE room = g.room)
+             ORDER BY g.finished_at",
+        )?;
+        let since = i64::try_from(since).unwrap_or(i64::MAX);
+        let rows = stmt.query_map(params![since], |r| {
+            Ok((
+                r.get::<_, String>(0)?,
+                r.get::<_, Vec<u8>>(1)?,
+                r.get::<_, u32>(2)?,
+                r.get::<_, Option<i64>>(3)?,
+                r.get::<_, Option<String>>(4)?,
+                r.get::<_, i64>(5)?,
+            ))
+        })?;
+        let mut out = Vec::new();
+        for row in rows {
+            let (code, meta, number, winner, reason, at) = row?;
+            let meta = decode_meta(&meta).map_err(|why| StoreError::Meta { room: code, why })?;
+            out.push(EndedGame {
+                meta,
+                number,
+                winner: match winner {
+                    Some(0) => Some(Seat::A),
+                    Some(1) => Some(Seat::B),
+                    _ => None,
+                },
+                reason: reason.unwrap_or_default(),
+                at: u64::try_from(at).unwrap_or(0),
+            });
+        }
+        Ok(out)
+    }
+
     /// Every stored game, in room and game order.
     pub fn all(&self) -> Result<Vec<StoredGame>, StoreError> {
         self.games("")
     }
 
-    /// Overwrites one game's record (for tests of tamper detection).
+    /// Replaces one game's record whole (for tests of tamper detection).
     pub fn overwrite_record(
         &self,
         room: &RoomCode,
         number: u32,
         record: &[u8],
     ) -> Result<bool, StoreError> {
-        let n = self.db.execute(
-            "UPDATE games SET record = ?3 WHERE room = ?1 AND number = ?2",
+        let tx = self.db.unchecked_transaction()?;
+        let n = tx.execute(
+            "UPDATE games SET header = ?3 WHERE room = ?1 AND number = ?2",
             params![room.as_str(), number, record],
         )?;
+        tx.execute(
+            "DELETE FROM commands WHERE room = ?1 AND number = ?2",
+            params![room.as_str(), number],
+        )?;
+        tx.commit()?;
         Ok(n == 1)
     }
 
-    /// One game's record.
+    /// One game's record, encoded.
     pub fn record(&self, room: &RoomCode, number: u32) -> Result<Option<Vec<u8>>, StoreError> {
-        Ok(self
+        let header: Option<Vec<u8>> = self
             .db
             .query_row(
-                "SELECT record FROM games WHERE room = ?1 AND number = ?2",
+                "SELECT header FROM games WHERE room = ?1 AND number = ?2",
                 params![room.as_str(), number],
                 |r| r.get(0),
             )
-            .optional()?)
+            .optional()?;
+        let Some(header) = header else {
+            return Ok(None);
+        };
+        let record = self
+            .assemble(room.as_str(), number, &header)?
+            .map_err(|why| StoreError::Record {
+                room: room.to_string(),
+                number,
+                why,
+            })?;
+        Ok(Some(record.encode()))
     }
 
-    /// The latest game of a room: (number, record, finished).
+    /// The latest game of a room: (number, encoded record, finished).
     pub fn latest(&self, room: &RoomCode) -> Result<Option<(u32, Vec<u8>, bool)>, StoreError> {
-        Ok(self
+        let latest: Option<(u32, bool)> = self
             .db
             .query_row(
-                "SELECT number, record, finished FROM games WHERE room = ?1
+                "SELECT number, finished FROM games WHERE room = ?1
                  ORDER BY number DESC LIMIT 1",
                 params![room.as_str()],
-                |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)),
+                |r| Ok((r.get(0)?, r.get(1)?)),
             )
-            .optional()?)
+            .optional()?;
+        let Some((number, finished)) = latest else {
+            return Ok(None);
+        };
+        Ok(self
+            .record(room, number)?
+            .map(|record| (number, record, finished)))
+    }
+
+    /// A game's record: its header followed by its command rows, in order.
+    fn assemble(
+        &self,
+        room: &str,
+        number: u32,
+        header: &[u8],
+    ) -> Result<Result<GameRecord, RecordError>, StoreError> {
+        let mut stmt = self.db.prepare_cached(
+            "SELECT entry FROM commands WHERE room = ?1 AND number = ?2 ORDER BY idx",
+        )?;
+        let mut rows = stmt.query(params![room, number])?;
+        let mut record = match GameRecord::decode(header) {
+            Ok(r) => r,
+            Err(e) => return Ok(Err(e)),
+        };
+        while let Some(row) = rows.next()? {
+            let bytes: Vec<u8> = row.get(0)?;
+            match RecordEntry::decode(&bytes) {
+                Ok(entry) => record.entries.push(entry),
+                Err(e) => return Ok(Err(e)),
+            }
+        }
+        Ok(Ok(record))
     }
 
     fn games(&self, filter: &str) -> Result<Vec<StoredGame>, StoreError> {
         let sql = format!(
-            "SELECT r.code, r.meta, g.number, g.record, g.finished
+            "SELECT r.code, r.meta, g.number, g.header, g.finished
              FROM games g JOIN rooms r ON r.code = g.room {filter}
              ORDER BY g.room, g.number"
         );
@@ -165,7 +353,8 @@ impl Store {
         })?;
         let mut out = Vec::new();
         for row in rows {
-            let (code, meta, number, record, finished) = row?;
+            let (code, meta, number, header, finished) = row?;
+            let record = self.assemble(&code, number, &header)?;
             let meta = decode_meta(&meta).map_err(|why| StoreError::Meta { room: code, why })?;
             out.push(StoredGame {
                 meta,
@@ -175,6 +364,13 @@ impl Store {
             });
         }
         Ok(out)
+    }
+}
+
+fn seat_number(seat: Seat) -> i64 {
+    match seat {
+        Seat::A => 0,
+        Seat::B => 1,
     }
 }
 
@@ -211,33 +407,172 @@ mod tests {
                 None,
             ],
         };
-        let game = |code: &str, finished| StoreOp::Game {
+        let record = GameRecord::new(
+            Variant::EightBall(EightBallRules::Wpa),
+            Settings::offline(),
+            7,
+        );
+        let game = |code: &str| StoreOp::GameStarted {
             room: RoomCode::parse(code).unwrap(),
             number: 1,
-            record: vec![1, 2, 3],
-            finished,
+            header: record.encode(),
+        };
+        let ended = StoreOp::GameEnded {
+            room: RoomCode::parse("BBBBBBBB").unwrap(),
+            number: 1,
+            winner: Some(Seat::B),
+            reason: "A conceded".into(),
         };
         {
             let mut store = Store::open(&dir).unwrap();
             let ops = [
                 StoreOp::Room(meta("AAAAAAAA")),
-                game("AAAAAAAA", false),
+                game("AAAAAAAA"),
                 StoreOp::Room(meta("BBBBBBBB")),
-                game("BBBBBBBB", false),
+                game("BBBBBBBB"),
             ];
             store.apply(&ops.iter().collect::<Vec<_>>()).unwrap();
-            store.apply(&[&game("BBBBBBBB", true)]).unwrap();
+            store.apply(&[&ended]).unwrap();
         }
         let store = Store::open(&dir).unwrap();
         let open = store.unfinished().unwrap();
         assert_eq!(open.len(), 1);
         assert_eq!(open[0].meta.code.as_str(), "AAAAAAAA");
-        assert_eq!(open[0].record, vec![1, 2, 3]);
+        assert_eq!(open[0].record, Ok(record.clone()));
         assert_eq!(
             open[0].meta.seats[0].as_ref().unwrap().digest,
             TokenDigest([1; 32])
         );
         assert_eq!(store.all().unwrap().len(), 2);
+        let ended = store.ended_since(unix_now() - 60).unwrap();
+        assert_eq!(ended.len(), 1);
+        assert_eq!(ended[0].meta.code.as_str(), "BBBBBBBB");
+        assert_eq!(ended[0].winner, Some(Seat::B));
+        assert_eq!(ended[0].reason, "A conceded");
+        assert!(store.ended_since(unix_now() + 60).unwrap().is_empty());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let dir =
+            std::env::temp_dir().join(format!("breakshot-store-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    fn room_meta(code: &RoomCode) -> RoomMeta {
+        RoomMeta {
+            code: code.clone(),
+            variant: Variant::Practice,
+            settings: Settings::offline(),
+            aim_aid: AimAid::Off,
+            seats: [None, None],
+        }
+    }
+
+    fn place(i: u32) -> RecordEntry {
+        RecordEntry {
+            seat: Seat::A,
+            command: breakshot_shared::rules::Command::PlaceCueBall {
+                pos: [0.5, f64::from(i)],
+            },
+            hash: None,
+        }
+    }
+
+    #[test]
+    fn a_game_is_appended_one_row_per_command_and_assembled_on_read() {
+        let dir = scratch("append");
+        let code = RoomCode::parse("CCCCCCCC").unwrap();
+        let mut record = GameRecord::new(Variant::Practice, Settings::offline(), 3);
+        {
+            let mut store = Store::open(&dir).unwrap();
+            let start = StoreOp::whole_game(&code, 1, &record);
+            let mut ops = vec![StoreOp::Room(room_meta(&code))];
+            ops.extend(start);
+            store.apply(&ops.iter().collect::<Vec<_>>()).unwrap();
+            for i in 0..50 {
+                let entry = place(i);
+                let op = StoreOp::Command {
+                    room: code.clone(),
+                    number: 1,
+                    index: i,
+                    entry: entry.encode(),
+                };
+                store.apply(&[&op]).unwrap();
+                record.entries.push(entry);
+            }
+            // Appending never rewrites: the header row is as it was stored first.
+            let header: Vec<u8> = store
+                .db
+                .query_row("SELECT header FROM games", [], |r| r.get(0))
+                .unwrap();
+            assert_eq!(GameRecord::decode(&header).unwrap().entries.len(), 0);
+            let rows: u32 = store
+                .db
+                .query_row("SELECT COUNT(*) FROM commands", [], |r| r.get(0))
+                .unwrap();
+            assert_eq!(rows, 50);
+            // The same index twice is refused: nothing is overwritten by mistake.
+            let again = StoreOp::Command {
+                room: code.clone(),
+                number: 1,
+                index: 7,
+                entry: place(99).encode(),
+            };
+            assert!(store.apply(&[&again]).is_err());
+        }
+        let store = Store::open(&dir).unwrap();
+        let stored = store.record(&code, 1).unwrap().unwrap();
+        assert_eq!(GameRecord::decode(&stored).unwrap(), record);
+        assert_eq!(store.unfinished().unwrap()[0].record, Ok(record));
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn a_store_of_the_first_schema_is_migrated_in_place() {
+        let dir = scratch("migrate");
+        let code = RoomCode::parse("DDDDDDDD").unwrap();
+        let mut record = GameRecord::new(Variant::Practice, Settings::offline(), 4);
+        record.entries.extend((0..3).map(place));
+        {
+            // The first schema: the whole record in one column.
+            let db = Connection::open(dir.join(DB_FILE)).unwrap();
+            db.execute_batch(
+                "CREATE TABLE rooms (code TEXT PRIMARY KEY, meta BLOB NOT NULL);
+                 CREATE TABLE games (room TEXT NOT NULL REFERENCES rooms(code),
+                     number INTEGER NOT NULL, record BLOB NOT NULL,
+                     finished INTEGER NOT NULL, PRIMARY KEY (room, number));",
+            )
+            .unwrap();
+            let meta = bincode::serde::encode_to_vec(room_meta(&code), config::standard()).unwrap();
+            db.execute(
+                "INSERT INTO rooms VALUES (?1, ?2)",
+                params![code.as_str(), meta],
+            )
+            .unwrap();
+            db.execute(
+                "INSERT INTO games VALUES (?1, 1, ?2, 0)",
+                params![code.as_str(), record.encode()],
+            )
+            .unwrap();
+        }
+        let mut store = Store::open(&dir).unwrap();
+        assert_eq!(store.unfinished().unwrap()[0].record, Ok(record.clone()));
+        // The game goes on in the new form.
+        let next = place(3);
+        let op = StoreOp::Command {
+            room: code.clone(),
+            number: 1,
+            index: 3,
+            entry: next.encode(),
+        };
+        store.apply(&[&op]).unwrap();
+        record.entries.push(next);
+        drop(store);
+        let store = Store::open(&dir).unwrap();
+        assert_eq!(store.all().unwrap()[0].record, Ok(record));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -3,7 +3,6 @@
 use std::path::Path;
 
 use breakshot_shared::protocol::RoomCode;
-use breakshot_shared::replay::GameRecord;
 
 use crate::store::{Store, StoreError, DB_FILE};
 
@@ -30,7 +29,7 @@ pub fn verify_dir(dir: &Path) -> Result<Vec<GameCheck>, StoreError> {
         .all()?
         .into_iter()
         .map(|g| {
-            let (commands, result) = match GameRecord::decode(&g.record) {
+            let (commands, result) = match g.record {
                 Ok(record) => (
                     record.entries.len(),
                     record.replay().map(|_| ()).map_err(|e| e.to_string()),

@@ -51,21 +51,16 @@ fn store_game(dir: &Path, tamper: bool) {
         last.hash = last.hash.map(|h| h ^ 1);
     }
     let code = RoomCode::parse("K7QX2M4B").unwrap();
-    let ops = [
-        StoreOp::Room(RoomMeta {
-            code: code.clone(),
-            variant,
-            settings,
-            aim_aid: AimAid::Off,
-            seats: [None, None],
-        }),
-        StoreOp::Game {
-            room: code,
-            number: 1,
-            record: record.encode(),
-            finished: false,
-        },
-    ];
+    let ops = [StoreOp::Room(RoomMeta {
+        code: code.clone(),
+        variant,
+        settings,
+        aim_aid: AimAid::Off,
+        seats: [None, None],
+    })]
+    .into_iter()
+    .chain(StoreOp::whole_game(&code, 1, &record))
+    .collect::<Vec<_>>();
     Store::open(dir)
         .unwrap()
         .apply(&ops.iter().collect::<Vec<_>>())

@@ -93,6 +93,28 @@ fn config() -> impl bincode::config::Config {
     bincode::config::standard().with_limit::<MAX_RECORD_BYTES>()
 }
 
+impl RecordEntry {
+    /// One entry on its own (a store keeps a game as its header, the record with no entries,
+    /// followed by one row per entry), in the record's encoding.
+    pub fn encode(&self) -> Vec<u8> {
+        // As for a whole record: these types always encode.
+        bincode::serde::encode_to_vec(self, bincode::config::standard()).unwrap_or_default()
+    }
+
+    pub fn decode(bytes: &[u8]) -> Result<RecordEntry, RecordError> {
+        if bytes.len() > MAX_RECORD_BYTES {
+            return Err(RecordError::TooLarge);
+        }
+        let (entry, used): (RecordEntry, usize) =
+            bincode::serde::decode_from_slice(bytes, config())
+                .map_err(|e| RecordError::Malformed(e.to_string()))?;
+        if used != bytes.len() {
+            return Err(RecordError::TrailingBytes(bytes.len() - used));
+        }
+        Ok(entry)
+    }
+}
+
 impl GameRecord {
     /// An empty record of a game about to start.
     pub fn new(variant: Variant, settings: Settings, seed: u64) -> GameRecord {

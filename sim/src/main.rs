@@ -1,8 +1,8 @@
 //! `breakshot-sim`: simulate scene files (docs/scene.md) from the command line.
 
+mod ai_study;
 mod cluster_study;
 mod fit;
-mod ai_study;
 mod study;
 mod suggest;
 

@@ -11,11 +11,13 @@ use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
 use breakshot_client::bot::{run, BotConfig};
+use breakshot_client::net::{endpoint, Channel};
 use breakshot_server::store::Store;
 use breakshot_server::verify::verify_dir;
-use breakshot_server::{Config, Server};
-use breakshot_shared::protocol::Invite;
+use breakshot_server::{Config, Limits, Server};
+use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, ServerMessage};
 use breakshot_shared::replay::GameRecord;
+use breakshot_shared::rules::{Settings, Variant};
 use breakshot_tests::TempDir;
 
 /// Set (to `BIND DATA`) in the server process this test starts.
@@ -24,6 +26,8 @@ const CHILD: &str = "BREAKSHOT_FAULTS_SERVER";
 const GAMES: usize = 4;
 /// Times the server is killed.
 const KILLS: usize = 3;
+/// How long a test waits for an answer before calling the server stuck.
+const PATIENCE: Duration = Duration::from_secs(60);
 
 /// The server process: serves until killed. Does nothing in a normal test run.
 #[test]
@@ -66,16 +70,26 @@ fn start(bind: &str, data: &Path) -> (Child, Invite) {
         )
         .spawn()
         .expect("starting the server process");
-    // The test harness speaks first, on the same line too: the invite starts at its scheme.
-    let mut lines = BufReader::new(child.stdout.take().expect("stdout")).lines();
-    let invite = lines
-        .by_ref()
-        .map_while(Result::ok)
-        .find_map(|line| {
-            let at = line.find("breakshot://")?;
-            line[at..].trim().parse::<Invite>().ok()
-        })
-        .expect("an invite line");
+    // Read the invite on a thread of its own, so a server that never prints it fails the
+    // test instead of hanging it. The test harness speaks first, on the same line too: the
+    // invite starts at its scheme.
+    let stdout = child.stdout.take().expect("stdout");
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let invite = BufReader::new(stdout)
+            .lines()
+            .map_while(Result::ok)
+            .find_map(|line| {
+                let at = line.find("breakshot://")?;
+                line[at..].trim().parse::<Invite>().ok()
+            });
+        let _ = tx.send(invite);
+    });
+    let Ok(Some(invite)) = rx.recv_timeout(PATIENCE) else {
+        let _ = child.kill();
+        let _ = child.wait();
+        panic!("the server printed no invite");
+    };
     (child, invite)
 }
 
@@ -93,12 +107,7 @@ fn records(data: &Path) -> Vec<(String, GameRecord)> {
         .all()
         .expect("games")
         .into_iter()
-        .map(|g| {
-            (
-                g.meta.code.to_string(),
-                GameRecord::decode(&g.record).expect("record"),
-            )
-        })
+        .map(|g| (g.meta.code.to_string(), g.record.expect("record")))
         .collect()
 }
 
@@ -162,7 +171,11 @@ fn killing_the_server_loses_nothing_and_players_rejoin() {
         kills >= 1,
         "the games ended before the server could be killed"
     );
-    let report = runtime.block_on(bots).expect("bots");
+    // The bots give up reconnecting after two minutes; anything longer is a hang.
+    let report = runtime
+        .block_on(async { tokio::time::timeout(Duration::from_secs(300), bots).await })
+        .expect("the bots never finished")
+        .expect("bots");
     eprintln!(
         "games over at {:.1} s: {} shots, {} rejoins",
         started.elapsed().as_secs_f64(),
@@ -196,4 +209,127 @@ fn killing_the_server_loses_nothing_and_players_rejoin() {
             );
         }
     }
+}
+
+/// Sends `msg` and reads until the table is ready again, within [`PATIENCE`]. Returns the
+/// turn to answer next, or `None` if the game ended instead.
+async fn command(conn: &mut Channel, msg: &ClientMessage) -> Option<u32> {
+    conn.send(msg).await.expect("sending");
+    loop {
+        let next = tokio::time::timeout(PATIENCE, conn.recv())
+            .await
+            .expect("no answer from the server")
+            .expect("the connection");
+        match next {
+            ServerMessage::TurnChanged { turn, .. } => return Some(turn),
+            ServerMessage::GameOver { .. } => return None,
+            ServerMessage::Error { code, message } => panic!("refused: {code:?} {message}"),
+            _ => {}
+        }
+    }
+}
+
+/// Waits for the answer to the first message of a connection.
+async fn answer(conn: &mut Channel) -> ServerMessage {
+    tokio::time::timeout(PATIENCE, conn.recv())
+        .await
+        .expect("no answer from the server")
+        .expect("the connection")
+}
+
+/// A practice session driven to the longest the limits allow: the longest unfinished game
+/// is stored, survives a SIGKILL and is restored and verified; its last command then ends
+/// it at the limit, and that game verifies too.
+#[test]
+fn the_longest_game_the_limits_allow_survives_a_kill_and_verifies() {
+    let scratch = TempDir::new("faults-longest");
+    let data = scratch.path().join("data");
+    let port = std::net::UdpSocket::bind("127.0.0.1:0")
+        .and_then(|s| s.local_addr())
+        .expect("a free port")
+        .port();
+    let bind = format!("127.0.0.1:{port}");
+    let (mut server, invite) = start(&bind, &data);
+    let limit = Limits::default().max_practice_commands;
+    let runtime = tokio::runtime::Runtime::new().expect("runtime");
+    let started = std::time::Instant::now();
+
+    // Position `i` of a walk of the cue ball around a free part of the table.
+    let pos = |i: usize| [0.4 + 0.002 * (i % 100) as f64, 0.6];
+    let (token, turn) = runtime.block_on(async {
+        let endpoint = endpoint().expect("endpoint");
+        let mut conn = Channel::open(&endpoint, &invite).await.expect("connect");
+        conn.send(&ClientMessage::CreateRoom {
+            variant: Variant::Practice,
+            mode: Settings::offline(),
+            aim_aid: AimAid::Off,
+            name: "solo".into(),
+        })
+        .await
+        .expect("create");
+        let ServerMessage::Joined {
+            token: Some(token),
+            snapshot,
+            ..
+        } = answer(&mut conn).await
+        else {
+            panic!("not seated");
+        };
+        // The longest game that is not over: one more command would leave one place, which
+        // goes to the concession that ends it.
+        let mut turn = snapshot.game.turn();
+        for i in 0..limit - 2 {
+            // Within the per-connection message rate.
+            tokio::time::sleep(Duration::from_millis(22)).await;
+            let place = ClientMessage::PlaceCueBall { turn, pos: pos(i) };
+            turn = command(&mut conn, &place).await.expect("still playing");
+        }
+        (token, turn)
+    });
+    server.kill().expect("SIGKILL");
+    server.wait().expect("reaped");
+    eprintln!(
+        "{} commands stored in {:.1} s, then killed",
+        limit - 2,
+        started.elapsed().as_secs_f64()
+    );
+    let checks = verify_dir(&data).expect("verify");
+    assert_eq!(checks.len(), 1);
+    assert_eq!(checks[0].commands, limit - 2);
+    assert!(checks[0].result.is_ok(), "{checks:?}");
+    verify_passes(&data);
+
+    let (mut server, _) = start(&bind, &data);
+    runtime.block_on(async {
+        let endpoint = endpoint().expect("endpoint");
+        let mut conn = Channel::open(&endpoint, &invite).await.expect("reconnect");
+        conn.send(&ClientMessage::Rejoin { token })
+            .await
+            .expect("rejoin");
+        let ServerMessage::Joined { snapshot, .. } = answer(&mut conn).await else {
+            panic!("the restored game did not take the player back");
+        };
+        assert_eq!(snapshot.game.turn(), turn);
+        let place = ClientMessage::PlaceCueBall {
+            turn,
+            pos: pos(limit),
+        };
+        conn.send(&place).await.expect("the last command");
+        loop {
+            match answer(&mut conn).await {
+                ServerMessage::GameOver { reason, .. } => {
+                    eprintln!("at the limit: {reason}");
+                    break;
+                }
+                ServerMessage::Error { code, message } => panic!("refused: {code:?} {message}"),
+                _ => {}
+            }
+        }
+    });
+    let _ = server.kill();
+    let _ = server.wait();
+    let checks = verify_dir(&data).expect("verify");
+    assert_eq!(checks[0].commands, limit);
+    assert!(checks[0].finished);
+    verify_passes(&data);
 }

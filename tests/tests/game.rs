@@ -5,18 +5,20 @@ use breakshot_client::net::fetch_record;
 use breakshot_server::verify::verify_dir;
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Command, Game, Phase, Settings, Variant};
-use breakshot_tests::{TempDir, TestServer};
+use breakshot_tests::{TempDir, TestServer, PATIENCE};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn two_bots_play_a_full_eight_ball_game_and_every_hash_agrees() -> anyhow::Result<()> {
     let data = TempDir::new("full-game");
     let server = TestServer::start(data.path()).await?;
-    let report = run(&BotConfig::new(server.invite.clone(), 1)).await;
+    let report = tokio::time::timeout(PATIENCE, run(&BotConfig::new(server.invite.clone(), 1)))
+        .await
+        .expect("the game never finished");
     server.stop().await?;
 
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.games_completed, 1);
-    assert!(report.shots > 0);
+    assert!(report.shots > 0, "{:?}", report.games);
     assert_eq!(report.desyncs, 0);
     // Both players predicted every shot and the server confirmed each prediction.
     assert_eq!(report.confirmed, 2 * report.shots);

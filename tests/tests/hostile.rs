@@ -105,18 +105,42 @@ fn noise(seed: u64, len: usize) -> Vec<u8> {
         .collect()
 }
 
+/// The address the half-open handshakes come from: not the players' 127.0.0.1 (all of
+/// 127.0.0.0/8 is loopback on Linux).
+const ABUSER: [u8; 4] = [127, 0, 0, 2];
+
 /// Starts `n` connections through a relay that passes the client's packets to the server
-/// and drops every answer, so none of them ever finishes its handshake. Returns what keeps
+/// from [`ABUSER`] and drops every answer but a QUIC retry, so each attempt proves its
+/// address (as any real host can) and none ever finishes its handshake. Returns what keeps
 /// them alive (dropping it lets the client side give up).
 async fn half_open(server: SocketAddr, fingerprint: Fingerprint, n: usize) -> Result<impl Drop> {
-    let front = tokio::net::UdpSocket::bind("127.0.0.1:0").await?;
-    let back = tokio::net::UdpSocket::bind("127.0.0.1:0").await?;
+    let front = Arc::new(tokio::net::UdpSocket::bind("127.0.0.1:0").await?);
+    let back = Arc::new(tokio::net::UdpSocket::bind(SocketAddr::from((ABUSER, 0))).await?);
     let relay_addr = front.local_addr()?;
-    let relay = tokio::spawn(async move {
-        let mut buf = vec![0u8; 65_536];
-        while let Ok((len, _)) = front.recv_from(&mut buf).await {
-            let _ = back.send_to(&buf[..len], server).await;
+    let client = Arc::new(std::sync::Mutex::new(None::<SocketAddr>));
+    let outward = {
+        let (front, back, client) = (front.clone(), back.clone(), client.clone());
+        async move {
+            let mut buf = vec![0u8; 65_536];
+            while let Ok((len, from)) = front.recv_from(&mut buf).await {
+                *client.lock().unwrap_or_else(|e| e.into_inner()) = Some(from);
+                let _ = back.send_to(&buf[..len], server).await;
+            }
         }
+    };
+    let inward = async move {
+        let mut buf = vec![0u8; 65_536];
+        while let Ok((len, _)) = back.recv_from(&mut buf).await {
+            // A long-header packet of type Retry (QUIC v1: 0b1x11_xxxx).
+            let retry = len > 0 && buf[0] & 0xb0 == 0xb0;
+            let to = *client.lock().unwrap_or_else(|e| e.into_inner());
+            if let (true, Some(to)) = (retry, to) {
+                let _ = front.send_to(&buf[..len], to).await;
+            }
+        }
+    };
+    let relay = tokio::spawn(async move {
+        tokio::join!(outward, inward);
     });
     let endpoint = quinn::Endpoint::client(SocketAddr::from(([127, 0, 0, 1], 0)))?;
     let config = client_config(fingerprint).map_err(|e| anyhow!(e))?;
@@ -159,25 +183,26 @@ async fn hostile_clients_cost_only_their_own_connections() -> Result<()> {
     let stats = server.stats.clone();
     let rss_before = resident_bytes();
 
-    // Handshakes that never finish: at most HANDSHAKES of them hold state; the rest are
-    // asked to prove their address, which through the silent relay they never do.
+    // Handshakes that never finish, all from one address: it holds at most its share of
+    // the handshakes; the rest are refused.
     let flood = half_open(server.addr, server.invite.fingerprint, HALF_OPEN).await?;
     let deadline = tokio::time::Instant::now() + PATIENCE;
-    while count(&stats.handshaking) + count(&stats.retried) < HALF_OPEN {
+    let seen = || count(&stats.handshaking) + count(&stats.retried) + count(&stats.refused_address);
+    while seen() < HALF_OPEN {
         if tokio::time::Instant::now() > deadline {
             bail!(
-                "the server saw only {} handshakes and {} retries",
-                count(&stats.handshaking),
-                count(&stats.retried)
+                "the server saw only {} of the handshakes: {stats:?}",
+                seen()
             );
         }
         tokio::time::sleep(Duration::from_millis(20)).await;
     }
-    assert!(count(&stats.handshaking) <= HANDSHAKES, "{stats:?}");
+    let share = hostile_limits().handshakes_per_address();
+    assert!(count(&stats.handshaking) <= share, "{stats:?}");
     eprintln!(
-        "{HALF_OPEN} silent handshakes: {} held, {} retried",
+        "{HALF_OPEN} silent handshakes from one address: {} held, {} refused",
         count(&stats.handshaking),
-        count(&stats.retried)
+        count(&stats.refused_address)
     );
 
     // A normal game, played while everything below goes on. Its clients pass the retry.
@@ -273,7 +298,9 @@ async fn hostile_clients_cost_only_their_own_connections() -> Result<()> {
     assert_eq!(deaf.closed().await?, "not reading: outgoing queue full");
 
     // The game went on and finished with every hash agreeing.
-    let report = bots.await?;
+    let report = tokio::time::timeout(PATIENCE, bots)
+        .await
+        .map_err(|_| anyhow!("the game beside the hostile clients never finished"))??;
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.games_completed, 1);
     assert_eq!(report.desyncs, 0);
@@ -286,7 +313,7 @@ async fn hostile_clients_cost_only_their_own_connections() -> Result<()> {
     );
 
     // Bounded: handshakes held, queues, and every abuser counted once.
-    assert!(count(&stats.handshaking) <= HANDSHAKES);
+    assert!(count(&stats.handshaking) <= share);
     assert!(count(&stats.connections) <= Limits::default().max_connections);
     assert_eq!(count(&stats.flooding), 1);
     // The client that never reads is dropped for it; the flooder, which does not read its
@@ -307,5 +334,61 @@ async fn hostile_clients_cost_only_their_own_connections() -> Result<()> {
         );
     }
     drop(flood);
+    server.stop().await
+}
+
+/// The flood of the hardening report: with `--max-connections 300`, 400 handshakes from one
+/// address that never finish used to hold every slot for 29 s. Now that address holds only
+/// its share, and a player from another address gets in and plays every time.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn half_open_handshakes_from_one_address_never_lock_out_another() -> Result<()> {
+    const FLOOD: usize = 400;
+    const GAMES: usize = 4;
+    let data = TempDir::new("lockout");
+    let mut config = TestServer::config(SocketAddr::from(([127, 0, 0, 1], 0)), data.path());
+    config.limits = Limits {
+        max_connections: 300,
+        ..Limits::default()
+    };
+    let limits = config.limits.clone();
+    let server = TestServer::start_with(config).await?;
+    let stats = server.stats.clone();
+
+    let started = std::time::Instant::now();
+    for game in 0..GAMES {
+        // A fresh flood before each game, so it is at its height while the players connect.
+        let flood = half_open(server.addr, server.invite.fingerprint, FLOOD).await?;
+        let deadline = tokio::time::Instant::now() + PATIENCE;
+        while count(&stats.handshaking) < limits.handshakes_per_address() {
+            if tokio::time::Instant::now() > deadline {
+                bail!("the flood never reached the server: {stats:?}");
+            }
+            tokio::time::sleep(Duration::from_millis(10)).await;
+        }
+        let mut bots = BotConfig::new(server.invite.clone(), 1);
+        bots.seed = 100 + game as u64;
+        let report = tokio::time::timeout(PATIENCE, run(&bots))
+            .await
+            .map_err(|_| anyhow!("game {game} did not finish"))?;
+        assert!(report.errors.is_empty(), "game {game}: {:?}", report.errors);
+        assert_eq!(report.games_completed, 1, "game {game}");
+        assert_eq!(report.desyncs, 0);
+        assert!(count(&stats.handshaking) <= limits.handshakes_per_address() + 2);
+        drop(flood);
+    }
+    assert!(count(&stats.refused_address) > 0, "{stats:?}");
+    eprintln!(
+        "{GAMES} games played beside {FLOOD}-handshake floods in {:.1} s; {} attempts refused to the flooding address",
+        started.elapsed().as_secs_f64(),
+        count(&stats.refused_address)
+    );
+    // Abandoned handshakes give their slots back within the handshake timeout.
+    let deadline = tokio::time::Instant::now() + limits.handshake_timeout + PATIENCE;
+    while count(&stats.handshaking) > 0 || count(&stats.connections) > 0 {
+        if tokio::time::Instant::now() > deadline {
+            bail!("slots were never given back: {stats:?}");
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
     server.stop().await
 }

@@ -8,7 +8,7 @@ use breakshot_server::store::Store;
 use breakshot_shared::protocol::{ClientMessage, Role, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::Seat;
-use breakshot_tests::{break_shot, seated_pair, Player, TempDir, TestServer};
+use breakshot_tests::{break_shot, seated_pair, Player, TempDir, TestServer, PATIENCE};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_dropped_player_rejoins_with_its_token_and_play_continues() -> anyhow::Result<()> {
@@ -103,7 +103,7 @@ async fn a_server_restarted_on_its_data_loses_no_shot() -> anyhow::Result<()> {
         stored = store
             .unfinished()?
             .first()
-            .and_then(|g| GameRecord::decode(&g.record).ok())
+            .and_then(|g| g.record.as_ref().ok())
             .map_or(0, |r| r.entries.len());
         anyhow::ensure!(
             !bots.is_finished(),
@@ -115,7 +115,10 @@ async fn a_server_restarted_on_its_data_loses_no_shot() -> anyhow::Result<()> {
     // Start again on the same address and data: the game is restored by replaying it.
     let again = TestServer::start_at(addr, data.path()).await?;
     assert_eq!(again.restored, 1);
-    let report = bots.await?;
+    // The bots retry for two minutes at most; anything longer is a hang.
+    let report = tokio::time::timeout(3 * PATIENCE, bots)
+        .await
+        .map_err(|_| anyhow::anyhow!("the bots never finished"))??;
     again.stop().await?;
 
     assert!(report.errors.is_empty(), "{:?}", report.errors);
@@ -218,4 +221,50 @@ fn a_client_killed_mid_shot_rejoins_and_gets_its_seat_back() -> anyhow::Result<(
         }
         server.stop().await
     })
+}
+
+/// A player away when the game ended (their opponent made its last move), with the server
+/// restarted before they come back, is told the result for their seat instead of being told
+/// their token is unknown.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_player_away_when_the_game_ended_is_told_the_result_after_a_restart() -> anyhow::Result<()>
+{
+    let data = TempDir::new("ended-away");
+    let server = TestServer::start(data.path()).await?;
+    let addr = server.addr;
+    let (mut a, b, room) = seated_pair(&server.invite).await?;
+    let token = b.client.token().expect("seat B got a token");
+    b.pull_cable();
+    a.until("PlayerLeft", |m| {
+        matches!(m, ServerMessage::PlayerLeft { .. })
+    })
+    .await?;
+    // The game's last command while B is away.
+    a.send(ClientMessage::Concede).await?;
+    a.until("GameOver", |m| matches!(m, ServerMessage::GameOver { .. }))
+        .await?;
+    server.stop().await?;
+
+    let again = TestServer::start_at(addr, data.path()).await?;
+    assert_eq!(again.restored, 0, "a finished game is not played again");
+    let mut b2 = Player::connect(&again.invite).await?;
+    b2.send(ClientMessage::Rejoin { token }).await?;
+    match b2.recv().await? {
+        ServerMessage::GameFinished {
+            room: r,
+            game,
+            seat,
+            winner,
+            reason,
+        } => {
+            assert_eq!(r, room);
+            assert_eq!(game, 1);
+            assert_eq!(seat, Seat::B);
+            assert_eq!(winner, Some(Seat::B));
+            assert!(reason.contains("conceded"), "{reason}");
+        }
+        other => anyhow::bail!("expected the game's result, got {other:?}"),
+    }
+    drop(b);
+    again.stop().await
 }

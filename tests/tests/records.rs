@@ -7,7 +7,7 @@ use breakshot_client::net::{fetch_record, FetchError};
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, RoomCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::Phase;
-use breakshot_tests::{break_shot, seated_pair, Player, TempDir, TestServer};
+use breakshot_tests::{break_shot, seated_pair, Player, TempDir, TestServer, PATIENCE};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_game_in_play_is_fetched_by_room_code_and_replays_to_the_servers_table() -> Result<()> {
@@ -63,7 +63,9 @@ async fn a_game_in_play_is_fetched_by_room_code_and_replays_to_the_servers_table
 async fn a_finished_bot_game_is_fetched_whole_and_every_hash_replays() -> Result<()> {
     let data = TempDir::new("fetch-finished");
     let server = TestServer::start(data.path()).await?;
-    let report = run(&BotConfig::new(server.invite.clone(), 1)).await;
+    let report = tokio::time::timeout(PATIENCE, run(&BotConfig::new(server.invite.clone(), 1)))
+        .await
+        .expect("the game never finished");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.games_completed, 1);
     let summary = &report.games[0];

@@ -147,6 +147,8 @@ async fn rooms_per_address_and_connections_are_capped() -> Result<()> {
     config.limits = Limits {
         rooms_per_address: 2,
         max_connections: 3,
+        // Every player here comes from 127.0.0.1: the total is what is tested.
+        address_share: 1,
         ..Limits::default()
     };
     let server = TestServer::start_with(config).await?;

@@ -8,7 +8,7 @@ use breakshot_shared::protocol::{
     reference_hash, AimAid, ClientMessage, ErrorCode, Role, RoomCode, SeatToken, ServerMessage,
     PROTOCOL_VERSION,
 };
-use breakshot_shared::replay::GameRecord;
+use breakshot_shared::replay::{GameRecord, RecordEntry};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Seat, Settings, Variant};
 use glam::DVec2;
 
@@ -194,8 +194,9 @@ fn an_accepted_shot_is_stored_before_anyone_hears_of_it_and_matches_a_replay() {
     // The store comes first; then both players get the same accepted command and result.
     assert!(matches!(
         out[0],
-        Output::Store(StoreOp::Game {
-            finished: false,
+        Output::Store(StoreOp::Command {
+            number: 1,
+            index: 0,
             ..
         })
     ));
@@ -233,11 +234,13 @@ fn an_accepted_shot_is_stored_before_anyone_hears_of_it_and_matches_a_replay() {
         .unwrap();
     assert_eq!(verdict.shot.unwrap().hash, *hash);
     assert_eq!(copy.balls(), &balls[..]);
-    // And the stored record replays to the room's game.
-    let Output::Store(StoreOp::Game { record, .. }) = &out[0] else {
+    // And the stored header and command replay to the room's game.
+    let Output::Store(StoreOp::Command { entry, .. }) = &out[0] else {
         unreachable!()
     };
-    let replayed = GameRecord::decode(record).unwrap().replay().unwrap();
+    let mut record = GameRecord::of(&before);
+    record.entries.push(RecordEntry::decode(entry).unwrap());
+    let replayed = record.replay().unwrap();
     assert_eq!(replayed, w.game(&room));
 }
 
@@ -327,9 +330,13 @@ fn a_dropped_player_forfeits_only_when_the_window_runs_out() {
             ..
         }
     )));
-    assert!(out
-        .iter()
-        .any(|o| matches!(o, Output::Store(StoreOp::Game { finished: true, .. }))));
+    assert!(out.iter().any(|o| matches!(
+        o,
+        Output::Store(StoreOp::GameEnded {
+            winner: Some(Seat::A),
+            ..
+        })
+    )));
 }
 
 #[test]
@@ -494,11 +501,7 @@ fn a_rematch_starts_when_both_players_ask() {
     let out = w.send(2, ClientMessage::Rematch);
     assert!(matches!(
         out[0],
-        Output::Store(StoreOp::Game {
-            number: 2,
-            finished: false,
-            ..
-        })
+        Output::Store(StoreOp::GameStarted { number: 2, .. })
     ));
     for conn in [1, 2] {
         match sent_to(&out, conn)[..] {
@@ -583,4 +586,184 @@ fn an_address_may_hold_only_so_many_open_rooms() {
     w.advance(WINDOW + Duration::from_secs(1));
     let out = w.send(99, create);
     joined(&out, 99);
+}
+
+#[test]
+fn ipv6_addresses_of_one_64_share_one_entry_budget() {
+    let mut w = World::new();
+    let budget = Limits::default().entry_burst;
+    let guess = |n: u64| ClientMessage::Join {
+        room: RoomCode::from_random([n as u8; breakshot_shared::protocol::limits::ROOM_CODE_LEN]),
+        name: "eve".into(),
+    };
+    // A host rotating through its /64: every guess from a fresh address.
+    let mut codes = Vec::new();
+    for n in 0..u64::from(budget) + 5 {
+        let conn = 200 + n;
+        let addr: std::net::IpAddr = format!("2001:db8:7:8::{:x}", n + 1).parse().unwrap();
+        w.hub.connected(w.now, conn, addr);
+        let hello = ClientMessage::Hello {
+            protocol: PROTOCOL_VERSION,
+            physics: reference_hash().unwrap(),
+        };
+        w.send(conn, hello);
+        codes.push(error_code(&w.send(conn, guess(n + 1)), conn));
+    }
+    let guessed = codes
+        .iter()
+        .filter(|c| **c == Some(ErrorCode::NoSuchRoom))
+        .count();
+    assert_eq!(guessed, budget as usize, "{codes:?}");
+    assert_eq!(codes.last(), Some(&Some(ErrorCode::RateLimited)));
+    // Another /64 has its own budget.
+    let addr: std::net::IpAddr = "2001:db8:7:9::1".parse().unwrap();
+    w.hub.connected(w.now, 999, addr);
+    w.send(
+        999,
+        ClientMessage::Hello {
+            protocol: PROTOCOL_VERSION,
+            physics: reference_hash().unwrap(),
+        },
+    );
+    assert_eq!(
+        error_code(&w.send(999, guess(1)), 999),
+        Some(ErrorCode::NoSuchRoom)
+    );
+}
+
+#[test]
+fn a_practice_session_ends_at_its_length_limit_and_its_record_stays_bounded() {
+    let mut w = World::new();
+    let limit = Limits::default().max_practice_commands;
+    w.greet(1);
+    let out = w.send(
+        1,
+        ClientMessage::CreateRoom {
+            variant: Variant::Practice,
+            mode: Settings::offline(),
+            aim_aid: AimAid::Off,
+            name: "solo".into(),
+        },
+    );
+    let (room, _) = joined(&out, 1);
+    let mut over = None;
+    let mut sent = 0;
+    while over.is_none() {
+        assert!(sent < limit, "still playing after {sent} commands");
+        // Within the message rate.
+        w.now += Duration::from_millis(25);
+        let game = w.game(&room);
+        let pos = [0.4 + 0.001 * f64::from(sent as u32 % 100), 0.6];
+        let out = w.send(
+            1,
+            ClientMessage::PlaceCueBall {
+                turn: game.turn(),
+                pos,
+            },
+        );
+        assert_eq!(error_code(&out, 1), None, "command {sent}");
+        sent += 1;
+        over = sent_to(&out, 1).into_iter().find_map(|m| match m {
+            ServerMessage::GameOver { reason, .. } => Some(reason.clone()),
+            _ => None,
+        });
+    }
+    // The last place went to the concession that ended the session.
+    assert_eq!(sent, limit - 1);
+    let record = w.hub.room(&room).unwrap().record().clone();
+    assert_eq!(record.entries.len(), limit);
+    assert_eq!(record.entries.last().unwrap().command, Command::Concede);
+    assert_eq!(record.replay().unwrap(), w.game(&room));
+    let out = w.send(
+        1,
+        ClientMessage::PlaceCueBall {
+            turn: w.game(&room).turn(),
+            pos: [0.5, 0.5],
+        },
+    );
+    assert_eq!(error_code(&out, 1), Some(ErrorCode::GameOver));
+}
+
+#[test]
+fn a_player_away_when_the_game_ended_is_told_the_result_after_the_room_is_gone() {
+    let mut w = World::new();
+    let (room, _, token_b) = w.pair(Settings::offline());
+    // B drops; A takes the last shot (concedes here), then leaves too.
+    w.hub.disconnected(w.now, 2);
+    let out = w.send(1, ClientMessage::Concede);
+    assert!(sent_to(&out, 1)
+        .iter()
+        .any(|m| matches!(m, ServerMessage::GameOver { .. })));
+    w.hub.disconnected(w.now, 1);
+    w.advance(WINDOW + Duration::from_secs(1));
+    assert!(w.hub.room(&room).is_none(), "the room is still open");
+
+    w.greet(3);
+    let out = w.send(3, ClientMessage::Rejoin { token: token_b });
+    match sent_to(&out, 3)[..] {
+        [ServerMessage::GameFinished {
+            room: r,
+            game: 1,
+            seat: Seat::B,
+            winner: Some(Seat::B),
+            reason,
+        }] => {
+            assert_eq!(*r, room);
+            assert!(reason.contains("conceded"), "{reason}");
+        }
+        ref other => panic!("{other:?}"),
+    }
+    // Not in a room: the connection may create or join another.
+    let out = w.send(3, ClientMessage::Spectate { room: room.clone() });
+    assert_eq!(error_code(&out, 3), Some(ErrorCode::NoSuchRoom));
+    // Kept only for a while.
+    w.advance(Limits::default().finished_retention);
+    w.greet(4);
+    let out = w.send(4, ClientMessage::Rejoin { token: token_b });
+    assert_eq!(error_code(&out, 4), Some(ErrorCode::BadToken));
+}
+
+#[test]
+fn a_finished_room_no_longer_counts_against_its_creators_limit() {
+    let mut w = World::new();
+    let cap = Limits::default().rooms_per_address;
+    let create = ClientMessage::CreateRoom {
+        variant: Variant::EightBall(EightBallRules::Wpa),
+        mode: Settings::offline(),
+        aim_aid: AimAid::Off,
+        name: "ann".into(),
+    };
+    let mut rooms = Vec::new();
+    for conn in 0..cap as ConnId {
+        w.greet(100 + conn);
+        rooms.push(joined(&w.send(100 + conn, create.clone()), 100 + conn).0);
+    }
+    w.greet(99);
+    assert_eq!(
+        error_code(&w.send(99, create.clone()), 99),
+        Some(ErrorCode::ServerBusy)
+    );
+    // One game ends (its creator concedes): the room stays open, its players may still talk
+    // or ask for a rematch, but it is not in play any more.
+    let out = w.send(100, ClientMessage::Concede);
+    assert_eq!(
+        error_code(&out, 100),
+        Some(ErrorCode::Unexpected),
+        "no opponent yet"
+    );
+    w.greet(200);
+    let out = w.send(
+        200,
+        ClientMessage::Join {
+            room: rooms[0].clone(),
+            name: "ben".into(),
+        },
+    );
+    joined(&out, 200);
+    let out = w.send(100, ClientMessage::Concede);
+    assert!(sent_to(&out, 100)
+        .iter()
+        .any(|m| matches!(m, ServerMessage::GameOver { .. })));
+    assert!(w.hub.room(&rooms[0]).is_some());
+    joined(&w.send(99, create), 99);
 }

@@ -183,7 +183,12 @@ fn aim_at(
     let mut offset = 0.0;
     let base = dir;
     for _ in 0..corrections {
-        let strike = Strike { speed, dir, tip };
+        let strike = Strike {
+            speed,
+            dir,
+            tip,
+            elevation_deg: 0.0,
+        };
         let out = lab.strike(0, strike)?;
         let (hit, leaves) = first_hit(out, 0)?;
         if hit != usize::from(first) || leaves == DVec2::ZERO {
@@ -279,7 +284,12 @@ pub fn generate(lab: &mut Lab, view: &View, breadth: &Breadth) -> Vec<Candidate>
                 breadth.corrections,
             ) {
                 out.push(Candidate {
-                    strike: Strike { speed, dir, tip },
+                    strike: Strike {
+                        speed,
+                        dir,
+                        tip,
+                        elevation_deg: 0.0,
+                    },
                     call: Some(route.pocket),
                     kind: route.kind,
                     prior: route.prior,
@@ -461,6 +471,7 @@ fn safeties(view: &View, cue: DVec2, r: f64) -> Vec<Candidate> {
                             speed,
                             dir,
                             tip: DVec2::new(0.0, height),
+                            elevation_deg: 0.0,
                         },
                         call: nearest_pocket(layout, ob),
                         kind: Kind::Safety,
@@ -490,6 +501,7 @@ fn kicks(view: &View, cue: DVec2) -> Vec<Candidate> {
                         speed,
                         dir,
                         tip: DVec2::ZERO,
+                        elevation_deg: 0.0,
                     },
                     call: nearest_pocket(layout, ob),
                     kind: Kind::Kick,
@@ -526,6 +538,7 @@ pub fn breaks(layout: &Layout, targets: &[u8]) -> Vec<Candidate> {
                     speed,
                     dir,
                     tip: DVec2::new(0.0, -0.15),
+                    elevation_deg: 0.0,
                 },
                 call: None,
                 kind: Kind::Break,

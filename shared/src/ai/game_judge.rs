@@ -65,6 +65,7 @@ impl<'a> GameJudge<'a> {
             speed: 1.0,
             dir: glam::DVec2::Y,
             tip: glam::DVec2::ZERO,
+            elevation_deg: 0.0,
         };
         let mut lab = Lab::new(g.shot_for(&probe));
         let candidates: Vec<_> = generate(&mut lab, &view, &LOOK_AHEAD)

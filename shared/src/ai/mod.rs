@@ -315,5 +315,6 @@ fn fallback(game: &Game) -> Strike {
         speed: 2.0,
         dir,
         tip: glam::DVec2::ZERO,
+        elevation_deg: 0.0,
     }
 }

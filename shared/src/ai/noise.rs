@@ -89,6 +89,7 @@ impl Noise {
             speed: speed.clamp(0.05, MAX_CUE_SPEED),
             dir: DVec2::new(d.x * c - d.y * s, d.x * s + d.y * c),
             tip,
+            elevation_deg: strike.elevation_deg,
         }
     }
 }
@@ -116,6 +117,7 @@ mod tests {
             speed: 0.1,
             dir: DVec2::Y,
             tip: DVec2::new(0.0, 0.49),
+            elevation_deg: 0.0,
         };
         for _ in 0..1000 {
             assert!(noise.perturb(&strike, &mut rng).validated().is_ok());

@@ -94,6 +94,7 @@ pub fn best_spot(game: &Game, player: &Player, area: Option<InHand>) -> (Option<
             speed: 1.0,
             dir: DVec2::Y,
             tip: DVec2::ZERO,
+            elevation_deg: 0.0,
         };
         let mut lab = Lab::new(g.shot_for(&probe));
         let mut breadth = player.breadth;

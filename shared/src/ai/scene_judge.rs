@@ -99,7 +99,7 @@ impl Judge for SceneJudge<'_> {
                 success: false,
             };
         };
-        let facts = ShotFacts::from_outcome(out);
+        let facts = ShotFacts::from_outcome(out, kind);
         let finals = out.finals.clone();
         let hit = facts
             .first_contact

@@ -228,6 +228,18 @@ pub enum ServerMessage {
         finished: bool,
         record: Vec<u8>,
     },
+    /// The answer to a [`ClientMessage::Rejoin`] whose game ended while the player was away
+    /// (their room may be closed, or the server restarted since): the game's result, for the
+    /// seat the token held. The connection is left out of any room; the game is over for
+    /// this player.
+    GameFinished {
+        room: RoomCode,
+        /// The game's number in its room, from 1.
+        game: u32,
+        seat: Seat,
+        winner: Option<Seat>,
+        reason: String,
+    },
 }
 
 /// Turns a player's message into the rules command it asks for (with the turn it

@@ -570,6 +570,7 @@ mod tests {
             speed: 3.0,
             dir: red.normalize(),
             tip: DVec2::ZERO,
+            elevation_deg: 0.0,
         };
         let v = m.shoot(Seat::A, &strike).expect("valid shot");
         assert!(!v.judgement.reasons.is_empty());

@@ -97,6 +97,7 @@ impl Ghost {
                 speed: self.range(8.0, 10.0),
                 dir,
                 tip: DVec2::ZERO,
+                elevation_deg: 0.0,
             };
             return (strike, None);
         }
@@ -130,6 +131,7 @@ impl Ghost {
             speed: self.range(2.5, 5.0),
             dir: rotate(aim, a),
             tip: DVec2::new(0.0, self.range(-0.2, 0.3)),
+            elevation_deg: 0.0,
         };
         (strike, call)
     }

@@ -82,7 +82,15 @@ fn decode(x: &[f64]) -> (Strike, f64) {
         excess += len - TIP_LIMIT;
     }
     let dir = DVec2::new(libm::cos(x[0]), libm::sin(x[0]));
-    (Strike { speed, dir, tip }, excess)
+    (
+        Strike {
+            speed,
+            dir,
+            tip,
+            elevation_deg: 0.0,
+        },
+        excess,
+    )
 }
 
 /// The shot a recording starts from: its balls at their first recorded positions on the
