@@ -16,6 +16,7 @@ use thiserror::Error;
 use tokio::sync::oneshot;
 
 use super::link::NetLink;
+use super::seats::SeatStore;
 use super::session::Session;
 use crate::play::link::{GameEvent, GameLink};
 use crate::view::hud::Connection;
@@ -24,10 +25,14 @@ use crate::view::hud::Connection;
 /// firewall or forward on a router).
 pub const DEFAULT_PORT: u16 = 4433;
 
-/// What the host is told when the invite names a wildcard address.
-pub const ADDRESS_NOTE: &str = "the game listens on every network interface, so the invite \
-     shows 0.0.0.0 (or ::): replace it with this computer's LAN address (or its public address, with \
-     the UDP port forwarded), or start again with --address HOST";
+/// What the host is told when no address the other player can dial was found.
+pub const ADDRESS_NOTE: &str = "this computer has no network address the other player can \
+     dial: start again with --address HOST (your LAN or public address)";
+
+/// How to be reached from outside a home network: one line for the invite panel, the
+/// terminal and the README.
+pub const ROUTER_HINT: &str = "Over the internet: forward UDP port 4433 on your router to this \
+     computer and host with --address YOUR_PUBLIC_IP";
 
 /// How long hosting waits for its own server to seat it. The server is in this process and
 /// answers in milliseconds; this only turns a hang into an error.
@@ -58,6 +63,9 @@ pub struct HostOptions {
     /// The address written into the invite instead of the bound one: what the other player
     /// dials to reach this computer.
     pub address: Option<String>,
+    /// Go back to this computer's unfinished game on this server, if there is one, rather
+    /// than open a new room.
+    pub resume: bool,
 }
 
 impl HostOptions {
@@ -71,6 +79,7 @@ impl HostOptions {
             settings: Settings::online(),
             aim_aid: AimAid::Full,
             address: None,
+            resume: true,
         }
     }
 }
@@ -84,8 +93,43 @@ pub fn names_wildcard(invite: &Invite) -> bool {
         .is_ok_and(|ip| ip.is_unspecified())
 }
 
-/// The default data directory: `breakshot` in the user's data directory
-/// (`$XDG_DATA_HOME`, else `~/.local/share` on Linux and other Unix systems,
+/// The address another computer on the same network dials to reach this one: the first
+/// IPv4 address in a private range (a home or office LAN), else any other routable IPv4,
+/// else a routable IPv6 address. Loopback, link-local and wildcard addresses never.
+pub fn lan_address(candidates: &[IpAddr]) -> Option<IpAddr> {
+    let dialable = |ip: &IpAddr| match ip {
+        IpAddr::V4(v4) => !(v4.is_loopback() || v4.is_link_local() || v4.is_unspecified()),
+        IpAddr::V6(v6) => {
+            // fe80::/10 is link-local: it needs a zone id nobody puts in an invite.
+            !(v6.is_loopback() || v6.is_unspecified() || (v6.segments()[0] & 0xffc0) == 0xfe80)
+        }
+    };
+    let dialable: Vec<IpAddr> = candidates.iter().copied().filter(dialable).collect();
+    let private = |ip: &&IpAddr| matches!(ip, IpAddr::V4(v4) if v4.is_private());
+    dialable
+        .iter()
+        .find(private)
+        .or_else(|| dialable.iter().find(|ip| ip.is_ipv4()))
+        .or_else(|| dialable.first())
+        .copied()
+}
+
+/// This computer's addresses on the interfaces that are up.
+fn interface_addresses() -> Vec<IpAddr> {
+    match if_addrs::get_if_addrs() {
+        Ok(interfaces) => interfaces.iter().map(|i| i.ip()).collect(),
+        Err(e) => {
+            tracing::warn!(error = %e, "cannot list the network interfaces");
+            Vec::new()
+        }
+    }
+}
+
+/// The environment variable that names the data directory (what `--data` gives).
+pub const DATA_ENV: &str = "BREAKSHOT_DATA";
+
+/// The default data directory: `$BREAKSHOT_DATA` if set, else `breakshot` in the user's
+/// data directory (`$XDG_DATA_HOME`, else `~/.local/share` on Linux and other Unix systems,
 /// `~/Library/Application Support` on macOS, `%APPDATA%` on Windows).
 pub fn default_data_dir() -> Option<PathBuf> {
     let var = |name: &str| {
@@ -93,6 +137,9 @@ pub fn default_data_dir() -> Option<PathBuf> {
             .map(PathBuf::from)
             .filter(|p| p.is_absolute())
     };
+    if let Some(dir) = var(DATA_ENV) {
+        return Some(dir);
+    }
     let base = if cfg!(windows) {
         var("APPDATA")
     } else if cfg!(target_os = "macos") {
@@ -247,25 +294,50 @@ pub struct Host {
     /// Events the link gave while the room was being opened, handed to the screen first.
     pending: VecDeque<GameEvent>,
     invite: Invite,
+    resumed: bool,
     data: PathBuf,
     /// Declared after the link so the session closes before the server stops.
     server: EmbeddedServer,
 }
 
 impl Host {
-    /// Starts the server, connects to it over loopback, opens a room and returns once this
-    /// computer holds seat A, with the invite for the other player.
+    /// Starts the server, connects to it over loopback and returns once this computer holds
+    /// seat A, with the invite for the other player. The seat is the one this computer
+    /// still holds in an unfinished game on this server (a host restarted with the same data
+    /// directory goes back to its game: same room, same invite), unless
+    /// [`HostOptions::resume`] is false or that game is over; else a new room.
     pub fn start(options: &HostOptions) -> Result<Host, HostError> {
         let address = options.address.as_deref().map(invite_host).transpose()?;
         let server = EmbeddedServer::start(Config::new(options.bind, options.data.clone()))?;
-        let session = Session::connect(server.loopback_invite());
-        session.send(ClientMessage::CreateRoom {
+        let mut addressed = server.invite();
+        // A server on every interface is dialled on this computer's LAN address.
+        let lan = || {
+            (options.bind.ip().is_unspecified())
+                .then(|| lan_address(&interface_addresses()))
+                .flatten()
+                .map(host_text)
+        };
+        if let Some(address) = address.or_else(lan) {
+            addressed.host = address;
+        }
+        let seats = SeatStore::new(&options.data);
+        let mut resuming = options
+            .resume
+            .then(|| seats.on_server(&addressed.fingerprint))
+            .flatten();
+        let create = ClientMessage::CreateRoom {
             variant: options.variant,
             mode: options.settings,
             aim_aid: options.aim_aid,
             name: "host".into(),
+        };
+        let session = Session::connect(server.loopback_invite());
+        session.send(match &resuming {
+            Some(seat) => ClientMessage::Rejoin { token: seat.token },
+            None => create.clone(),
         });
         let mut link = NetLink::new(session);
+        link.remember(seats.clone(), addressed.clone());
         let mut pending = VecDeque::new();
         let since = Instant::now();
         let room = loop {
@@ -273,6 +345,13 @@ impl Host {
                 match &event {
                     GameEvent::Connection(Connection::Closed(why)) => {
                         return Err(HostError::Room(why.clone()))
+                    }
+                    // The remembered game is over (or was never stored): open a new room.
+                    GameEvent::Refused(_) if resuming.is_some() => {
+                        if let Some(seat) = resuming.take() {
+                            seats.forget(&seat.invite);
+                        }
+                        link.session().send(create.clone());
                     }
                     GameEvent::Refused(why) => return Err(HostError::Room(why.clone())),
                     _ => pending.push_back(event),
@@ -286,17 +365,19 @@ impl Host {
             }
             std::thread::sleep(Duration::from_millis(5));
         };
-        let mut invite = server.invite().with_room(room);
-        if let Some(address) = address {
-            invite.host = address;
-        }
         Ok(Host {
             link,
             pending,
-            invite,
+            invite: addressed.with_room(room),
+            resumed: resuming.is_some(),
             data: options.data.clone(),
             server,
         })
+    }
+
+    /// True when this host went back to its unfinished game rather than opening a room.
+    pub fn resumed(&self) -> bool {
+        self.resumed
     }
 
     /// The invite for the other player: `breakshot://HOST:PORT/ROOM#FINGERPRINT`.
@@ -372,6 +453,34 @@ mod tests {
         for host in ["127.0.0.1", "192.168.1.20", "[::1]", "pool.example.org"] {
             assert!(!names_wildcard(&invite(host)), "{host}");
         }
+    }
+
+    #[test]
+    fn the_lan_address_is_a_private_ipv4_one_and_never_unroutable() {
+        let ips =
+            |list: &[&str]| -> Vec<IpAddr> { list.iter().map(|s| s.parse().unwrap()).collect() };
+        let pick = |list: &[&str]| lan_address(&ips(list)).map(|ip| ip.to_string());
+        assert_eq!(
+            pick(&[
+                "127.0.0.1",
+                "::1",
+                "fe80::1",
+                "169.254.3.4",
+                "203.0.113.9",
+                "192.168.1.20"
+            ]),
+            Some("192.168.1.20".into())
+        );
+        assert_eq!(
+            pick(&["127.0.0.1", "203.0.113.9"]),
+            Some("203.0.113.9".into())
+        );
+        assert_eq!(pick(&["::1", "2001:db8::7"]), Some("2001:db8::7".into()));
+        assert_eq!(
+            pick(&["127.0.0.1", "::1", "0.0.0.0", "fe80::2", "169.254.1.1"]),
+            None
+        );
+        assert_eq!(pick(&[]), None);
     }
 
     #[test]

@@ -8,6 +8,7 @@ pub mod host;
 pub mod link;
 pub mod pinned;
 pub mod records;
+pub mod seats;
 pub mod session;
 
 pub use client::{Client, ClientEvent, Reconnect};
@@ -15,4 +16,5 @@ pub use connection::{endpoint, Connection, NetError, Reader, Writer};
 pub use host::{EmbeddedServer, Host, HostError, HostOptions};
 pub use link::{NetLink, NoRoom};
 pub use records::{fetch_record, fetch_record_blocking, FetchError, FetchedRecord};
+pub use seats::{Remembered, SeatStore};
 pub use session::{Session, SessionEvent};

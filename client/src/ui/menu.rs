@@ -1,7 +1,7 @@
 //! The menu the window opens on when no command is given.
 
 use breakshot_client::net::host::default_data_dir;
-use breakshot_client::net::{Host, HostOptions, NetLink};
+use breakshot_client::net::{Host, HostOptions, NetLink, SeatStore};
 use breakshot_client::play::controls::{InputFrame, Key};
 use breakshot_client::view::layout::Rect;
 use breakshot_shared::protocol::Invite;
@@ -43,7 +43,8 @@ fn join_from_clipboard() -> Result<NetLink, String> {
     let invite: Invite = text
         .parse()
         .map_err(|e| format!("The clipboard holds no invite ({e}): {HOW}"))?;
-    NetLink::join(invite, "guest").map_err(|e| e.to_string())
+    let seats = default_data_dir().map(|d| SeatStore::new(&d));
+    NetLink::join(invite, "guest", seats).map_err(|e| e.to_string())
 }
 
 pub struct MenuScreen {
