@@ -25,13 +25,19 @@ const MAX_REFUSALS: u32 = 30;
 const MAX_SHOTS: u32 = 300;
 
 #[derive(Clone, Debug)]
+/// What the bots play, and against which server.
 pub struct BotConfig {
+    /// The server the bots connect to.
     pub server: Invite,
+    /// Games played at once (two bots each).
     pub games: usize,
+    /// Seeds the bots' aim and pauses.
     pub seed: u64,
+    /// The game the rooms are created for.
     pub variant: Variant,
     /// The room's settings (called shots, shot clock, table).
     pub settings: Settings,
+    /// How long a bot keeps trying to take its seat back after a drop.
     pub retry_for: Duration,
     /// Pause before each move, as a player would think (on average; each pause is drawn
     /// between half and one and a half times this).
@@ -39,6 +45,7 @@ pub struct BotConfig {
 }
 
 impl BotConfig {
+    /// `games` 8-ball games (WPA rules, no shot clock) on `server`, without pauses.
     pub fn new(server: Invite, games: usize) -> BotConfig {
         BotConfig {
             server,
@@ -55,23 +62,34 @@ impl BotConfig {
 /// One game as the bots saw it.
 #[derive(Clone, Debug, Default)]
 pub struct GameSummary {
+    /// The room the game was played in.
     pub room: Option<RoomCode>,
+    /// Both bots saw the game end.
     pub completed: bool,
+    /// Why the game ended, as the host saw it.
     pub reason: String,
     /// Every shot result the host saw: (turn, server hash).
     pub resolved: Vec<(TurnId, u64)>,
 }
 
 #[derive(Clone, Debug, Default)]
+/// What a run of bots measured.
 pub struct Report {
+    /// Games both bots saw to the end.
     pub games_completed: u32,
+    /// Shots the bots took.
     pub shots: u32,
     /// Shots whose local prediction matched the server's hash (counted by each player).
     pub confirmed: u32,
+    /// Shots (or commands) whose local result differed from the server's.
     pub desyncs: u32,
+    /// Times a bot took its seat back after a drop.
     pub rejoins: u32,
+    /// Each shot's round trip, from sending it to its result (ms).
     pub round_trips_ms: Vec<f64>,
+    /// Each game, as the bots saw it.
     pub games: Vec<GameSummary>,
+    /// What went wrong, one line per bot that failed.
     pub errors: Vec<String>,
 }
 
@@ -372,6 +390,7 @@ pub struct Chooser {
 }
 
 impl Chooser {
+    /// A chooser whose randomness starts from `seed`.
     pub fn new(seed: u64) -> Chooser {
         Chooser {
             rng: Rng::new(seed),

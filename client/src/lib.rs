@@ -1,6 +1,8 @@
 //! Breakshot's game client. The window (the `breakshot` binary) only reads input and draws;
 //! everything that can be computed without a window lives here and is tested here.
 
+#![warn(missing_docs, unreachable_pub)]
+
 pub mod bot;
 pub mod net;
 pub mod play;

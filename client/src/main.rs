@@ -10,8 +10,8 @@ use std::process::ExitCode;
 use std::rc::Rc;
 
 use anyhow::{bail, Context as _};
-use breakshot_client::net::host::{default_data_dir, ADDRESS_NOTE, DEFAULT_PORT, ROUTER_HINT};
-use breakshot_client::net::{fetch_record_blocking, Host, HostOptions, NetLink, SeatStore};
+use breakshot_client::net::host::{default_data_dir, DEFAULT_PORT};
+use breakshot_client::net::{fetch_record_blocking, HostOptions, NetLink, SeatStore};
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_shared::protocol::{AimAid, Invite, RoomCode};
 use breakshot_shared::rules::{EightBallRules, Variant};
@@ -58,7 +58,7 @@ enum Command {
         #[arg(long, default_value_t = SocketAddr::from(([0, 0, 0, 0], DEFAULT_PORT)))]
         bind: SocketAddr,
         /// The address the other player dials to reach this computer, written into the
-        /// invite (default: this computer's LAN address).
+        /// invite (default: the bound address).
         #[arg(long, value_name = "HOST")]
         address: Option<String>,
         /// Aiming aids allowed in the room: full, first-contact (aim line and ghost ball) or
@@ -140,9 +140,7 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
                 resume: !new,
                 ..HostOptions::new(data_dir(cli)?)
             };
-            let host = Host::start(&options)?;
-            announce(&host);
-            ui::Start::Network(Box::new(host))
+            host(&options)?
         }
         Some(Command::Join { invite }) => {
             let invite: Invite = invite
@@ -200,16 +198,28 @@ fn fetch_replay(url: &str, game: &str) -> anyhow::Result<ReplayViewer> {
         .with_context(|| format!("the server sent game {room} as an unreadable record"))
 }
 
+/// Hosts a game, tells the terminal where it is served, and plays in it.
+#[cfg(feature = "host")]
+fn host(options: &HostOptions) -> anyhow::Result<ui::Start> {
+    let host = breakshot_client::net::Host::start(options)?;
+    announce(&host);
+    Ok(ui::Start::Network(Box::new(host)))
+}
+
+/// This build has no embedded server.
+#[cfg(not(feature = "host"))]
+fn host(_: &HostOptions) -> anyhow::Result<ui::Start> {
+    Err(breakshot_client::net::HostError::NotBuilt.into())
+}
+
 /// Tells the terminal where the game is served and what to send the other player.
-fn announce(host: &Host) {
+#[cfg(feature = "host")]
+fn announce(host: &breakshot_client::net::Host) {
     if host.resumed() {
+        let room = host.invite().room.as_ref().map(|r| r.to_string());
         eprintln!(
             "breakshot: back to your unfinished game in room {} (start with --new for a new room)",
-            host.invite()
-                .room
-                .as_ref()
-                .map(|r| r.to_string())
-                .unwrap_or_default()
+            room.unwrap_or_default()
         );
     }
     println!("{}", host.invite());
@@ -219,9 +229,9 @@ fn announce(host: &Host) {
         host.data().display()
     );
     if host.needs_address() {
-        eprintln!("breakshot: {ADDRESS_NOTE}");
+        eprintln!("breakshot: {}", breakshot_client::net::host::ADDRESS_NOTE);
     } else {
-        eprintln!("breakshot: {ROUTER_HINT}");
+        eprintln!("breakshot: {}", breakshot_client::net::host::ROUTER_HINT);
     }
 }
 

@@ -149,8 +149,9 @@ fn replay_from_a_server_needs_a_server_address_and_a_room_code() {
 }
 
 #[test]
+#[cfg(feature = "host")]
 fn replay_of_a_game_the_server_does_not_have_is_refused() {
-    use breakshot_client::net::host::EmbeddedServer;
+    use breakshot_client::net::EmbeddedServer;
     use breakshot_server::Config;
 
     let data = std::env::temp_dir().join(format!("breakshot-cli-fetch-{}", std::process::id()));

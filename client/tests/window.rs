@@ -262,6 +262,7 @@ fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
 }
 
 #[test]
+#[cfg(feature = "host")]
 fn replay_from_a_server_shows_the_fetched_games_table() {
     use breakshot_client::bot::{run, BotConfig};
     use breakshot_client::net::{fetch_record_blocking, EmbeddedServer};

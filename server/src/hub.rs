@@ -19,7 +19,7 @@ use breakshot_shared::rules::{Game, Seat};
 use crate::limits::Limits;
 use crate::output::{ConnId, Output, RoomMeta};
 use crate::ratelimit::Bucket;
-use crate::room::{Room, RoomRules, Who};
+use crate::room::{Entry, Room, RoomRules, Who};
 use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
 
 #[derive(Clone, Debug)]
@@ -199,7 +199,8 @@ impl Hub {
         // Only failed entries are charged: guessing codes or tokens is what the budget is
         // for, and players behind one address (or rejoining after a restart) must not be
         // locked out by their own successes.
-        if entry && joined(&out, conn) {
+        let entered = in_room.is_none() && self.conns.get(&conn).is_some_and(|c| c.room.is_some());
+        if entry && entered {
             self.refund_entry(conn);
         }
         out
@@ -246,11 +247,9 @@ impl Hub {
             (ClientMessage::Rejoin { token }, None) => self.rejoin(now, conn, token),
             (ClientMessage::Spectate { room }, None) => match self.rooms.get_mut(&room) {
                 Some(r) => {
-                    let out = r.spectate(now, conn, MAX_SPECTATORS);
-                    if joined(&out, conn) {
-                        self.set_room(conn, room, Role::Spectator);
-                    }
-                    out
+                    let entry = r.spectate(now, conn, MAX_SPECTATORS);
+                    self.entered(conn, room, &entry);
+                    entry.out
                 }
                 None => error(conn, ErrorCode::NoSuchRoom, format!("no room {room}")),
             },
@@ -413,13 +412,13 @@ impl Hub {
         let Some(room) = self.rooms.get_mut(&code) else {
             return error(conn, ErrorCode::NoSuchRoom, format!("no room {code}"));
         };
-        let out = room.join(now, conn, name, token);
-        if joined(&out, conn) {
+        let entry = room.join(now, conn, name, token);
+        if entry.role.is_some() {
             self.tokens
                 .insert(TokenDigest::of(&token), (code.clone(), Seat::B));
-            self.set_room(conn, code, Role::Player(Seat::B));
         }
-        out
+        self.entered(conn, code, &entry);
+        entry.out
     }
 
     fn rejoin(
@@ -438,18 +437,19 @@ impl Hub {
         let Some(room) = self.rooms.get_mut(&code) else {
             return error(conn, ErrorCode::NoSuchRoom, "the room is closed");
         };
-        let out = room.rejoin(now, conn, seat, token);
-        if joined(&out, conn) {
-            for o in &out {
-                if let Output::Close { conn: old, .. } = o {
-                    if let Some(c) = self.conns.get_mut(old) {
-                        c.room = None;
-                    }
-                }
-            }
-            self.set_room(conn, code, Role::Player(seat));
+        let entry = room.rejoin(now, conn, seat, token);
+        self.entered(conn, code, &entry);
+        entry.out
+    }
+
+    /// Indexes what an entry point did: `conn` is in room `code` with its role, and the
+    /// connection it replaced is in no room.
+    fn entered(&mut self, conn: ConnId, code: RoomCode, entry: &Entry) {
+        let Some(role) = entry.role else { return };
+        if let Some(c) = entry.replaced.and_then(|old| self.conns.get_mut(&old)) {
+            c.room = None;
         }
-        out
+        self.set_room(conn, code, role);
     }
 
     fn set_room(&mut self, conn: ConnId, code: RoomCode, role: Role) {
@@ -463,12 +463,6 @@ impl Hub {
             self.tokens.insert(digest, (room.code().clone(), seat));
         }
     }
-}
-
-/// Whether the outputs let `conn` into the room.
-fn joined(out: &[Output], conn: ConnId) -> bool {
-    out.iter()
-        .any(|o| matches!(o, Output::Send { to, msg: ServerMessage::Joined { .. } } if *to == conn))
 }
 
 #[cfg(test)]

@@ -92,6 +92,28 @@ fn error_to(conn: ConnId, (code, message): Refusal) -> Vec<Output> {
     }]
 }
 
+/// What an entry point ([`Room::join`], [`Room::rejoin`], [`Room::spectate`]) did, so the
+/// hub updates its index from facts rather than from the messages going out.
+#[derive(Debug)]
+pub struct Entry {
+    /// The role the connection now has in the room; `None`: it was refused.
+    pub role: Option<Role>,
+    /// The older connection that held the seat and is closed by `out`.
+    pub replaced: Option<ConnId>,
+    /// What to send and store.
+    pub out: Vec<Output>,
+}
+
+impl Entry {
+    fn refused(conn: ConnId, refusal: Refusal) -> Entry {
+        Entry {
+            role: None,
+            replaced: None,
+            out: error_to(conn, refusal),
+        }
+    }
+}
+
 impl Room {
     /// A new room with its creator in seat A. Returns the room and what to do: store it,
     /// then welcome the creator (with `token`, which only the caller ever sees whole).
@@ -237,15 +259,9 @@ impl Room {
     }
 
     /// Takes the free seat B.
-    pub fn join(
-        &mut self,
-        now: Instant,
-        conn: ConnId,
-        name: String,
-        token: SeatToken,
-    ) -> Vec<Output> {
+    pub fn join(&mut self, now: Instant, conn: ConnId, name: String, token: SeatToken) -> Entry {
         if self.seats[1].is_some() {
-            return error_to(conn, refuse(ErrorCode::RoomFull, "both seats are taken"));
+            return Entry::refused(conn, refuse(ErrorCode::RoomFull, "both seats are taken"));
         }
         self.seats[1] = Some(SeatState {
             name: name.clone(),
@@ -270,26 +286,25 @@ impl Room {
                 snapshot: Box::new(self.snapshot(now)),
             },
         });
-        out
+        Entry {
+            role: Some(Role::Player(Seat::B)),
+            replaced: None,
+            out,
+        }
     }
 
     /// Gives `seat` back to a player who proved it with its token. An older connection still
     /// holding the seat is closed.
-    pub fn rejoin(
-        &mut self,
-        now: Instant,
-        conn: ConnId,
-        seat: Seat,
-        token: SeatToken,
-    ) -> Vec<Output> {
+    pub fn rejoin(&mut self, now: Instant, conn: ConnId, seat: Seat, token: SeatToken) -> Entry {
         let mut out = Vec::new();
         let Some(state) = self.seats[index(seat)].as_mut() else {
-            return error_to(conn, refuse(ErrorCode::BadToken, "no such seat"));
+            return Entry::refused(conn, refuse(ErrorCode::BadToken, "no such seat"));
         };
         if !state.digest.matches(&TokenDigest::of(&token)) {
-            return error_to(conn, refuse(ErrorCode::BadToken, "unknown seat token"));
+            return Entry::refused(conn, refuse(ErrorCode::BadToken, "unknown seat token"));
         }
-        if let Some(old) = state.conn.replace(conn) {
+        let replaced = state.conn.replace(conn);
+        if let Some(old) = replaced {
             out.push(Output::Close {
                 conn: old,
                 reason: "replaced by a newer connection".into(),
@@ -308,22 +323,31 @@ impl Room {
                 snapshot: Box::new(self.snapshot(now)),
             },
         });
-        out
+        Entry {
+            role: Some(Role::Player(seat)),
+            replaced,
+            out,
+        }
     }
 
-    pub fn spectate(&mut self, now: Instant, conn: ConnId, max: usize) -> Vec<Output> {
+    /// Lets `conn` watch, unless `max` spectators already do.
+    pub fn spectate(&mut self, now: Instant, conn: ConnId, max: usize) -> Entry {
         if self.spectators.len() >= max {
-            return error_to(conn, refuse(ErrorCode::RoomFull, "too many spectators"));
+            return Entry::refused(conn, refuse(ErrorCode::RoomFull, "too many spectators"));
         }
         self.spectators.insert(conn);
-        vec![Output::Send {
-            to: conn,
-            msg: ServerMessage::Joined {
-                role: Role::Spectator,
-                token: None,
-                snapshot: Box::new(self.snapshot(now)),
-            },
-        }]
+        Entry {
+            role: Some(Role::Spectator),
+            replaced: None,
+            out: vec![Output::Send {
+                to: conn,
+                msg: ServerMessage::Joined {
+                    role: Role::Spectator,
+                    token: None,
+                    snapshot: Box::new(self.snapshot(now)),
+                },
+            }],
+        }
     }
 
     /// A message from someone in the room. Chat is rate-limited by the caller.

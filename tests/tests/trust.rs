@@ -1,7 +1,7 @@
 //! Who may talk to whom: the client trusts only the pinned certificate, the server only
 //! clients with its protocol version and physics.
 
-use breakshot_client::net::{endpoint, Connection, NetError};
+use breakshot_client::net::{endpoint, Channel, NetError};
 use breakshot_shared::protocol::{Fingerprint, PROTOCOL_VERSION};
 use breakshot_tests::{TempDir, TestServer};
 
@@ -11,14 +11,14 @@ async fn a_client_pinning_another_fingerprint_is_refused() -> anyhow::Result<()>
     let server = TestServer::start(data.path()).await?;
     let mut invite = server.invite.clone();
     invite.fingerprint = Fingerprint([0x42; 32]);
-    let result = Connection::open(&endpoint()?, &invite).await;
+    let result = Channel::open(&endpoint()?, &invite).await;
     match result {
         Err(NetError::Connect(why)) => assert!(why.contains("certificate"), "{why}"),
         Err(other) => panic!("wrong error: {other}"),
         Ok(_) => panic!("connected to a server whose certificate is not the pinned one"),
     }
     // The right fingerprint connects.
-    Connection::open(&endpoint()?, &server.invite).await?;
+    Channel::open(&endpoint()?, &server.invite).await?;
     server.stop().await
 }
 
@@ -26,7 +26,7 @@ async fn a_client_pinning_another_fingerprint_is_refused() -> anyhow::Result<()>
 async fn a_client_with_another_protocol_version_is_rejected_with_a_reason() -> anyhow::Result<()> {
     let data = TempDir::new("version");
     let server = TestServer::start(data.path()).await?;
-    let result = Connection::open_as(&endpoint()?, &server.invite, PROTOCOL_VERSION + 1).await;
+    let result = Channel::open_as(&endpoint()?, &server.invite, PROTOCOL_VERSION + 1).await;
     match result {
         Err(NetError::Rejected(reason)) => {
             assert!(reason.contains("protocol version"), "{reason}");

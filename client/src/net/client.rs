@@ -11,7 +11,7 @@ use breakshot_shared::protocol::{ClientMessage, Invite, Role, RoomCode, SeatToke
 use tokio::sync::mpsc;
 use tokio::task::JoinHandle;
 
-use super::connection::{endpoint, Connection, NetError, Writer};
+use super::channel::{endpoint, Channel, NetError, Writer};
 
 /// When and for how long the client connects again.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -56,11 +56,11 @@ impl Reconnect {
         ep: &quinn::Endpoint,
         invite: &Invite,
         patience: Duration,
-    ) -> Result<Connection, NetError> {
+    ) -> Result<Channel, NetError> {
         let since = Instant::now();
         let mut pause = self.pause;
         loop {
-            match Connection::open(ep, invite).await {
+            match Channel::open(ep, invite).await {
                 Ok(c) => return Ok(c),
                 Err(e @ NetError::Rejected(_)) => return Err(e),
                 Err(e) if since.elapsed() + pause > patience => return Err(e),
@@ -95,7 +95,7 @@ struct Live {
 }
 
 impl Live {
-    fn new(conn: Connection) -> Live {
+    fn new(conn: Channel) -> Live {
         let (quic, writer, mut reader) = conn.split();
         let (tx, incoming) = mpsc::channel(64);
         let reader = tokio::spawn(async move {

@@ -3,23 +3,12 @@
 //! the same network path as the other player (QUIC on loopback, the certificate pinned by
 //! its fingerprint).
 
-use std::collections::VecDeque;
 use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr};
 use std::path::PathBuf;
-use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
 
-use breakshot_server::{Config, Server, ServerError};
-use breakshot_shared::protocol::{AimAid, ClientMessage, Invite};
-use breakshot_shared::rules::{Command, EightBallRules, Game, Seat, Settings, Variant};
+use breakshot_shared::protocol::{AimAid, Invite};
+use breakshot_shared::rules::{EightBallRules, Settings, Variant};
 use thiserror::Error;
-use tokio::sync::oneshot;
-
-use super::link::NetLink;
-use super::seats::SeatStore;
-use super::session::Session;
-use crate::play::link::{GameEvent, GameLink};
-use crate::view::hud::Connection;
 
 /// The UDP port `breakshot host` listens on unless told otherwise (the one to open in a
 /// firewall or forward on a router).
@@ -34,19 +23,25 @@ pub const ADDRESS_NOTE: &str = "this computer has no network address the other p
 pub const ROUTER_HINT: &str = "Over the internet: forward UDP port 4433 on your router to this \
      computer and host with --address YOUR_PUBLIC_IP";
 
-/// How long hosting waits for its own server to seat it. The server is in this process and
-/// answers in milliseconds; this only turns a hang into an error.
-const SEATING: Duration = Duration::from_secs(20);
-
 #[derive(Debug, Error)]
+/// Why hosting failed.
 pub enum HostError {
+    /// The server could not start.
+    #[cfg(feature = "host")]
     #[error("the game server could not start: {0}")]
-    Server(#[from] ServerError),
+    Server(#[from] breakshot_server::ServerError),
+    /// This build has no embedded server.
+    #[cfg(not(feature = "host"))]
+    #[error("this build cannot host games (it was built without the `host` feature): run breakshot-server and join its invite")]
+    NotBuilt,
     #[error("the game server could not start: {0}")]
+    /// No runtime for the server's thread.
     Runtime(String),
     #[error("could not open a room on the game server: {0}")]
+    /// The room could not be opened.
     Room(String),
     #[error("the invite's address must be a host name or an IP address, not {0:?}")]
+    /// The address given for the invite is not one.
     Address(String),
 }
 
@@ -57,8 +52,11 @@ pub struct HostOptions {
     pub bind: SocketAddr,
     /// The server's data directory (certificate and game store).
     pub data: PathBuf,
+    /// The game played.
     pub variant: Variant,
+    /// The room's settings.
     pub settings: Settings,
+    /// The aiming aids the room allows.
     pub aim_aid: AimAid,
     /// The address written into the invite instead of the bound one: what the other player
     /// dials to reach this computer.
@@ -115,7 +113,8 @@ pub fn lan_address(candidates: &[IpAddr]) -> Option<IpAddr> {
 }
 
 /// This computer's addresses on the interfaces that are up.
-fn interface_addresses() -> Vec<IpAddr> {
+#[cfg(feature = "host")]
+pub(super) fn interface_addresses() -> Vec<IpAddr> {
     match if_addrs::get_if_addrs() {
         Ok(interfaces) => interfaces.iter().map(|i| i.ip()).collect(),
         Err(e) => {
@@ -180,249 +179,10 @@ pub fn invite_host(address: &str) -> Result<String, HostError> {
 }
 
 /// `ip` as an invite writes it (IPv6 in brackets).
-fn host_text(ip: IpAddr) -> String {
+pub(super) fn host_text(ip: IpAddr) -> String {
     match ip {
         IpAddr::V6(ip) => format!("[{ip}]"),
         ip => ip.to_string(),
-    }
-}
-
-/// The game server running on a thread of its own (with its own tokio runtime), stopped
-/// cleanly when dropped.
-pub struct EmbeddedServer {
-    addr: SocketAddr,
-    invite: Invite,
-    stop: Option<oneshot::Sender<()>>,
-    thread: Option<JoinHandle<()>>,
-}
-
-impl EmbeddedServer {
-    /// Opens the data directory, binds and starts serving; returns once the socket is bound
-    /// (or with the reason it could not be).
-    pub fn start(config: Config) -> Result<EmbeddedServer, HostError> {
-        let (ready_tx, ready_rx) = std::sync::mpsc::channel();
-        let (stop, stopped) = oneshot::channel::<()>();
-        let thread = std::thread::Builder::new()
-            .name("breakshot-server".into())
-            .spawn(move || {
-                let runtime = match tokio::runtime::Builder::new_multi_thread()
-                    .worker_threads(2)
-                    .enable_all()
-                    .build()
-                {
-                    Ok(r) => r,
-                    Err(e) => {
-                        let _ = ready_tx.send(Err(HostError::Runtime(e.to_string())));
-                        return;
-                    }
-                };
-                runtime.block_on(async move {
-                    // The endpoint must be made inside the runtime.
-                    let server = match Server::bind(&config) {
-                        Ok(s) => s,
-                        Err(e) => {
-                            let _ = ready_tx.send(Err(HostError::Server(e)));
-                            return;
-                        }
-                    };
-                    let _ = ready_tx.send(Ok((server.local_addr(), server.invite())));
-                    let result = server
-                        .run(async {
-                            let _ = stopped.await;
-                        })
-                        .await;
-                    if let Err(e) = result {
-                        tracing::error!(error = %e, "the embedded game server stopped");
-                    }
-                });
-            })
-            .map_err(|e| HostError::Runtime(e.to_string()))?;
-        match ready_rx.recv() {
-            Ok(Ok((addr, invite))) => Ok(EmbeddedServer {
-                addr,
-                invite,
-                stop: Some(stop),
-                thread: Some(thread),
-            }),
-            Ok(Err(e)) => {
-                let _ = thread.join();
-                Err(e)
-            }
-            Err(_) => {
-                let _ = thread.join();
-                Err(HostError::Runtime("the server thread ended".into()))
-            }
-        }
-    }
-
-    /// The address the server is bound to.
-    pub fn local_addr(&self) -> SocketAddr {
-        self.addr
-    }
-
-    /// The server's own invite (no room), naming the bound address.
-    pub fn invite(&self) -> Invite {
-        self.invite.clone()
-    }
-
-    /// The server's invite as this computer dials it (loopback for a wildcard bind).
-    pub fn loopback_invite(&self) -> Invite {
-        let at = loopback_for(self.addr);
-        Invite {
-            host: host_text(at.ip()),
-            port: at.port(),
-            ..self.invite.clone()
-        }
-    }
-}
-
-impl Drop for EmbeddedServer {
-    fn drop(&mut self) {
-        if let Some(stop) = self.stop.take() {
-            let _ = stop.send(());
-        }
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
-    }
-}
-
-/// A hosted game: the embedded server, and this computer's seat (A) in a new room on it,
-/// played through a [`NetLink`] like any other network game.
-pub struct Host {
-    link: NetLink,
-    /// Events the link gave while the room was being opened, handed to the screen first.
-    pending: VecDeque<GameEvent>,
-    invite: Invite,
-    resumed: bool,
-    data: PathBuf,
-    /// Declared after the link so the session closes before the server stops.
-    server: EmbeddedServer,
-}
-
-impl Host {
-    /// Starts the server, connects to it over loopback and returns once this computer holds
-    /// seat A, with the invite for the other player. The seat is the one this computer
-    /// still holds in an unfinished game on this server (a host restarted with the same data
-    /// directory goes back to its game: same room, same invite), unless
-    /// [`HostOptions::resume`] is false or that game is over; else a new room.
-    pub fn start(options: &HostOptions) -> Result<Host, HostError> {
-        let address = options.address.as_deref().map(invite_host).transpose()?;
-        let server = EmbeddedServer::start(Config::new(options.bind, options.data.clone()))?;
-        let mut addressed = server.invite();
-        // A server on every interface is dialled on this computer's LAN address.
-        let lan = || {
-            (options.bind.ip().is_unspecified())
-                .then(|| lan_address(&interface_addresses()))
-                .flatten()
-                .map(host_text)
-        };
-        if let Some(address) = address.or_else(lan) {
-            addressed.host = address;
-        }
-        let seats = SeatStore::new(&options.data);
-        let mut resuming = options
-            .resume
-            .then(|| seats.on_server(&addressed.fingerprint))
-            .flatten();
-        let create = ClientMessage::CreateRoom {
-            variant: options.variant,
-            mode: options.settings,
-            aim_aid: options.aim_aid,
-            name: "host".into(),
-        };
-        let session = Session::connect(server.loopback_invite());
-        session.send(match &resuming {
-            Some(seat) => ClientMessage::Rejoin { token: seat.token },
-            None => create.clone(),
-        });
-        let mut link = NetLink::new(session);
-        link.remember(seats.clone(), addressed.clone());
-        let mut pending = VecDeque::new();
-        let since = Instant::now();
-        let room = loop {
-            while let Some(event) = link.poll() {
-                match &event {
-                    GameEvent::Connection(Connection::Closed(why)) => {
-                        return Err(HostError::Room(why.clone()))
-                    }
-                    // The remembered game is over (or was never stored): open a new room.
-                    GameEvent::Refused(_) if resuming.is_some() => {
-                        if let Some(seat) = resuming.take() {
-                            seats.forget(&seat.invite);
-                        }
-                        link.session().send(create.clone());
-                    }
-                    GameEvent::Refused(why) => return Err(HostError::Room(why.clone())),
-                    _ => pending.push_back(event),
-                }
-            }
-            if let Some(room) = link.session().room().cloned() {
-                break room;
-            }
-            if since.elapsed() > SEATING {
-                return Err(HostError::Room("the server did not answer".into()));
-            }
-            std::thread::sleep(Duration::from_millis(5));
-        };
-        Ok(Host {
-            link,
-            pending,
-            invite: addressed.with_room(room),
-            resumed: resuming.is_some(),
-            data: options.data.clone(),
-            server,
-        })
-    }
-
-    /// True when this host went back to its unfinished game rather than opening a room.
-    pub fn resumed(&self) -> bool {
-        self.resumed
-    }
-
-    /// The invite for the other player: `breakshot://HOST:PORT/ROOM#FINGERPRINT`.
-    pub fn invite(&self) -> &Invite {
-        &self.invite
-    }
-
-    /// True when the invite names a wildcard address (see [`names_wildcard`]).
-    pub fn needs_address(&self) -> bool {
-        names_wildcard(&self.invite)
-    }
-
-    /// The server's data directory.
-    pub fn data(&self) -> &std::path::Path {
-        &self.data
-    }
-
-    pub fn server(&self) -> &EmbeddedServer {
-        &self.server
-    }
-
-    pub fn link(&self) -> &NetLink {
-        &self.link
-    }
-}
-
-impl GameLink for Host {
-    fn seat(&self) -> Option<Seat> {
-        self.link.seat()
-    }
-
-    fn send(&mut self, game: &Game, seat: Seat, command: Command) {
-        self.link.send(game, seat, command)
-    }
-
-    fn poll(&mut self) -> Option<GameEvent> {
-        self.pending.pop_front().or_else(|| self.link.poll())
-    }
-
-    fn rematch(&mut self) {
-        self.link.rematch()
-    }
-
-    fn invite(&self) -> Option<&Invite> {
-        Some(&self.invite)
     }
 }
 

@@ -2,8 +2,10 @@
 //! framed message stream, the local game mirror that predicts and checks every shot, a polling
 //! session for frame loops, and fetching a stored game's record.
 
+pub mod channel;
 pub mod client;
-pub mod connection;
+#[cfg(feature = "host")]
+mod embedded;
 pub mod host;
 pub mod link;
 pub mod pinned;
@@ -11,9 +13,11 @@ pub mod records;
 pub mod seats;
 pub mod session;
 
+pub use channel::{endpoint, Channel, NetError, Reader, Writer};
 pub use client::{Client, ClientEvent, Reconnect};
-pub use connection::{endpoint, Connection, NetError, Reader, Writer};
-pub use host::{EmbeddedServer, Host, HostError, HostOptions};
+#[cfg(feature = "host")]
+pub use embedded::{EmbeddedServer, Host};
+pub use host::{HostError, HostOptions};
 pub use link::{NetLink, NoRoom};
 pub use records::{fetch_record, fetch_record_blocking, FetchError, FetchedRecord};
 pub use seats::{Remembered, SeatStore};

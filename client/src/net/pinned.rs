@@ -17,9 +17,11 @@ use sha2::{Digest, Sha256};
 
 /// Keep-alive so a thinking player's connection never idles out.
 pub const KEEP_ALIVE: Duration = Duration::from_secs(5);
+/// How long a silent connection lives (keep-alive keeps a thinking player's alive).
 pub const IDLE_TIMEOUT: Duration = Duration::from_secs(30);
 
 #[derive(Debug)]
+/// A certificate verifier that trusts one SHA-256 fingerprint and nothing else.
 pub struct PinnedCert {
     fingerprint: Fingerprint,
     provider: Arc<CryptoProvider>,

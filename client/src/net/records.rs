@@ -6,33 +6,50 @@ use std::time::Duration;
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, Invite, RoomCode, ServerMessage};
 use thiserror::Error;
 
-use super::connection::{endpoint, Connection, NetError};
+use super::channel::{endpoint, Channel, NetError};
 
 /// How long connecting and fetching may take before the server counts as unreachable.
 pub const FETCH_TIMEOUT: Duration = Duration::from_secs(15);
 
 #[derive(Debug, Error)]
+/// Why a game's record could not be fetched.
 pub enum FetchError {
     #[error(transparent)]
+    /// The connection failed.
     Net(#[from] NetError),
     #[error("the server has no game in room {0}")]
+    /// The server has no game in that room.
     NoSuchGame(RoomCode),
     #[error("the server refused ({code:?}): {message}")]
-    Refused { code: ErrorCode, message: String },
+    /// The server refused to send it.
+    Refused {
+        /// Why, as a code.
+        code: ErrorCode,
+        /// Why, in words.
+        message: String,
+    },
     #[error("the server answered with {0} instead of the record")]
+    /// The server answered something else.
     Unexpected(String),
     #[error("no answer from {authority} within {} s: is the server running and its UDP port open?", FETCH_TIMEOUT.as_secs())]
-    Timeout { authority: String },
+    /// The server did not answer in time.
+    Timeout {
+        /// The server asked.
+        authority: String,
+    },
     #[error("cannot start the network: {0}")]
+    /// No runtime to fetch with.
     Runtime(String),
 }
 
 /// A room's latest game as the server stores it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FetchedRecord {
+    /// The room the game was played in.
     pub room: RoomCode,
     /// The game's number in its room, from 1.
     pub game: u32,
+    /// The game is over (else it is still being played).
     pub finished: bool,
     /// An encoded [`breakshot_shared::replay::GameRecord`].
     pub bytes: Vec<u8>,
@@ -66,7 +83,7 @@ async fn fetch_on(
     server: &Invite,
     room: &RoomCode,
 ) -> Result<FetchedRecord, FetchError> {
-    let mut conn = Connection::open(ep, server).await?;
+    let mut conn = Channel::open(ep, server).await?;
     conn.send(&ClientMessage::FetchRecord { room: room.clone() })
         .await?;
     let answer = conn.recv().await?;

@@ -8,6 +8,7 @@ use glam::DVec2;
 pub const MAX_SHOT_SPEED: f64 = 12.0;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
+/// The shot being set up: direction, power and the tip's offset on the cue ball.
 pub struct Aim {
     /// Direction in the scene plane, radians from +x.
     pub angle: f64,
@@ -28,6 +29,7 @@ impl Default for Aim {
 }
 
 impl Aim {
+    /// The unit direction of the shot.
     pub fn dir(&self) -> DVec2 {
         DVec2::new(self.angle.cos(), self.angle.sin())
     }
@@ -37,6 +39,7 @@ impl Aim {
         MAX_SHOT_SPEED * self.power * self.power
     }
 
+    /// Sets the power, clamped to 0..=1.
     pub fn set_power(&mut self, power: f64) {
         if power.is_finite() {
             self.power = power.clamp(0.0, 1.0);
@@ -63,6 +66,7 @@ impl Aim {
         }
     }
 
+    /// Turns the aim by `radians`.
     pub fn rotate(&mut self, radians: f64) {
         if radians.is_finite() {
             self.angle = (self.angle + radians).rem_euclid(std::f64::consts::TAU);

@@ -25,35 +25,56 @@ pub const MIN_PULL_POWER: f64 = 0.03;
 /// Keys that do one thing when pressed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Key {
+    /// Take the shot (or skip the one playing).
     Shoot,
+    /// Toggle the aim line.
     AimLine,
+    /// Toggle the ghost ball.
     GhostBall,
+    /// Toggle the predicted paths.
     Paths,
+    /// Toggle the debug overlay.
     Debug,
+    /// Pick the cue ball up (practice).
     BallInHand,
+    /// Rack again.
     Rerack,
+    /// Back to the menu.
     Back,
     /// Replays: next shot, previous shot, faster, slower.
     Next,
+    /// Replays: the previous shot.
     Previous,
+    /// Replays: faster.
     Faster,
+    /// Replays: slower.
     Slower,
 }
 
 /// One frame of input, read from the devices by the window.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct InputFrame {
+    /// Mouse position (pixels).
     pub mouse: [f32; 2],
+    /// The left button went down this frame.
     pub left_pressed: bool,
+    /// The left button is held.
     pub left_down: bool,
+    /// The left button went up this frame.
     pub left_released: bool,
     /// Wheel notches this frame (up is positive).
     pub wheel: f32,
+    /// Shift is held (fine aim).
     pub shift: bool,
+    /// The left arrow is held.
     pub left_key: bool,
+    /// The right arrow is held.
     pub right_key: bool,
+    /// The up arrow is held.
     pub up_key: bool,
+    /// The down arrow is held.
     pub down_key: bool,
+    /// Keys pressed this frame.
     pub pressed: Vec<Key>,
     /// Seconds since the last frame.
     pub dt: f64,
@@ -73,28 +94,39 @@ pub enum Stage {
 /// What the controls need to know about the table.
 #[derive(Clone, Copy, Debug)]
 pub struct Context<'a> {
+    /// Where things are on the screen.
     pub layout: &'a Layout,
     /// The cue ball's centre (scene coordinates).
     pub cue: DVec2,
+    /// The ball radius (m).
     pub radius: f64,
+    /// What the player may do now.
     pub stage: Stage,
 }
 
 /// A command from the player.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Intent {
+    /// Take this shot.
     Shoot(Strike),
+    /// Put the cue ball here.
     PlaceCueBall([f64; 2]),
+    /// Toggle an aiming aid.
     Toggle(Aid),
+    /// Toggle the debug overlay.
     ToggleDebug,
+    /// Pick the cue ball up.
     TakeBallInHand,
+    /// Rack again.
     Rerack,
+    /// Back to the menu.
     Back,
 }
 
 /// What the left button is doing.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Drag {
+    /// Nothing.
     None,
     /// Setting the tip on the cue-ball face.
     Tip,
@@ -102,10 +134,12 @@ pub enum Drag {
     Power,
     /// Pulling the cue back from where the button went down (pixels).
     PullBack {
+        /// Where the button went down (pixels).
         from: [f32; 2],
     },
     /// Moving the cue ball in hand; `at` is where it would go.
     CueBall {
+        /// Where the ball would go (m).
         at: DVec2,
     },
 }
@@ -113,12 +147,15 @@ pub enum Drag {
 /// The set-up and the state of a drag, kept across frames.
 #[derive(Clone, Debug)]
 pub struct Controls {
+    /// The shot being set up.
     pub aim: Aim,
+    /// What the left button is doing.
     pub drag: Drag,
     last_mouse: Option<[f32; 2]>,
 }
 
 impl Controls {
+    /// Controls starting from `aim`.
     pub fn new(aim: Aim) -> Controls {
         Controls {
             aim,

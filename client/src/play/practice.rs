@@ -14,27 +14,39 @@ use super::aim::Aim;
 use crate::view::playback::Playback;
 
 #[derive(Debug, thiserror::Error, PartialEq)]
+/// Why a practice action was refused.
 pub enum PracticeError {
     #[error("{0}")]
+    /// The scene is not valid.
     Scene(#[from] SceneError),
     #[error("the balls are still moving")]
+    /// A shot is playing.
     Busy,
     #[error("the cue ball is pocketed: place it first")]
+    /// The cue ball is off the table.
     CueOffTable,
     #[error("the cue ball cannot go there: {0}")]
+    /// The cue ball cannot go there.
     IllegalPlacement(String),
     #[error("invalid shot: {0}")]
+    /// The engine refused the shot.
     Shot(#[from] ShotError),
 }
 
 /// The practice table.
 #[derive(Clone, Debug)]
 pub struct Practice {
+    /// The table played on.
     pub table: TableKind,
+    /// Physical parameters.
     pub params: Params,
+    /// Collision models.
     pub models: Models,
+    /// Optional effects.
     pub effects: Effects,
+    /// When a shot stops being simulated (s), if before every ball rests.
     pub horizon: Option<f64>,
+    /// The balls' names in the scene.
     pub ids: Vec<String>,
     /// The balls at rest between shots (scene coordinates).
     pub balls: Vec<BallState>,

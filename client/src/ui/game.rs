@@ -16,7 +16,7 @@ use breakshot_shared::rules::{is_off_table, pocket_name, rack, Choice, Command, 
 use macroquad::prelude::*;
 
 use super::hud::{game_hud, HudInfo};
-use super::{draw, invite, menu, Next, Screen};
+use super::{draw, invite, menu, Screen, Step};
 
 pub struct GameScreen {
     link: Box<dyn GameLink>,
@@ -110,7 +110,7 @@ impl GameScreen {
         self.toggles.allowed_by(self.flow.aim_aid)
     }
 
-    pub fn update(&mut self, input: &InputFrame) -> Next {
+    pub fn update(&mut self, input: &InputFrame) -> Step {
         self.frame_ms = 0.9 * self.frame_ms + 0.1 * input.dt * 1000.0;
         while let Some(event) = self.link.poll() {
             self.flow.handle(event);
@@ -130,9 +130,9 @@ impl GameScreen {
         self.flow.tick(input.dt);
         let Some(game) = self.flow.game().cloned() else {
             return if input.pressed.contains(&Key::Back) {
-                Next::Go(Screen::Menu(menu::MenuScreen::new()))
+                Step::Go(Screen::Menu(menu::MenuScreen::new()))
             } else {
-                Next::Stay
+                Step::Stay
             };
         };
         let layout = Self::layout(&game);
@@ -209,12 +209,12 @@ impl GameScreen {
                 (Intent::Rerack, _) if matches!(game.phase(), Phase::Over { .. }) => {
                     self.link.rematch()
                 }
-                (Intent::Back, _) => return Next::Go(Screen::Menu(menu::MenuScreen::new())),
+                (Intent::Back, _) => return Step::Go(Screen::Menu(menu::MenuScreen::new())),
                 _ => {}
             }
         }
         self.refresh_prediction(&game, stage);
-        Next::Stay
+        Step::Stay
     }
 
     fn refresh_prediction(&mut self, game: &Game, stage: Stage) {

@@ -1,14 +1,15 @@
 //! The menu the window opens on when no command is given.
 
 use breakshot_client::net::host::default_data_dir;
-use breakshot_client::net::{Host, HostOptions, NetLink, SeatStore};
+use breakshot_client::net::{HostOptions, NetLink, SeatStore};
 use breakshot_client::play::controls::{InputFrame, Key};
+use breakshot_client::play::link::GameLink;
 use breakshot_client::view::layout::Rect;
 use breakshot_shared::protocol::Invite;
 use breakshot_shared::rules::{EightBallRules, Variant};
 use macroquad::prelude::*;
 
-use super::{draw, practice::PracticeScreen, Next, Screen};
+use super::{draw, practice::PracticeScreen, Screen, Step};
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Item {
@@ -30,10 +31,20 @@ const ITEMS: [(Item, &str); 6] = [
 ];
 
 /// Hosts an 8-ball game with the defaults of `breakshot host`.
-fn host_default() -> Result<Host, String> {
+fn host_default() -> Result<Box<dyn GameLink>, String> {
     let data = default_data_dir()
         .ok_or("No user data directory (HOME is not set): run breakshot host --data DIR")?;
-    Host::start(&HostOptions::new(data)).map_err(|e| e.to_string())
+    let options = HostOptions::new(data);
+    #[cfg(feature = "host")]
+    let hosted = breakshot_client::net::Host::start(&options)
+        .map(|h| Box::new(h) as Box<dyn GameLink>)
+        .map_err(|e| e.to_string());
+    #[cfg(not(feature = "host"))]
+    let hosted = {
+        let _ = options;
+        Err(breakshot_client::net::HostError::NotBuilt.to_string())
+    };
+    hosted
 }
 
 /// Joins the game whose invite is on the clipboard.
@@ -76,36 +87,36 @@ impl MenuScreen {
             .collect()
     }
 
-    pub fn update(&mut self, input: &InputFrame) -> Next {
+    pub fn update(&mut self, input: &InputFrame) -> Step {
         if input.pressed.contains(&Key::Back) {
-            return Next::Quit;
+            return Step::Quit;
         }
         if !input.left_pressed {
-            return Next::Stay;
+            return Step::Stay;
         }
         let Some((item, _, _)) = Self::buttons()
             .into_iter()
             .find(|(_, _, r)| r.contains(input.mouse))
         else {
-            return Next::Stay;
+            return Step::Stay;
         };
         match item {
             Item::Practice => match PracticeScreen::new(None, super::fresh_seed()) {
-                Ok(s) => return Next::Go(Screen::Practice(Box::new(s))),
+                Ok(s) => return Step::Go(Screen::Practice(Box::new(s))),
                 Err(e) => self.message = e.to_string(),
             },
             Item::Local => {
-                return Next::Go(super::local_game(
+                return Step::Go(super::local_game(
                     Variant::EightBall(EightBallRules::Wpa),
                     super::fresh_seed(),
                 ))
             }
             Item::Host => match host_default() {
-                Ok(host) => return Next::Go(super::network_game(Box::new(host))),
+                Ok(host) => return Step::Go(super::network_game(host)),
                 Err(e) => self.message = e,
             },
             Item::Join => match join_from_clipboard() {
-                Ok(link) => return Next::Go(super::network_game(Box::new(link))),
+                Ok(link) => return Step::Go(super::network_game(Box::new(link))),
                 Err(e) => self.message = e,
             },
             Item::Replay => {
@@ -113,9 +124,9 @@ impl MenuScreen {
                     "To watch a game, run: breakshot replay FILE (or --server URL --game ROOM)"
                         .into();
             }
-            Item::Quit => return Next::Quit,
+            Item::Quit => return Step::Quit,
         }
-        Next::Stay
+        Step::Stay
     }
 
     pub fn draw(&mut self) {

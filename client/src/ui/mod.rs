@@ -70,7 +70,7 @@ pub fn fresh_seed() -> u64 {
 }
 
 /// What a screen asks for after a frame.
-pub enum Next {
+pub enum Step {
     Stay,
     Quit,
     Go(Screen),
@@ -84,7 +84,7 @@ pub enum Screen {
 }
 
 impl Screen {
-    fn update(&mut self, input: &InputFrame) -> Next {
+    fn update(&mut self, input: &InputFrame) -> Step {
         match self {
             Screen::Menu(s) => s.update(input),
             Screen::Practice(s) => s.update(input),
@@ -131,9 +131,9 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
             }
         }
         match next {
-            Next::Stay => {}
-            Next::Quit => return Ok(()),
-            Next::Go(s) => screen = s,
+            Step::Stay => {}
+            Step::Quit => return Ok(()),
+            Step::Go(s) => screen = s,
         }
         clock.pace();
         next_frame().await;

@@ -9,7 +9,7 @@ use breakshot_shared::physics::{Shot, Simulator, TableKind};
 use breakshot_shared::scene::Scene;
 use macroquad::prelude::*;
 
-use super::{draw, menu, Next, Screen};
+use super::{draw, menu, Screen, Step};
 
 pub struct PracticeScreen {
     practice: Practice,
@@ -64,7 +64,7 @@ impl PracticeScreen {
         }
     }
 
-    pub fn update(&mut self, input: &InputFrame) -> Next {
+    pub fn update(&mut self, input: &InputFrame) -> Step {
         self.frame_ms = 0.9 * self.frame_ms + 0.1 * input.dt * 1000.0;
         let layout = self.layout();
         let cue = self.practice.balls[self.practice.cue].pos;
@@ -103,12 +103,12 @@ impl PracticeScreen {
                     self.practice = self.initial.clone();
                     self.message = "Table reset".into();
                 }
-                Intent::Back => return Next::Go(Screen::Menu(menu::MenuScreen::new())),
+                Intent::Back => return Step::Go(Screen::Menu(menu::MenuScreen::new())),
             }
         }
         self.practice.tick(input.dt, 1.0);
         self.refresh_prediction();
-        Next::Stay
+        Step::Stay
     }
 
     /// Re-simulates the aids when the shot being set up changes.

@@ -10,7 +10,7 @@ use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
 
 use super::hud::{game_hud, HudInfo};
-use super::{draw, menu, Next, Screen};
+use super::{draw, menu, Screen, Step};
 
 pub struct ReplayScreen {
     viewer: ReplayViewer,
@@ -23,7 +23,7 @@ impl ReplayScreen {
         ReplayScreen { viewer, frame }
     }
 
-    pub fn update(&mut self, input: &InputFrame) -> Next {
+    pub fn update(&mut self, input: &InputFrame) -> Step {
         for key in &input.pressed {
             match key {
                 Key::Shoot => self.viewer.paused = !self.viewer.paused,
@@ -31,12 +31,12 @@ impl ReplayScreen {
                 Key::Previous => self.viewer.step_back(),
                 Key::Faster => self.viewer.faster(),
                 Key::Slower => self.viewer.slower(),
-                Key::Back => return Next::Go(Screen::Menu(menu::MenuScreen::new())),
+                Key::Back => return Step::Go(Screen::Menu(menu::MenuScreen::new())),
                 _ => {}
             }
         }
         self.viewer.tick(input.dt);
-        Next::Stay
+        Step::Stay
     }
 
     pub fn draw(&mut self) {

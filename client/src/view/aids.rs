@@ -14,8 +14,11 @@ const MAX_POINTS: usize = 1200;
 /// Which aids are shown.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct AidToggles {
+    /// Show the aim line.
     pub aim_line: bool,
+    /// Show the ghost ball.
     pub ghost_ball: bool,
+    /// Show the predicted paths.
     pub paths: bool,
 }
 
@@ -32,8 +35,11 @@ impl Default for AidToggles {
 /// One aid, for toggling.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Aid {
+    /// The aim line.
     AimLine,
+    /// The ghost ball.
     GhostBall,
+    /// The predicted paths.
     Paths,
 }
 
@@ -59,6 +65,7 @@ impl AidToggles {
         self.aim_line || self.ghost_ball || self.paths
     }
 
+    /// Switches `aid` on or off.
     pub fn toggle(&mut self, aid: Aid) {
         let flag = match aid {
             Aid::AimLine => &mut self.aim_line,
@@ -79,7 +86,9 @@ pub struct Prediction {
     pub ghost: Option<DVec2>,
     /// The first ball the cue ball hits.
     pub first_hit: Option<usize>,
+    /// Where the cue ball goes.
     pub cue_path: Vec<DVec2>,
+    /// Where the first ball hit goes.
     pub object_path: Vec<DVec2>,
 }
 

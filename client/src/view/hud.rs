@@ -7,7 +7,9 @@ use breakshot_shared::rules::{Choice, Game, InHand, Phase, Seat, Variant, Verdic
 /// One player's line.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PlayerLine {
+    /// The seat the line is about.
     pub seat: Seat,
+    /// The words shown.
     pub text: String,
     /// This seat shoots or decides next.
     pub to_move: bool,
@@ -18,18 +20,24 @@ pub struct PlayerLine {
 pub enum Connection {
     /// No server: practice or a replay.
     Offline,
+    /// Connecting to the server.
     Connecting,
     /// In a room whose other seat nobody has taken yet.
     WaitingForOpponent,
+    /// Both players are there.
     Connected,
+    /// Our connection dropped; taking the seat back.
     Reconnecting,
     /// The opponent's connection dropped; the game is forfeited after `seconds_left`.
     OpponentLeft {
+        /// Seconds before the game is forfeited.
         seconds_left: f64,
     },
+    /// The connection ended, with the reason.
     Closed(String),
 }
 
+/// The readable name of a game.
 pub fn variant_name(v: Variant) -> &'static str {
     match v {
         Variant::EightBall(breakshot_shared::rules::EightBallRules::Wpa) => "8-ball (WPA rules)",
@@ -119,6 +127,7 @@ pub fn shot_clock(seconds_left: Option<f64>) -> Option<String> {
     Some(format!("shot clock {}:{:02}", s / 60, s % 60))
 }
 
+/// The words for a connection state.
 pub fn connection(c: &Connection) -> String {
     match c {
         Connection::Offline => "offline".into(),

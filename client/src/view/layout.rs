@@ -16,21 +16,28 @@ const OPEN_MARGIN: f64 = 0.3;
 /// An axis-aligned rectangle in pixels.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rect {
+    /// Left edge (pixels).
     pub x: f32,
+    /// Top edge (pixels).
     pub y: f32,
+    /// Width (pixels).
     pub w: f32,
+    /// Height (pixels).
     pub h: f32,
 }
 
 impl Rect {
+    /// A rectangle from its top-left corner and size.
     pub fn new(x: f32, y: f32, w: f32, h: f32) -> Rect {
         Rect { x, y, w, h }
     }
 
+    /// Whether `p` is inside.
     pub fn contains(&self, p: [f32; 2]) -> bool {
         p[0] >= self.x && p[0] <= self.x + self.w && p[1] >= self.y && p[1] <= self.y + self.h
     }
 
+    /// The centre.
     pub fn center(&self) -> [f32; 2] {
         [self.x + 0.5 * self.w, self.y + 0.5 * self.h]
     }
@@ -86,7 +93,9 @@ impl Frame {
 /// The screen layout for one window size and one table.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Layout {
+    /// The window size (pixels).
     pub screen: [f32; 2],
+    /// The part of the table shown.
     pub frame: Frame,
     /// Pixels per metre.
     pub scale: f64,
@@ -102,6 +111,7 @@ pub struct Layout {
     pub tray: Rect,
     /// The cue-ball face where the tip offset is set: centre and radius in pixels.
     pub tip_center: [f32; 2],
+    /// The radius of the cue-ball face (pixels).
     pub tip_radius: f32,
     /// The power bar (power grows upwards).
     pub power_bar: Rect,

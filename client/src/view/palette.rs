@@ -4,12 +4,19 @@
 /// An sRGB colour.
 pub type Rgb = [u8; 3];
 
+/// The cloth.
 pub const CLOTH: Rgb = [24, 104, 74];
+/// The cushions.
 pub const CUSHION: Rgb = [18, 82, 56];
+/// The rails.
 pub const RAIL_WOOD: Rgb = [92, 52, 26];
+/// The diamonds on the rails.
 pub const DIAMOND: Rgb = [236, 226, 196];
+/// Pocket openings.
 pub const POCKET: Rgb = [8, 8, 8];
+/// Around the table.
 pub const BACKGROUND: Rgb = [26, 28, 34];
+/// The cue ball.
 pub const CUE_BALL: Rgb = [246, 244, 232];
 /// The white of stripes and of the number disc.
 pub const BALL_WHITE: Rgb = [244, 240, 226];
@@ -30,8 +37,11 @@ const SOLIDS: [Rgb; 8] = [
 /// How a ball is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BallLook {
+    /// The ball's colour.
     pub color: Rgb,
+    /// A striped ball (white with a band).
     pub stripe: bool,
+    /// The number printed on it.
     pub number: Option<u8>,
 }
 

@@ -4,8 +4,9 @@
 
 use breakshot_shared::physics::{BallState, EventKind, Outcome};
 
-/// Fastest and slowest playback speeds.
+/// The slowest playback speed.
 pub const MIN_SPEED: f64 = 0.125;
+/// The fastest playback speed.
 pub const MAX_SPEED: f64 = 8.0;
 
 /// A shot being shown.
@@ -17,10 +18,12 @@ pub struct Playback {
 }
 
 impl Playback {
+    /// Shows `outcome` from its start.
     pub fn new(outcome: Outcome) -> Playback {
         Playback { outcome, time: 0.0 }
     }
 
+    /// The shot shown.
     pub fn outcome(&self) -> &Outcome {
         &self.outcome
     }
@@ -46,6 +49,7 @@ impl Playback {
         self.time = self.outcome.duration;
     }
 
+    /// The whole shot has been shown.
     pub fn finished(&self) -> bool {
         self.time >= self.outcome.duration
     }

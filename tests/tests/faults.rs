@@ -1,36 +1,57 @@
-//! Crashes: the real `breakshot-server` killed with SIGKILL while bots play and the store is
-//! being written, then started again on the same data directory. Nothing a player was shown
-//! may be lost, `verify` must pass, and the bots must rejoin with their tokens and finish.
+//! Crashes: a server process killed with SIGKILL while bots play and the store is being
+//! written, then started again on the same data directory. Nothing a player was shown may
+//! be lost, verification must pass, and the bots must rejoin with their tokens and finish.
+//!
+//! The server process is this test binary run again with [`CHILD`] set: it serves like
+//! `breakshot-server` (the same library, store and invite line) until it is killed.
 
 use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
 use breakshot_client::bot::{run, BotConfig};
 use breakshot_server::store::Store;
 use breakshot_server::verify::verify_dir;
+use breakshot_server::{Config, Server};
 use breakshot_shared::protocol::Invite;
 use breakshot_shared::replay::GameRecord;
+use breakshot_tests::TempDir;
 
-const BIN: &str = env!("CARGO_BIN_EXE_breakshot-server");
+/// Set (to `BIND DATA`) in the server process this test starts.
+const CHILD: &str = "BREAKSHOT_FAULTS_SERVER";
 /// Games played at once while the server is killed.
 const GAMES: usize = 4;
 /// Times the server is killed.
 const KILLS: usize = 3;
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("breakshot-faults-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch directory");
-    dir
+/// The server process: serves until killed. Does nothing in a normal test run.
+#[test]
+fn server_process() {
+    let Ok(spec) = std::env::var(CHILD) else {
+        return;
+    };
+    let (bind, data) = spec.split_once(' ').expect("BIND DATA");
+    let config = Config::new(bind.parse().expect("a socket address"), data.into());
+    let runtime = tokio::runtime::Runtime::new().expect("runtime");
+    runtime.block_on(async {
+        let server = Server::bind(&config).expect("binding");
+        println!("{}", server.invite());
+        server.run(std::future::pending()).await.expect("serving");
+    });
 }
 
 /// Starts the server on `bind` and returns it with its invite line.
 fn start(bind: &str, data: &Path) -> (Child, Invite) {
-    let mut child = Command::new(BIN)
-        .args(["--bind", bind, "--data"])
-        .arg(data)
+    let me = std::env::current_exe().expect("this test binary");
+    let mut child = Command::new(me)
+        .args([
+            "--exact",
+            "server_process",
+            "--nocapture",
+            "--test-threads=1",
+        ])
+        .env(CHILD, format!("{bind} {}", data.display()))
         .env(
             "RUST_LOG",
             std::env::var("FAULTS_LOG").unwrap_or_else(|_| "warn".into()),
@@ -44,12 +65,17 @@ fn start(bind: &str, data: &Path) -> (Child, Invite) {
                 .expect("log file"),
         )
         .spawn()
-        .expect("starting breakshot-server");
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().expect("stdout"))
-        .read_line(&mut line)
-        .expect("the invite line");
-    let invite = line.trim().parse().expect("an invite");
+        .expect("starting the server process");
+    // The test harness speaks first, on the same line too: the invite starts at its scheme.
+    let mut lines = BufReader::new(child.stdout.take().expect("stdout")).lines();
+    let invite = lines
+        .by_ref()
+        .map_while(Result::ok)
+        .find_map(|line| {
+            let at = line.find("breakshot://")?;
+            line[at..].trim().parse::<Invite>().ok()
+        })
+        .expect("an invite line");
     (child, invite)
 }
 
@@ -77,18 +103,16 @@ fn records(data: &Path) -> Vec<(String, GameRecord)> {
 }
 
 fn verify_passes(data: &Path) {
-    let out = Command::new(BIN)
-        .args(["verify", "--data"])
-        .arg(data)
-        .output()
-        .expect("running verify");
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "verify failed:\n{text}");
+    let checks = verify_dir(data).expect("verifying");
+    for c in &checks {
+        assert!(c.result.is_ok(), "verify failed: {:?}", c.result);
+    }
 }
 
 #[test]
 fn killing_the_server_loses_nothing_and_players_rejoin() {
-    let data = scratch("kill");
+    let scratch = TempDir::new("faults");
+    let data = scratch.path().join("data");
     // A fixed port, so the bots' invite stays valid across restarts.
     let port = std::net::UdpSocket::bind("127.0.0.1:0")
         .and_then(|s| s.local_addr())
@@ -172,5 +196,4 @@ fn killing_the_server_loses_nothing_and_players_rejoin() {
             );
         }
     }
-    let _ = std::fs::remove_dir_all(&data);
 }

@@ -1,4 +1,4 @@
-//! One connection to a server: QUIC with a pinned certificate, one bidirectional stream,
+//! One channel to a server (the framing under [`Client`](super::Client)): QUIC with a pinned certificate, one bidirectional stream,
 //! `Hello` first, then framed messages both ways.
 
 use std::net::SocketAddr;
@@ -12,18 +12,25 @@ use thiserror::Error;
 use super::pinned::client_config;
 
 #[derive(Debug, Error)]
+/// Why a connection failed or ended.
 pub enum NetError {
     #[error("cannot resolve {0}")]
+    /// The server's name did not resolve.
     Resolve(String),
     #[error("cannot connect: {0}")]
+    /// No QUIC connection could be made.
     Connect(String),
     #[error("connection lost: {0}")]
+    /// The connection dropped.
     Lost(String),
     #[error("the server refused us: {0}")]
+    /// The server answered and refused us.
     Rejected(String),
     #[error("bad frame from the server: {0}")]
+    /// A frame from the server could not be read.
     Frame(#[from] FrameError),
     #[error("the server sent {0} before Welcome")]
+    /// The server's first answer was not `Welcome`.
     Handshake(String),
 }
 
@@ -33,7 +40,8 @@ pub fn endpoint() -> Result<quinn::Endpoint, NetError> {
     quinn::Endpoint::client(any).map_err(|e| NetError::Connect(e.to_string()))
 }
 
-pub struct Connection {
+/// One handshaken connection to a server.
+pub struct Channel {
     conn: quinn::Connection,
     writer: Writer,
     reader: Reader,
@@ -50,19 +58,19 @@ pub struct Reader {
     recv: quinn::RecvStream,
 }
 
-impl Connection {
+impl Channel {
     /// Connects to the server the invite names, trusting only its fingerprint, and
     /// completes the handshake (protocol version and physics reference hash).
-    pub async fn open(endpoint: &quinn::Endpoint, invite: &Invite) -> Result<Connection, NetError> {
+    pub async fn open(endpoint: &quinn::Endpoint, invite: &Invite) -> Result<Channel, NetError> {
         Self::open_as(endpoint, invite, PROTOCOL_VERSION).await
     }
 
-    /// [`Connection::open`] claiming another protocol version (to test refusals).
+    /// [`Channel::open`] claiming another protocol version (to test refusals).
     pub async fn open_as(
         endpoint: &quinn::Endpoint,
         invite: &Invite,
         protocol: u32,
-    ) -> Result<Connection, NetError> {
+    ) -> Result<Channel, NetError> {
         let physics = reference_hash().map_err(|e| NetError::Connect(e.to_string()))?;
         let addr = tokio::net::lookup_host(invite.authority())
             .await
@@ -79,7 +87,7 @@ impl Connection {
             .open_bi()
             .await
             .map_err(|e| NetError::Lost(e.to_string()))?;
-        let mut c = Connection {
+        let mut c = Channel {
             writer: Writer { send },
             reader: Reader {
                 conn: conn.clone(),
@@ -96,10 +104,12 @@ impl Connection {
         }
     }
 
+    /// Sends one message.
     pub async fn send(&mut self, msg: &ClientMessage) -> Result<(), NetError> {
         self.writer.send(msg).await
     }
 
+    /// Receives one message (not cancel-safe: see [`Channel::split`]).
     pub async fn recv(&mut self) -> Result<ServerMessage, NetError> {
         self.reader.recv().await
     }
@@ -122,11 +132,13 @@ impl Connection {
 }
 
 impl Writer {
+    /// Sends one message.
     pub async fn send(&mut self, msg: &ClientMessage) -> Result<(), NetError> {
         let frame = encode_frame(msg)?;
         self.send_raw(&frame).await
     }
 
+    /// Sends raw bytes (to test how the server treats malformed frames).
     pub async fn send_raw(&mut self, bytes: &[u8]) -> Result<(), NetError> {
         self.send
             .write_all(bytes)
@@ -136,6 +148,7 @@ impl Writer {
 }
 
 impl Reader {
+    /// Receives one message; not cancel-safe.
     pub async fn recv(&mut self) -> Result<ServerMessage, NetError> {
         let mut header = [0u8; HEADER_LEN];
         self.recv
