@@ -296,9 +296,9 @@ impl GameScreen {
         game_hud(
             &layout,
             &HudInfo {
-                game,
+                game: self.flow.shown_game().unwrap_or(game),
                 me: self.link.seat(),
-                verdict: self.flow.last_verdict.as_ref(),
+                verdict: self.flow.shown_verdict(),
                 shot_clock: self.flow.shot_clock,
                 connection: &self.flow.connection,
             },
