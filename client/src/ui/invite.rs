@@ -32,7 +32,7 @@ pub fn copy(invite: &Invite) {
 }
 
 /// The note, cut into lines that fit `width` pixels.
-fn wrap(text: &str, width: f32, size: f32) -> Vec<String> {
+pub fn wrap(text: &str, width: f32, size: f32) -> Vec<String> {
     let mut lines = vec![String::new()];
     for word in text.split_whitespace() {
         let last = lines.last_mut().map_or(String::new(), |l| l.clone());
