@@ -231,7 +231,11 @@ fn announce(host: &breakshot_client::net::Host) {
     if host.needs_address() {
         eprintln!("breakshot: {}", breakshot_client::net::host::ADDRESS_NOTE);
     } else {
-        eprintln!("breakshot: {}", breakshot_client::net::host::ROUTER_HINT);
+        let port = host.server().local_addr().port();
+        eprintln!(
+            "breakshot: {}",
+            breakshot_client::net::host::router_hint(port)
+        );
     }
 }
 

@@ -18,10 +18,14 @@ pub const DEFAULT_PORT: u16 = 4433;
 pub const ADDRESS_NOTE: &str = "this computer has no network address the other player can \
      dial: start again with --address HOST (your LAN or public address)";
 
-/// How to be reached from outside a home network: one line for the invite panel, the
-/// terminal and the README.
-pub const ROUTER_HINT: &str = "Over the internet: forward UDP port 4433 on your router to this \
-     computer and host with --address YOUR_PUBLIC_IP";
+/// How to be reached from outside a home network, for a server on `port`: one line for the
+/// invite panel and the terminal (the README says the same).
+pub fn router_hint(port: u16) -> String {
+    format!(
+        "Over the internet: forward UDP port {port} on your router to this computer and host \
+         with --address YOUR_PUBLIC_IP"
+    )
+}
 
 #[derive(Debug, Error)]
 /// Why hosting failed.

@@ -100,6 +100,14 @@ impl SeatStore {
     }
 }
 
+/// True when the server with `fingerprint` is the one this computer hosts from `data` (its
+/// certificate is there): such a seat is taken back by hosting again, not by dialling.
+pub fn hosted_from(data: &Path, fingerprint: &Fingerprint) -> bool {
+    use sha2::{Digest as _, Sha256};
+    fs::read(data.join("cert.der"))
+        .is_ok_and(|der| Fingerprint(Sha256::digest(&der).into()) == *fingerprint)
+}
+
 /// Reads a seat file: the invite on the first line, the token in hex on the second.
 fn read(path: &Path) -> Option<Remembered> {
     let text = fs::read_to_string(path).ok()?;

@@ -1,6 +1,7 @@
 //! The menu the window opens on when no command is given.
 
 use breakshot_client::net::host::default_data_dir;
+use breakshot_client::net::seats::hosted_from;
 use breakshot_client::net::{HostOptions, NetLink, SeatStore};
 use breakshot_client::play::controls::{InputFrame, Key};
 use breakshot_client::play::link::GameLink;
@@ -13,6 +14,7 @@ use super::{draw, practice::PracticeScreen, Screen, Step};
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Item {
+    Resume,
     Practice,
     Local,
     Host,
@@ -21,7 +23,8 @@ enum Item {
     Quit,
 }
 
-const ITEMS: [(Item, &str); 6] = [
+const ITEMS: [(Item, &str); 7] = [
+    (Item::Resume, "Resume game"),
     (Item::Practice, "Practice"),
     (Item::Local, "Two players, one computer"),
     (Item::Host, "Host a game"),
@@ -45,6 +48,21 @@ fn host_default() -> Result<Box<dyn GameLink>, String> {
         Err(breakshot_client::net::HostError::NotBuilt.to_string())
     };
     hosted
+}
+
+/// Goes back to the game whose seat this computer remembered last: hosts again when it was
+/// hosted here, else joins its invite with the remembered seat token.
+fn resume() -> Result<Box<dyn GameLink>, String> {
+    let data = default_data_dir().ok_or("No user data directory (HOME is not set)")?;
+    let seats = SeatStore::new(&data);
+    let Some(last) = seats.all().into_iter().next() else {
+        return Err("No game to resume: host or join one first".into());
+    };
+    if hosted_from(&data, &last.invite.fingerprint) {
+        return host_default();
+    }
+    let link = NetLink::join(last.invite, "guest", Some(seats)).map_err(|e| e.to_string())?;
+    Ok(Box::new(link))
 }
 
 /// Joins the game whose invite is on the clipboard.
@@ -111,6 +129,10 @@ impl MenuScreen {
                     super::fresh_seed(),
                 ))
             }
+            Item::Resume => match resume() {
+                Ok(link) => return Step::Go(super::network_game(link)),
+                Err(e) => self.message = e,
+            },
             Item::Host => match host_default() {
                 Ok(host) => return Step::Go(super::network_game(host)),
                 Err(e) => self.message = e,
