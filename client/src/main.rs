@@ -11,7 +11,7 @@ use std::rc::Rc;
 
 use anyhow::{bail, Context as _};
 use breakshot_client::net::host::{default_data_dir, DEFAULT_PORT};
-use breakshot_client::net::{fetch_record_blocking, HostOptions, NetLink};
+use breakshot_client::net::{fetch_record_blocking, HostOptions, NetLink, SeatStore};
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_shared::protocol::{AimAid, Invite, RoomCode};
 use breakshot_shared::rules::{EightBallRules, Variant};
@@ -39,6 +39,11 @@ struct Cli {
     /// Initial window size, WIDTHxHEIGHT.
     #[arg(long, value_name = "WxH", default_value = "1280x720", global = true)]
     size: String,
+    /// Directory for the seats this computer holds in games (to resume them) and, when
+    /// hosting, the server's certificate and game store (default: $BREAKSHOT_DATA, else
+    /// `breakshot` in the user's data directory, e.g. ~/.local/share/breakshot).
+    #[arg(long, value_name = "DIR", global = true)]
+    data: Option<PathBuf>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -52,10 +57,6 @@ enum Command {
         /// UDP address the game server listens on (open this port to the other player).
         #[arg(long, default_value_t = SocketAddr::from(([0, 0, 0, 0], DEFAULT_PORT)))]
         bind: SocketAddr,
-        /// Directory for the server's certificate and game store (default: `breakshot` in
-        /// the user's data directory, e.g. ~/.local/share/breakshot).
-        #[arg(long, value_name = "DIR")]
-        data: Option<PathBuf>,
         /// The address the other player dials to reach this computer, written into the
         /// invite (default: the bound address).
         #[arg(long, value_name = "HOST")]
@@ -64,6 +65,10 @@ enum Command {
         /// off.
         #[arg(long, default_value = "full", value_parser = ["full", "first-contact", "off"])]
         aids: String,
+        /// Open a new room even if this computer's last hosted game is unfinished (by
+        /// default a restarted host goes back to it: same room, same invite).
+        #[arg(long)]
+        new: bool,
     },
     /// Two players taking turns at this computer.
     Local {
@@ -123,21 +128,17 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             mode,
             rules,
             bind,
-            data,
             address,
             aids,
+            new,
         }) => {
-            let data = match data {
-                Some(d) => d.clone(),
-                None => default_data_dir()
-                    .context("no user data directory (HOME is not set): give --data DIR")?,
-            };
             let options = HostOptions {
                 bind: *bind,
                 variant: variant(mode, rules),
                 aim_aid: aim_aid(aids),
                 address: address.clone(),
-                ..HostOptions::new(data)
+                resume: !new,
+                ..HostOptions::new(data_dir(cli)?)
             };
             host(&options)?
         }
@@ -145,7 +146,8 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             let invite: Invite = invite
                 .parse()
                 .with_context(|| format!("{invite:?} is not an invite"))?;
-            ui::Start::Network(Box::new(NetLink::join(invite, "guest")?))
+            let seats = SeatStore::new(&data_dir(cli)?);
+            ui::Start::Network(Box::new(NetLink::join(invite, "guest", Some(seats))?))
         }
         Some(Command::Replay {
             file: Some(file), ..
@@ -163,6 +165,16 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
         }) => ui::Start::Replay(Box::new(fetch_replay(server, game)?)),
         Some(Command::Replay { .. }) => bail!("give a record FILE, or --server URL --game ID"),
     })
+}
+
+/// The data directory: `--data`, else the default (see [`default_data_dir`]).
+fn data_dir(cli: &Cli) -> anyhow::Result<PathBuf> {
+    match &cli.data {
+        Some(d) => Ok(d.clone()),
+        None => {
+            default_data_dir().context("no user data directory (HOME is not set): give --data DIR")
+        }
+    }
 }
 
 /// Fetches a game's record from the server `url` names and opens it.
@@ -203,6 +215,13 @@ fn host(_: &HostOptions) -> anyhow::Result<ui::Start> {
 /// Tells the terminal where the game is served and what to send the other player.
 #[cfg(feature = "host")]
 fn announce(host: &breakshot_client::net::Host) {
+    if host.resumed() {
+        let room = host.invite().room.as_ref().map(|r| r.to_string());
+        eprintln!(
+            "breakshot: back to your unfinished game in room {} (start with --new for a new room)",
+            room.unwrap_or_default()
+        );
+    }
     println!("{}", host.invite());
     eprintln!(
         "breakshot: serving on UDP {} (data in {}); send the invite above to the other player",
@@ -211,6 +230,12 @@ fn announce(host: &breakshot_client::net::Host) {
     );
     if host.needs_address() {
         eprintln!("breakshot: {}", breakshot_client::net::host::ADDRESS_NOTE);
+    } else {
+        let port = host.server().local_addr().port();
+        eprintln!(
+            "breakshot: {}",
+            breakshot_client::net::host::router_hint(port)
+        );
     }
 }
 

@@ -437,7 +437,7 @@ impl Room {
             let opponent_present = self.seats[index(other(seat))].is_some();
             if !self.is_over() && opponent_present {
                 out.extend(
-                    self.play(now, seat, None, Command::Concede)
+                    self.play(now, seat, None, Command::Forfeit)
                         .unwrap_or_default(),
                 );
             }

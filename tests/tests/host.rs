@@ -23,6 +23,7 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
         settings: Settings::online(),
         aim_aid: AimAid::FirstContact,
         address: None,
+        resume: true,
     };
     let mut host = Host::start(&options)?;
     let mut host_flow = GameFlow::new(Connection::Connecting);
@@ -101,6 +102,7 @@ fn the_invite_names_the_address_the_host_gives() -> anyhow::Result<()> {
         settings: Settings::offline(),
         aim_aid: AimAid::Full,
         address: Some("pool.example.org".into()),
+        resume: true,
     };
     let host = Host::start(&options)?;
     let invite = host.invite();
@@ -121,6 +123,7 @@ fn a_port_in_use_is_a_clear_error() -> anyhow::Result<()> {
         settings: Settings::offline(),
         aim_aid: AimAid::Full,
         address: None,
+        resume: true,
     };
     let Err(e) = Host::start(&options) else {
         panic!("a second server bound the same port");

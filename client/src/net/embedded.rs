@@ -13,8 +13,12 @@ use breakshot_shared::protocol::{ClientMessage, Invite};
 use breakshot_shared::rules::{Command, Game, Seat};
 use tokio::sync::oneshot;
 
-use super::host::{host_text, invite_host, loopback_for, names_wildcard, HostError, HostOptions};
+use super::host::{
+    host_text, interface_addresses, invite_host, lan_address, loopback_for, names_wildcard,
+    HostError, HostOptions,
+};
 use super::link::NetLink;
+use super::seats::SeatStore;
 use super::session::Session;
 use crate::play::link::{GameEvent, GameLink};
 use crate::view::hud::Connection;
@@ -130,25 +134,50 @@ pub struct Host {
     /// Events the link gave while the room was being opened, handed to the screen first.
     pending: VecDeque<GameEvent>,
     invite: Invite,
+    resumed: bool,
     data: PathBuf,
     /// Declared after the link so the session closes before the server stops.
     server: EmbeddedServer,
 }
 
 impl Host {
-    /// Starts the server, connects to it over loopback, opens a room and returns once this
-    /// computer holds seat A, with the invite for the other player.
+    /// Starts the server, connects to it over loopback and returns once this computer holds
+    /// seat A, with the invite for the other player. The seat is the one this computer
+    /// still holds in an unfinished game on this server (a host restarted with the same data
+    /// directory goes back to its game: same room, same invite), unless
+    /// [`HostOptions::resume`] is false or that game is over; else a new room.
     pub fn start(options: &HostOptions) -> Result<Host, HostError> {
         let address = options.address.as_deref().map(invite_host).transpose()?;
         let server = EmbeddedServer::start(Config::new(options.bind, options.data.clone()))?;
-        let session = Session::connect(server.loopback_invite());
-        session.send(ClientMessage::CreateRoom {
+        let mut addressed = server.invite();
+        // A server on every interface is dialled on this computer's LAN address.
+        let lan = || {
+            (options.bind.ip().is_unspecified())
+                .then(|| lan_address(&interface_addresses()))
+                .flatten()
+                .map(host_text)
+        };
+        if let Some(address) = address.or_else(lan) {
+            addressed.host = address;
+        }
+        let seats = SeatStore::new(&options.data);
+        let mut resuming = options
+            .resume
+            .then(|| seats.on_server(&addressed.fingerprint))
+            .flatten();
+        let create = ClientMessage::CreateRoom {
             variant: options.variant,
             mode: options.settings,
             aim_aid: options.aim_aid,
             name: "host".into(),
+        };
+        let session = Session::connect(server.loopback_invite());
+        session.send(match &resuming {
+            Some(seat) => ClientMessage::Rejoin { token: seat.token },
+            None => create.clone(),
         });
         let mut link = NetLink::new(session);
+        link.remember(seats.clone(), addressed.clone());
         let mut pending = VecDeque::new();
         let since = Instant::now();
         let room = loop {
@@ -156,6 +185,13 @@ impl Host {
                 match &event {
                     GameEvent::Connection(Connection::Closed(why)) => {
                         return Err(HostError::Room(why.clone()))
+                    }
+                    // The remembered game is over (or was never stored): open a new room.
+                    GameEvent::Refused(_) if resuming.is_some() => {
+                        if let Some(seat) = resuming.take() {
+                            seats.forget(&seat.invite);
+                        }
+                        link.session().send(create.clone());
                     }
                     GameEvent::Refused(why) => return Err(HostError::Room(why.clone())),
                     _ => pending.push_back(event),
@@ -169,17 +205,19 @@ impl Host {
             }
             std::thread::sleep(Duration::from_millis(5));
         };
-        let mut invite = server.invite().with_room(room);
-        if let Some(address) = address {
-            invite.host = address;
-        }
         Ok(Host {
             link,
             pending,
-            invite,
+            invite: addressed.with_room(room),
+            resumed: resuming.is_some(),
             data: options.data.clone(),
             server,
         })
+    }
+
+    /// True when this host went back to its unfinished game rather than opening a room.
+    pub fn resumed(&self) -> bool {
+        self.resumed
     }
 
     /// The invite for the other player: `breakshot://HOST:PORT/ROOM#FINGERPRINT`.

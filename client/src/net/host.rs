@@ -14,10 +14,18 @@ use thiserror::Error;
 /// firewall or forward on a router).
 pub const DEFAULT_PORT: u16 = 4433;
 
-/// What the host is told when the invite names a wildcard address.
-pub const ADDRESS_NOTE: &str = "the game listens on every network interface, so the invite \
-     shows 0.0.0.0 (or ::): replace it with this computer's LAN address (or its public address, with \
-     the UDP port forwarded), or start again with --address HOST";
+/// What the host is told when no address the other player can dial was found.
+pub const ADDRESS_NOTE: &str = "this computer has no network address the other player can \
+     dial: start again with --address HOST (your LAN or public address)";
+
+/// How to be reached from outside a home network, for a server on `port`: one line for the
+/// invite panel and the terminal (the README says the same).
+pub fn router_hint(port: u16) -> String {
+    format!(
+        "Over the internet: forward UDP port {port} on your router to this computer and host \
+         with --address YOUR_PUBLIC_IP"
+    )
+}
 
 #[derive(Debug, Error)]
 /// Why hosting failed.
@@ -57,6 +65,9 @@ pub struct HostOptions {
     /// The address written into the invite instead of the bound one: what the other player
     /// dials to reach this computer.
     pub address: Option<String>,
+    /// Go back to this computer's unfinished game on this server, if there is one, rather
+    /// than open a new room.
+    pub resume: bool,
 }
 
 impl HostOptions {
@@ -70,6 +81,7 @@ impl HostOptions {
             settings: Settings::online(),
             aim_aid: AimAid::Full,
             address: None,
+            resume: true,
         }
     }
 }
@@ -83,8 +95,44 @@ pub fn names_wildcard(invite: &Invite) -> bool {
         .is_ok_and(|ip| ip.is_unspecified())
 }
 
-/// The default data directory: `breakshot` in the user's data directory
-/// (`$XDG_DATA_HOME`, else `~/.local/share` on Linux and other Unix systems,
+/// The address another computer on the same network dials to reach this one: the first
+/// IPv4 address in a private range (a home or office LAN), else any other routable IPv4,
+/// else a routable IPv6 address. Loopback, link-local and wildcard addresses never.
+pub fn lan_address(candidates: &[IpAddr]) -> Option<IpAddr> {
+    let dialable = |ip: &IpAddr| match ip {
+        IpAddr::V4(v4) => !(v4.is_loopback() || v4.is_link_local() || v4.is_unspecified()),
+        IpAddr::V6(v6) => {
+            // fe80::/10 is link-local: it needs a zone id nobody puts in an invite.
+            !(v6.is_loopback() || v6.is_unspecified() || (v6.segments()[0] & 0xffc0) == 0xfe80)
+        }
+    };
+    let dialable: Vec<IpAddr> = candidates.iter().copied().filter(dialable).collect();
+    let private = |ip: &&IpAddr| matches!(ip, IpAddr::V4(v4) if v4.is_private());
+    dialable
+        .iter()
+        .find(private)
+        .or_else(|| dialable.iter().find(|ip| ip.is_ipv4()))
+        .or_else(|| dialable.first())
+        .copied()
+}
+
+/// This computer's addresses on the interfaces that are up.
+#[cfg(feature = "host")]
+pub(super) fn interface_addresses() -> Vec<IpAddr> {
+    match if_addrs::get_if_addrs() {
+        Ok(interfaces) => interfaces.iter().map(|i| i.ip()).collect(),
+        Err(e) => {
+            tracing::warn!(error = %e, "cannot list the network interfaces");
+            Vec::new()
+        }
+    }
+}
+
+/// The environment variable that names the data directory (what `--data` gives).
+pub const DATA_ENV: &str = "BREAKSHOT_DATA";
+
+/// The default data directory: `$BREAKSHOT_DATA` if set, else `breakshot` in the user's
+/// data directory (`$XDG_DATA_HOME`, else `~/.local/share` on Linux and other Unix systems,
 /// `~/Library/Application Support` on macOS, `%APPDATA%` on Windows).
 pub fn default_data_dir() -> Option<PathBuf> {
     let var = |name: &str| {
@@ -92,6 +140,9 @@ pub fn default_data_dir() -> Option<PathBuf> {
             .map(PathBuf::from)
             .filter(|p| p.is_absolute())
     };
+    if let Some(dir) = var(DATA_ENV) {
+        return Some(dir);
+    }
     let base = if cfg!(windows) {
         var("APPDATA")
     } else if cfg!(target_os = "macos") {
@@ -166,6 +217,34 @@ mod tests {
         for host in ["127.0.0.1", "192.168.1.20", "[::1]", "pool.example.org"] {
             assert!(!names_wildcard(&invite(host)), "{host}");
         }
+    }
+
+    #[test]
+    fn the_lan_address_is_a_private_ipv4_one_and_never_unroutable() {
+        let ips =
+            |list: &[&str]| -> Vec<IpAddr> { list.iter().map(|s| s.parse().unwrap()).collect() };
+        let pick = |list: &[&str]| lan_address(&ips(list)).map(|ip| ip.to_string());
+        assert_eq!(
+            pick(&[
+                "127.0.0.1",
+                "::1",
+                "fe80::1",
+                "169.254.3.4",
+                "203.0.113.9",
+                "192.168.1.20"
+            ]),
+            Some("192.168.1.20".into())
+        );
+        assert_eq!(
+            pick(&["127.0.0.1", "203.0.113.9"]),
+            Some("203.0.113.9".into())
+        );
+        assert_eq!(pick(&["::1", "2001:db8::7"]), Some("2001:db8::7".into()));
+        assert_eq!(
+            pick(&["127.0.0.1", "::1", "0.0.0.0", "fe80::2", "169.254.1.1"]),
+            None
+        );
+        assert_eq!(pick(&[]), None);
     }
 
     #[test]

@@ -3,9 +3,10 @@
 
 use std::collections::VecDeque;
 
-use breakshot_shared::protocol::{ClientMessage, Invite};
+use breakshot_shared::protocol::{ClientMessage, ErrorCode, Invite, Role, ServerMessage};
 use breakshot_shared::rules::{Command, Game, Seat};
 
+use super::seats::SeatStore;
 use super::session::{Session, SessionEvent};
 use crate::play::link::{game_events, GameEvent, GameLink};
 use crate::view::hud::Connection;
@@ -14,6 +15,11 @@ use crate::view::hud::Connection;
 pub struct NetLink {
     session: Session,
     events: VecDeque<GameEvent>,
+    /// Where the seat taken is remembered, and the invite it is remembered under.
+    memory: Option<(SeatStore, Invite)>,
+    /// While a remembered seat is being taken back: the player's name, to ask for the free
+    /// seat instead if the server no longer knows the token.
+    rejoining: Option<String>,
 }
 
 /// An invite that cannot be joined.
@@ -22,17 +28,30 @@ pub struct NetLink {
 pub struct NoRoom(pub String);
 
 impl NetLink {
-    /// Connects to the server an invite names and asks for the free seat of its room.
-    pub fn join(invite: Invite, name: &str) -> Result<NetLink, NoRoom> {
+    /// Connects to the server an invite names and asks for the free seat of its room, or,
+    /// when `seats` remembers a seat in that room, takes that seat back. The seat taken is
+    /// remembered in `seats`.
+    pub fn join(invite: Invite, name: &str, seats: Option<SeatStore>) -> Result<NetLink, NoRoom> {
         let Some(room) = invite.room.clone() else {
             return Err(NoRoom(invite.to_string()));
         };
-        let session = Session::connect(invite);
-        session.send(ClientMessage::Join {
-            room,
-            name: name.into(),
-        });
-        Ok(NetLink::new(session))
+        let token = seats.as_ref().and_then(|s| s.load(&invite));
+        let session = Session::connect(invite.clone());
+        let mut link = NetLink::new(session);
+        match token {
+            Some(token) => {
+                link.session.send(ClientMessage::Rejoin { token });
+                link.rejoining = Some(name.into());
+            }
+            None => {
+                link.session.send(ClientMessage::Join {
+                    room,
+                    name: name.into(),
+                });
+            }
+        }
+        link.memory = seats.map(|s| (s, invite));
+        Ok(link)
     }
 
     /// A link over a session that has joined (or will join) a room.
@@ -40,6 +59,58 @@ impl NetLink {
         NetLink {
             session,
             events: VecDeque::new(),
+            memory: None,
+            rejoining: None,
+        }
+    }
+
+    /// Remembers the seat this link takes (or has taken back with `Rejoin`) in `seats`,
+    /// under `invite` (with the room joined).
+    pub fn remember(&mut self, seats: SeatStore, invite: Invite) {
+        self.memory = Some((seats, invite));
+    }
+
+    /// True while a remembered seat is being asked back and the server has not answered.
+    pub fn rejoining(&self) -> bool {
+        self.rejoining.is_some()
+    }
+
+    /// Saves a seat the server gave; when a remembered token is refused, forgets it and asks
+    /// for the free seat instead. Returns true when the message was handled here and is no
+    /// concern of the game screen.
+    fn remember_seat(&mut self, msg: &ServerMessage) -> bool {
+        match msg {
+            ServerMessage::Joined {
+                role: Role::Player(_),
+                token: Some(token),
+                snapshot,
+            } => {
+                self.rejoining = None;
+                if let Some((store, invite)) = &self.memory {
+                    // A host remembers its server's invite before the room is opened.
+                    let invite = invite.with_room(snapshot.room.clone());
+                    if let Err(e) = store.save(&invite, *token) {
+                        tracing::warn!(error = %e, "cannot remember the seat");
+                    }
+                }
+                false
+            }
+            ServerMessage::Error {
+                code: ErrorCode::BadToken | ErrorCode::NoSuchRoom,
+                ..
+            } if self.rejoining.is_some() => {
+                let name = self.rejoining.take().unwrap_or_default();
+                let Some((store, invite)) = &self.memory else {
+                    return false;
+                };
+                store.forget(invite);
+                let Some(room) = invite.room.clone() else {
+                    return false;
+                };
+                self.session.send(ClientMessage::Join { room, name });
+                true
+            }
+            _ => false,
         }
     }
 
@@ -54,6 +125,9 @@ impl NetLink {
             SessionEvent::Closed(why) => Connection::Closed(why),
             SessionEvent::Reconnecting => Connection::Reconnecting,
             SessionEvent::Message(msg) => {
+                if self.remember_seat(&msg) {
+                    return;
+                }
                 self.events.extend(game_events(&msg, self.session.seat()));
                 return;
             }

@@ -10,6 +10,7 @@ pub mod host;
 pub mod link;
 pub mod pinned;
 pub mod records;
+pub mod seats;
 pub mod session;
 
 pub use channel::{endpoint, Channel, NetError, Reader, Writer};
@@ -19,4 +20,5 @@ pub use embedded::{EmbeddedServer, Host};
 pub use host::{HostError, HostOptions};
 pub use link::{NetLink, NoRoom};
 pub use records::{fetch_record, fetch_record_blocking, FetchError, FetchedRecord};
+pub use seats::{Remembered, SeatStore};
 pub use session::{Session, SessionEvent};

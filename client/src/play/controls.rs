@@ -49,6 +49,8 @@ pub enum Key {
     Faster,
     /// Replays: slower.
     Slower,
+    /// Give up an online game (when asked whether to leave).
+    Concede,
 }
 
 /// One frame of input, read from the devices by the window.
@@ -181,7 +183,12 @@ impl Controls {
                 Key::BallInHand => out.push(Intent::TakeBallInHand),
                 Key::Rerack => out.push(Intent::Rerack),
                 Key::Back => out.push(Intent::Back),
-                Key::Shoot | Key::Next | Key::Previous | Key::Faster | Key::Slower => {}
+                Key::Shoot
+                | Key::Next
+                | Key::Previous
+                | Key::Faster
+                | Key::Slower
+                | Key::Concede => {}
             }
         }
         if ctx.stage == Stage::Watching {

@@ -50,6 +50,9 @@ pub struct GameFlow {
     pub shot_clock: Option<f64>,
     /// The aiming aids the room allows.
     pub aim_aid: AimAid,
+    /// The game as it stood when the shot being shown was struck: what the players see
+    /// until the balls stop, so the result does not show before the shot does.
+    before_shot: Option<Game>,
 }
 
 impl GameFlow {
@@ -63,6 +66,7 @@ impl GameFlow {
             call: None,
             shot_clock: None,
             aim_aid: AimAid::Full,
+            before_shot: None,
         }
     }
 
@@ -79,6 +83,24 @@ impl GameFlow {
     /// The shot being shown.
     pub fn shot(&self) -> Option<&Playback> {
         self.replica.playback()
+    }
+
+    /// The game as the players see it: while a shot is shown, the game as it was when the
+    /// shot was struck (whose turn, groups, score), else the game as the rules left it.
+    pub fn shown_game(&self) -> Option<&Game> {
+        match (self.shot(), &self.before_shot) {
+            (Some(_), Some(before)) => Some(before),
+            _ => self.game(),
+        }
+    }
+
+    /// The judgement to show: none while a shot is shown (fouls, turn changes and pockets
+    /// appear when the balls stop, or at once when the shot is skipped).
+    pub fn shown_verdict(&self) -> Option<&Judgement> {
+        match self.shot() {
+            Some(_) => None,
+            None => self.last_verdict.as_ref(),
+        }
     }
 
     /// Applies one event from the link.
@@ -126,6 +148,7 @@ impl GameFlow {
     ) -> Option<breakshot_shared::rules::Verdict> {
         if matches!(command, Command::Shot { .. }) {
             self.call = None;
+            self.before_shot = self.game().cloned();
         }
         self.message = String::new();
         self.replica.accept(turn, seat, command).ok().flatten()
@@ -260,6 +283,37 @@ mod tests {
         assert!(flow.shot().is_none());
         assert_eq!(flow.game().expect("game").balls(), flow.balls().as_slice());
         assert!(flow.last_verdict.is_some());
+    }
+
+    #[test]
+    fn the_result_of_a_shot_shows_when_the_balls_stop_or_the_shot_is_skipped() {
+        for skip in [false, true] {
+            let (mut link, mut flow) = local();
+            let strike = Strike::at_angle(8.0, 90.0, DVec2::ZERO);
+            let cmd = flow.shot_command(strike).expect("no call on the break");
+            let before = flow.game().expect("a game").clone();
+            send(&mut link, &mut flow, Seat::A, cmd);
+            assert!(flow.last_verdict.is_some(), "the rules here judged at once");
+            flow.tick(0.05);
+            assert!(flow.shot().is_some(), "the balls roll");
+            assert_eq!(
+                flow.shown_verdict(),
+                None,
+                "no verdict while the balls roll"
+            );
+            let shown = flow.shown_game().expect("a game");
+            assert_eq!(shown.turn(), before.turn(), "the turn shown is the shot's");
+            assert_eq!(shown.to_move(), before.to_move());
+            if skip {
+                flow.skip();
+            } else {
+                flow.tick(1e9);
+            }
+            assert!(flow.shot().is_none());
+            assert_eq!(flow.shown_verdict(), flow.last_verdict.as_ref());
+            assert!(flow.shown_verdict().is_some());
+            assert_eq!(flow.shown_game(), flow.game());
+        }
     }
 
     #[test]

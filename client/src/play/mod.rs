@@ -4,6 +4,7 @@
 pub mod aim;
 pub mod controls;
 pub mod game_flow;
+pub mod leave;
 pub mod link;
 pub mod practice;
 pub mod replay;

@@ -5,6 +5,7 @@ use ::glam::DVec2;
 use breakshot_client::play::aim::Aim;
 use breakshot_client::play::controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
 use breakshot_client::play::game_flow::{GameFlow, Turn};
+use breakshot_client::play::leave::{self, LeaveAnswer};
 use breakshot_client::play::link::GameLink;
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{connection as connection_text, Connection};
@@ -13,6 +14,7 @@ use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::playback::Playback;
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
+use breakshot_shared::protocol::limits::RECONNECT_WINDOW;
 use breakshot_shared::protocol::Invite;
 use breakshot_shared::rules::{is_off_table, pocket_name, rack, Choice, Command, Game, Phase};
 use macroquad::prelude::*;
@@ -33,6 +35,8 @@ pub struct GameScreen {
     copied: bool,
     /// How each ball is turned, for drawing.
     turns: Orientations,
+    /// The player pressed Esc in an online game and is asked whether to leave.
+    leaving: bool,
 }
 
 /// Ball ids by number: "cue", "1", "2", ...
@@ -73,6 +77,7 @@ impl GameScreen {
             frame_ms: 0.0,
             copied: false,
             turns: Orientations::new(),
+            leaving: false,
         }
     }
 
@@ -140,6 +145,9 @@ impl GameScreen {
                 Step::Stay
             };
         };
+        if self.leaving {
+            return self.answer_leave(&game, input);
+        }
         let layout = Self::layout(&game);
         let turn = self.turn();
         let mut input = input.clone();
@@ -214,12 +222,57 @@ impl GameScreen {
                 (Intent::Rerack, _) if matches!(game.phase(), Phase::Over { .. }) => {
                     self.link.rematch()
                 }
+                // Leaving an online game in play keeps the seat only for a while: ask first.
+                (Intent::Back, _)
+                    if self.link.seat().is_some()
+                        && !matches!(game.phase(), Phase::Over { .. }) =>
+                {
+                    self.leaving = true;
+                    return Step::Stay;
+                }
                 (Intent::Back, _) => return Step::Go(Screen::Menu(menu::MenuScreen::new())),
                 _ => {}
             }
         }
         self.refresh_prediction(&game, stage);
         Step::Stay
+    }
+
+    /// Esc in an online game asked whether to leave: Esc stays, Enter leaves (the seat is
+    /// kept for the reconnect window), C concedes.
+    fn answer_leave(&mut self, game: &Game, input: &InputFrame) -> Step {
+        let Some(answer) = input.pressed.iter().find_map(|k| leave::answer(*k)) else {
+            return Step::Stay;
+        };
+        self.leaving = false;
+        match (answer, self.link.seat()) {
+            (LeaveAnswer::Leave, _) => return Step::Go(Screen::Menu(menu::MenuScreen::new())),
+            (LeaveAnswer::Concede, Some(seat)) => self.link.send(game, seat, Command::Concede),
+            _ => {}
+        }
+        Step::Stay
+    }
+
+    fn draw_leave_question(&self) {
+        let (w, h) = (screen_width(), screen_height());
+        let pw = (0.7 * w).clamp(300.0, 760.0);
+        let (x, y) = (0.5 * (w - pw), 0.35 * h);
+        let lines = leave::question(RECONNECT_WINDOW);
+        let mut rows: Vec<(String, f32, Color)> = vec![(lines[0].clone(), 28.0, WHITE)];
+        rows.extend(
+            invite::wrap(&lines[1], pw - 32.0, 20.0)
+                .into_iter()
+                .map(|l| (l, 20.0, LIGHTGRAY)),
+        );
+        rows.push((lines[2].clone(), 20.0, YELLOW));
+        let ph = 24.0 + rows.iter().map(|r| 1.5 * r.1).sum::<f32>();
+        draw_rectangle(x, y, pw, ph, Color::new(0.0, 0.0, 0.0, 0.85));
+        draw_rectangle_lines(x, y, pw, ph, 2.0, WHITE);
+        let mut at = y + 12.0;
+        for (text, size, c) in rows {
+            at += 1.5 * size;
+            draw::label(&text, x + 16.0, at - 0.4 * size, size, c);
+        }
     }
 
     fn refresh_prediction(&mut self, game: &Game, stage: Stage) {
@@ -307,9 +360,9 @@ impl GameScreen {
         game_hud(
             &layout,
             &HudInfo {
-                game,
+                game: self.flow.shown_game().unwrap_or(game),
                 me: self.link.seat(),
-                verdict: self.flow.last_verdict.as_ref(),
+                verdict: self.flow.shown_verdict(),
                 shot_clock: self.flow.shot_clock,
                 connection: &self.flow.connection,
             },
@@ -353,7 +406,7 @@ impl GameScreen {
             draw::label(&text, x, y, 30.0, YELLOW);
         }
         let footer = if self.flow.message.is_empty() {
-            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  A G P: aids  |  F3: debug  |  Esc: menu"
+            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  A G P: aids  |  F3: debug  |  Esc: leave"
         } else {
             self.flow.message.as_str()
         };
@@ -369,6 +422,9 @@ impl GameScreen {
         }
         if let Some(invite) = self.waiting_invite() {
             invite::draw_panel(invite, self.copied);
+        }
+        if self.leaving {
+            self.draw_leave_question();
         }
     }
 

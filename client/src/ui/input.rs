@@ -7,7 +7,7 @@ use macroquad::prelude::{
 
 use breakshot_client::play::controls::{InputFrame, Key};
 
-const KEYS: [(KeyCode, Key); 16] = [
+const KEYS: [(KeyCode, Key); 17] = [
     (KeyCode::Space, Key::Shoot),
     (KeyCode::A, Key::AimLine),
     (KeyCode::G, Key::GhostBall),
@@ -24,6 +24,7 @@ const KEYS: [(KeyCode, Key); 16] = [
     (KeyCode::KpAdd, Key::Faster),
     (KeyCode::Minus, Key::Slower),
     (KeyCode::KpSubtract, Key::Slower),
+    (KeyCode::C, Key::Concede),
 ];
 
 pub fn read(dt: f64) -> InputFrame {

@@ -1,7 +1,7 @@
 //! The invite panel a host sees while the other seat is empty: the invite to send, a button
 //! that copies it to the clipboard, and a note when the invite's address cannot be dialled.
 
-use breakshot_client::net::host::{names_wildcard, ADDRESS_NOTE};
+use breakshot_client::net::host::{names_wildcard, router_hint, ADDRESS_NOTE};
 use breakshot_client::view::layout::Rect;
 use breakshot_shared::protocol::Invite;
 use macroquad::prelude::*;
@@ -32,7 +32,7 @@ pub fn copy(invite: &Invite) {
 }
 
 /// The note, cut into lines that fit `width` pixels.
-fn wrap(text: &str, width: f32, size: f32) -> Vec<String> {
+pub fn wrap(text: &str, width: f32, size: f32) -> Vec<String> {
     let mut lines = vec![String::new()];
     for word in text.split_whitespace() {
         let last = lines.last_mut().map_or(String::new(), |l| l.clone());
@@ -56,7 +56,7 @@ pub fn draw_panel(invite: &Invite, copied: bool) {
     let note = if wildcard {
         wrap(&format!("Note: {ADDRESS_NOTE}."), p.w - 32.0, NOTE)
     } else {
-        Vec::new()
+        wrap(&format!("{}.", router_hint(invite.port)), p.w - 32.0, NOTE)
     };
     let height = p.h + NOTE * 1.3 * note.len() as f32;
     draw_rectangle(p.x, p.y, p.w, height, Color::new(0.0, 0.0, 0.0, 0.82));

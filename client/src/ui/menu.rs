@@ -1,7 +1,8 @@
 //! The menu the window opens on when no command is given.
 
 use breakshot_client::net::host::default_data_dir;
-use breakshot_client::net::{HostOptions, NetLink};
+use breakshot_client::net::seats::hosted_from;
+use breakshot_client::net::{HostOptions, NetLink, SeatStore};
 use breakshot_client::play::controls::{InputFrame, Key};
 use breakshot_client::play::link::GameLink;
 use breakshot_client::view::layout::Rect;
@@ -13,6 +14,7 @@ use super::{draw, practice::PracticeScreen, Screen, Step};
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Item {
+    Resume,
     Practice,
     Local,
     Host,
@@ -21,7 +23,8 @@ enum Item {
     Quit,
 }
 
-const ITEMS: [(Item, &str); 6] = [
+const ITEMS: [(Item, &str); 7] = [
+    (Item::Resume, "Resume game"),
     (Item::Practice, "Practice"),
     (Item::Local, "Two players, one computer"),
     (Item::Host, "Host a game"),
@@ -47,6 +50,21 @@ fn host_default() -> Result<Box<dyn GameLink>, String> {
     hosted
 }
 
+/// Goes back to the game whose seat this computer remembered last: hosts again when it was
+/// hosted here, else joins its invite with the remembered seat token.
+fn resume() -> Result<Box<dyn GameLink>, String> {
+    let data = default_data_dir().ok_or("No user data directory (HOME is not set)")?;
+    let seats = SeatStore::new(&data);
+    let Some(last) = seats.all().into_iter().next() else {
+        return Err("No game to resume: host or join one first".into());
+    };
+    if hosted_from(&data, &last.invite.fingerprint) {
+        return host_default();
+    }
+    let link = NetLink::join(last.invite, "guest", Some(seats)).map_err(|e| e.to_string())?;
+    Ok(Box::new(link))
+}
+
 /// Joins the game whose invite is on the clipboard.
 fn join_from_clipboard() -> Result<NetLink, String> {
     const HOW: &str = "copy the invite first, or run: breakshot join INVITE";
@@ -54,7 +72,8 @@ fn join_from_clipboard() -> Result<NetLink, String> {
     let invite: Invite = text
         .parse()
         .map_err(|e| format!("The clipboard holds no invite ({e}): {HOW}"))?;
-    NetLink::join(invite, "guest").map_err(|e| e.to_string())
+    let seats = default_data_dir().map(|d| SeatStore::new(&d));
+    NetLink::join(invite, "guest", seats).map_err(|e| e.to_string())
 }
 
 pub struct MenuScreen {
@@ -110,6 +129,10 @@ impl MenuScreen {
                     super::fresh_seed(),
                 ))
             }
+            Item::Resume => match resume() {
+                Ok(link) => return Step::Go(super::network_game(link)),
+                Err(e) => self.message = e,
+            },
             Item::Host => match host_default() {
                 Ok(host) => return Step::Go(super::network_game(host)),
                 Err(e) => self.message = e,

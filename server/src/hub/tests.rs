@@ -327,8 +327,8 @@ fn a_dropped_player_forfeits_only_when_the_window_runs_out() {
         m,
         ServerMessage::GameOver {
             winner: Some(Seat::A),
-            ..
-        }
+            reason,
+        } if reason.contains("Player B left and forfeited")
     )));
     assert!(out.iter().any(|o| matches!(
         o,

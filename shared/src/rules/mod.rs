@@ -206,6 +206,9 @@ pub enum Command {
     /// Practice only: lay out the table, one entry per ball number (`None` = off the table).
     /// [`layout_from_scene`] builds one from a scene file.
     LoadLayout { balls: Vec<Option<[f64; 2]>> },
+    /// The seat's player left and did not come back within the reconnect window (sent by
+    /// the server on their behalf): they lose, as by conceding, but the reason says so.
+    Forfeit,
 }
 
 /// The choices the rules offer.
@@ -620,7 +623,7 @@ impl Game {
         }
         let practice = self.variant == Variant::Practice;
         match cmd {
-            Command::Concede => Ok(()),
+            Command::Concede | Command::Forfeit => Ok(()),
             Command::ProposeStalemate => {
                 if practice {
                     return Err(RuleError::NotAllowed(
@@ -754,13 +757,17 @@ impl Game {
             }
             Command::Decide(choice) => self.decide(seat, *choice),
             Command::TimeExpired => self.time_expired(seat),
-            Command::Concede => {
+            Command::Concede | Command::Forfeit => {
+                let how = match cmd {
+                    Command::Forfeit => "left and forfeited",
+                    _ => "conceded",
+                };
                 let (winner, reason) = if self.variant == Variant::Practice {
                     (None, "Practice ended".to_string())
                 } else {
                     (
                         Some(seat.other()),
-                        format!("{seat} conceded; {} wins", seat.other()),
+                        format!("{seat} {how}; {} wins", seat.other()),
                     )
                 };
                 self.enact(
