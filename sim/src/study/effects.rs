@@ -55,8 +55,11 @@ pub fn ladder() -> Vec<Rung> {
     add("+ restitution e_ball", &|m, _| {
         m.ball_ball = BallBallModel::Frictional
     });
+    // The study's strikes are level, so flight never happens and its switch costs nothing:
+    // it is on only to make the last rung the default model.
     add("+ ball-ball friction (full model)", &|_, e| {
-        e.ball_friction = true
+        e.ball_friction = true;
+        e.airborne = true;
     });
     rungs
 }
