@@ -74,7 +74,9 @@ pub fn shot(data: &[u8]) {
     let strike = Strike {
         speed: bytes.f64(),
         dir: DVec2::new(bytes.f64(), bytes.f64()),
-        tip: DVec2::new(bytes.f64(), bytes.f64()), elevation_deg: 0.0
+        tip: DVec2::new(bytes.f64(), bytes.f64()),
+        // Elevated strikes too: jumps, massé and balls leaving the table.
+        elevation_deg: bytes.unit() * 90.0,
     };
     if let Ok(strike) = strike.validated() {
         let shot = Shot::new(table, balls).struck(0, strike);

@@ -92,7 +92,8 @@ fn write_seeds(corpus: &Path) -> Result<(), String> {
     let strike = Strike {
         speed: 9.0,
         dir: DVec2::new(0.01, 1.0).normalize(),
-        tip: DVec2::new(0.1, -0.2), elevation_deg: 0.0
+        tip: DVec2::new(0.1, -0.2),
+        elevation_deg: 0.0,
     };
     let room = RoomCode::parse("K7QX2M4B").map_err(|e| e.to_string())?;
     let messages = [
@@ -175,7 +176,8 @@ fn write_seeds(corpus: &Path) -> Result<(), String> {
             strike: Strike {
                 speed,
                 dir: (target - cue).normalize(),
-                tip: DVec2::ZERO, elevation_deg: 0.0
+                tip: DVec2::ZERO,
+                elevation_deg: 0.0,
             },
             call: None,
         };
