@@ -24,11 +24,20 @@ pub struct Departure {
 /// The balls that left the table during `outcome`, in time order.
 ///
 /// This is the one place the rules learn that a ball left the table: everything the rules
-/// say about it follows from the list. The engine is two-dimensional and never lifts a
-/// ball, so today the list is always empty. An engine that can jump balls only has to
-/// report "ball X left the table at time t" here (for example from an event of its own).
-pub fn departures(_outcome: &Outcome) -> Vec<Departure> {
-    Vec::new()
+/// say about it follows from the list. The engine reports it as a `ball_off_table` event
+/// (a ball jumped over a rail by an elevated cue).
+pub fn departures(outcome: &Outcome) -> Vec<Departure> {
+    outcome
+        .events
+        .iter()
+        .filter_map(|e| match e.kind {
+            EventKind::BallOffTable { ball } => Some(Departure {
+                ball: ball as u8,
+                t: e.t,
+            }),
+            _ => None,
+        })
+        .collect()
 }
 
 /// The facts of one shot that the rules judge.

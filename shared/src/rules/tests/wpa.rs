@@ -460,7 +460,7 @@ fn wpa_balls_off_the_table_count_as_driven_to_a_rail() {
 }
 
 #[test]
-fn the_physics_reports_no_departure_yet() {
+fn a_level_shot_reports_no_departure_and_a_jump_over_the_rail_reports_one() {
     let g = eight_ball_hit();
     let outcome = simulate(&g.shot_for(&HIT.strike())).unwrap();
     assert!(facts::departures(&outcome).is_empty());
@@ -468,6 +468,21 @@ fn the_physics_reports_no_departure_yet() {
         ShotFacts::from_outcome(&outcome, g.table()),
         ShotFacts::read(&outcome, g.table(), &[])
     );
+    // The cue ball jumped over the foot rail by a steep, hard stroke: the physics says it
+    // left, and the rules read it as gone (WPA 8.5, driven off the table).
+    let (_, length) = TableKind::NineFoot.size().expect("pocket table");
+    let jump = Strike::at_angle(4.0, 90.0, DVec2::ZERO).elevated(45.0);
+    let cue = BallState::at_rest(DVec2::new(0.635, length - 0.3));
+    let shot = Shot::new(TableKind::NineFoot, vec![cue]).struck(0, jump);
+    let outcome = simulate(&shot).unwrap();
+    let left = facts::departures(&outcome);
+    assert_eq!(
+        left.len(),
+        1,
+        "the jumped cue ball left the table (WPA 8.5): {left:?}"
+    );
+    assert_eq!(left[0].ball, 0);
+    assert!(ShotFacts::from_outcome(&outcome, TableKind::NineFoot).scratched());
 }
 
 #[test]
