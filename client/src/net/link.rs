@@ -95,6 +95,18 @@ impl NetLink {
                 }
                 false
             }
+            ServerMessage::GameFinished { reason, .. } => {
+                // The game ended while this player was away: show how, and keep no seat.
+                self.rejoining = None;
+                if let Some((store, invite)) = &self.memory {
+                    store.forget(invite);
+                }
+                self.events
+                    .push_back(GameEvent::Connection(Connection::Closed(format!(
+                        "the game ended while you were away: {reason}"
+                    ))));
+                true
+            }
             ServerMessage::Error {
                 code: ErrorCode::BadToken | ErrorCode::NoSuchRoom,
                 ..

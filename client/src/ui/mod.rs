@@ -131,7 +131,14 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
     let mut frames = 0u32;
     let mut speaker = speaker::Speaker::new().await;
     loop {
-        let dt = clock.frame_time();
+        let real_dt = clock.frame_time();
+        // A screenshot shows frame N of the animation at FPS, whatever the machine's speed:
+        // on a loaded or software-rendered display frames take longer than 1/FPS.
+        let dt = if options.screenshot.is_some() {
+            1.0 / FPS
+        } else {
+            real_dt
+        };
         let input = input::read(dt);
         let next = screen.update(&input);
         speaker.keys();
