@@ -13,12 +13,31 @@ fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
-fn temp_file(name: &str, contents: &[u8]) -> std::path::PathBuf {
+/// A file in a scratch folder of this test process, removed (with the folder, once empty)
+/// when dropped, even if the test fails.
+struct TempFile(std::path::PathBuf);
+
+impl TempFile {
+    fn path(&self) -> &str {
+        self.0.to_str().expect("utf-8 path")
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.0);
+        if let Some(dir) = self.0.parent() {
+            let _ = std::fs::remove_dir(dir);
+        }
+    }
+}
+
+fn temp_file(name: &str, contents: &[u8]) -> TempFile {
     let dir = std::env::temp_dir().join(format!("breakshot-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let path = dir.join(name);
     std::fs::write(&path, contents).expect("file written");
-    path
+    TempFile(path)
 }
 
 #[test]
@@ -36,7 +55,7 @@ fn a_missing_scene_file_is_named() {
 fn an_invalid_scene_names_the_balls_at_fault() {
     let scene = r#"{"balls":[{"id":"cue","pos":[0.5,0.5]},{"id":"1","pos":[0.5,0.51]}]}"#;
     let path = temp_file("overlap.json", scene.as_bytes());
-    let out = breakshot(&["practice", path.to_str().expect("utf-8 path")]);
+    let out = breakshot(&["practice", path.path()]);
     assert_eq!(out.status.code(), Some(2));
     let err = stderr(&out);
     assert!(err.contains("\"cue\" and \"1\" overlap"), "{err}");
@@ -45,7 +64,7 @@ fn an_invalid_scene_names_the_balls_at_fault() {
 #[test]
 fn a_file_that_is_not_a_game_record_is_refused() {
     let path = temp_file("garbage.rec", b"\xff\xff\xff\xff not a record");
-    let out = breakshot(&["replay", path.to_str().expect("utf-8 path")]);
+    let out = breakshot(&["replay", path.path()]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
         stderr(&out).contains("is not a game record"),
