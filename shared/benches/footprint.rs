@@ -106,7 +106,7 @@ fn main() -> ExitCode {
         "break_8ball_7ft.json",
         "break_9ft.json",
         "frozen_cradle.json",
-        "stun_shot.json",
+        "draw_shot.json",
     ] {
         let shot = match example(name) {
             Ok(shot) => shot,

@@ -1,4 +1,4 @@
-//! Simulation time of typical shots: one ball, a stun shot, the 8-ball break of the reference
+//! Simulation time of typical shots: one ball, a draw shot, the 8-ball break of the reference
 //! comparison, a 9-ball break and a frozen cradle. The scenes are the files in `examples/`.
 //!
 //! `cargo bench -p breakshot-shared --bench simulate`
@@ -26,7 +26,7 @@ fn example(name: &str) -> Shot {
 fn simulate(c: &mut Criterion) {
     let scenes = [
         ("one_ball", "one_ball.json"),
-        ("stun_shot", "stun_shot.json"),
+        ("draw_shot", "draw_shot.json"),
         ("break_8ball_7ft", "break_8ball_7ft.json"),
         ("break_9ball_9ft", "break_9ft.json"),
         ("frozen_cradle", "frozen_cradle.json"),

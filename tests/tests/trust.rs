@@ -13,7 +13,10 @@ async fn a_client_pinning_another_fingerprint_is_refused() -> anyhow::Result<()>
     invite.fingerprint = Fingerprint([0x42; 32]);
     let result = Channel::open(&endpoint()?, &invite).await;
     match result {
-        Err(NetError::Connect(why)) => assert!(why.contains("certificate"), "{why}"),
+        Err(e @ NetError::WrongFingerprint) => assert!(
+            e.to_string().contains("ask the host for a fresh invite"),
+            "{e}"
+        ),
         Err(other) => panic!("wrong error: {other}"),
         Ok(_) => panic!("connected to a server whose certificate is not the pinned one"),
     }

@@ -20,6 +20,11 @@ pub enum NetError {
     #[error("cannot connect: {0}")]
     /// No QUIC connection could be made.
     Connect(String),
+    #[error(
+        "this invite's fingerprint does not match the server: ask the host for a fresh invite"
+    )]
+    /// The server's certificate is not the one the invite names.
+    WrongFingerprint,
     #[error("connection lost: {0}")]
     /// The connection dropped.
     Lost(String),
@@ -82,7 +87,15 @@ impl Channel {
             .connect_with(config, addr, "breakshot")
             .map_err(|e| NetError::Connect(e.to_string()))?
             .await
-            .map_err(|e| NetError::Connect(e.to_string()))?;
+            .map_err(|e| {
+                let why = e.to_string();
+                // Our own verifier refused the certificate: the pinned fingerprint differs.
+                if why.contains("invalid peer certificate") {
+                    NetError::WrongFingerprint
+                } else {
+                    NetError::Connect(why)
+                }
+            })?;
         let (send, recv) = conn
             .open_bi()
             .await

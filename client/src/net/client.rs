@@ -62,7 +62,8 @@ impl Reconnect {
         loop {
             match Channel::open(ep, invite).await {
                 Ok(c) => return Ok(c),
-                Err(e @ NetError::Rejected(_)) => return Err(e),
+                // Refusals are final: retrying cannot change the answer.
+                Err(e @ (NetError::Rejected(_) | NetError::WrongFingerprint)) => return Err(e),
                 Err(e) if since.elapsed() + pause > patience => return Err(e),
                 Err(_) => {
                     tokio::time::sleep(pause).await;
