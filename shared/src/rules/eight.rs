@@ -80,7 +80,7 @@ fn scratch_reason(facts: &ShotFacts) -> String {
     if facts.off_table.contains(&CUE) {
         "Foul: the cue ball left the table".into()
     } else {
-        "Foul: scratch — the cue ball was pocketed".into()
+        "Foul: scratch - the cue ball was pocketed".into()
     }
 }
 
@@ -288,7 +288,7 @@ fn judge_shot(
     match facts.first_contact {
         None => fouls.push("Foul: the cue ball hit no ball".into()),
         Some(b) if !legal_first(b, group, at_eight) => fouls.push(format!(
-            "Foul: wrong ball first — hit {} before {}",
+            "Foul: wrong ball first - hit {} before {}",
             ball_name(b),
             target_name(group, at_eight)
         )),

@@ -65,7 +65,7 @@ pub(super) fn judge(
         if facts.off_table.contains(&CUE) {
             fouls.push("Foul: the cue ball left the table".to_string());
         } else {
-            fouls.push("Foul: scratch — the cue ball was pocketed".to_string());
+            fouls.push("Foul: scratch - the cue ball was pocketed".to_string());
         }
     }
     if let Some(reason) = kitchen_foul(game, facts) {
@@ -76,7 +76,7 @@ pub(super) fn judge(
         match (facts.first_contact, lowest) {
             (None, _) => fouls.push("Foul: the cue ball hit no ball".into()),
             (Some(b), Some(low)) if b != low => fouls.push(format!(
-                "Foul: wrong ball first — hit {} before {}",
+                "Foul: wrong ball first - hit {} before {}",
                 ball_name(b),
                 ball_name(low)
             )),
@@ -86,7 +86,7 @@ pub(super) fn judge(
         if breaking {
             if !facts.any_object_ball_pocketed() && to_cushion < BREAK_CUSHION_BALLS {
                 fouls.push(format!(
-                    "Foul: illegal break — no ball pocketed and only {to_cushion} object balls reached a cushion ({BREAK_CUSHION_BALLS} needed)"
+                    "Foul: illegal break - no ball pocketed and only {to_cushion} object balls reached a cushion ({BREAK_CUSHION_BALLS} needed)"
                 ));
             }
         } else if facts.no_cushion_after_contact() {

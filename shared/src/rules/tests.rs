@@ -299,15 +299,15 @@ fn eight_ball_clauses() {
                 "Player A takes the stripes (the 11 pocketed first)",
             )
         },
-        case("wrong ball first: the 8 before a solid", HIT, 8, "Foul: wrong ball first — hit the 8 before a solid").foul(),
-        case("wrong ball first: a stripe before a solid", HIT, 12, "Foul: wrong ball first — hit the 12 before a solid").foul(),
+        case("wrong ball first: the 8 before a solid", HIT, 8, "Foul: wrong ball first - hit the 8 before a solid").foul(),
+        case("wrong ball first: a stripe before a solid", HIT, 12, "Foul: wrong ball first - hit the 12 before a solid").foul(),
         Case {
             group_a: None,
-            ..case("open table: the 8 may not be hit first", HIT, 8, "Foul: wrong ball first — hit the 8 before any ball but the 8").foul()
+            ..case("open table: the 8 may not be hit first", HIT, 8, "Foul: wrong ball first - hit the 8 before any ball but the 8").foul()
         },
         case("no ball contacted", MISS, 3, "Foul: the cue ball hit no ball").foul(),
         case("nothing pocketed and no ball to a cushion after contact", SOFT, 3, "Foul: no ball reached a cushion or a pocket after contact").foul(),
-        case("cue ball pocketed", POT_SCRATCH, 3, "Foul: scratch — the cue ball was pocketed").foul(),
+        case("cue ball pocketed", POT_SCRATCH, 3, "Foul: scratch - the cue ball was pocketed").foul(),
         // A legal combination (own ball first) that drives the 8 in early.
         Case {
             extra: vec![(8, COMBO_SECOND)],
@@ -347,7 +347,7 @@ fn eight_ball_clauses() {
         Case {
             parked: on_eight.clone(),
             call: Some(BOTTOM_LEFT),
-            ..case("WPA: a scratch while shooting at the 8 is only a foul", CUT_SCRATCH, 8, "Foul: scratch — the cue ball was pocketed").foul()
+            ..case("WPA: a scratch while shooting at the 8 is only a foul", CUT_SCRATCH, 8, "Foul: scratch - the cue ball was pocketed").foul()
         },
         Case {
             foul: true,
@@ -368,7 +368,7 @@ fn eight_ball_fouls_leave_pocketed_balls_down_and_groups_unassigned() {
         "scratch",
         POT_SCRATCH,
         3,
-        "Foul: scratch — the cue ball was pocketed",
+        "Foul: scratch - the cue ball was pocketed",
     )
     .foul()
     .run();
@@ -379,7 +379,7 @@ fn eight_ball_fouls_leave_pocketed_balls_down_and_groups_unassigned() {
             "open-table scratch",
             POT_SCRATCH,
             3,
-            "Foul: scratch — the cue ball was pocketed",
+            "Foul: scratch - the cue ball was pocketed",
         )
         .foul()
     }
@@ -615,7 +615,7 @@ fn scratch_on_a_legal_break_gives_ball_in_hand_behind_the_head_string() {
     assert_eq!(
         v.reasons,
         vec![
-            "Foul: scratch — the cue ball was pocketed".to_string(),
+            "Foul: scratch - the cue ball was pocketed".to_string(),
             "Player B has the cue ball in hand behind the head string; the table is open"
                 .to_string()
         ]
@@ -689,7 +689,7 @@ fn eight_on_the_break_with_a_scratch_wpa_opponent_chooses_bar_loses() {
     assert_eq!(
         v.reasons,
         vec![
-            "Foul: scratch — the cue ball was pocketed".to_string(),
+            "Foul: scratch - the cue ball was pocketed".to_string(),
             "The 8 fell on the break with a foul: Player B chooses to spot it and take ball in hand behind the head string, or to re-rack".to_string()
         ]
     );
@@ -937,7 +937,7 @@ fn nine_ball_break_must_hit_the_one_first() {
     let v = shoot(&mut g, KITCHEN_POT, None);
     assert_eq!(
         v.reasons[0],
-        "Foul: wrong ball first — hit the 2 before the 1"
+        "Foul: wrong ball first - hit the 2 before the 1"
     );
     assert!(v.foul);
     assert_eq!(
@@ -1026,7 +1026,7 @@ fn nine_ball_lowest_ball_first() {
     let v = shoot(&mut g, HIT, None);
     assert_eq!(
         v.reasons[0],
-        "Foul: wrong ball first — hit the 3 before the 2"
+        "Foul: wrong ball first - hit the 3 before the 2"
     );
     assert_eq!(
         (g.to_move(), in_hand(&g)),
@@ -1067,7 +1067,7 @@ fn nine_ball_nine_pocketed_on_a_foul_is_spotted() {
     assert_eq!(
         v.reasons,
         vec![
-            "Foul: wrong ball first — hit the 9 before the 2".to_string(),
+            "Foul: wrong ball first - hit the 9 before the 2".to_string(),
             "The 9 is spotted on the foot spot".to_string(),
             "Player B has ball in hand".to_string()
         ]
