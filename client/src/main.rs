@@ -94,11 +94,30 @@ enum Command {
         /// The room code of the game (its latest game is shown).
         #[arg(long, value_name = "ID", requires = "server")]
         game: Option<String>,
+        /// Save the fetched game's record to FILE instead of showing it (watch it later
+        /// with `breakshot replay FILE`).
+        #[arg(long, value_name = "FILE", requires = "server")]
+        save: Option<PathBuf>,
     },
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some(Command::Replay {
+        server: Some(server),
+        game: Some(game),
+        save: Some(path),
+        ..
+    }) = &cli.command
+    {
+        return match save_record(server, game, path) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("breakshot: {e:#}");
+                ExitCode::from(2)
+            }
+        };
+    }
     match prepare(&cli) {
         Ok(start) => open_window(&cli, start),
         Err(e) => {
@@ -179,6 +198,27 @@ fn data_dir(cli: &Cli) -> anyhow::Result<PathBuf> {
 
 /// Fetches a game's record from the server `url` names and opens it.
 fn fetch_replay(url: &str, game: &str) -> anyhow::Result<ReplayViewer> {
+    let (room, bytes) = fetch(url, game)?;
+    ReplayViewer::decode(&bytes)
+        .with_context(|| format!("the server sent game {room} as an unreadable record"))
+}
+
+/// Fetches a game's record from a server and saves it to `path`, checked as a record first.
+fn save_record(url: &str, game: &str, path: &std::path::Path) -> anyhow::Result<()> {
+    let (room, bytes) = fetch(url, game)?;
+    ReplayViewer::decode(&bytes)
+        .with_context(|| format!("the server sent game {room} as an unreadable record"))?;
+    std::fs::write(path, &bytes).with_context(|| format!("cannot write {}", path.display()))?;
+    eprintln!(
+        "breakshot: saved to {} (watch it with: breakshot replay {})",
+        path.display(),
+        path.display()
+    );
+    Ok(())
+}
+
+/// The latest game's record of room `game` on the server at `url`.
+fn fetch(url: &str, game: &str) -> anyhow::Result<(RoomCode, Vec<u8>)> {
     let server: Invite = url.parse().with_context(|| {
         format!("{url:?} is not a server address (breakshot://HOST:PORT#FINGERPRINT)")
     })?;
@@ -194,8 +234,7 @@ fn fetch_replay(url: &str, game: &str) -> anyhow::Result<ReplayViewer> {
             "still being played"
         }
     );
-    ReplayViewer::decode(&fetched.bytes)
-        .with_context(|| format!("the server sent game {room} as an unreadable record"))
+    Ok((room, fetched.bytes))
 }
 
 /// Hosts a game, tells the terminal where it is served, and plays in it.

@@ -187,3 +187,47 @@ fn replay_of_a_game_the_server_does_not_have_is_refused() {
     let err = stderr(&out);
     assert!(err.contains("no game in room ZZZZZZZZ"), "{err}");
 }
+
+#[test]
+#[cfg(feature = "host")]
+fn a_game_on_a_server_is_saved_to_a_record_file_that_replays() {
+    use breakshot_client::bot::{run, BotConfig};
+    use breakshot_client::net::EmbeddedServer;
+    use breakshot_server::Config;
+    use breakshot_shared::replay::GameRecord;
+
+    let dir = std::env::temp_dir().join(format!("breakshot-cli-save-{}", std::process::id()));
+    let server = EmbeddedServer::start(Config::new(
+        std::net::SocketAddr::from(([127, 0, 0, 1], 0)),
+        dir.join("server"),
+    ))
+    .expect("a server on loopback");
+    let invite = server.loopback_invite();
+    let runtime = tokio::runtime::Runtime::new().expect("a runtime");
+    let report = runtime.block_on(run(&BotConfig::new(invite.clone(), 1)));
+    let room = report.games[0].room.clone().expect("the bots' room");
+    let file = dir.join("game.rec");
+    let out = breakshot(&[
+        "replay",
+        "--server",
+        &invite.to_string(),
+        "--game",
+        room.as_str(),
+        "--save",
+        file.to_str().expect("utf-8 path"),
+    ]);
+    drop(server);
+    let bytes = std::fs::read(&file);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
+    let record = GameRecord::decode(&bytes.expect("the saved file")).expect("a game record");
+    record
+        .replay()
+        .expect("the saved game replays with every hash");
+    assert!(
+        stderr(&out).contains("breakshot replay"),
+        "{}",
+        stderr(&out)
+    );
+}
