@@ -122,6 +122,19 @@ fn hosting_on_a_port_in_use_says_so_before_any_window_opens() {
         err.contains("could not start") && err.contains(&addr),
         "{err}"
     );
+    assert_eq!(err.matches(&addr).count(), 1, "said once: {err}");
+}
+
+#[test]
+fn a_short_fingerprint_is_named_once() {
+    let out = breakshot(&["join", "breakshot://127.0.0.1:4433/ABCDEFGH#abcd"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert_eq!(
+        err.matches("64 hexadecimal digits").count(),
+        1,
+        "said once: {err}"
+    );
 }
 
 #[test]

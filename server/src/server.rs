@@ -71,7 +71,8 @@ pub enum ServerError {
     Tls(#[from] TlsError),
     #[error("store: {0}")]
     Store(#[from] StoreError),
-    #[error("binding {addr}: {source}")]
+    // The io error is the source: printing it here too would say it twice in a chain.
+    #[error("binding {addr}")]
     Bind {
         addr: SocketAddr,
         source: std::io::Error,

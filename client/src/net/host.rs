@@ -32,7 +32,7 @@ pub fn router_hint(port: u16) -> String {
 pub enum HostError {
     /// The server could not start.
     #[cfg(feature = "host")]
-    #[error("the game server could not start: {0}")]
+    #[error("the game server could not start")]
     Server(#[from] breakshot_server::ServerError),
     /// This build has no embedded server.
     #[cfg(not(feature = "host"))]

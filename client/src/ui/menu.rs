@@ -41,7 +41,8 @@ fn host_default() -> Result<Box<dyn GameLink>, String> {
     #[cfg(feature = "host")]
     let hosted = breakshot_client::net::Host::start(&options)
         .map(|h| Box::new(h) as Box<dyn GameLink>)
-        .map_err(|e| e.to_string());
+        // With its causes: the error alone says only that the server could not start.
+        .map_err(|e| format!("{:#}", anyhow::Error::new(e)));
     #[cfg(not(feature = "host"))]
     let hosted = {
         let _ = options;

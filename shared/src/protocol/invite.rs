@@ -29,7 +29,7 @@ pub enum InviteError {
     MissingFingerprint,
     #[error("an invite names HOST:PORT")]
     Address,
-    #[error("{0}")]
+    #[error(transparent)]
     Id(#[from] super::ids::IdError),
 }
 
