@@ -128,7 +128,9 @@ fn a_port_in_use_is_a_clear_error() -> anyhow::Result<()> {
     let Err(e) = Host::start(&options) else {
         panic!("a second server bound the same port");
     };
-    assert!(e.to_string().contains("binding"), "{e}");
+    // As a player reads it: the error with its causes.
+    let said = format!("{:#}", anyhow::Error::new(e));
+    assert!(said.contains("binding"), "{said}");
     Ok(())
 }
 
