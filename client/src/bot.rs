@@ -5,6 +5,7 @@
 
 use std::time::{Duration, Instant};
 
+use breakshot_shared::ai::ranked_pots;
 use breakshot_shared::physics::{Strike, Table};
 use breakshot_shared::protocol::{
     AimAid, ClientMessage, ErrorCode, Invite, Role, RoomCode, ServerMessage,
@@ -490,20 +491,7 @@ impl Chooser {
             };
             return (strike, None);
         }
-        let mut options: Vec<(f64, DVec2, u8)> = Vec::new();
-        for (_, t) in &targets {
-            for (k, p) in pockets.iter().enumerate() {
-                let to_pocket = (*p - *t).normalize_or_zero();
-                let ghost = *t - to_pocket * (2.0 * r);
-                let aim = (ghost - cue).normalize_or_zero();
-                let straightness = aim.dot(to_pocket);
-                if straightness > 0.3 {
-                    let dist = ghost.distance(cue) + p.distance(*t);
-                    options.push((straightness - 0.1 * dist, aim, k as u8));
-                }
-            }
-        }
-        options.sort_by(|a, b| b.0.total_cmp(&a.0));
+        let options = ranked_pots(cue, &targets, &pockets, r);
         let pick = options.get(self.rng.below(options.len().min(3))).copied();
         let (aim, call) = match pick {
             Some((_, aim, pocket)) => (aim, Some(pocket)),

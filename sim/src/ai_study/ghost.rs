@@ -3,6 +3,7 @@
 //! little aim noise, a random speed and follow/draw; break at full pace; accept the table
 //! when offered; put the cue ball anywhere legal when it is off the table.
 
+use breakshot_shared::ai::ranked_pots;
 use breakshot_shared::ai::Rng;
 use breakshot_shared::physics::{BallState, MotionState, Params, Strike, Table};
 use breakshot_shared::rules::{Choice, Command, Game, InHand, Phase};
@@ -101,20 +102,7 @@ impl Ghost {
             };
             return (strike, None);
         }
-        let mut options: Vec<(f64, DVec2, u8)> = Vec::new();
-        for (_, t) in &targets {
-            for (k, p) in pockets.iter().enumerate() {
-                let to_pocket = (*p - *t).normalize_or_zero();
-                let ghost = *t - to_pocket * (2.0 * r);
-                let aim = (ghost - cue).normalize_or_zero();
-                let straightness = aim.dot(to_pocket);
-                if straightness > 0.3 {
-                    let dist = ghost.distance(cue) + p.distance(*t);
-                    options.push((straightness - 0.1 * dist, aim, k as u8));
-                }
-            }
-        }
-        options.sort_by(|a, b| b.0.total_cmp(&a.0));
+        let options = ranked_pots(cue, &targets, &pockets, r);
         let k = self.below(options.len().min(3));
         let (aim, call) = match options.get(k).copied() {
             Some((_, aim, pocket)) => (aim, Some(pocket)),
