@@ -1,43 +1,44 @@
 //! The command line refuses bad input with a clear message before any window opens.
 
 use std::process::{Command, Output};
+use std::time::Duration;
 
+use breakshot_testkit::TempDir;
+
+/// Runs `breakshot` with `args`; fails the test if it has not ended within a minute.
 fn breakshot(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_breakshot"))
-        .args(args)
-        .output()
-        .expect("breakshot runs")
+    breakshot_testkit::run(
+        Command::new(env!("CARGO_BIN_EXE_breakshot")).args(args),
+        None,
+        Duration::from_secs(60),
+    )
 }
 
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
-/// A file in a scratch folder of this test process, removed (with the folder, once empty)
-/// when dropped, even if the test fails.
-struct TempFile(std::path::PathBuf);
+/// A file in a scratch folder of its own, removed with the folder when dropped, even if the
+/// test fails.
+struct TempFile {
+    _dir: TempDir,
+    path: String,
+}
 
 impl TempFile {
     fn path(&self) -> &str {
-        self.0.to_str().expect("utf-8 path")
-    }
-}
-
-impl Drop for TempFile {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_file(&self.0);
-        if let Some(dir) = self.0.parent() {
-            let _ = std::fs::remove_dir(dir);
-        }
+        &self.path
     }
 }
 
 fn temp_file(name: &str, contents: &[u8]) -> TempFile {
-    let dir = std::env::temp_dir().join(format!("breakshot-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let path = dir.join(name);
+    let dir = breakshot_testkit::scratch("cli");
+    let path = dir.path().join(name);
     std::fs::write(&path, contents).expect("file written");
-    TempFile(path)
+    TempFile {
+        path: path.to_str().expect("utf-8 path").to_owned(),
+        _dir: dir,
+    }
 }
 
 #[test]
@@ -107,15 +108,14 @@ fn an_invite_without_a_room_is_refused() {
 fn hosting_on_a_port_in_use_says_so_before_any_window_opens() {
     let taken = std::net::UdpSocket::bind("127.0.0.1:0").expect("a free port");
     let addr = taken.local_addr().expect("bound").to_string();
-    let data = std::env::temp_dir().join(format!("breakshot-cli-host-{}", std::process::id()));
+    let data = breakshot_testkit::scratch("cli-host");
     let out = breakshot(&[
         "host",
         "--bind",
         &addr,
         "--data",
-        data.to_str().expect("utf-8"),
+        data.path().to_str().expect("utf-8"),
     ]);
-    let _ = std::fs::remove_dir_all(&data);
     assert_eq!(out.status.code(), Some(2));
     let err = stderr(&out);
     assert!(
@@ -186,16 +186,15 @@ fn replay_of_a_game_the_server_does_not_have_is_refused() {
     use breakshot_client::net::EmbeddedServer;
     use breakshot_server::Config;
 
-    let data = std::env::temp_dir().join(format!("breakshot-cli-fetch-{}", std::process::id()));
+    let data = breakshot_testkit::scratch("cli-fetch");
     let server = EmbeddedServer::start(Config::new(
         std::net::SocketAddr::from(([127, 0, 0, 1], 0)),
-        data.clone(),
+        data.path().to_path_buf(),
     ))
     .expect("a server on loopback");
     let invite = server.loopback_invite().to_string();
     let out = breakshot(&["replay", "--server", &invite, "--game", "zzzzzzzz"]);
     drop(server);
-    let _ = std::fs::remove_dir_all(&data);
     assert_eq!(out.status.code(), Some(2));
     let err = stderr(&out);
     assert!(err.contains("no game in room ZZZZZZZZ"), "{err}");
@@ -209,17 +208,17 @@ fn a_game_on_a_server_is_saved_to_a_record_file_that_replays() {
     use breakshot_server::Config;
     use breakshot_shared::replay::GameRecord;
 
-    let dir = std::env::temp_dir().join(format!("breakshot-cli-save-{}", std::process::id()));
+    let dir = breakshot_testkit::scratch("cli-save");
     let server = EmbeddedServer::start(Config::new(
         std::net::SocketAddr::from(([127, 0, 0, 1], 0)),
-        dir.join("server"),
+        dir.path().join("server"),
     ))
     .expect("a server on loopback");
     let invite = server.loopback_invite();
     let runtime = tokio::runtime::Runtime::new().expect("a runtime");
     let report = runtime.block_on(run(&BotConfig::new(invite.clone(), 1)));
     let room = report.games[0].room.clone().expect("the bots' room");
-    let file = dir.join("game.rec");
+    let file = dir.path().join("game.rec");
     let out = breakshot(&[
         "replay",
         "--server",
@@ -231,7 +230,6 @@ fn a_game_on_a_server_is_saved_to_a_record_file_that_replays() {
     ]);
     drop(server);
     let bytes = std::fs::read(&file);
-    let _ = std::fs::remove_dir_all(&dir);
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let record = GameRecord::decode(&bytes.expect("the saved file")).expect("a game record");

@@ -3,8 +3,10 @@
 //!
 //! Needs `xvfb-run`; without it the test says why and passes (CI installs it).
 
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
-use std::process::Command as Process;
+use std::process::{Command as Process, Output};
+use std::time::Duration;
 
 use breakshot_client::view::layout::{Frame, Layout};
 use breakshot_client::view::palette::{ball_look, Rgb, BALL_WHITE, CLOTH};
@@ -83,37 +85,55 @@ impl Picture {
     }
 }
 
-/// Runs `breakshot` with `args` and a file `name` holding `contents`; None if there is no
-/// `xvfb-run` (the reason is printed).
-fn screenshot(name: &str, contents: &[u8], args: &[&str]) -> Option<Picture> {
+/// Runs `breakshot` under a virtual display with `args`, saving its window to `out` after four
+/// frames at 1280x720; None if there is no `xvfb-run` (the reason is printed). Fails the test
+/// if the window has not closed within two minutes.
+fn window(args: &[&OsStr], out: &Path) -> Option<Output> {
     let Some(xvfb) = find_in_path("xvfb-run") else {
         eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
         return None;
     };
-    let dir = std::env::temp_dir().join(format!("breakshot-window-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let input = dir.join(name);
-    let out = dir.join("out.png");
-    std::fs::write(&input, contents).expect("input written");
-    let status = Process::new(xvfb)
-        .args(["-a", "-s", "-screen 0 1280x800x24"])
-        .arg(env!("CARGO_BIN_EXE_breakshot"))
-        .args(args)
-        .arg(&input)
-        .arg("--screenshot")
-        .arg(&out)
-        .args(["--frames", "4", "--size", "1280x720"])
-        .status()
-        .expect("xvfb-run runs");
-    assert!(status.success(), "breakshot exited with {status}");
-    let (width, height, pixels) = read_png(&out);
-    let _ = std::fs::remove_dir_all(&dir);
+    Some(breakshot_testkit::run(
+        Process::new(xvfb)
+            .args(["-a", "-s", "-screen 0 1280x800x24"])
+            .arg(env!("CARGO_BIN_EXE_breakshot"))
+            .args(args)
+            .arg("--screenshot")
+            .arg(out)
+            .args(["--frames", "4", "--size", "1280x720"]),
+        None,
+        Duration::from_secs(120),
+    ))
+}
+
+/// The screenshot `window` saved, checked to be the size asked for.
+fn picture(out: &Path) -> Picture {
+    let (width, height, pixels) = read_png(out);
     assert_eq!((width, height), (1280, 720));
-    Some(Picture {
+    Picture {
         width,
         height,
         pixels,
-    })
+    }
+}
+
+/// Runs `breakshot` with `args` and a file `name` holding `contents`; None if there is no
+/// `xvfb-run` (the reason is printed).
+fn screenshot(name: &str, contents: &[u8], args: &[&str]) -> Option<Picture> {
+    let dir = breakshot_testkit::scratch("window");
+    let input = dir.path().join(name);
+    let out = dir.path().join("out.png");
+    std::fs::write(&input, contents).expect("input written");
+    let mut all: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
+    all.push(input.as_os_str());
+    let run = window(&all, &out)?;
+    assert!(
+        run.status.success(),
+        "breakshot exited with {}: {}",
+        run.status,
+        String::from_utf8_lossy(&run.stderr)
+    );
+    Some(picture(&out))
 }
 
 #[test]
@@ -186,8 +206,9 @@ fn replay_screenshot_shows_the_recorded_games_table() {
     let mut record = GameRecord::new(variant, Settings::offline(), 5);
     let strike = Strike::at_angle(9.0, 90.0, DVec2::ZERO);
     let shot = Command::Shot { strike, call: None };
-    let verdict = game.apply(game.to_move(), &shot).expect("a legal break");
-    record.push(game.to_move(), shot, verdict.shot.map(|s| s.hash));
+    let breaker = game.to_move();
+    let verdict = game.apply(breaker, &shot).expect("a legal break");
+    record.push(breaker, shot, verdict.shot.map(|s| s.hash));
 
     let Some(pic) = screenshot("game.rec", &record.encode(), &["replay"]) else {
         return;
@@ -208,23 +229,13 @@ fn replay_screenshot_shows_the_recorded_games_table() {
 
 #[test]
 fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
-    let Some(xvfb) = find_in_path("xvfb-run") else {
-        eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
+    let dir = breakshot_testkit::scratch("window-host");
+    let out = dir.path().join("out.png");
+    let data = dir.path().join("server");
+    let args = ["host", "--bind", "127.0.0.1:0", "--data"].map(OsStr::new);
+    let Some(run) = window(&[&args[..], &[data.as_os_str()]].concat(), &out) else {
         return;
     };
-    let dir = std::env::temp_dir().join(format!("breakshot-window-{}-host", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    let out = dir.join("out.png");
-    let run = Process::new(xvfb)
-        .args(["-a", "-s", "-screen 0 1280x800x24"])
-        .arg(env!("CARGO_BIN_EXE_breakshot"))
-        .args(["host", "--bind", "127.0.0.1:0", "--data"])
-        .arg(dir.join("server"))
-        .arg("--screenshot")
-        .arg(&out)
-        .args(["--frames", "4", "--size", "1280x720"])
-        .output()
-        .expect("xvfb-run runs");
     assert!(
         run.status.success(),
         "breakshot host exited with {}: {}",
@@ -242,13 +253,8 @@ fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
     assert_eq!(invite.host, "127.0.0.1");
     assert!(invite.room.is_some());
 
-    let (width, height, pixels) = read_png(&out);
-    let _ = std::fs::remove_dir_all(&dir);
-    let pic = Picture {
-        width,
-        height,
-        pixels,
-    };
+    let pic = picture(&out);
+    let (width, height) = (pic.width, pic.height);
     // The table is drawn behind the panel: cloth above it ...
     let racked = Game::new(
         Variant::EightBall(EightBallRules::Wpa),
@@ -285,15 +291,14 @@ fn replay_from_a_server_shows_the_fetched_games_table() {
     use breakshot_client::bot::{run, BotConfig};
     use breakshot_client::net::{fetch_record_blocking, EmbeddedServer};
 
-    let Some(xvfb) = find_in_path("xvfb-run") else {
+    if find_in_path("xvfb-run").is_none() {
         eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
         return;
-    };
-    let dir = std::env::temp_dir().join(format!("breakshot-window-{}-fetch", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    }
+    let dir = breakshot_testkit::scratch("window-fetch");
     let server = EmbeddedServer::start(breakshot_server::Config::new(
         std::net::SocketAddr::from(([127, 0, 0, 1], 0)),
-        dir.join("server"),
+        dir.path().join("server"),
     ))
     .expect("a server on loopback");
     let invite = server.loopback_invite();
@@ -305,17 +310,10 @@ fn replay_from_a_server_shows_the_fetched_games_table() {
     let fetched = fetch_record_blocking(&invite, &room).expect("the record");
     let record = GameRecord::decode(&fetched.bytes).expect("a record");
 
-    let out = dir.join("out.png");
-    let run = Process::new(xvfb)
-        .args(["-a", "-s", "-screen 0 1280x800x24"])
-        .arg(env!("CARGO_BIN_EXE_breakshot"))
-        .args(["replay", "--server", &invite.to_string(), "--game"])
-        .arg(room.as_str())
-        .arg("--screenshot")
-        .arg(&out)
-        .args(["--frames", "4", "--size", "1280x720"])
-        .output()
-        .expect("xvfb-run runs");
+    let out = dir.path().join("out.png");
+    let invite_text = invite.to_string();
+    let args = ["replay", "--server", &invite_text, "--game", room.as_str()].map(OsStr::new);
+    let run = window(&args, &out).expect("xvfb-run is installed");
     drop(server);
     assert!(
         run.status.success(),
@@ -323,13 +321,7 @@ fn replay_from_a_server_shows_the_fetched_games_table() {
         run.status,
         String::from_utf8_lossy(&run.stderr)
     );
-    let (width, height, pixels) = read_png(&out);
-    let _ = std::fs::remove_dir_all(&dir);
-    let pic = Picture {
-        width,
-        height,
-        pixels,
-    };
+    let pic = picture(&out);
     // Four frames are well inside the pause before the first shot: this game's rack.
     let racked = Game::new(record.variant, record.settings, record.seed);
     let layout = Layout::new(

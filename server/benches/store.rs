@@ -43,10 +43,9 @@ fn median(mut v: Vec<Duration>) -> Duration {
 }
 
 fn main() {
-    let dir = std::env::temp_dir().join(format!("breakshot-store-bench-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch directory");
-    let mut store = Store::open(&dir).expect("store");
+    let scratch = breakshot_testkit::scratch("store-bench");
+    let dir = scratch.path();
+    let mut store = Store::open(dir).expect("store");
     let code = RoomCode::parse("BENCH234").expect("room code");
     let mut record = GameRecord::new(
         Variant::EightBall(Default::default()),
@@ -86,7 +85,6 @@ fn main() {
             bytes.len()
         );
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 fn append(store: &mut Store, code: &RoomCode, record: &mut GameRecord, index: usize) {

@@ -392,8 +392,8 @@ mod tests {
 
     #[test]
     fn games_survive_reopening_and_finished_ones_are_not_reloaded() {
-        let dir = std::env::temp_dir().join(format!("breakshot-store-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let tmp = breakshot_testkit::scratch("store");
+        let dir = tmp.path().to_path_buf();
         let meta = |code: &str| RoomMeta {
             code: RoomCode::parse(code).unwrap(),
             variant: Variant::EightBall(EightBallRules::Wpa),
@@ -450,15 +450,6 @@ mod tests {
         assert_eq!(ended[0].winner, Some(Seat::B));
         assert_eq!(ended[0].reason, "A conceded");
         assert!(store.ended_since(unix_now() + 60).unwrap().is_empty());
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
-
-    fn scratch(name: &str) -> std::path::PathBuf {
-        let dir =
-            std::env::temp_dir().join(format!("breakshot-store-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
     }
 
     fn room_meta(code: &RoomCode) -> RoomMeta {
@@ -483,7 +474,8 @@ mod tests {
 
     #[test]
     fn a_game_is_appended_one_row_per_command_and_assembled_on_read() {
-        let dir = scratch("append");
+        let tmp = breakshot_testkit::scratch("append");
+        let dir = tmp.path().to_path_buf();
         let code = RoomCode::parse("CCCCCCCC").unwrap();
         let mut record = GameRecord::new(Variant::Practice, Settings::offline(), 3);
         {
@@ -527,12 +519,12 @@ mod tests {
         let stored = store.record(&code, 1).unwrap().unwrap();
         assert_eq!(GameRecord::decode(&stored).unwrap(), record);
         assert_eq!(store.unfinished().unwrap()[0].record, Ok(record));
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn a_store_of_the_first_schema_is_migrated_in_place() {
-        let dir = scratch("migrate");
+        let tmp = breakshot_testkit::scratch("migrate");
+        let dir = tmp.path().to_path_buf();
         let code = RoomCode::parse("DDDDDDDD").unwrap();
         let mut record = GameRecord::new(Variant::Practice, Settings::offline(), 4);
         record.entries.extend((0..3).map(place));
@@ -573,6 +565,5 @@ mod tests {
         drop(store);
         let store = Store::open(&dir).unwrap();
         assert_eq!(store.all().unwrap()[0].record, Ok(record));
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -158,8 +158,8 @@ mod tests {
 
     #[test]
     fn the_identity_is_made_once_and_kept_private() {
-        let dir = std::env::temp_dir().join(format!("breakshot-tls-{}", std::process::id()));
-        fs::create_dir_all(&dir).unwrap();
+        let tmp = breakshot_testkit::scratch("tls");
+        let dir = tmp.path().to_path_buf();
         let first = Identity::load_or_create(&dir).unwrap();
         let again = Identity::load_or_create(&dir).unwrap();
         assert_eq!(first.fingerprint(), again.fingerprint());
@@ -169,13 +169,12 @@ mod tests {
             .mode();
         assert_eq!(mode & 0o777, 0o600);
         assert!(first.server_config().is_ok());
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn the_reset_secret_is_made_once_and_kept_private() {
-        let dir = std::env::temp_dir().join(format!("breakshot-reset-{}", std::process::id()));
-        fs::create_dir_all(&dir).unwrap();
+        let tmp = breakshot_testkit::scratch("reset");
+        let dir = tmp.path().to_path_buf();
         let first = reset_key(&dir).unwrap();
         assert_eq!(reset_key(&dir).unwrap(), first);
         let mode = fs::metadata(dir.join(RESET_KEY_FILE))
@@ -192,6 +191,5 @@ mod tests {
             .permissions()
             .mode();
         assert_eq!(mode & 0o777, 0o600);
-        fs::remove_dir_all(&dir).unwrap();
     }
 }

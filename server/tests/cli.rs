@@ -1,8 +1,11 @@
 //! The `breakshot-server` command as an operator uses it.
 
-use std::io::{BufRead, BufReader};
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::ffi::OsStr;
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+use std::time::Duration;
+
+use breakshot_testkit::Spawned;
 
 use breakshot_server::output::{RoomMeta, StoreOp};
 use breakshot_server::store::Store;
@@ -14,11 +17,13 @@ use glam::DVec2;
 
 const BIN: &str = env!("CARGO_BIN_EXE_breakshot-server");
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("breakshot-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// Runs `breakshot-server` with `args`; fails the test if it has not ended within a minute.
+fn server(args: &[&OsStr]) -> Output {
+    breakshot_testkit::run(Command::new(BIN).args(args), None, Duration::from_secs(60))
+}
+
+fn verify(data: &Path) -> Output {
+    server(&[OsStr::new("verify"), OsStr::new("--data"), data.as_os_str()])
 }
 
 /// Stores one game of two real shots, with `tamper` flipping a bit of the second hash.
@@ -79,62 +84,43 @@ fn nearest_ball(game: &Game) -> DVec2 {
 
 #[test]
 fn verify_reports_each_game_and_fails_on_a_tampered_one() {
-    let dir = scratch("verify");
-    store_game(&dir, false);
-    let out = Command::new(BIN)
-        .args(["verify", "--data"])
-        .arg(&dir)
-        .output()
-        .unwrap();
+    let scratch = breakshot_testkit::scratch("cli-verify");
+    let dir = scratch.path();
+    store_game(dir, false);
+    let out = verify(dir);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{text}");
     assert!(text.contains("verified K7QX2M4B game 1"), "{text}");
     assert!(text.contains("1 games: 1 verified, 0 failed"), "{text}");
 
-    store_game(&dir, true);
-    let out = Command::new(BIN)
-        .args(["verify", "--data"])
-        .arg(&dir)
-        .output()
-        .unwrap();
+    store_game(dir, true);
+    let out = verify(dir);
     let text = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(1), "{text}");
     assert!(text.contains("FAILED   K7QX2M4B game 1"), "{text}");
     assert!(text.contains("state hash differs"), "{text}");
 
-    let out = Command::new(BIN)
-        .args(["verify", "--data"])
-        .arg(dir.join("nothing"))
-        .output()
-        .unwrap();
+    let out = verify(&dir.join("nothing"));
     assert_eq!(out.status.code(), Some(2));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn the_server_prints_its_invite_first_and_stops_cleanly_on_ctrl_c() {
-    let dir = scratch("serve");
-    let mut child = Command::new(BIN)
-        .args(["--bind", "127.0.0.1:0", "--data"])
-        .arg(&dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
+    let dir = breakshot_testkit::scratch("cli-serve");
+    let mut server = Spawned::start(
+        Command::new(BIN)
+            .args(["--bind", "127.0.0.1:0", "--data"])
+            .arg(dir.path())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null()),
+    );
+    let stdout = server.child().stdout.take().expect("piped");
+    let (line, _rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
     let invite: Invite = line.trim().parse().unwrap();
     assert_eq!(invite.host, "127.0.0.1");
     assert_ne!(invite.port, 0);
     assert!(invite.room.is_none());
 
-    let status = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(status.success());
-    assert!(child.wait().unwrap().success());
-    std::fs::remove_dir_all(&dir).unwrap();
+    server.interrupt();
+    assert!(server.wait(Duration::from_secs(60)).success());
 }

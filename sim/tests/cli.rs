@@ -1,37 +1,19 @@
 //! `breakshot-sim` as a black box: the pooltool reference shots, the contract's output format,
 //! and invalid scenes.
 
-use std::io::Write;
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Output};
+use std::time::Duration;
 
 use serde_json::Value;
 
+/// Runs `breakshot-sim` with `args`, the scene on standard input if given; fails the test if
+/// it has not finished within two minutes.
 fn sim(args: &[&str], stdin: Option<&str>) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_breakshot-sim"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("breakshot-sim starts");
-    if let Some(text) = stdin {
-        // The command may refuse its arguments and exit before reading the scene.
-        let written = child
-            .stdin
-            .take()
-            .expect("stdin")
-            .write_all(text.as_bytes());
-        if let Err(e) = written {
-            assert_eq!(
-                e.kind(),
-                std::io::ErrorKind::BrokenPipe,
-                "writing the scene: {e}"
-            );
-        }
-    } else {
-        drop(child.stdin.take());
-    }
-    child.wait_with_output().expect("breakshot-sim ends")
+    breakshot_testkit::run(
+        Command::new(env!("CARGO_BIN_EXE_breakshot-sim")).args(args),
+        Some(stdin.unwrap_or("").as_bytes()),
+        Duration::from_secs(120),
+    )
 }
 
 fn reference(name: &str) -> String {

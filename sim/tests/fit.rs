@@ -1,53 +1,16 @@
 //! `breakshot-sim fit` as a black box: the contract's outputs from a small recording made
 //! here, and a clear failure on a file that is not recordings.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::process::{Command, Output};
+use std::time::Duration;
 
 /// Runs the simulator, failing the test if it has not finished within `limit`.
 fn sim(args: &[&str], limit: Duration) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_breakshot-sim"))
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("breakshot-sim starts");
-    let start = Instant::now();
-    loop {
-        if child
-            .try_wait()
-            .expect("waiting for breakshot-sim")
-            .is_some()
-        {
-            return child.wait_with_output().expect("breakshot-sim output");
-        }
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("breakshot-sim {args:?} did not finish within {limit:?}");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-}
-
-/// A folder of its own under the build's temporary directory, removed when dropped.
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(name: &str) -> Scratch {
-        let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("scratch folder");
-        Scratch(dir)
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
+    breakshot_testkit::run(
+        Command::new(env!("CARGO_BIN_EXE_breakshot-sim")).args(args),
+        None,
+        limit,
+    )
 }
 
 /// One shot in the recordings' format, in metres: the cue ball rolls 0.3 m along the
@@ -65,10 +28,10 @@ fn recording() -> String {
 
 #[test]
 fn fit_writes_the_contract_outputs() {
-    let dir = Scratch::new("fit-outputs");
-    let rec = dir.0.join("rec.json");
+    let dir = breakshot_testkit::scratch("fit-outputs");
+    let rec = dir.path().join("rec.json");
     std::fs::write(&rec, recording()).expect("recording written");
-    let out = dir.0.join("out");
+    let out = dir.path().join("out");
     let (rec_s, out_s) = (rec.to_string_lossy(), out.to_string_lossy());
     let args = [
         "fit",
@@ -103,10 +66,10 @@ fn fit_writes_the_contract_outputs() {
 
 #[test]
 fn fit_refuses_what_is_not_recordings() {
-    let dir = Scratch::new("fit-bad");
-    let rec = dir.0.join("rec.json");
+    let dir = breakshot_testkit::scratch("fit-bad");
+    let rec = dir.path().join("rec.json");
     std::fs::write(&rec, r#"{"balls": []}"#).expect("file written");
-    let out = dir.0.join("out");
+    let out = dir.path().join("out");
     let (rec_s, out_s) = (rec.to_string_lossy(), out.to_string_lossy());
     let o = sim(&["fit", &rec_s, "--out", &out_s], Duration::from_secs(60));
     assert_eq!(o.status.code(), Some(1));

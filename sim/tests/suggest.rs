@@ -1,56 +1,25 @@
 //! `breakshot-sim suggest` as a black box: the contract's JSON object, and clear refusals.
 
-use std::io::Read;
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Command;
+use std::time::Duration;
 
 use serde_json::Value;
 
 /// Runs `breakshot-sim suggest` on `scene` (given on standard input) with `args`; fails the
 /// test if it does not finish within a minute.
 fn suggest(scene: &str, args: &[&str]) -> (i32, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_breakshot-sim"))
-        .arg("suggest")
-        .arg("-")
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("breakshot-sim starts");
-    {
-        use std::io::Write;
-        let mut stdin = child.stdin.take().expect("stdin");
-        // The command may refuse its arguments before reading the scene.
-        let _ = stdin.write_all(scene.as_bytes());
-    }
-    let deadline = Instant::now() + Duration::from_secs(60);
-    let status = loop {
-        if let Some(status) = child.try_wait().expect("waiting") {
-            break status;
-        }
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("breakshot-sim suggest did not finish within a minute");
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    };
-    let mut out = String::new();
-    let mut err = String::new();
-    child
-        .stdout
-        .take()
-        .expect("stdout")
-        .read_to_string(&mut out)
-        .expect("read stdout");
-    child
-        .stderr
-        .take()
-        .expect("stderr")
-        .read_to_string(&mut err)
-        .expect("read stderr");
-    (status.code().unwrap_or(-1), out, err)
+    let out = breakshot_testkit::run(
+        Command::new(env!("CARGO_BIN_EXE_breakshot-sim"))
+            .args(["suggest", "-"])
+            .args(args),
+        Some(scene.as_bytes()),
+        Duration::from_secs(60),
+    );
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
 
 const SCENE: &str = r#"{"table": "9ft", "balls": [

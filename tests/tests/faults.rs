@@ -18,7 +18,7 @@ use breakshot_server::{Config, Limits, Server};
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Settings, Variant};
-use breakshot_tests::TempDir;
+use breakshot_tests::scratch;
 
 /// Set (to `BIND DATA`) in the server process this test starts.
 const CHILD: &str = "BREAKSHOT_FAULTS_SERVER";
@@ -120,7 +120,7 @@ fn verify_passes(data: &Path) {
 
 #[test]
 fn killing_the_server_loses_nothing_and_players_rejoin() {
-    let scratch = TempDir::new("faults");
+    let scratch = scratch("faults");
     let data = scratch.path().join("data");
     // A fixed port, so the bots' invite stays valid across restarts.
     let port = std::net::UdpSocket::bind("127.0.0.1:0")
@@ -242,7 +242,7 @@ async fn answer(conn: &mut Channel) -> ServerMessage {
 /// it at the limit, and that game verifies too.
 #[test]
 fn the_longest_game_the_limits_allow_survives_a_kill_and_verifies() {
-    let scratch = TempDir::new("faults-longest");
+    let scratch = scratch("faults-longest");
     let data = scratch.path().join("data");
     let port = std::net::UdpSocket::bind("127.0.0.1:0")
         .and_then(|s| s.local_addr())

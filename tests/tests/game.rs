@@ -5,11 +5,11 @@ use breakshot_client::net::fetch_record;
 use breakshot_server::verify::verify_dir;
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Command, Game, Phase, Settings, Variant};
-use breakshot_tests::{TempDir, TestServer, PATIENCE};
+use breakshot_tests::{scratch, TestServer, PATIENCE};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn two_bots_play_a_full_eight_ball_game_and_every_hash_agrees() -> anyhow::Result<()> {
-    let data = TempDir::new("full-game");
+    let data = scratch("full-game");
     let server = TestServer::start(data.path()).await?;
     let report = tokio::time::timeout(PATIENCE, run(&BotConfig::new(server.invite.clone(), 1)))
         .await
@@ -37,7 +37,7 @@ async fn two_bots_play_a_full_eight_ball_game_and_every_hash_agrees() -> anyhow:
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_nine_ball_game_with_called_shots_is_played_through_the_client_core() -> anyhow::Result<()>
 {
-    let data = TempDir::new("nine-called");
+    let data = scratch("nine-called");
     let server = TestServer::start(data.path()).await?;
     let mut config = BotConfig::new(server.invite.clone(), 1);
     config.variant = Variant::NineBall;

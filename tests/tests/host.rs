@@ -10,12 +10,12 @@ use breakshot_client::view::hud::Connection;
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, Role, ServerMessage};
 use breakshot_shared::rules::{Command, Seat, Settings};
 use breakshot_tests::{
-    break_shot, eight_ball, poll_link_until, poll_until, TempDir, TestServer, PATIENCE,
+    break_shot, eight_ball, poll_link_until, poll_until, scratch, TestServer, PATIENCE,
 };
 
 #[test]
 fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Result<()> {
-    let data = TempDir::new("host");
+    let data = scratch("host");
     let options = HostOptions {
         bind: ([127, 0, 0, 1], 0).into(),
         data: data.path().join("server"),
@@ -94,7 +94,7 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
 
 #[test]
 fn the_invite_names_the_address_the_host_gives() -> anyhow::Result<()> {
-    let data = TempDir::new("host-address");
+    let data = scratch("host-address");
     let options = HostOptions {
         bind: ([127, 0, 0, 1], 0).into(),
         data: data.path().to_path_buf(),
@@ -114,7 +114,7 @@ fn the_invite_names_the_address_the_host_gives() -> anyhow::Result<()> {
 
 #[test]
 fn a_port_in_use_is_a_clear_error() -> anyhow::Result<()> {
-    let data = TempDir::new("host-busy");
+    let data = scratch("host-busy");
     let taken = std::net::UdpSocket::bind("127.0.0.1:0")?;
     let options = HostOptions {
         bind: taken.local_addr()?,
@@ -137,7 +137,7 @@ fn a_port_in_use_is_a_clear_error() -> anyhow::Result<()> {
 #[test]
 fn a_session_reconnects_and_takes_its_seat_back_after_a_server_restart() -> anyhow::Result<()> {
     let runtime = tokio::runtime::Runtime::new()?;
-    let data = TempDir::new("session-restart");
+    let data = scratch("session-restart");
     let server = runtime.block_on(TestServer::start(data.path()))?;
     let addr = server.addr;
 

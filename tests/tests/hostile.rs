@@ -16,7 +16,7 @@ use breakshot_shared::protocol::{
     PROTOCOL_VERSION,
 };
 use breakshot_tests::{
-    break_shot, create_room, resident_bytes, Player, TempDir, TestServer, PATIENCE,
+    break_shot, create_room, resident_bytes, scratch, Player, TestServer, PATIENCE,
 };
 
 /// Half-open handshakes the test server allows before it asks for retries.
@@ -176,7 +176,7 @@ fn count(c: &std::sync::atomic::AtomicUsize) -> usize {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn hostile_clients_cost_only_their_own_connections() -> Result<()> {
-    let data = TempDir::new("hostile");
+    let data = scratch("hostile");
     let mut config = TestServer::config(SocketAddr::from(([127, 0, 0, 1], 0)), data.path());
     config.limits = hostile_limits();
     let server = TestServer::start_with(config).await?;
@@ -344,7 +344,7 @@ async fn hostile_clients_cost_only_their_own_connections() -> Result<()> {
 async fn half_open_handshakes_from_one_address_never_lock_out_another() -> Result<()> {
     const FLOOD: usize = 400;
     const GAMES: usize = 4;
-    let data = TempDir::new("lockout");
+    let data = scratch("lockout");
     let mut config = TestServer::config(SocketAddr::from(([127, 0, 0, 1], 0)), data.path());
     config.limits = Limits {
         max_connections: 300,

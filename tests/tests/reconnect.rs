@@ -8,11 +8,11 @@ use breakshot_server::store::Store;
 use breakshot_shared::protocol::{ClientMessage, Role, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::Seat;
-use breakshot_tests::{break_shot, seated_pair, Player, TempDir, TestServer, PATIENCE};
+use breakshot_tests::{break_shot, scratch, seated_pair, Player, TestServer, PATIENCE};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_dropped_player_rejoins_with_its_token_and_play_continues() -> anyhow::Result<()> {
-    let data = TempDir::new("rejoin");
+    let data = scratch("rejoin");
     let server = TestServer::start(data.path()).await?;
     let (mut a, b, _room) = seated_pair(&server.invite).await?;
     let token = b.client.token().expect("seat B got a token");
@@ -86,7 +86,7 @@ async fn a_dropped_player_rejoins_with_its_token_and_play_continues() -> anyhow:
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_server_restarted_on_its_data_loses_no_shot() -> anyhow::Result<()> {
-    let data = TempDir::new("restart");
+    let data = scratch("restart");
     let server = TestServer::start(data.path()).await?;
     let addr = server.addr;
     let invite = server.invite.clone();
@@ -151,7 +151,7 @@ fn a_client_killed_mid_shot_rejoins_and_gets_its_seat_back() -> anyhow::Result<(
     // The victim runs on a runtime of its own; shutting it down stops its QUIC driver at
     // once, so the server gets no goodbye, as when a process is killed.
     let victim = tokio::runtime::Runtime::new()?;
-    let data = TempDir::new("killed-client");
+    let data = scratch("killed-client");
     let server = main.block_on(TestServer::start(data.path()))?;
     let mut a = victim.block_on(async {
         let mut a = Player::connect(&server.invite).await?;
@@ -229,7 +229,7 @@ fn a_client_killed_mid_shot_rejoins_and_gets_its_seat_back() -> anyhow::Result<(
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_player_away_when_the_game_ended_is_told_the_result_after_a_restart() -> anyhow::Result<()>
 {
-    let data = TempDir::new("ended-away");
+    let data = scratch("ended-away");
     let server = TestServer::start(data.path()).await?;
     let addr = server.addr;
     let (mut a, b, room) = seated_pair(&server.invite).await?;

@@ -7,11 +7,11 @@ use breakshot_client::net::{fetch_record, FetchError};
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, RoomCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::Phase;
-use breakshot_tests::{break_shot, seated_pair, Player, TempDir, TestServer, PATIENCE};
+use breakshot_tests::{break_shot, scratch, seated_pair, Player, TestServer, PATIENCE};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_game_in_play_is_fetched_by_room_code_and_replays_to_the_servers_table() -> Result<()> {
-    let data = TempDir::new("fetch-in-play");
+    let data = scratch("fetch-in-play");
     let server = TestServer::start(data.path()).await?;
     let (mut a, mut b, room) = seated_pair(&server.invite).await?;
 
@@ -61,7 +61,7 @@ async fn a_game_in_play_is_fetched_by_room_code_and_replays_to_the_servers_table
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_finished_bot_game_is_fetched_whole_and_every_hash_replays() -> Result<()> {
-    let data = TempDir::new("fetch-finished");
+    let data = scratch("fetch-finished");
     let server = TestServer::start(data.path()).await?;
     let report = tokio::time::timeout(PATIENCE, run(&BotConfig::new(server.invite.clone(), 1)))
         .await
@@ -90,7 +90,7 @@ async fn a_finished_bot_game_is_fetched_whole_and_every_hash_replays() -> Result
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn fetching_an_unknown_room_is_no_such_room_and_changes_nothing() -> Result<()> {
-    let data = TempDir::new("fetch-unknown");
+    let data = scratch("fetch-unknown");
     let server = TestServer::start(data.path()).await?;
     let unknown = RoomCode::parse("ZZZZZZZZ")?;
 

@@ -9,7 +9,7 @@ use std::process::{Child, Command, Stdio};
 use std::sync::mpsc::{self, Receiver};
 use std::time::Instant;
 
-use breakshot_tests::{TempDir, PATIENCE};
+use breakshot_tests::{scratch, PATIENCE};
 
 /// A running `breakshot-seat`, killed when dropped.
 struct Player {
@@ -82,8 +82,8 @@ fn free_port() -> u16 {
 
 #[test]
 fn killed_players_come_back_to_their_seats_in_the_same_game() {
-    let host_data = TempDir::new("resume-host");
-    let guest_data = TempDir::new("resume-guest");
+    let host_data = scratch("resume-host");
+    let guest_data = scratch("resume-guest");
     let port = free_port().to_string();
     let host_dir = host_data.path().to_str().expect("a UTF-8 path").to_string();
     let guest_dir = guest_data

@@ -8,7 +8,7 @@ use anyhow::Result;
 use breakshot_server::{Limits, Stats};
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, Role, RoomCode, ServerMessage};
 use breakshot_shared::rules::{Choice, Seat};
-use breakshot_tests::{break_shot, create_room, seated_pair, Player, TempDir, TestServer};
+use breakshot_tests::{break_shot, create_room, scratch, seated_pair, Player, TestServer};
 
 fn loopback() -> SocketAddr {
     SocketAddr::from(([127, 0, 0, 1], 0))
@@ -39,7 +39,7 @@ async fn rejoin(
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_seat_token_opens_only_its_own_room_and_seat() -> Result<()> {
-    let data = TempDir::new("tokens");
+    let data = scratch("tokens");
     let server = TestServer::start(data.path()).await?;
     let (a1, b1, room1) = seated_pair(&server.invite).await?;
     let (a2, b2, room2) = seated_pair(&server.invite).await?;
@@ -67,7 +67,7 @@ async fn a_seat_token_opens_only_its_own_room_and_seat() -> Result<()> {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_spectator_cannot_send_any_game_command() -> Result<()> {
-    let data = TempDir::new("spectator-commands");
+    let data = scratch("spectator-commands");
     let server = TestServer::start(data.path()).await?;
     let (a, _b, room) = seated_pair(&server.invite).await?;
     let mut watcher = Player::connect(&server.invite).await?;
@@ -99,7 +99,7 @@ async fn a_spectator_cannot_send_any_game_command() -> Result<()> {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn room_entries_are_rate_limited_per_address() -> Result<()> {
-    let data = TempDir::new("entry-rate");
+    let data = scratch("entry-rate");
     let mut config = TestServer::config(loopback(), data.path());
     config.limits = Limits {
         entry_burst: 3,
@@ -142,7 +142,7 @@ async fn room_entries_are_rate_limited_per_address() -> Result<()> {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn rooms_per_address_and_connections_are_capped() -> Result<()> {
-    let data = TempDir::new("caps");
+    let data = scratch("caps");
     let mut config = TestServer::config(loopback(), data.path());
     config.limits = Limits {
         rooms_per_address: 2,

@@ -11,13 +11,13 @@ use breakshot_client::view::hud::Connection;
 use breakshot_shared::protocol::{AimAid, ClientMessage, Role, ServerMessage};
 use breakshot_shared::rules::{Command, Seat, Settings};
 use breakshot_tests::{
-    break_shot, eight_ball, poll_link_until, poll_until, TempDir, TestServer, PATIENCE,
+    break_shot, eight_ball, poll_link_until, poll_until, scratch, TestServer, PATIENCE,
 };
 
 #[test]
 fn a_polled_session_plays_and_confirms_a_shot() -> anyhow::Result<()> {
     let runtime = tokio::runtime::Runtime::new()?;
-    let data = TempDir::new("session");
+    let data = scratch("session");
     let server = runtime.block_on(TestServer::start(data.path()))?;
 
     let mut a = Session::connect(server.invite.clone());
@@ -80,7 +80,7 @@ fn a_polled_session_plays_and_confirms_a_shot() -> anyhow::Result<()> {
 #[test]
 fn a_network_link_gives_a_game_screen_the_server_s_events() -> anyhow::Result<()> {
     let runtime = tokio::runtime::Runtime::new()?;
-    let data = TempDir::new("link");
+    let data = scratch("link");
     let server = runtime.block_on(TestServer::start(data.path()))?;
 
     let host = Session::connect(server.invite.clone());

@@ -3,11 +3,11 @@
 
 use breakshot_client::net::{endpoint, Channel, NetError};
 use breakshot_shared::protocol::{Fingerprint, PROTOCOL_VERSION};
-use breakshot_tests::{TempDir, TestServer};
+use breakshot_tests::{scratch, TestServer};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_client_pinning_another_fingerprint_is_refused() -> anyhow::Result<()> {
-    let data = TempDir::new("fingerprint");
+    let data = scratch("fingerprint");
     let server = TestServer::start(data.path()).await?;
     let mut invite = server.invite.clone();
     invite.fingerprint = Fingerprint([0x42; 32]);
@@ -27,7 +27,7 @@ async fn a_client_pinning_another_fingerprint_is_refused() -> anyhow::Result<()>
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_client_with_another_protocol_version_is_rejected_with_a_reason() -> anyhow::Result<()> {
-    let data = TempDir::new("version");
+    let data = scratch("version");
     let server = TestServer::start(data.path()).await?;
     let result = Channel::open_as(&endpoint()?, &server.invite, PROTOCOL_VERSION + 1).await;
     match result {
@@ -46,7 +46,7 @@ async fn a_client_with_another_protocol_version_is_rejected_with_a_reason() -> a
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_certificate_and_its_fingerprint_survive_a_restart() -> anyhow::Result<()> {
-    let data = TempDir::new("identity");
+    let data = scratch("identity");
     let first = TestServer::start(data.path()).await?;
     let fingerprint = first.invite.fingerprint;
     first.stop().await?;

@@ -4,11 +4,11 @@ use breakshot_client::bot::{run, BotConfig};
 use breakshot_server::store::Store;
 use breakshot_server::verify::verify_dir;
 use breakshot_shared::replay::GameRecord;
-use breakshot_tests::{TempDir, TestServer, PATIENCE};
+use breakshot_tests::{scratch, TestServer, PATIENCE};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn verify_passes_on_stored_games_and_fails_on_a_tampered_one() -> anyhow::Result<()> {
-    let data = TempDir::new("verify");
+    let data = scratch("verify");
     let server = TestServer::start(data.path()).await?;
     let report = tokio::time::timeout(PATIENCE, run(&BotConfig::new(server.invite.clone(), 2)))
         .await

@@ -146,16 +146,10 @@ mod tests {
             .unwrap()
     }
 
-    fn scratch(name: &str) -> PathBuf {
-        let dir =
-            std::env::temp_dir().join(format!("breakshot-seats-{name}-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        dir
-    }
-
     #[test]
     fn a_saved_seat_is_found_again_and_only_the_user_can_read_it() {
-        let dir = scratch("save");
+        let tmp = breakshot_testkit::scratch("save");
+        let dir = tmp.path().to_path_buf();
         let store = SeatStore::new(&dir);
         let (a, b) = (invite("K7QX2M4B"), invite("ZZQX2M4B"));
         assert_eq!(store.load(&a), None);
@@ -176,12 +170,12 @@ mod tests {
         store.forget(&a);
         assert_eq!(store.load(&a), None);
         assert!(store.all().is_empty());
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn a_damaged_seat_file_is_no_seat() {
-        let dir = scratch("damaged");
+        let tmp = breakshot_testkit::scratch("damaged");
+        let dir = tmp.path().to_path_buf();
         let store = SeatStore::new(&dir);
         let a = invite("K7QX2M4B");
         store.save(&a, SeatToken([1; 16])).unwrap();
@@ -189,6 +183,5 @@ mod tests {
         fs::write(&file, format!("{a}\nnot hex at all, no no no no no\n")).unwrap();
         assert_eq!(store.load(&a), None);
         assert!(store.all().is_empty());
-        fs::remove_dir_all(&dir).unwrap();
     }
 }
