@@ -335,3 +335,105 @@ fn replay_from_a_server_shows_the_fetched_games_table() {
     let ids: Vec<&str> = ids.iter().map(|s| s.as_str()).collect();
     balls_are_drawn(&pic, &layout, &ids, racked.balls());
 }
+
+/// A player whose opponent ended the game while they were away, with the server restarted
+/// since, runs the same `join` again: the window shows how the game came out for them, and
+/// the remembered seat is forgotten.
+#[test]
+#[cfg(feature = "host")]
+fn a_game_that_ended_while_away_shows_its_result_and_forgets_the_seat() {
+    use breakshot_client::net::{Client, ClientEvent, EmbeddedServer, Reconnect, SeatStore};
+    use breakshot_server::Config;
+    use breakshot_shared::protocol::{
+        AimAid, ClientMessage, Invite, RoomCode, SeatToken, ServerMessage,
+    };
+
+    if find_in_path("xvfb-run").is_none() {
+        eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
+        return;
+    }
+    let dir = breakshot_testkit::scratch("window-away");
+    let (data, seats) = (dir.path().join("server"), dir.path().join("client"));
+    let loopback = std::net::SocketAddr::from(([127, 0, 0, 1], 0));
+    let server = EmbeddedServer::start(Config::new(loopback, data.clone())).expect("a server");
+    let invite = server.loopback_invite();
+
+    // Alice hosts, Bob joins; Bob's connection drops and Alice concedes while he is away.
+    async fn next(client: &mut Client, want: impl Fn(&ServerMessage) -> bool) -> ServerMessage {
+        loop {
+            match client.recv().await.expect("a message") {
+                ClientEvent::Message(m) if want(&m) => return m,
+                _ => {}
+            }
+        }
+    }
+    let played = async {
+        let mut alice = Client::connect(invite.clone(), Reconnect::never()).await?;
+        alice
+            .send(&ClientMessage::CreateRoom {
+                variant: Variant::EightBall(EightBallRules::Wpa),
+                mode: Settings::online(),
+                aim_aid: AimAid::Full,
+                name: "alice".into(),
+            })
+            .await?;
+        let ServerMessage::Joined { snapshot, .. } =
+            next(&mut alice, |m| matches!(m, ServerMessage::Joined { .. })).await
+        else {
+            unreachable!("matched above")
+        };
+        let mut bob = Client::connect(invite.clone(), Reconnect::never()).await?;
+        bob.send(&ClientMessage::Join {
+            room: snapshot.room.clone(),
+            name: "bob".into(),
+        })
+        .await?;
+        next(&mut bob, |m| matches!(m, ServerMessage::Joined { .. })).await;
+        let token: SeatToken = bob.token().expect("Bob's seat token");
+        bob.close(Duration::from_millis(100)).await;
+        next(&mut alice, |m| {
+            matches!(m, ServerMessage::PlayerLeft { .. })
+        })
+        .await;
+        alice.send(&ClientMessage::Concede).await?;
+        next(&mut alice, |m| matches!(m, ServerMessage::GameOver { .. })).await;
+        Ok::<(RoomCode, SeatToken), breakshot_client::net::NetError>((snapshot.room, token))
+    };
+    let runtime = tokio::runtime::Runtime::new().expect("a runtime");
+    let (room, token) = runtime
+        .block_on(async { tokio::time::timeout(Duration::from_secs(60), played).await })
+        .expect("the game was played within a minute")
+        .expect("the game was played");
+    drop(server);
+
+    // Bob's computer remembers his seat; the server comes back on the same data.
+    let store = SeatStore::new(&seats);
+    let server = EmbeddedServer::start(Config::new(loopback, data)).expect("the server again");
+    let again: Invite = server.loopback_invite().with_room(room);
+    store.save(&again, token).expect("the seat remembered");
+
+    let out = dir.path().join("out.png");
+    let text = again.to_string();
+    let args = [OsStr::new("join"), OsStr::new(&text), OsStr::new("--data")];
+    let run = window(&[&args[..], &[seats.as_os_str()]].concat(), &out).expect("xvfb-run");
+    drop(server);
+    assert!(
+        run.status.success(),
+        "breakshot join exited with {}: {}",
+        run.status,
+        String::from_utf8_lossy(&run.stderr)
+    );
+    assert_eq!(
+        store.load(&again),
+        None,
+        "the finished game's seat is forgotten"
+    );
+    // "You won" in gold across the middle of the window, at the headline's height.
+    let pic = picture(&out);
+    let y = 0.4 * pic.height as f32;
+    let gold = (0..pic.width)
+        .flat_map(|x| ((y - 40.0) as u32..y as u32).map(move |y| (x, y)))
+        .filter(|&(x, y)| close(pic.at(x as f32, y as f32), [255, 203, 0], 40))
+        .count();
+    assert!(gold > 300, "{gold} gold pixels: no result headline");
+}

@@ -8,7 +8,7 @@ use breakshot_shared::rules::{Command, Game, Seat};
 
 use super::seats::SeatStore;
 use super::session::{Session, SessionEvent};
-use crate::play::link::{game_events, GameEvent, GameLink};
+use crate::play::link::{game_events, AwayResult, GameEvent, GameLink};
 use crate::view::hud::Connection;
 
 /// A [`GameLink`] over a [`Session`].
@@ -95,16 +95,21 @@ impl NetLink {
                 }
                 false
             }
-            ServerMessage::GameFinished { reason, .. } => {
+            ServerMessage::GameFinished {
+                seat,
+                winner,
+                reason,
+                ..
+            } => {
                 // The game ended while this player was away: show how, and keep no seat.
                 self.rejoining = None;
                 if let Some((store, invite)) = &self.memory {
                     store.forget(invite);
                 }
                 self.events
-                    .push_back(GameEvent::Connection(Connection::Closed(format!(
-                        "the game ended while you were away: {reason}"
-                    ))));
+                    .push_back(GameEvent::EndedAway(AwayResult::for_seat(
+                        *seat, *winner, reason,
+                    )));
                 true
             }
             ServerMessage::Error {

@@ -7,7 +7,7 @@ use breakshot_shared::physics::{BallState, Strike};
 use breakshot_shared::protocol::AimAid;
 use breakshot_shared::rules::{Choice, Command, Game, InHand, Phase, Seat, TurnId};
 
-use super::link::{GameEvent, Judgement};
+use super::link::{AwayResult, GameEvent, Judgement};
 use super::replica::Replica;
 use crate::view::hud::Connection;
 use crate::view::playback::Playback;
@@ -53,6 +53,8 @@ pub struct GameFlow {
     /// The game as it stood when the shot being shown was struck: what the players see
     /// until the balls stop, so the result does not show before the shot does.
     before_shot: Option<Game>,
+    /// The game asked back had ended while this player was away: its result.
+    pub ended_away: Option<AwayResult>,
 }
 
 impl GameFlow {
@@ -67,6 +69,7 @@ impl GameFlow {
             shot_clock: None,
             aim_aid: AimAid::Full,
             before_shot: None,
+            ended_away: None,
         }
     }
 
@@ -135,6 +138,7 @@ impl GameFlow {
             GameEvent::Connection(c) => self.connection = c.clone(),
             GameEvent::ShotClock(s) => self.shot_clock = s.filter(|s| s.is_finite()),
             GameEvent::AimAid(policy) => self.aim_aid = *policy,
+            GameEvent::EndedAway(result) => self.ended_away = Some(result.clone()),
         }
         self.replica.handle(&event);
     }
@@ -455,5 +459,21 @@ mod tests {
         link.rematch();
         drain(&mut link, &mut flow);
         assert!(matches!(flow.turn(None), Turn::Shoot { .. }));
+    }
+
+    #[test]
+    fn a_game_that_ended_while_away_is_shown_as_won_or_lost_for_this_seat() {
+        use crate::play::link::AwayResult;
+        let mut flow = GameFlow::new(Connection::Connecting);
+        let lost = AwayResult::for_seat(Seat::A, Some(Seat::B), "A conceded");
+        flow.handle(GameEvent::EndedAway(lost.clone()));
+        assert_eq!(flow.ended_away, Some(lost.clone()));
+        assert_eq!(flow.turn(Some(Seat::A)), Turn::Wait);
+        let [headline, why] = lost.lines();
+        assert_eq!(headline, "You lost");
+        assert!(why.ends_with("away: A conceded"), "{why}");
+        let won = AwayResult::for_seat(Seat::B, Some(Seat::B), "A conceded");
+        assert_eq!(won.lines()[0], "You won");
+        assert_eq!(AwayResult::for_seat(Seat::B, None, "stalemate").won, None);
     }
 }

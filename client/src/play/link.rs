@@ -46,6 +46,40 @@ pub enum GameEvent {
     ShotClock(Option<f64>),
     /// The aiming aids the room allows (a local game allows them all).
     AimAid(AimAid),
+    /// The game this player asked back ended while they were away: how it came out for them.
+    EndedAway(AwayResult),
+}
+
+/// How a game that ended while this player was away came out for their seat.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct AwayResult {
+    /// Whether this seat won; None when the game ended with no winner.
+    pub won: Option<bool>,
+    /// How the game ended, in the rules' words.
+    pub reason: String,
+}
+
+impl AwayResult {
+    /// The result for `seat` of a game that `winner` won (or nobody).
+    pub fn for_seat(seat: Seat, winner: Option<Seat>, reason: &str) -> AwayResult {
+        AwayResult {
+            won: winner.map(|w| w == seat),
+            reason: reason.to_owned(),
+        }
+    }
+
+    /// The headline and the line under it, as the result screen shows them.
+    pub fn lines(&self) -> [String; 2] {
+        let headline = match self.won {
+            Some(true) => "You won",
+            Some(false) => "You lost",
+            None => "The game is over",
+        };
+        [
+            headline.to_owned(),
+            format!("The game ended while you were away: {}", self.reason),
+        ]
+    }
 }
 
 /// The rules' judgement of a command, as shown.

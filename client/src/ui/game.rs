@@ -6,7 +6,7 @@ use breakshot_client::play::aim::Aim;
 use breakshot_client::play::controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
 use breakshot_client::play::game_flow::{GameFlow, Turn};
 use breakshot_client::play::leave::{self, LeaveAnswer};
-use breakshot_client::play::link::GameLink;
+use breakshot_client::play::link::{AwayResult, GameLink};
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{connection as connection_text, Connection};
 use breakshot_client::view::layout::{Frame, Layout, Rect};
@@ -139,7 +139,11 @@ impl GameScreen {
         }
         self.flow.tick(input.dt);
         let Some(game) = self.flow.game().cloned() else {
-            return if input.pressed.contains(&Key::Back) {
+            // A result screen goes back to the menu on Enter, Space or a click too.
+            let done = input.pressed.contains(&Key::Back)
+                || (self.flow.ended_away.is_some()
+                    && (input.pressed.contains(&Key::Shoot) || input.left_pressed));
+            return if done {
                 Step::Go(Screen::Menu(menu::MenuScreen::new()))
             } else {
                 Step::Stay
@@ -293,8 +297,23 @@ impl GameScreen {
         self.flow.shot()
     }
 
+    /// True while nothing has come from the server yet: no game, no result, no refusal.
+    pub fn awaiting_server(&self) -> bool {
+        self.flow.game().is_none()
+            && self.flow.ended_away.is_none()
+            && self.flow.message.is_empty()
+            && matches!(
+                self.flow.connection,
+                Connection::Connecting | Connection::Reconnecting
+            )
+    }
+
     pub fn draw(&mut self) {
         self.turns.follow(self.flow.shot());
+        if let (None, Some(result)) = (self.flow.game(), &self.flow.ended_away) {
+            draw_away_result(result);
+            return;
+        }
         let Some(game) = self.flow.game() else {
             // Before a game, a message is a refusal (no such room, room full).
             let failed = matches!(self.flow.connection, Connection::Closed(_))
@@ -484,4 +503,24 @@ impl GameScreen {
         }
         draw::debug_lines(layout, &lines, 360.0);
     }
+}
+
+/// The result of a game that ended while this player was away, in the middle of the window.
+fn draw_away_result(result: &AwayResult) {
+    let (w, h) = (screen_width(), screen_height());
+    let [headline, why] = result.lines();
+    let color = match result.won {
+        Some(true) => GOLD,
+        Some(false) => LIGHTGRAY,
+        None => WHITE,
+    };
+    let centred = |text: &str, y: f32, size: f32, c: Color| {
+        let x = 0.5 * (w - draw::text_width(text, size));
+        draw::label(text, x.max(16.0), y, size, c);
+    };
+    centred(&headline, 0.4 * h, 48.0, color);
+    for (i, line) in invite::wrap(&why, 0.9 * w, 22.0).iter().enumerate() {
+        centred(line, 0.4 * h + 50.0 + 30.0 * i as f32, 22.0, LIGHTGRAY);
+    }
+    centred("Enter or Esc: back to the menu", 0.75 * h, 20.0, YELLOW);
 }

@@ -25,6 +25,9 @@ use breakshot_client::view::palette;
 use breakshot_client::view::playback::Playback;
 use breakshot_shared::rules::{Settings, Variant};
 
+/// How long a screenshot waits for a network game's first answer from the server.
+const SCREENSHOT_PATIENCE: std::time::Duration = std::time::Duration::from_secs(20);
+
 /// Target frame rate: frames are paced by the clock because a virtual display has no vsync.
 const FPS: f64 = 60.0;
 
@@ -105,6 +108,11 @@ impl Screen {
         }
     }
 
+    /// True while the screen waits for the server's first answer.
+    fn awaiting_server(&self) -> bool {
+        matches!(self, Screen::Game(s) if s.awaiting_server())
+    }
+
     fn draw(&mut self) {
         match self {
             Screen::Menu(s) => s.draw(),
@@ -129,6 +137,7 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
     };
     let mut clock = clock::FrameClock::new(FPS);
     let mut frames = 0u32;
+    let started = std::time::Instant::now();
     let mut speaker = speaker::Speaker::new().await;
     loop {
         let real_dt = clock.frame_time();
@@ -147,7 +156,10 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
         screen.draw();
         frames += 1;
         if let Some(path) = &options.screenshot {
-            if frames >= options.frames {
+            // A screenshot of a network game shows the server's first answer, if it comes
+            // within SCREENSHOT_PATIENCE.
+            let answered = !screen.awaiting_server() || started.elapsed() > SCREENSHOT_PATIENCE;
+            if frames >= options.frames && answered {
                 // Read the frame back now: after next_frame() the buffer is gone.
                 return capture::save_screen(path);
             }
