@@ -287,6 +287,9 @@ impl Room {
                 name,
             },
         ));
+        // The game starts now: the others learn that its clock runs (the joiner reads it in
+        // the snapshot).
+        out.extend(self.clock_to_others(now, conn));
         out.push(Output::Send {
             to: conn,
             msg: ServerMessage::Joined {
@@ -324,6 +327,9 @@ impl Room {
             self.resume_clock(now);
         }
         out.extend(self.broadcast_except(conn, ServerMessage::PlayerBack { seat }));
+        if was_away {
+            out.extend(self.clock_to_others(now, conn));
+        }
         out.push(Output::Send {
             to: conn,
             msg: ServerMessage::Joined {
@@ -735,6 +741,22 @@ impl Room {
                 };
             }
         }
+    }
+
+    /// Tells everyone but `conn` how the shot clock stands, when the room has one running:
+    /// after a join or a return it starts or runs again, and every screen shows the same.
+    fn clock_to_others(&self, now: Instant, conn: ConnId) -> Vec<Output> {
+        if !matches!(self.clock, Clock::Running { .. }) {
+            return Vec::new();
+        }
+        self.broadcast_except(
+            conn,
+            ServerMessage::TurnChanged {
+                turn: self.game.turn(),
+                to_move: self.game.to_move(),
+                shot_clock_ms: self.clock_ms(now),
+            },
+        )
     }
 
     fn clock_ms(&self, now: Instant) -> Option<u64> {

@@ -97,6 +97,22 @@ impl GameFlow {
         }
     }
 
+    /// Seconds left on the shot clock as shown: never more than the room's limit (the server
+    /// gives the next turn its limit plus the time the last shot takes to play out, so the
+    /// clock stands full while the balls roll and runs from when they stop), none when the
+    /// game is over.
+    pub fn shown_shot_clock(&self) -> Option<f64> {
+        let game = self.game()?;
+        if matches!(game.phase(), Phase::Over { .. }) {
+            return None;
+        }
+        let left = self.shot_clock?;
+        Some(match game.settings().shot_clock {
+            Some(limit) => left.min(f64::from(limit)),
+            None => left,
+        })
+    }
+
     /// The judgement to show: none while a shot is shown (fouls, turn changes and pockets
     /// appear when the balls stop, or at once when the shot is skipped).
     pub fn shown_verdict(&self) -> Option<&Judgement> {
@@ -165,7 +181,12 @@ impl GameFlow {
         } else {
             0.0
         };
-        if let Some(s) = &mut self.shot_clock {
+        // The server pauses the clock while a player is away and says when it runs again.
+        let paused = matches!(
+            self.connection,
+            Connection::OpponentLeft { .. } | Connection::Reconnecting | Connection::Closed(_)
+        );
+        if let (Some(s), false) = (&mut self.shot_clock, paused) {
             *s = (*s - dt).max(0.0);
         }
         if let Connection::OpponentLeft { seconds_left } = &mut self.connection {
@@ -436,17 +457,23 @@ mod tests {
     fn clocks_count_down_and_stop_at_zero() {
         let (_, mut flow) = local();
         flow.handle(GameEvent::ShotClock(Some(30.0)));
+        flow.tick(4.0);
+        assert_eq!(flow.shot_clock, Some(26.0));
+        flow.tick(100.0);
+        assert_eq!(flow.shot_clock, Some(0.0));
         flow.handle(GameEvent::Connection(Connection::OpponentLeft {
             seconds_left: 10.0,
         }));
         flow.tick(4.0);
-        assert_eq!(flow.shot_clock, Some(26.0));
         assert_eq!(
             flow.connection,
             Connection::OpponentLeft { seconds_left: 6.0 }
         );
         flow.tick(100.0);
-        assert_eq!(flow.shot_clock, Some(0.0));
+        assert_eq!(
+            flow.connection,
+            Connection::OpponentLeft { seconds_left: 0.0 }
+        );
         flow.handle(GameEvent::ShotClock(None));
         assert_eq!(flow.shot_clock, None);
     }
@@ -475,5 +502,32 @@ mod tests {
         let won = AwayResult::for_seat(Seat::B, Some(Seat::B), "A conceded");
         assert_eq!(won.lines()[0], "You won");
         assert_eq!(AwayResult::for_seat(Seat::B, None, "stalemate").won, None);
+    }
+
+    #[test]
+    fn the_shot_clock_shown_never_passes_its_limit_stops_while_away_and_ends_with_the_game() {
+        use breakshot_shared::rules::{EightBallRules, Settings, Variant};
+        let settings = Settings::online();
+        let limit = f64::from(settings.shot_clock.expect("online games have a clock"));
+        let game = Game::new(Variant::EightBall(EightBallRules::Wpa), settings, 1);
+        let mut flow = GameFlow::new(Connection::Connected);
+        flow.handle(GameEvent::Started(Box::new(game.clone())));
+        // The next turn's clock includes the last shot's animation: it stands full meanwhile.
+        flow.handle(GameEvent::ShotClock(Some(limit + 8.0)));
+        assert_eq!(flow.shown_shot_clock(), Some(limit));
+        flow.tick(10.0);
+        assert_eq!(flow.shown_shot_clock(), Some(limit - 2.0));
+        // While the opponent is away the server holds the clock: so does the screen.
+        flow.handle(GameEvent::Connection(Connection::OpponentLeft {
+            seconds_left: 120.0,
+        }));
+        flow.tick(5.0);
+        assert_eq!(flow.shown_shot_clock(), Some(limit - 2.0));
+        // At game over there is no clock.
+        let mut over = game;
+        over.apply(over.to_move(), &Command::Concede)
+            .expect("a concession");
+        flow.handle(GameEvent::Started(Box::new(over)));
+        assert_eq!(flow.shown_shot_clock(), None);
     }
 }

@@ -225,6 +225,7 @@ pub fn game_events(msg: &ServerMessage, me: Option<Seat>) -> Vec<GameEvent> {
             })]
         }
         ServerMessage::PlayerBack { .. } => vec![GameEvent::Connection(Connection::Connected)],
+        ServerMessage::GameOver { .. } => vec![GameEvent::ShotClock(None)],
         ServerMessage::Error { message, .. } => vec![GameEvent::Refused(message.clone())],
         ServerMessage::Reject { reason } => {
             vec![GameEvent::Connection(Connection::Closed(reason.clone()))]

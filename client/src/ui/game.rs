@@ -382,7 +382,7 @@ impl GameScreen {
                 game: self.flow.shown_game().unwrap_or(game),
                 me: self.link.seat(),
                 verdict: self.flow.shown_verdict(),
-                shot_clock: self.flow.shot_clock,
+                shot_clock: self.flow.shown_shot_clock(),
                 connection: &self.flow.connection,
             },
         );

@@ -32,14 +32,20 @@ pub fn game_hud(layout: &Layout, info: &HudInfo) {
         draw::label(&text, x, y, 20.0, c);
         x += draw::text_width(&text, 20.0) + 30.0;
     }
-    let mut right = vec![hud::variant_name(info.game.variant()).to_string()];
+    // Right to left: the connection, the shot clock (red as it runs out), the game.
+    let mut at = bar.w - 10.0;
+    let mut right = |text: &str, c: Color| {
+        at -= draw::text_width(text, 18.0);
+        draw::label(text, at, y, 18.0, c);
+    };
+    right(&hud::connection(info.connection), LIGHTGRAY);
     if let Some(clock) = hud::shot_clock(info.shot_clock) {
-        right.push(clock);
+        right("  |  ", LIGHTGRAY);
+        let warn = info.shot_clock.is_some_and(hud::clock_running_out);
+        right(&clock, if warn { RED } else { LIGHTGRAY });
     }
-    right.push(hud::connection(info.connection));
-    let text = right.join("  |  ");
-    let w = draw::text_width(&text, 18.0);
-    draw::label(&text, bar.w - w - 10.0, y, 18.0, LIGHTGRAY);
+    right("  |  ", LIGHTGRAY);
+    right(hud::variant_name(info.game.variant()), LIGHTGRAY);
 
     // What the game waits for, over the table; the last verdict's reasons, one a line, in
     // the tray's free right-hand part.

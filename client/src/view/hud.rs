@@ -127,6 +127,14 @@ pub fn shot_clock(seconds_left: Option<f64>) -> Option<String> {
     Some(format!("shot clock {}:{:02}", s / 60, s % 60))
 }
 
+/// Seconds left under which the shot clock is shown as a warning.
+pub const CLOCK_WARNING_SECS: f64 = 10.0;
+
+/// Whether the shot clock is running out: the HUD shows it in red.
+pub fn clock_running_out(seconds_left: f64) -> bool {
+    seconds_left <= CLOCK_WARNING_SECS
+}
+
 /// The words for a connection state.
 pub fn connection(c: &Connection) -> String {
     match c {
@@ -192,6 +200,7 @@ mod tests {
         assert_eq!(shot_clock(Some(61.2)).as_deref(), Some("shot clock 1:02"));
         assert_eq!(shot_clock(Some(-3.0)).as_deref(), Some("shot clock 0:00"));
         assert_eq!(shot_clock(None), None);
+        assert!(clock_running_out(9.5) && !clock_running_out(10.5));
         assert!(connection(&Connection::OpponentLeft { seconds_left: 29.2 }).contains("30 s"));
     }
 }

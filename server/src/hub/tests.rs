@@ -386,6 +386,56 @@ fn the_shot_clock_runs_out_but_pauses_while_a_player_is_away() {
 }
 
 #[test]
+fn every_seat_sees_the_shot_clock_from_the_opening_break_and_after_a_return() {
+    let mut w = World::new();
+    let settings = Settings {
+        shot_clock: Some(30),
+        ..Settings::offline()
+    };
+    w.greet(1);
+    w.greet(2);
+    let out = w.send(
+        1,
+        ClientMessage::CreateRoom {
+            variant: Variant::EightBall(EightBallRules::Wpa),
+            mode: settings,
+            aim_aid: AimAid::Off,
+            name: "ann".into(),
+        },
+    );
+    let (room, _) = joined(&out, 1);
+    let clock_told = |out: &[Output], conn| {
+        sent_to(out, conn).iter().find_map(|m| match m {
+            ServerMessage::TurnChanged { shot_clock_ms, .. } => *shot_clock_ms,
+            _ => None,
+        })
+    };
+    // The clock starts when B sits down: the host is told so, B reads it in the snapshot.
+    let out = w.send(
+        2,
+        ClientMessage::Join {
+            room,
+            name: "ben".into(),
+        },
+    );
+    assert_eq!(clock_told(&out, 1), Some(30_000));
+    let (_, token_b) = joined(&out, 2);
+    let snapshot_clock = sent_to(&out, 2).iter().find_map(|m| match m {
+        ServerMessage::Joined { snapshot, .. } => snapshot.shot_clock_ms,
+        _ => None,
+    });
+    assert_eq!(snapshot_clock, Some(30_000));
+
+    // B drops with 10 s left and comes back: the host learns the clock runs again from 10 s.
+    w.advance(Duration::from_secs(20));
+    w.hub.disconnected(w.now, 2);
+    w.advance(Duration::from_secs(60));
+    w.greet(3);
+    let out = w.send(3, ClientMessage::Rejoin { token: token_b });
+    assert_eq!(clock_told(&out, 1), Some(10_000));
+}
+
+#[test]
 fn chat_is_rate_limited_and_floods_close_the_connection() {
     let mut w = World::new();
     w.pair(Settings::offline());
