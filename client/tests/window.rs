@@ -437,3 +437,41 @@ fn a_game_that_ended_while_away_shows_its_result_and_forgets_the_seat() {
         .count();
     assert!(gold > 300, "{gold} gold pixels: no result headline");
 }
+
+/// In 9-ball the ball on is ringed in yellow for the player to shoot, and the words above
+/// the table name it.
+#[test]
+fn a_nine_ball_game_rings_the_ball_on() {
+    let dir = breakshot_testkit::scratch("window-nine");
+    let out = dir.path().join("out.png");
+    let args = ["local", "--mode", "9ball", "--seed", "3"].map(OsStr::new);
+    let Some(run) = window(&args, &out) else {
+        return;
+    };
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let pic = picture(&out);
+    let game = Game::new(Variant::NineBall, Settings::offline(), 3);
+    let layout = Layout::new(
+        pic.width as f32,
+        pic.height as f32,
+        Frame::new(game.table(), game.balls()),
+    );
+    let ring = |n: usize| {
+        let [x, y] = layout.to_screen(game.balls()[n].pos);
+        let r = layout.px(Params::default().ball_radius) + 4.0;
+        (0..72)
+            .map(|k| f32::from(k as u8) * std::f32::consts::TAU / 72.0)
+            .filter(|a| {
+                let p = pic.at(x + r * a.cos(), y + r * a.sin());
+                p[0] > 200 && p[1] > 200 && p[2] < 90
+            })
+            .count()
+    };
+    // Most of the 1's ring is yellow where no other ball covers it; the 9 has none.
+    assert!(ring(1) > 20, "{} yellow points around the 1", ring(1));
+    assert!(ring(9) < 8, "{} yellow points around the 9", ring(9));
+}

@@ -265,6 +265,18 @@ pub fn aids(
     }
 }
 
+/// A ring around the ball at `pos`, to mark it.
+pub fn ring(layout: &Layout, pos: DVec2, radius: f64, c: Color) {
+    let p = layout.to_screen(pos);
+    draw_poly_lines(p[0], p[1], BALL_SIDES, layout.px(radius) + 4.0, 0.0, 2.5, c);
+}
+
+/// A straight line on the table, from `a` to `b` (scene coordinates).
+pub fn segment(layout: &Layout, a: DVec2, b: DVec2, width: f32, c: Color) {
+    let (a, b) = (layout.to_screen(a), layout.to_screen(b));
+    draw_line(a[0], a[1], b[0], b[1], width, c);
+}
+
 /// The cue stick behind the cue ball, drawn back further the harder the shot.
 pub fn cue_stick(layout: &Layout, cue: DVec2, aim: &Aim, radius: f64) {
     let dir = aim.dir();

@@ -16,7 +16,9 @@ use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
 use breakshot_shared::protocol::limits::RECONNECT_WINDOW;
 use breakshot_shared::protocol::Invite;
-use breakshot_shared::rules::{is_off_table, pocket_name, rack, Choice, Command, Game, Phase};
+use breakshot_shared::rules::{
+    is_off_table, pocket_name, rack, Choice, Command, Game, Phase, Variant,
+};
 use macroquad::prelude::*;
 
 use super::hud::{game_hud, HudInfo};
@@ -349,6 +351,24 @@ impl GameScreen {
             draw::aids(&layout, pred, self.shown_aids(), cue, r, object);
         }
         draw::balls(&layout, &names, &balls, r, dragging.map(|_| 0), &self.turns);
+        let shooting = matches!(turn, Turn::Shoot { .. }) && dragging.is_none();
+        if shooting {
+            // In 9-ball the ball on is ringed; a first contact the rules forbid is warned of.
+            if game.variant() == Variant::NineBall {
+                for n in game.legal_first_balls() {
+                    draw::ring(&layout, balls[usize::from(n)].pos, r, YELLOW);
+                }
+            }
+            if let Some((_, pred)) = &self.predicted {
+                let legal = game.legal_first_balls();
+                if let Some(warning) = aids::first_hit_warning(&legal, pred.first_hit) {
+                    if let Some(end) = pred.aim_end.filter(|_| self.shown_aids().aim_line) {
+                        draw::segment(&layout, cue, end, 2.5, RED);
+                    }
+                    draw::label(&warning, layout.cloth.x, layout.cloth.y + 22.0, 20.0, RED);
+                }
+            }
+        }
         if let Turn::Shoot {
             in_hand: Some(area),
             ..
@@ -371,7 +391,7 @@ impl GameScreen {
         if let Turn::Shoot { call: true, .. } = turn {
             self.draw_call(&layout, game);
         }
-        if matches!(turn, Turn::Shoot { .. }) && dragging.is_none() {
+        if shooting {
             draw::cue_stick(&layout, cue, &self.controls.aim, r);
         }
         draw::tray(&layout, &names, &self.flow.tray(), r);

@@ -92,6 +92,24 @@ pub struct Prediction {
     pub object_path: Vec<DVec2>,
 }
 
+/// The warning to show on the aim line when the shot would foul by its first contact: the
+/// cue ball would hit no ball, or first a ball the rules do not allow now (`legal`: the balls
+/// it may hit first; empty when anything goes). None for a legal first contact.
+pub fn first_hit_warning(legal: &[u8], first_hit: Option<usize>) -> Option<String> {
+    if legal.is_empty() {
+        return None;
+    }
+    let on = match legal {
+        [only] => format!(" (the {only} is on)"),
+        _ => String::new(),
+    };
+    match first_hit {
+        None => Some(format!("Foul: the cue ball would hit no ball{on}")),
+        Some(b) if legal.iter().any(|&l| usize::from(l) == b) => None,
+        Some(b) => Some(format!("Foul: the {b} would be hit first{on}")),
+    }
+}
+
 /// Simulates `shot` (whose strike is on ball `cue`) and extracts the aids.
 pub fn predict(sim: &mut Simulator, shot: &Shot, cue: usize) -> Result<Prediction, ShotError> {
     let outcome = sim.run(shot)?;
@@ -217,5 +235,29 @@ mod tests {
         let mut t = AidToggles::default();
         t.toggle(Aid::GhostBall);
         assert!(t.aim_line && !t.ghost_ball && t.paths);
+    }
+
+    #[test]
+    fn a_first_contact_the_rules_forbid_is_warned_of() {
+        assert_eq!(
+            first_hit_warning(&[], None),
+            None,
+            "practice: anything goes"
+        );
+        assert_eq!(first_hit_warning(&[3], Some(3)), None);
+        assert_eq!(
+            first_hit_warning(&[3], Some(5)).as_deref(),
+            Some("Foul: the 5 would be hit first (the 3 is on)")
+        );
+        let solids = [1, 2, 3, 4, 5, 6, 7];
+        assert_eq!(first_hit_warning(&solids, Some(6)), None);
+        assert_eq!(
+            first_hit_warning(&solids, Some(8)).as_deref(),
+            Some("Foul: the 8 would be hit first")
+        );
+        assert_eq!(
+            first_hit_warning(&solids, None).as_deref(),
+            Some("Foul: the cue ball would hit no ball")
+        );
     }
 }

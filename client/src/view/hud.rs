@@ -2,7 +2,8 @@
 //! the last verdict, the shot clock and the connection. Built from a rules [`Game`], the same
 //! for a replay and for a game played over the network.
 
-use breakshot_shared::rules::{Choice, Game, InHand, Phase, Seat, Variant, Verdict};
+use breakshot_shared::physics::MotionState;
+use breakshot_shared::rules::{is_off_table, Choice, Game, InHand, Phase, Seat, Variant, Verdict};
 
 /// One player's line.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -55,10 +56,15 @@ pub fn players(game: &Game, me: Option<Seat>) -> [PlayerLine; 2] {
             text.push_str(" (you)");
         }
         match (game.variant(), game.group_of(seat)) {
-            (Variant::EightBall(_), Some(g)) => text.push_str(match g {
-                breakshot_shared::rules::Group::Solids => ": solids",
-                breakshot_shared::rules::Group::Stripes => ": stripes",
-            }),
+            (Variant::EightBall(_), Some(g)) => {
+                text.push_str(match g {
+                    breakshot_shared::rules::Group::Solids => ": solids",
+                    breakshot_shared::rules::Group::Stripes => ": stripes",
+                });
+                text.push_str(&balls_left(
+                    g.balls().filter(|&n| on_table(game, n)).count(),
+                ));
+            }
             (Variant::EightBall(_), None) => text.push_str(": open table"),
             (Variant::NineBall, _) if game.consecutive_fouls(seat) > 0 => text.push_str(&format!(
                 ": {} foul(s) in a row",
@@ -76,8 +82,33 @@ pub fn players(game: &Game, me: Option<Seat>) -> [PlayerLine; 2] {
     [line(Seat::A), line(Seat::B)]
 }
 
-/// What the game waits for, in words.
+/// What is left of a player's group: how many balls, or the 8 once they are all down.
+fn balls_left(left: usize) -> String {
+    match left {
+        0 => ", on the 8".to_string(),
+        1 => ", 1 ball left".to_string(),
+        n => format!(", {n} balls left"),
+    }
+}
+
+/// Whether ball number `n` is still on the table (not pocketed, not jumped off).
+fn on_table(game: &Game, n: u8) -> bool {
+    game.balls()
+        .get(usize::from(n))
+        .is_some_and(|b| b.motion != MotionState::Pocketed && !is_off_table(b))
+}
+
+/// What the game waits for, in words; in 9-ball, with the ball on.
 pub fn status(game: &Game) -> String {
+    let text = waiting_for(game);
+    let legal = game.legal_first_balls();
+    match (game.variant(), game.phase(), &legal[..]) {
+        (Variant::NineBall, Phase::Shooting { .. }, [on]) => format!("{text} - the {on} is on"),
+        _ => text,
+    }
+}
+
+fn waiting_for(game: &Game) -> String {
     let who = game.to_move();
     match game.phase() {
         Phase::Over { reason, .. } => format!("Game over: {reason}"),
@@ -178,6 +209,20 @@ mod tests {
             "{}",
             status(&g)
         );
+    }
+
+    #[test]
+    fn a_nine_ball_game_names_the_ball_on_and_a_group_its_balls_left() {
+        let g = Game::new(Variant::NineBall, Settings::offline(), 3);
+        assert!(
+            status(&g).starts_with("Player A to break") && status(&g).ends_with(" - the 1 is on"),
+            "{}",
+            status(&g)
+        );
+        assert_eq!(balls_left(7), ", 7 balls left");
+        assert_eq!(balls_left(1), ", 1 ball left");
+        assert_eq!(balls_left(0), ", on the 8");
+        assert!(on_table(&g, 9) && !on_table(&g, 10));
     }
 
     #[test]
