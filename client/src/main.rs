@@ -11,7 +11,7 @@ use std::rc::Rc;
 
 use anyhow::{bail, Context as _};
 use breakshot_client::net::host::{default_data_dir, DEFAULT_PORT};
-use breakshot_client::net::{fetch_record_blocking, HostOptions, NetLink, SeatStore};
+use breakshot_client::net::{fetch_record_blocking, player_name, HostOptions, NetLink, SeatStore};
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_shared::protocol::{AimAid, Invite, RoomCode};
 use breakshot_shared::rules::{EightBallRules, Variant};
@@ -44,6 +44,10 @@ struct Cli {
     /// `breakshot` in the user's data directory, e.g. ~/.local/share/breakshot).
     #[arg(long, value_name = "DIR", global = true)]
     data: Option<PathBuf>,
+    /// Your name in online games, as the other player sees it; remembered for next time
+    /// (default: the name given last, else your login name).
+    #[arg(long, value_name = "NAME", global = true)]
+    name: Option<String>,
 }
 
 #[derive(Subcommand, Debug)]
@@ -157,6 +161,7 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
                 aim_aid: aim_aid(aids),
                 address: address.clone(),
                 resume: !new,
+                name: name(cli)?,
                 ..HostOptions::new(data_dir(cli)?)
             };
             host(&options)?
@@ -166,7 +171,8 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
                 .parse()
                 .with_context(|| format!("{invite:?} is not an invite"))?;
             let seats = SeatStore::new(&data_dir(cli)?);
-            ui::Start::Network(Box::new(NetLink::join(invite, "guest", Some(seats))?))
+            let link = NetLink::join(invite, &name(cli)?, Some(seats))?;
+            ui::Start::Network(Box::new(link))
         }
         Some(Command::Replay {
             file: Some(file), ..
@@ -184,6 +190,11 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
         }) => ui::Start::Replay(Box::new(fetch_replay(server, game)?)),
         Some(Command::Replay { .. }) => bail!("give a record FILE, or --server URL --game ID"),
     })
+}
+
+/// The player's name: `--name` (remembered), else the one remembered in the data directory.
+fn name(cli: &Cli) -> anyhow::Result<String> {
+    player_name(&data_dir(cli)?, cli.name.as_deref()).map_err(anyhow::Error::msg)
 }
 
 /// The data directory: `--data`, else the default (see [`default_data_dir`]).

@@ -242,3 +242,24 @@ fn a_game_on_a_server_is_saved_to_a_record_file_that_replays() {
         stderr(&out)
     );
 }
+
+#[test]
+fn a_name_that_cannot_be_shown_is_refused_before_any_window_opens() {
+    let data = breakshot_testkit::scratch("cli-name");
+    let dir = data.path().to_str().expect("utf-8");
+    let long = "x".repeat(25);
+    let invite = format!("breakshot://127.0.0.1:9/ABCDEFGH#{}", "ab".repeat(32));
+    for bad in ["   ", &long[..]] {
+        let out = breakshot(&["join", &invite, "--data", dir, "--name", bad]);
+        assert_eq!(out.status.code(), Some(2), "{bad:?}");
+        assert!(
+            stderr(&out).contains("a name is 1 to 24 printable characters"),
+            "{}",
+            stderr(&out)
+        );
+    }
+    assert!(
+        !data.path().join("name").exists(),
+        "a refused name is not kept"
+    );
+}

@@ -24,6 +24,7 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
         aim_aid: AimAid::FirstContact,
         address: None,
         resume: true,
+        name: "ann".into(),
     };
     let mut host = Host::start(&options)?;
     let mut host_flow = GameFlow::new(Connection::Connecting);
@@ -49,7 +50,7 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
     let guest = Session::connect(invite);
     guest.send(ClientMessage::Join {
         room,
-        name: "guest".into(),
+        name: "ben".into(),
     });
     let mut guest = NetLink::new(guest);
     let policy = poll_link_until(&mut guest, &mut guest_flow, "the aid policy", |e| {
@@ -86,6 +87,17 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
         let replica = flow.replica();
         assert_eq!((replica.confirmed(), replica.desyncs()), (1, 0));
     }
+
+    // Both screens know both names, and what one player says the other reads.
+    let names = [Some("ann".to_string()), Some("ben".to_string())];
+    assert_eq!((&host_flow.names, &guest_flow.names), (&names, &names));
+    assert!(host.chats() && guest.chats());
+    host.chat("good luck".into());
+    poll_link_until(&mut guest, &mut guest_flow, "the chat line", |e| {
+        matches!(e, GameEvent::Chat(_))
+    });
+    let heard: Vec<String> = guest_flow.chat.lines().map(|l| l.shown()).collect();
+    assert_eq!(heard, ["ann: good luck"]);
     drop(guest);
     drop(host);
     // The server stopped with the host: its port is free again.
@@ -103,6 +115,7 @@ fn the_invite_names_the_address_the_host_gives() -> anyhow::Result<()> {
         aim_aid: AimAid::Full,
         address: Some("pool.example.org".into()),
         resume: true,
+        name: "ann".into(),
     };
     let host = Host::start(&options)?;
     let invite = host.invite();
@@ -124,6 +137,7 @@ fn a_port_in_use_is_a_clear_error() -> anyhow::Result<()> {
         aim_aid: AimAid::Full,
         address: None,
         resume: true,
+        name: "ann".into(),
     };
     let Err(e) = Host::start(&options) else {
         panic!("a second server bound the same port");

@@ -169,7 +169,7 @@ impl Host {
             variant: options.variant,
             mode: options.settings,
             aim_aid: options.aim_aid,
-            name: "host".into(),
+            name: options.name.clone(),
         };
         let session = Session::connect(server.loopback_invite());
         session.send(match &resuming {
@@ -261,6 +261,14 @@ impl GameLink for Host {
 
     fn rematch(&mut self) {
         self.link.rematch()
+    }
+
+    fn chats(&self) -> bool {
+        self.link.chats()
+    }
+
+    fn chat(&mut self, text: String) {
+        self.link.chat(text)
     }
 
     fn invite(&self) -> Option<&Invite> {

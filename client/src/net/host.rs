@@ -68,6 +68,8 @@ pub struct HostOptions {
     /// Go back to this computer's unfinished game on this server, if there is one, rather
     /// than open a new room.
     pub resume: bool,
+    /// The host player's name.
+    pub name: String,
 }
 
 impl HostOptions {
@@ -82,6 +84,7 @@ impl HostOptions {
             aim_aid: AimAid::Full,
             address: None,
             resume: true,
+            name: "host".into(),
         }
     }
 }

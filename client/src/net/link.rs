@@ -189,4 +189,12 @@ impl GameLink for NetLink {
     fn rematch(&mut self) {
         self.session.send(ClientMessage::Rematch);
     }
+
+    fn chats(&self) -> bool {
+        true
+    }
+
+    fn chat(&mut self, text: String) {
+        self.session.send(ClientMessage::Chat { text });
+    }
 }

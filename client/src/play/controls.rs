@@ -51,6 +51,12 @@ pub enum Key {
     Slower,
     /// Give up an online game (when asked whether to leave).
     Concede,
+    /// Open the chat line (online games).
+    Chat,
+    /// Remove the last character typed.
+    Erase,
+    /// Send what was typed (Enter).
+    Send,
 }
 
 /// One frame of input, read from the devices by the window.
@@ -78,6 +84,8 @@ pub struct InputFrame {
     pub down_key: bool,
     /// Keys pressed this frame.
     pub pressed: Vec<Key>,
+    /// Printable characters typed this frame, for the chat line.
+    pub typed: Vec<char>,
     /// Seconds since the last frame.
     pub dt: f64,
 }
@@ -188,7 +196,10 @@ impl Controls {
                 | Key::Previous
                 | Key::Faster
                 | Key::Slower
-                | Key::Concede => {}
+                | Key::Concede
+                | Key::Chat
+                | Key::Erase
+                | Key::Send => {}
             }
         }
         if ctx.stage == Stage::Watching {

@@ -7,6 +7,7 @@ use breakshot_shared::physics::{BallState, Strike};
 use breakshot_shared::protocol::AimAid;
 use breakshot_shared::rules::{Choice, Command, Game, InHand, Phase, Seat, TurnId};
 
+use super::chat::Chat;
 use super::link::{AwayResult, GameEvent, Judgement};
 use super::replica::Replica;
 use crate::view::hud::Connection;
@@ -55,6 +56,10 @@ pub struct GameFlow {
     before_shot: Option<Game>,
     /// The game asked back had ended while this player was away: its result.
     pub ended_away: Option<AwayResult>,
+    /// The players' names, by seat, once the server has said them.
+    pub names: [Option<String>; 2],
+    /// The room's chat.
+    pub chat: Chat,
 }
 
 impl GameFlow {
@@ -70,6 +75,8 @@ impl GameFlow {
             aim_aid: AimAid::Full,
             before_shot: None,
             ended_away: None,
+            names: [None, None],
+            chat: Chat::default(),
         }
     }
 
@@ -155,6 +162,10 @@ impl GameFlow {
             GameEvent::ShotClock(s) => self.shot_clock = s.filter(|s| s.is_finite()),
             GameEvent::AimAid(policy) => self.aim_aid = *policy,
             GameEvent::EndedAway(result) => self.ended_away = Some(result.clone()),
+            GameEvent::Seated { seat, name } => {
+                self.names[usize::from(*seat == Seat::B)] = Some(name.clone());
+            }
+            GameEvent::Chat(line) => self.chat.heard(&line.from, &line.text),
         }
         self.replica.handle(&event);
     }
@@ -192,6 +203,7 @@ impl GameFlow {
         if let Connection::OpponentLeft { seconds_left } = &mut self.connection {
             *seconds_left = (*seconds_left - dt).max(0.0);
         }
+        self.chat.tick(dt);
         self.replica.tick(wall_dt, 1.0);
     }
 

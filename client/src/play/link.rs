@@ -7,6 +7,7 @@ use std::collections::VecDeque;
 use breakshot_shared::protocol::{AimAid, Invite, SeatView, ServerMessage};
 use breakshot_shared::rules::{Command, Game, Seat, Settings, TurnId, Variant, Verdict};
 
+use super::chat::ChatLine;
 use crate::view::hud::Connection;
 
 /// What a game screen hears. A server announces an accepted shot at once, so every client
@@ -48,6 +49,15 @@ pub enum GameEvent {
     AimAid(AimAid),
     /// The game this player asked back ended while they were away: how it came out for them.
     EndedAway(AwayResult),
+    /// `name` plays in `seat`.
+    Seated {
+        /// The seat.
+        seat: Seat,
+        /// The player's name.
+        name: String,
+    },
+    /// A line said in the room (`from` is empty for the server's notices).
+    Chat(ChatLine),
 }
 
 /// How a game that ended while this player was away came out for their seat.
@@ -115,6 +125,12 @@ pub trait GameLink {
     fn poll(&mut self) -> Option<GameEvent>;
     /// Starts a new game with the same settings.
     fn rematch(&mut self);
+    /// Whether players can chat here (an online room).
+    fn chats(&self) -> bool {
+        false
+    }
+    /// Says `text` in the room.
+    fn chat(&mut self, _text: String) {}
     /// The invite to show while the opponent's seat is empty, when this computer hosts.
     fn invite(&self) -> Option<&Invite> {
         None
@@ -176,15 +192,38 @@ impl GameLink for LocalLink {
 pub fn game_events(msg: &ServerMessage, me: Option<Seat>) -> Vec<GameEvent> {
     let secs = |ms: u64| ms as f64 / 1000.0;
     match msg {
-        ServerMessage::Joined { snapshot, .. } | ServerMessage::GameStarted { snapshot } => vec![
-            GameEvent::AimAid(snapshot.aim_aid),
-            GameEvent::Connection(opponent_state(&snapshot.seats, me)),
-            GameEvent::Started(Box::new(snapshot.game.clone())),
-            GameEvent::ShotClock(snapshot.shot_clock_ms.map(secs)),
-        ],
-        ServerMessage::PlayerJoined { seat, .. } if Some(*seat) != me => {
-            vec![GameEvent::Connection(Connection::Connected)]
+        ServerMessage::Joined { snapshot, .. } | ServerMessage::GameStarted { snapshot } => {
+            let seated = [Seat::A, Seat::B]
+                .into_iter()
+                .zip(&snapshot.seats)
+                .filter_map(|(seat, view)| {
+                    let name = view.as_ref()?.name.clone();
+                    Some(GameEvent::Seated { seat, name })
+                });
+            [
+                GameEvent::AimAid(snapshot.aim_aid),
+                GameEvent::Connection(opponent_state(&snapshot.seats, me)),
+                GameEvent::Started(Box::new(snapshot.game.clone())),
+                GameEvent::ShotClock(snapshot.shot_clock_ms.map(secs)),
+            ]
+            .into_iter()
+            .chain(seated)
+            .collect()
         }
+        ServerMessage::PlayerJoined { seat, name } => {
+            let mut events = vec![GameEvent::Seated {
+                seat: *seat,
+                name: name.clone(),
+            }];
+            if Some(*seat) != me {
+                events.push(GameEvent::Connection(Connection::Connected));
+            }
+            events
+        }
+        ServerMessage::Chat { from, text } => vec![GameEvent::Chat(ChatLine {
+            from: from.clone(),
+            text: text.clone(),
+        })],
         ServerMessage::ShotAccepted {
             turn,
             seat,

@@ -3,6 +3,7 @@
 
 use ::glam::DVec2;
 use breakshot_client::play::aim::Aim;
+use breakshot_client::play::chat::{Chat, ChatKey};
 use breakshot_client::play::controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
 use breakshot_client::play::game_flow::{GameFlow, Turn};
 use breakshot_client::play::leave::{self, LeaveAnswer};
@@ -136,6 +137,17 @@ impl GameScreen {
             }
         }
         let input = &input;
+        // While a chat line is open, the keyboard types into it and nothing else.
+        if self.flow.chat.typing().is_some() {
+            self.type_chat(input);
+            self.flow.tick(input.dt);
+            return Step::Stay;
+        }
+        if self.link.chats() && input.pressed.contains(&Key::Chat) {
+            self.flow.chat.open();
+            self.flow.tick(input.dt);
+            return Step::Stay;
+        }
         if self.flow.shot().is_some() && input.pressed.contains(&Key::Shoot) {
             self.flow.skip();
         }
@@ -242,6 +254,26 @@ impl GameScreen {
         }
         self.refresh_prediction(&game, stage);
         Step::Stay
+    }
+
+    /// Feeds a frame's keys to the open chat line, and sends the line on Enter.
+    fn type_chat(&mut self, input: &InputFrame) {
+        let keys =
+            input
+                .typed
+                .iter()
+                .map(|&c| ChatKey::Char(c))
+                .chain(input.pressed.iter().filter_map(|k| match k {
+                    Key::Erase => Some(ChatKey::Erase),
+                    Key::Send => Some(ChatKey::Send),
+                    Key::Back => Some(ChatKey::Cancel),
+                    _ => None,
+                }));
+        for key in keys.collect::<Vec<_>>() {
+            if let Some(text) = self.flow.chat.key(key) {
+                self.link.chat(text);
+            }
+        }
     }
 
     /// Esc in an online game asked whether to leave: Esc stays, Enter leaves (the seat is
@@ -404,8 +436,12 @@ impl GameScreen {
                 verdict: self.flow.shown_verdict(),
                 shot_clock: self.flow.shown_shot_clock(),
                 connection: &self.flow.connection,
+                names: &self.flow.names,
             },
         );
+        if self.link.chats() {
+            draw_chat(&layout, &self.flow.chat);
+        }
         let options = match (&turn, game.phase()) {
             (Turn::Decide { options, .. }, _) => options.clone(),
             (Turn::Shoot { .. }, Phase::Shooting { options, .. }) => options.clone(),
@@ -543,4 +579,41 @@ fn draw_away_result(result: &AwayResult) {
         centred(line, 0.4 * h + 50.0 + 30.0 * i as f32, 22.0, LIGHTGRAY);
     }
     centred("Enter or Esc: back to the menu", 0.75 * h, 20.0, YELLOW);
+}
+
+/// The chat over the bottom-left corner of the cloth: the last lines said, and the line
+/// being typed (T opens it, Enter sends, Esc closes).
+fn draw_chat(layout: &Layout, chat: &Chat) {
+    let size = 18.0;
+    let step = 1.3 * size * draw::text_scale();
+    let mut rows: Vec<(String, Color)> = chat.shown().map(|l| (l.shown(), WHITE)).collect();
+    if let Some(typing) = chat.typing() {
+        rows.push((format!("say: {typing}_"), YELLOW));
+    }
+    if rows.is_empty() {
+        return;
+    }
+    let c = layout.cloth;
+    let width = rows
+        .iter()
+        .map(|(t, _)| draw::text_width(t, size))
+        .fold(0.0, f32::max)
+        .min(c.w - 16.0);
+    let top = c.y + c.h - 8.0 - step * rows.len() as f32;
+    draw_rectangle(
+        c.x + 4.0,
+        top - 4.0,
+        width + 16.0,
+        step * rows.len() as f32 + 8.0,
+        Color::new(0.0, 0.0, 0.0, 0.55),
+    );
+    for (i, (text, color)) in rows.iter().enumerate() {
+        draw::label(
+            text,
+            c.x + 12.0,
+            top + step * (i as f32 + 0.75),
+            size,
+            *color,
+        );
+    }
 }

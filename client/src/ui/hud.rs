@@ -15,6 +15,8 @@ pub struct HudInfo<'a> {
     pub verdict: Option<&'a Judgement>,
     pub shot_clock: Option<f64>,
     pub connection: &'a Connection,
+    /// The players' names, by seat, when known.
+    pub names: &'a [Option<String>; 2],
 }
 
 pub fn game_hud(layout: &Layout, info: &HudInfo) {
@@ -22,7 +24,7 @@ pub fn game_hud(layout: &Layout, info: &HudInfo) {
     draw_rectangle(bar.x, bar.y, bar.w, bar.h, Color::new(0.0, 0.0, 0.0, 0.5));
     let y = 0.5 * bar.h + 6.0;
     let mut x = 10.0;
-    for p in hud::players(info.game, info.me) {
+    for p in hud::players(info.game, info.me, info.names) {
         let (marker, c) = if p.to_move {
             ("> ", YELLOW)
         } else {

@@ -1,13 +1,13 @@
 //! The only place that reads the mouse and the keyboard: one [`InputFrame`] per frame.
 
 use macroquad::prelude::{
-    is_key_down, is_key_pressed, is_mouse_button_down, is_mouse_button_pressed,
+    get_char_pressed, is_key_down, is_key_pressed, is_mouse_button_down, is_mouse_button_pressed,
     is_mouse_button_released, mouse_position, mouse_wheel, KeyCode, MouseButton,
 };
 
 use breakshot_client::play::controls::{InputFrame, Key};
 
-const KEYS: [(KeyCode, Key); 17] = [
+const KEYS: [(KeyCode, Key); 20] = [
     (KeyCode::Space, Key::Shoot),
     (KeyCode::A, Key::AimLine),
     (KeyCode::G, Key::GhostBall),
@@ -25,6 +25,9 @@ const KEYS: [(KeyCode, Key); 17] = [
     (KeyCode::Minus, Key::Slower),
     (KeyCode::KpSubtract, Key::Slower),
     (KeyCode::C, Key::Concede),
+    (KeyCode::T, Key::Chat),
+    (KeyCode::Backspace, Key::Erase),
+    (KeyCode::Enter, Key::Send),
 ];
 
 pub fn read(dt: f64) -> InputFrame {
@@ -50,6 +53,9 @@ pub fn read(dt: f64) -> InputFrame {
             .iter()
             .filter(|(code, _)| is_key_pressed(*code))
             .map(|&(_, key)| key)
+            .collect(),
+        typed: std::iter::from_fn(get_char_pressed)
+            .filter(|c| !c.is_control())
             .collect(),
         dt,
     }

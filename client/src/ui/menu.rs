@@ -2,7 +2,7 @@
 
 use breakshot_client::net::host::default_data_dir;
 use breakshot_client::net::seats::hosted_from;
-use breakshot_client::net::{HostOptions, NetLink, SeatStore};
+use breakshot_client::net::{player_name, HostOptions, NetLink, SeatStore};
 use breakshot_client::play::controls::{InputFrame, Key};
 use breakshot_client::play::link::GameLink;
 use breakshot_client::view::layout::Rect;
@@ -37,7 +37,11 @@ const ITEMS: [(Item, &str); 7] = [
 fn host_default() -> Result<Box<dyn GameLink>, String> {
     let data = default_data_dir()
         .ok_or("No user data directory (HOME is not set): run breakshot host --data DIR")?;
-    let options = HostOptions::new(data);
+    let name = player_name(&data, None)?;
+    let options = HostOptions {
+        name,
+        ..HostOptions::new(data)
+    };
     #[cfg(feature = "host")]
     let hosted = breakshot_client::net::Host::start(&options)
         .map(|h| Box::new(h) as Box<dyn GameLink>)
@@ -62,7 +66,8 @@ fn resume() -> Result<Box<dyn GameLink>, String> {
     if hosted_from(&data, &last.invite.fingerprint) {
         return host_default();
     }
-    let link = NetLink::join(last.invite, "guest", Some(seats)).map_err(|e| e.to_string())?;
+    let name = player_name(&data, None)?;
+    let link = NetLink::join(last.invite, &name, Some(seats)).map_err(|e| e.to_string())?;
     Ok(Box::new(link))
 }
 
@@ -73,8 +78,13 @@ fn join_from_clipboard() -> Result<NetLink, String> {
     let invite: Invite = text
         .parse()
         .map_err(|e| format!("The clipboard holds no invite ({e}): {HOW}"))?;
-    let seats = default_data_dir().map(|d| SeatStore::new(&d));
-    NetLink::join(invite, "guest", seats).map_err(|e| e.to_string())
+    let data = default_data_dir();
+    let name = match &data {
+        Some(d) => player_name(d, None)?,
+        None => "player".to_owned(),
+    };
+    let seats = data.map(|d| SeatStore::new(&d));
+    NetLink::join(invite, &name, seats).map_err(|e| e.to_string())
 }
 
 pub struct MenuScreen {

@@ -84,6 +84,7 @@ impl ReplayScreen {
                 verdict: verdict.as_ref(),
                 shot_clock: None,
                 connection: &Connection::Offline,
+                names: &[None, None],
             },
         );
         let state = if v.at_end() && v.shot().is_none() {

@@ -48,10 +48,15 @@ pub fn variant_name(v: Variant) -> &'static str {
     }
 }
 
-/// Both players' lines, with their groups once the table is closed; `me` is marked "(you)".
-pub fn players(game: &Game, me: Option<Seat>) -> [PlayerLine; 2] {
+/// Both players' lines, by name once known (with the seat's letter), with their groups
+/// once the table is closed; `me` is marked "(you)".
+pub fn players(game: &Game, me: Option<Seat>, names: &[Option<String>; 2]) -> [PlayerLine; 2] {
     let line = |seat: Seat| {
-        let mut text = seat.to_string();
+        let name = names[usize::from(seat == Seat::B)].as_ref();
+        let mut text = match name {
+            Some(name) => format!("{name} ({})", if seat == Seat::A { "A" } else { "B" }),
+            None => seat.to_string(),
+        };
         if me == Some(seat) {
             text.push_str(" (you)");
         }
@@ -200,7 +205,7 @@ mod tests {
     #[test]
     fn a_new_game_shows_the_breaker_and_an_open_table() {
         let g = eight();
-        let [a, b] = players(&g, Some(Seat::B));
+        let [a, b] = players(&g, Some(Seat::B), &[None, None]);
         assert!(a.to_move && !b.to_move);
         assert_eq!(a.text, "Player A: open table");
         assert_eq!(b.text, "Player B (you): open table");
@@ -226,12 +231,20 @@ mod tests {
     }
 
     #[test]
+    fn players_are_named_once_the_server_says_their_names() {
+        let g = eight();
+        let [a, b] = players(&g, Some(Seat::A), &[Some("ann".into()), None]);
+        assert_eq!(a.text, "ann (A) (you): open table");
+        assert_eq!(b.text, "Player B: open table");
+    }
+
+    #[test]
     fn a_conceded_game_is_over_for_everyone() {
         let mut g = eight();
         let v = g
             .apply(Seat::A, &Command::Concede)
             .expect("concede is allowed");
-        assert!(players(&g, None).iter().all(|p| !p.to_move));
+        assert!(players(&g, None, &[None, None]).iter().all(|p| !p.to_move));
         assert!(status(&g).starts_with("Game over: "));
         let lines = verdict_lines(&v);
         assert_eq!(

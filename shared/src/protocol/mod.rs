@@ -17,7 +17,7 @@ pub use messages::{
     command_of, AimAid, ClientMessage, ErrorCode, Role, Ruling, SeatView, ServerMessage, Snapshot,
 };
 pub use reference::{reference_hash, reference_shot};
-pub use validate::{validate, InvalidMessage};
+pub use validate::{is_valid_name, validate, InvalidMessage};
 
 /// Bumped whenever a message changes shape or meaning. A client with another version is
 /// refused in the handshake with a reason.

@@ -90,6 +90,11 @@ fn playable(mode: &Settings) -> bool {
 }
 
 /// Non-blank, at most `max` characters, no control characters.
+/// Whether `name` may be a player's name: 1 to [`MAX_NAME_CHARS`] printable characters.
+pub fn is_valid_name(name: &str) -> bool {
+    printable(name, MAX_NAME_CHARS)
+}
+
 fn printable(text: &str, max: usize) -> bool {
     let n = text.chars().count();
     n > 0 && n <= max && !text.trim().is_empty() && !text.chars().any(char::is_control)
