@@ -12,7 +12,7 @@ pub const MAX_SCALE: f64 = 2.0;
 /// at rest.
 pub const SHADOW_AT_REST: [f64; 2] = [0.22, 0.28];
 /// How much further the shadow falls per ball radius of height.
-pub const SHADOW_PER_RADIUS: [f64; 2] = [0.8, 1.0];
+pub const SHADOW_PER_RADIUS: [f64; 2] = [0.3, 0.38];
 
 /// A ball's look at a height.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -40,7 +40,7 @@ pub fn flight(lift: f64, radius: f64) -> Flight {
             SHADOW_AT_REST[0] + SHADOW_PER_RADIUS[0] * h,
             SHADOW_AT_REST[1] + SHADOW_PER_RADIUS[1] * h,
         ],
-        shadow_strength: 1.0 / (1.0 + 0.5 * h),
+        shadow_strength: 1.0 / (1.0 + 0.15 * h),
     }
 }
 
