@@ -361,7 +361,12 @@ const MASSE: &str = include_str!("../../examples/masse_9ft.json");
 /// along the line of another elevation.
 fn side_view_shows(pic: &Picture, layout: &Layout, elevation_deg: f64) {
     let (tip, butt) = layout.elevation_cue(elevation_deg);
-    let along = |k: f32| [tip[0] + k * (butt[0] - tip[0]), tip[1] + k * (butt[1] - tip[1])];
+    let along = |k: f32| {
+        [
+            tip[0] + k * (butt[0] - tip[0]),
+            tip[1] + k * (butt[1] - tip[1]),
+        ]
+    };
     for k in [0.4, 0.6, 0.8] {
         let [x, y] = along(k);
         let got = pic.at(x, y);
@@ -373,7 +378,10 @@ fn side_view_shows(pic: &Picture, layout: &Layout, elevation_deg: f64) {
     let other = if elevation_deg > 45.0 { 10.0 } else { 80.0 };
     let (tip, butt) = layout.elevation_cue(other);
     let [x, y] = [0.3 * tip[0] + 0.7 * butt[0], 0.3 * tip[1] + 0.7 * butt[1]];
-    assert!(!close(pic.at(x, y), CUE_WOOD, 30), "a cue at {other} deg too");
+    assert!(
+        !close(pic.at(x, y), CUE_WOOD, 30),
+        "a cue at {other} deg too"
+    );
 }
 
 #[test]
@@ -422,7 +430,12 @@ fn a_masse_set_up_shows_its_elevation_and_its_curving_path() {
 fn a_replayed_jump_shows_the_ball_in_flight_bigger_with_its_shadow_on_the_cloth() {
     // A practice game: the jump scene's layout, then its shot.
     let scene = Scene::from_json(JUMP).expect("valid scene");
-    let strike = scene.to_shot().expect("valid shot").strike.expect("a strike").1;
+    let strike = scene
+        .to_shot()
+        .expect("valid shot")
+        .strike
+        .expect("a strike")
+        .1;
     let mut game = Game::new(Variant::Practice, Settings::offline(), 1);
     let mut record = GameRecord::of(&game);
     for command in [
@@ -447,7 +460,11 @@ fn a_replayed_jump_shows_the_ball_in_flight_bigger_with_its_shadow_on_the_cloth(
         }
     }
     let r_m = Params::default().ball_radius;
-    assert!(best.lift > 0.5 * r_m, "the cue ball rises only {} m", best.lift);
+    assert!(
+        best.lift > 0.5 * r_m,
+        "the cue ball rises only {} m",
+        best.lift
+    );
 
     let Some(pic) = screenshot_at("jump.rec", &record.encode(), &["replay"], frame) else {
         return;
@@ -469,12 +486,12 @@ fn a_replayed_jump_shows_the_ball_in_flight_bigger_with_its_shadow_on_the_cloth(
         );
     }
     // ... and its shadow lies on the cloth beyond it, down and right.
-    let [sx, sy] = [
-        x + air.shadow[0] as f32 * r,
-        y + air.shadow[1] as f32 * r,
-    ];
+    let [sx, sy] = [x + air.shadow[0] as f32 * r, y + air.shadow[1] as f32 * r];
     let apart = ((sx - x).powi(2) + (sy - y).powi(2)).sqrt();
-    assert!(apart > air.scale as f32 * r + 2.0, "the shadow is under the ball");
+    assert!(
+        apart > air.scale as f32 * r + 2.0,
+        "the shadow is under the ball"
+    );
     let got = pic.at(sx, sy);
     let sum = |c: Rgb| c.iter().map(|&v| v as f32).sum::<f32>();
     assert!(

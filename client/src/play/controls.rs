@@ -478,7 +478,11 @@ mod tests {
         down.left_down = true;
         c.update(&down, &cx, &anywhere);
         assert_eq!(c.drag, Drag::Elevation);
-        assert!((c.aim.elevation_deg - 40.0).abs() < 0.5, "{}", c.aim.elevation_deg);
+        assert!(
+            (c.aim.elevation_deg - 40.0).abs() < 0.5,
+            "{}",
+            c.aim.elevation_deg
+        );
         // Dragging on outside the view keeps setting it (to straight down, in front).
         let [bx, by] = l.elevation_ball;
         let mut hold = frame([bx + 30.0, by - 30.0]);

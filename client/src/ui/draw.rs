@@ -229,13 +229,7 @@ pub fn tray(layout: &Layout, ids: &[String], pocketed: &[usize], radius: f64) {
 }
 
 /// Aim line, ghost ball and predicted paths, as toggled.
-pub fn aids(
-    layout: &Layout,
-    p: &Prediction,
-    toggles: AidToggles,
-    radius: f64,
-    object_id: &str,
-) {
+pub fn aids(layout: &Layout, p: &Prediction, toggles: AidToggles, radius: f64, object_id: &str) {
     // Stretches in the air (a jump) are dotted: every other piece of them is left out.
     let line = |pts: &[PathPoint], width: f32, c: Color| {
         let mut flying = 0usize;
@@ -377,7 +371,14 @@ fn elevation_view(layout: &Layout, elevation_deg: f64) {
     draw_poly(bx, by, 40, r, 0.0, color(palette::CUE_BALL));
     let (tip, butt) = layout.elevation_cue(elevation_deg);
     let w = (0.22 * r).max(3.0);
-    draw_line(tip[0], tip[1], butt[0], butt[1], w, color(palette::CUE_WOOD));
+    draw_line(
+        tip[0],
+        tip[1],
+        butt[0],
+        butt[1],
+        w,
+        color(palette::CUE_WOOD),
+    );
     // The white ferrule at the tip end.
     let ferrule = [
         tip[0] + 0.15 * (butt[0] - tip[0]),

@@ -233,9 +233,15 @@ mod tests {
         assert!(last.y > 1.4 + 0.1 && (last.x - 0.635).abs() < 1e-6);
         assert_eq!(p.cue_path[0].pos, DVec2::new(0.635, 0.6));
         // The aim line runs straight from the cue ball to the ghost ball, on the cloth.
-        assert_eq!(p.aim_path.first().map(|q| q.pos), Some(DVec2::new(0.635, 0.6)));
+        assert_eq!(
+            p.aim_path.first().map(|q| q.pos),
+            Some(DVec2::new(0.635, 0.6))
+        );
         assert_eq!(p.aim_path.last().map(|q| q.pos), p.ghost);
-        assert!(p.aim_path.iter().all(|q| q.lift == 0.0 && (q.pos.x - 0.635).abs() < 1e-9));
+        assert!(p
+            .aim_path
+            .iter()
+            .all(|q| q.lift == 0.0 && (q.pos.x - 0.635).abs() < 1e-9));
         assert!(landings(&p.cue_path).is_empty());
     }
 
