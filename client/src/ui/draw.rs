@@ -281,12 +281,14 @@ pub fn aids(layout: &Layout, p: &Prediction, toggles: AidToggles, radius: f64, o
     }
 }
 
-/// The cue stick behind the cue ball, drawn back further the harder the shot.
+/// The cue stick behind the cue ball, drawn back further the harder the shot. Seen from
+/// above, an elevated cue is foreshortened: its length on the table shrinks with cos θ.
 pub fn cue_stick(layout: &Layout, cue: DVec2, aim: &Aim, radius: f64) {
     let dir = aim.dir();
-    let gap = radius * (1.3 + 8.0 * aim.power);
+    let slant = aim.elevation_deg.to_radians().cos().max(0.05);
+    let gap = radius * (1.3 + 8.0 * aim.power) * slant;
     let tip = cue - dir * gap;
-    let butt = tip - dir * 1.3;
+    let butt = tip - dir * (1.3 * slant);
     let (a, b) = (layout.to_screen(tip), layout.to_screen(butt));
     let w = layout.px(0.012).max(3.0);
     draw_line(a[0], a[1], b[0], b[1], w, color(palette::CUE_WOOD));
