@@ -8,8 +8,13 @@ use std::path::{Path, PathBuf};
 use std::process::{Command as Process, Output};
 use std::time::Duration;
 
+use breakshot_client::play::aim::Aim;
+use breakshot_client::play::replay::ReplayViewer;
+use breakshot_client::view::aids::{predict, PathPoint};
+use breakshot_client::view::flight::flight;
 use breakshot_client::view::layout::{Frame, Layout};
-use breakshot_client::view::palette::{ball_look, Rgb, BALL_WHITE, CLOTH};
+use breakshot_client::view::palette::{ball_look, Rgb, BALL_WHITE, CLOTH, CUE_BALL, CUE_WOOD};
+use breakshot_shared::physics::Simulator;
 use breakshot_shared::physics::{BallState, MotionState, Params, Strike};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Command, EightBallRules, Game, Settings, Variant};
@@ -89,6 +94,11 @@ impl Picture {
 /// frames at 1280x720; None if there is no `xvfb-run` (the reason is printed). Fails the test
 /// if the window has not closed within two minutes.
 fn window(args: &[&OsStr], out: &Path) -> Option<Output> {
+    window_at(args, out, 4)
+}
+
+/// As [`window`], of frame `frames` (the window steps 1/60 s of animation a frame).
+fn window_at(args: &[&OsStr], out: &Path, frames: u32) -> Option<Output> {
     let Some(xvfb) = find_in_path("xvfb-run") else {
         eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
         return None;
@@ -100,7 +110,7 @@ fn window(args: &[&OsStr], out: &Path) -> Option<Output> {
             .args(args)
             .arg("--screenshot")
             .arg(out)
-            .args(["--frames", "4", "--size", "1280x720"]),
+            .args(["--frames", &frames.to_string(), "--size", "1280x720"]),
         None,
         Duration::from_secs(120),
     ))
@@ -120,13 +130,18 @@ fn picture(out: &Path) -> Picture {
 /// Runs `breakshot` with `args` and a file `name` holding `contents`; None if there is no
 /// `xvfb-run` (the reason is printed).
 fn screenshot(name: &str, contents: &[u8], args: &[&str]) -> Option<Picture> {
+    screenshot_at(name, contents, args, 4)
+}
+
+/// As [`screenshot`], of frame `frames`.
+fn screenshot_at(name: &str, contents: &[u8], args: &[&str], frames: u32) -> Option<Picture> {
     let dir = breakshot_testkit::scratch("window");
     let input = dir.path().join(name);
     let out = dir.path().join("out.png");
     std::fs::write(&input, contents).expect("input written");
     let mut all: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
     all.push(input.as_os_str());
-    let run = window(&all, &out)?;
+    let run = window_at(&all, &out, frames)?;
     assert!(
         run.status.success(),
         "breakshot exited with {}: {}",
@@ -474,4 +489,153 @@ fn a_nine_ball_game_rings_the_ball_on() {
     // Most of the 1's ring is yellow where no other ball covers it; the 9 has none.
     assert!(ring(1) > 20, "{} yellow points around the 1", ring(1));
     assert!(ring(9) < 8, "{} yellow points around the 9", ring(9));
+}
+
+const JUMP: &str = include_str!("../../examples/jump_9ft.json");
+const MASSE: &str = include_str!("../../examples/masse_9ft.json");
+
+/// The cue in the panel's side view is drawn at `elevation_deg`: wood along its line, not
+/// along the line of another elevation.
+fn side_view_shows(pic: &Picture, layout: &Layout, elevation_deg: f64) {
+    let (tip, butt) = layout.elevation_cue(elevation_deg);
+    let along = |k: f32| {
+        [
+            tip[0] + k * (butt[0] - tip[0]),
+            tip[1] + k * (butt[1] - tip[1]),
+        ]
+    };
+    for k in [0.4, 0.6, 0.8] {
+        let [x, y] = along(k);
+        let got = pic.at(x, y);
+        assert!(
+            close(got, CUE_WOOD, 10),
+            "the side view's cue at {elevation_deg} deg: {got:?} at ({x}, {y})"
+        );
+    }
+    let other = if elevation_deg > 45.0 { 10.0 } else { 80.0 };
+    let (tip, butt) = layout.elevation_cue(other);
+    let [x, y] = [0.3 * tip[0] + 0.7 * butt[0], 0.3 * tip[1] + 0.7 * butt[1]];
+    assert!(
+        !close(pic.at(x, y), CUE_WOOD, 30),
+        "a cue at {other} deg too"
+    );
+}
+
+#[test]
+fn a_masse_set_up_shows_its_elevation_and_its_curving_path() {
+    let Some(pic) = screenshot("masse.json", MASSE.as_bytes(), &["practice"]) else {
+        return;
+    };
+    let scene = Scene::from_json(MASSE).expect("valid scene");
+    let shot = scene.to_shot().expect("valid shot");
+    let layout = Layout::new(1280.0, 720.0, Frame::new(shot.table, &shot.balls));
+    let strike = shot.strike.expect("a strike").1;
+    side_view_shows(&pic, &layout, strike.elevation_deg);
+
+    // The practice screen predicts the strike the panel shows (the scene's, elevation and
+    // all): the same prediction here.
+    let aim = Aim::from_strike(&strike);
+    assert_eq!(aim.elevation_deg, strike.elevation_deg);
+    let mut struck = shot.clone();
+    struck.strike = Some((0, aim.strike()));
+    let p = predict(&mut Simulator::new(), &struck, 0).expect("a prediction");
+    // The point of the path on the cloth furthest off the cue's line.
+    let start = p.cue_path[0].pos;
+    let off_line = |q: &PathPoint| (q.pos - start).perp_dot(strike.dir).abs();
+    let on_cloth: Vec<&PathPoint> = p
+        .cue_path
+        .windows(3)
+        .filter(|w| w.iter().all(|q| q.lift == 0.0))
+        .map(|w| &w[1])
+        .collect();
+    let far = on_cloth
+        .iter()
+        .copied()
+        .max_by(|a, b| off_line(a).total_cmp(&off_line(b)))
+        .expect("a path on the cloth");
+    assert!(off_line(far) > 0.1, "the massé strays {} m", off_line(far));
+    // The path is drawn there, a pale line over the cloth.
+    let [x, y] = layout.to_screen(far.pos);
+    let lit = (-1..=1)
+        .flat_map(|dx| (-1..=1).map(move |dy| (dx as f32, dy as f32)))
+        .map(|(dx, dy)| pic.at(x + dx, y + dy))
+        .any(|c| c.iter().zip(CLOTH).all(|(&g, w)| g as i32 > w as i32 + 40));
+    assert!(lit, "no path drawn at ({x}, {y}), off the cue's line");
+}
+
+#[test]
+fn a_replayed_jump_shows_the_ball_in_flight_bigger_with_its_shadow_on_the_cloth() {
+    // A practice game: the jump scene's layout, then its shot.
+    let scene = Scene::from_json(JUMP).expect("valid scene");
+    let strike = scene
+        .to_shot()
+        .expect("valid shot")
+        .strike
+        .expect("a strike")
+        .1;
+    let mut game = Game::new(Variant::Practice, Settings::offline(), 1);
+    let mut record = GameRecord::of(&game);
+    for command in [
+        Command::LoadLayout {
+            balls: breakshot_shared::rules::layout_from_scene(&scene).expect("a layout"),
+        },
+        Command::Shot { strike, call: None },
+    ] {
+        let seat = game.to_move();
+        let verdict = game.apply(seat, &command).expect("accepted");
+        record.push(seat, command, verdict.shot.map(|s| s.hash));
+    }
+    // The frame at which the window shows the cue ball highest: the replay steps as the
+    // window does, 1/60 s a frame.
+    let mut viewer = ReplayViewer::new(record.clone()).expect("a record of this version");
+    let (mut frame, mut best) = (0u32, BallState::at_rest(DVec2::ZERO));
+    for n in 1..=400 {
+        viewer.tick(1.0 / 60.0);
+        let cue = viewer.balls()[0];
+        if cue.lift > best.lift {
+            (frame, best) = (n, cue);
+        }
+    }
+    let r_m = Params::default().ball_radius;
+    assert!(
+        best.lift > 0.5 * r_m,
+        "the cue ball rises only {} m",
+        best.lift
+    );
+
+    let Some(pic) = screenshot_at("jump.rec", &record.encode(), &["replay"], frame) else {
+        return;
+    };
+    let layout = Layout::new(1280.0, 720.0, Frame::new(game.table(), game.balls()));
+    side_view_shows(&pic, &layout, strike.elevation_deg);
+    let r = layout.px(r_m);
+    let air = flight(best.lift, r_m);
+    let [x, y] = layout.to_screen(best.pos);
+    // The ball is drawn bigger than on the cloth: white beyond its resting radius (up and
+    // left, away from the shadow) ...
+    let reach = 0.5 * (1.0 + air.scale as f32) * r;
+    for (dx, dy) in [(-reach, 0.0), (0.0, -reach)] {
+        let got = pic.at(x + dx, y + dy);
+        assert!(
+            shaded(got, CUE_BALL, 30.0),
+            "no ball at {reach} px ({} R at rest) from its centre: {got:?}",
+            reach / r
+        );
+    }
+    // ... and its shadow lies on the cloth beyond it, down and right.
+    let [sx, sy] = [x + air.shadow[0] as f32 * r, y + air.shadow[1] as f32 * r];
+    let apart = ((sx - x).powi(2) + (sy - y).powi(2)).sqrt();
+    assert!(
+        apart > air.scale as f32 * r + 2.0,
+        "the shadow is under the ball"
+    );
+    let got = pic.at(sx, sy);
+    let sum = |c: Rgb| c.iter().map(|&v| v as f32).sum::<f32>();
+    assert!(
+        sum(got) < 0.9 * sum(CLOTH) && got.iter().zip(CLOTH).all(|(&g, c)| g <= c),
+        "no shadow at ({sx}, {sy}): {got:?}"
+    );
+    // Beyond the shadow, the cloth.
+    let far = pic.at(sx + 2.0 * r, sy + 2.0 * r);
+    assert!(close(far, CLOTH, 8), "cloth beyond the shadow: {far:?}");
 }

@@ -13,7 +13,7 @@ use std::time::{SystemTime, UNIX_EPOCH};
 use bincode::config;
 use breakshot_shared::protocol::limits::MAX_RECORD;
 use breakshot_shared::protocol::RoomCode;
-use breakshot_shared::replay::{GameRecord, RecordEntry, RecordError};
+use breakshot_shared::replay::{self, GameRecord, RecordEntry, RecordError, RECORD_VERSION};
 use breakshot_shared::rules::Seat;
 use rusqlite::{params, Connection, OptionalExtension};
 use thiserror::Error;
@@ -24,8 +24,10 @@ pub const DB_FILE: &str = "games.sqlite3";
 
 /// The schema this build writes (`PRAGMA user_version`). Version 1 (no version set) kept
 /// each game's whole record in `games.record`; it is migrated in place on open: the record
-/// becomes the game's header, with no command rows after it.
-const SCHEMA: i64 = 2;
+/// becomes the game's header, with no command rows after it. Version 2 may hold records of
+/// format 1 (level strikes, before the cue elevation); on open they are rewritten in the
+/// current format, so a game goes on with rows of one format only.
+const SCHEMA: i64 = 3;
 
 #[derive(Debug, Error)]
 pub enum StoreError {
@@ -123,6 +125,9 @@ impl Store {
              ) WITHOUT ROWID;
              CREATE INDEX IF NOT EXISTS games_finished ON games (finished, finished_at);",
         )?;
+        if version < 3 {
+            rewrite_old_records(&tx)?;
+        }
         tx.pragma_update(None, "user_version", SCHEMA)?;
         tx.commit()?;
         Ok(Store { db })
@@ -367,6 +372,48 @@ impl Store {
     }
 }
 
+/// Rewrites every game stored in an older record format, its header and its command rows, in
+/// the current one. A game that does not decode is left as it is: reading it reports why.
+fn rewrite_old_records(tx: &Connection) -> Result<(), StoreError> {
+    let games: Vec<(String, u32, Vec<u8>)> = tx
+        .prepare("SELECT room, number, header FROM games")?
+        .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))?
+        .collect::<Result<_, _>>()?;
+    for (room, number, header) in games {
+        let Ok(version) = replay::format_version(&header) else {
+            continue;
+        };
+        if version == RECORD_VERSION {
+            continue;
+        }
+        let Ok(record) = GameRecord::decode(&header) else {
+            continue;
+        };
+        let rows: Vec<(i64, Vec<u8>)> = tx
+            .prepare("SELECT idx, entry FROM commands WHERE room = ?1 AND number = ?2")?
+            .query_map(params![room, number], |r| Ok((r.get(0)?, r.get(1)?)))?
+            .collect::<Result<_, _>>()?;
+        let Ok(entries) = rows
+            .iter()
+            .map(|(idx, bytes)| RecordEntry::decode_version(bytes, version).map(|e| (idx, e)))
+            .collect::<Result<Vec<_>, _>>()
+        else {
+            continue;
+        };
+        tx.execute(
+            "UPDATE games SET header = ?3 WHERE room = ?1 AND number = ?2",
+            params![room, number, record.encode()],
+        )?;
+        for (idx, entry) in entries {
+            tx.execute(
+                "UPDATE commands SET entry = ?4 WHERE room = ?1 AND number = ?2 AND idx = ?3",
+                params![room, number, idx, entry.encode()],
+            )?;
+        }
+    }
+    Ok(())
+}
+
 fn seat_number(seat: Seat) -> i64 {
     match seat {
         Seat::A => 0,
@@ -520,6 +567,73 @@ mod tests {
         assert_eq!(GameRecord::decode(&stored).unwrap(), record);
         assert_eq!(store.unfinished().unwrap()[0].record, Ok(record));
     }
+
+    #[test]
+    fn records_of_the_first_format_are_rewritten_in_the_current_one() {
+        let tmp = breakshot_testkit::scratch("format");
+        let dir = tmp.path().to_path_buf();
+        let code = RoomCode::parse("EEEEEEEE").unwrap();
+        let mut header = GameRecord::new(Variant::Practice, Settings::offline(), 5).encode();
+        // A header with no entries is laid out alike in both formats but for its version.
+        header[0] = 1;
+        // One format-1 command row: seat A, a level shot (speed 1.5 along +y, tip 0.25 high,
+        // no elevation field), pocket 2 called, a hash; the bytes of the pinned format-1
+        // record in shared/tests/rules_record.rs.
+        let old_row: Vec<u8> = (0..OLD_SHOT_ROW.len())
+            .step_by(2)
+            .map(|i| u8::from_str_radix(&OLD_SHOT_ROW[i..i + 2], 16).unwrap())
+            .collect();
+        {
+            let mut store = Store::open(&dir).unwrap();
+            let ops = [
+                StoreOp::Room(room_meta(&code)),
+                StoreOp::GameStarted {
+                    room: code.clone(),
+                    number: 1,
+                    header,
+                },
+                StoreOp::Command {
+                    room: code.clone(),
+                    number: 1,
+                    index: 0,
+                    entry: old_row,
+                },
+            ];
+            store.apply(&ops.iter().collect::<Vec<_>>()).unwrap();
+            store.db.pragma_update(None, "user_version", 2).unwrap();
+        }
+        let mut store = Store::open(&dir).unwrap();
+        let shot = RecordEntry {
+            seat: Seat::A,
+            command: breakshot_shared::rules::Command::Shot {
+                strike: breakshot_shared::physics::Strike {
+                    speed: 1.5,
+                    dir: glam::DVec2::new(0.0, 1.0),
+                    tip: glam::DVec2::new(0.0, 0.25),
+                    elevation_deg: 0.0,
+                },
+                call: Some(2),
+            },
+            hash: Some(0x0123_4567_89ab_cdef),
+        };
+        let mut record = GameRecord::new(Variant::Practice, Settings::offline(), 5);
+        record.entries.push(shot);
+        assert_eq!(store.unfinished().unwrap()[0].record, Ok(record.clone()));
+        // The game goes on with rows of the current format only.
+        let op = StoreOp::Command {
+            room: code.clone(),
+            number: 1,
+            index: 1,
+            entry: place(1).encode(),
+        };
+        store.apply(&[&op]).unwrap();
+        record.entries.push(place(1));
+        drop(store);
+        let store = Store::open(&dir).unwrap();
+        assert_eq!(store.all().unwrap()[0].record, Ok(record));
+    }
+
+    const OLD_SHOT_ROW: &str = "0000000000000000f83f0000000000000000000000000000f03f0000000000000000000000000000d03f010201fdefcdab8967452301";
 
     #[test]
     fn a_store_of_the_first_schema_is_migrated_in_place() {

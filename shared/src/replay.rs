@@ -7,15 +7,24 @@
 //! the record, whose first field is the format version. Decoding reads the version first, so
 //! a record from another version is refused by name rather than misread, and is limited to
 //! [`MAX_RECORD_BYTES`] so a hostile length prefix cannot make it allocate without bound.
+//!
+//! Versions: 1 had level strikes only; 2 adds the cue elevation to every strike. Records of
+//! version 1 still decode (see [`v1`]), as current records with θ = 0, and replay and verify
+//! as they did.
 
+mod v1;
+
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::hash::hash_hex;
 use crate::rules::{Command, Game, RuleError, Seat, Settings, Variant};
 
-/// Version of the record format.
-pub const RECORD_VERSION: u32 = 1;
+/// Version of the record format this build writes.
+pub const RECORD_VERSION: u32 = 2;
+/// The oldest version this build still reads.
+pub const OLDEST_RECORD_VERSION: u32 = v1::VERSION;
 /// Largest encoded record accepted (4 MiB). A command takes well under 100 bytes, so this
 /// holds tens of thousands of commands, far beyond any real game.
 pub const MAX_RECORD_BYTES: usize = 1 << 22;
@@ -45,7 +54,7 @@ pub struct GameRecord {
 pub enum RecordError {
     #[error("record is larger than {MAX_RECORD_BYTES} bytes")]
     TooLarge,
-    #[error("record format version {0} is not supported (this build reads {RECORD_VERSION})")]
+    #[error("record format version {0} is not supported (this build reads {OLDEST_RECORD_VERSION} to {RECORD_VERSION})")]
     Version(u32),
     #[error("record is malformed: {0}")]
     Malformed(String),
@@ -93,6 +102,33 @@ fn config() -> impl bincode::config::Config {
     bincode::config::standard().with_limit::<MAX_RECORD_BYTES>()
 }
 
+/// Decodes all of `bytes` as one `T`, within the size limit.
+fn decode_whole<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, RecordError> {
+    if bytes.len() > MAX_RECORD_BYTES {
+        return Err(RecordError::TooLarge);
+    }
+    let (value, used): (T, usize) = bincode::serde::decode_from_slice(bytes, config())
+        .map_err(|e| RecordError::Malformed(e.to_string()))?;
+    if used != bytes.len() {
+        return Err(RecordError::TrailingBytes(bytes.len() - used));
+    }
+    Ok(value)
+}
+
+/// The format version an encoded record was written in (its first field), if this build
+/// reads it.
+pub fn format_version(bytes: &[u8]) -> Result<u32, RecordError> {
+    if bytes.len() > MAX_RECORD_BYTES {
+        return Err(RecordError::TooLarge);
+    }
+    let (version, _): (u32, usize) = bincode::decode_from_slice(bytes, config())
+        .map_err(|e| RecordError::Malformed(e.to_string()))?;
+    if !(OLDEST_RECORD_VERSION..=RECORD_VERSION).contains(&version) {
+        return Err(RecordError::Version(version));
+    }
+    Ok(version)
+}
+
 impl RecordEntry {
     /// One entry on its own (a store keeps a game as its header, the record with no entries,
     /// followed by one row per entry), in the record's encoding.
@@ -101,17 +137,19 @@ impl RecordEntry {
         bincode::serde::encode_to_vec(self, bincode::config::standard()).unwrap_or_default()
     }
 
+    /// An entry written in the current format.
     pub fn decode(bytes: &[u8]) -> Result<RecordEntry, RecordError> {
-        if bytes.len() > MAX_RECORD_BYTES {
-            return Err(RecordError::TooLarge);
+        RecordEntry::decode_version(bytes, RECORD_VERSION)
+    }
+
+    /// An entry written in format `version` (an entry carries no version of its own: it is
+    /// its game's header's, [`format_version`]).
+    pub fn decode_version(bytes: &[u8], version: u32) -> Result<RecordEntry, RecordError> {
+        match version {
+            RECORD_VERSION => decode_whole(bytes),
+            v1::VERSION => decode_whole::<v1::EntryV1>(bytes).map(RecordEntry::from),
+            other => Err(RecordError::Version(other)),
         }
-        let (entry, used): (RecordEntry, usize) =
-            bincode::serde::decode_from_slice(bytes, config())
-                .map_err(|e| RecordError::Malformed(e.to_string()))?;
-        if used != bytes.len() {
-            return Err(RecordError::TrailingBytes(bytes.len() - used));
-        }
-        Ok(entry)
     }
 }
 
@@ -147,22 +185,13 @@ impl GameRecord {
         bincode::serde::encode_to_vec(self, bincode::config::standard()).unwrap_or_default()
     }
 
+    /// A record of any version this build reads, in the current format: a record of an
+    /// older version comes back as its current equivalent (version [`RECORD_VERSION`]).
     pub fn decode(bytes: &[u8]) -> Result<GameRecord, RecordError> {
-        if bytes.len() > MAX_RECORD_BYTES {
-            return Err(RecordError::TooLarge);
+        match format_version(bytes)? {
+            v1::VERSION => decode_whole::<v1::RecordV1>(bytes).map(GameRecord::from),
+            _ => decode_whole(bytes),
         }
-        let malformed = |e: bincode::error::DecodeError| RecordError::Malformed(e.to_string());
-        let (version, _): (u32, usize) =
-            bincode::decode_from_slice(bytes, config()).map_err(malformed)?;
-        if version != RECORD_VERSION {
-            return Err(RecordError::Version(version));
-        }
-        let (record, used): (GameRecord, usize) =
-            bincode::serde::decode_from_slice(bytes, config()).map_err(malformed)?;
-        if used != bytes.len() {
-            return Err(RecordError::TrailingBytes(bytes.len() - used));
-        }
-        Ok(record)
     }
 
     /// Plays the record again from its seed, checking that every command is accepted and

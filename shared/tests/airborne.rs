@@ -288,3 +288,48 @@ fn grazing_a_ball_in_flight() {
         }
     }
 }
+
+/// A ball coming down inside a pocket's capture circle falls in as it lands; one coming down
+/// just outside the circle, on the table side, bounces on the cloth first.
+#[test]
+fn a_ball_landing_in_a_pocket_falls_in() {
+    let table = breakshot_shared::physics::Table::new(TableKind::NineFoot);
+    let middle = DVec2::new(0.635, 1.27);
+    // Thrown level from 5 cm up at 1.5 m/s towards the pocket, it lands after τ = √(2h/g).
+    let (h, v) = (0.05, 1.5);
+    let travel = v * (2.0 * h / G).sqrt();
+    for (k, pocket) in table.pockets.iter().enumerate() {
+        let centre = table.to_scene(pocket.center);
+        let inward = (middle - centre).normalize();
+        for (reach, falls) in [(0.0, true), (0.9, true), (1.05, false)] {
+            let landing = centre + inward * (reach * pocket.radius);
+            let start = landing + inward * travel;
+            let vel = -inward * v;
+            let mut b = ball([start.x, start.y], [vel.x, vel.y], [0.0; 3]);
+            b.lift = h;
+            b.motion = MotionState::Airborne;
+            let shot = Shot::new(TableKind::NineFoot, vec![b]);
+            let out = run(&shot);
+            let pocketed = EventKind::BallPocket {
+                ball: 0,
+                pocket: k as u8,
+            };
+            let first = out.events[0];
+            assert_eq!(
+                first.kind == pocketed,
+                falls,
+                "{} pocket, landing {reach} of its radius in: {:?}",
+                pocket.name,
+                out.events
+            );
+            if !falls {
+                assert_eq!(first.kind, EventKind::BallTable { ball: 0 });
+            } else {
+                // At the landing: the flight's time, where the ball comes down.
+                assert!((first.t - (2.0 * h / G).sqrt()).abs() < 1e-9, "{}", first.t);
+                assert_eq!(out.finals[0].motion, MotionState::Pocketed);
+                assert_eq!(out.finals[0].pocket, Some(k as u8));
+            }
+        }
+    }
+}

@@ -1,6 +1,7 @@
-//! The shot being set up: direction, power and tip offset, turned into a cue [`Strike`].
+//! The shot being set up: direction, power, tip offset and cue elevation, turned into a cue
+//! [`Strike`].
 
-use breakshot_shared::physics::cue::MISCUE_LIMIT;
+use breakshot_shared::physics::cue::{MAX_ELEVATION_DEG, MISCUE_LIMIT};
 use breakshot_shared::physics::Strike;
 use glam::DVec2;
 
@@ -8,7 +9,8 @@ use glam::DVec2;
 pub const MAX_SHOT_SPEED: f64 = 12.0;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-/// The shot being set up: direction, power and the tip's offset on the cue ball.
+/// The shot being set up: direction, power, the tip's offset on the cue ball and the cue's
+/// elevation.
 pub struct Aim {
     /// Direction in the scene plane, radians from +x.
     pub angle: f64,
@@ -16,6 +18,8 @@ pub struct Aim {
     pub power: f64,
     /// Tip offset [side, height] in units of R, within the miscue limit.
     pub tip: DVec2,
+    /// Cue elevation in degrees: 0 level, up to 90 straight down (massé, jump shots).
+    pub elevation_deg: f64,
 }
 
 impl Default for Aim {
@@ -24,6 +28,7 @@ impl Default for Aim {
             angle: std::f64::consts::FRAC_PI_2,
             power: 0.35,
             tip: DVec2::ZERO,
+            elevation_deg: 0.0,
         }
     }
 }
@@ -59,6 +64,13 @@ impl Aim {
         };
     }
 
+    /// Sets the cue elevation, clamped to 0..=90 degrees.
+    pub fn set_elevation(&mut self, degrees: f64) {
+        if degrees.is_finite() {
+            self.elevation_deg = degrees.clamp(0.0, MAX_ELEVATION_DEG);
+        }
+    }
+
     /// Points the cue along `dir` (ignored if it has no direction).
     pub fn point_along(&mut self, dir: DVec2) {
         if dir.is_finite() && dir.length_squared() > 1e-18 {
@@ -79,7 +91,7 @@ impl Aim {
             speed: self.speed(),
             dir: self.dir(),
             tip: self.tip,
-            elevation_deg: 0.0,
+            elevation_deg: self.elevation_deg,
         }
     }
 
@@ -89,6 +101,7 @@ impl Aim {
         aim.point_along(s.dir);
         aim.set_power((s.speed.max(0.0) / MAX_SHOT_SPEED).sqrt());
         aim.set_tip(s.tip);
+        aim.set_elevation(s.elevation_deg);
         aim
     }
 }
@@ -116,6 +129,7 @@ mod tests {
             a.set_power(p);
             a.rotate(1.3);
             a.set_tip(DVec2::new(p, -p));
+            a.set_elevation(100.0 * p);
             assert!(a.strike().validated().is_ok(), "{a:?}");
         }
         a.set_power(1.0);
@@ -124,9 +138,24 @@ mod tests {
 
     #[test]
     fn a_strike_survives_the_round_trip() {
-        let s = Strike::at_angle(3.0, 30.0, DVec2::new(0.2, -0.1));
+        let s = Strike::at_angle(3.0, 30.0, DVec2::new(0.2, -0.1)).elevated(35.0);
         let back = Aim::from_strike(&s).strike();
         assert!((back.speed - 3.0).abs() < 1e-9 && (back.dir - s.dir).length() < 1e-12);
         assert_eq!(back.tip, s.tip);
+        assert_eq!(back.elevation_deg, 35.0);
+    }
+
+    #[test]
+    fn elevation_is_held_between_level_and_straight_down() {
+        let mut a = Aim::default();
+        assert_eq!(a.strike().elevation_deg, 0.0);
+        a.set_elevation(30.0);
+        assert_eq!(a.strike().elevation_deg, 30.0);
+        a.set_elevation(-5.0);
+        assert_eq!(a.elevation_deg, 0.0);
+        a.set_elevation(120.0);
+        assert_eq!(a.elevation_deg, MAX_ELEVATION_DEG);
+        a.set_elevation(f64::NAN);
+        assert_eq!(a.elevation_deg, MAX_ELEVATION_DEG);
     }
 }

@@ -15,6 +15,8 @@ pub const FINE_FACTOR: f64 = 0.1;
 pub const KEY_AIM_RATE: f64 = 0.35;
 /// Arrow-key power rate (full scale per second).
 pub const KEY_POWER_RATE: f64 = 0.5;
+/// Cue elevation rate while its key is held (degrees per second; a tenth with Shift).
+pub const KEY_ELEVATION_RATE: f64 = 30.0;
 /// Power change per mouse-wheel notch.
 pub const WHEEL_POWER_STEP: f64 = 0.02;
 /// Pull-back distance (in ball radii) that gives full power.
@@ -82,6 +84,10 @@ pub struct InputFrame {
     pub up_key: bool,
     /// The down arrow is held.
     pub down_key: bool,
+    /// The key that raises the cue's butt (more elevation) is held.
+    pub raise_key: bool,
+    /// The key that lowers the cue towards level is held.
+    pub lower_key: bool,
     /// Keys pressed this frame.
     pub pressed: Vec<Key>,
     /// Printable characters typed this frame, for the chat line.
@@ -152,6 +158,8 @@ pub enum Drag {
         /// Where the ball would go (m).
         at: DVec2,
     },
+    /// Setting the cue elevation in the side view.
+    Elevation,
 }
 
 /// The set-up and the state of a drag, kept across frames.
@@ -231,6 +239,10 @@ impl Controls {
             power += input.wheel as f64 * WHEEL_POWER_STEP;
         }
         self.aim.set_power(power);
+        let lift = (input.raise_key as i32 - input.lower_key as i32) as f64;
+        let fine = if input.shift { FINE_FACTOR } else { 1.0 };
+        self.aim
+            .set_elevation(self.aim.elevation_deg + lift * KEY_ELEVATION_RATE * fine * dt);
     }
 
     fn mouse(
@@ -247,6 +259,8 @@ impl Controls {
                 Drag::Tip
             } else if layout.power_bar.contains(input.mouse) {
                 Drag::Power
+            } else if layout.elevation_view.contains(input.mouse) {
+                Drag::Elevation
             } else if ctx.stage == Stage::InHand && (at - ctx.cue).length() <= 1.5 * ctx.radius {
                 Drag::CueBall { at }
             } else if layout.outer.contains(input.mouse) {
@@ -265,6 +279,9 @@ impl Controls {
                 let r = layout.tip_radius as f64;
                 self.aim
                     .set_tip(DVec2::new(d[0] as f64 / r, -(d[1] as f64) / r));
+            }
+            Drag::Elevation if input.left_down => {
+                self.aim.set_elevation(layout.elevation_at(input.mouse));
             }
             Drag::Power if input.left_down => {
                 let bar = layout.power_bar;
@@ -291,7 +308,7 @@ impl Controls {
                     }
                 }
             }
-            Drag::Tip | Drag::Power => self.drag = Drag::None,
+            Drag::Tip | Drag::Power | Drag::Elevation => self.drag = Drag::None,
             Drag::None => self.follow_mouse(input, ctx, at),
         }
     }
@@ -424,6 +441,76 @@ mod tests {
         let p1 = c.aim.power;
         c.update(&w, &ctx(&l, Stage::Aiming), &anywhere);
         assert!((c.aim.power - (p1 - 2.0 * WHEEL_POWER_STEP)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn elevation_keys_raise_and_lower_the_cue_within_its_range() {
+        let l = layout();
+        let cx = ctx(&l, Stage::Aiming);
+        let mut c = Controls::new(Aim::default());
+        let mut raise = frame([1.0, 1.0]);
+        raise.raise_key = true;
+        raise.dt = 0.2;
+        c.update(&raise, &cx, &anywhere);
+        assert!((c.aim.elevation_deg - 0.2 * KEY_ELEVATION_RATE).abs() < 1e-12);
+        // Shift: a tenth as fast.
+        raise.shift = true;
+        c.update(&raise, &cx, &anywhere);
+        let want = 0.2 * KEY_ELEVATION_RATE * (1.0 + FINE_FACTOR);
+        assert!((c.aim.elevation_deg - want).abs() < 1e-12);
+        // Held long enough, the cue stops straight down, then comes back to level.
+        raise.shift = false;
+        raise.dt = 0.25;
+        for _ in 0..40 {
+            c.update(&raise, &cx, &anywhere);
+        }
+        assert_eq!(c.aim.elevation_deg, 90.0);
+        let mut lower = frame([1.0, 1.0]);
+        lower.lower_key = true;
+        lower.dt = 0.25;
+        for _ in 0..40 {
+            c.update(&lower, &cx, &anywhere);
+        }
+        assert_eq!(c.aim.elevation_deg, 0.0);
+        // Not while watching.
+        raise.dt = 0.2;
+        c.update(&raise, &ctx(&l, Stage::Watching), &anywhere);
+        assert_eq!(c.aim.elevation_deg, 0.0);
+    }
+
+    #[test]
+    fn dragging_in_the_side_view_sets_the_elevation_and_the_shot_carries_it() {
+        let l = layout();
+        let cx = ctx(&l, Stage::Aiming);
+        let mut c = Controls::new(Aim::default());
+        let (_, butt) = l.elevation_cue(40.0);
+        let mut down = frame(butt);
+        down.left_pressed = true;
+        down.left_down = true;
+        c.update(&down, &cx, &anywhere);
+        assert_eq!(c.drag, Drag::Elevation);
+        assert!(
+            (c.aim.elevation_deg - 40.0).abs() < 0.5,
+            "{}",
+            c.aim.elevation_deg
+        );
+        // Dragging on outside the view keeps setting it (to straight down, in front).
+        let [bx, by] = l.elevation_ball;
+        let mut hold = frame([bx + 30.0, by - 30.0]);
+        hold.left_down = true;
+        c.update(&hold, &cx, &anywhere);
+        assert_eq!(c.aim.elevation_deg, 90.0);
+        let mut up = frame([bx + 30.0, by - 30.0]);
+        up.left_released = true;
+        assert!(c.update(&up, &cx, &anywhere).is_empty());
+        assert_eq!(c.drag, Drag::None);
+        let mut f = frame([1.0, 1.0]);
+        f.pressed = vec![Key::Shoot];
+        let out = c.update(&f, &cx, &anywhere);
+        let [Intent::Shoot(strike)] = out[..] else {
+            panic!("{out:?}")
+        };
+        assert_eq!(strike.elevation_deg, 90.0);
     }
 
     #[test]

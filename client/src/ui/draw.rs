@@ -3,12 +3,13 @@
 
 use ::glam::{DQuat, DVec2};
 use breakshot_client::play::aim::Aim;
-use breakshot_client::view::aids::{AidToggles, Prediction};
+use breakshot_client::view::aids::{self, AidToggles, PathPoint, Prediction};
+use breakshot_client::view::flight::{flight, Flight};
 use breakshot_client::view::layout::{Layout, Rect, RAIL_WIDTH};
 use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::palette::{self, ball_look, Rgb};
 use breakshot_client::view::sphere::{self, ScreenAxes};
-use breakshot_shared::physics::{BallState, MotionState, Table, TableKind};
+use breakshot_shared::physics::{BallState, Table, TableKind};
 use macroquad::models::Vertex;
 use macroquad::prelude::*;
 
@@ -119,28 +120,32 @@ fn diamonds(layout: &Layout) {
     }
 }
 
-/// One ball at pixel `at` with radius `r` pixels, unturned.
+/// One ball at pixel `at` with radius `r` pixels, unturned, on the cloth.
 pub fn ball(id: &str, at: [f32; 2], r: f32) {
-    ball_turned(id, at, r, DQuat::IDENTITY);
+    ball_turned(id, at, r, DQuat::IDENTITY, flight(0.0, 1.0));
 }
 
-/// One ball turned by `turn` ([`Orientations`]): a soft shadow, the shaded sphere with its
-/// spots and stripe where the turn puts them, the numbers on the spots that face up, and a
-/// highlight.
-pub fn ball_turned(id: &str, at: [f32; 2], r: f32, turn: DQuat) {
+/// One ball turned by `turn` ([`Orientations`]) and at the height `air` says: a soft shadow
+/// on the cloth, the shaded sphere with its spots and stripe where the turn puts them, the
+/// numbers on the spots that face up, and a highlight. `r` is the radius on the cloth; a
+/// ball in flight is drawn bigger, its shadow further off.
+pub fn ball_turned(id: &str, at: [f32; 2], r: f32, turn: DQuat, air: Flight) {
     let look = ball_look(id);
     let (x, y) = (at[0], at[1]);
     // The shadow falls down-right, away from the light; three layers make its edge soft.
+    let (sx, sy) = (air.shadow[0] as f32 * r, air.shadow[1] as f32 * r);
+    let dark = air.shadow_strength as f32;
     for (grow, alpha) in [(1.25, 0.10), (1.1, 0.14), (0.95, 0.18)] {
         draw_poly(
-            x + 0.22 * r,
-            y + 0.28 * r,
+            x + sx,
+            y + sy,
             BALL_SIDES,
             r * grow,
             0.0,
-            Color::new(0.0, 0.0, 0.0, alpha),
+            Color::new(0.0, 0.0, 0.0, alpha * dark),
         );
     }
+    let r = r * air.scale as f32;
     let f = sphere::fan(&look, turn, SCREEN_AXES);
     let vertices = f
         .points
@@ -190,7 +195,8 @@ pub fn ball_turned(id: &str, at: [f32; 2], r: f32, turn: DQuat) {
     }
 }
 
-/// The balls still on the table, each turned as `turns` says.
+/// The balls still on the table, each turned as `turns` says; balls in flight are drawn
+/// after those on the cloth, so they pass over them.
 pub fn balls(
     layout: &Layout,
     ids: &[String],
@@ -200,11 +206,14 @@ pub fn balls(
     turns: &Orientations,
 ) {
     let r = layout.px(radius);
-    for (i, (id, s)) in ids.iter().zip(states).enumerate() {
-        if s.motion == MotionState::Pocketed || Some(i) == skip {
-            continue;
+    for in_air in [false, true] {
+        for (i, (id, s)) in ids.iter().zip(states).enumerate() {
+            if s.motion.is_gone() || Some(i) == skip || (s.lift > 0.0) != in_air {
+                continue;
+            }
+            let air = flight(s.lift, radius);
+            ball_turned(id, layout.to_screen(s.pos), r, turns.get(i), air);
         }
-        ball_turned(id, layout.to_screen(s.pos), r, turns.get(i));
     }
 }
 
@@ -220,22 +229,30 @@ pub fn tray(layout: &Layout, ids: &[String], pocketed: &[usize], radius: f64) {
 }
 
 /// Aim line, ghost ball and predicted paths, as toggled.
-pub fn aids(
-    layout: &Layout,
-    p: &Prediction,
-    toggles: AidToggles,
-    cue: DVec2,
-    radius: f64,
-    object_id: &str,
-) {
-    let line = |pts: &[DVec2], width: f32, c: Color| {
+pub fn aids(layout: &Layout, p: &Prediction, toggles: AidToggles, radius: f64, object_id: &str) {
+    // Stretches in the air (a jump) are dotted: every other piece of them is left out.
+    let line = |pts: &[PathPoint], width: f32, c: Color| {
+        let mut flying = 0usize;
         for w in pts.windows(2) {
-            let (a, b) = (layout.to_screen(w[0]), layout.to_screen(w[1]));
+            if w[0].lift > 0.0 || w[1].lift > 0.0 {
+                flying += 1;
+                if flying % 2 == 0 {
+                    continue;
+                }
+            }
+            let (a, b) = (layout.to_screen(w[0].pos), layout.to_screen(w[1].pos));
             draw_line(a[0], a[1], b[0], b[1], width, c);
+        }
+    };
+    let mark_landings = |pts: &[PathPoint], c: Color| {
+        for at in aids::landings(pts) {
+            let q = layout.to_screen(at);
+            draw_poly_lines(q[0], q[1], 16, layout.px(0.4 * radius), 0.0, 1.5, c);
         }
     };
     if toggles.paths {
         line(&p.cue_path, 1.5, Color::new(1.0, 1.0, 1.0, 0.5));
+        mark_landings(&p.cue_path, Color::new(1.0, 1.0, 1.0, 0.7));
         // The object ball's path in its own colour, on a pale halo so dark balls show too.
         line(&p.object_path, 4.0, Color::new(1.0, 1.0, 1.0, 0.35));
         line(
@@ -245,9 +262,8 @@ pub fn aids(
         );
     }
     if toggles.aim_line {
-        if let Some(end) = p.aim_end {
-            line(&[cue, end], 1.5, Color::new(1.0, 1.0, 1.0, 0.85));
-        }
+        line(&p.aim_path, 1.5, Color::new(1.0, 1.0, 1.0, 0.85));
+        mark_landings(&p.aim_path, Color::new(1.0, 1.0, 1.0, 0.85));
     }
     if toggles.ghost_ball {
         if let Some(g) = p.ghost {
@@ -277,22 +293,17 @@ pub fn segment(layout: &Layout, a: DVec2, b: DVec2, width: f32, c: Color) {
     draw_line(a[0], a[1], b[0], b[1], width, c);
 }
 
-/// The cue stick behind the cue ball, drawn back further the harder the shot.
+/// The cue stick behind the cue ball, drawn back further the harder the shot. Seen from
+/// above, an elevated cue is foreshortened: its length on the table shrinks with cos θ.
 pub fn cue_stick(layout: &Layout, cue: DVec2, aim: &Aim, radius: f64) {
     let dir = aim.dir();
-    let gap = radius * (1.3 + 8.0 * aim.power);
+    let slant = aim.elevation_deg.to_radians().cos().max(0.05);
+    let gap = radius * (1.3 + 8.0 * aim.power) * slant;
     let tip = cue - dir * gap;
-    let butt = tip - dir * 1.3;
+    let butt = tip - dir * (1.3 * slant);
     let (a, b) = (layout.to_screen(tip), layout.to_screen(butt));
     let w = layout.px(0.012).max(3.0);
-    draw_line(
-        a[0],
-        a[1],
-        b[0],
-        b[1],
-        w,
-        Color::from_rgba(214, 180, 120, 255),
-    );
+    draw_line(a[0], a[1], b[0], b[1], w, color(palette::CUE_WOOD));
     let ferrule = layout.to_screen(tip - dir * 0.02);
     draw_line(
         a[0],
@@ -300,7 +311,7 @@ pub fn cue_stick(layout: &Layout, cue: DVec2, aim: &Aim, radius: f64) {
         ferrule[0],
         ferrule[1],
         w,
-        Color::from_rgba(240, 240, 240, 255),
+        color(palette::CUE_FERRULE),
     );
 }
 
@@ -333,6 +344,8 @@ pub fn panel(layout: &Layout, aim: &Aim) {
         Color::from_rgba(30, 90, 200, 255),
     );
 
+    elevation_view(layout, aim.elevation_deg);
+
     let bar = layout.power_bar;
     draw_text(
         format!("Power {:.1} m/s", aim.speed()),
@@ -352,6 +365,48 @@ pub fn panel(layout: &Layout, aim: &Aim) {
         Color::new(0.3 + 0.7 * hot, 0.8 - 0.6 * hot, 0.2, 1.0),
     );
     draw_rectangle_lines(bar.x, bar.y, bar.w, bar.h, 1.0, LIGHTGRAY);
+}
+
+/// The side view: the cue ball on the cloth and the cue over it at its elevation.
+fn elevation_view(layout: &Layout, elevation_deg: f64) {
+    let v = layout.elevation_view;
+    label(
+        &format!("Elevation {elevation_deg:.0} deg (W/S)"),
+        v.x,
+        v.y - 6.0,
+        18.0,
+        LIGHTGRAY,
+    );
+    fill_rect(v, Color::new(0.0, 0.0, 0.0, 0.35));
+    let [bx, by] = layout.elevation_ball;
+    let r = layout.elevation_ball_radius;
+    let cloth = by + r;
+    draw_line(v.x, cloth, v.x + v.w, cloth, 2.0, color(palette::CLOTH));
+    draw_poly(bx, by, 40, r, 0.0, color(palette::CUE_BALL));
+    let (tip, butt) = layout.elevation_cue(elevation_deg);
+    let w = (0.22 * r).max(3.0);
+    draw_line(
+        tip[0],
+        tip[1],
+        butt[0],
+        butt[1],
+        w,
+        color(palette::CUE_WOOD),
+    );
+    // The white ferrule at the tip end.
+    let ferrule = [
+        tip[0] + 0.15 * (butt[0] - tip[0]),
+        tip[1] + 0.15 * (butt[1] - tip[1]),
+    ];
+    draw_line(
+        tip[0],
+        tip[1],
+        ferrule[0],
+        ferrule[1],
+        w,
+        color(palette::CUE_FERRULE),
+    );
+    draw_rectangle_lines(v.x, v.y, v.w, v.h, 1.0, LIGHTGRAY);
 }
 
 /// The shaded area where the cue ball may be put, and the ball being dragged.

@@ -380,7 +380,7 @@ impl GameScreen {
                 .first_hit
                 .and_then(|b| names.get(b))
                 .map_or("", |s| s.as_str());
-            draw::aids(&layout, pred, self.shown_aids(), cue, r, object);
+            draw::aids(&layout, pred, self.shown_aids(), r, object);
         }
         draw::balls(&layout, &names, &balls, r, dragging.map(|_| 0), &self.turns);
         let shooting = matches!(turn, Turn::Shoot { .. }) && dragging.is_none();
@@ -481,7 +481,7 @@ impl GameScreen {
             draw::label(&text, x, y, 30.0, YELLOW);
         }
         let footer = if self.flow.message.is_empty() {
-            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  A G P: aids  |  F3: debug  |  Esc: leave"
+            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: cue elevation  |  A G P: aids  |  F3: debug  |  Esc: leave"
         } else {
             self.flow.message.as_str()
         };

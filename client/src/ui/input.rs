@@ -49,6 +49,8 @@ pub fn read(dt: f64) -> InputFrame {
         right_key: is_key_down(KeyCode::Right),
         up_key: is_key_down(KeyCode::Up),
         down_key: is_key_down(KeyCode::Down),
+        raise_key: is_key_down(KeyCode::W) || is_key_down(KeyCode::PageUp),
+        lower_key: is_key_down(KeyCode::S) || is_key_down(KeyCode::PageDown),
         pressed: KEYS
             .iter()
             .filter(|(code, _)| is_key_pressed(*code))

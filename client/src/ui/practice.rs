@@ -153,7 +153,7 @@ impl PracticeScreen {
                     .first_hit
                     .and_then(|b| p.ids.get(b))
                     .map_or("", |s| s.as_str());
-                draw::aids(&layout, pred, self.toggles, cue, r, object);
+                draw::aids(&layout, pred, self.toggles, r, object);
             }
         }
         draw::balls(
@@ -202,7 +202,7 @@ impl PracticeScreen {
             20.0,
             WHITE,
         );
-        let hint = "A aim line  |  G ghost  |  P paths  |  H ball in hand  |  R reset  |  F3 debug  |  Esc menu";
+        let hint = "W/S elevation  |  A aim line  |  G ghost  |  P paths  |  H ball in hand  |  R reset  |  F3 debug  |  Esc menu";
         let dims = draw::text_width(hint, 16.0);
         draw::label(hint, layout.hud.w - dims - 10.0, y, 16.0, LIGHTGRAY);
         draw::label(
@@ -224,11 +224,12 @@ impl PracticeScreen {
             ),
             format!("shots {}", self.shots),
             format!(
-                "aim {:.3} deg, {:.2} m/s, tip ({:.2}, {:.2})",
+                "aim {:.3} deg, {:.2} m/s, tip ({:.2}, {:.2}), elevation {:.1} deg",
                 self.controls.aim.angle.to_degrees(),
                 self.controls.aim.speed(),
                 self.controls.aim.tip.x,
-                self.controls.aim.tip.y
+                self.controls.aim.tip.y,
+                self.controls.aim.elevation_deg
             ),
             format!("last hash {}", p.last_hash.map_or("-".into(), hash_hex)),
         ];

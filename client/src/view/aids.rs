@@ -1,8 +1,9 @@
 //! Aiming aids: the aim line, the ghost ball and the predicted paths of the cue ball and of
 //! the first ball it hits. They come from simulating the shot with the same engine the server
-//! uses, so what the aids show is what the shot will do.
+//! uses, so what the aids show is what the shot will do: the curve of a massé, the flight of
+//! a jump (each point of a path has its height) and where a jumping ball lands.
 
-use breakshot_shared::physics::{EventKind, Outcome, Shot, ShotError, Simulator};
+use breakshot_shared::physics::{EventKind, MotionState, Outcome, Shot, ShotError, Simulator};
 use breakshot_shared::protocol::AimAid;
 use glam::DVec2;
 
@@ -76,20 +77,31 @@ impl AidToggles {
     }
 }
 
+/// One point of a predicted path.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathPoint {
+    /// The ball's centre on the table (scene coordinates).
+    pub pos: DVec2,
+    /// Its height above the cloth's resting height (m): zero on the cloth.
+    pub lift: f64,
+}
+
 /// What a shot is predicted to do (scene coordinates).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Prediction {
-    /// Where the cue ball is when it first touches a ball or a cushion, or falls: the end of
-    /// the aim line.
+    /// Where the cue ball is when it first touches a ball, a cushion or the cloth (landing
+    /// from a jump), or falls or leaves the table: the end of the aim line.
     pub aim_end: Option<DVec2>,
+    /// The cue ball's way to `aim_end`: the aim line, curved for a massé.
+    pub aim_path: Vec<PathPoint>,
     /// The cue ball's centre when it first touches another ball.
     pub ghost: Option<DVec2>,
     /// The first ball the cue ball hits.
     pub first_hit: Option<usize>,
     /// Where the cue ball goes.
-    pub cue_path: Vec<DVec2>,
+    pub cue_path: Vec<PathPoint>,
     /// Where the first ball hit goes.
-    pub object_path: Vec<DVec2>,
+    pub object_path: Vec<PathPoint>,
 }
 
 /// The warning to show on the aim line when the shot would foul by its first contact: the
@@ -120,6 +132,7 @@ pub fn predict(sim: &mut Simulator, shot: &Shot, cue: usize) -> Result<Predictio
 pub fn prediction_of(outcome: &Outcome, cue: usize) -> Prediction {
     let cue16 = cue as u16;
     let mut aim_end = None;
+    let mut aim_time = None;
     let mut ghost = None;
     let mut first_hit = None;
     for e in &outcome.events {
@@ -132,13 +145,21 @@ pub fn prediction_of(outcome: &Outcome, cue: usize) -> Prediction {
                 }
                 true
             }
-            EventKind::BallCushion { ball, .. } | EventKind::BallPocket { ball, .. } => {
-                ball == cue16
-            }
+            EventKind::BallCushion { ball, .. }
+            | EventKind::BallPocket { ball, .. }
+            | EventKind::BallTable { ball }
+            | EventKind::BallOffTable { ball } => ball == cue16,
+            // A jumping ball coming down to settle on the cloth.
+            EventKind::Transition {
+                ball,
+                from: MotionState::Airborne,
+                ..
+            } => ball == cue16,
             _ => false,
         };
         if touches && aim_end.is_none() {
             aim_end = Some(outcome.state_at(cue, e.t).pos);
+            aim_time = Some(e.t);
         }
         if ghost.is_some() {
             break;
@@ -146,6 +167,9 @@ pub fn prediction_of(outcome: &Outcome, cue: usize) -> Prediction {
     }
     Prediction {
         aim_end,
+        aim_path: aim_time
+            .map(|t| path_until(outcome, cue, t))
+            .unwrap_or_default(),
         ghost,
         first_hit,
         cue_path: path(outcome, cue),
@@ -153,15 +177,20 @@ pub fn prediction_of(outcome: &Outcome, cue: usize) -> Prediction {
     }
 }
 
-/// The ball's centre from the strike until it stops or falls, sampled evenly in time and at
-/// each of its events, so corners of the path are exact.
-pub fn path(outcome: &Outcome, ball: usize) -> Vec<DVec2> {
+/// The ball's centre and height from the strike until it stops or falls.
+pub fn path(outcome: &Outcome, ball: usize) -> Vec<PathPoint> {
     let end = outcome
         .rest_time
         .get(ball)
         .copied()
         .flatten()
         .unwrap_or(outcome.duration);
+    path_until(outcome, ball, end)
+}
+
+/// The ball's centre and height from the strike to time `end`, sampled evenly in time and
+/// at each of its events, so corners of the path and the bounces of a jump are exact.
+fn path_until(outcome: &Outcome, ball: usize, end: f64) -> Vec<PathPoint> {
     let n = ((end * SAMPLES_PER_SECOND).ceil() as usize).clamp(1, MAX_POINTS);
     let mut times: Vec<f64> = (0..=n).map(|k| end * k as f64 / n as f64).collect();
     let b16 = ball as u16;
@@ -176,7 +205,22 @@ pub fn path(outcome: &Outcome, ball: usize) -> Vec<DVec2> {
     times.dedup();
     times
         .into_iter()
-        .map(|t| outcome.state_at(ball, t).pos)
+        .map(|t| {
+            let s = outcome.state_at(ball, t);
+            PathPoint {
+                pos: s.pos,
+                lift: s.lift,
+            }
+        })
+        .collect()
+}
+
+/// Where a path comes down on the cloth: its points on the cloth right after points in the
+/// air (the bounces and the landing of a jump).
+pub fn landings(path: &[PathPoint]) -> Vec<DVec2> {
+    path.windows(2)
+        .filter(|w| w[0].lift > 0.0 && w[1].lift <= 0.0)
+        .map(|w| w[1].pos)
         .collect()
 }
 
@@ -203,9 +247,20 @@ mod tests {
         );
         assert_eq!(p.aim_end, p.ghost);
         // The object ball goes on up the table from where it was.
-        let last = *p.object_path.last().expect("path");
+        let last = p.object_path.last().expect("path").pos;
         assert!(last.y > 1.4 + 0.1 && (last.x - 0.635).abs() < 1e-6);
-        assert_eq!(p.cue_path[0], DVec2::new(0.635, 0.6));
+        assert_eq!(p.cue_path[0].pos, DVec2::new(0.635, 0.6));
+        // The aim line runs straight from the cue ball to the ghost ball, on the cloth.
+        assert_eq!(
+            p.aim_path.first().map(|q| q.pos),
+            Some(DVec2::new(0.635, 0.6))
+        );
+        assert_eq!(p.aim_path.last().map(|q| q.pos), p.ghost);
+        assert!(p
+            .aim_path
+            .iter()
+            .all(|q| q.lift == 0.0 && (q.pos.x - 0.635).abs() < 1e-9));
+        assert!(landings(&p.cue_path).is_empty());
     }
 
     #[test]
@@ -215,6 +270,56 @@ mod tests {
         assert!(p.ghost.is_none() && p.first_hit.is_none() && p.object_path.is_empty());
         let end = p.aim_end.expect("reaches the cushion");
         assert!(end.y > 2.4 && (end.x - 0.635).abs() < 1e-6, "{end}");
+    }
+
+    #[test]
+    fn a_masse_shot_s_aim_line_curves() {
+        // examples/masse_9ft.json: a cue elevated 70 degrees, struck right of centre.
+        let balls = vec![BallState::at_rest(DVec2::new(0.6, 0.5))];
+        let strike = Strike::at_angle(2.5, 88.0, DVec2::new(0.35, 0.1)).elevated(70.0);
+        let s = Shot::new(TableKind::NineFoot, balls).struck(0, strike);
+        let p = predict(&mut Simulator::new(), &s, 0).expect("valid");
+        let start = p.cue_path[0].pos;
+        let end = p.cue_path.last().expect("path").pos;
+        // How far the path strays from the straight line between its ends.
+        let chord = (end - start).normalize();
+        let bow = p
+            .cue_path
+            .iter()
+            .map(|q| (q.pos - start).perp_dot(chord).abs())
+            .fold(0.0, f64::max);
+        assert!(bow > 0.02, "the path bows {bow} m off its chord");
+        // A level shot along the same line does not.
+        let level = Shot::new(s.table, s.balls.clone())
+            .struck(0, Strike::at_angle(2.5, 88.0, DVec2::new(0.0, 0.1)));
+        let q = predict(&mut Simulator::new(), &level, 0).expect("valid");
+        let (a, b) = (q.cue_path[0].pos, q.aim_end.expect("reaches a cushion"));
+        let straight = (b - a).normalize();
+        assert!(q
+            .aim_path
+            .iter()
+            .all(|pt| (pt.pos - a).perp_dot(straight).abs() < 1e-6));
+    }
+
+    #[test]
+    fn a_jump_shot_s_paths_carry_its_height_and_its_landings() {
+        // examples/jump_9ft.json: a cue elevated 45 degrees, a little below centre.
+        let balls = vec![
+            BallState::at_rest(DVec2::new(0.635, 0.4)),
+            BallState::at_rest(DVec2::new(0.635, 1.09)),
+        ];
+        let strike = Strike::at_angle(4.0, 90.0, DVec2::new(0.0, -0.1)).elevated(45.0);
+        let s = Shot::new(TableKind::NineFoot, balls).struck(0, strike);
+        let p = predict(&mut Simulator::new(), &s, 0).expect("valid");
+        let highest = p.cue_path.iter().map(|q| q.lift).fold(0.0, f64::max);
+        assert!(highest > 0.005, "the cue ball rises {highest} m");
+        let down = landings(&p.cue_path);
+        assert!(!down.is_empty(), "the cue ball never comes down");
+        // The aim line ends where the cue ball first comes down or touches something.
+        let end = p.aim_end.expect("an aim line");
+        assert_eq!(p.aim_path.last().map(|q| q.pos), Some(end));
+        assert!(p.aim_path.iter().any(|q| q.lift > 0.0));
+        assert!(end.y > 0.4 && end.y <= down[0].y + 1e-9, "{end} {down:?}");
     }
 
     #[test]

@@ -113,6 +113,12 @@ pub struct Layout {
     pub tip_center: [f32; 2],
     /// The radius of the cue-ball face (pixels).
     pub tip_radius: f32,
+    /// The side view of the cue over the cue ball, where the cue elevation is shown and set.
+    pub elevation_view: Rect,
+    /// The cue ball's centre in the side view (pixels).
+    pub elevation_ball: [f32; 2],
+    /// The cue ball's radius in the side view (pixels).
+    pub elevation_ball_radius: f32,
     /// The power bar (power grows upwards).
     pub power_bar: Rect,
 }
@@ -159,7 +165,18 @@ impl Layout {
             panel_x + 0.5 * panel_w,
             hud_h + 3.0 * margin + tip_radius + 16.0,
         ];
-        let bar_top = tip_center[1] + tip_radius + 3.0 * margin + 16.0;
+        let elevation_view = Rect::new(
+            panel_x,
+            tip_center[1] + tip_radius + 2.0 * margin + 16.0,
+            panel_w,
+            0.55 * panel_w,
+        );
+        let elevation_ball_radius = 0.15 * panel_w;
+        let elevation_ball = [
+            elevation_view.x + elevation_view.w - 1.6 * elevation_ball_radius,
+            elevation_view.y + elevation_view.h - elevation_ball_radius - 3.0,
+        ];
+        let bar_top = elevation_view.y + elevation_view.h + 3.0 * margin + 16.0;
         let bar_w = (0.25 * panel_w).max(18.0);
         let power_bar = Rect::new(
             panel_x + 0.5 * (panel_w - bar_w),
@@ -178,8 +195,42 @@ impl Layout {
             tray,
             tip_center,
             tip_radius,
+            elevation_view,
+            elevation_ball,
+            elevation_ball_radius,
             power_bar,
         }
+    }
+
+    /// The cue elevation (degrees) the side view shows for a mouse at `px`: the angle of the
+    /// line from the ball's centre back to the mouse above the cloth, 0 level to 90 straight
+    /// down (a mouse below the centre or in front of the ball is held at the nearest end).
+    pub fn elevation_at(&self, px: [f32; 2]) -> f64 {
+        let [bx, by] = self.elevation_ball;
+        let back = (bx - px[0]) as f64;
+        let up = (by - px[1]) as f64;
+        let degrees = up.atan2(back).to_degrees();
+        if degrees < -90.0 {
+            // Below and in front: nearer to straight down than to level.
+            90.0
+        } else {
+            degrees.clamp(0.0, 90.0)
+        }
+    }
+
+    /// The cue in the side view at `elevation_deg`: its tip, just off the ball, and its
+    /// butt at the view's edge (pixels).
+    pub fn elevation_cue(&self, elevation_deg: f64) -> ([f32; 2], [f32; 2]) {
+        let rad = elevation_deg.to_radians();
+        let back = [-(rad.cos() as f32), -(rad.sin() as f32)];
+        let [bx, by] = self.elevation_ball;
+        let r = self.elevation_ball_radius;
+        let along = |d: f32| [bx + back[0] * d, by + back[1] * d];
+        // As far back as the view goes: to its left edge or its top, whichever comes first.
+        let v = self.elevation_view;
+        let to_left = (bx - v.x - 2.0) / (-back[0]).max(1e-6);
+        let to_top = (by - v.y - 2.0) / (-back[1]).max(1e-6);
+        (along(1.15 * r), along(to_left.min(to_top)))
     }
 
     /// Scene coordinates (metres) to pixels.
@@ -267,15 +318,41 @@ mod tests {
         ] {
             let l = nine_foot(w, h);
             let screen = Rect::new(0.0, 0.0, w, h);
-            for r in [l.outer, l.tray, l.power_bar] {
+            for r in [l.outer, l.tray, l.power_bar, l.elevation_view] {
                 assert!(screen.contains([r.x, r.y]) && screen.contains([r.x + r.w, r.y + r.h]));
             }
             // Nothing overlaps the table: the panel is to its right, the tray below.
             assert!(l.power_bar.x > l.outer.x + l.outer.w);
             assert!(l.tip_center[0] - l.tip_radius > l.outer.x + l.outer.w);
+            assert!(l.elevation_view.x > l.outer.x + l.outer.w);
+            // The panel's widgets are stacked: tip face, side view, power bar.
+            assert!(l.elevation_view.y > l.tip_center[1] + l.tip_radius);
+            assert!(l.power_bar.y > l.elevation_view.y + l.elevation_view.h);
+            let [bx, by] = l.elevation_ball;
+            let br = l.elevation_ball_radius;
+            assert!(l.elevation_view.contains([bx - br, by - br]));
+            assert!(l.elevation_view.contains([bx + br, by + br]));
+            // The cue stays in the view at every elevation.
+            for deg in [0.0, 30.0, 60.0, 90.0] {
+                let (tip, butt) = l.elevation_cue(deg);
+                assert!(l.elevation_view.contains(tip) && l.elevation_view.contains(butt));
+            }
             assert!(l.tray.y > l.outer.y + l.outer.h);
             assert!(l.outer.y > l.hud.h);
         }
+    }
+
+    #[test]
+    fn the_side_view_reads_the_elevation_the_cue_is_drawn_at() {
+        let l = nine_foot(1280.0, 720.0);
+        for deg in [0.0, 15.0, 45.0, 80.0, 90.0] {
+            let (_, butt) = l.elevation_cue(deg);
+            assert!((l.elevation_at(butt) - deg).abs() < 0.5, "{deg}");
+        }
+        let [bx, by] = l.elevation_ball;
+        // Below the cloth behind the ball: level; in front of the ball: straight down.
+        assert_eq!(l.elevation_at([bx - 40.0, by + 10.0]), 0.0);
+        assert_eq!(l.elevation_at([bx + 40.0, by - 10.0]), 90.0);
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! What the window shows, computed without a window: where things go on the screen, the
-//! colours of the balls, the aiming aids and the animation of a shot.
+//! colours of the balls, the aiming aids, balls in flight and the animation of a shot.
 
 pub mod aids;
+pub mod flight;
 pub mod hud;
 pub mod layout;
 pub mod orientation;

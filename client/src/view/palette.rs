@@ -24,6 +24,10 @@ pub const BALL_WHITE: Rgb = [244, 240, 226];
 pub const CUE_MARKER: Rgb = [200, 40, 40];
 /// A ball whose id is not a pool ball number.
 pub const OTHER_BALL: Rgb = [200, 200, 200];
+/// The cue stick's wood.
+pub const CUE_WOOD: Rgb = [214, 180, 120];
+/// The cue's ferrule, at its tip.
+pub const CUE_FERRULE: Rgb = [240, 240, 240];
 
 const SOLIDS: [Rgb; 8] = [
     [250, 196, 20], // 1 yellow

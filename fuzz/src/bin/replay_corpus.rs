@@ -77,7 +77,7 @@ fn mutate(seed: &[u8], rng: &mut u64) -> Vec<u8> {
 fn write_seeds(corpus: &Path) -> Result<(), String> {
     use breakshot_shared::physics::Strike;
     use breakshot_shared::protocol::{
-        encode_frame, reference_hash, AimAid, ClientMessage, RoomCode,
+        encode_frame, reference_hash, AimAid, ClientMessage, RoomCode, PROTOCOL_VERSION,
     };
     use breakshot_shared::replay::GameRecord;
     use breakshot_shared::rules::{Command, EightBallRules, Game, Settings, Variant};
@@ -100,7 +100,7 @@ fn write_seeds(corpus: &Path) -> Result<(), String> {
         (
             "hello",
             ClientMessage::Hello {
-                protocol: 1,
+                protocol: PROTOCOL_VERSION,
                 physics: reference_hash().map_err(|e| e.to_string())?,
             },
         ),
@@ -129,6 +129,14 @@ fn write_seeds(corpus: &Path) -> Result<(), String> {
             },
         ),
         (
+            "masse",
+            ClientMessage::Shot {
+                turn: 0,
+                strike: strike.elevated(60.0),
+                call: None,
+            },
+        ),
+        (
             "place",
             ClientMessage::PlaceCueBall {
                 turn: 4,
@@ -146,7 +154,8 @@ fn write_seeds(corpus: &Path) -> Result<(), String> {
         let frame = encode_frame(msg).map_err(|e| e.to_string())?;
         write("frame", name, &frame)?;
     }
-    // Shot seeds: table, ball count, positions, then the strike's numbers, then a command.
+    // Shot seeds: table, ball count, positions, then the strike's numbers and elevation (a
+    // fraction of 90 degrees in two bytes), the game's seed, then a command.
     let mut shot = vec![3u8, 5];
     for (x, y) in [
         (0.5, 0.25),
@@ -161,14 +170,16 @@ fn write_seeds(corpus: &Path) -> Result<(), String> {
     for v in [6.0f64, 0.0, 1.0, 0.0, 0.2] {
         shot.extend_from_slice(&v.to_le_bytes());
     }
-    shot.extend_from_slice(&7u64.to_le_bytes());
     let payload = &encode_frame(&messages[3].1).map_err(|e| e.to_string())?[4..];
-    write("shot", "straight", &[&shot[..], payload].concat())?;
+    for (name, elevation) in [("straight", 0u16), ("jump", u16::MAX / 3)] {
+        let numbers = [&elevation.to_le_bytes()[..], &7u64.to_le_bytes()].concat();
+        write("shot", name, &[&shot[..], &numbers, payload].concat())?;
+    }
     write("shot", "empty", &[])?;
     // A short real game.
     let mut game = Game::new(variant, Settings::offline(), 42);
     let mut record = GameRecord::of(&game);
-    for speed in [9.0, 4.0, 2.0] {
+    for (speed, elevation_deg) in [(9.0, 0.0), (4.0, 30.0), (2.0, 70.0)] {
         let seat = game.to_move();
         let cue = game.balls()[0].pos;
         let target = game.balls()[1].pos;
@@ -176,8 +187,8 @@ fn write_seeds(corpus: &Path) -> Result<(), String> {
             strike: Strike {
                 speed,
                 dir: (target - cue).normalize(),
-                tip: DVec2::ZERO,
-                elevation_deg: 0.0,
+                tip: DVec2::new(0.2, 0.0),
+                elevation_deg,
             },
             call: None,
         };

@@ -164,6 +164,15 @@ fn the_handshake_refuses_other_versions_other_physics_and_silence() {
             "protocol version",
         ),
         (
+            4,
+            // The version before the cue elevation.
+            ClientMessage::Hello {
+                protocol: PROTOCOL_VERSION - 1,
+                physics: reference_hash().unwrap(),
+            },
+            "protocol version",
+        ),
+        (
             2,
             ClientMessage::Hello {
                 protocol: PROTOCOL_VERSION,

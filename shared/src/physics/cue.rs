@@ -53,8 +53,7 @@ pub struct Strike {
     pub tip: DVec2,
     /// Cue elevation θ in degrees: 0 level, 90 straight down. The tip offset is measured
     /// across the cue, so with an elevated cue "height" runs along the cue's tilted up.
-    /// Not yet carried by the wire protocol and records, whose strikes are level.
-    #[serde(skip)]
+    /// Carried by the wire protocol since version 2 and by records since format 2.
     pub elevation_deg: f64,
 }
 

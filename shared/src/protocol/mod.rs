@@ -20,8 +20,9 @@ pub use reference::{reference_hash, reference_shot};
 pub use validate::{is_valid_name, validate, InvalidMessage};
 
 /// Bumped whenever a message changes shape or meaning. A client with another version is
-/// refused in the handshake with a reason.
-pub const PROTOCOL_VERSION: u32 = 1;
+/// refused in the handshake with a reason. Version 2: a strike carries its cue elevation
+/// (`Strike::elevation_deg`).
+pub const PROTOCOL_VERSION: u32 = 2;
 
 /// The QUIC application protocol (ALPN) name.
 pub const ALPN: &[u8] = b"breakshot/1";

@@ -108,15 +108,31 @@ mod tests {
     use crate::physics::Strike;
 
     fn shot(speed: f64, dir: DVec2, tip: DVec2) -> ClientMessage {
-        ClientMessage::Shot {
+        elevated(0.0)(speed, dir, tip)
+    }
+
+    fn elevated(elevation_deg: f64) -> impl Fn(f64, DVec2, DVec2) -> ClientMessage {
+        move |speed, dir, tip| ClientMessage::Shot {
             turn: 1,
             strike: Strike {
                 speed,
                 dir,
                 tip,
-                elevation_deg: 0.0,
+                elevation_deg,
             },
             call: None,
+        }
+    }
+
+    #[test]
+    fn an_elevated_shot_keeps_its_elevation() {
+        for degrees in [0.0, 45.0, 90.0] {
+            let Ok(ClientMessage::Shot { strike, .. }) =
+                validate(elevated(degrees)(3.0, DVec2::Y, DVec2::ZERO))
+            else {
+                panic!("refused a cue elevated {degrees} degrees");
+            };
+            assert_eq!(strike.elevation_deg, degrees);
         }
     }
 
@@ -142,6 +158,10 @@ mod tests {
             shot(3.0, DVec2::new(f64::INFINITY, 0.0), z),
             shot(3.0, y, DVec2::new(0.6, 0.0)),
             shot(3.0, y, DVec2::new(f64::NAN, 0.0)),
+            elevated(f64::NAN)(3.0, y, z),
+            elevated(-0.5)(3.0, y, z),
+            elevated(90.5)(3.0, y, z),
+            elevated(f64::INFINITY)(3.0, y, z),
             ClientMessage::PlaceCueBall {
                 turn: 0,
                 pos: [f64::NAN, 0.5],
