@@ -7,6 +7,8 @@ use glam::DVec2;
 
 /// Cue speed at full power (m/s): a hard break. The engine accepts up to 15.
 pub const MAX_SHOT_SPEED: f64 = 12.0;
+/// Cue speed of a fresh set-up (m/s): a soft shot.
+pub const DEFAULT_SHOT_SPEED: f64 = 1.5;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 /// The shot being set up: direction, power, the tip's offset on the cue ball and the cue's
@@ -14,7 +16,8 @@ pub const MAX_SHOT_SPEED: f64 = 12.0;
 pub struct Aim {
     /// Direction in the scene plane, radians from +x.
     pub angle: f64,
-    /// 0 to 1; the cue speed grows with its square so soft shots are easy to judge.
+    /// 0 to 1: the cue speed, as a share of [`MAX_SHOT_SPEED`] (the bar, the keys and the
+    /// pull-back all move it in proportion).
     pub power: f64,
     /// Tip offset [side, height] in units of R, within the miscue limit.
     pub tip: DVec2,
@@ -26,7 +29,7 @@ impl Default for Aim {
     fn default() -> Self {
         Aim {
             angle: std::f64::consts::FRAC_PI_2,
-            power: 0.35,
+            power: DEFAULT_SHOT_SPEED / MAX_SHOT_SPEED,
             tip: DVec2::ZERO,
             elevation_deg: 0.0,
         }
@@ -41,7 +44,7 @@ impl Aim {
 
     /// Cue stick speed for the current power (m/s).
     pub fn speed(&self) -> f64 {
-        MAX_SHOT_SPEED * self.power * self.power
+        MAX_SHOT_SPEED * self.power
     }
 
     /// Sets the power, clamped to 0..=1.
@@ -99,7 +102,7 @@ impl Aim {
     pub fn from_strike(s: &Strike) -> Aim {
         let mut aim = Aim::default();
         aim.point_along(s.dir);
-        aim.set_power((s.speed.max(0.0) / MAX_SHOT_SPEED).sqrt());
+        aim.set_power(s.speed.max(0.0) / MAX_SHOT_SPEED);
         aim.set_tip(s.tip);
         aim.set_elevation(s.elevation_deg);
         aim

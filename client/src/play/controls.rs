@@ -5,7 +5,7 @@
 use breakshot_shared::physics::Strike;
 use glam::DVec2;
 
-use super::aim::Aim;
+use super::aim::{Aim, MAX_SHOT_SPEED};
 use crate::view::aids::Aid;
 use crate::view::layout::Layout;
 
@@ -13,8 +13,11 @@ use crate::view::layout::Layout;
 pub const FINE_FACTOR: f64 = 0.1;
 /// Arrow-key aim rate (radians per second), and with Shift.
 pub const KEY_AIM_RATE: f64 = 0.35;
-/// Arrow-key power rate (full scale per second).
+/// Arrow-key power rate while held (full scale per second).
 pub const KEY_POWER_RATE: f64 = 0.5;
+/// Cue speed one press of Up or Down adds or takes (m/s; a tenth with Shift): soft to a
+/// break in about ten presses.
+pub const KEY_SPEED_STEP: f64 = 1.0;
 /// Cue elevation rate while its key is held (degrees per second; a tenth with Shift).
 pub const KEY_ELEVATION_RATE: f64 = 30.0;
 /// Power change per mouse-wheel notch.
@@ -59,6 +62,10 @@ pub enum Key {
     Erase,
     /// Send what was typed (Enter).
     Send,
+    /// Power up one step (Up pressed).
+    PowerUp,
+    /// Power down one step (Down pressed).
+    PowerDown,
 }
 
 /// One frame of input, read from the devices by the window.
@@ -207,7 +214,9 @@ impl Controls {
                 | Key::Concede
                 | Key::Chat
                 | Key::Erase
-                | Key::Send => {}
+                | Key::Send
+                | Key::PowerUp
+                | Key::PowerDown => {}
             }
         }
         if ctx.stage == Stage::Watching {
@@ -234,13 +243,23 @@ impl Controls {
         let turn = (input.right_key as i32 - input.left_key as i32) as f64;
         self.aim.rotate(turn * rate * dt);
         let push = (input.up_key as i32 - input.down_key as i32) as f64;
-        let mut power = self.aim.power + push * KEY_POWER_RATE * dt;
+        let fine = if input.shift { FINE_FACTOR } else { 1.0 };
+        let steps = input
+            .pressed
+            .iter()
+            .map(|k| match k {
+                Key::PowerUp => 1.0,
+                Key::PowerDown => -1.0,
+                _ => 0.0,
+            })
+            .sum::<f64>();
+        let step = steps * KEY_SPEED_STEP * fine / MAX_SHOT_SPEED;
+        let mut power = self.aim.power + step + push * KEY_POWER_RATE * dt;
         if input.wheel.is_finite() {
             power += input.wheel as f64 * WHEEL_POWER_STEP;
         }
         self.aim.set_power(power);
         let lift = (input.raise_key as i32 - input.lower_key as i32) as f64;
-        let fine = if input.shift { FINE_FACTOR } else { 1.0 };
         self.aim
             .set_elevation(self.aim.elevation_deg + lift * KEY_ELEVATION_RATE * fine * dt);
     }
@@ -270,7 +289,8 @@ impl Controls {
             };
         }
         match self.drag {
-            Drag::Tip if input.left_down => {
+            // A click (pressed and released within one frame) counts as much as a drag.
+            Drag::Tip if input.left_down || input.left_pressed => {
                 let d = [
                     input.mouse[0] - layout.tip_center[0],
                     input.mouse[1] - layout.tip_center[1],
@@ -280,10 +300,10 @@ impl Controls {
                 self.aim
                     .set_tip(DVec2::new(d[0] as f64 / r, -(d[1] as f64) / r));
             }
-            Drag::Elevation if input.left_down => {
+            Drag::Elevation if input.left_down || input.left_pressed => {
                 self.aim.set_elevation(layout.elevation_at(input.mouse));
             }
-            Drag::Power if input.left_down => {
+            Drag::Power if input.left_down || input.left_pressed => {
                 let bar = layout.power_bar;
                 let frac = (bar.y + bar.h - input.mouse[1]) / bar.h;
                 self.aim.set_power(frac as f64);
@@ -524,6 +544,41 @@ mod tests {
         assert!(c
             .update(&f, &ctx(&l, Stage::Watching), &anywhere)
             .is_empty());
+    }
+
+    #[test]
+    fn a_press_of_up_or_down_steps_the_speed_and_soft_to_break_takes_ten() {
+        let l = layout();
+        let mut c = Controls::new(Aim::default());
+        assert_eq!(c.aim.speed(), 1.5);
+        let mut f = frame([1.0, 1.0]);
+        f.pressed = vec![Key::PowerUp];
+        f.up_key = true;
+        f.dt = 0.0;
+        for _ in 0..10 {
+            c.update(&f, &ctx(&l, Stage::Aiming), &anywhere);
+        }
+        assert!((c.aim.speed() - 11.5).abs() < 1e-9, "{}", c.aim.speed());
+        f.pressed = vec![Key::PowerDown];
+        f.up_key = false;
+        f.shift = true;
+        c.update(&f, &ctx(&l, Stage::Aiming), &anywhere);
+        assert!((c.aim.speed() - 11.4).abs() < 1e-9, "{}", c.aim.speed());
+    }
+
+    #[test]
+    fn a_click_on_the_power_bar_sets_the_power_even_if_released_at_once() {
+        let l = layout();
+        let mut c = Controls::new(Aim::default());
+        let bar = l.power_bar;
+        let mut f = frame([bar.x + 0.5 * bar.w, bar.y + 0.5 * bar.h]);
+        f.left_pressed = true;
+        f.left_released = true;
+        c.update(&f, &ctx(&l, Stage::Aiming), &anywhere);
+        assert!((c.aim.speed() - 0.5 * MAX_SHOT_SPEED).abs() < 0.05);
+        assert_eq!(c.drag, Drag::Power);
+        c.update(&frame(f.mouse), &ctx(&l, Stage::Aiming), &anywhere);
+        assert_eq!(c.drag, Drag::None);
     }
 
     #[test]

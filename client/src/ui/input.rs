@@ -7,7 +7,7 @@ use macroquad::prelude::{
 
 use breakshot_client::play::controls::{InputFrame, Key};
 
-const KEYS: [(KeyCode, Key); 20] = [
+const KEYS: [(KeyCode, Key); 22] = [
     (KeyCode::Space, Key::Shoot),
     (KeyCode::A, Key::AimLine),
     (KeyCode::G, Key::GhostBall),
@@ -28,6 +28,8 @@ const KEYS: [(KeyCode, Key); 20] = [
     (KeyCode::T, Key::Chat),
     (KeyCode::Backspace, Key::Erase),
     (KeyCode::Enter, Key::Send),
+    (KeyCode::Up, Key::PowerUp),
+    (KeyCode::Down, Key::PowerDown),
 ];
 
 pub fn read(dt: f64) -> InputFrame {
