@@ -2,6 +2,7 @@
 //! commands, and the offline practice table.
 
 pub mod aim;
+pub mod computer;
 pub mod controls;
 pub mod game_flow;
 pub mod leave;
