@@ -13,6 +13,7 @@ use anyhow::{bail, Context as _};
 use breakshot_client::net::host::{default_data_dir, DEFAULT_PORT};
 use breakshot_client::net::{fetch_record_blocking, HostOptions, NetLink, SeatStore};
 use breakshot_client::play::replay::ReplayViewer;
+use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::{AimAid, Invite, RoomCode};
 use breakshot_shared::rules::{EightBallRules, Variant};
 use breakshot_shared::scene::Scene;
@@ -77,7 +78,20 @@ enum Command {
         #[arg(long, default_value = "wpa", value_parser = ["wpa", "bar"])]
         rules: String,
     },
-    /// Join a game with the invite the host sent.
+    /// Play against the computer at this computer, offline.
+    VsComputer {
+        /// How strong the computer plays: 1 (beginner) to 5 (strong).
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(1..=5))]
+        level: u8,
+        #[arg(long, default_value = "8ball", value_parser = ["8ball", "9ball"])]
+        mode: String,
+        #[arg(long, default_value = "wpa", value_parser = ["wpa", "bar"])]
+        rules: String,
+        /// Who breaks the first game (then the break alternates).
+        #[arg(long = "break", value_name = "WHO", default_value = "me", value_parser = ["me", "computer"])]
+        breaker: String,
+    },
+    /// Join a game with the invite the host sent (a full room is watched).
     Join { invite: String },
     /// Play offline with no server, from a rack or from a scene file.
     Practice { scene: Option<PathBuf> },
@@ -143,6 +157,16 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             ui::Start::Practice(Some(Box::new(scene)))
         }
         Some(Command::Local { mode, rules }) => ui::Start::Local(variant(mode, rules)),
+        Some(Command::VsComputer {
+            level,
+            mode,
+            rules,
+            breaker,
+        }) => ui::Start::VsComputer {
+            variant: variant(mode, rules),
+            level: Level::new(*level),
+            computer_breaks: breaker == "computer",
+        },
         Some(Command::Host {
             mode,
             rules,

@@ -106,9 +106,10 @@ impl GameScreen {
             .filter(|_| self.flow.connection == Connection::WaitingForOpponent)
     }
 
-    /// What the player here may do; nothing until the opponent is seated.
+    /// What the player here may do; nothing until the opponent is seated, nothing for a
+    /// spectator.
     fn turn(&self) -> Turn {
-        if self.flow.connection == Connection::WaitingForOpponent {
+        if self.flow.connection == Connection::WaitingForOpponent || self.link.watching() {
             Turn::Wait
         } else {
             self.flow.turn(self.link.seat())
@@ -138,6 +139,7 @@ impl GameScreen {
             self.flow.skip();
         }
         self.flow.tick(input.dt);
+        self.link.update(&self.flow, input.dt);
         let Some(game) = self.flow.game().cloned() else {
             return if input.pressed.contains(&Key::Back) {
                 Step::Go(Screen::Menu(menu::MenuScreen::new()))
@@ -225,6 +227,7 @@ impl GameScreen {
                 // Leaving an online game in play keeps the seat only for a while: ask first.
                 (Intent::Back, _)
                     if self.link.seat().is_some()
+                        && self.flow.connection != Connection::Offline
                         && !matches!(game.phase(), Phase::Over { .. }) =>
                 {
                     self.leaving = true;
@@ -405,7 +408,12 @@ impl GameScreen {
             );
             draw::label(&text, x, y, 30.0, YELLOW);
         }
-        let footer = if self.flow.message.is_empty() {
+        if self.link.thinking() {
+            draw_thinking(&layout);
+        }
+        let footer = if self.link.watching() && self.flow.message.is_empty() {
+            "Watching: both seats are taken  |  A G P: aids  |  Esc: leave"
+        } else if self.flow.message.is_empty() {
             "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  A G P: aids  |  F3: debug  |  Esc: leave"
         } else {
             self.flow.message.as_str()
@@ -484,4 +492,23 @@ impl GameScreen {
         }
         draw::debug_lines(layout, &lines, 360.0);
     }
+}
+
+/// "Computer is thinking", in a dark box over the middle of the cloth, its dots counting
+/// the time.
+fn draw_thinking(layout: &Layout) {
+    let dots = ".".repeat(1 + (get_time() * 3.0) as usize % 3);
+    let text = format!("Computer is thinking{dots}");
+    let size = 30.0;
+    let w = draw::text_width("Computer is thinking...", size);
+    let c = layout.cloth;
+    let (x, y) = (c.x + 0.5 * (c.w - w), c.y + 0.5 * c.h);
+    draw_rectangle(
+        x - 16.0,
+        y - 34.0,
+        w + 32.0,
+        48.0,
+        Color::new(0.0, 0.0, 0.0, 0.75),
+    );
+    draw::label(&text, x, y, size, WHITE);
 }
