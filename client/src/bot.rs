@@ -1,11 +1,11 @@
 //! A headless player for load tests and integration tests: plays whole games against
-//! another bot through a server, aiming at legal balls (ghost-ball aim at a pocket, with
-//! some randomness), checks every shot against its local prediction, and rejoins with its
-//! seat token when the server goes away.
+//! another bot through a server, choosing its moves with ghost-ball aim at a pocket (with
+//! some randomness) or as the computer player at a level, checks every shot against its
+//! local prediction, and rejoins with its seat token when the server goes away.
 
 use std::time::{Duration, Instant};
 
-use breakshot_shared::ai::ranked_pots;
+use breakshot_shared::ai::{self, ranked_pots, Level};
 use breakshot_shared::physics::{Strike, Table};
 use breakshot_shared::protocol::{
     AimAid, ClientMessage, ErrorCode, Invite, Role, RoomCode, ServerMessage,
@@ -17,6 +17,7 @@ use breakshot_shared::rules::{
 use glam::DVec2;
 use tokio::sync::oneshot;
 
+use crate::net::link::command_message;
 use crate::net::{Client, ClientEvent, NetError, Reconnect};
 use crate::play::replica::Replica;
 
@@ -45,6 +46,9 @@ pub struct BotConfig {
     /// Pause before each move, as a player would think (on average; each pause is drawn
     /// between half and one and a half times this).
     pub think: Duration,
+    /// How the bot that opens each room and the one that joins it choose their moves: None
+    /// for ghost-ball aim, else the computer player at that level.
+    pub levels: [Option<Level>; 2],
 }
 
 impl BotConfig {
@@ -58,6 +62,7 @@ impl BotConfig {
             settings: Settings::offline(),
             retry_for: RETRY_FOR,
             think: Duration::ZERO,
+            levels: [None, None],
         }
     }
 }
@@ -164,8 +169,8 @@ pub async fn run(config: &BotConfig) -> Report {
 
 async fn play_game(config: &BotConfig, g: u64) -> (GameSummary, PlayerResult, PlayerResult) {
     let (room_tx, room_rx) = oneshot::channel();
-    let host = Bot::new(config, format!("bot{g}a"), config.seed ^ (g * 2 + 1));
-    let guest = Bot::new(config, format!("bot{g}b"), config.seed ^ (g * 2 + 2));
+    let host = Bot::new(config, 0, format!("bot{g}a"), config.seed ^ (g * 2 + 1));
+    let guest = Bot::new(config, 1, format!("bot{g}b"), config.seed ^ (g * 2 + 2));
     let create = ClientMessage::CreateRoom {
         variant: config.variant,
         mode: config.settings,
@@ -189,13 +194,17 @@ async fn play_game(config: &BotConfig, g: u64) -> (GameSummary, PlayerResult, Pl
     (summary, host, guest)
 }
 
-enum Start {
+/// How a bot enters its room.
+pub(crate) enum Start {
+    /// Opens it, and tells the other bot its code.
     Create(ClientMessage, oneshot::Sender<RoomCode>),
+    /// Joins the room whose code arrives.
     Join(oneshot::Receiver<RoomCode>),
 }
 
+/// What one bot saw and did.
 #[derive(Debug, Default)]
-struct PlayerResult {
+pub(crate) struct PlayerResult {
     room: Option<RoomCode>,
     over: Option<String>,
     shots: u32,
@@ -204,7 +213,7 @@ struct PlayerResult {
     rejoins: u32,
     round_trips_ms: Vec<f64>,
     resolved: Vec<(TurnId, u64)>,
-    error: Option<String>,
+    pub(crate) error: Option<String>,
 }
 
 impl PlayerResult {
@@ -216,7 +225,8 @@ impl PlayerResult {
     }
 }
 
-struct Bot {
+/// One player's connection and its copy of the game.
+pub(crate) struct Bot {
     server: Invite,
     name: String,
     chooser: Chooser,
@@ -230,30 +240,64 @@ struct Bot {
     acted: Option<TurnId>,
     sent_shot: Option<(TurnId, Instant)>,
     refusals: u32,
+    /// Shots taken in the game being played.
+    game_shots: u32,
+    /// Plays on after a game ends: asks for a rematch and plays it (a seat kept in a room
+    /// rather than one game).
+    stays: bool,
 }
 
 impl Bot {
-    fn new(config: &BotConfig, name: String, seed: u64) -> Bot {
+    /// The bot `k` of a game (0 opens the room, 1 joins it) as `config` says.
+    fn new(config: &BotConfig, k: usize, name: String, seed: u64) -> Bot {
+        let chooser = match config.levels[k] {
+            Some(level) => Chooser::computer(level, seed),
+            None => Chooser::new(seed),
+        };
+        let mut bot = Bot::seated(config.server.clone(), name, chooser, config.retry_for);
+        bot.think = config.think;
+        bot.pause_rng = Rng::new(!seed);
+        bot
+    }
+
+    /// A bot that plays in `server`'s rooms with `chooser`, without pauses, keeping its seat
+    /// through drops for `retry_for`.
+    pub(crate) fn seated(
+        server: Invite,
+        name: String,
+        chooser: Chooser,
+        retry_for: Duration,
+    ) -> Bot {
         Bot {
-            server: config.server.clone(),
+            server,
             name,
-            chooser: Chooser::new(seed),
+            chooser,
             policy: Reconnect {
-                rejoin_for: config.retry_for,
+                rejoin_for: retry_for,
                 ..Reconnect::default()
             },
-            think: config.think,
-            pause_rng: Rng::new(!seed),
+            think: Duration::ZERO,
+            pause_rng: Rng::new(0),
             replica: Replica::default(),
             seat: None,
             result: PlayerResult::default(),
             acted: None,
             sent_shot: None,
             refusals: 0,
+            game_shots: 0,
+            stays: false,
         }
     }
 
-    async fn play(mut self, start: Start) -> PlayerResult {
+    /// The bot plays on after each game: asks for a rematch and plays it, until dropped.
+    pub(crate) fn staying(mut self) -> Bot {
+        self.stays = true;
+        self
+    }
+
+    /// Enters the room as `start` says and plays until the game ends (or, for a bot that
+    /// stays, until the connection is lost for good).
+    pub(crate) async fn play(mut self, start: Start) -> PlayerResult {
         let (first, mut room_tx) = match start {
             Start::Create(msg, tx) => (msg, Some(tx)),
             Start::Join(rx) => match rx.await {
@@ -315,13 +359,22 @@ impl Bot {
                     if let Some(tx) = room_tx.take() {
                         let _ = tx.send(snapshot.room.clone());
                     }
+                    self.game_shots = 0;
                     if let Phase::Over { reason, .. } = snapshot.game.phase() {
                         self.result.over = Some(reason.clone());
-                        return Ok(());
+                        if !self.stays {
+                            return Ok(());
+                        }
+                        client.send(&ClientMessage::Rematch).await?;
                     }
                 }
                 ServerMessage::ShotAccepted { seat, .. } if Some(*seat) == self.seat => {
                     self.result.shots += 1;
+                    self.game_shots += 1;
+                }
+                ServerMessage::GameStarted { .. } => {
+                    self.acted = None;
+                    self.game_shots = 0;
                 }
                 ServerMessage::ShotResolved { turn, hash, .. } => {
                     self.result.resolved.push((*turn, *hash));
@@ -333,6 +386,10 @@ impl Bot {
                             self.sent_shot = None;
                         }
                     }
+                }
+                ServerMessage::GameOver { reason, .. } if self.stays => {
+                    self.result.over = Some(reason.clone());
+                    client.send(&ClientMessage::Rematch).await?;
                 }
                 ServerMessage::GameOver { reason, .. }
                 | ServerMessage::GameFinished { reason, .. } => {
@@ -362,7 +419,7 @@ impl Bot {
                 }
                 _ => {}
             }
-            if let Some(cmd) = self.next_move() {
+            if let Some(cmd) = self.next_move().await {
                 if !self.think.is_zero() {
                     // Players do not all shoot in step: think between half and one and a
                     // half times the configured time.
@@ -380,8 +437,10 @@ impl Bot {
         }
     }
 
-    /// What to send now, if it is this bot's move and it has not answered it yet.
-    fn next_move(&mut self) -> Option<ClientMessage> {
+    /// What to send now, if it is this bot's move and it has not answered it yet. The
+    /// computer player thinks on the runtime's blocking threads: a decision can take a
+    /// second, and the connection must be kept alive meanwhile.
+    async fn next_move(&mut self) -> Option<ClientMessage> {
         if !self.seat.is_some_and(|s| self.replica.waits_for(s)) {
             return None;
         }
@@ -391,29 +450,66 @@ impl Bot {
             return None;
         }
         self.acted = Some(turn);
-        if self.result.shots >= MAX_SHOTS {
+        if self.game_shots >= MAX_SHOTS {
             return Some(ClientMessage::Concede);
         }
-        self.chooser.choose(game)
+        if self.chooser.level.is_none() {
+            return self.chooser.choose(game);
+        }
+        let (game, mut chooser) = (game.clone(), self.chooser.clone());
+        let thought = tokio::task::spawn_blocking(move || (chooser.choose(&game), chooser)).await;
+        match thought {
+            Ok((msg, chooser)) => {
+                self.chooser = chooser;
+                msg
+            }
+            Err(e) => {
+                tracing::error!(bot = %self.name, error = %e, "the computer player failed");
+                Some(ClientMessage::Concede)
+            }
+        }
     }
 }
 
 /// Picks a move for whoever is to move: a decision, a cue-ball placement or a shot.
+#[derive(Clone, Debug)]
 pub struct Chooser {
     rng: Rng,
+    /// None: ghost-ball aim; else the computer player at this level.
+    level: Option<Level>,
 }
 
 impl Chooser {
-    /// A chooser whose randomness starts from `seed`.
+    /// A chooser aiming ghost-ball pots, whose randomness starts from `seed`.
     pub fn new(seed: u64) -> Chooser {
         Chooser {
             rng: Rng::new(seed),
+            level: None,
         }
     }
 
-    /// The move for the seat to move, `None` if the game is over.
+    /// A chooser that plays as the computer player at `level` (`shared::ai`), with
+    /// decisions seeded from `seed`.
+    pub fn computer(level: Level, seed: u64) -> Chooser {
+        Chooser {
+            rng: Rng::new(seed),
+            level: Some(level),
+        }
+    }
+
+    /// The computer player's level, None for ghost-ball aim.
+    pub fn level(&self) -> Option<Level> {
+        self.level
+    }
+
+    /// The move for the seat to move, `None` if the game is over. The computer player may
+    /// think for up to a second.
     pub fn choose(&mut self, game: &Game) -> Option<ClientMessage> {
         let turn = game.turn();
+        if let Some(level) = self.level {
+            let command = ai::decide(game, level, self.rng.0.next_u64())?;
+            return command_message(turn, command);
+        }
         let msg = match game.phase() {
             Phase::Deciding { options } => {
                 let choice = if options.contains(&Choice::AcceptTable) {
@@ -520,6 +616,7 @@ fn rotate(v: DVec2, angle: f64) -> DVec2 {
 }
 
 /// Aim noise and pauses, from the rules' SplitMix64 generator.
+#[derive(Clone, Debug)]
 struct Rng(SplitMix64);
 
 impl Rng {

@@ -70,6 +70,13 @@ enum Command {
         /// default a restarted host goes back to it: same room, same invite).
         #[arg(long)]
         new: bool,
+        /// Play against the computer: it takes the other seat, and a friend who opens the
+        /// invite watches (always a new room).
+        #[arg(long)]
+        computer: bool,
+        /// With --computer: how strong it plays, 1 (beginner) to 5 (strong).
+        #[arg(long, default_value_t = 3, requires = "computer", value_parser = clap::value_parser!(u8).range(1..=5))]
+        level: u8,
     },
     /// Two players taking turns at this computer.
     Local {
@@ -174,6 +181,8 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             address,
             aids,
             new,
+            computer,
+            level,
         }) => {
             let options = HostOptions {
                 bind: *bind,
@@ -181,6 +190,7 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
                 aim_aid: aim_aid(aids),
                 address: address.clone(),
                 resume: !new,
+                computer: computer.then(|| Level::new(*level)),
                 ..HostOptions::new(data_dir(cli)?)
             };
             host(&options)?
@@ -286,8 +296,16 @@ fn announce(host: &breakshot_client::net::Host) {
         );
     }
     println!("{}", host.invite());
+    let whom = match host.computer() {
+        Some(level) => format!(
+            "the computer (level {}) plays the other seat; send the invite above to a friend \
+             to watch",
+            level.number()
+        ),
+        None => "send the invite above to the other player".into(),
+    };
     eprintln!(
-        "breakshot: serving on UDP {} (data in {}); send the invite above to the other player",
+        "breakshot: serving on UDP {} (data in {}); {whom}",
         host.server().local_addr(),
         host.data().display()
     );

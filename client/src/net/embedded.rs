@@ -17,6 +17,7 @@ use super::host::{
     host_text, interface_addresses, invite_host, lan_address, loopback_for, names_wildcard,
     HostError, HostOptions,
 };
+use super::computer::SeatedComputer;
 use super::link::NetLink;
 use super::seats::SeatStore;
 use super::session::Session;
@@ -136,7 +137,10 @@ pub struct Host {
     invite: Invite,
     resumed: bool,
     data: PathBuf,
-    /// Declared after the link so the session closes before the server stops.
+    /// The computer player in the other seat, when it plays it.
+    computer: Option<SeatedComputer>,
+    /// Declared after the link and the computer so their sessions close before the server
+    /// stops.
     server: EmbeddedServer,
 }
 
@@ -161,8 +165,8 @@ impl Host {
             addressed.host = address;
         }
         let seats = SeatStore::new(&options.data);
-        let mut resuming = options
-            .resume
+        // The computer's seat is not kept when the host closes: its game cannot go on.
+        let mut resuming = (options.resume && options.computer.is_none())
             .then(|| seats.on_server(&addressed.fingerprint))
             .flatten();
         let create = ClientMessage::CreateRoom {
@@ -177,7 +181,9 @@ impl Host {
             None => create.clone(),
         });
         let mut link = NetLink::new(session);
-        link.remember(seats.clone(), addressed.clone());
+        if options.computer.is_none() {
+            link.remember(seats.clone(), addressed.clone());
+        }
         let mut pending = VecDeque::new();
         let since = Instant::now();
         let room = loop {
@@ -205,12 +211,22 @@ impl Host {
             }
             std::thread::sleep(Duration::from_millis(5));
         };
+        let computer = match options.computer {
+            Some(level) => {
+                // Each room's computer decides differently, the same way every time.
+                let seed = room.as_str().bytes().fold(0u64, |h, b| (h << 8 | h >> 56) ^ u64::from(b));
+                let invite = server.loopback_invite().with_room(room.clone());
+                Some(SeatedComputer::join(invite, level, seed)?)
+            }
+            None => None,
+        };
         Ok(Host {
             link,
             pending,
             invite: addressed.with_room(room),
             resumed: resuming.is_some(),
             data: options.data.clone(),
+            computer,
             server,
         })
     }
@@ -238,6 +254,11 @@ impl Host {
     /// The embedded server.
     pub fn server(&self) -> &EmbeddedServer {
         &self.server
+    }
+
+    /// The computer player's level, when it plays the other seat.
+    pub fn computer(&self) -> Option<breakshot_shared::ai::Level> {
+        self.computer.as_ref().map(|c| c.level())
     }
 
     /// The link this computer plays through.

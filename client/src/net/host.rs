@@ -6,6 +6,7 @@
 use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr};
 use std::path::PathBuf;
 
+use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::{AimAid, Invite};
 use breakshot_shared::rules::{EightBallRules, Settings, Variant};
 use thiserror::Error;
@@ -68,6 +69,9 @@ pub struct HostOptions {
     /// Go back to this computer's unfinished game on this server, if there is one, rather
     /// than open a new room.
     pub resume: bool,
+    /// The computer plays the other seat at this level (a friend with the invite watches).
+    /// A game against the computer is not resumed: it always opens a new room.
+    pub computer: Option<Level>,
 }
 
 impl HostOptions {
@@ -82,6 +86,7 @@ impl HostOptions {
             aim_aid: AimAid::Full,
             address: None,
             resume: true,
+            computer: None,
         }
     }
 }

@@ -411,15 +411,16 @@ impl GameScreen {
         if self.link.thinking() {
             draw_thinking(&layout);
         }
-        let footer = if self.link.watching() && self.flow.message.is_empty() {
-            "Watching: both seats are taken  |  A G P: aids  |  Esc: leave"
-        } else if self.flow.message.is_empty() {
-            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  A G P: aids  |  F3: debug  |  Esc: leave"
-        } else {
-            self.flow.message.as_str()
+        const KEYS: &str = "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  A G P: aids  |  F3: debug  |  Esc: leave";
+        let message = self.flow.message.as_str();
+        let footer = match (self.link.watching(), message.is_empty()) {
+            (true, true) => "Watching: both seats are taken  |  A G P: aids  |  Esc: leave".into(),
+            (true, false) => format!("Watching  |  {message}"),
+            (false, true) => KEYS.to_string(),
+            (false, false) => message.to_string(),
         };
         draw::label(
-            footer,
+            &footer,
             layout.tray.x,
             layout.screen[1] - 6.0,
             18.0,
