@@ -78,6 +78,9 @@ pub struct GameSummary {
     pub reason: String,
     /// Every shot result the host saw: (turn, server hash).
     pub resolved: Vec<(TurnId, u64)>,
+    /// Commands the server refused, of the bot that opened the room and of the one that
+    /// joined it.
+    pub refused: [u32; 2],
 }
 
 #[derive(Clone, Debug, Default)]
@@ -190,6 +193,7 @@ async fn play_game(config: &BotConfig, g: u64) -> (GameSummary, PlayerResult, Pl
         completed: host.over.is_some() && guest.over.is_some(),
         reason: host.over.clone().unwrap_or_default(),
         resolved: host.resolved.clone(),
+        refused: [host.refused, guest.refused],
     };
     (summary, host, guest)
 }
@@ -213,6 +217,8 @@ pub(crate) struct PlayerResult {
     rejoins: u32,
     round_trips_ms: Vec<f64>,
     resolved: Vec<(TurnId, u64)>,
+    /// Commands the server refused.
+    refused: u32,
     pub(crate) error: Option<String>,
 }
 
@@ -406,8 +412,16 @@ impl Bot {
                     self.result.error = Some(format!("rejoin refused: {message}"));
                     return Ok(());
                 }
+                ServerMessage::Error {
+                    code: ErrorCode::RoomFull | ErrorCode::NoSuchRoom,
+                    message,
+                } if self.seat.is_none() => {
+                    self.result.error = Some(format!("no seat: {message}"));
+                    return Ok(());
+                }
                 ServerMessage::Error { code, message } => {
                     self.refusals += 1;
+                    self.result.refused += 1;
                     self.acted = None;
                     if self.refusals > MAX_REFUSALS {
                         client.send(&ClientMessage::Concede).await?;

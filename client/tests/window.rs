@@ -448,5 +448,8 @@ fn the_computer_thinks_then_breaks_and_the_break_is_shown() {
     let in_place = in_place(&broken);
     assert!(in_place <= 3, "{in_place} of 15 balls still racked");
     let (dark, _) = box_pixels(&broken);
-    assert!(dark < 100, "the thinking box is still shown: {dark} dark points");
+    assert!(
+        dark < 100,
+        "the thinking box is still shown: {dark} dark points"
+    );
 }

@@ -24,6 +24,7 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
         aim_aid: AimAid::FirstContact,
         address: None,
         resume: true,
+        computer: None,
     };
     let mut host = Host::start(&options)?;
     let mut host_flow = GameFlow::new(Connection::Connecting);
@@ -103,6 +104,7 @@ fn the_invite_names_the_address_the_host_gives() -> anyhow::Result<()> {
         aim_aid: AimAid::Full,
         address: Some("pool.example.org".into()),
         resume: true,
+        computer: None,
     };
     let host = Host::start(&options)?;
     let invite = host.invite();
@@ -124,6 +126,7 @@ fn a_port_in_use_is_a_clear_error() -> anyhow::Result<()> {
         aim_aid: AimAid::Full,
         address: None,
         resume: true,
+        computer: None,
     };
     let Err(e) = Host::start(&options) else {
         panic!("a second server bound the same port");

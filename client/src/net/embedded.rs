@@ -13,11 +13,11 @@ use breakshot_shared::protocol::{ClientMessage, Invite};
 use breakshot_shared::rules::{Command, Game, Seat};
 use tokio::sync::oneshot;
 
+use super::computer::SeatedComputer;
 use super::host::{
     host_text, interface_addresses, invite_host, lan_address, loopback_for, names_wildcard,
     HostError, HostOptions,
 };
-use super::computer::SeatedComputer;
 use super::link::NetLink;
 use super::seats::SeatStore;
 use super::session::Session;
@@ -214,9 +214,16 @@ impl Host {
         let computer = match options.computer {
             Some(level) => {
                 // Each room's computer decides differently, the same way every time.
-                let seed = room.as_str().bytes().fold(0u64, |h, b| (h << 8 | h >> 56) ^ u64::from(b));
+                let seed = room
+                    .as_str()
+                    .bytes()
+                    .fold(0u64, |h, b| h.rotate_left(8) ^ u64::from(b));
                 let invite = server.loopback_invite().with_room(room.clone());
-                Some(SeatedComputer::join(invite, level, seed)?)
+                let computer = SeatedComputer::join(invite, level, seed)?;
+                // Seated before anyone else is told the invite, so a friend who opens it
+                // finds the room full and watches.
+                wait_for_opponent(&mut link, &mut pending, since)?;
+                Some(computer)
             }
             None => None,
         };
@@ -264,6 +271,30 @@ impl Host {
     /// The link this computer plays through.
     pub fn link(&self) -> &NetLink {
         &self.link
+    }
+}
+
+/// Polls `link` (keeping its events for the screen) until the other seat is taken.
+fn wait_for_opponent(
+    link: &mut NetLink,
+    pending: &mut VecDeque<GameEvent>,
+    since: Instant,
+) -> Result<(), HostError> {
+    loop {
+        while let Some(event) = link.poll() {
+            let seated = event == GameEvent::Connection(Connection::Connected);
+            if let GameEvent::Connection(Connection::Closed(why)) = &event {
+                return Err(HostError::Room(why.clone()));
+            }
+            pending.push_back(event);
+            if seated {
+                return Ok(());
+            }
+        }
+        if since.elapsed() > SEATING {
+            return Err(HostError::Room("the computer did not take its seat".into()));
+        }
+        std::thread::sleep(Duration::from_millis(5));
     }
 }
 

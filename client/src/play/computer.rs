@@ -199,9 +199,7 @@ impl GameLink for ComputerLink {
 mod tests {
     use super::*;
     use crate::view::hud::Connection;
-    use breakshot_shared::physics::Strike;
     use breakshot_shared::rules::EightBallRules;
-    use glam::DVec2;
     use std::time::{Duration, Instant};
 
     /// Frames of `dt` seconds until `done` holds, at most `limit` of wall time.
@@ -229,25 +227,44 @@ mod tests {
 
     fn eight_ball(computer_breaks: bool) -> (ComputerLink, GameFlow) {
         let variant = Variant::EightBall(EightBallRules::Wpa);
-        let link = ComputerLink::new(variant, Settings::offline(), 3, Level::new(1), computer_breaks);
+        let link = ComputerLink::new(
+            variant,
+            Settings::offline(),
+            3,
+            Level::new(1),
+            computer_breaks,
+        );
         (link, GameFlow::new(Connection::Offline))
     }
 
     #[test]
     fn the_computer_breaks_after_thinking_for_a_moment() {
         let (mut link, mut flow) = eight_ball(true);
-        assert_eq!(link.seat(), Some(Seat::B), "the player here has the other seat");
+        assert_eq!(
+            link.seat(),
+            Some(Seat::B),
+            "the player here has the other seat"
+        );
         // The game has started; the computer thinks, shown for at least SHOWN_THINKING.
         let mut shown = 0.0;
-        let struck = frames(&mut link, &mut flow, 0.05, Duration::from_secs(120), |l, f| {
-            if l.thinking() {
-                shown += 0.05;
-            }
-            f.shot().is_some()
-        });
+        let struck = frames(
+            &mut link,
+            &mut flow,
+            0.05,
+            Duration::from_secs(120),
+            |l, f| {
+                if l.thinking() {
+                    shown += 0.05;
+                }
+                f.shot().is_some()
+            },
+        );
         assert!(struck, "the computer never broke");
         // Counted before each frame's update: the last frame of thinking is not seen here.
-        assert!(shown + 0.05 >= SHOWN_THINKING - 1e-9, "thinking shown {shown} s");
+        assert!(
+            shown + 0.05 >= SHOWN_THINKING - 1e-9,
+            "thinking shown {shown} s"
+        );
         assert!(!link.thinking());
         assert_eq!(flow.replica().shots(), 1);
         assert_eq!(flow.replica().desyncs(), 0);
