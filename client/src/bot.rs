@@ -251,7 +251,16 @@ pub(crate) struct Bot {
     /// Plays on after a game ends: asks for a rematch and plays it (a seat kept in a room
     /// rather than one game).
     stays: bool,
+    /// Moves only once the last shot has finished playing on the players' screens, and
+    /// [`LOOK`] later, as a player at the table would: a move that arrived sooner would cut
+    /// the shot's animation short. None: moves as soon as it has chosen.
+    paced: Option<Instant>,
+    /// Whether this bot paces its moves.
+    pacing: bool,
 }
+
+/// How long a pacing bot looks at the table after the balls stop, before its move.
+pub const LOOK: Duration = Duration::from_millis(800);
 
 impl Bot {
     /// The bot `k` of a game (0 opens the room, 1 joins it) as `config` says.
@@ -292,7 +301,16 @@ impl Bot {
             refusals: 0,
             game_shots: 0,
             stays: false,
+            paced: None,
+            pacing: false,
         }
+    }
+
+    /// The bot moves only when the last shot has finished playing for the players (and
+    /// [`LOOK`] more).
+    pub(crate) fn pacing(mut self) -> Bot {
+        self.pacing = true;
+        self
     }
 
     /// The bot plays on after each game: asks for a rematch and plays it, until dropped.
@@ -374,9 +392,19 @@ impl Bot {
                         client.send(&ClientMessage::Rematch).await?;
                     }
                 }
-                ServerMessage::ShotAccepted { seat, .. } if Some(*seat) == self.seat => {
-                    self.result.shots += 1;
-                    self.game_shots += 1;
+                ServerMessage::ShotAccepted { seat, .. } => {
+                    if Some(*seat) == self.seat {
+                        self.result.shots += 1;
+                        self.game_shots += 1;
+                    }
+                    if self.pacing {
+                        let shown = self
+                            .replica
+                            .playback()
+                            .map_or(0.0, |p| p.outcome().duration);
+                        let shown = Duration::try_from_secs_f64(shown).unwrap_or_default();
+                        self.paced = Some(Instant::now() + shown + LOOK);
+                    }
                 }
                 ServerMessage::GameStarted { .. } => {
                     self.acted = None;
@@ -439,6 +467,9 @@ impl Bot {
                     // half times the configured time.
                     let factor = self.pause_rng.range(0.5, 1.5);
                     tokio::time::sleep(self.think.mul_f64(factor)).await;
+                }
+                if let Some(at) = self.paced.take() {
+                    tokio::time::sleep_until(at.into()).await;
                 }
                 if matches!(cmd, ClientMessage::Shot { .. }) {
                     self.sent_shot = self.acted.map(|t| (t, Instant::now()));

@@ -4,12 +4,15 @@
 use std::time::{Duration, Instant};
 
 use breakshot_client::bot::{run, BotConfig};
-use breakshot_client::net::{fetch_record, Host, HostOptions, NetLink};
+use breakshot_client::net::{
+    fetch_record, EmbeddedServer, Host, HostOptions, NetLink, SeatedComputer, Session,
+};
 use breakshot_client::play::game_flow::{GameFlow, Turn};
 use breakshot_client::play::link::{GameEvent, GameLink};
 use breakshot_client::view::hud::Connection;
+use breakshot_server::Config;
 use breakshot_shared::ai::{self, Level};
-use breakshot_shared::protocol::AimAid;
+use breakshot_shared::protocol::{AimAid, ClientMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Command, Game, Phase, Seat, Settings, Variant};
 use breakshot_tests::{eight_ball, TempDir, TestServer, PATIENCE};
@@ -77,6 +80,33 @@ fn pump(link: &mut dyn GameLink, flow: &mut GameFlow) {
     flow.skip();
 }
 
+/// The player at `link` makes the move a level-1 computer would when the game waits for
+/// them, and asks for a rematch (once) when it is over.
+fn play_own_seat(link: &mut dyn GameLink, flow: &GameFlow, asked: &mut bool) {
+    if flow.connection != Connection::Connected {
+        return;
+    }
+    match flow.turn(link.seat()) {
+        Turn::Shoot { seat, .. } | Turn::Decide { seat, .. } => {
+            let game = flow.game().expect("a game").clone();
+            let command =
+                ai::decide(&game, Level::new(1), u64::from(game.turn())).expect("the game is on");
+            link.send(&game, seat, command);
+        }
+        Turn::Wait
+            if flow
+                .game()
+                .is_some_and(|g| matches!(g.phase(), Phase::Over { .. })) =>
+        {
+            if !*asked {
+                link.rematch();
+                *asked = true;
+            }
+        }
+        Turn::Wait => *asked = false,
+    }
+}
+
 #[test]
 fn a_host_plays_the_seated_computer_while_a_friend_with_the_invite_watches() -> anyhow::Result<()> {
     let data = TempDir::new("host-computer");
@@ -100,71 +130,127 @@ fn a_host_plays_the_seated_computer_while_a_friend_with_the_invite_watches() -> 
     let mut friend = NetLink::join(invite, "friend", None)?;
     let mut friend_flow = GameFlow::new(Connection::Connecting);
 
-    // The host plays its seat (as a level-1 computer would, a legal move each turn) and asks
-    // for a rematch when a game ends; the computer answers from the other seat, game after
-    // game. The friend sees the shots of both, in the first game and the next.
-    let mut started = 0;
+    // The host plays its seat; the computer answers from the other. The friend sees the
+    // host's shots and then the computer's, which comes only once the shot before it has
+    // played out on the screens (the balls stopped).
+    let mut last_host_shot: Option<(Instant, f64)> = None;
+    let mut computer_after = None;
     let mut asked = false;
-    let mut watched = [0u32; 2];
     let start = Instant::now();
-    while started < 2 || watched.iter().any(|&n| n == 0) {
-        assert!(
-            start.elapsed() < 4 * PATIENCE,
-            "games started {started}, shots watched in the last (host, computer): {watched:?}"
-        );
+    while computer_after.is_none() {
+        assert!(start.elapsed() < 2 * PATIENCE, "the computer never shot");
         pump(&mut host, &mut host_flow);
         while let Some(event) = friend.poll() {
-            match &event {
-                GameEvent::Started(_) => {
-                    started += 1;
-                    watched = [0; 2];
-                }
+            let shot = match &event {
                 GameEvent::Accepted {
                     seat,
                     command: Command::Shot { .. },
                     ..
-                } => watched[usize::from(*seat == Seat::B)] += 1,
-                _ => {}
-            }
+                } => Some(*seat),
+                _ => None,
+            };
             friend_flow.handle(event);
-        }
-        friend_flow.skip();
-        if host_flow.connection == Connection::Connected {
-            match host_flow.turn(host.seat()) {
-                Turn::Shoot { .. } | Turn::Decide { .. } => {
-                    let game = host_flow.game().expect("a game").clone();
-                    let command = ai::decide(&game, Level::new(1), u64::from(game.turn()))
-                        .expect("the game is on");
-                    host.send(&game, Seat::A, command);
+            match shot {
+                Some(Seat::A) => {
+                    let shown = friend_flow.shot().map_or(0.0, |p| p.outcome().duration);
+                    last_host_shot = Some((Instant::now(), shown));
                 }
-                Turn::Wait
-                    if host_flow
-                        .game()
-                        .is_some_and(|g| matches!(g.phase(), Phase::Over { .. })) =>
-                {
-                    if !asked {
-                        host.rematch();
-                        asked = true;
-                    }
+                Some(Seat::B) => {
+                    let (at, shown) = last_host_shot.expect("the host breaks first");
+                    computer_after = Some((at.elapsed().as_secs_f64(), shown));
                 }
-                Turn::Wait => asked = false,
+                None => {}
             }
         }
+        play_own_seat(&mut host, &host_flow, &mut asked);
         std::thread::sleep(Duration::from_millis(5));
     }
+    let (waited, shown) = computer_after.expect("the computer shot");
+    assert!(
+        waited >= shown,
+        "the computer shot {waited:.2} s after a shot that plays for {shown:.2} s"
+    );
     assert!(friend.watching(), "the friend holds no seat");
     assert_eq!(friend.seat(), None);
-    // Every shot the friend saw is confirmed by the server's hash once its result arrives.
+    settle(&mut friend, &mut friend_flow);
+    assert_eq!(host_flow.replica().desyncs(), 0);
+    assert_eq!(friend_flow.replica().desyncs(), 0);
+    Ok(())
+}
+
+/// Polls a watcher until every shot it saw is confirmed by the server's hash.
+fn settle(link: &mut NetLink, flow: &mut GameFlow) {
     let start = Instant::now();
-    while friend_flow.replica().confirmed() < friend_flow.replica().shots() {
+    while flow.replica().confirmed() < flow.replica().shots() {
         assert!(start.elapsed() < PATIENCE, "a shot's result never came");
-        while let Some(event) = friend.poll() {
-            friend_flow.handle(event);
+        while let Some(event) = link.poll() {
+            flow.handle(event);
         }
         std::thread::sleep(Duration::from_millis(5));
     }
-    eprintln!("the friend watched {} shots", friend_flow.replica().shots());
-    assert_eq!(host_flow.replica().desyncs(), 0);
-    assert_eq!(friend_flow.replica().desyncs(), 0);
+}
+
+#[test]
+fn the_seated_computer_plays_game_after_game() -> anyhow::Result<()> {
+    let data = TempDir::new("computer-rematch");
+    let server = EmbeddedServer::start(Config::new(
+        ([127, 0, 0, 1], 0).into(),
+        data.path().to_path_buf(),
+    ))?;
+    let session = Session::connect(server.loopback_invite());
+    session.send(ClientMessage::CreateRoom {
+        variant: Variant::NineBall,
+        mode: Settings::offline(),
+        aim_aid: AimAid::Full,
+        name: "host".into(),
+    });
+    let mut host = NetLink::new(session);
+    let mut flow = GameFlow::new(Connection::Connecting);
+    let room = loop {
+        pump(&mut host, &mut flow);
+        if let Some(room) = host.session().room() {
+            break room.clone();
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    // Unpaced: it moves as soon as it has chosen, so games go by quickly.
+    let computer = SeatedComputer::join(
+        server.loopback_invite().with_room(room),
+        Level::new(1),
+        7,
+        false,
+    )?;
+
+    // The host asks for a rematch whenever a game ends; the computer agrees and plays on.
+    let mut started = 0;
+    let mut computer_shots = 0;
+    let mut asked = false;
+    let start = Instant::now();
+    while started < 2 || computer_shots == 0 {
+        assert!(
+            start.elapsed() < 4 * PATIENCE,
+            "games started {started}, the computer's shots in the last {computer_shots}"
+        );
+        while let Some(event) = host.poll() {
+            match &event {
+                GameEvent::Started(_) => {
+                    started += 1;
+                    computer_shots = 0;
+                }
+                GameEvent::Accepted {
+                    seat: Seat::B,
+                    command: Command::Shot { .. },
+                    ..
+                } => computer_shots += 1,
+                _ => {}
+            }
+            flow.handle(event);
+        }
+        flow.skip();
+        play_own_seat(&mut host, &flow, &mut asked);
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    assert_eq!(flow.replica().desyncs(), 0);
+    drop((host, computer));
     Ok(())
 }

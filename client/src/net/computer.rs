@@ -26,8 +26,15 @@ pub struct SeatedComputer {
 
 impl SeatedComputer {
     /// Starts joining the room `invite` names, to play at `level` with decisions seeded
-    /// from `seed`.
-    pub fn join(invite: Invite, level: Level, seed: u64) -> Result<SeatedComputer, HostError> {
+    /// from `seed`. `paced`: each move waits until the last shot has finished playing on
+    /// the players' screens (and a moment more), as a player's would; else the computer
+    /// moves as soon as it has chosen (for tests and load).
+    pub fn join(
+        invite: Invite,
+        level: Level,
+        seed: u64,
+        paced: bool,
+    ) -> Result<SeatedComputer, HostError> {
         let Some(room) = invite.room.clone() else {
             return Err(HostError::Room(format!("{invite} names no room")));
         };
@@ -49,7 +56,11 @@ impl SeatedComputer {
                     let (tx, rx) = oneshot::channel();
                     let _ = tx.send(room);
                     let chooser = Chooser::computer(level, seed);
-                    let bot = Bot::seated(invite, "computer".into(), chooser, RETRY_FOR).staying();
+                    let mut bot =
+                        Bot::seated(invite, "computer".into(), chooser, RETRY_FOR).staying();
+                    if paced {
+                        bot = bot.pacing();
+                    }
                     tokio::select! {
                         result = bot.play(Start::Join(rx)) => {
                             if let Some(e) = result.error {

@@ -219,7 +219,7 @@ impl Host {
                     .bytes()
                     .fold(0u64, |h, b| h.rotate_left(8) ^ u64::from(b));
                 let invite = server.loopback_invite().with_room(room.clone());
-                let computer = SeatedComputer::join(invite, level, seed)?;
+                let computer = SeatedComputer::join(invite, level, seed, true)?;
                 // Seated before anyone else is told the invite, so a friend who opens it
                 // finds the room full and watches.
                 wait_for_opponent(&mut link, &mut pending, since)?;
