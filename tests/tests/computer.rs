@@ -206,7 +206,9 @@ fn the_seated_computer_plays_game_after_game() -> anyhow::Result<()> {
     });
     let mut host = NetLink::new(session);
     let mut flow = GameFlow::new(Connection::Connecting);
+    let start = Instant::now();
     let room = loop {
+        assert!(start.elapsed() < PATIENCE, "no room was opened");
         pump(&mut host, &mut flow);
         if let Some(room) = host.session().room() {
             break room.clone();

@@ -74,7 +74,7 @@ impl Judgement {
 /// A source of game events and a sink for commands.
 pub trait GameLink {
     /// The seat played here, or None when both seats are (players take turns at one
-    /// computer).
+    /// computer) or when none is ([`GameLink::watching`]).
     fn seat(&self) -> Option<Seat>;
     /// Sends `seat`'s command on the game as it stands here.
     fn send(&mut self, game: &Game, seat: Seat, command: Command);

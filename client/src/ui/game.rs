@@ -221,7 +221,9 @@ impl GameScreen {
                 }
                 (Intent::Toggle(aid), _) => self.toggles.toggle(aid),
                 (Intent::ToggleDebug, _) => self.debug = !self.debug,
-                (Intent::Rerack, _) if matches!(game.phase(), Phase::Over { .. }) => {
+                (Intent::Rerack, _)
+                    if matches!(game.phase(), Phase::Over { .. }) && !self.link.watching() =>
+                {
                     self.link.rematch()
                 }
                 // Leaving an online game in play keeps the seat only for a while: ask first.
