@@ -162,7 +162,10 @@ fn a_host_plays_the_seated_computer_while_a_friend_with_the_invite_watches() -> 
                 None => {}
             }
         }
-        play_own_seat(&mut host, &host_flow, &mut asked);
+        // The host starts once the friend is watching, so the friend sees every shot.
+        if friend_flow.game().is_some() {
+            play_own_seat(&mut host, &host_flow, &mut asked);
+        }
         std::thread::sleep(Duration::from_millis(5));
     }
     let (waited, shown) = computer_after.expect("the computer shot");
