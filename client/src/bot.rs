@@ -1,11 +1,11 @@
 //! A headless player for load tests and integration tests: plays whole games against
-//! another bot through a server, aiming at legal balls (ghost-ball aim at a pocket, with
-//! some randomness), checks every shot against its local prediction, and rejoins with its
-//! seat token when the server goes away.
+//! another bot through a server, choosing its moves with ghost-ball aim at a pocket (with
+//! some randomness) or as the computer player at a level, checks every shot against its
+//! local prediction, and rejoins with its seat token when the server goes away.
 
 use std::time::{Duration, Instant};
 
-use breakshot_shared::ai::ranked_pots;
+use breakshot_shared::ai::{self, ranked_pots, Level};
 use breakshot_shared::physics::{Strike, Table};
 use breakshot_shared::protocol::{
     AimAid, ClientMessage, ErrorCode, Invite, Role, RoomCode, ServerMessage,
@@ -17,6 +17,7 @@ use breakshot_shared::rules::{
 use glam::DVec2;
 use tokio::sync::oneshot;
 
+use crate::net::link::command_message;
 use crate::net::{Client, ClientEvent, NetError, Reconnect};
 use crate::play::replica::Replica;
 
@@ -45,6 +46,9 @@ pub struct BotConfig {
     /// Pause before each move, as a player would think (on average; each pause is drawn
     /// between half and one and a half times this).
     pub think: Duration,
+    /// How the bot that opens each room and the one that joins it choose their moves: None
+    /// for ghost-ball aim, else the computer player at that level.
+    pub levels: [Option<Level>; 2],
 }
 
 impl BotConfig {
@@ -58,6 +62,7 @@ impl BotConfig {
             settings: Settings::offline(),
             retry_for: RETRY_FOR,
             think: Duration::ZERO,
+            levels: [None, None],
         }
     }
 }
@@ -73,6 +78,9 @@ pub struct GameSummary {
     pub reason: String,
     /// Every shot result the host saw: (turn, server hash).
     pub resolved: Vec<(TurnId, u64)>,
+    /// Commands the server refused, of the bot that opened the room and of the one that
+    /// joined it.
+    pub refused: [u32; 2],
 }
 
 #[derive(Clone, Debug, Default)]
@@ -164,8 +172,8 @@ pub async fn run(config: &BotConfig) -> Report {
 
 async fn play_game(config: &BotConfig, g: u64) -> (GameSummary, PlayerResult, PlayerResult) {
     let (room_tx, room_rx) = oneshot::channel();
-    let host = Bot::new(config, format!("bot{g}a"), config.seed ^ (g * 2 + 1));
-    let guest = Bot::new(config, format!("bot{g}b"), config.seed ^ (g * 2 + 2));
+    let host = Bot::new(config, 0, format!("bot{g}a"), config.seed ^ (g * 2 + 1));
+    let guest = Bot::new(config, 1, format!("bot{g}b"), config.seed ^ (g * 2 + 2));
     let create = ClientMessage::CreateRoom {
         variant: config.variant,
         mode: config.settings,
@@ -185,17 +193,22 @@ async fn play_game(config: &BotConfig, g: u64) -> (GameSummary, PlayerResult, Pl
         completed: host.over.is_some() && guest.over.is_some(),
         reason: host.over.clone().unwrap_or_default(),
         resolved: host.resolved.clone(),
+        refused: [host.refused, guest.refused],
     };
     (summary, host, guest)
 }
 
-enum Start {
+/// How a bot enters its room.
+pub(crate) enum Start {
+    /// Opens it, and tells the other bot its code.
     Create(ClientMessage, oneshot::Sender<RoomCode>),
+    /// Joins the room whose code arrives.
     Join(oneshot::Receiver<RoomCode>),
 }
 
+/// What one bot saw and did.
 #[derive(Debug, Default)]
-struct PlayerResult {
+pub(crate) struct PlayerResult {
     room: Option<RoomCode>,
     over: Option<String>,
     shots: u32,
@@ -204,7 +217,9 @@ struct PlayerResult {
     rejoins: u32,
     round_trips_ms: Vec<f64>,
     resolved: Vec<(TurnId, u64)>,
-    error: Option<String>,
+    /// Commands the server refused.
+    refused: u32,
+    pub(crate) error: Option<String>,
 }
 
 impl PlayerResult {
@@ -216,7 +231,8 @@ impl PlayerResult {
     }
 }
 
-struct Bot {
+/// One player's connection and its copy of the game.
+pub(crate) struct Bot {
     server: Invite,
     name: String,
     chooser: Chooser,
@@ -230,30 +246,82 @@ struct Bot {
     acted: Option<TurnId>,
     sent_shot: Option<(TurnId, Instant)>,
     refusals: u32,
+    /// Shots taken in the game being played.
+    game_shots: u32,
+    /// Plays on after a game ends: asks for a rematch and plays it (a seat kept in a room
+    /// rather than one game).
+    stays: bool,
+    /// Moves only once the last shot has finished playing on the players' screens, and
+    /// [`LOOK`] later, as a player at the table would: a move that arrived sooner would cut
+    /// the shot's animation short. None: moves as soon as it has chosen.
+    paced: Option<Instant>,
+    /// Whether this bot paces its moves.
+    pacing: bool,
 }
 
+/// How long a pacing bot looks at the table after the balls stop, before its move.
+pub const LOOK: Duration = Duration::from_millis(800);
+
 impl Bot {
-    fn new(config: &BotConfig, name: String, seed: u64) -> Bot {
+    /// The bot `k` of a game (0 opens the room, 1 joins it) as `config` says.
+    fn new(config: &BotConfig, k: usize, name: String, seed: u64) -> Bot {
+        let chooser = match config.levels[k] {
+            Some(level) => Chooser::computer(level, seed),
+            None => Chooser::new(seed),
+        };
+        let mut bot = Bot::seated(config.server.clone(), name, chooser, config.retry_for);
+        bot.think = config.think;
+        bot.pause_rng = Rng::new(!seed);
+        bot
+    }
+
+    /// A bot that plays in `server`'s rooms with `chooser`, without pauses, keeping its seat
+    /// through drops for `retry_for`.
+    pub(crate) fn seated(
+        server: Invite,
+        name: String,
+        chooser: Chooser,
+        retry_for: Duration,
+    ) -> Bot {
         Bot {
-            server: config.server.clone(),
+            server,
             name,
-            chooser: Chooser::new(seed),
+            chooser,
             policy: Reconnect {
-                rejoin_for: config.retry_for,
+                rejoin_for: retry_for,
                 ..Reconnect::default()
             },
-            think: config.think,
-            pause_rng: Rng::new(!seed),
+            think: Duration::ZERO,
+            pause_rng: Rng::new(0),
             replica: Replica::default(),
             seat: None,
             result: PlayerResult::default(),
             acted: None,
             sent_shot: None,
             refusals: 0,
+            game_shots: 0,
+            stays: false,
+            paced: None,
+            pacing: false,
         }
     }
 
-    async fn play(mut self, start: Start) -> PlayerResult {
+    /// The bot moves only when the last shot has finished playing for the players (and
+    /// [`LOOK`] more).
+    pub(crate) fn pacing(mut self) -> Bot {
+        self.pacing = true;
+        self
+    }
+
+    /// The bot plays on after each game: asks for a rematch and plays it, until dropped.
+    pub(crate) fn staying(mut self) -> Bot {
+        self.stays = true;
+        self
+    }
+
+    /// Enters the room as `start` says and plays until the game ends (or, for a bot that
+    /// stays, until the connection is lost for good).
+    pub(crate) async fn play(mut self, start: Start) -> PlayerResult {
         let (first, mut room_tx) = match start {
             Start::Create(msg, tx) => (msg, Some(tx)),
             Start::Join(rx) => match rx.await {
@@ -315,13 +383,32 @@ impl Bot {
                     if let Some(tx) = room_tx.take() {
                         let _ = tx.send(snapshot.room.clone());
                     }
+                    self.game_shots = 0;
                     if let Phase::Over { reason, .. } = snapshot.game.phase() {
                         self.result.over = Some(reason.clone());
-                        return Ok(());
+                        if !self.stays {
+                            return Ok(());
+                        }
+                        client.send(&ClientMessage::Rematch).await?;
                     }
                 }
-                ServerMessage::ShotAccepted { seat, .. } if Some(*seat) == self.seat => {
-                    self.result.shots += 1;
+                ServerMessage::ShotAccepted { seat, .. } => {
+                    if Some(*seat) == self.seat {
+                        self.result.shots += 1;
+                        self.game_shots += 1;
+                    }
+                    if self.pacing {
+                        let shown = self
+                            .replica
+                            .playback()
+                            .map_or(0.0, |p| p.outcome().duration);
+                        let shown = Duration::try_from_secs_f64(shown).unwrap_or_default();
+                        self.paced = Some(Instant::now() + shown + LOOK);
+                    }
+                }
+                ServerMessage::GameStarted { .. } => {
+                    self.acted = None;
+                    self.game_shots = 0;
                 }
                 ServerMessage::ShotResolved { turn, hash, .. } => {
                     self.result.resolved.push((*turn, *hash));
@@ -333,6 +420,10 @@ impl Bot {
                             self.sent_shot = None;
                         }
                     }
+                }
+                ServerMessage::GameOver { reason, .. } if self.stays => {
+                    self.result.over = Some(reason.clone());
+                    client.send(&ClientMessage::Rematch).await?;
                 }
                 ServerMessage::GameOver { reason, .. }
                 | ServerMessage::GameFinished { reason, .. } => {
@@ -349,8 +440,16 @@ impl Bot {
                     self.result.error = Some(format!("rejoin refused: {message}"));
                     return Ok(());
                 }
+                ServerMessage::Error {
+                    code: ErrorCode::RoomFull | ErrorCode::NoSuchRoom,
+                    message,
+                } if self.seat.is_none() => {
+                    self.result.error = Some(format!("no seat: {message}"));
+                    return Ok(());
+                }
                 ServerMessage::Error { code, message } => {
                     self.refusals += 1;
+                    self.result.refused += 1;
                     self.acted = None;
                     if self.refusals > MAX_REFUSALS {
                         client.send(&ClientMessage::Concede).await?;
@@ -362,12 +461,15 @@ impl Bot {
                 }
                 _ => {}
             }
-            if let Some(cmd) = self.next_move() {
+            if let Some(cmd) = self.next_move().await {
                 if !self.think.is_zero() {
                     // Players do not all shoot in step: think between half and one and a
                     // half times the configured time.
                     let factor = self.pause_rng.range(0.5, 1.5);
                     tokio::time::sleep(self.think.mul_f64(factor)).await;
+                }
+                if let Some(at) = self.paced.take() {
+                    tokio::time::sleep_until(at.into()).await;
                 }
                 if matches!(cmd, ClientMessage::Shot { .. }) {
                     self.sent_shot = self.acted.map(|t| (t, Instant::now()));
@@ -380,8 +482,10 @@ impl Bot {
         }
     }
 
-    /// What to send now, if it is this bot's move and it has not answered it yet.
-    fn next_move(&mut self) -> Option<ClientMessage> {
+    /// What to send now, if it is this bot's move and it has not answered it yet. The
+    /// computer player thinks on the runtime's blocking threads: a decision can take a
+    /// second, and the connection must be kept alive meanwhile.
+    async fn next_move(&mut self) -> Option<ClientMessage> {
         if !self.seat.is_some_and(|s| self.replica.waits_for(s)) {
             return None;
         }
@@ -391,29 +495,66 @@ impl Bot {
             return None;
         }
         self.acted = Some(turn);
-        if self.result.shots >= MAX_SHOTS {
+        if self.game_shots >= MAX_SHOTS {
             return Some(ClientMessage::Concede);
         }
-        self.chooser.choose(game)
+        if self.chooser.level.is_none() {
+            return self.chooser.choose(game);
+        }
+        let (game, mut chooser) = (game.clone(), self.chooser.clone());
+        let thought = tokio::task::spawn_blocking(move || (chooser.choose(&game), chooser)).await;
+        match thought {
+            Ok((msg, chooser)) => {
+                self.chooser = chooser;
+                msg
+            }
+            Err(e) => {
+                tracing::error!(bot = %self.name, error = %e, "the computer player failed");
+                Some(ClientMessage::Concede)
+            }
+        }
     }
 }
 
 /// Picks a move for whoever is to move: a decision, a cue-ball placement or a shot.
+#[derive(Clone, Debug)]
 pub struct Chooser {
     rng: Rng,
+    /// None: ghost-ball aim; else the computer player at this level.
+    level: Option<Level>,
 }
 
 impl Chooser {
-    /// A chooser whose randomness starts from `seed`.
+    /// A chooser aiming ghost-ball pots, whose randomness starts from `seed`.
     pub fn new(seed: u64) -> Chooser {
         Chooser {
             rng: Rng::new(seed),
+            level: None,
         }
     }
 
-    /// The move for the seat to move, `None` if the game is over.
+    /// A chooser that plays as the computer player at `level` (`shared::ai`), with
+    /// decisions seeded from `seed`.
+    pub fn computer(level: Level, seed: u64) -> Chooser {
+        Chooser {
+            rng: Rng::new(seed),
+            level: Some(level),
+        }
+    }
+
+    /// The computer player's level, None for ghost-ball aim.
+    pub fn level(&self) -> Option<Level> {
+        self.level
+    }
+
+    /// The move for the seat to move, `None` if the game is over. The computer player may
+    /// think for up to a second.
     pub fn choose(&mut self, game: &Game) -> Option<ClientMessage> {
         let turn = game.turn();
+        if let Some(level) = self.level {
+            let command = ai::decide(game, level, self.rng.0.next_u64())?;
+            return command_message(turn, command);
+        }
         let msg = match game.phase() {
             Phase::Deciding { options } => {
                 let choice = if options.contains(&Choice::AcceptTable) {
@@ -520,6 +661,7 @@ fn rotate(v: DVec2, angle: f64) -> DVec2 {
 }
 
 /// Aim noise and pauses, from the rules' SplitMix64 generator.
+#[derive(Clone, Debug)]
 struct Rng(SplitMix64);
 
 impl Rng {

@@ -13,6 +13,7 @@ use anyhow::{bail, Context as _};
 use breakshot_client::net::host::{default_data_dir, DEFAULT_PORT};
 use breakshot_client::net::{fetch_record_blocking, player_name, HostOptions, NetLink, SeatStore};
 use breakshot_client::play::replay::ReplayViewer;
+use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::{AimAid, Invite, RoomCode};
 use breakshot_shared::rules::{EightBallRules, Variant};
 use breakshot_shared::scene::Scene;
@@ -73,6 +74,13 @@ enum Command {
         /// default a restarted host goes back to it: same room, same invite).
         #[arg(long)]
         new: bool,
+        /// Play against the computer: it takes the other seat, and a friend who opens the
+        /// invite watches (always a new room).
+        #[arg(long)]
+        computer: bool,
+        /// With --computer: how strong it plays, 1 (beginner) to 5 (strong).
+        #[arg(long, default_value_t = 3, requires = "computer", value_parser = clap::value_parser!(u8).range(1..=5))]
+        level: u8,
     },
     /// Two players taking turns at this computer.
     Local {
@@ -81,7 +89,20 @@ enum Command {
         #[arg(long, default_value = "wpa", value_parser = ["wpa", "bar"])]
         rules: String,
     },
-    /// Join a game with the invite the host sent.
+    /// Play against the computer at this computer, offline.
+    VsComputer {
+        /// How strong the computer plays: 1 (beginner) to 5 (strong).
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(1..=5))]
+        level: u8,
+        #[arg(long, default_value = "8ball", value_parser = ["8ball", "9ball"])]
+        mode: String,
+        #[arg(long, default_value = "wpa", value_parser = ["wpa", "bar"])]
+        rules: String,
+        /// Who breaks the first game (then the break alternates).
+        #[arg(long = "break", value_name = "WHO", default_value = "me", value_parser = ["me", "computer"])]
+        breaker: String,
+    },
+    /// Join a game with the invite the host sent (a full room is watched).
     Join { invite: String },
     /// Play offline with no server, from a rack or from a scene file.
     Practice { scene: Option<PathBuf> },
@@ -147,6 +168,16 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             ui::Start::Practice(Some(Box::new(scene)))
         }
         Some(Command::Local { mode, rules }) => ui::Start::Local(variant(mode, rules)),
+        Some(Command::VsComputer {
+            level,
+            mode,
+            rules,
+            breaker,
+        }) => ui::Start::VsComputer {
+            variant: variant(mode, rules),
+            level: Level::new(*level),
+            computer_breaks: breaker == "computer",
+        },
         Some(Command::Host {
             mode,
             rules,
@@ -154,6 +185,8 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             address,
             aids,
             new,
+            computer,
+            level,
         }) => {
             let options = HostOptions {
                 bind: *bind,
@@ -162,6 +195,7 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
                 address: address.clone(),
                 resume: !new,
                 name: name(cli)?,
+                computer: computer.then(|| Level::new(*level)),
                 ..HostOptions::new(data_dir(cli)?)
             };
             host(&options)?
@@ -273,8 +307,16 @@ fn announce(host: &breakshot_client::net::Host) {
         );
     }
     println!("{}", host.invite());
+    let whom = match host.computer() {
+        Some(level) => format!(
+            "the computer (level {}) plays the other seat; send the invite above to a friend \
+             to watch",
+            level.number()
+        ),
+        None => "send the invite above to the other player".into(),
+    };
     eprintln!(
-        "breakshot: serving on UDP {} (data in {}); send the invite above to the other player",
+        "breakshot: serving on UDP {} (data in {}); {whom}",
         host.server().local_addr(),
         host.data().display()
     );

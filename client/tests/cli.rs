@@ -80,6 +80,11 @@ fn bad_options_are_refused() {
         &["practice", "--frames", "0"][..],
         &["practice", "--size", "12x"][..],
         &["local", "--mode", "snooker"][..],
+        &["vs-computer", "--level", "0"][..],
+        &["vs-computer", "--level", "6"][..],
+        &["vs-computer", "--break", "nobody"][..],
+        // The computer's level is an option of playing it.
+        &["host", "--level", "2"][..],
     ] {
         let out = breakshot(args);
         assert_ne!(out.status.code(), Some(0), "{args:?} was accepted");

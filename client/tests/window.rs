@@ -639,3 +639,93 @@ fn a_replayed_jump_shows_the_ball_in_flight_bigger_with_its_shadow_on_the_cloth(
     let far = pic.at(sx + 2.0 * r, sy + 2.0 * r);
     assert!(close(far, CLOTH, 8), "cloth beyond the shadow: {far:?}");
 }
+
+/// A screenshot of `breakshot ARGS` after `frames` frames, without input files; None if there
+/// is no `xvfb-run` (the reason is printed).
+fn screenshot_of(name: &str, args: &[&str], frames: u32) -> Option<Picture> {
+    let dir = breakshot_testkit::scratch(&format!("window-{name}"));
+    let out = dir.path().join("out.png");
+    let args: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
+    let run = window_at(&args, &out, frames)?;
+    assert!(
+        run.status.success(),
+        "breakshot exited with {}: {}",
+        run.status,
+        String::from_utf8_lossy(&run.stderr)
+    );
+    Some(picture(&out))
+}
+
+#[test]
+fn the_computer_thinks_then_breaks_and_the_break_is_shown() {
+    let args = [
+        "vs-computer",
+        "--level",
+        "1",
+        "--break",
+        "computer",
+        "--seed",
+        "4",
+    ];
+    let rack = Game::new(
+        Variant::EightBall(EightBallRules::Wpa),
+        Settings::offline(),
+        4,
+    );
+    let ids: Vec<String> = (0..rack.balls().len())
+        .map(|n| if n == 0 { "cue".into() } else { n.to_string() })
+        .collect();
+    let ids: Vec<&str> = ids.iter().map(|s| s.as_str()).collect();
+    // Frame 10 is inside the time the thinking is shown: the rack stands, and the dark box
+    // with its white words is over the middle of the cloth.
+    let Some(thinking) = screenshot_of("thinking", &args, 10) else {
+        return;
+    };
+    let layout = Layout::new(1280.0, 720.0, Frame::new(rack.table(), rack.balls()));
+    balls_are_drawn(&thinking, &layout, &ids, rack.balls());
+    let c = layout.cloth;
+    let (cx, cy) = (c.x + 0.5 * c.w, c.y + 0.5 * c.h);
+    let box_pixels = |pic: &Picture| {
+        let (mut dark, mut white) = (0, 0);
+        for dx in (-150..150).step_by(3) {
+            for dy in (-30..10).step_by(2) {
+                let p = pic.at(cx + dx as f32, cy + dy as f32);
+                dark += p.iter().all(|&v| v < 45) as u32;
+                white += p.iter().all(|&v| v > 200) as u32;
+            }
+        }
+        (dark, white)
+    };
+    // A ball is in its rack spot when its colour is seen left of the spot's centre (clear of
+    // the number).
+    let r = layout.px(Params::default().ball_radius);
+    let in_place = |pic: &Picture| {
+        ids.iter()
+            .zip(rack.balls())
+            .skip(1)
+            .filter(|(id, b)| {
+                let [x, y] = layout.to_screen(b.pos);
+                shaded(pic.at(x - 0.75 * r, y), ball_look(id).color, 14.0)
+            })
+            .count()
+    };
+    assert_eq!(in_place(&thinking), 15);
+    let (dark, white) = box_pixels(&thinking);
+    assert!(
+        dark > 1000 && white > 20,
+        "no thinking box: {dark} dark, {white} white points"
+    );
+
+    // Five seconds later the computer has broken: the balls have left the rack, and the
+    // box is gone.
+    let Some(broken) = screenshot_of("broken", &args, 300) else {
+        return;
+    };
+    let in_place = in_place(&broken);
+    assert!(in_place <= 3, "{in_place} of 15 balls still racked");
+    let (dark, _) = box_pixels(&broken);
+    assert!(
+        dark < 100,
+        "the thinking box is still shown: {dark} dark points"
+    );
+}

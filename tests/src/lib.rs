@@ -26,7 +26,7 @@ pub const PATIENCE: Duration = Duration::from_secs(60);
 /// The seed of the test servers' randomness.
 pub const SEED: u64 = 2026;
 
-pub use breakshot_testkit::{scratch, TempDir};
+pub use breakshot_testkit::scratch;
 
 /// A server running in this process.
 pub struct TestServer {

@@ -1,10 +1,12 @@
-//! `breakshot-bot --server URL --games N [--json]`: plays N complete games against a server
-//! (two bot connections per game) and reports shots, desyncs and shot round trips.
+//! `breakshot-bot --server URL --games N [--level L [--vs-ghost]] [--json]`: plays N complete
+//! games against a server (two bot connections per game) and reports shots, desyncs and shot
+//! round trips. The bots aim ghost-ball pots, or play as the computer player at level L.
 
 use std::process::ExitCode;
 
 use anyhow::Context;
 use breakshot_client::bot::{run, BotConfig};
+use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::Invite;
 use clap::Parser;
 
@@ -26,6 +28,14 @@ struct Cli {
     /// Pause before each move (milliseconds), as a player would think.
     #[arg(long, default_value_t = 0)]
     think_ms: u64,
+    /// The bots play as the computer player at this level (1 to 5) instead of aiming
+    /// ghost-ball pots.
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=5))]
+    level: Option<u8>,
+    /// With --level: the bot that joins each room aims ghost-ball pots, so each game is the
+    /// computer player against the ghost-ball bot.
+    #[arg(long, requires = "level")]
+    vs_ghost: bool,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -48,6 +58,8 @@ fn main_inner() -> anyhow::Result<bool> {
     let mut config = BotConfig::new(invite, cli.games);
     config.seed = cli.seed;
     config.think = std::time::Duration::from_millis(cli.think_ms);
+    let level = cli.level.map(Level::new);
+    config.levels = [level, level.filter(|_| !cli.vs_ghost)];
     let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
     let report = runtime.block_on(run(&config));
     for e in &report.errors {

@@ -13,6 +13,7 @@ use breakshot_shared::protocol::{ClientMessage, Invite};
 use breakshot_shared::rules::{Command, Game, Seat};
 use tokio::sync::oneshot;
 
+use super::computer::SeatedComputer;
 use super::host::{
     host_text, interface_addresses, invite_host, lan_address, loopback_for, names_wildcard,
     HostError, HostOptions,
@@ -136,7 +137,10 @@ pub struct Host {
     invite: Invite,
     resumed: bool,
     data: PathBuf,
-    /// Declared after the link so the session closes before the server stops.
+    /// The computer player in the other seat, when it plays it.
+    computer: Option<SeatedComputer>,
+    /// Declared after the link and the computer so their sessions close before the server
+    /// stops.
     server: EmbeddedServer,
 }
 
@@ -161,8 +165,8 @@ impl Host {
             addressed.host = address;
         }
         let seats = SeatStore::new(&options.data);
-        let mut resuming = options
-            .resume
+        // The computer's seat is not kept when the host closes: its game cannot go on.
+        let mut resuming = (options.resume && options.computer.is_none())
             .then(|| seats.on_server(&addressed.fingerprint))
             .flatten();
         let create = ClientMessage::CreateRoom {
@@ -177,7 +181,9 @@ impl Host {
             None => create.clone(),
         });
         let mut link = NetLink::new(session);
-        link.remember(seats.clone(), addressed.clone());
+        if options.computer.is_none() {
+            link.remember(seats.clone(), addressed.clone());
+        }
         let mut pending = VecDeque::new();
         let since = Instant::now();
         let room = loop {
@@ -205,12 +211,29 @@ impl Host {
             }
             std::thread::sleep(Duration::from_millis(5));
         };
+        let computer = match options.computer {
+            Some(level) => {
+                // Each room's computer decides differently, the same way every time.
+                let seed = room
+                    .as_str()
+                    .bytes()
+                    .fold(0u64, |h, b| h.rotate_left(8) ^ u64::from(b));
+                let invite = server.loopback_invite().with_room(room.clone());
+                let computer = SeatedComputer::join(invite, level, seed, true)?;
+                // Seated before anyone else is told the invite, so a friend who opens it
+                // finds the room full and watches.
+                wait_for_opponent(&mut link, &mut pending, since)?;
+                Some(computer)
+            }
+            None => None,
+        };
         Ok(Host {
             link,
             pending,
             invite: addressed.with_room(room),
             resumed: resuming.is_some(),
             data: options.data.clone(),
+            computer,
             server,
         })
     }
@@ -240,9 +263,38 @@ impl Host {
         &self.server
     }
 
+    /// The computer player's level, when it plays the other seat.
+    pub fn computer(&self) -> Option<breakshot_shared::ai::Level> {
+        self.computer.as_ref().map(|c| c.level())
+    }
+
     /// The link this computer plays through.
     pub fn link(&self) -> &NetLink {
         &self.link
+    }
+}
+
+/// Polls `link` (keeping its events for the screen) until the other seat is taken.
+fn wait_for_opponent(
+    link: &mut NetLink,
+    pending: &mut VecDeque<GameEvent>,
+    since: Instant,
+) -> Result<(), HostError> {
+    loop {
+        while let Some(event) = link.poll() {
+            let seated = event == GameEvent::Connection(Connection::Connected);
+            if let GameEvent::Connection(Connection::Closed(why)) = &event {
+                return Err(HostError::Room(why.clone()));
+            }
+            pending.push_back(event);
+            if seated {
+                return Ok(());
+            }
+        }
+        if since.elapsed() > SEATING {
+            return Err(HostError::Room("the computer did not take its seat".into()));
+        }
+        std::thread::sleep(Duration::from_millis(5));
     }
 }
 

@@ -6,6 +6,7 @@
 use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr};
 use std::path::PathBuf;
 
+use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::{AimAid, Invite};
 use breakshot_shared::rules::{EightBallRules, Settings, Variant};
 use thiserror::Error;
@@ -70,6 +71,9 @@ pub struct HostOptions {
     pub resume: bool,
     /// The host player's name.
     pub name: String,
+    /// The computer plays the other seat at this level (a friend with the invite watches).
+    /// A game against the computer is not resumed: it always opens a new room.
+    pub computer: Option<Level>,
 }
 
 impl HostOptions {
@@ -85,6 +89,7 @@ impl HostOptions {
             address: None,
             resume: true,
             name: "host".into(),
+            computer: None,
         }
     }
 }

@@ -3,8 +3,8 @@
 
 use std::collections::VecDeque;
 
-use breakshot_shared::protocol::{ClientMessage, ErrorCode, Invite, Role, ServerMessage};
-use breakshot_shared::rules::{Command, Game, Seat};
+use breakshot_shared::protocol::{ClientMessage, ErrorCode, Invite, Role, RoomCode, ServerMessage};
+use breakshot_shared::rules::{Command, Game, Seat, TurnId};
 
 use super::seats::SeatStore;
 use super::session::{Session, SessionEvent};
@@ -20,6 +20,9 @@ pub struct NetLink {
     /// While a remembered seat is being taken back: the player's name, to ask for the free
     /// seat instead if the server no longer knows the token.
     rejoining: Option<String>,
+    /// While the free seat of this room is being asked for: a room whose seats are both
+    /// taken is watched instead.
+    joining: Option<RoomCode>,
 }
 
 /// An invite that cannot be joined.
@@ -43,12 +46,7 @@ impl NetLink {
                 link.session.send(ClientMessage::Rejoin { token });
                 link.rejoining = Some(name.into());
             }
-            None => {
-                link.session.send(ClientMessage::Join {
-                    room,
-                    name: name.into(),
-                });
-            }
+            None => link.ask_seat(room, name.into()),
         }
         link.memory = seats.map(|s| (s, invite));
         Ok(link)
@@ -61,7 +59,14 @@ impl NetLink {
             events: VecDeque::new(),
             memory: None,
             rejoining: None,
+            joining: None,
         }
+    }
+
+    /// Asks for the free seat of `room`.
+    fn ask_seat(&mut self, room: RoomCode, name: String) {
+        self.joining = Some(room.clone());
+        self.session.send(ClientMessage::Join { room, name });
     }
 
     /// Remembers the seat this link takes (or has taken back with `Rejoin`) in `seats`,
@@ -86,6 +91,7 @@ impl NetLink {
                 snapshot,
             } => {
                 self.rejoining = None;
+                self.joining = None;
                 if let Some((store, invite)) = &self.memory {
                     // A host remembers its server's invite before the room is opened.
                     let invite = invite.with_room(snapshot.room.clone());
@@ -124,7 +130,18 @@ impl NetLink {
                 let Some(room) = invite.room.clone() else {
                     return false;
                 };
-                self.session.send(ClientMessage::Join { room, name });
+                self.ask_seat(room, name);
+                true
+            }
+            ServerMessage::Error {
+                code: ErrorCode::RoomFull,
+                ..
+            } if self.joining.is_some() => {
+                // Both seats are taken (two players, or a host and the computer): the
+                // invite still lets its holder watch.
+                if let Some(room) = self.joining.take() {
+                    self.session.send(ClientMessage::Spectate { room });
+                }
                 true
             }
             _ => false,
@@ -153,23 +170,32 @@ impl NetLink {
     }
 }
 
+/// The message a player sends for `command` on `turn`; None for a command only the rules
+/// themselves make (the shot clock, a forfeit) or only practice allows.
+pub fn command_message(turn: TurnId, command: Command) -> Option<ClientMessage> {
+    Some(match command {
+        Command::Shot { strike, call } => ClientMessage::Shot { turn, strike, call },
+        Command::PlaceCueBall { pos } => ClientMessage::PlaceCueBall { turn, pos },
+        Command::Decide(choice) => ClientMessage::Decide { turn, choice },
+        Command::Concede => ClientMessage::Concede,
+        _ => return None,
+    })
+}
+
 impl GameLink for NetLink {
     fn seat(&self) -> Option<Seat> {
         self.session.seat()
     }
 
+    fn watching(&self) -> bool {
+        self.session.role() == Some(Role::Spectator)
+    }
+
     fn send(&mut self, game: &Game, _seat: Seat, command: Command) {
-        let turn = game.turn();
-        let msg = match command {
-            Command::Shot { strike, call } => ClientMessage::Shot { turn, strike, call },
-            Command::PlaceCueBall { pos } => ClientMessage::PlaceCueBall { turn, pos },
-            Command::Decide(choice) => ClientMessage::Decide { turn, choice },
-            Command::Concede => ClientMessage::Concede,
-            _ => {
-                self.events
-                    .push_back(GameEvent::Refused("not available in an online game".into()));
-                return;
-            }
+        let Some(msg) = command_message(game.turn(), command) else {
+            self.events
+                .push_back(GameEvent::Refused("not available in an online game".into()));
+            return;
         };
         if !self.session.send(msg) {
             self.events

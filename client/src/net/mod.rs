@@ -4,6 +4,7 @@
 
 pub mod channel;
 pub mod client;
+pub mod computer;
 #[cfg(feature = "host")]
 mod embedded;
 pub mod host;
@@ -16,6 +17,7 @@ pub mod session;
 
 pub use channel::{endpoint, Channel, NetError, Reader, Writer};
 pub use client::{Client, ClientEvent, Reconnect};
+pub use computer::SeatedComputer;
 #[cfg(feature = "host")]
 pub use embedded::{EmbeddedServer, Host};
 pub use host::{HostError, HostOptions};

@@ -8,6 +8,7 @@ use breakshot_shared::protocol::{AimAid, Invite, SeatView, ServerMessage};
 use breakshot_shared::rules::{Command, Game, Seat, Settings, TurnId, Variant, Verdict};
 
 use super::chat::ChatLine;
+use super::game_flow::GameFlow;
 use crate::view::hud::Connection;
 
 /// What a game screen hears. A server announces an accepted shot at once, so every client
@@ -117,7 +118,7 @@ impl Judgement {
 /// A source of game events and a sink for commands.
 pub trait GameLink {
     /// The seat played here, or None when both seats are (players take turns at one
-    /// computer).
+    /// computer) or when none is ([`GameLink::watching`]).
     fn seat(&self) -> Option<Seat>;
     /// Sends `seat`'s command on the game as it stands here.
     fn send(&mut self, game: &Game, seat: Seat, command: Command);
@@ -134,6 +135,18 @@ pub trait GameLink {
     /// The invite to show while the opponent's seat is empty, when this computer hosts.
     fn invite(&self) -> Option<&Invite> {
         None
+    }
+    /// True when this computer only watches the game (a spectator): no seat is played here.
+    fn watching(&self) -> bool {
+        false
+    }
+    /// Called once a frame with the game as the screen shows it, `dt` seconds after the last
+    /// call: a link that plays a seat itself (the computer) answers here when the game waits
+    /// for that seat.
+    fn update(&mut self, _flow: &GameFlow, _dt: f64) {}
+    /// True while the seat this link plays itself is thinking about its move.
+    fn thinking(&self) -> bool {
+        false
     }
 }
 

@@ -3,6 +3,7 @@
 
 pub mod aim;
 pub mod chat;
+pub mod computer;
 pub mod controls;
 pub mod game_flow;
 pub mod leave;

@@ -109,9 +109,10 @@ impl GameScreen {
             .filter(|_| self.flow.connection == Connection::WaitingForOpponent)
     }
 
-    /// What the player here may do; nothing until the opponent is seated.
+    /// What the player here may do; nothing until the opponent is seated, nothing for a
+    /// spectator.
     fn turn(&self) -> Turn {
-        if self.flow.connection == Connection::WaitingForOpponent {
+        if self.flow.connection == Connection::WaitingForOpponent || self.link.watching() {
             Turn::Wait
         } else {
             self.flow.turn(self.link.seat())
@@ -138,20 +139,23 @@ impl GameScreen {
         }
         let input = &input;
         // While a chat line is open, the keyboard types into it and nothing else.
-        if self.flow.chat.typing().is_some() {
+        let chatting = if self.flow.chat.typing().is_some() {
             self.type_chat(input);
-            self.flow.tick(input.dt);
-            return Step::Stay;
-        }
-        if self.link.chats() && input.pressed.contains(&Key::Chat) {
+            true
+        } else if self.link.chats() && input.pressed.contains(&Key::Chat) {
             self.flow.chat.open();
-            self.flow.tick(input.dt);
-            return Step::Stay;
-        }
-        if self.flow.shot().is_some() && input.pressed.contains(&Key::Shoot) {
+            true
+        } else {
+            false
+        };
+        if !chatting && self.flow.shot().is_some() && input.pressed.contains(&Key::Shoot) {
             self.flow.skip();
         }
         self.flow.tick(input.dt);
+        self.link.update(&self.flow, input.dt);
+        if chatting {
+            return Step::Stay;
+        }
         let Some(game) = self.flow.game().cloned() else {
             // A result screen goes back to the menu on Enter, Space or a click too.
             let done = input.pressed.contains(&Key::Back)
@@ -237,12 +241,15 @@ impl GameScreen {
                 }
                 (Intent::Toggle(aid), _) => self.toggles.toggle(aid),
                 (Intent::ToggleDebug, _) => self.debug = !self.debug,
-                (Intent::Rerack, _) if matches!(game.phase(), Phase::Over { .. }) => {
+                (Intent::Rerack, _)
+                    if matches!(game.phase(), Phase::Over { .. }) && !self.link.watching() =>
+                {
                     self.link.rematch()
                 }
                 // Leaving an online game in play keeps the seat only for a while: ask first.
                 (Intent::Back, _)
                     if self.link.seat().is_some()
+                        && self.flow.connection != Connection::Offline
                         && !matches!(game.phase(), Phase::Over { .. }) =>
                 {
                     self.leaving = true;
@@ -480,13 +487,25 @@ impl GameScreen {
             );
             draw::label(&text, x, y, 30.0, YELLOW);
         }
-        let footer = if self.flow.message.is_empty() {
-            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: cue elevation  |  A G P: aids  |  F3: debug  |  Esc: leave"
+        if self.link.thinking() {
+            draw_thinking(&layout);
+        }
+        let keys = if self.link.chats() {
+            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  A G P: aids  |  T: chat  |  Esc: leave"
         } else {
-            self.flow.message.as_str()
+            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: cue elevation  |  A G P: aids  |  F3: debug  |  Esc: leave"
+        };
+        let message = self.flow.message.as_str();
+        let footer = match (self.link.watching(), message.is_empty()) {
+            (true, true) => {
+                "Watching: both seats are taken  |  A G P: aids  |  T: chat  |  Esc: leave".into()
+            }
+            (true, false) => format!("Watching  |  {message}"),
+            (false, true) => keys.to_string(),
+            (false, false) => message.to_string(),
         };
         draw::label(
-            footer,
+            &footer,
             layout.tray.x,
             layout.screen[1] - 6.0,
             18.0,
@@ -616,4 +635,23 @@ fn draw_chat(layout: &Layout, chat: &Chat) {
             *color,
         );
     }
+}
+
+/// "Computer is thinking", in a dark box over the middle of the cloth, its dots counting
+/// the time.
+fn draw_thinking(layout: &Layout) {
+    let dots = ".".repeat(1 + (get_time() * 3.0) as usize % 3);
+    let text = format!("Computer is thinking{dots}");
+    let size = 30.0;
+    let w = draw::text_width("Computer is thinking...", size);
+    let c = layout.cloth;
+    let (x, y) = (c.x + 0.5 * (c.w - w), c.y + 0.5 * c.h);
+    draw_rectangle(
+        x - 16.0,
+        y - 34.0,
+        w + 32.0,
+        48.0,
+        Color::new(0.0, 0.0, 0.0, 0.75),
+    );
+    draw::label(&text, x, y, size, WHITE);
 }

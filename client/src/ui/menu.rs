@@ -6,6 +6,7 @@ use breakshot_client::net::{player_name, HostOptions, NetLink, SeatStore};
 use breakshot_client::play::controls::{InputFrame, Key};
 use breakshot_client::play::link::GameLink;
 use breakshot_client::view::layout::Rect;
+use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::Invite;
 use breakshot_shared::rules::{EightBallRules, Variant};
 use macroquad::prelude::*;
@@ -17,15 +18,17 @@ enum Item {
     Resume,
     Practice,
     Local,
+    Computer,
     Host,
     Join,
     Replay,
     Quit,
 }
 
-const ITEMS: [(Item, &str); 7] = [
+const ITEMS: [(Item, &str); 8] = [
     (Item::Resume, "Resume game"),
     (Item::Practice, "Practice"),
+    (Item::Computer, "Play the computer"),
     (Item::Local, "Two players, one computer"),
     (Item::Host, "Host a game"),
     (Item::Join, "Join (invite on clipboard)"),
@@ -101,7 +104,7 @@ impl MenuScreen {
     fn buttons() -> Vec<(Item, &'static str, Rect)> {
         let (w, h) = (screen_width(), screen_height());
         let bw = 320.0f32.min(0.8 * w);
-        let bh = 48.0;
+        let bh = 44.0;
         let top = 0.26 * h;
         ITEMS
             .iter()
@@ -110,7 +113,7 @@ impl MenuScreen {
                 (
                     item,
                     name,
-                    Rect::new(0.5 * (w - bw), top + k as f32 * (bh + 14.0), bw, bh),
+                    Rect::new(0.5 * (w - bw), top + k as f32 * (bh + 10.0), bw, bh),
                 )
             })
             .collect()
@@ -137,6 +140,14 @@ impl MenuScreen {
             Item::Local => {
                 return Step::Go(super::local_game(
                     Variant::EightBall(EightBallRules::Wpa),
+                    super::fresh_seed(),
+                ))
+            }
+            Item::Computer => {
+                return Step::Go(super::computer_game(
+                    Variant::EightBall(EightBallRules::Wpa),
+                    Level::new(3),
+                    false,
                     super::fresh_seed(),
                 ))
             }

@@ -17,12 +17,14 @@ use std::path::PathBuf;
 use breakshot_shared::scene::Scene;
 use macroquad::prelude::{clear_background, next_frame};
 
+use breakshot_client::play::computer::ComputerLink;
 use breakshot_client::play::controls::InputFrame;
 use breakshot_client::play::link::{GameLink, LocalLink};
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::palette;
 use breakshot_client::view::playback::Playback;
+use breakshot_shared::ai::Level;
 use breakshot_shared::rules::{Settings, Variant};
 
 /// How long a screenshot waits for a network game's first answer from the server.
@@ -38,6 +40,12 @@ pub enum Start {
     Replay(Box<ReplayViewer>),
     /// Two players at this computer.
     Local(Variant),
+    /// One player against the computer.
+    VsComputer {
+        variant: Variant,
+        level: Level,
+        computer_breaks: bool,
+    },
     /// A game over the network (hosted here, or joined).
     Network(Box<dyn GameLink>),
 }
@@ -53,6 +61,15 @@ pub struct Options {
 /// Two players at this computer: the rules run here.
 pub fn local_game(variant: Variant, seed: u64) -> Screen {
     let link = LocalLink::new(variant, Settings::offline(), seed);
+    Screen::Game(Box::new(game::GameScreen::new(
+        Box::new(link),
+        Connection::Offline,
+    )))
+}
+
+/// One player against the computer at `level`: the rules run here.
+pub fn computer_game(variant: Variant, level: Level, computer_breaks: bool, seed: u64) -> Screen {
+    let link = ComputerLink::new(variant, Settings::offline(), seed, level, computer_breaks);
     Screen::Game(Box::new(game::GameScreen::new(
         Box::new(link),
         Connection::Offline,
@@ -129,6 +146,16 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
         Start::Menu => Screen::Menu(menu::MenuScreen::new()),
         Start::Network(link) => network_game(link),
         Start::Local(variant) => local_game(variant, options.seed.unwrap_or_else(fresh_seed)),
+        Start::VsComputer {
+            variant,
+            level,
+            computer_breaks,
+        } => computer_game(
+            variant,
+            level,
+            computer_breaks,
+            options.seed.unwrap_or_else(fresh_seed),
+        ),
         Start::Replay(viewer) => Screen::Replay(Box::new(replay::ReplayScreen::new(*viewer))),
         Start::Practice(scene) => Screen::Practice(Box::new(practice::PracticeScreen::new(
             scene.map(|s| *s),

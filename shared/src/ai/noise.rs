@@ -1,20 +1,20 @@
 //! Execution noise: the gap between the shot a player means and the shot the cue delivers.
 //!
 //! The model of the computational pool tournaments: independent Gaussian errors on the aim
-//! angle, the cue speed and both tip offsets (and the cue elevation, once the engine has one),
-//! scaled by one factor per level. Draws come from the rules' [`SplitMix64`] so a seed gives
+//! angle, the cue speed, both tip offsets and, for an elevated cue, its elevation, scaled by
+//! one factor per level. Draws come from the rules' [`SplitMix64`] so a seed gives
 //! the same errors on every machine.
 
 use glam::DVec2;
 
-use crate::physics::cue::{MAX_CUE_SPEED, MISCUE_LIMIT};
+use crate::physics::cue::{MAX_CUE_SPEED, MAX_ELEVATION_DEG, MISCUE_LIMIT};
 use crate::physics::{Params, Strike};
 use crate::rules::rack::SplitMix64;
 
 /// Standard deviation of the aim angle at factor 1 (degrees).
 pub const AIM_SIGMA_DEG: f64 = 0.125;
-/// Standard deviation of the cue elevation at factor 1 (degrees). The engine has no
-/// elevation yet, so it is not drawn.
+/// Standard deviation of the cue elevation at factor 1 (degrees). Drawn only for a strike
+/// with the cue raised: a level cue stays level (the cushion rail keeps it down).
 pub const ELEVATION_SIGMA_DEG: f64 = 0.1;
 /// Standard deviation of the cue speed at factor 1 (m/s).
 pub const SPEED_SIGMA: f64 = 0.075;
@@ -83,13 +83,21 @@ impl Noise {
         if tip.length() > limit {
             tip *= limit / tip.length();
         }
+        // Drawn last and only for a raised cue, so a level strike's errors (and every
+        // decision among level strikes) do not depend on it.
+        let elevation_deg = if strike.elevation_deg > 0.0 {
+            (strike.elevation_deg + f * ELEVATION_SIGMA_DEG * rng.gaussian())
+                .clamp(0.0, MAX_ELEVATION_DEG)
+        } else {
+            strike.elevation_deg
+        };
         let (s, c) = (libm::sin(angle), libm::cos(angle));
         let d = strike.dir;
         Strike {
             speed: speed.clamp(0.05, MAX_CUE_SPEED),
             dir: DVec2::new(d.x * c - d.y * s, d.x * s + d.y * c),
             tip,
-            elevation_deg: strike.elevation_deg,
+            elevation_deg,
         }
     }
 }
@@ -107,6 +115,41 @@ mod tests {
         let var = xs.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / n as f64;
         assert!(mean.abs() < 0.03, "mean {mean}");
         assert!((var - 1.0).abs() < 0.05, "variance {var}");
+    }
+
+    #[test]
+    fn only_a_raised_cue_gets_an_elevation_error_of_the_model_s_spread() {
+        let noise = Noise { factor: 2.0 };
+        let strike = |elevation_deg| Strike {
+            speed: 3.0,
+            dir: DVec2::Y,
+            tip: DVec2::ZERO,
+            elevation_deg,
+        };
+        // A level cue stays level, and its other errors are those drawn before.
+        let (mut a, mut b) = (Rng::new(3), Rng::new(3));
+        let level = noise.perturb(&strike(0.0), &mut a);
+        assert_eq!(level.elevation_deg, 0.0);
+        let raised = noise.perturb(&strike(30.0), &mut b);
+        assert_eq!(
+            (level.speed, level.dir, level.tip),
+            (raised.speed, raised.dir, raised.tip)
+        );
+        // A raised cue's elevation spreads by factor × 0.1°.
+        let mut rng = Rng::new(8);
+        let n = 4000;
+        let errors: Vec<f64> = (0..n)
+            .map(|_| noise.perturb(&strike(30.0), &mut rng).elevation_deg - 30.0)
+            .collect();
+        let sd = (errors.iter().map(|e| e * e).sum::<f64>() / n as f64).sqrt();
+        let want = 2.0 * ELEVATION_SIGMA_DEG;
+        assert!((sd - want).abs() < 0.05 * want, "sd {sd}, want {want}");
+        // Clamped into what the cue accepts, straight down included.
+        let mut rng = Rng::new(9);
+        for _ in 0..200 {
+            let s = Noise { factor: 50.0 }.perturb(&strike(MAX_ELEVATION_DEG), &mut rng);
+            assert!(s.validated().is_ok() && s.elevation_deg <= MAX_ELEVATION_DEG);
+        }
     }
 
     #[test]
