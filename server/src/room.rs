@@ -5,6 +5,7 @@
 use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
 
+use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{
     command_of, AimAid, ClientMessage, ErrorCode, Role, RoomCode, Ruling, SeatToken, SeatView,
     ServerMessage, Snapshot,
@@ -386,6 +387,7 @@ impl Room {
             ClientMessage::Chat { text } => Ok(self.chat(seat, text)),
             ClientMessage::Rematch => self.rematch(now, seat),
             ClientMessage::CallPocket { turn, pocket } => self.call_pocket(seat, turn, pocket),
+            ClientMessage::Aim { turn, strike } => Ok(self.relay_aim(who.conn, seat, turn, strike)),
             other => match command_of(&other, self.called) {
                 Some((turn, command)) => self.play(now, seat, turn, command),
                 None => Err(refuse(ErrorCode::Unexpected, "not a message for a room")),
@@ -600,6 +602,15 @@ impl Room {
                 .unwrap_or_default(),
         );
         out
+    }
+
+    /// Shows the shooter's aim to everyone else in the room. An aim out of turn is dropped
+    /// without an answer: it is a picture of a moment, and a late one is simply old.
+    fn relay_aim(&self, from: ConnId, seat: Seat, turn: u32, strike: Strike) -> Vec<Output> {
+        if self.is_over() || turn != self.game.turn() || seat != self.game.to_move() {
+            return Vec::new();
+        }
+        self.broadcast_except(from, ServerMessage::Aim { turn, seat, strike })
     }
 
     fn call_pocket(&mut self, seat: Seat, turn: u32, pocket: u8) -> Result<Vec<Output>, Refusal> {

@@ -66,10 +66,20 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
         *e == GameEvent::Connection(Connection::Connected)
     });
 
-    // The host breaks; both sides simulate it and the server's hash confirms both.
+    // The host breaks; both sides simulate it and the server's hash confirms both. While
+    // the host aims, the guest sees the host's cue where the host holds it.
     let ClientMessage::Shot { strike, .. } = break_shot(&game) else {
         unreachable!()
     };
+    host.aim(game.turn(), strike);
+    poll_link_until(&mut guest, &mut guest_flow, "the host's aim", |e| {
+        matches!(e, GameEvent::Aim { .. })
+    });
+    let shown = guest_flow
+        .opponent_aim(Some(Seat::B))
+        .expect("the host's aim");
+    assert_eq!(shown.dir, strike.validated()?.dir);
+    assert_eq!(host_flow.opponent_aim(Some(Seat::A)), None, "not one's own");
     host.send(&game, Seat::A, Command::Shot { strike, call: None });
     let mut hashes = Vec::new();
     for (link, flow) in [

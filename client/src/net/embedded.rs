@@ -9,8 +9,9 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use breakshot_server::{Config, Server};
+use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{ClientMessage, Invite};
-use breakshot_shared::rules::{Command, Game, Seat};
+use breakshot_shared::rules::{Command, Game, Seat, TurnId};
 use tokio::sync::oneshot;
 
 use super::computer::SeatedComputer;
@@ -321,6 +322,10 @@ impl GameLink for Host {
 
     fn chat(&mut self, text: String) {
         self.link.chat(text)
+    }
+
+    fn aim(&mut self, turn: TurnId, strike: Strike) {
+        self.link.aim(turn, strike)
     }
 
     fn invite(&self) -> Option<&Invite> {

@@ -3,6 +3,7 @@
 
 use std::collections::VecDeque;
 
+use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, Invite, Role, RoomCode, ServerMessage};
 use breakshot_shared::rules::{Command, Game, Seat, TurnId};
 
@@ -222,5 +223,9 @@ impl GameLink for NetLink {
 
     fn chat(&mut self, text: String) {
         self.session.send(ClientMessage::Chat { text });
+    }
+
+    fn aim(&mut self, turn: TurnId, strike: Strike) {
+        self.session.send(ClientMessage::Aim { turn, strike });
     }
 }

@@ -109,6 +109,31 @@ impl Aim {
     }
 }
 
+/// Seconds between two showings of a player's aim to the others, at the most.
+pub const AIM_SHARE_INTERVAL: f64 = 0.1;
+
+/// Decides when the aim being set up is shown to the others in an online room: when it has
+/// changed, and no more often than every [`AIM_SHARE_INTERVAL`].
+#[derive(Clone, Debug, Default)]
+pub struct AimShare {
+    last: Option<Strike>,
+    wait: f64,
+}
+
+impl AimShare {
+    /// After `dt` seconds, the strike to send now, if any.
+    pub fn offer(&mut self, strike: Strike, dt: f64) -> Option<Strike> {
+        let dt = if dt.is_finite() { dt.max(0.0) } else { 0.0 };
+        self.wait = (self.wait - dt).max(0.0);
+        if self.last == Some(strike) || self.wait > 0.0 {
+            return None;
+        }
+        self.last = Some(strike);
+        self.wait = AIM_SHARE_INTERVAL;
+        Some(strike)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -160,5 +185,29 @@ mod tests {
         assert_eq!(a.elevation_deg, MAX_ELEVATION_DEG);
         a.set_elevation(f64::NAN);
         assert_eq!(a.elevation_deg, MAX_ELEVATION_DEG);
+    }
+
+    #[test]
+    fn the_aim_is_shared_when_it_changes_at_most_ten_times_a_second() {
+        let mut share = AimShare::default();
+        let mut a = Aim::default();
+        assert!(
+            share.offer(a.strike(), 0.0).is_some(),
+            "the first aim goes at once"
+        );
+        assert!(
+            share.offer(a.strike(), 1.0).is_none(),
+            "an unchanged aim is not resent"
+        );
+        let mut sent = 0;
+        for _ in 0..60 {
+            a.rotate(0.01);
+            sent += share.offer(a.strike(), 1.0 / 60.0).is_some() as u32;
+        }
+        assert!((9..=11).contains(&sent), "{sent} aims sent in one second");
+        // The aim where it came to rest is sent once the interval has passed.
+        let rest = a.strike();
+        let late = (0..10).find_map(|_| share.offer(rest, 1.0 / 60.0));
+        assert_eq!(late, Some(rest));
     }
 }

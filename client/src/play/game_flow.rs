@@ -60,6 +60,8 @@ pub struct GameFlow {
     pub names: [Option<String>; 2],
     /// The room's chat.
     pub chat: Chat,
+    /// The last aim the shooter showed: (turn, seat, strike).
+    opponent_aim: Option<(TurnId, Seat, Strike)>,
 }
 
 impl GameFlow {
@@ -77,6 +79,7 @@ impl GameFlow {
             ended_away: None,
             names: [None, None],
             chat: Chat::default(),
+            opponent_aim: None,
         }
     }
 
@@ -118,6 +121,15 @@ impl GameFlow {
             Some(limit) => left.min(f64::from(limit)),
             None => left,
         })
+    }
+
+    /// Where the other player is aiming, to draw their cue: only while the table waits for
+    /// their shot on the turn they aimed on (not ours: `me`), and no shot is playing.
+    pub fn opponent_aim(&self, me: Option<Seat>) -> Option<Strike> {
+        let (turn, seat, strike) = self.opponent_aim?;
+        let game = self.game()?;
+        let waiting = game.turn() == turn && game.to_move() == seat && self.shot().is_none();
+        (waiting && me != Some(seat)).then_some(strike)
     }
 
     /// The judgement to show: none while a shot is shown (fouls, turn changes and pockets
@@ -166,6 +178,9 @@ impl GameFlow {
                 self.names[usize::from(*seat == Seat::B)] = Some(name.clone());
             }
             GameEvent::Chat(line) => self.chat.heard(&line.from, &line.text),
+            GameEvent::Aim { turn, seat, strike } => {
+                self.opponent_aim = Some((*turn, *seat, *strike));
+            }
         }
         self.replica.handle(&event);
     }

@@ -4,6 +4,7 @@
 
 use std::collections::VecDeque;
 
+use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{AimAid, Invite, SeatView, ServerMessage};
 use breakshot_shared::rules::{Command, Game, Seat, Settings, TurnId, Variant, Verdict};
 
@@ -59,6 +60,15 @@ pub enum GameEvent {
     },
     /// A line said in the room (`from` is empty for the server's notices).
     Chat(ChatLine),
+    /// Where `seat`, to shoot on `turn`, is aiming now.
+    Aim {
+        /// The turn being aimed.
+        turn: TurnId,
+        /// The shooter.
+        seat: Seat,
+        /// The strike as it is set up.
+        strike: Strike,
+    },
 }
 
 /// How a game that ended while this player was away came out for their seat.
@@ -132,6 +142,9 @@ pub trait GameLink {
     }
     /// Says `text` in the room.
     fn chat(&mut self, _text: String) {}
+    /// Shows the others where this player aims on `turn` (online rooms; throttled by the
+    /// caller).
+    fn aim(&mut self, _turn: TurnId, _strike: Strike) {}
     /// The invite to show while the opponent's seat is empty, when this computer hosts.
     fn invite(&self) -> Option<&Invite> {
         None
@@ -233,6 +246,11 @@ pub fn game_events(msg: &ServerMessage, me: Option<Seat>) -> Vec<GameEvent> {
             }
             events
         }
+        ServerMessage::Aim { turn, seat, strike } => vec![GameEvent::Aim {
+            turn: *turn,
+            seat: *seat,
+            strike: *strike,
+        }],
         ServerMessage::Chat { from, text } => vec![GameEvent::Chat(ChatLine {
             from: from.clone(),
             text: text.clone(),

@@ -2,7 +2,7 @@
 //! players at one computer), shown from the events of a [`GameLink`].
 
 use ::glam::DVec2;
-use breakshot_client::play::aim::Aim;
+use breakshot_client::play::aim::{Aim, AimShare};
 use breakshot_client::play::chat::{Chat, ChatKey};
 use breakshot_client::play::controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
 use breakshot_client::play::game_flow::{GameFlow, Turn};
@@ -29,6 +29,7 @@ pub struct GameScreen {
     link: Box<dyn GameLink>,
     flow: GameFlow,
     controls: Controls,
+    aim_share: AimShare,
     toggles: AidToggles,
     sim: Simulator,
     predicted: Option<(Shot, Prediction)>,
@@ -73,6 +74,7 @@ impl GameScreen {
             link,
             flow: GameFlow::new(connection),
             controls: Controls::new(Aim::default()),
+            aim_share: AimShare::default(),
             toggles: AidToggles::default(),
             sim: Simulator::new(),
             predicted: None,
@@ -222,6 +224,12 @@ impl GameScreen {
         };
         let legal = |p: DVec2| game.legal_cue_placement([p.x, p.y]).is_ok();
         let intents = self.controls.update(&input, &ctx, &legal);
+        // Online, the others see this player's cue move as they aim.
+        if stage != Stage::Watching && self.link.seat().is_some() {
+            if let Some(strike) = self.aim_share.offer(self.controls.aim.strike(), input.dt) {
+                self.link.aim(game.turn(), strike);
+            }
+        }
         let seat = match turn {
             Turn::Shoot { seat, .. } | Turn::Decide { seat, .. } => Some(seat),
             Turn::Wait => None,
@@ -432,6 +440,8 @@ impl GameScreen {
         }
         if shooting {
             draw::cue_stick(&layout, cue, &self.controls.aim, r);
+        } else if let Some(strike) = self.flow.opponent_aim(self.link.seat()) {
+            draw::cue_stick(&layout, cue, &Aim::from_strike(&strike), r);
         }
         draw::tray(&layout, &names, &self.flow.tray(), r);
         draw::panel(&layout, &self.controls.aim);

@@ -501,6 +501,44 @@ fn spectators_watch_but_cannot_act() {
 }
 
 #[test]
+fn the_shooters_aim_is_shown_to_the_others_live_and_nothing_else_changes() {
+    let mut w = World::new();
+    let (room, _, _) = w.pair(Settings::offline());
+    w.greet(3);
+    w.send(3, ClientMessage::Spectate { room: room.clone() });
+    let before = w.game(&room);
+    let strike = Strike::at_angle(2.0, 80.0, DVec2::ZERO)
+        .validated()
+        .expect("a valid strike");
+    let aim = |turn| ClientMessage::Aim { turn, strike };
+    let out = w.send(1, aim(before.turn()));
+    for conn in [2, 3] {
+        assert!(
+            sent_to(&out, conn).iter().any(|m| matches!(
+                m,
+                ServerMessage::Aim { seat: Seat::A, strike: s, .. } if *s == strike
+            )),
+            "conn {conn} saw no aim"
+        );
+    }
+    assert!(sent_to(&out, 1).is_empty(), "the shooter is not echoed");
+    assert_eq!(stores(&out), 0, "an aim is not stored");
+    // Out of turn, or from the other seat: dropped without a word.
+    assert!(w.send(1, aim(before.turn() + 1)).is_empty());
+    assert!(w.send(2, aim(before.turn())).is_empty());
+    // A strike that is no strike is refused like a shot's.
+    let bad = ClientMessage::Aim {
+        turn: before.turn(),
+        strike: Strike {
+            speed: f64::NAN,
+            ..strike
+        },
+    };
+    assert_eq!(error_code(&w.send(1, bad), 1), Some(ErrorCode::Invalid));
+    assert_eq!(w.game(&room), before);
+}
+
+#[test]
 fn a_called_pocket_is_announced_and_carried_by_the_shot() {
     let mut w = World::new();
     let (room, _, _) = w.pair(Settings::offline());

@@ -67,6 +67,9 @@ pub enum ClientMessage {
     /// Needs no seat and may be sent at any time after `Welcome`: like spectating, a record
     /// is open to whoever knows the room code. Answered by [`ServerMessage::Record`].
     FetchRecord { room: RoomCode },
+    /// Where the shooter is aiming now, shown live to the others in the room. Sent at most
+    /// a few times a second; the server relays it and keeps nothing.
+    Aim { turn: TurnId, strike: Strike },
 }
 
 /// What a connection is in a room.
@@ -239,6 +242,12 @@ pub enum ServerMessage {
         seat: Seat,
         winner: Option<Seat>,
         reason: String,
+    },
+    /// The shooter's aim on `turn`, relayed from its [`ClientMessage::Aim`].
+    Aim {
+        turn: TurnId,
+        seat: Seat,
+        strike: Strike,
     },
 }
 

@@ -48,6 +48,10 @@ pub fn validate(msg: ClientMessage) -> Result<ClientMessage, InvalidMessage> {
             check_pocket(call)?;
             Ok(ClientMessage::Shot { turn, strike, call })
         }
+        ClientMessage::Aim { turn, strike } => Ok(ClientMessage::Aim {
+            turn,
+            strike: strike.validated()?,
+        }),
         ClientMessage::PlaceCueBall { pos, .. } if !pos.iter().all(|x| x.is_finite()) => {
             Err(InvalidMessage::Position)
         }
@@ -89,12 +93,12 @@ fn playable(mode: &Settings) -> bool {
     clock_ok && mode.table != TableKind::Open
 }
 
-/// Non-blank, at most `max` characters, no control characters.
 /// Whether `name` may be a player's name: 1 to [`MAX_NAME_CHARS`] printable characters.
 pub fn is_valid_name(name: &str) -> bool {
     printable(name, MAX_NAME_CHARS)
 }
 
+/// Non-blank, at most `max` characters, no control characters.
 fn printable(text: &str, max: usize) -> bool {
     let n = text.chars().count();
     n > 0 && n <= max && !text.trim().is_empty() && !text.chars().any(char::is_control)
