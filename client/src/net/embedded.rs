@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use breakshot_server::{Config, Server};
 use breakshot_shared::protocol::{ClientMessage, Invite};
-use breakshot_shared::rules::{Command, Game, Seat};
+use breakshot_shared::rules::{Command, Game, Seat, Settings};
 use tokio::sync::oneshot;
 
 use super::host::{
@@ -167,7 +167,10 @@ impl Host {
             .flatten();
         let create = ClientMessage::CreateRoom {
             variant: options.variant,
-            mode: options.settings,
+            mode: Settings {
+                table: options.variant.table(options.settings.table),
+                ..options.settings
+            },
             aim_aid: options.aim_aid,
             name: "host".into(),
         };

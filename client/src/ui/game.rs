@@ -11,6 +11,7 @@ use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{connection as connection_text, Connection};
 use breakshot_client::view::layout::{Frame, Layout, Rect};
 use breakshot_client::view::orientation::Orientations;
+use breakshot_client::view::palette;
 use breakshot_client::view::playback::Playback;
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
@@ -37,13 +38,6 @@ pub struct GameScreen {
     turns: Orientations,
     /// The player pressed Esc in an online game and is asked whether to leave.
     leaving: bool,
-}
-
-/// Ball ids by number: "cue", "1", "2", ...
-fn ids(count: usize) -> Vec<String> {
-    (0..count)
-        .map(|n| if n == 0 { "cue".into() } else { n.to_string() })
-        .collect()
 }
 
 /// The buttons of the choices offered, in a row along the top of the cloth so the table
@@ -91,7 +85,7 @@ impl GameScreen {
 
     /// Where the cue ball is, or waits to be placed when it is off the table.
     fn cue_spot(game: &Game) -> DVec2 {
-        let cue = game.balls()[0];
+        let cue = game.balls()[game.cue_ball()];
         if is_off_table(&cue) {
             rack::break_spot(game.table())
         } else {
@@ -207,7 +201,7 @@ impl GameScreen {
         for intent in intents {
             match (intent, seat) {
                 (Intent::Shoot(strike), Some(seat)) => {
-                    if is_off_table(&game.balls()[0]) {
+                    if is_off_table(&game.balls()[game.cue_ball()]) {
                         self.flow.message =
                             "Place the cue ball first: drag it onto the table".into();
                     } else if let Some(cmd) = self.flow.shot_command(strike) {
@@ -276,7 +270,8 @@ impl GameScreen {
     }
 
     fn refresh_prediction(&mut self, game: &Game, stage: Stage) {
-        if stage == Stage::Watching || is_off_table(&game.balls()[0]) || !self.shown_aids().any() {
+        let cue_off = is_off_table(&game.balls()[game.cue_ball()]);
+        if stage == Stage::Watching || cue_off || !self.shown_aids().any() {
             self.predicted = None;
             return;
         }
@@ -284,7 +279,7 @@ impl GameScreen {
         if self.predicted.as_ref().is_some_and(|(s, _)| *s == shot) {
             return;
         }
-        let prediction = aids::predict(&mut self.sim, &shot, 0).unwrap_or_default();
+        let prediction = aids::predict(&mut self.sim, &shot, game.cue_ball()).unwrap_or_default();
         self.predicted = Some((shot, prediction));
     }
 
@@ -313,7 +308,7 @@ impl GameScreen {
         let layout = Self::layout(game);
         let r = game.params().ball_radius;
         let balls = self.flow.balls();
-        let names = ids(balls.len());
+        let names = palette::ball_ids(game);
         let turn = self.turn();
         draw::table(&layout, game.table());
 
