@@ -7,7 +7,9 @@ use std::path::{Path, PathBuf};
 use std::process::Command as Process;
 
 use breakshot_client::view::layout::{Frame, Layout};
-use breakshot_client::view::palette::{ball_look, Rgb, BALL_WHITE, CLOTH};
+use breakshot_client::view::palette::{
+    ball_ids, ball_look, Rgb, BALL_WHITE, CLOTH, CUSHION, DIAMOND, POCKET,
+};
 use breakshot_shared::physics::{BallState, MotionState, Params, Strike};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Command, EightBallRules, Game, Settings, Variant};
@@ -86,20 +88,31 @@ impl Picture {
 /// Runs `breakshot` with `args` and a file `name` holding `contents`; None if there is no
 /// `xvfb-run` (the reason is printed).
 fn screenshot(name: &str, contents: &[u8], args: &[&str]) -> Option<Picture> {
+    capture(name, args, Some((name, contents)))
+}
+
+/// Runs `breakshot ARGS [FILE] --screenshot` in a scratch directory named after `tag`, with
+/// `input` (a file name and its contents) written there and passed last; None if there is
+/// no `xvfb-run` (the reason is printed).
+fn capture(tag: &str, args: &[&str], input: Option<(&str, &[u8])>) -> Option<Picture> {
     let Some(xvfb) = find_in_path("xvfb-run") else {
         eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
         return None;
     };
-    let dir = std::env::temp_dir().join(format!("breakshot-window-{}-{name}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!("breakshot-window-{}-{tag}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
-    let input = dir.join(name);
     let out = dir.join("out.png");
-    std::fs::write(&input, contents).expect("input written");
-    let status = Process::new(xvfb)
+    let mut command = Process::new(xvfb);
+    command
         .args(["-a", "-s", "-screen 0 1280x800x24"])
         .arg(env!("CARGO_BIN_EXE_breakshot"))
-        .args(args)
-        .arg(&input)
+        .args(args);
+    if let Some((name, contents)) = input {
+        let file = dir.join(name);
+        std::fs::write(&file, contents).expect("input written");
+        command.arg(file);
+    }
+    let status = command
         .arg("--screenshot")
         .arg(&out)
         .args(["--frames", "4", "--size", "1280x720"])
@@ -342,4 +355,56 @@ fn replay_from_a_server_shows_the_fetched_games_table() {
         .collect();
     let ids: Vec<&str> = ids.iter().map(|s| s.as_str()).collect();
     balls_are_drawn(&pic, &layout, &ids, racked.balls());
+}
+
+#[test]
+fn a_three_cushion_game_shows_the_carom_table_and_its_three_balls() {
+    let Some(pic) = capture(
+        "carom",
+        &["local", "--mode", "3cushion", "--seed", "1"],
+        None,
+    ) else {
+        return;
+    };
+    let game = Game::new(Variant::three_cushion(), Settings::offline(), 1);
+    let layout = Layout::new(
+        pic.width as f32,
+        pic.height as f32,
+        Frame::new(game.table(), game.balls()),
+    );
+    // The cloth has the carom table's proportions.
+    let c = layout.cloth;
+    assert!((c.w / c.h - 2.0).abs() < 0.01, "{c:?}");
+    assert!(close(pic.at(c.x + 0.5 * c.w, c.y + 0.2 * c.h), CLOTH, 6));
+    // No pockets: where a pool table has its corner and side pockets, the cushions go on.
+    let (w, l) = (1.42, 2.84);
+    let inset = 0.02;
+    for p in [
+        DVec2::new(-inset, -inset),
+        DVec2::new(w + inset, l + inset),
+        DVec2::new(-inset, 0.5 * l),
+        DVec2::new(w + inset, 0.5 * l),
+    ] {
+        let [x, y] = layout.to_screen(p);
+        let got = pic.at(x, y);
+        assert!(close(got, CUSHION, 8), "cushion at {p}: {got:?}");
+        assert!(!close(got, POCKET, 20), "a pocket at {p}");
+    }
+    // A diamond on each long rail's middle, where a pool table has its side pockets.
+    let back = 0.045 + 0.5 * (0.12 - 0.045);
+    for p in [DVec2::new(-back, 0.5 * l), DVec2::new(w + back, 0.5 * l)] {
+        let [x, y] = layout.to_screen(p);
+        assert!(close(pic.at(x, y), DIAMOND, 12), "no diamond at {p}");
+    }
+    // The white, the yellow and the red, each in its colour where the layout puts it.
+    let ids = ball_ids(&game);
+    let ids: Vec<&str> = ids.iter().map(|s| s.as_str()).collect();
+    assert_eq!(ids, ["white", "yellow", "red"]);
+    balls_are_drawn(&pic, &layout, &ids, game.balls());
+    let [x, y] = layout.to_screen(game.balls()[2].pos);
+    let red = pic.at(x - 0.5 * layout.px(game.params().ball_radius), y);
+    assert!(
+        red[0] > 120 && red[1] < 50 && red[2] < 50,
+        "the red ball: {red:?}"
+    );
 }
