@@ -176,11 +176,17 @@ mod tests {
     fn fan(game: &Game, target: u8) -> impl Iterator<Item = Strike> {
         let from = game.balls()[game.cue_ball()].pos;
         let to = game.balls()[usize::from(target)].pos - from;
-        let base = libm::atan2(to.y, to.x).to_degrees();
+        let base = libm::atan2(to.y, to.x);
+        // Quarter-degree steps either side of the line to the target.
+        let step = 0.25 * std::f64::consts::PI / 180.0;
         (-40..=40).flat_map(move |k| {
+            let a = base + step * f64::from(k);
             [3.0, 4.0, 5.0].into_iter().flat_map(move |speed| {
-                [-0.4, 0.0, 0.4].into_iter().map(move |side| {
-                    Strike::at_angle(speed, base + 0.25 * f64::from(k), DVec2::new(side, 0.0))
+                [-0.4, 0.0, 0.4].into_iter().map(move |side| Strike {
+                    speed,
+                    dir: DVec2::new(libm::cos(a), libm::sin(a)),
+                    tip: DVec2::new(side, 0.0),
+                    elevation_deg: 0.0,
                 })
             })
         })
@@ -267,7 +273,12 @@ mod tests {
         let mut g = game(15);
         // Straight at the red and back: the red, no yellow.
         let red = top_spot() - g.balls()[0].pos;
-        let strike = Strike::at_angle(2.0, libm::atan2(red.y, red.x).to_degrees(), DVec2::ZERO);
+        let strike = Strike {
+            speed: 2.0,
+            dir: red.normalize(),
+            tip: DVec2::ZERO,
+            elevation_deg: 0.0,
+        };
         let v = g.apply(Seat::A, &shot(strike)).expect("a legal shot");
         assert_eq!(v.reasons[0], "Missed the yellow: no point");
         assert_eq!(
