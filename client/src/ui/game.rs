@@ -127,10 +127,12 @@ impl GameScreen {
                 input.left_pressed = false;
             }
         }
-        let input = &input;
         if self.flow.shot().is_some() && input.pressed.contains(&Key::Shoot) {
             self.flow.skip();
+            // The key that skipped the shot is spent: it must not also play the next one.
+            input.pressed.retain(|k| *k != Key::Shoot);
         }
+        let input = &input;
         self.flow.tick(input.dt);
         let Some(game) = self.flow.game().cloned() else {
             return if input.pressed.contains(&Key::Back) {
