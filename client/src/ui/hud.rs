@@ -21,25 +21,38 @@ pub fn game_hud(layout: &Layout, info: &HudInfo) {
     let bar = layout.hud;
     draw_rectangle(bar.x, bar.y, bar.w, bar.h, Color::new(0.0, 0.0, 0.0, 0.5));
     let y = 0.5 * bar.h + 6.0;
-    let mut x = 10.0;
-    for p in hud::players(info.game, info.me) {
-        let (marker, c) = if p.to_move {
-            ("> ", YELLOW)
-        } else {
-            ("  ", LIGHTGRAY)
-        };
-        let text = format!("{marker}{}", p.text);
-        draw::label(&text, x, y, 20.0, c);
-        x += draw::text_width(&text, 20.0) + 30.0;
-    }
     let mut right = vec![hud::variant_name(info.game.variant()).to_string()];
     if let Some(clock) = hud::shot_clock(info.shot_clock) {
         right.push(clock);
     }
     right.push(hud::connection(info.connection));
-    let text = right.join("  |  ");
-    let w = draw::text_width(&text, 18.0);
-    draw::label(&text, bar.w - w - 10.0, y, 18.0, LIGHTGRAY);
+    let right = right.join("  |  ");
+    let right_w = draw::text_width(&right, 18.0);
+    draw::label(&right, bar.w - right_w - 10.0, y, 18.0, LIGHTGRAY);
+
+    let lines: Vec<(String, Color)> = hud::players(info.game, info.me)
+        .into_iter()
+        .map(|p| {
+            let (marker, c) = if p.to_move {
+                ("> ", YELLOW)
+            } else {
+                ("  ", LIGHTGRAY)
+            };
+            (format!("{marker}{}", p.text), c)
+        })
+        .collect();
+    // The players' lines shrink, if they must, to stay clear of the right-hand words.
+    let room = bar.w - right_w - 40.0;
+    let wide: f32 = lines
+        .iter()
+        .map(|(t, _)| draw::text_width(t, 20.0) + 30.0)
+        .sum();
+    let size = (20.0 * (room / wide).min(1.0)).max(11.0);
+    let mut x = 10.0;
+    for (text, c) in &lines {
+        draw::label(text, x, y, size, *c);
+        x += draw::text_width(text, size) + 30.0 * size / 20.0;
+    }
 
     // What the game waits for, over the table; the last verdict's reasons, one a line, in
     // the tray's free right-hand part.
