@@ -1084,12 +1084,15 @@ impl Game {
     /// Racks the balls for the current rack number; `breaker` breaks from the kitchen.
     fn rack(&mut self, breaker: Seat) {
         let seed = rack::rack_seed(self.seed, self.racks);
-        self.balls = match self.variant {
-            Variant::NineBall => rack::nine_ball(self.table(), seed),
-            Variant::EightBall(_) | Variant::Practice => rack::eight_ball(self.table(), seed),
-            Variant::ThreeCushion { .. } => three_cushion::start_position(Seat::A),
-        };
         self.carom = Game::start_carom(self.variant);
+        self.balls = match (self.variant, &self.carom) {
+            (Variant::NineBall, _) => rack::nine_ball(self.table(), seed),
+            (Variant::EightBall(_) | Variant::Practice, _) => rack::eight_ball(self.table(), seed),
+            // The match sets up its own start.
+            (Variant::ThreeCushion { .. }, m) => {
+                m.iter().flat_map(|m| m.balls()).copied().collect()
+            }
+        };
         self.breaker = breaker;
         self.to_move = breaker;
         self.group_a = None;
