@@ -12,6 +12,7 @@ use std::rc::Rc;
 use anyhow::{bail, Context as _};
 use breakshot_client::net::host::{default_data_dir, DEFAULT_PORT};
 use breakshot_client::net::{fetch_record_blocking, player_name, HostOptions, NetLink, SeatStore};
+use breakshot_client::play::practice::three_cushion_scene;
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::{AimAid, Invite, RoomCode};
@@ -55,7 +56,7 @@ struct Cli {
 enum Command {
     /// Host a game and show the invite for the other player.
     Host {
-        #[arg(long, default_value = "8ball", value_parser = ["8ball", "9ball"])]
+        #[arg(long, default_value = "8ball", value_parser = ["8ball", "9ball", "3cushion"])]
         mode: String,
         #[arg(long, default_value = "wpa", value_parser = ["wpa", "bar"])]
         rules: String,
@@ -84,7 +85,7 @@ enum Command {
     },
     /// Two players taking turns at this computer.
     Local {
-        #[arg(long, default_value = "8ball", value_parser = ["8ball", "9ball"])]
+        #[arg(long, default_value = "8ball", value_parser = ["8ball", "9ball", "3cushion"])]
         mode: String,
         #[arg(long, default_value = "wpa", value_parser = ["wpa", "bar"])]
         rules: String,
@@ -105,7 +106,12 @@ enum Command {
     /// Join a game with the invite the host sent (a full room is watched).
     Join { invite: String },
     /// Play offline with no server, from a rack or from a scene file.
-    Practice { scene: Option<PathBuf> },
+    Practice {
+        scene: Option<PathBuf>,
+        /// The table without a scene: a pool rack, or the three-cushion start.
+        #[arg(long, default_value = "pool", value_parser = ["pool", "3cushion"], conflicts_with = "scene")]
+        mode: String,
+    },
     /// Watch a recorded game: from a file, or from a server by its room code.
     #[command(group(ArgGroup::new("source").required(true).args(["file", "server"])))]
     Replay {
@@ -160,8 +166,13 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
     parse_size(&cli.size)?;
     Ok(match &cli.command {
         None => ui::Start::Menu,
-        Some(Command::Practice { scene: None }) => ui::Start::Practice(None),
-        Some(Command::Practice { scene: Some(path) }) => {
+        Some(Command::Practice { scene: None, mode }) if mode == "3cushion" => {
+            ui::Start::Practice(Some(Box::new(three_cushion_scene())))
+        }
+        Some(Command::Practice { scene: None, .. }) => ui::Start::Practice(None),
+        Some(Command::Practice {
+            scene: Some(path), ..
+        }) => {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("cannot read {}", path.display()))?;
             let scene = Scene::from_json(&text).with_context(|| format!("{}", path.display()))?;
@@ -344,6 +355,7 @@ fn aim_aid(name: &str) -> AimAid {
 fn variant(mode: &str, rules: &str) -> Variant {
     match (mode, rules) {
         ("9ball", _) => Variant::NineBall,
+        ("3cushion", _) => Variant::three_cushion(),
         (_, "bar") => Variant::EightBall(EightBallRules::Bar),
         _ => Variant::EightBall(EightBallRules::Wpa),
     }

@@ -13,7 +13,9 @@ use breakshot_client::play::replay::ReplayViewer;
 use breakshot_client::view::aids::{predict, PathPoint};
 use breakshot_client::view::flight::flight;
 use breakshot_client::view::layout::{Frame, Layout};
-use breakshot_client::view::palette::{ball_look, Rgb, BALL_WHITE, CLOTH, CUE_BALL, CUE_WOOD};
+use breakshot_client::view::palette::{
+    ball_ids, ball_look, Rgb, BALL_WHITE, CLOTH, CUE_BALL, CUE_WOOD, CUSHION, DIAMOND, POCKET,
+};
 use breakshot_shared::physics::Simulator;
 use breakshot_shared::physics::{BallState, MotionState, Params, Strike};
 use breakshot_shared::replay::GameRecord;
@@ -727,5 +729,54 @@ fn the_computer_thinks_then_breaks_and_the_break_is_shown() {
     assert!(
         dark < 100,
         "the thinking box is still shown: {dark} dark points"
+    );
+}
+
+#[test]
+fn a_three_cushion_game_shows_the_carom_table_and_its_three_balls() {
+    let Some(pic) = screenshot_of("carom", &["local", "--mode", "3cushion", "--seed", "1"], 4)
+    else {
+        return;
+    };
+    let game = Game::new(Variant::three_cushion(), Settings::offline(), 1);
+    let layout = Layout::new(
+        pic.width as f32,
+        pic.height as f32,
+        Frame::new(game.table(), game.balls()),
+    );
+    // The cloth has the carom table's proportions.
+    let c = layout.cloth;
+    assert!((c.w / c.h - 2.0).abs() < 0.01, "{c:?}");
+    assert!(close(pic.at(c.x + 0.5 * c.w, c.y + 0.2 * c.h), CLOTH, 6));
+    // No pockets: where a pool table has its corner and side pockets, the cushions go on.
+    let (w, l) = (1.42, 2.84);
+    let inset = 0.02;
+    for p in [
+        DVec2::new(-inset, -inset),
+        DVec2::new(w + inset, l + inset),
+        DVec2::new(-inset, 0.5 * l),
+        DVec2::new(w + inset, 0.5 * l),
+    ] {
+        let [x, y] = layout.to_screen(p);
+        let got = pic.at(x, y);
+        assert!(close(got, CUSHION, 8), "cushion at {p}: {got:?}");
+        assert!(!close(got, POCKET, 20), "a pocket at {p}");
+    }
+    // A diamond on each long rail's middle, where a pool table has its side pockets.
+    let back = 0.045 + 0.5 * (0.12 - 0.045);
+    for p in [DVec2::new(-back, 0.5 * l), DVec2::new(w + back, 0.5 * l)] {
+        let [x, y] = layout.to_screen(p);
+        assert!(close(pic.at(x, y), DIAMOND, 12), "no diamond at {p}");
+    }
+    // The white, the yellow and the red, each in its colour where the layout puts it.
+    let ids = ball_ids(&game);
+    let ids: Vec<&str> = ids.iter().map(|s| s.as_str()).collect();
+    assert_eq!(ids, ["white", "yellow", "red"]);
+    balls_are_drawn(&pic, &layout, &ids, game.balls());
+    let [x, y] = layout.to_screen(game.balls()[2].pos);
+    let red = pic.at(x - 0.5 * layout.px(game.params().ball_radius), y);
+    assert!(
+        red[0] > 120 && red[1] < 50 && red[2] < 50,
+        "the red ball: {red:?}"
     );
 }

@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use breakshot_server::{Config, Server};
 use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{ClientMessage, Invite};
-use breakshot_shared::rules::{Command, Game, Seat, TurnId};
+use breakshot_shared::rules::{Command, Game, Seat, Settings, TurnId};
 use tokio::sync::oneshot;
 
 use super::computer::SeatedComputer;
@@ -172,7 +172,10 @@ impl Host {
             .flatten();
         let create = ClientMessage::CreateRoom {
             variant: options.variant,
-            mode: options.settings,
+            mode: Settings {
+                table: options.variant.table(options.settings.table),
+                ..options.settings
+            },
             aim_aid: options.aim_aid,
             name: options.name.clone(),
         };

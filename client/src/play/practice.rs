@@ -8,9 +8,11 @@ use breakshot_shared::physics::{
 use breakshot_shared::scene::{Scene, SceneError};
 use glam::DVec2;
 
-use breakshot_shared::rules::rack;
+use breakshot_shared::rules::{rack, Game, Settings, Variant};
+use breakshot_shared::scene::SceneBall;
 
 use super::aim::Aim;
+use crate::view::palette;
 use crate::view::playback::Playback;
 
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -265,6 +267,31 @@ impl Practice {
 }
 
 /// Ids of racked balls: "cue", then "1", "2", ...
+/// The three-cushion start (UMB) on the carom table as a scene: the white to play, the
+/// yellow and the red, named as the game names them ([`palette::ball_ids`]).
+pub fn three_cushion_scene() -> Scene {
+    let game = Game::new(Variant::three_cushion(), Settings::offline(), 0);
+    let balls = palette::ball_ids(&game)
+        .into_iter()
+        .zip(game.balls())
+        .map(|(id, b)| SceneBall {
+            id,
+            pos: b.pos.to_array(),
+            vel: [0.0; 2],
+            spin: [0.0; 3],
+        })
+        .collect();
+    Scene {
+        table: game.table(),
+        physics: game.params(),
+        models: Models::default(),
+        effects: Effects::default(),
+        horizon: None,
+        balls,
+        strike: None,
+    }
+}
+
 fn rack_ids(count: usize) -> Vec<String> {
     std::iter::once("cue".to_string())
         .chain((1..count).map(|n| n.to_string()))

@@ -55,6 +55,13 @@ pub fn table(layout: &Layout, kind: TableKind) {
     let t = Table::new(kind);
     fill_rect(layout.outer, color(palette::RAIL_WOOD));
     let cushion = layout.px(CUSHION_WIDTH);
+    // Under the cushions: pocket-black where the rails leave gaps for pockets, cushion all
+    // round on a table without pockets (carom), whose cushions meet in the corners.
+    let under = if t.pockets.is_empty() {
+        palette::CUSHION
+    } else {
+        palette::POCKET
+    };
     fill_rect(
         Rect::new(
             layout.cloth.x - cushion,
@@ -62,7 +69,7 @@ pub fn table(layout: &Layout, kind: TableKind) {
             layout.cloth.w + 2.0 * cushion,
             layout.cloth.h + 2.0 * cushion,
         ),
-        color(palette::POCKET),
+        color(under),
     );
     fill_rect(layout.cloth, color(palette::CLOTH));
     let scene = |p: DVec2| v(layout.to_screen(t.to_scene(p)));
@@ -95,16 +102,17 @@ pub fn table(layout: &Layout, kind: TableKind) {
             color(palette::POCKET),
         );
     }
-    diamonds(layout);
+    diamonds(layout, kind.has_pockets());
 }
 
-/// Sights on the wood: every eighth of the length, every quarter of the width.
-fn diamonds(layout: &Layout) {
+/// Sights on the wood: every eighth of the length, every quarter of the width; a pool
+/// table has its side pockets where a carom table has its middle diamonds.
+fn diamonds(layout: &Layout, pockets: bool) {
     let (w, l) = (layout.frame.size.x, layout.frame.size.y);
     let back = CUSHION_WIDTH + 0.5 * (RAIL_WIDTH - CUSHION_WIDTH);
     let size = layout.px(0.012).max(2.0);
     let mut spots = Vec::new();
-    for k in (1..8).filter(|&k| k != 4) {
+    for k in (1..8).filter(|&k| k != 4 || !pockets) {
         let y = l * k as f64 / 8.0;
         spots.push(DVec2::new(-back, y));
         spots.push(DVec2::new(w + back, y));

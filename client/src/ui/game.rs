@@ -12,6 +12,7 @@ use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{connection as connection_text, Connection};
 use breakshot_client::view::layout::{Frame, Layout, Rect};
 use breakshot_client::view::orientation::Orientations;
+use breakshot_client::view::palette;
 use breakshot_client::view::playback::Playback;
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
@@ -41,13 +42,6 @@ pub struct GameScreen {
     turns: Orientations,
     /// The player pressed Esc in an online game and is asked whether to leave.
     leaving: bool,
-}
-
-/// Ball ids by number: "cue", "1", "2", ...
-fn ids(count: usize) -> Vec<String> {
-    (0..count)
-        .map(|n| if n == 0 { "cue".into() } else { n.to_string() })
-        .collect()
 }
 
 /// The buttons of the choices offered, in a row along the top of the cloth so the table
@@ -96,7 +90,7 @@ impl GameScreen {
 
     /// Where the cue ball is, or waits to be placed when it is off the table.
     fn cue_spot(game: &Game) -> DVec2 {
-        let cue = game.balls()[0];
+        let cue = game.balls()[game.cue_ball()];
         if is_off_table(&cue) {
             rack::break_spot(game.table())
         } else {
@@ -139,10 +133,9 @@ impl GameScreen {
                 input.left_pressed = false;
             }
         }
-        let input = &input;
         // While a chat line is open, the keyboard types into it and nothing else.
         let chatting = if self.flow.chat.typing().is_some() {
-            self.type_chat(input);
+            self.type_chat(&input);
             true
         } else if self.link.chats() && input.pressed.contains(&Key::Chat) {
             self.flow.chat.open();
@@ -152,7 +145,10 @@ impl GameScreen {
         };
         if !chatting && self.flow.shot().is_some() && input.pressed.contains(&Key::Shoot) {
             self.flow.skip();
+            // The key that skipped the shot is spent: it must not also play the next one.
+            input.pressed.retain(|k| *k != Key::Shoot);
         }
+        let input = &input;
         self.flow.tick(input.dt);
         self.link.update(&self.flow, input.dt);
         if chatting {
@@ -237,7 +233,7 @@ impl GameScreen {
         for intent in intents {
             match (intent, seat) {
                 (Intent::Shoot(strike), Some(seat)) => {
-                    if is_off_table(&game.balls()[0]) {
+                    if is_off_table(&game.balls()[game.cue_ball()]) {
                         self.flow.message =
                             "Place the cue ball first: drag it onto the table".into();
                     } else if let Some(cmd) = self.flow.shot_command(strike) {
@@ -329,7 +325,8 @@ impl GameScreen {
     }
 
     fn refresh_prediction(&mut self, game: &Game, stage: Stage) {
-        if stage == Stage::Watching || is_off_table(&game.balls()[0]) || !self.shown_aids().any() {
+        let cue_off = is_off_table(&game.balls()[game.cue_ball()]);
+        if stage == Stage::Watching || cue_off || !self.shown_aids().any() {
             self.predicted = None;
             return;
         }
@@ -337,7 +334,7 @@ impl GameScreen {
         if self.predicted.as_ref().is_some_and(|(s, _)| *s == shot) {
             return;
         }
-        let prediction = aids::predict(&mut self.sim, &shot, 0).unwrap_or_default();
+        let prediction = aids::predict(&mut self.sim, &shot, game.cue_ball()).unwrap_or_default();
         self.predicted = Some((shot, prediction));
     }
 
@@ -381,7 +378,7 @@ impl GameScreen {
         let layout = Self::layout(game);
         let r = game.params().ball_radius;
         let balls = self.flow.balls();
-        let names = ids(balls.len());
+        let names = palette::ball_ids(game);
         let turn = self.turn();
         draw::table(&layout, game.table());
 
@@ -406,7 +403,9 @@ impl GameScreen {
                     draw::ring(&layout, balls[usize::from(n)].pos, r, YELLOW);
                 }
             }
-            if let Some((_, pred)) = &self.predicted {
+            // In three-cushion a miss scores nothing but is no foul: nothing to warn of.
+            let pool = !matches!(game.variant(), Variant::ThreeCushion { .. });
+            if let Some((_, pred)) = self.predicted.as_ref().filter(|_| pool) {
                 let legal = game.legal_first_balls();
                 if let Some(warning) = aids::first_hit_warning(&legal, pred.first_hit) {
                     if let Some(end) = pred.aim_end.filter(|_| self.shown_aids().aim_line) {

@@ -23,17 +23,6 @@ pub fn game_hud(layout: &Layout, info: &HudInfo) {
     let bar = layout.hud;
     draw_rectangle(bar.x, bar.y, bar.w, bar.h, Color::new(0.0, 0.0, 0.0, 0.5));
     let y = 0.5 * bar.h + 6.0;
-    let mut x = 10.0;
-    for p in hud::players(info.game, info.me, info.names) {
-        let (marker, c) = if p.to_move {
-            ("> ", YELLOW)
-        } else {
-            ("  ", LIGHTGRAY)
-        };
-        let text = format!("{marker}{}", p.text);
-        draw::label(&text, x, y, 20.0, c);
-        x += draw::text_width(&text, 20.0) + 30.0;
-    }
     // Right to left: the connection, the shot clock (red as it runs out), the game.
     let mut at = bar.w - 10.0;
     let mut right = |text: &str, c: Color| {
@@ -48,6 +37,31 @@ pub fn game_hud(layout: &Layout, info: &HudInfo) {
     }
     right("  |  ", LIGHTGRAY);
     right(hud::variant_name(info.game.variant()), LIGHTGRAY);
+    let right_w = bar.w - 10.0 - at;
+
+    let lines: Vec<(String, Color)> = hud::players(info.game, info.me, info.names)
+        .into_iter()
+        .map(|p| {
+            let (marker, c) = if p.to_move {
+                ("> ", YELLOW)
+            } else {
+                ("  ", LIGHTGRAY)
+            };
+            (format!("{marker}{}", p.text), c)
+        })
+        .collect();
+    // The players' lines shrink, if they must, to stay clear of the right-hand words.
+    let room = bar.w - right_w - 40.0;
+    let wide: f32 = lines
+        .iter()
+        .map(|(t, _)| draw::text_width(t, 20.0) + 30.0)
+        .sum();
+    let size = (20.0 * (room / wide).min(1.0)).max(11.0);
+    let mut x = 10.0;
+    for (text, c) in &lines {
+        draw::label(text, x, y, size, *c);
+        x += draw::text_width(text, size) + 30.0 * size / 20.0;
+    }
 
     // What the game waits for, over the table; the last verdict's reasons, one a line, in
     // the tray's free right-hand part.

@@ -7,6 +7,7 @@ use breakshot_client::play::replay::ReplayViewer;
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::layout::{Frame, Layout};
 use breakshot_client::view::orientation::Orientations;
+use breakshot_client::view::palette;
 use breakshot_client::view::playback::Playback;
 use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
@@ -57,15 +58,7 @@ impl ReplayScreen {
         let layout = Layout::new(screen_width(), screen_height(), self.frame);
         let v = &self.viewer;
         let r = v.game().params().ball_radius;
-        let ids: Vec<String> = (0..v.game().balls().len())
-            .map(|n| {
-                if n == 0 {
-                    "cue".to_string()
-                } else {
-                    n.to_string()
-                }
-            })
-            .collect();
+        let ids = palette::ball_ids(v.game());
         draw::table(&layout, v.game().table());
         draw::balls(&layout, &ids, &v.balls(), r, None, &self.turns);
         draw::tray(&layout, &ids, &v.tray(), r);

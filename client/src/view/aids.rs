@@ -323,6 +323,36 @@ mod tests {
     }
 
     #[test]
+    fn a_three_cushion_prediction_is_the_shot_the_rules_play() {
+        use breakshot_shared::rules::{Command, Game, Seat, Settings, Variant};
+        let mut game = Game::new(Variant::three_cushion(), Settings::offline(), 1);
+        let strike = Strike::at_angle(4.0, 60.0, DVec2::new(0.2, 0.0));
+        let p = predict(
+            &mut Simulator::new(),
+            &game.shot_for(&strike),
+            game.cue_ball(),
+        )
+        .expect("valid");
+        let played = game
+            .apply(Seat::A, &Command::Shot { strike, call: None })
+            .expect("a legal shot")
+            .outcome
+            .expect("the trajectory");
+        // The path is the white's as the rules simulate it (carom table and balls), and it
+        // comes off the cushions: its points reach near at least three of the four.
+        assert_eq!(p.cue_path.last().map(|q| q.pos), Some(played.finals[0].pos));
+        let (w, l, r) = (1.42, 2.84, game.params().ball_radius);
+        let near = |f: &dyn Fn(DVec2) -> bool| p.cue_path.iter().any(|q| f(q.pos));
+        let cushions = [
+            near(&|q| q.x < r + 1e-3),
+            near(&|q| q.x > w - r - 1e-3),
+            near(&|q| q.y < r + 1e-3),
+            near(&|q| q.y > l - r - 1e-3),
+        ];
+        assert!(cushions.iter().filter(|&&c| c).count() >= 3, "{cushions:?}");
+    }
+
+    #[test]
     fn a_room_s_policy_limits_the_aids_shown() {
         let all = AidToggles::default();
         assert!(!all.allowed_by(AimAid::Off).any());

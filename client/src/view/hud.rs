@@ -45,6 +45,7 @@ pub fn variant_name(v: Variant) -> &'static str {
         Variant::EightBall(breakshot_shared::rules::EightBallRules::Bar) => "8-ball (bar rules)",
         Variant::NineBall => "9-ball",
         Variant::Practice => "practice",
+        Variant::ThreeCushion { .. } => "three-cushion",
     }
 }
 
@@ -75,6 +76,16 @@ pub fn players(game: &Game, me: Option<Seat>, names: &[Option<String>; 2]) -> [P
                 ": {} foul(s) in a row",
                 game.consecutive_fouls(seat)
             )),
+            (Variant::ThreeCushion { .. }, _) => {
+                if let Some(m) = game.carom() {
+                    let ball = match seat {
+                        Seat::A => "white",
+                        Seat::B => "yellow",
+                    };
+                    let points = m.scores()[usize::from(seat == Seat::B)];
+                    text.push_str(&format!(": {ball}, {points} of {}", m.race()));
+                }
+            }
             _ => {}
         }
         let to_move = !matches!(game.phase(), Phase::Over { .. }) && game.to_move() == seat;
@@ -236,6 +247,19 @@ mod tests {
         let [a, b] = players(&g, Some(Seat::A), &[Some("ann".into()), None]);
         assert_eq!(a.text, "ann (A) (you): open table");
         assert_eq!(b.text, "Player B: open table");
+    }
+
+    #[test]
+    fn three_cushion_shows_each_ball_and_score_against_the_race() {
+        let mut g = Game::new(Variant::ThreeCushion { race: 10 }, Settings::offline(), 3);
+        let [a, b] = players(&g, Some(Seat::A), &[None, None]);
+        assert_eq!(a.text, "Player A (you): white, 0 of 10");
+        assert_eq!(b.text, "Player B: yellow, 0 of 10");
+        assert_eq!(status(&g), "Player A to shoot");
+        g.apply(Seat::A, &Command::TimeExpired)
+            .expect_err("no shot clock offline");
+        g.apply(Seat::A, &Command::Concede).expect("concede");
+        assert_eq!(variant_name(g.variant()), "three-cushion");
     }
 
     #[test]

@@ -310,13 +310,19 @@ mod tests {
 
     #[test]
     fn everything_fits_on_screen_at_common_sizes() {
-        for (w, h) in [
+        let sizes = [
             (1280.0, 720.0),
             (1920.0, 1080.0),
             (1280.0, 800.0),
             (800.0, 600.0),
-        ] {
-            let l = nine_foot(w, h);
+            (700.0, 900.0),
+            (2560.0, 700.0),
+        ];
+        for (kind, (w, h)) in [TableKind::NineFoot, TableKind::Carom]
+            .into_iter()
+            .flat_map(|k| sizes.map(|s| (k, s)))
+        {
+            let l = Layout::new(w, h, Frame::new(kind, &[]));
             let screen = Rect::new(0.0, 0.0, w, h);
             for r in [l.outer, l.tray, l.power_bar, l.elevation_view] {
                 assert!(screen.contains([r.x, r.y]) && screen.contains([r.x + r.w, r.y + r.h]));
@@ -353,6 +359,19 @@ mod tests {
         // Below the cloth behind the ball: level; in front of the ball: straight down.
         assert_eq!(l.elevation_at([bx - 40.0, by + 10.0]), 0.0);
         assert_eq!(l.elevation_at([bx + 40.0, by - 10.0]), 90.0);
+    }
+
+    #[test]
+    fn the_carom_table_keeps_its_proportions_and_has_no_pockets_to_click() {
+        let l = Layout::new(1280.0, 720.0, Frame::new(TableKind::Carom, &[]));
+        assert!((l.cloth.w / l.cloth.h - 2.84 / 1.42).abs() < 1e-3);
+        let far = l.to_screen(DVec2::new(1.42, 2.84));
+        assert!((far[0] - (l.cloth.x + l.cloth.w)).abs() < 1e-2);
+        assert!((far[1] - (l.cloth.y + l.cloth.h)).abs() < 1e-2);
+        // The longer table is drawn at a smaller scale than a 9-foot one in the same window.
+        assert!(l.scale < nine_foot(1280.0, 720.0).scale);
+        let t = Table::new(TableKind::Carom);
+        assert_eq!(l.pocket_at(&t, l.to_screen(DVec2::ZERO)), None);
     }
 
     #[test]

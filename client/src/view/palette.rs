@@ -1,5 +1,8 @@
 //! Colours: the cloth, the rails and the standard pool ball colours (1 yellow, 2 blue, 3 red,
-//! 4 purple, 5 orange, 6 green, 7 maroon, 8 black; 9 to 15 are the same colours as stripes).
+//! 4 purple, 5 orange, 6 green, 7 maroon, 8 black; 9 to 15 are the same colours as stripes),
+//! and the three carom balls (white, yellow, red).
+
+use breakshot_shared::rules::{Game, Variant};
 
 /// An sRGB colour.
 pub type Rgb = [u8; 3];
@@ -28,6 +31,10 @@ pub const OTHER_BALL: Rgb = [200, 200, 200];
 pub const CUE_WOOD: Rgb = [214, 180, 120];
 /// The cue's ferrule, at its tip.
 pub const CUE_FERRULE: Rgb = [240, 240, 240];
+/// The yellow carom ball, seat B's (seat A's white is [`CUE_BALL`]).
+pub const CAROM_YELLOW: Rgb = [246, 206, 40];
+/// The red carom ball, the object ball of both.
+pub const CAROM_RED: Rgb = [200, 24, 30];
 
 const SOLIDS: [Rgb; 8] = [
     [250, 196, 20], // 1 yellow
@@ -51,15 +58,30 @@ pub struct BallLook {
     pub number: Option<u8>,
 }
 
-/// The look of the ball called `id` ("cue" or "0" for the cue ball, "1" to "15").
+/// The names the window gives a game's balls, index = ball number: pool balls by number
+/// ("cue" for the cue ball), the three-cushion balls by colour.
+pub fn ball_ids(game: &Game) -> Vec<String> {
+    match game.variant() {
+        Variant::ThreeCushion { .. } => ["white", "yellow", "red"].map(String::from).to_vec(),
+        _ => (0..game.balls().len())
+            .map(|n| if n == 0 { "cue".into() } else { n.to_string() })
+            .collect(),
+    }
+}
+
+/// The look of the ball called `id` ("cue" or "0" for the cue ball, "1" to "15"; "white",
+/// "yellow" and "red" for carom balls, plain and unnumbered).
 pub fn ball_look(id: &str) -> BallLook {
     let plain = |color| BallLook {
         color,
         stripe: false,
         number: None,
     };
-    if id == "cue" || id == "0" {
-        return plain(CUE_BALL);
+    match id {
+        "cue" | "0" | "white" => return plain(CUE_BALL),
+        "yellow" => return plain(CAROM_YELLOW),
+        "red" => return plain(CAROM_RED),
+        _ => {}
     }
     match id.parse::<u8>() {
         Ok(n @ 1..=15) => BallLook {
@@ -89,6 +111,27 @@ mod tests {
         assert_eq!(ball_look("cue").color, CUE_BALL);
         assert_eq!(ball_look("16").color, OTHER_BALL);
         assert_eq!(ball_look("12").number, Some(12));
+    }
+
+    #[test]
+    fn carom_balls_are_plain_white_yellow_and_red() {
+        let game = Game::new(Variant::three_cushion(), Default::default(), 1);
+        let ids = ball_ids(&game);
+        assert_eq!(ids, ["white", "yellow", "red"]);
+        let looks: Vec<BallLook> = ids.iter().map(|id| ball_look(id)).collect();
+        assert_eq!(looks[0].color, CUE_BALL);
+        assert!(looks.iter().all(|l| l.number.is_none() && !l.stripe));
+        // Red reads red and yellow reads yellow.
+        let [r, g, b] = looks[2].color;
+        assert!(r > 150 && g < 60 && b < 60);
+        let [r, g, b] = looks[1].color;
+        assert!(r > 200 && g > 180 && b < 80);
+        for (i, a) in looks.iter().enumerate() {
+            assert!(distance(a.color, CLOTH) > 60);
+            for c in &looks[i + 1..] {
+                assert!(distance(a.color, c.color) > 60);
+            }
+        }
     }
 
     #[test]

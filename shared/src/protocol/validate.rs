@@ -7,7 +7,8 @@ use thiserror::Error;
 use super::limits::{MAX_CHAT_CHARS, MAX_NAME_CHARS};
 use super::messages::{ClientMessage, ErrorCode};
 use crate::physics::{StrikeError, TableKind};
-use crate::rules::Settings;
+use crate::rules::three_cushion::MAX_RACE;
+use crate::rules::{Settings, Variant};
 
 /// Pockets on a table with pockets.
 pub const POCKETS: u8 = 6;
@@ -26,7 +27,7 @@ pub enum InvalidMessage {
     Chat,
     #[error("malformed room code")]
     Room,
-    #[error("a room is played on a 7, 8 or 9-foot table with a shot clock of {MIN_SHOT_CLOCK} to {MAX_SHOT_CLOCK} s, if any")]
+    #[error("a room is played on a 7, 8 or 9-foot table (three-cushion: the carom table, a race of 1 to {MAX_RACE} points) with a shot clock of {MIN_SHOT_CLOCK} to {MAX_SHOT_CLOCK} s, if any")]
     Mode,
 }
 
@@ -58,7 +59,9 @@ pub fn validate(msg: ClientMessage) -> Result<ClientMessage, InvalidMessage> {
         ClientMessage::CallPocket { pocket, .. } if pocket >= POCKETS => {
             Err(InvalidMessage::Pocket)
         }
-        ClientMessage::CreateRoom { ref mode, .. } if !playable(mode) => Err(InvalidMessage::Mode),
+        ClientMessage::CreateRoom {
+            variant, ref mode, ..
+        } if !playable(variant, mode) => Err(InvalidMessage::Mode),
         ClientMessage::CreateRoom { ref name, .. } | ClientMessage::Join { ref name, .. }
             if !printable(name, MAX_NAME_CHARS) =>
         {
@@ -85,12 +88,19 @@ fn check_pocket(call: Option<u8>) -> Result<(), InvalidMessage> {
     }
 }
 
-/// A table with pockets, and a shot clock a person can play with.
-fn playable(mode: &Settings) -> bool {
+/// A table the game is played on (pockets for pool, the carom table for three-cushion), a
+/// race that ends, and a shot clock a person can play with.
+fn playable(variant: Variant, mode: &Settings) -> bool {
     let clock_ok = mode
         .shot_clock
         .is_none_or(|s| (MIN_SHOT_CLOCK..=MAX_SHOT_CLOCK).contains(&s));
-    clock_ok && mode.table != TableKind::Open
+    let game_ok = match variant {
+        Variant::ThreeCushion { race } => {
+            mode.table == TableKind::Carom && (1..=MAX_RACE).contains(&race)
+        }
+        _ => mode.table.has_pockets(),
+    };
+    clock_ok && game_ok
 }
 
 /// Whether `name` may be a player's name: 1 to [`MAX_NAME_CHARS`] printable characters.
@@ -190,6 +200,30 @@ mod tests {
             ClientMessage::CreateRoom {
                 variant: crate::rules::Variant::NineBall,
                 mode: Settings {
+                    table: TableKind::Carom,
+                    ..Settings::offline()
+                },
+                aim_aid: super::super::messages::AimAid::Off,
+                name: "ann".into(),
+            },
+            ClientMessage::CreateRoom {
+                variant: Variant::ThreeCushion { race: 0 },
+                mode: Settings {
+                    table: TableKind::Carom,
+                    ..Settings::offline()
+                },
+                aim_aid: super::super::messages::AimAid::Off,
+                name: "ann".into(),
+            },
+            ClientMessage::CreateRoom {
+                variant: Variant::three_cushion(),
+                mode: Settings::offline(),
+                aim_aid: super::super::messages::AimAid::Off,
+                name: "ann".into(),
+            },
+            ClientMessage::CreateRoom {
+                variant: crate::rules::Variant::NineBall,
+                mode: Settings {
                     shot_clock: Some(0),
                     ..Settings::offline()
                 },
@@ -199,5 +233,19 @@ mod tests {
         ] {
             assert!(validate(bad.clone()).is_err(), "accepted {bad:?}");
         }
+    }
+
+    #[test]
+    fn a_three_cushion_room_on_the_carom_table_is_accepted() {
+        let room = ClientMessage::CreateRoom {
+            variant: Variant::three_cushion(),
+            mode: Settings {
+                table: TableKind::Carom,
+                ..Settings::online()
+            },
+            aim_aid: super::super::messages::AimAid::Full,
+            name: "ann".into(),
+        };
+        assert_eq!(validate(room.clone()), Ok(room));
     }
 }

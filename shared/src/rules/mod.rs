@@ -1,11 +1,15 @@
-//! The game rules: 8-ball (World Standardized Rules, or the `bar` variant), 9-ball and
-//! practice.
+//! The game rules: 8-ball (World Standardized Rules, or the `bar` variant), 9-ball,
+//! three-cushion billiards and practice.
 //!
 //! A [`Game`] takes [`Command`]s from the two seats. [`Game::check`] says whether a command
 //! is acceptable now without changing anything; [`Game::apply`] is the only place the game
 //! changes: it simulates shots with the physics engine, judges them from the events, and
 //! returns a [`Verdict`] whose reasons a player can read. Like the physics, the rules are
 //! pure and deterministic: the same seed and commands give the same game, bit for bit.
+//!
+//! Three-cushion is judged by [`three_cushion::Match`] and played as a `Game` by `carom.rs`;
+//! its balls are 0 = white (seat A's), 1 = yellow (seat B's), 2 = red, and the ball struck is
+//! the shooter's ([`Game::cue_ball`]).
 //!
 //! Ball index = ball number (0 = cue ball, 1..=15, or 1..=9 in 9-ball); balls off the table
 //! stay in the list with `motion: Pocketed` (and `pocket: None` if they left the table other
@@ -68,6 +72,7 @@
 //!   foul or a push-out or leaves the table, other jumped balls stay off; three consecutive
 //!   fouls lose.
 
+mod carom;
 mod eight;
 pub mod facts;
 mod kitchen;
@@ -96,6 +101,30 @@ pub enum Variant {
     EightBall(EightBallRules),
     NineBall,
     Practice,
+    /// Three-cushion billiards on the carom table, a race to `race` points
+    /// ([`three_cushion::DEFAULT_RACE`] unless agreed otherwise; 1 to
+    /// [`three_cushion::MAX_RACE`]).
+    ThreeCushion {
+        race: u32,
+    },
+}
+
+impl Variant {
+    /// Three-cushion to the default race.
+    pub fn three_cushion() -> Variant {
+        Variant::ThreeCushion {
+            race: three_cushion::DEFAULT_RACE,
+        }
+    }
+
+    /// The table this game is played on when the settings name `table`: three-cushion is
+    /// only ever played on the carom table.
+    pub fn table(self, table: TableKind) -> TableKind {
+        match self {
+            Variant::ThreeCushion { .. } => TableKind::Carom,
+            _ => table,
+        }
+    }
 }
 
 /// The two 8-ball rule sets.
@@ -232,6 +261,9 @@ pub enum Choice {
     /// With the cue ball in hand behind the head string and every legal ball behind it too:
     /// have the legal ball nearest the head string spotted (WPA 1.5).
     SpotNearestBall,
+    /// Three-cushion, with the shooter's ball against another: have the balls set up as at
+    /// the start (UMB art. 27).
+    Respot,
 }
 
 impl fmt::Display for Choice {
@@ -245,6 +277,7 @@ impl fmt::Display for Choice {
             Choice::HandBack => "hand the table back",
             Choice::CueBallInKitchen => "take the cue ball in hand behind the head string",
             Choice::SpotNearestBall => "have the ball nearest the head string spotted",
+            Choice::Respot => "have the balls set up as at the start",
         })
     }
 }
@@ -432,11 +465,17 @@ pub struct Game {
     pending: Option<Pending>,
     /// Stalemate offers since the last shot.
     stalemate: [bool; 2],
+    /// Three-cushion: the match (its scores, innings and balls).
+    carom: Option<three_cushion::Match>,
 }
 
 impl Game {
     /// A new game: the first rack, seat A to break.
     pub fn new(variant: Variant, settings: Settings, seed: u64) -> Game {
+        let settings = Settings {
+            table: variant.table(settings.table),
+            ..settings
+        };
         let mut game = Game {
             variant,
             settings,
@@ -454,6 +493,7 @@ impl Game {
             fouls: [0; 2],
             pending: None,
             stalemate: [false; 2],
+            carom: None,
         };
         game.rack(Seat::A);
         game
@@ -532,12 +572,22 @@ impl Game {
             Variant::EightBall(_) => eight::legal_first_balls(self, self.to_move),
             Variant::NineBall => nine::lowest_ball(&self.balls).into_iter().collect(),
             Variant::Practice => Vec::new(),
+            Variant::ThreeCushion { .. } => self.carom_first_balls(),
+        }
+    }
+
+    /// The ball the shooter strikes: the cue ball, or in three-cushion the shooter's own
+    /// ball (the white for seat A, the yellow for seat B).
+    pub fn cue_ball(&self) -> usize {
+        match &self.carom {
+            Some(m) => usize::from(three_cushion::cue_ball(m.to_move())),
+            None => usize::from(facts::CUE),
         }
     }
 
     /// The physics shot that `strike` on the cue ball would be from the current table.
     pub fn shot_for(&self, strike: &Strike) -> Shot {
-        Shot::new(self.table(), self.balls.clone()).struck(0, *strike)
+        Shot::new(self.table(), self.balls.clone()).struck(self.cue_ball(), *strike)
     }
 
     /// The physical parameters every shot of this game is simulated with.
@@ -625,10 +675,15 @@ impl Game {
         match cmd {
             Command::Concede | Command::Forfeit => Ok(()),
             Command::ProposeStalemate => {
-                if practice {
-                    return Err(RuleError::NotAllowed(
-                        "there is no stalemate in practice".into(),
-                    ));
+                if practice || self.carom.is_some() {
+                    return Err(RuleError::NotAllowed(format!(
+                        "there is no stalemate in {}",
+                        if practice {
+                            "practice"
+                        } else {
+                            "three-cushion"
+                        }
+                    )));
                 }
                 if self.stalemate[seat.index()] {
                     return Err(RuleError::WrongPhase(
@@ -710,7 +765,7 @@ impl Game {
             }
             Phase::Over { .. } => return Err(RuleError::GameOver),
         };
-        let cue = match self.balls.first() {
+        let cue = match self.balls.get(self.cue_ball()) {
             Some(b) if !is_off_table(b) => *b,
             _ => return Err(RuleError::WrongPhase("place the cue ball first".into())),
         };
@@ -815,6 +870,9 @@ impl Game {
         strike: &Strike,
         call: Option<u8>,
     ) -> Result<Verdict, RuleError> {
+        if self.carom.is_some() {
+            return self.carom_shot(seat, strike);
+        }
         let outcome =
             simulate(&self.shot_for(strike)).map_err(|e| RuleError::InvalidShot(e.to_string()))?;
         let facts = ShotFacts::from_outcome(&outcome, self.table());
@@ -849,6 +907,17 @@ impl Game {
             Variant::EightBall(rules) => eight::judge(self, rules, seat, call, facts, &before),
             Variant::NineBall => nine::judge(self, seat, call, facts, &before, push_out),
             Variant::Practice => practice::judge(self, seat, facts),
+            // Three-cushion shots are judged by the match (`carom_shot`), never here: the
+            // turn stays as it is.
+            Variant::ThreeCushion { .. } => Ruling {
+                reasons: Vec::new(),
+                foul: false,
+                next: Next::Shoot {
+                    seat: self.to_move,
+                    in_hand: None,
+                    options: Vec::new(),
+                },
+            },
         };
         self.breaking = false;
         self.enact(ruling.next, ruling.reasons, ruling.foul, Some(report))
@@ -859,6 +928,9 @@ impl Game {
         if choice == Choice::SpotNearestBall {
             reasons.extend(self.spot_nearest_ball());
             return self.verdict(reasons);
+        }
+        if choice == Choice::Respot {
+            return self.carom_respot(seat, reasons);
         }
         if choice == Choice::PushOut {
             if let Phase::Shooting { in_hand, .. } = self.phase {
@@ -920,6 +992,9 @@ impl Game {
                 format!("{seat} ran out of time; the first option is taken"),
             );
             return verdict;
+        }
+        if self.carom.is_some() {
+            return self.carom_time_out(seat);
         }
         let mut reasons = vec![format!("Foul: {seat} ran out of time")];
         self.stalemate = [false; 2];
@@ -1009,9 +1084,14 @@ impl Game {
     /// Racks the balls for the current rack number; `breaker` breaks from the kitchen.
     fn rack(&mut self, breaker: Seat) {
         let seed = rack::rack_seed(self.seed, self.racks);
-        self.balls = match self.variant {
-            Variant::NineBall => rack::nine_ball(self.table(), seed),
-            Variant::EightBall(_) | Variant::Practice => rack::eight_ball(self.table(), seed),
+        self.carom = Game::start_carom(self.variant);
+        self.balls = match (self.variant, &self.carom) {
+            (Variant::NineBall, _) => rack::nine_ball(self.table(), seed),
+            (Variant::EightBall(_) | Variant::Practice, _) => rack::eight_ball(self.table(), seed),
+            // The match sets up its own start.
+            (Variant::ThreeCushion { .. }, m) => {
+                m.iter().flat_map(|m| m.balls()).copied().collect()
+            }
         };
         self.breaker = breaker;
         self.to_move = breaker;
@@ -1020,14 +1100,16 @@ impl Game {
         self.pending = None;
         self.stalemate = [false; 2];
         let practice = self.variant == Variant::Practice;
-        self.breaking = !practice;
-        // In practice the cue ball is always in hand: it can be put anywhere free.
+        let carom = self.carom.is_some();
+        self.breaking = !practice && !carom;
+        // In practice the cue ball is always in hand: it can be put anywhere free. In
+        // three-cushion no ball is ever in hand.
         self.phase = Phase::Shooting {
-            in_hand: Some(if practice {
-                InHand::Anywhere
-            } else {
-                InHand::Kitchen
-            }),
+            in_hand: match (practice, carom) {
+                (true, _) => Some(InHand::Anywhere),
+                (false, true) => None,
+                (false, false) => Some(InHand::Kitchen),
+            },
             options: Vec::new(),
             push_out: false,
         };

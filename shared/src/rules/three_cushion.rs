@@ -1,23 +1,30 @@
 //! Three-cushion billiards under the UMB's World Rules of Carom Billiard: a match between two
 //! seats on the carom table, seat A with the white ball, seat B with the yellow, both playing
-//! the red.
+//! the red. [`super::Game`] plays it as [`super::Variant::ThreeCushion`] (see `carom.rs`).
 //!
 //! - Start (art. 23): the red on the top spot, the opponent's ball on the bottom spot, the
-//!   starter's ball on a starting spot of the starting line ([`START_OFFSET`] to the side of
-//!   the bottom spot). The opening shot must hit the red first.
+//!   starter's ball on a starting spot of the starting line, [`START_OFFSET`] to the side of
+//!   the bottom spot. The opening shot must hit the red first. The offset is that of the
+//!   spots marked on a match table (2.84 m): 182.5 mm, half the 365 mm between the two
+//!   starting spots in the table drawing of the German Billiard Union's material standard
+//!   (reproduced in Wikipedia's "Billardtisch (Karambolage)",
+//!   <https://de.zxc.wiki/wiki/Turnierbillard>); the US carom rules give the same spots as
+//!   7 3/16 in (182.6 mm) either side of the head spot
+//!   (<https://14dot1.com/NMT_BAC/house_rules/general_carom.html>).
 //! - A point (art. 83): the cue ball touches both object balls, and cushions at least three
 //!   times before it first touches the second of them. Cushion contacts are counted, so the
 //!   same cushion twice counts twice, as the rule counts them.
 //! - A point lets the shooter play on; a miss or a foul ends the inning and the opponent
 //!   plays from the table as it lies. The first seat to reach the race (default 15) wins.
+//!   Running out of time ends the inning ([`Match::time_out`]).
 //! - Balls in contact (art. 27): when the shooter's ball rests against another ball, the
 //!   shooter may have the balls set up as at the start ([`Match::respot`]) or play on, but
 //!   not into the ball it touches: a first contact with that ball is a foul.
 //! - Jumped balls (art. 28): a ball that leaves the table is a foul; the balls that left are
 //!   spotted, a white or yellow on the bottom spot, the red on the top spot, each on the next
-//!   free spot of bottom, top, centre when its own is taken. The engine is two-dimensional and
-//!   never lifts a ball, so this is judged from facts ([`CaromFacts::off_table`]) that a
-//!   future engine can fill; the tests craft them.
+//!   free spot of bottom, top, centre when its own is taken. The engine reports a ball that
+//!   left the table as a `ball_off_table` event ([`super::facts::departures`]), which
+//!   [`CaromFacts::from_outcome`] reads.
 //!
 //! The rules are pure: [`Match::shoot`] simulates the shot with the physics engine, judges it
 //! from the events and applies the verdict; [`Match::apply_facts`] does the same for facts
@@ -38,7 +45,7 @@ pub const RED: u8 = 2;
 /// Points that win a match unless another race is agreed.
 pub const DEFAULT_RACE: u32 = 15;
 /// Starting spots: on the starting line, this far (m) either side of the bottom spot.
-pub const START_OFFSET: f64 = 0.182;
+pub const START_OFFSET: f64 = 0.1825;
 /// Balls closer than this beyond touching (m) are in contact.
 const CONTACT_GAP: f64 = 1e-6;
 /// Most points in a race (a match must end).
@@ -97,7 +104,7 @@ pub enum Touch {
 pub struct CaromFacts {
     /// What the shooter's ball touched, in order.
     pub touches: Vec<Touch>,
-    /// Balls that left the table, in order (never filled by the two-dimensional engine).
+    /// Balls that left the table, in the order they left.
     pub off_table: Vec<u8>,
 }
 
@@ -117,7 +124,10 @@ impl CaromFacts {
             .collect();
         CaromFacts {
             touches,
-            off_table: Vec::new(),
+            off_table: super::facts::departures(outcome)
+                .iter()
+                .map(|d| d.ball)
+                .collect(),
         }
     }
 }
@@ -273,15 +283,21 @@ impl Match {
                 "a race must be between 1 and {MAX_RACE} points"
             )));
         }
-        Ok(Match {
-            race,
+        Ok(Match::starting(race))
+    }
+
+    /// A match to `race` points, brought within 1 to [`MAX_RACE`]: for a race that was
+    /// checked before (a room's settings) or read from a record, where a game must start.
+    pub fn starting(race: u32) -> Match {
+        Match {
+            race: race.clamp(1, MAX_RACE),
             balls: start_position(Seat::A),
             to_move: Seat::A,
             scores: [0, 0],
             innings: 1,
             shots: 0,
             winner: None,
-        })
+        }
     }
 
     pub fn balls(&self) -> &[BallState] {
@@ -306,6 +322,17 @@ impl Match {
 
     pub fn winner(&self) -> Option<Seat> {
         self.winner
+    }
+
+    /// The same match with the balls at `balls` (tests lay out situations with it).
+    #[cfg(test)]
+    pub(super) fn with_balls(self, balls: Vec<BallState>) -> Match {
+        Match { balls, ..self }
+    }
+
+    /// The next shot is the match's first, which must hit the red first.
+    pub fn is_opening(&self) -> bool {
+        self.shots == 0
     }
 
     /// The ball the shooter's cue ball rests against, if any.
@@ -347,14 +374,27 @@ impl Match {
         Ok(())
     }
 
-    /// Simulates `strike` by `seat`, judges it and applies the verdict.
-    pub fn shoot(&mut self, seat: Seat, strike: &Strike) -> Result<CaromVerdict, RuleError> {
+    /// Simulates `strike` by `seat`, judges it and applies the verdict; returns it with the
+    /// shot's whole outcome.
+    pub fn shoot(
+        &mut self,
+        seat: Seat,
+        strike: &Strike,
+    ) -> Result<(CaromVerdict, Outcome), RuleError> {
         self.check_turn(seat)?;
         let shot = self.shot_for(strike);
         engine::check(&shot).map_err(|e| RuleError::InvalidShot(e.to_string()))?;
         let outcome = simulate(&shot).map_err(|e| RuleError::InvalidShot(e.to_string()))?;
         let facts = CaromFacts::from_outcome(&outcome, cue_ball(seat));
-        Ok(self.apply_facts(seat, &facts, &outcome.finals))
+        Ok((self.apply_facts(seat, &facts, &outcome.finals), outcome))
+    }
+
+    /// `seat` ran out of time: a foul that ends the inning, the balls as they lie.
+    pub fn time_out(&mut self, seat: Seat) -> Result<(), RuleError> {
+        self.check_turn(seat)?;
+        self.to_move = seat.other();
+        self.innings += 1;
+        Ok(())
     }
 
     /// Applies a shot's facts and the balls' resting states (`finals`).
@@ -572,7 +612,7 @@ mod tests {
             tip: DVec2::ZERO,
             elevation_deg: 0.0,
         };
-        let v = m.shoot(Seat::A, &strike).expect("valid shot");
+        let (v, _) = m.shoot(Seat::A, &strike).expect("valid shot");
         assert!(!v.judgement.reasons.is_empty());
         assert!(!v.judgement.foul, "{:?}", v.judgement.reasons);
         assert!(m
