@@ -101,6 +101,11 @@ fn window(args: &[&OsStr], out: &Path) -> Option<Output> {
 
 /// As [`window`], of frame `frames` (the window steps 1/60 s of animation a frame).
 fn window_at(args: &[&OsStr], out: &Path, frames: u32) -> Option<Output> {
+    window_sized(args, out, frames, (1280, 720))
+}
+
+/// As [`window_at`], in a window of `size` pixels.
+fn window_sized(args: &[&OsStr], out: &Path, frames: u32, size: (u32, u32)) -> Option<Output> {
     let Some(xvfb) = find_in_path("xvfb-run") else {
         eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
         return None;
@@ -112,7 +117,8 @@ fn window_at(args: &[&OsStr], out: &Path, frames: u32) -> Option<Output> {
             .args(args)
             .arg("--screenshot")
             .arg(out)
-            .args(["--frames", &frames.to_string(), "--size", "1280x720"]),
+            .args(["--frames", &frames.to_string()])
+            .arg(format!("--size={}x{}", size.0, size.1)),
         None,
         Duration::from_secs(120),
     ))
@@ -779,4 +785,42 @@ fn a_three_cushion_game_shows_the_carom_table_and_its_three_balls() {
         red[0] > 120 && red[1] < 50 && red[2] < 50,
         "the red ball: {red:?}"
     );
+}
+
+/// In a small window every menu button is inside it and every label inside its button.
+#[test]
+fn the_menu_fits_a_small_window() {
+    let dir = breakshot_testkit::scratch("window-menu");
+    let out = dir.path().join("out.png");
+    let Some(run) = window_sized(&[], &out, 3, (640, 480)) else {
+        return;
+    };
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let (width, height, pixels) = read_png(&out);
+    assert_eq!((width, height), (640, 480));
+    let pic = Picture {
+        width,
+        height,
+        pixels,
+    };
+    const FILL: Rgb = [24, 104, 74];
+    let buttons = breakshot_client::view::layout::menu_buttons(640.0, 480.0, 8);
+    for b in &buttons {
+        let mid = b.y + 0.5 * b.h;
+        // The button is drawn, and no letter reaches its sides.
+        assert!(close(pic.at(b.x + 0.5 * b.w, b.y + 3.0), FILL, 30), "{b:?}");
+        for x in [b.x + 4.0, b.x + 7.0, b.x + b.w - 7.0, b.x + b.w - 4.0] {
+            for dy in [-4.0, 0.0, 4.0] {
+                let got = pic.at(x, mid + dy);
+                assert!(
+                    close(got, FILL, 30),
+                    "a label reaches the side of {b:?}: {got:?}"
+                );
+            }
+        }
+    }
 }

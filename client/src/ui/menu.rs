@@ -5,7 +5,7 @@ use breakshot_client::net::seats::hosted_from;
 use breakshot_client::net::{player_name, HostOptions, NetLink, SeatStore};
 use breakshot_client::play::controls::{InputFrame, Key};
 use breakshot_client::play::link::GameLink;
-use breakshot_client::view::layout::Rect;
+use breakshot_client::view::layout::{menu_buttons, Rect};
 use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::Invite;
 use breakshot_shared::rules::{EightBallRules, Variant};
@@ -102,20 +102,11 @@ impl MenuScreen {
     }
 
     fn buttons() -> Vec<(Item, &'static str, Rect)> {
-        let (w, h) = (screen_width(), screen_height());
-        let bw = 320.0f32.min(0.8 * w);
-        let bh = 44.0;
-        let top = 0.26 * h;
+        let rects = menu_buttons(screen_width(), screen_height(), ITEMS.len());
         ITEMS
             .iter()
-            .enumerate()
-            .map(|(k, &(item, name))| {
-                (
-                    item,
-                    name,
-                    Rect::new(0.5 * (w - bw), top + k as f32 * (bh + 10.0), bw, bh),
-                )
-            })
+            .zip(rects)
+            .map(|(&(item, name), r)| (item, name, r))
             .collect()
     }
 
@@ -176,10 +167,25 @@ impl MenuScreen {
     pub fn draw(&mut self) {
         let (w, h) = (screen_width(), screen_height());
         let title = "BREAKSHOT";
-        let dims = measure_text(title, None, 72, 1.0);
-        draw::label(title, 0.5 * (w - dims.width), 0.18 * h, 72.0, WHITE);
+        let title_size = 72.0f32.min(0.12 * h);
+        let tw = draw::text_width(title, title_size);
+        draw::label(title, 0.5 * (w - tw), 0.18 * h, title_size, WHITE);
         let (mx, my) = mouse_position();
-        for (_, name, r) in Self::buttons() {
+        let buttons = Self::buttons();
+        // One size for every label, the largest at which the longest fits its button.
+        let fits = |size: f32| {
+            buttons
+                .iter()
+                .all(|(_, name, r)| draw::text_width(name, size) <= r.w - 16.0)
+        };
+        let tallest = buttons
+            .first()
+            .map_or(28.0, |(_, _, r)| r.h / draw::text_scale());
+        let mut size = 28.0f32.min(0.7 * tallest);
+        while size > 10.0 && !fits(size) {
+            size -= 1.0;
+        }
+        for (_, name, r) in buttons {
             let hot = r.contains([mx, my]);
             let fill = if hot {
                 Color::from_rgba(40, 130, 90, 255)
@@ -195,18 +201,24 @@ impl MenuScreen {
                 2.0,
                 Color::from_rgba(200, 220, 200, 255),
             );
-            let d = measure_text(name, None, 28, 1.0);
+            let d = draw::text_width(name, size);
             draw::label(
                 name,
-                r.x + 0.5 * (r.w - d.width),
-                r.y + 0.5 * r.h + 9.0,
-                28.0,
+                r.x + 0.5 * (r.w - d),
+                r.y + 0.5 * r.h + 0.3 * size * draw::text_scale(),
+                size,
                 WHITE,
             );
         }
         if !self.message.is_empty() {
-            let d = measure_text(&self.message, None, 22, 1.0);
-            draw::label(&self.message, 0.5 * (w - d.width), 0.92 * h, 22.0, YELLOW);
+            let d = draw::text_width(&self.message, 22.0);
+            draw::label(
+                &self.message,
+                (0.5 * (w - d)).max(8.0),
+                0.99 * h - 4.0,
+                22.0,
+                YELLOW,
+            );
         }
     }
 }

@@ -280,6 +280,19 @@ impl Layout {
     }
 }
 
+/// The menu's `n` buttons in a `w` x `h` window: one column under the title, as tall as
+/// 44 pixels but shorter when the window is low, so that every button is inside it.
+pub fn menu_buttons(w: f32, h: f32, n: usize) -> Vec<Rect> {
+    let bw = 360.0f32.min(0.85 * w);
+    let top = 0.24 * h;
+    let gap = 10.0;
+    let room = 0.97 * h - top;
+    let bh = (room / n.max(1) as f32 - gap).clamp(18.0, 44.0);
+    (0..n)
+        .map(|k| Rect::new(0.5 * (w - bw), top + k as f32 * (bh + gap), bw, bh))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -405,6 +418,24 @@ mod tests {
         for b in &balls {
             let d = b.pos - f.min;
             assert!(d.x > 0.0 && d.y > 0.0 && d.x < f.size.x && d.y < f.size.y);
+        }
+    }
+
+    #[test]
+    fn every_menu_button_is_inside_the_window_at_every_size() {
+        for (w, h) in [
+            (1280.0, 720.0),
+            (640.0, 480.0),
+            (400.0, 300.0),
+            (1920.0, 1200.0),
+        ] {
+            let buttons = menu_buttons(w, h, 8);
+            assert_eq!(buttons.len(), 8);
+            for b in &buttons {
+                assert!(b.x >= 0.0 && b.x + b.w <= w, "{w}x{h}: {b:?}");
+                assert!(b.y >= 0.0 && b.y + b.h <= h, "{w}x{h}: {b:?}");
+            }
+            assert!(buttons.windows(2).all(|p| p[0].y + p[0].h < p[1].y));
         }
     }
 }
