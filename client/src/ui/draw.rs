@@ -309,18 +309,16 @@ pub fn cue_stick(layout: &Layout, cue: DVec2, aim: &Aim, radius: f64) {
     let gap = radius * (1.3 + 8.0 * aim.power) * slant;
     let tip = cue - dir * gap;
     let butt = tip - dir * (1.3 * slant);
-    let (a, b) = (layout.to_screen(tip), layout.to_screen(butt));
     let w = layout.px(0.012).max(3.0);
-    draw_line(a[0], a[1], b[0], b[1], w, color(palette::CUE_WOOD));
-    let ferrule = layout.to_screen(tip - dir * 0.02);
-    draw_line(
-        a[0],
-        a[1],
-        ferrule[0],
-        ferrule[1],
-        w,
-        color(palette::CUE_FERRULE),
-    );
+    // Only the part over the table is drawn: the cue never covers the panel beside it.
+    let over_table = |from: DVec2, to: DVec2, c: Rgb| {
+        let (a, b) = (layout.to_screen(from), layout.to_screen(to));
+        if let Some((a, b)) = layout.outer.clip_segment(a, b) {
+            draw_line(a[0], a[1], b[0], b[1], w, color(c));
+        }
+    };
+    over_table(tip, butt, palette::CUE_WOOD);
+    over_table(tip, tip - dir * 0.02, palette::CUE_FERRULE);
 }
 
 /// The cue-ball face (tip offset) and the power bar.
@@ -443,19 +441,28 @@ pub fn in_hand(layout: &Layout, area: Rect, dragged: Option<(DVec2, bool)>, radi
 
 /// How much text grows with the window, so it stays readable on large screens.
 /// The debug overlay (F3): lines of text on a dark box at the cloth's top-left corner.
-pub fn debug_lines(layout: &Layout, lines: &[String], width: f32) {
-    let x = layout.cloth.x + 8.0;
-    let mut y = layout.cloth.y + 20.0;
+/// The F3 overlay: `lines` in the tray under the table, where they cover no ball on the
+/// cloth (two to a row, small enough to fit).
+pub fn debug_lines(layout: &Layout, lines: &[String]) {
+    let rows: Vec<String> = lines.chunks(2).map(|pair| pair.join("  |  ")).collect();
+    let tray = layout.tray;
+    let step = tray.h / rows.len().max(1) as f32;
+    let widest = rows.iter().map(|r| text_width(r, 16.0)).fold(1.0, f32::max);
+    let size = (16.0 * (0.8 * tray.w / widest).min(1.0))
+        .min(0.8 * step / text_scale())
+        .max(8.0);
+    let width = rows.iter().map(|r| text_width(r, size)).fold(0.0, f32::max);
+    let x = tray.x + 0.5 * (tray.w - width);
     draw_rectangle(
-        x - 4.0,
-        y - 16.0,
-        width,
-        20.0 * lines.len() as f32 + 6.0,
-        Color::new(0.0, 0.0, 0.0, 0.6),
+        x - 6.0,
+        tray.y,
+        width + 12.0,
+        tray.h,
+        Color::new(0.0, 0.0, 0.0, 0.75),
     );
-    for line in lines {
-        label(line, x, y, 18.0, YELLOW);
-        y += 20.0;
+    for (k, row) in rows.iter().enumerate() {
+        let y = tray.y + step * (k as f32 + 0.5) + 0.35 * size * text_scale();
+        label(row, x, y, size, YELLOW);
     }
 }
 

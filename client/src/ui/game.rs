@@ -585,7 +585,7 @@ impl GameScreen {
                 o.events.len()
             ));
         }
-        draw::debug_lines(layout, &lines, 360.0);
+        draw::debug_lines(layout, &lines);
     }
 }
 

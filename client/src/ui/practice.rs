@@ -242,6 +242,6 @@ impl PracticeScreen {
                 o.events.len()
             ));
         }
-        draw::debug_lines(layout, &lines, 420.0);
+        draw::debug_lines(layout, &lines);
     }
 }

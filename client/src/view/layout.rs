@@ -37,6 +37,37 @@ impl Rect {
         p[0] >= self.x && p[0] <= self.x + self.w && p[1] >= self.y && p[1] <= self.y + self.h
     }
 
+    /// The part of the segment from `a` to `b` inside the rectangle, if any (Liang and
+    /// Barsky's clipping).
+    pub fn clip_segment(&self, a: [f32; 2], b: [f32; 2]) -> Option<([f32; 2], [f32; 2])> {
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let (mut t0, mut t1) = (0.0f32, 1.0f32);
+        let edges = [
+            (-d[0], a[0] - self.x),
+            (d[0], self.x + self.w - a[0]),
+            (-d[1], a[1] - self.y),
+            (d[1], self.y + self.h - a[1]),
+        ];
+        for (p, q) in edges {
+            if p == 0.0 {
+                if q < 0.0 {
+                    return None;
+                }
+                continue;
+            }
+            let t = q / p;
+            if p < 0.0 {
+                t0 = t0.max(t);
+            } else {
+                t1 = t1.min(t);
+            }
+        }
+        (t0 <= t1).then(|| {
+            let at = |t: f32| [a[0] + t * d[0], a[1] + t * d[1]];
+            (at(t0), at(t1))
+        })
+    }
+
     /// The centre.
     pub fn center(&self) -> [f32; 2] {
         [self.x + 0.5 * self.w, self.y + 0.5 * self.h]
@@ -437,5 +468,23 @@ mod tests {
             }
             assert!(buttons.windows(2).all(|p| p[0].y + p[0].h < p[1].y));
         }
+    }
+
+    #[test]
+    fn a_segment_is_clipped_to_a_rectangle() {
+        let r = Rect::new(0.0, 0.0, 10.0, 10.0);
+        assert_eq!(
+            r.clip_segment([5.0, 5.0], [15.0, 5.0]),
+            Some(([5.0, 5.0], [10.0, 5.0]))
+        );
+        assert_eq!(
+            r.clip_segment([-5.0, 5.0], [15.0, 5.0]),
+            Some(([0.0, 5.0], [10.0, 5.0]))
+        );
+        assert_eq!(r.clip_segment([12.0, 0.0], [20.0, 20.0]), None);
+        assert_eq!(
+            r.clip_segment([2.0, 2.0], [3.0, 3.0]),
+            Some(([2.0, 2.0], [3.0, 3.0]))
+        );
     }
 }
