@@ -268,3 +268,22 @@ fn a_name_that_cannot_be_shown_is_refused_before_any_window_opens() {
         "a refused name is not kept"
     );
 }
+
+#[test]
+fn a_record_of_another_format_version_is_named_once() {
+    use breakshot_shared::replay::GameRecord;
+    use breakshot_shared::rules::{Settings, Variant};
+    let mut bytes = GameRecord::new(Variant::NineBall, Settings::offline(), 1).encode();
+    // The format version is the record's first field, one byte while it is small.
+    bytes[0] = 99;
+    let path = temp_file("future.rec", &bytes);
+    let out = breakshot(&["replay", path.path()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = stderr(&out);
+    assert!(err.contains("is not a game record"), "{err}");
+    assert_eq!(
+        err.matches("record format version 99").count(),
+        1,
+        "said once: {err}"
+    );
+}

@@ -16,8 +16,8 @@ const HOLD: f64 = 0.8;
 /// Why a record cannot be watched.
 #[derive(Debug, thiserror::Error)]
 pub enum ReplayOpenError {
-    /// The bytes are not a game record.
-    #[error("cannot read the game record: {0}")]
+    /// The bytes are not a game record (the record's own error says why, once).
+    #[error(transparent)]
     Record(#[from] RecordError),
     /// A record of another version.
     #[error("game record version {0} cannot be shown (this build reads {RECORD_VERSION})")]
