@@ -66,6 +66,8 @@ pub enum Key {
     PowerUp,
     /// Power down one step (Down pressed).
     PowerDown,
+    /// Keep the spin from shot to shot, or not.
+    KeepSpin,
 }
 
 /// One frame of input, read from the devices by the window.
@@ -176,6 +178,9 @@ pub struct Controls {
     pub aim: Aim,
     /// What the left button is doing.
     pub drag: Drag,
+    /// Keep the tip offset from shot to shot (K toggles); by default it goes back to the
+    /// centre after each shot, as a player's stroke does.
+    pub keep_spin: bool,
     last_mouse: Option<[f32; 2]>,
 }
 
@@ -185,7 +190,16 @@ impl Controls {
         Controls {
             aim,
             drag: Drag::None,
+            keep_spin: false,
             last_mouse: None,
+        }
+    }
+
+    /// A shot was played from this set-up: the tip goes back to the centre unless the spin
+    /// is kept.
+    pub fn shot_played(&mut self) {
+        if !self.keep_spin {
+            self.aim.set_tip(DVec2::ZERO);
         }
     }
 
@@ -206,6 +220,7 @@ impl Controls {
                 Key::BallInHand => out.push(Intent::TakeBallInHand),
                 Key::Rerack => out.push(Intent::Rerack),
                 Key::Back => out.push(Intent::Back),
+                Key::KeepSpin => self.keep_spin = !self.keep_spin,
                 Key::Shoot
                 | Key::Next
                 | Key::Previous
@@ -564,6 +579,22 @@ mod tests {
         f.shift = true;
         c.update(&f, &ctx(&l, Stage::Aiming), &anywhere);
         assert!((c.aim.speed() - 11.4).abs() < 1e-9, "{}", c.aim.speed());
+    }
+
+    #[test]
+    fn the_spin_goes_back_to_the_centre_after_a_shot_unless_it_is_kept() {
+        let l = layout();
+        let mut c = Controls::new(Aim::default());
+        c.aim.set_tip(DVec2::new(0.2, -0.3));
+        c.shot_played();
+        assert_eq!(c.aim.tip, DVec2::ZERO);
+        let mut f = frame([1.0, 1.0]);
+        f.pressed = vec![Key::KeepSpin];
+        c.update(&f, &ctx(&l, Stage::Watching), &anywhere);
+        assert!(c.keep_spin);
+        c.aim.set_tip(DVec2::new(0.2, -0.3));
+        c.shot_played();
+        assert_eq!(c.aim.tip, DVec2::new(0.2, -0.3));
     }
 
     #[test]

@@ -321,11 +321,17 @@ pub fn cue_stick(layout: &Layout, cue: DVec2, aim: &Aim, radius: f64) {
     over_table(tip, tip - dir * 0.02, palette::CUE_FERRULE);
 }
 
-/// The cue-ball face (tip offset) and the power bar.
-pub fn panel(layout: &Layout, aim: &Aim) {
+/// The cue-ball face (tip offset) and the power bar; `keep_spin`, when the player sets up
+/// shots here, says whether the tip stays put after a shot (K).
+pub fn panel(layout: &Layout, aim: &Aim, keep_spin: Option<bool>) {
     let [cx, cy] = layout.tip_center;
     let r = layout.tip_radius;
-    label("Tip", cx - r, cy - r - 6.0, 20.0, LIGHTGRAY);
+    let title = match keep_spin {
+        Some(true) => "Tip (kept, K)",
+        Some(false) => "Tip (resets, K)",
+        None => "Tip",
+    };
+    label(title, cx - r, cy - r - 6.0, 20.0, LIGHTGRAY);
     draw_poly(cx, cy, 64, r, 0.0, color(palette::CUE_BALL));
     // The miscue limit: the tip stays inside this ring.
     draw_poly_lines(

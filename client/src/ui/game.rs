@@ -238,6 +238,7 @@ impl GameScreen {
                             "Place the cue ball first: drag it onto the table".into();
                     } else if let Some(cmd) = self.flow.shot_command(strike) {
                         self.link.send(&game, seat, cmd);
+                        self.controls.shot_played();
                     }
                 }
                 (Intent::PlaceCueBall(pos), Some(seat)) => {
@@ -443,7 +444,7 @@ impl GameScreen {
             draw::cue_stick(&layout, cue, &Aim::from_strike(&strike), r);
         }
         draw::tray(&layout, &names, &self.flow.tray(), r);
-        draw::panel(&layout, &self.controls.aim);
+        draw::panel(&layout, &self.controls.aim, Some(self.controls.keep_spin));
         game_hud(
             &layout,
             &HudInfo {

@@ -7,7 +7,7 @@ use macroquad::prelude::{
 
 use breakshot_client::play::controls::{InputFrame, Key};
 
-const KEYS: [(KeyCode, Key); 22] = [
+const KEYS: [(KeyCode, Key); 23] = [
     (KeyCode::Space, Key::Shoot),
     (KeyCode::A, Key::AimLine),
     (KeyCode::G, Key::GhostBall),
@@ -30,6 +30,7 @@ const KEYS: [(KeyCode, Key); 22] = [
     (KeyCode::Enter, Key::Send),
     (KeyCode::Up, Key::PowerUp),
     (KeyCode::Down, Key::PowerDown),
+    (KeyCode::K, Key::KeepSpin),
 ];
 
 pub fn read(dt: f64) -> InputFrame {

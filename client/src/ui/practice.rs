@@ -91,6 +91,7 @@ impl PracticeScreen {
                 Intent::Shoot(strike) => match self.practice.shoot(strike) {
                     Ok(()) => {
                         self.shots += 1;
+                        self.controls.shot_played();
                         self.message = format!("Shot {} at {:.1} m/s", self.shots, strike.speed);
                     }
                     Err(e) => self.message = e.to_string(),
@@ -171,7 +172,7 @@ impl PracticeScreen {
             draw::cue_stick(&layout, cue, &self.controls.aim, r);
         }
         draw::tray(&layout, &p.ids, &p.shown_pocketed(), r);
-        draw::panel(&layout, &self.controls.aim);
+        draw::panel(&layout, &self.controls.aim, Some(self.controls.keep_spin));
         self.hud(&layout);
         if self.debug {
             self.debug_overlay(&layout);

@@ -66,7 +66,7 @@ impl ReplayScreen {
         let (done, total) = v.position();
         if let Some(Command::Shot { strike, .. }) = v.record().entries.get(done).map(|e| &e.command)
         {
-            draw::panel(&layout, &Aim::from_strike(strike));
+            draw::panel(&layout, &Aim::from_strike(strike), None);
         }
         let verdict = v.last_verdict.as_ref().map(Judgement::of);
         game_hud(
