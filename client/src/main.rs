@@ -134,6 +134,9 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some(dir) = &cli.data {
+        ui::use_data_dir(dir.clone());
+    }
     if let Some(Command::Replay {
         server: Some(server),
         game: Some(game),

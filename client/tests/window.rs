@@ -4,6 +4,7 @@
 //! Needs `xvfb-run`; without it the test says why and passes (CI installs it).
 
 use std::ffi::OsStr;
+use std::future::Future;
 use std::path::{Path, PathBuf};
 use std::process::{Command as Process, Output};
 use std::time::Duration;
@@ -112,7 +113,11 @@ fn window_sized(args: &[&OsStr], out: &Path, frames: u32, size: (u32, u32)) -> O
     };
     Some(breakshot_testkit::run(
         Process::new(xvfb)
-            .args(["-a", "-s", "-screen 0 1280x800x24"])
+            // The X authority file in the test's own folder: xvfb-run leaves nothing in /tmp,
+            // even when it is stopped.
+            .args(["-a", "-f"])
+            .arg(out.with_file_name("Xauthority"))
+            .args(["-s", "-screen 0 1280x800x24"])
             .arg(env!("CARGO_BIN_EXE_breakshot"))
             .args(args)
             .arg("--screenshot")
@@ -823,4 +828,101 @@ fn the_menu_fits_a_small_window() {
             }
         }
     }
+}
+
+/// A player whose game window closed chooses *Resume game* in the menu: the window takes
+/// the remembered seat back, and the opponent is told the player is back.
+#[test]
+#[cfg(feature = "host")]
+fn resume_game_in_the_menu_takes_the_remembered_seat_back() {
+    use breakshot_client::net::{Client, ClientEvent, EmbeddedServer, Reconnect, SeatStore};
+    use breakshot_server::Config;
+    use breakshot_shared::protocol::{AimAid, ClientMessage, ServerMessage};
+    use breakshot_shared::rules::Seat;
+
+    let (Some(xvfb), Some(_)) = (find_in_path("xvfb-run"), find_in_path("xdotool")) else {
+        eprintln!("skipped: xvfb-run and xdotool are needed (apt-get install xvfb xdotool)");
+        return;
+    };
+    let dir = breakshot_testkit::scratch("window-resume");
+    let seats = dir.path().join("client");
+    let loopback = std::net::SocketAddr::from(([127, 0, 0, 1], 0));
+    let server =
+        EmbeddedServer::start(Config::new(loopback, dir.path().join("server"))).expect("a server");
+    let invite = server.loopback_invite();
+    async fn next(client: &mut Client, want: impl Fn(&ServerMessage) -> bool) -> ServerMessage {
+        loop {
+            if let ClientEvent::Message(m) = client.recv().await.expect("a message") {
+                if want(&m) {
+                    return m;
+                }
+            }
+        }
+    }
+    fn within<T>(runtime: &tokio::runtime::Runtime, what: &str, f: impl Future<Output = T>) -> T {
+        runtime
+            .block_on(async { tokio::time::timeout(Duration::from_secs(60), f).await })
+            .unwrap_or_else(|_| panic!("{what} did not happen within a minute"))
+    }
+    let runtime = tokio::runtime::Runtime::new().expect("a runtime");
+    // Ann hosts; Bob joined from this computer, which kept his seat, then his window closed.
+    let mut ann = within(&runtime, "the host's seat", async {
+        let mut ann = Client::connect(invite.clone(), Reconnect::never())
+            .await
+            .expect("connected");
+        ann.send(&ClientMessage::CreateRoom {
+            variant: Variant::EightBall(EightBallRules::Wpa),
+            mode: Settings::online(),
+            aim_aid: AimAid::Full,
+            name: "ann".into(),
+        })
+        .await
+        .expect("sent");
+        let ServerMessage::Joined { snapshot, .. } =
+            next(&mut ann, |m| matches!(m, ServerMessage::Joined { .. })).await
+        else {
+            unreachable!("matched above")
+        };
+        let mut bob = Client::connect(invite.clone(), Reconnect::never())
+            .await
+            .expect("connected");
+        bob.send(&ClientMessage::Join {
+            room: snapshot.room.clone(),
+            name: "bob".into(),
+        })
+        .await
+        .expect("sent");
+        next(&mut bob, |m| matches!(m, ServerMessage::Joined { .. })).await;
+        let token = bob.token().expect("Bob's seat token");
+        SeatStore::new(&seats)
+            .save(&invite.with_room(snapshot.room.clone()), token)
+            .expect("the seat remembered");
+        bob.close(Duration::from_millis(100)).await;
+        next(&mut ann, |m| matches!(m, ServerMessage::PlayerLeft { .. })).await;
+        ann
+    });
+
+    // The menu, in a real window: click its first button, "Resume game".
+    let first = breakshot_client::view::layout::menu_buttons(1280.0, 720.0, 8)[0];
+    let (x, y) = (first.x + 0.5 * first.w, first.y + 0.5 * first.h);
+    let script = format!(
+        "\"$0\" --data \"$1\" --size 1280x720 & \
+         wid=$(timeout 60 xdotool search --sync --name Breakshot | head -n 1) && sleep 1 && \
+         xdotool mousemove --window \"$wid\" {x} {y} click 1 && wait"
+    );
+    let _window = breakshot_testkit::Spawned::start(
+        Process::new(xvfb)
+            .args(["-a", "-f"])
+            .arg(dir.path().join("Xauthority"))
+            .args(["-s", "-screen 0 1280x800x24", "sh", "-c", &script])
+            .arg(env!("CARGO_BIN_EXE_breakshot"))
+            .arg(&seats)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null()),
+    );
+    let back = within(&runtime, "Bob's return", async move {
+        next(&mut ann, |m| matches!(m, ServerMessage::PlayerBack { .. })).await
+    });
+    assert_eq!(back, ServerMessage::PlayerBack { seat: Seat::B });
+    drop(server);
 }

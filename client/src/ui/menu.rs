@@ -1,6 +1,5 @@
 //! The menu the window opens on when no command is given.
 
-use breakshot_client::net::host::default_data_dir;
 use breakshot_client::net::seats::hosted_from;
 use breakshot_client::net::{player_name, HostOptions, NetLink, SeatStore};
 use breakshot_client::play::controls::{InputFrame, Key};
@@ -38,7 +37,7 @@ const ITEMS: [(Item, &str); 8] = [
 
 /// Hosts an 8-ball game with the defaults of `breakshot host`.
 fn host_default() -> Result<Box<dyn GameLink>, String> {
-    let data = default_data_dir()
+    let data = super::data_dir()
         .ok_or("No user data directory (HOME is not set): run breakshot host --data DIR")?;
     let name = player_name(&data, None)?;
     let options = HostOptions {
@@ -61,7 +60,7 @@ fn host_default() -> Result<Box<dyn GameLink>, String> {
 /// Goes back to the game whose seat this computer remembered last: hosts again when it was
 /// hosted here, else joins its invite with the remembered seat token.
 fn resume() -> Result<Box<dyn GameLink>, String> {
-    let data = default_data_dir().ok_or("No user data directory (HOME is not set)")?;
+    let data = super::data_dir().ok_or("No user data directory (HOME is not set)")?;
     let seats = SeatStore::new(&data);
     let Some(last) = seats.all().into_iter().next() else {
         return Err("No game to resume: host or join one first".into());
@@ -81,7 +80,7 @@ fn join_from_clipboard() -> Result<NetLink, String> {
     let invite: Invite = text
         .parse()
         .map_err(|e| format!("The clipboard holds no invite ({e}): {HOW}"))?;
-    let data = default_data_dir();
+    let data = super::data_dir();
     let name = match &data {
         Some(d) => player_name(d, None)?,
         None => "player".to_owned(),

@@ -84,6 +84,22 @@ pub fn network_game(link: Box<dyn GameLink>) -> Screen {
     )))
 }
 
+/// The data directory `--data` named, for the menu's host, join and resume.
+static DATA_DIR: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
+
+/// Makes the menu use `dir` as its data directory (what `--data` gives).
+pub fn use_data_dir(dir: std::path::PathBuf) {
+    let _ = DATA_DIR.set(dir);
+}
+
+/// The data directory for the menu: `--data`, else the default one.
+pub fn data_dir() -> Option<std::path::PathBuf> {
+    DATA_DIR
+        .get()
+        .cloned()
+        .or_else(breakshot_client::net::host::default_data_dir)
+}
+
 /// A seed for a new rack from the clock: every rack is different.
 pub fn fresh_seed() -> u64 {
     std::time::SystemTime::now()
