@@ -221,7 +221,10 @@ fn a_game_on_a_server_is_saved_to_a_record_file_that_replays() {
     .expect("a server on loopback");
     let invite = server.loopback_invite();
     let runtime = tokio::runtime::Runtime::new().expect("a runtime");
-    let report = runtime.block_on(run(&BotConfig::new(invite.clone(), 1)));
+    let bots = BotConfig::new(invite.clone(), 1);
+    let report = runtime
+        .block_on(async { tokio::time::timeout(Duration::from_secs(120), run(&bots)).await })
+        .expect("the bots' game ended within two minutes");
     let room = report.games[0].room.clone().expect("the bots' room");
     let file = dir.path().join("game.rec");
     let out = breakshot(&[

@@ -332,7 +332,10 @@ fn replay_from_a_server_shows_the_fetched_games_table() {
     let invite = server.loopback_invite();
     // Two bots play a game on the server; its rack depends on the room's random seed.
     let runtime = tokio::runtime::Runtime::new().expect("a runtime");
-    let report = runtime.block_on(run(&BotConfig::new(invite.clone(), 1)));
+    let bots = BotConfig::new(invite.clone(), 1);
+    let report = runtime
+        .block_on(async { tokio::time::timeout(Duration::from_secs(120), run(&bots)).await })
+        .expect("the bots' game ended within two minutes");
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     let room = report.games[0].room.clone().expect("the bots' room");
     let fetched = fetch_record_blocking(&invite, &room).expect("the record");
@@ -925,4 +928,61 @@ fn resume_game_in_the_menu_takes_the_remembered_seat_back() {
     });
     assert_eq!(back, ServerMessage::PlayerBack { seat: Seat::B });
     drop(server);
+}
+
+/// An invite whose fingerprint is not the server's says so in plain words, wrapped inside a
+/// small window rather than cut off at its edge.
+#[test]
+#[cfg(feature = "host")]
+fn a_wrong_fingerprint_is_said_in_words_that_fit_the_window() {
+    use breakshot_client::net::EmbeddedServer;
+    use breakshot_server::Config;
+    use breakshot_shared::protocol::{Fingerprint, RoomCode};
+
+    let dir = breakshot_testkit::scratch("window-fingerprint");
+    let loopback = std::net::SocketAddr::from(([127, 0, 0, 1], 0));
+    let server =
+        EmbeddedServer::start(Config::new(loopback, dir.path().join("server"))).expect("a server");
+    let mut invite = server.loopback_invite();
+    invite.fingerprint = Fingerprint([0xab; 32]);
+    invite.room = Some(RoomCode::parse("ABCDEFGH").expect("a room code"));
+    let out = dir.path().join("out.png");
+    let text = invite.to_string();
+    let data = dir.path().join("client");
+    let args = [
+        OsStr::new("join"),
+        OsStr::new(&text),
+        OsStr::new("--data"),
+        data.as_os_str(),
+    ];
+    let Some(run) = window_sized(&args, &out, 3, (640, 480)) else {
+        return;
+    };
+    drop(server);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let (width, height, pixels) = read_png(&out);
+    let pic = Picture {
+        width,
+        height,
+        pixels,
+    };
+    // Light text rows under the headline: the reason takes two lines, and no letter touches
+    // the window's right edge.
+    let lit = |y: u32, xs: std::ops::Range<u32>| {
+        xs.into_iter()
+            .any(|x| pic.at(x as f32, y as f32).iter().all(|&v| v > 150))
+    };
+    let rows = (100..200).filter(|&y| lit(y, 0..width)).count();
+    assert!(
+        rows > 20,
+        "{rows} rows of text: the reason is not on two lines"
+    );
+    assert!(
+        !(0..height).any(|y| lit(y, width - 12..width)),
+        "text runs into the window's edge"
+    );
 }

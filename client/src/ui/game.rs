@@ -371,9 +371,19 @@ impl GameScreen {
                 "Waiting for the game to start..."
             };
             draw::label(headline, 40.0, 80.0, 28.0, WHITE);
+            // Long reasons (a fingerprint that does not match, say) wrap inside the window.
+            let width = screen_width() - 80.0;
             let state = connection_text(&self.flow.connection);
-            draw::label(&state, 40.0, 120.0, 22.0, LIGHTGRAY);
-            draw::label(&self.flow.message, 40.0, 150.0, 22.0, YELLOW);
+            let mut y = 120.0;
+            for (text, c) in [
+                (state.as_str(), LIGHTGRAY),
+                (self.flow.message.as_str(), YELLOW),
+            ] {
+                for line in invite::wrap(text, width, 22.0) {
+                    draw::label(&line, 40.0, y, 22.0, c);
+                    y += 30.0;
+                }
+            }
             return;
         };
         let layout = Self::layout(game);
