@@ -2,6 +2,7 @@
 //! on disk), so neither a log nor a stolen database hands out seats.
 
 use breakshot_shared::protocol::SeatToken;
+use breakshot_shared::rules::rack::SplitMix64;
 use sha2::{Digest, Sha256};
 
 /// SHA-256 of a seat token.
@@ -45,17 +46,19 @@ impl Entropy for OsEntropy {
     }
 }
 
-/// A deterministic stream (SplitMix64) for tests.
-pub struct TestEntropy(pub u64);
+/// A deterministic stream for tests: the rules' SplitMix64 from a seed.
+pub struct TestEntropy(SplitMix64);
+
+impl TestEntropy {
+    pub fn new(seed: u64) -> TestEntropy {
+        TestEntropy(SplitMix64::new(seed))
+    }
+}
 
 impl Entropy for TestEntropy {
     fn fill(&mut self, buf: &mut [u8]) {
         for chunk in buf.chunks_mut(8) {
-            self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            z ^= z >> 31;
+            let z = self.0.next_u64();
             chunk.copy_from_slice(&z.to_le_bytes()[..chunk.len()]);
         }
     }
@@ -79,7 +82,7 @@ mod tests {
 
     #[test]
     fn digests_match_their_token_only() {
-        let mut rng = TestEntropy(1);
+        let mut rng = TestEntropy::new(1);
         let a = new_token(&mut rng);
         let b = new_token(&mut rng);
         assert!(TokenDigest::of(&a).matches(&TokenDigest::of(&a)));

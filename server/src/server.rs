@@ -120,7 +120,7 @@ impl Server {
                 physics,
             },
             match config.predictable_seed {
-                Some(seed) => Box::new(TestEntropy(seed)),
+                Some(seed) => Box::new(TestEntropy::new(seed)),
                 None => Box::new(OsEntropy),
             },
         );

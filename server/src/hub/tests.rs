@@ -56,7 +56,7 @@ impl World {
             physics: reference_hash().unwrap(),
         };
         World {
-            hub: Hub::new(config, Box::new(TestEntropy(9))),
+            hub: Hub::new(config, Box::new(TestEntropy::new(9))),
             now: Instant::now(),
         }
     }
