@@ -5,8 +5,8 @@
 
 use std::time::{Duration, Instant};
 
-use breakshot_shared::ai::{self, ranked_pots, Level};
-use breakshot_shared::physics::{Strike, Table};
+use breakshot_shared::ai::{self, ranked_pots, GhostView, Level};
+use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{
     AimAid, ClientMessage, ErrorCode, Invite, Role, RoomCode, ServerMessage,
 };
@@ -597,23 +597,12 @@ impl Chooser {
 
     /// Ghost-ball aim at a legal ball into a pocket, with a little noise.
     fn aim(&mut self, game: &Game) -> (Strike, Option<u8>) {
-        let balls = game.balls();
-        let cue = balls[0].pos;
         let r = game.params().ball_radius;
-        let table = Table::new(game.table());
-        let pockets: Vec<DVec2> = table
-            .pockets
-            .iter()
-            .map(|p| table.to_scene(p.center))
-            .collect();
-        let legal: Vec<u8> = game.legal_first_balls();
-        let targets: Vec<(u8, DVec2)> = balls
-            .iter()
-            .enumerate()
-            .skip(1)
-            .filter(|(i, b)| !is_off_table(b) && (legal.is_empty() || legal.contains(&(*i as u8))))
-            .map(|(i, b)| (i as u8, b.pos))
-            .collect();
+        let GhostView {
+            cue,
+            targets,
+            pockets,
+        } = GhostView::of(game);
         if game.is_break() || targets.is_empty() {
             let at = targets
                 .iter()

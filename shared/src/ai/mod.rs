@@ -36,7 +36,7 @@ use crate::physics::Strike;
 use crate::rules::{Command, Game, InHand, Phase};
 
 pub use candidates::{Breadth, Kind};
-pub use ghost::ranked_pots;
+pub use ghost::{ranked_pots, GhostView};
 pub use noise::{Noise, Rng, AIM_SIGMA_DEG, ELEVATION_SIGMA_DEG, SPEED_SIGMA, TIP_SIGMA_M};
 pub use scene_judge::{suggest, Suggestion};
 pub use search::Schedule;

@@ -3,9 +3,9 @@
 //! little aim noise, a random speed and follow/draw; break at full pace; accept the table
 //! when offered; put the cue ball anywhere legal when it is off the table.
 
-use breakshot_shared::ai::ranked_pots;
 use breakshot_shared::ai::Rng;
-use breakshot_shared::physics::{BallState, MotionState, Params, Strike, Table};
+use breakshot_shared::ai::{ranked_pots, GhostView};
+use breakshot_shared::physics::{BallState, MotionState, Params, Strike};
 use breakshot_shared::rules::{Choice, Command, Game, InHand, Phase};
 use glam::DVec2;
 
@@ -69,23 +69,12 @@ impl Ghost {
     }
 
     fn aim(&mut self, game: &Game) -> (Strike, Option<u8>) {
-        let balls = game.balls();
-        let cue = balls[0].pos;
-        let r = Params::default().ball_radius;
-        let table = Table::new(game.table());
-        let pockets: Vec<DVec2> = table
-            .pockets
-            .iter()
-            .map(|p| table.to_scene(p.center))
-            .collect();
-        let legal = game.legal_first_balls();
-        let targets: Vec<(u8, DVec2)> = balls
-            .iter()
-            .enumerate()
-            .skip(1)
-            .filter(|(i, b)| !off_table(b) && (legal.is_empty() || legal.contains(&(*i as u8))))
-            .map(|(i, b)| (i as u8, b.pos))
-            .collect();
+        let r = game.params().ball_radius;
+        let GhostView {
+            cue,
+            targets,
+            pockets,
+        } = GhostView::of(game);
         if game.is_break() || targets.is_empty() {
             let at = targets
                 .iter()
