@@ -199,6 +199,18 @@ fn practice_screenshot_shows_cloth_and_balls_where_the_layout_puts_them() {
     balls_are_drawn(&pic, &layout, &ids, &shot.balls);
 }
 
+/// Every ball of `game`'s table drawn where the layout puts it.
+fn rack_is_drawn(pic: &Picture, game: &Game) {
+    let layout = Layout::new(
+        pic.width as f32,
+        pic.height as f32,
+        Frame::new(game.table(), game.balls()),
+    );
+    let ids = ball_ids(game);
+    let ids: Vec<&str> = ids.iter().map(|s| s.as_str()).collect();
+    balls_are_drawn(pic, &layout, &ids, game.balls());
+}
+
 /// Each ball's colour, shaded, left and right of its centre (clear of the number in the
 /// middle; the balls have not turned yet, so their numbers are on top).
 fn balls_are_drawn(pic: &Picture, layout: &Layout, ids: &[&str], balls: &[BallState]) {
@@ -243,16 +255,7 @@ fn replay_screenshot_shows_the_recorded_games_table() {
     };
     // Four frames are well inside the pause before the first shot: the rack is shown.
     let racked = Game::new(variant, Settings::offline(), 5);
-    let layout = Layout::new(
-        pic.width as f32,
-        pic.height as f32,
-        Frame::new(racked.table(), racked.balls()),
-    );
-    let ids: Vec<String> = (0..racked.balls().len())
-        .map(|n| if n == 0 { "cue".into() } else { n.to_string() })
-        .collect();
-    let ids: Vec<&str> = ids.iter().map(|s| s.as_str()).collect();
-    balls_are_drawn(&pic, &layout, &ids, racked.balls());
+    rack_is_drawn(&pic, &racked);
 }
 
 #[test]
@@ -355,16 +358,7 @@ fn replay_from_a_server_shows_the_fetched_games_table() {
     let pic = picture(&out);
     // Four frames are well inside the pause before the first shot: this game's rack.
     let racked = Game::new(record.variant, record.settings, record.seed);
-    let layout = Layout::new(
-        pic.width as f32,
-        pic.height as f32,
-        Frame::new(racked.table(), racked.balls()),
-    );
-    let ids: Vec<String> = (0..racked.balls().len())
-        .map(|n| if n == 0 { "cue".into() } else { n.to_string() })
-        .collect();
-    let ids: Vec<&str> = ids.iter().map(|s| s.as_str()).collect();
-    balls_are_drawn(&pic, &layout, &ids, racked.balls());
+    rack_is_drawn(&pic, &racked);
 }
 
 /// A player whose opponent ended the game while they were away, with the server restarted
