@@ -95,7 +95,7 @@ enum Command {
         /// How strong the computer plays: 1 (beginner) to 5 (strong).
         #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(1..=5))]
         level: u8,
-        #[arg(long, default_value = "8ball", value_parser = ["8ball", "9ball"])]
+        #[arg(long, default_value = "8ball", value_parser = ["8ball", "9ball", "3cushion"])]
         mode: String,
         #[arg(long, default_value = "wpa", value_parser = ["wpa", "bar"])]
         rules: String,

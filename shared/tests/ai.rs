@@ -143,6 +143,31 @@ fn never_makes_an_illegal_command() {
         only_legal(Variant::NineBall, called, seed, 10);
     }
     only_legal(Variant::Practice, Settings::offline(), 4, 8);
+    only_legal(Variant::three_cushion(), Settings::offline(), 1, 6);
+}
+
+/// In three-cushion the computer looks for caroms: from the starting position it finds
+/// strokes that score, and under its own noise it scores with some of its decisions.
+#[test]
+fn three_cushion_is_played_for_points() {
+    let game = Game::new(Variant::three_cushion(), Settings::offline(), 1);
+    let player = Player::from(Level::new(4));
+    let plan = ai::plan(&game, &player, 7).expect("a move");
+    assert_eq!(plan.kind, Some(Kind::Carom));
+    assert!(
+        plan.p_success.is_some_and(|p| p > 0.0),
+        "no stroke found that scores: {plan:?}"
+    );
+    let points = (0..6)
+        .filter(|&seed| {
+            let mut g = game.clone();
+            let seat = g.to_move();
+            let command = ai::decide(&g, Level::new(4), seed).expect("a move");
+            let verdict = g.apply(seat, &command).expect("a legal stroke");
+            verdict.next == seat && !verdict.foul
+        })
+        .count();
+    assert!(points >= 1, "{points} points in 6 tries at level 4");
 }
 
 #[test]

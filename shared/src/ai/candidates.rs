@@ -24,6 +24,8 @@ pub enum Kind {
     Kick,
     Safety,
     Break,
+    /// A three-cushion stroke.
+    Carom,
 }
 
 /// A shot the search may choose.

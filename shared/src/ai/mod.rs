@@ -21,6 +21,7 @@
 //! ```
 
 mod candidates;
+mod caroms;
 mod game_judge;
 mod geometry;
 mod ghost;
@@ -33,7 +34,7 @@ mod value;
 
 use crate::physics::MotionState;
 use crate::physics::Strike;
-use crate::rules::{Command, Game, InHand, Phase};
+use crate::rules::{Command, Game, InHand, Phase, Variant};
 
 pub use candidates::{Breadth, Kind};
 pub use ghost::{ranked_pots, GhostView};
@@ -278,7 +279,9 @@ fn search_shot(
     let pottable = value::pottable(game);
     let candidates: Vec<Candidate>;
     let mut generated = 0;
-    if game.is_break() {
+    if matches!(game.variant(), Variant::ThreeCushion { .. }) {
+        (candidates, generated) = caroms::caroms(game, &player.breadth);
+    } else if game.is_break() {
         candidates = candidates::breaks(&layout, &targets);
     } else {
         let mut lab = Lab::new(game.shot_for(&fallback(game)));
@@ -304,11 +307,13 @@ fn search_shot(
 /// A plain strike at the nearest ball: used only when no candidate could be made.
 fn fallback(game: &Game) -> Strike {
     let balls = game.balls();
-    let cue = balls.first().map(|b| b.pos).unwrap_or_default();
+    let shooter = game.cue_ball();
+    let cue = balls.get(shooter).map(|b| b.pos).unwrap_or_default();
     let dir = balls
         .iter()
-        .skip(1)
-        .filter(|b| b.motion != MotionState::Pocketed)
+        .enumerate()
+        .filter(|&(i, b)| i != shooter && b.motion != MotionState::Pocketed)
+        .map(|(_, b)| b)
         .map(|b| b.pos - cue)
         .min_by(|a, b| a.length().total_cmp(&b.length()))
         .and_then(|d| d.try_normalize())
