@@ -50,6 +50,10 @@ struct Cli {
     /// (default: the name given last, else your login name).
     #[arg(long, value_name = "NAME", global = true)]
     name: Option<String>,
+    /// Three-cushion (`--mode 3cushion`): the points that win the game.
+    #[arg(long, value_name = "POINTS", default_value_t = 15, global = true,
+          value_parser = clap::value_parser!(u32).range(1..=1000))]
+    race: u32,
 }
 
 #[derive(Subcommand, Debug)]
@@ -181,14 +185,14 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             let scene = Scene::from_json(&text).with_context(|| format!("{}", path.display()))?;
             ui::Start::Practice(Some(Box::new(scene)))
         }
-        Some(Command::Local { mode, rules }) => ui::Start::Local(variant(mode, rules)),
+        Some(Command::Local { mode, rules }) => ui::Start::Local(variant(mode, rules, cli.race)),
         Some(Command::VsComputer {
             level,
             mode,
             rules,
             breaker,
         }) => ui::Start::VsComputer {
-            variant: variant(mode, rules),
+            variant: variant(mode, rules, cli.race),
             level: Level::new(*level),
             computer_breaks: breaker == "computer",
         },
@@ -204,7 +208,7 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
         }) => {
             let options = HostOptions {
                 bind: *bind,
-                variant: variant(mode, rules),
+                variant: variant(mode, rules, cli.race),
                 aim_aid: aim_aid(aids),
                 address: address.clone(),
                 resume: !new,
@@ -355,10 +359,10 @@ fn aim_aid(name: &str) -> AimAid {
 }
 
 /// The rules variant named by `--mode` and `--rules` (both checked by the parser).
-fn variant(mode: &str, rules: &str) -> Variant {
+fn variant(mode: &str, rules: &str, race: u32) -> Variant {
     match (mode, rules) {
         ("9ball", _) => Variant::NineBall,
-        ("3cushion", _) => Variant::three_cushion(),
+        ("3cushion", _) => Variant::ThreeCushion { race },
         (_, "bar") => Variant::EightBall(EightBallRules::Bar),
         _ => Variant::EightBall(EightBallRules::Wpa),
     }

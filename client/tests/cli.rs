@@ -80,6 +80,7 @@ fn bad_options_are_refused() {
         &["practice", "--frames", "0"][..],
         &["practice", "--size", "12x"][..],
         &["local", "--mode", "snooker"][..],
+        &["local", "--mode", "3cushion", "--race", "0"][..],
         &["vs-computer", "--level", "0"][..],
         &["vs-computer", "--level", "6"][..],
         &["vs-computer", "--break", "nobody"][..],
