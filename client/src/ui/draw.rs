@@ -1,17 +1,33 @@
 //! Drawing the table, the balls and the panel. Positions come from the library's
-//! [`Layout`]; physics values become f32 only here, at the last moment.
+//! [`Layout`]; physics values become f32 only here, at the last moment. What lies on the
+//! table is drawn through a [`Pen`]: flat from above, or in 3-D through its camera
+//! (`table3d`).
 
 use ::glam::{DQuat, DVec2};
 use breakshot_client::play::aim::Aim;
 use breakshot_client::view::aids::{self, AidToggles, PathPoint, Prediction};
+use breakshot_client::view::camera::Camera;
 use breakshot_client::view::flight::{flight, Flight};
 use breakshot_client::view::layout::{Layout, Rect, RAIL_WIDTH};
 use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::palette::{self, ball_look, Rgb};
+use breakshot_client::view::playback::Drop;
 use breakshot_client::view::sphere::{self, ScreenAxes};
 use breakshot_shared::physics::{BallState, Table, TableKind};
 use macroquad::models::Vertex;
 use macroquad::prelude::*;
+
+use super::table3d;
+
+/// How the table and what lies on it are drawn this frame.
+pub struct Pen<'a> {
+    /// The window's layout: the top-down view, and the panel, tray and HUD in both views.
+    pub layout: &'a Layout,
+    /// The 3-D view's camera, when it is shown.
+    pub camera: Option<Camera>,
+    /// Balls seen falling into pockets (the 3-D view shows them).
+    pub drops: Vec<Drop>,
+}
 
 /// The layout's mapping of scene directions: x down the screen, y to the right
 /// ([`Layout::dir_to_screen`]).
@@ -21,7 +37,7 @@ const SCREEN_AXES: ScreenAxes = ScreenAxes {
 };
 
 /// Width of the cushion rubber drawn behind the nose line (m).
-const CUSHION_WIDTH: f64 = 0.045;
+pub const CUSHION_WIDTH: f64 = 0.045;
 /// Sides of the polygon a ball is drawn as.
 const BALL_SIDES: u8 = 48;
 
@@ -47,7 +63,11 @@ fn fill_rect(r: Rect, c: Color) {
 }
 
 /// The cloth, rails, cushions, diamonds and pockets.
-pub fn table(layout: &Layout, kind: TableKind) {
+pub fn table(pen: &Pen, kind: TableKind) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        return table3d::table(camera, layout, kind);
+    }
     if !layout.frame.rails {
         fill_rect(layout.cloth, color(palette::CLOTH));
         return;
@@ -98,11 +118,11 @@ pub fn table(layout: &Layout, kind: TableKind) {
     diamonds(layout);
 }
 
-/// Sights on the wood: every eighth of the length, every quarter of the width.
-fn diamonds(layout: &Layout) {
+/// Sights on the wood, halfway across it (scene coordinates): every eighth of the length,
+/// every quarter of the width.
+pub fn diamond_spots(layout: &Layout) -> Vec<DVec2> {
     let (w, l) = (layout.frame.size.x, layout.frame.size.y);
     let back = CUSHION_WIDTH + 0.5 * (RAIL_WIDTH - CUSHION_WIDTH);
-    let size = layout.px(0.012).max(2.0);
     let mut spots = Vec::new();
     for k in (1..8).filter(|&k| k != 4) {
         let y = l * k as f64 / 8.0;
@@ -114,7 +134,12 @@ fn diamonds(layout: &Layout) {
         spots.push(DVec2::new(x, -back));
         spots.push(DVec2::new(x, l + back));
     }
-    for s in spots {
+    spots
+}
+
+fn diamonds(layout: &Layout) {
+    let size = layout.px(0.012).max(2.0);
+    for s in diamond_spots(layout) {
         let p = layout.to_screen(s);
         draw_poly(p[0], p[1], 4, size, 0.0, color(palette::DIAMOND));
     }
@@ -198,13 +223,25 @@ pub fn ball_turned(id: &str, at: [f32; 2], r: f32, turn: DQuat, air: Flight) {
 /// The balls still on the table, each turned as `turns` says; balls in flight are drawn
 /// after those on the cloth, so they pass over them.
 pub fn balls(
-    layout: &Layout,
+    pen: &Pen,
     ids: &[String],
     states: &[BallState],
     radius: f64,
     skip: Option<usize>,
     turns: &Orientations,
 ) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        let mut shown = table3d::on_table(ids, states, radius, skip, turns);
+        shown.extend(pen.drops.iter().filter_map(|d| {
+            Some(table3d::Ball {
+                id: ids.get(d.ball)?,
+                centre: d.centre,
+                turn: turns.get(d.ball),
+            })
+        }));
+        return table3d::balls(camera, &shown, radius);
+    }
     let r = layout.px(radius);
     for in_air in [false, true] {
         for (i, (id, s)) in ids.iter().zip(states).enumerate() {
@@ -229,7 +266,11 @@ pub fn tray(layout: &Layout, ids: &[String], pocketed: &[usize], radius: f64) {
 }
 
 /// Aim line, ghost ball and predicted paths, as toggled.
-pub fn aids(layout: &Layout, p: &Prediction, toggles: AidToggles, radius: f64, object_id: &str) {
+pub fn aids(pen: &Pen, p: &Prediction, toggles: AidToggles, radius: f64, object_id: &str) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        return table3d::aids(camera, p, toggles, radius, object_id);
+    }
     // Stretches in the air (a jump) are dotted: every other piece of them is left out.
     let line = |pts: &[PathPoint], width: f32, c: Color| {
         let mut flying = 0usize;
@@ -282,20 +323,32 @@ pub fn aids(layout: &Layout, p: &Prediction, toggles: AidToggles, radius: f64, o
 }
 
 /// A ring around the ball at `pos`, to mark it.
-pub fn ring(layout: &Layout, pos: DVec2, radius: f64, c: Color) {
+pub fn ring(pen: &Pen, pos: DVec2, radius: f64, c: Color) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        return table3d::ring(camera, pos, radius, c);
+    }
     let p = layout.to_screen(pos);
     draw_poly_lines(p[0], p[1], BALL_SIDES, layout.px(radius) + 4.0, 0.0, 2.5, c);
 }
 
 /// A straight line on the table, from `a` to `b` (scene coordinates).
-pub fn segment(layout: &Layout, a: DVec2, b: DVec2, width: f32, c: Color) {
+pub fn segment(pen: &Pen, a: DVec2, b: DVec2, width: f32, c: Color) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        return table3d::segment(camera, a, b, c);
+    }
     let (a, b) = (layout.to_screen(a), layout.to_screen(b));
     draw_line(a[0], a[1], b[0], b[1], width, c);
 }
 
 /// The cue stick behind the cue ball, drawn back further the harder the shot. Seen from
 /// above, an elevated cue is foreshortened: its length on the table shrinks with cos θ.
-pub fn cue_stick(layout: &Layout, cue: DVec2, aim: &Aim, radius: f64) {
+pub fn cue_stick(pen: &Pen, cue: DVec2, aim: &Aim, radius: f64) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        return table3d::cue_stick(camera, cue, aim, radius);
+    }
     let dir = aim.dir();
     let slant = aim.elevation_deg.to_radians().cos().max(0.05);
     let gap = radius * (1.3 + 8.0 * aim.power) * slant;
@@ -315,8 +368,17 @@ pub fn cue_stick(layout: &Layout, cue: DVec2, aim: &Aim, radius: f64) {
     );
 }
 
-/// The cue-ball face (tip offset) and the power bar.
+/// The cue-ball face (tip offset) and the power bar, on the background (the 3-D view may
+/// reach under the panel).
 pub fn panel(layout: &Layout, aim: &Aim) {
+    let left = layout.elevation_view.x - 4.0;
+    draw_rectangle(
+        left,
+        layout.hud.h,
+        layout.screen[0] - left,
+        layout.screen[1],
+        color(palette::BACKGROUND),
+    );
     let [cx, cy] = layout.tip_center;
     let r = layout.tip_radius;
     label("Tip", cx - r, cy - r - 6.0, 20.0, LIGHTGRAY);
@@ -409,8 +471,17 @@ fn elevation_view(layout: &Layout, elevation_deg: f64) {
     draw_rectangle_lines(v.x, v.y, v.w, v.h, 1.0, LIGHTGRAY);
 }
 
-/// The shaded area where the cue ball may be put, and the ball being dragged.
-pub fn in_hand(layout: &Layout, area: Rect, dragged: Option<(DVec2, bool)>, radius: f64) {
+/// The shaded area where the cue ball may be put (pixels of the layout), and the ball being
+/// dragged.
+pub fn in_hand(pen: &Pen, area: Rect, dragged: Option<(DVec2, bool)>, radius: f64) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        let corners = (
+            layout.to_scene([area.x, area.y]),
+            layout.to_scene([area.x + area.w, area.y + area.h]),
+        );
+        return table3d::in_hand(camera, corners, dragged, radius);
+    }
     fill_rect(area, Color::new(1.0, 1.0, 1.0, 0.08));
     draw_rectangle_lines(
         area.x,

@@ -23,6 +23,7 @@ use breakshot_shared::rules::{
 use macroquad::prelude::*;
 
 use super::hud::{game_hud, HudInfo};
+use super::view::TableView;
 use super::{draw, invite, menu, Screen, Step};
 
 pub struct GameScreen {
@@ -40,6 +41,8 @@ pub struct GameScreen {
     turns: Orientations,
     /// The player pressed Esc in an online game and is asked whether to leave.
     leaving: bool,
+    /// Top-down or 3-D, and the 3-D camera.
+    view: TableView,
 }
 
 /// Ball ids by number: "cue", "1", "2", ...
@@ -81,6 +84,7 @@ impl GameScreen {
             copied: false,
             turns: Orientations::new(),
             leaving: false,
+            view: TableView::new(),
         }
     }
 
@@ -197,6 +201,11 @@ impl GameScreen {
             }
             _ => {}
         }
+        let aiming = matches!(turn, Turn::Shoot { .. });
+        let r = game.params().ball_radius;
+        let aim = self.controls.aim.dir();
+        self.view.update(&input, Self::cue_spot(&game), aim, aiming);
+        let mut input = self.view.pointer(&input, &layout, r);
         if let Turn::Shoot { call: true, .. } = turn {
             if input.left_pressed {
                 if let Some(p) = layout.pocket_at(&Table::new(game.table()), input.mouse) {
@@ -375,7 +384,12 @@ impl GameScreen {
         let balls = self.flow.balls();
         let names = ids(balls.len());
         let turn = self.turn();
-        draw::table(&layout, game.table());
+        let drops = self
+            .flow
+            .shot()
+            .map(|p| p.dropping(&Table::new(game.table()), r));
+        let pen = self.view.pen(&layout, r, drops.unwrap_or_default());
+        draw::table(&pen, game.table());
 
         let dragging = match self.controls.drag {
             Drag::CueBall { at } => Some((at, game.legal_cue_placement([at.x, at.y]).is_ok())),
@@ -387,22 +401,22 @@ impl GameScreen {
                 .first_hit
                 .and_then(|b| names.get(b))
                 .map_or("", |s| s.as_str());
-            draw::aids(&layout, pred, self.shown_aids(), r, object);
+            draw::aids(&pen, pred, self.shown_aids(), r, object);
         }
-        draw::balls(&layout, &names, &balls, r, dragging.map(|_| 0), &self.turns);
+        draw::balls(&pen, &names, &balls, r, dragging.map(|_| 0), &self.turns);
         let shooting = matches!(turn, Turn::Shoot { .. }) && dragging.is_none();
         if shooting {
             // In 9-ball the ball on is ringed; a first contact the rules forbid is warned of.
             if game.variant() == Variant::NineBall {
                 for n in game.legal_first_balls() {
-                    draw::ring(&layout, balls[usize::from(n)].pos, r, YELLOW);
+                    draw::ring(&pen, balls[usize::from(n)].pos, r, YELLOW);
                 }
             }
             if let Some((_, pred)) = &self.predicted {
                 let legal = game.legal_first_balls();
                 if let Some(warning) = aids::first_hit_warning(&legal, pred.first_hit) {
                     if let Some(end) = pred.aim_end.filter(|_| self.shown_aids().aim_line) {
-                        draw::segment(&layout, cue, end, 2.5, RED);
+                        draw::segment(&pen, cue, end, 2.5, RED);
                     }
                     draw::label(&warning, layout.cloth.x, layout.cloth.y + 22.0, 20.0, RED);
                 }
@@ -421,7 +435,7 @@ impl GameScreen {
                 (b[0] - a[0]).abs(),
                 (b[1] - a[1]).abs(),
             );
-            draw::in_hand(&layout, rect, dragging, r);
+            draw::in_hand(&pen, rect, dragging, r);
             if is_off_table(&balls[0]) && dragging.is_none() {
                 let p = layout.to_screen(cue);
                 draw::ball("cue", p, layout.px(r));
@@ -431,7 +445,7 @@ impl GameScreen {
             self.draw_call(&layout, game);
         }
         if shooting {
-            draw::cue_stick(&layout, cue, &self.controls.aim, r);
+            draw::cue_stick(&pen, cue, &self.controls.aim, r);
         }
         draw::tray(&layout, &names, &self.flow.tray(), r);
         draw::panel(&layout, &self.controls.aim);

@@ -11,6 +11,8 @@ mod menu;
 mod practice;
 mod replay;
 mod speaker;
+mod table3d;
+mod view;
 
 use std::path::PathBuf;
 
@@ -21,6 +23,8 @@ use breakshot_client::play::computer::ComputerLink;
 use breakshot_client::play::controls::InputFrame;
 use breakshot_client::play::link::{GameLink, LocalLink};
 use breakshot_client::play::replay::ReplayViewer;
+use breakshot_client::view::camera::ViewKind;
+use breakshot_client::view::choice;
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::palette;
 use breakshot_client::view::playback::Playback;
@@ -56,6 +60,10 @@ pub struct Options {
     pub frames: u32,
     /// Seed of the practice rack (random if not given).
     pub seed: Option<u64>,
+    /// The view to open on (else the one remembered in `data`).
+    pub view: Option<ViewKind>,
+    /// The data directory, where the view chosen is remembered.
+    pub data: Option<PathBuf>,
 }
 
 /// Two players at this computer: the rules run here.
@@ -142,6 +150,11 @@ impl Screen {
 
 /// Runs the screens until the player quits or the screenshot is taken.
 pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
+    let remembered = options.data.as_deref().and_then(choice::remembered);
+    view::start(
+        options.view.or(remembered).unwrap_or_default(),
+        options.data.clone(),
+    );
     let mut screen = match start {
         Start::Menu => Screen::Menu(menu::MenuScreen::new()),
         Start::Network(link) => network_game(link),

@@ -8,10 +8,12 @@ use breakshot_client::view::hud::Connection;
 use breakshot_client::view::layout::{Frame, Layout};
 use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::playback::Playback;
+use breakshot_shared::physics::Table;
 use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
 
 use super::hud::{game_hud, HudInfo};
+use super::view::TableView;
 use super::{draw, menu, Screen, Step};
 
 pub struct ReplayScreen {
@@ -19,6 +21,7 @@ pub struct ReplayScreen {
     frame: Frame,
     /// How each ball is turned, for drawing.
     turns: Orientations,
+    view: TableView,
 }
 
 impl ReplayScreen {
@@ -28,6 +31,7 @@ impl ReplayScreen {
             viewer,
             frame,
             turns: Orientations::new(),
+            view: TableView::new(),
         }
     }
 
@@ -44,6 +48,16 @@ impl ReplayScreen {
             }
         }
         self.viewer.tick(input.dt);
+        // The camera looks at the cue ball along the shot being shown (or the next one).
+        let game = self.viewer.game();
+        let (done, _) = self.viewer.position();
+        let aim = match self.viewer.record().entries.get(done).map(|e| &e.command) {
+            Some(Command::Shot { strike, .. }) => Aim::from_strike(strike).dir(),
+            _ => ::glam::DVec2::Y,
+        };
+        let cue = game.balls().first().map_or(::glam::DVec2::ZERO, |b| b.pos);
+        self.view
+            .update(input, cue, aim, self.viewer.shot().is_none());
         Step::Stay
     }
 
@@ -66,8 +80,13 @@ impl ReplayScreen {
                 }
             })
             .collect();
-        draw::table(&layout, v.game().table());
-        draw::balls(&layout, &ids, &v.balls(), r, None, &self.turns);
+        let drops = v
+            .shot()
+            .map(|pb| pb.dropping(&Table::new(v.game().table()), r))
+            .unwrap_or_default();
+        let pen = self.view.pen(&layout, r, drops);
+        draw::table(&pen, v.game().table());
+        draw::balls(&pen, &ids, &v.balls(), r, None, &self.turns);
         draw::tray(&layout, &ids, &v.tray(), r);
         // The panel shows the strike of the shot being played (or the next one).
         let (done, total) = v.position();

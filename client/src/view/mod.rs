@@ -2,6 +2,8 @@
 //! colours of the balls, the aiming aids, balls in flight and the animation of a shot.
 
 pub mod aids;
+pub mod camera;
+pub mod choice;
 pub mod flight;
 pub mod hud;
 pub mod layout;
