@@ -11,15 +11,18 @@ use std::time::Duration;
 use breakshot_client::play::aim::Aim;
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_client::view::aids::{predict, PathPoint};
+use breakshot_client::view::camera::{Camera, Orbit};
 use breakshot_client::view::flight::flight;
 use breakshot_client::view::layout::{Frame, Layout};
-use breakshot_client::view::palette::{ball_look, Rgb, BALL_WHITE, CLOTH, CUE_BALL, CUE_WOOD};
+use breakshot_client::view::palette::{
+    ball_look, Rgb, BALL_WHITE, CLOTH, CUE_BALL, CUE_WOOD, CUSHION, RAIL_WOOD,
+};
 use breakshot_shared::physics::Simulator;
 use breakshot_shared::physics::{BallState, MotionState, Params, Strike};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Command, EightBallRules, Game, Settings, Variant};
 use breakshot_shared::scene::Scene;
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 
 const SCENE: &str = r#"{
   "table": "9ft",
@@ -97,14 +100,18 @@ fn window(args: &[&OsStr], out: &Path) -> Option<Output> {
     window_at(args, out, 4)
 }
 
-/// As [`window`], of frame `frames` (the window steps 1/60 s of animation a frame).
+/// As [`window`], of frame `frames` (the window steps 1/60 s of animation a frame). The
+/// window's data directory is a fresh one (unless `args` give `--data`), so nothing the user
+/// chose before (the view, the name) changes what it shows.
 fn window_at(args: &[&OsStr], out: &Path, frames: u32) -> Option<Output> {
     let Some(xvfb) = find_in_path("xvfb-run") else {
         eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
         return None;
     };
+    let data = breakshot_testkit::scratch("window-data");
     Some(breakshot_testkit::run(
         Process::new(xvfb)
+            .env("BREAKSHOT_DATA", data.path())
             .args(["-a", "-s", "-screen 0 1280x800x24"])
             .arg(env!("CARGO_BIN_EXE_breakshot"))
             .args(args)
@@ -728,4 +735,128 @@ fn the_computer_thinks_then_breaks_and_the_break_is_shown() {
         dark < 100,
         "the thinking box is still shown: {dark} dark points"
     );
+}
+
+/// Whether `got` is `want` lit, allowing for the 3-D view's glints: the same colour scaled by
+/// one factor up to 1.4, within 30 per channel.
+fn glinting(got: Rgb, want: Rgb) -> bool {
+    let dot = |a: Rgb, b: Rgb| {
+        a.iter()
+            .zip(b)
+            .map(|(&x, y)| x as f32 * y as f32)
+            .sum::<f32>()
+    };
+    let k = (dot(got, want) / dot(want, want).max(1.0)).clamp(0.3, 1.4);
+    got.iter()
+        .zip(want)
+        .all(|(&x, y)| (x as f32 - k * y as f32).abs() <= 30.0)
+}
+
+/// Each ball's colour, shaded, around its centre as `camera` projects it: a few points left
+/// and right of the middle and above it (clear of the cue stick and the ghost ball below, the
+/// aim line through the middle and the number spot on top); three of four must show it.
+fn balls_are_drawn_in_3d(pic: &Picture, camera: &Camera, ids: &[&str], balls: &[BallState]) {
+    let radius = Params::default().ball_radius;
+    for (id, state) in ids.iter().zip(balls) {
+        let centre = state.pos.extend(radius);
+        let [x, y] = camera.project(centre).expect("in front of the camera");
+        let r = camera.pixels_at(centre, radius);
+        let look = ball_look(id);
+        let seen: Vec<Rgb> = [(-0.3, -0.15), (0.3, -0.15), (-0.3, -0.45), (0.3, -0.45)]
+            .iter()
+            .map(|(dx, dy)| pic.at(x + dx * r, y + dy * r))
+            .collect();
+        let hits = seen.iter().filter(|&&c| glinting(c, look.color)).count();
+        assert!(
+            hits >= 3,
+            "ball {id} at ({x}, {y}) r {r}: saw {seen:?}, want {:?} shaded",
+            look.color
+        );
+    }
+}
+
+#[test]
+fn the_3d_view_shows_the_cloth_the_rails_and_the_balls_where_the_physics_puts_them() {
+    let Some(pic) = screenshot(
+        "scene.json",
+        SCENE.as_bytes(),
+        &["--view", "3d", "practice"],
+    ) else {
+        return;
+    };
+    let scene = Scene::from_json(SCENE).expect("valid scene");
+    let shot = scene.to_shot().expect("valid shot");
+    let layout = Layout::new(
+        pic.width as f32,
+        pic.height as f32,
+        Frame::new(shot.table, &shot.balls),
+    );
+    let radius = Params::default().ball_radius;
+    // The window opens behind the cue ball along the scene's aim, as the camera code says.
+    let camera = Orbit::default().camera(&layout, shot.balls[0].pos, Aim::default().dir(), radius);
+
+    // The cloth: points of the playing surface clear of the balls and the aim line, in the
+    // part of the window the table is drawn in (not under the tray).
+    let (mut cloth, mut total) = (0, 0);
+    for i in 1..12 {
+        for j in 1..24 {
+            let p = DVec2::new(1.27 * i as f64 / 12.0, 2.54 * j as f64 / 24.0);
+            let clear = shot
+                .balls
+                .iter()
+                .all(|b| (b.pos - p).length() > 3.0 * radius)
+                && (p.x - shot.balls[0].pos.x).abs() > 0.05;
+            let Some(px) = camera.project(p.extend(0.0)) else {
+                continue;
+            };
+            if !clear || px[1] >= layout.tray.y || px[0] >= layout.elevation_view.x || px[1] < 0.0 {
+                continue;
+            }
+            total += 1;
+            cloth += shaded(pic.at(px[0], px[1]), CLOTH, 8.0) as u32;
+        }
+    }
+    assert!(total > 100, "only {total} points of the cloth in view");
+    assert!(
+        cloth * 100 >= total * 95,
+        "cloth at {cloth} of {total} points"
+    );
+
+    // The rails: the wood's top and the cushions' tops along both long sides, between the
+    // diamonds.
+    let h = Params::default().cushion_height;
+    let (mut wood, mut cushion, mut seen) = (0, 0, 0);
+    for k in 2..8 {
+        let y = 2.54 * (k as f64 + 0.5) / 8.0;
+        for (wood_x, cushion_x) in [(-0.09, -0.02), (1.27 + 0.09, 1.27 + 0.02)] {
+            let (Some(w), Some(c)) = (
+                camera.project(DVec3::new(wood_x, y, h)),
+                camera.project(DVec3::new(cushion_x, y, h)),
+            ) else {
+                continue;
+            };
+            if w[0] < 0.0 || w[0] >= layout.elevation_view.x || w[1] >= layout.tray.y {
+                continue;
+            }
+            seen += 1;
+            wood += shaded(pic.at(w[0], w[1]), RAIL_WOOD, 12.0) as u32;
+            cushion += shaded(pic.at(c[0], c[1]), CUSHION, 12.0) as u32;
+        }
+    }
+    assert!(seen >= 8, "only {seen} rail points in view");
+    assert_eq!(
+        (wood, cushion),
+        (seen, seen),
+        "wood and cushion tops of {seen} points"
+    );
+
+    let ids: Vec<&str> = scene.balls.iter().map(|b| b.id.as_str()).collect();
+    balls_are_drawn_in_3d(&pic, &camera, &ids, &shot.balls);
+    // Not the flat picture: where the top-down view draws the blue 2 is cloth here.
+    let flat = layout.to_screen(shot.balls[2].pos);
+    assert!(!shaded(
+        pic.at(flat[0], flat[1]),
+        ball_look("2").color,
+        40.0
+    ));
 }
