@@ -13,6 +13,8 @@ use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::palette::{self, ball_look, Rgb};
 use breakshot_client::view::playback::Drop;
 use breakshot_client::view::sphere::{self, ScreenAxes};
+use breakshot_client::view::trail::TrailPoint;
+use breakshot_client::view::tray::Trays;
 use breakshot_shared::physics::{BallState, Table, TableKind};
 use macroquad::models::Vertex;
 use macroquad::prelude::*;
@@ -27,6 +29,8 @@ pub struct Pen<'a> {
     pub camera: Option<Camera>,
     /// Balls seen falling into pockets (the 3-D view shows them).
     pub drops: Vec<Drop>,
+    /// The cue ball's trail to draw on the cloth (empty when hidden).
+    pub trail: Vec<TrailPoint>,
 }
 
 /// The layout's mapping of scene directions: x down the screen, y to the right
@@ -62,16 +66,31 @@ fn fill_rect(r: Rect, c: Color) {
     draw_rectangle(r.x, r.y, r.w, r.h, c);
 }
 
-/// The cloth, rails, cushions, diamonds and pockets.
+/// The cloth, rails, cushions, diamonds and pockets, and the cue ball's trail on the cloth.
 pub fn table(pen: &Pen, kind: TableKind) {
     let layout = pen.layout;
     if let Some(camera) = &pen.camera {
-        return table3d::table(camera, layout, kind);
+        table3d::table(camera, layout, kind);
+        return table3d::trail(camera, &pen.trail);
     }
-    if !layout.frame.rails {
+    if layout.frame.rails {
+        rails(layout, kind);
+    } else {
         fill_rect(layout.cloth, color(palette::CLOTH));
-        return;
     }
+    for w in pen.trail.windows(2) {
+        let (a, b) = (layout.to_screen(w[0].pos), layout.to_screen(w[1].pos));
+        draw_line(a[0], a[1], b[0], b[1], 2.5, trail_colour(w[1].strength));
+    }
+}
+
+/// The colour of a stretch of the cue ball's trail drawn with `strength`.
+pub fn trail_colour(strength: f32) -> Color {
+    Color::new(1.0, 0.92, 0.55, 0.85 * strength)
+}
+
+/// The table's rails, cushions, pockets and diamonds around the cloth.
+fn rails(layout: &Layout, kind: TableKind) {
     let t = Table::new(kind);
     fill_rect(layout.outer, color(palette::RAIL_WOOD));
     let cushion = layout.px(CUSHION_WIDTH);
@@ -263,6 +282,48 @@ pub fn tray(layout: &Layout, ids: &[String], pocketed: &[usize], radius: f64) {
             ball(id, layout.tray_slot(k, radius), r);
         }
     }
+}
+
+/// The pocketed balls of an 8-ball game in a tray per player, each named, the 8 and balls
+/// down on an open table between them; a game without groups has the one tray of [`tray`].
+pub fn player_trays(
+    layout: &Layout,
+    ids: &[String],
+    trays: Option<Trays>,
+    pocketed: &[usize],
+    names: [String; 2],
+    radius: f64,
+) {
+    let Some(t) = trays else {
+        return tray(layout, ids, pocketed, radius);
+    };
+    let area = layout.tray;
+    fill_rect(area, Color::new(0.0, 0.0, 0.0, 0.35));
+    let r = layout.px(radius).max(3.0);
+    let pitch = 2.6 * r;
+    let y = area.y + 0.5 * area.h;
+    let row = |balls: &[usize], x0: f32| {
+        for (k, &b) in balls.iter().enumerate() {
+            if let Some(id) = ids.get(b) {
+                ball(id, [x0 + 1.5 * r + k as f32 * pitch, y], r);
+            }
+        }
+    };
+    let width = |n: usize| n as f32 * pitch + 0.5 * r;
+    let [a, b] = names;
+    // Seat A from the left, seat B ending at the right, what is shared in the middle.
+    label(&a, area.x + 8.0, y + 6.0, 18.0, LIGHTGRAY);
+    row(&t.seats[0], area.x + 16.0 + text_width(&a, 18.0));
+    let b_x = area.x + area.w - width(t.seats[1].len()) - 8.0;
+    label(
+        &b,
+        b_x - text_width(&b, 18.0) - 8.0,
+        y + 6.0,
+        18.0,
+        LIGHTGRAY,
+    );
+    row(&t.seats[1], b_x);
+    row(&t.between, area.x + 0.5 * (area.w - width(t.between.len())));
 }
 
 /// Aim line, ghost ball and predicted paths, as toggled.

@@ -13,6 +13,7 @@ use breakshot_client::view::hud::{connection as connection_text, Connection};
 use breakshot_client::view::layout::{Frame, Layout, Rect};
 use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::playback::Playback;
+use breakshot_client::view::tray;
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
 use breakshot_shared::protocol::limits::RECONNECT_WINDOW;
@@ -384,11 +385,7 @@ impl GameScreen {
         let balls = self.flow.balls();
         let names = ids(balls.len());
         let turn = self.turn();
-        let drops = self
-            .flow
-            .shot()
-            .map(|p| p.dropping(&Table::new(game.table()), r));
-        let pen = self.view.pen(&layout, r, drops.unwrap_or_default());
+        let pen = self.view.pen(&layout, r, self.flow.shot(), game.table(), 0);
         draw::table(&pen, game.table());
 
         let dragging = match self.controls.drag {
@@ -447,7 +444,9 @@ impl GameScreen {
         if shooting {
             draw::cue_stick(&pen, cue, &self.controls.aim, r);
         }
-        draw::tray(&layout, &names, &self.flow.tray(), r);
+        let (pocketed, seats) = (self.flow.tray(), tray::seat_names(&self.flow.names));
+        let trays = tray::trays(game, &pocketed);
+        draw::player_trays(&layout, &names, trays, &pocketed, seats, r);
         draw::panel(&layout, &self.controls.aim);
         game_hud(
             &layout,

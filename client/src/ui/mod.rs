@@ -148,6 +148,21 @@ impl Screen {
     }
 }
 
+/// The frame times of a run: how many frames, their median and 90th percentile work (ms).
+fn frame_times(work_ms: &mut [f64]) -> Option<String> {
+    if work_ms.is_empty() {
+        return None;
+    }
+    work_ms.sort_by(f64::total_cmp);
+    let at = |q: f64| work_ms[((work_ms.len() - 1) as f64 * q).round() as usize];
+    Some(format!(
+        "{} frames: {:.1} ms per frame (median), {:.1} ms (90th percentile)",
+        work_ms.len(),
+        at(0.5),
+        at(0.9)
+    ))
+}
+
 /// Runs the screens until the player quits or the screenshot is taken.
 pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
     let remembered = options.data.as_deref().and_then(choice::remembered);
@@ -179,8 +194,13 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
     let mut frames = 0u32;
     let started = std::time::Instant::now();
     let mut speaker = speaker::Speaker::new().await;
+    // Each frame's work (not its pacing), for the figure a screenshot run prints.
+    let mut work_ms = Vec::new();
     loop {
         let real_dt = clock.frame_time();
+        if frames > 0 {
+            work_ms.push(clock.work_ms());
+        }
         // A screenshot shows frame N of the animation at FPS, whatever the machine's speed:
         // on a loaded or software-rendered display frames take longer than 1/FPS.
         let dt = if options.screenshot.is_some() {
@@ -201,7 +221,11 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
             let answered = !screen.awaiting_server() || started.elapsed() > SCREENSHOT_PATIENCE;
             if frames >= options.frames && answered {
                 // Read the frame back now: after next_frame() the buffer is gone.
-                return capture::save_screen(path);
+                capture::save_screen(path)?;
+                if let Some(line) = frame_times(&mut work_ms) {
+                    eprintln!("breakshot: {line}");
+                }
+                return Ok(());
             }
         }
         match next {

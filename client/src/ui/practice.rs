@@ -7,7 +7,7 @@ use breakshot_client::view::layout::{Frame, Layout};
 use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::playback::Playback;
 use breakshot_shared::hash::hash_hex;
-use breakshot_shared::physics::{Shot, Simulator, Table, TableKind};
+use breakshot_shared::physics::{Shot, Simulator, TableKind};
 use breakshot_shared::scene::Scene;
 use macroquad::prelude::*;
 
@@ -148,12 +148,9 @@ impl PracticeScreen {
         let layout = self.layout();
         let p = &self.practice;
         let r = p.params.ball_radius;
-        let drops = p
-            .playback
-            .as_ref()
-            .map(|pb| pb.dropping(&Table::new(p.table), r))
-            .unwrap_or_default();
-        let pen = self.view.pen(&layout, r, drops);
+        let pen = self
+            .view
+            .pen(&layout, r, p.playback.as_ref(), p.table, p.cue);
         draw::table(&pen, p.table);
         let shown = p.shown_balls();
         let cue = shown[p.cue].pos;

@@ -8,7 +8,7 @@ use breakshot_client::view::hud::Connection;
 use breakshot_client::view::layout::{Frame, Layout};
 use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::playback::Playback;
-use breakshot_shared::physics::Table;
+use breakshot_client::view::tray;
 use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
 
@@ -80,14 +80,12 @@ impl ReplayScreen {
                 }
             })
             .collect();
-        let drops = v
-            .shot()
-            .map(|pb| pb.dropping(&Table::new(v.game().table()), r))
-            .unwrap_or_default();
-        let pen = self.view.pen(&layout, r, drops);
+        let pen = self.view.pen(&layout, r, v.shot(), v.game().table(), 0);
         draw::table(&pen, v.game().table());
         draw::balls(&pen, &ids, &v.balls(), r, None, &self.turns);
-        draw::tray(&layout, &ids, &v.tray(), r);
+        let (pocketed, seats) = (v.tray(), tray::seat_names(&[None, None]));
+        let trays = tray::trays(v.game(), &pocketed);
+        draw::player_trays(&layout, &ids, trays, &pocketed, seats, r);
         // The panel shows the strike of the shot being played (or the next one).
         let (done, total) = v.position();
         if let Some(Command::Shot { strike, .. }) = v.record().entries.get(done).map(|e| &e.command)

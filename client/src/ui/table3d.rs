@@ -11,6 +11,7 @@ use breakshot_client::view::layout::{Layout, RAIL_WIDTH};
 use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::palette::{self, ball_look, Rgb};
 use breakshot_client::view::sphere;
+use breakshot_client::view::trail::TrailPoint;
 use breakshot_shared::physics::{BallState, Params, Table, TableKind};
 use macroquad::models::Vertex;
 use macroquad::prelude::*;
@@ -370,6 +371,16 @@ fn path(pts: &[PathPoint], radius: f64, c: Color) {
         };
         line_on_cloth(w[0].pos.extend(z(&w[0])), w[1].pos.extend(z(&w[1])), c);
     }
+}
+
+/// The cue ball's trail, on the cloth.
+pub fn trail(camera: &Camera, points: &[TrailPoint]) {
+    in_world(camera, || {
+        for w in points.windows(2) {
+            let c = draw::trail_colour(w[1].strength);
+            line_on_cloth(w[0].pos.extend(ON_CLOTH), w[1].pos.extend(ON_CLOTH), c);
+        }
+    });
 }
 
 /// A circle of radius `r` about `centre`, level, as lines.

@@ -1,7 +1,8 @@
 //! Which view of the table a screen shows, and the 3-D camera's place: V switches between the
 //! top-down and the 3-D view (the choice is remembered for the next run and the next screen),
 //! Q/E turn the camera about the cue ball, Home/End raise and lower it, Z/X bring it nearer or
-//! take it back, and moving the mouse with the right button held turns it too.
+//! take it back, and moving the mouse with the right button held turns it too. L shows or
+//! hides the cue ball's trail in both views.
 
 use std::path::PathBuf;
 use std::sync::Mutex;
@@ -11,7 +12,9 @@ use breakshot_client::play::controls::{InputFrame, Key};
 use breakshot_client::view::camera::{area, Camera, Orbit, ViewKind};
 use breakshot_client::view::choice;
 use breakshot_client::view::layout::Layout;
-use breakshot_client::view::playback::Drop;
+use breakshot_client::view::playback::Playback;
+use breakshot_client::view::trail::Trail;
+use breakshot_shared::physics::{Table, TableKind};
 
 use super::draw::Pen;
 
@@ -56,6 +59,8 @@ pub struct TableView {
     last_mouse: Option<[f32; 2]>,
     /// The mouse last frame and where it pointed, for [`TableView::pointer`].
     pointed: Option<([f32; 2], [f32; 2])>,
+    trail: Trail,
+    show_trail: bool,
 }
 
 impl TableView {
@@ -65,6 +70,8 @@ impl TableView {
             followed: None,
             last_mouse: None,
             pointed: None,
+            trail: Trail::new(),
+            show_trail: false,
         }
     }
 
@@ -74,6 +81,9 @@ impl TableView {
     pub fn update(&mut self, input: &InputFrame, cue: DVec2, aim: DVec2, aiming: bool) {
         if input.pressed.contains(&Key::View) {
             choose(chosen().toggled());
+        }
+        if input.pressed.contains(&Key::Trail) {
+            self.show_trail = !self.show_trail;
         }
         let dt = if input.dt.is_finite() {
             input.dt.clamp(0.0, 0.25)
@@ -107,12 +117,28 @@ impl TableView {
         (chosen() == ViewKind::ThreeD).then(|| self.orbit.camera(layout, cue, aim, radius))
     }
 
-    /// How to draw the table this frame.
-    pub fn pen<'a>(&self, layout: &'a Layout, radius: f64, drops: Vec<Drop>) -> Pen<'a> {
+    /// How to draw the table this frame: `shot` is the shot shown, if any, on a table of
+    /// `kind`, and `cue` the cue ball, whose trail is kept.
+    pub fn pen<'a>(
+        &mut self,
+        layout: &'a Layout,
+        radius: f64,
+        shot: Option<&Playback>,
+        kind: TableKind,
+        cue: usize,
+    ) -> Pen<'a> {
+        self.trail.follow(shot, cue);
         Pen {
             layout,
             camera: self.camera(layout, radius),
-            drops,
+            drops: shot
+                .map(|p| p.dropping(&Table::new(kind), radius))
+                .unwrap_or_default(),
+            trail: if self.show_trail {
+                self.trail.points()
+            } else {
+                Vec::new()
+            },
         }
     }
 
