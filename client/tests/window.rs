@@ -860,3 +860,44 @@ fn the_3d_view_shows_the_cloth_the_rails_and_the_balls_where_the_physics_puts_th
         40.0
     ));
 }
+
+#[test]
+fn the_window_opens_on_the_view_chosen_last_unless_told_otherwise() {
+    let dir = breakshot_testkit::scratch("window-view-choice");
+    let data = dir.path().join("data");
+    std::fs::create_dir_all(&data).expect("data directory");
+    // What pressing V into the 3-D view leaves behind.
+    std::fs::write(data.join(breakshot_client::view::choice::VIEW_FILE), "3d").expect("written");
+    let scene = dir.path().join("scene.json");
+    std::fs::write(&scene, SCENE).expect("scene written");
+    let parsed = Scene::from_json(SCENE).expect("valid scene");
+    let shot = parsed.to_shot().expect("valid shot");
+    let layout = Layout::new(1280.0, 720.0, Frame::new(shot.table, &shot.balls));
+    let radius = Params::default().ball_radius;
+    let camera = Orbit::default().camera(&layout, shot.balls[0].pos, Aim::default().dir(), radius);
+    let ids: Vec<&str> = parsed.balls.iter().map(|b| b.id.as_str()).collect();
+    let run = |extra: &[&str], name: &str| {
+        let out = dir.path().join(name);
+        let mut args: Vec<&OsStr> = vec!["--data".as_ref(), data.as_os_str()];
+        args.extend(extra.iter().map(OsStr::new));
+        args.extend(["practice".as_ref(), scene.as_os_str()]);
+        let run = window(&args, &out)?;
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        Some(picture(&out))
+    };
+    let Some(remembered) = run(&[], "remembered.png") else {
+        return;
+    };
+    balls_are_drawn_in_3d(&remembered, &camera, &ids, &shot.balls);
+    let Some(told) = run(&["--view", "top"], "told.png") else {
+        return;
+    };
+    balls_are_drawn(&told, &layout, &ids, &shot.balls);
+    // Being told is not a choice: the remembered view stays.
+    let kept = std::fs::read_to_string(data.join(breakshot_client::view::choice::VIEW_FILE));
+    assert_eq!(kept.expect("still there"), "3d");
+}

@@ -383,6 +383,30 @@ pub fn aids(pen: &Pen, p: &Prediction, toggles: AidToggles, radius: f64, object_
     }
 }
 
+/// A ball on the table at `pos` (scene coordinates), unturned.
+pub fn ball_at(pen: &Pen, id: &str, pos: DVec2, radius: f64) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        let ball = table3d::Ball {
+            id,
+            centre: pos.extend(radius),
+            turn: DQuat::IDENTITY,
+        };
+        return table3d::balls(camera, &[ball], radius);
+    }
+    ball(id, layout.to_screen(pos), layout.px(radius));
+}
+
+/// A circle just outside `radius` metres about `centre` on the table (a pocket to call).
+pub fn mark(pen: &Pen, centre: DVec2, radius: f64, width: f32, c: Color) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        return table3d::mark(camera, centre, 1.1 * radius, c);
+    }
+    let p = layout.to_screen(centre);
+    draw_poly_lines(p[0], p[1], 32, layout.px(radius) + 3.0, 0.0, width, c);
+}
+
 /// A ring around the ball at `pos`, to mark it.
 pub fn ring(pen: &Pen, pos: DVec2, radius: f64, c: Color) {
     let layout = pen.layout;

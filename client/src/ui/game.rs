@@ -434,12 +434,11 @@ impl GameScreen {
             );
             draw::in_hand(&pen, rect, dragging, r);
             if is_off_table(&balls[0]) && dragging.is_none() {
-                let p = layout.to_screen(cue);
-                draw::ball("cue", p, layout.px(r));
+                draw::ball_at(&pen, "cue", cue, r);
             }
         }
         if let Turn::Shoot { call: true, .. } = turn {
-            self.draw_call(&layout, game);
+            self.draw_call(&pen, game);
         }
         if shooting {
             draw::cue_stick(&pen, cue, &self.controls.aim, r);
@@ -536,25 +535,18 @@ impl GameScreen {
     }
 
     /// The pockets to call, the called one marked.
-    fn draw_call(&self, layout: &Layout, game: &Game) {
+    fn draw_call(&self, pen: &draw::Pen, game: &Game) {
+        let layout = pen.layout;
         let table = Table::new(game.table());
         for (i, pk) in table.pockets.iter().enumerate() {
-            let p = layout.to_screen(table.to_scene(pk.center));
+            let centre = table.to_scene(pk.center);
             let chosen = self.flow.call == Some(i as u8);
             let c = if chosen {
                 YELLOW
             } else {
                 Color::new(1.0, 1.0, 1.0, 0.5)
             };
-            draw_poly_lines(
-                p[0],
-                p[1],
-                32,
-                layout.px(pk.radius) + 3.0,
-                0.0,
-                if chosen { 4.0 } else { 2.0 },
-                c,
-            );
+            draw::mark(pen, centre, pk.radius, if chosen { 4.0 } else { 2.0 }, c);
         }
         if self.flow.call.is_none() {
             draw::label(

@@ -171,9 +171,18 @@ pub fn table(camera: &Camera, layout: &Layout, kind: TableKind) {
             ]
         };
         m.polygon(&rect(CUSHION_WIDTH, 0.0), palette::CLOTH, 255);
+        // A pocket reaches into the wood but stops short of its outer edge.
+        let mouth = |c: DVec2, radius: f64| {
+            let to_edge = (c.x + RAIL_WIDTH)
+                .min(w + RAIL_WIDTH - c.x)
+                .min(c.y + RAIL_WIDTH)
+                .min(l + RAIL_WIDTH - c.y);
+            radius.min(to_edge - 0.01)
+        };
         for pocket in &t.pockets {
-            let c = t.to_scene(pocket.center).extend(ON_CLOTH * 0.5);
-            m.disc(c, pocket.radius, palette::POCKET, 255);
+            let c = t.to_scene(pocket.center);
+            let r = mouth(c, pocket.radius);
+            m.disc(c.extend(ON_CLOTH * 0.5), r, palette::POCKET, 255);
         }
         // The wood: its top between the cushions' backs and its outer edge, and its sides.
         let (inner, outer) = (rect(CUSHION_WIDTH, h), rect(RAIL_WIDTH, h));
@@ -225,8 +234,9 @@ pub fn table(camera: &Camera, layout: &Layout, kind: TableKind) {
         }
         // The pockets' mouths cut through the wood.
         for pocket in &t.pockets {
-            let c = t.to_scene(pocket.center).extend(h + 0.0005);
-            m.disc(c, pocket.radius, palette::POCKET, 255);
+            let c = t.to_scene(pocket.center);
+            let r = mouth(c, pocket.radius);
+            m.disc(c.extend(h + 0.0005), r, palette::POCKET, 255);
         }
         for s in draw::diamond_spots(layout) {
             let d = 0.012;
@@ -420,7 +430,12 @@ pub fn aids(camera: &Camera, p: &Prediction, toggles: AidToggles, radius: f64, o
 
 /// A ring on the cloth around the ball at `pos`.
 pub fn ring(camera: &Camera, pos: DVec2, radius: f64, c: Color) {
-    in_world(camera, || circle(pos.extend(ON_CLOTH), 1.35 * radius, c));
+    mark(camera, pos, 1.35 * radius, c);
+}
+
+/// A circle of `radius` about `centre` on the cloth.
+pub fn mark(camera: &Camera, centre: DVec2, radius: f64, c: Color) {
+    in_world(camera, || circle(centre.extend(ON_CLOTH), radius, c));
 }
 
 /// A straight line on the cloth.
