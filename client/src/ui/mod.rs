@@ -148,19 +148,27 @@ impl Screen {
     }
 }
 
-/// The frame times of a run: how many frames, their median and 90th percentile work (ms).
-fn frame_times(work_ms: &mut [f64]) -> Option<String> {
-    if work_ms.is_empty() {
-        return None;
-    }
-    work_ms.sort_by(f64::total_cmp);
-    let at = |q: f64| work_ms[((work_ms.len() - 1) as f64 * q).round() as usize];
-    Some(format!(
-        "{} frames: {:.1} ms per frame (median), {:.1} ms (90th percentile)",
-        work_ms.len(),
-        at(0.5),
-        at(0.9)
-    ))
+/// The frame times of a run, each frame's work (ms) and whether balls were moving in it:
+/// how many frames, their median and 90th percentile, of all and of those with balls moving.
+fn frame_times(work: &[(f64, bool)]) -> Option<String> {
+    let stats = |mut ms: Vec<f64>| {
+        ms.sort_by(f64::total_cmp);
+        let at = |q: f64| ms[((ms.len() - 1) as f64 * q).round() as usize];
+        (!ms.is_empty()).then(|| {
+            format!(
+                "{} frames: {:.1} ms (median), {:.1} ms (90th percentile)",
+                ms.len(),
+                at(0.5),
+                at(0.9)
+            )
+        })
+    };
+    let all = stats(work.iter().map(|w| w.0).collect())?;
+    let moving = stats(work.iter().filter(|w| w.1).map(|w| w.0).collect());
+    Some(match moving {
+        Some(m) => format!("work per frame, {all}; with balls moving, {m}"),
+        None => format!("work per frame, {all}"),
+    })
 }
 
 /// Runs the screens until the player quits or the screenshot is taken.
@@ -195,11 +203,12 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
     let started = std::time::Instant::now();
     let mut speaker = speaker::Speaker::new().await;
     // Each frame's work (not its pacing), for the figure a screenshot run prints.
-    let mut work_ms = Vec::new();
+    let mut work = Vec::new();
+    let mut moving = false;
     loop {
         let real_dt = clock.frame_time();
         if frames > 0 {
-            work_ms.push(clock.work_ms());
+            work.push((clock.work_ms(), moving));
         }
         // A screenshot shows frame N of the animation at FPS, whatever the machine's speed:
         // on a loaded or software-rendered display frames take longer than 1/FPS.
@@ -214,6 +223,7 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
         speaker.hear(screen.shot());
         clear_background(draw::color(palette::BACKGROUND));
         screen.draw();
+        moving = screen.shot().is_some();
         frames += 1;
         if let Some(path) = &options.screenshot {
             // A screenshot of a network game shows the server's first answer, if it comes
@@ -222,7 +232,7 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
             if frames >= options.frames && answered {
                 // Read the frame back now: after next_frame() the buffer is gone.
                 capture::save_screen(path)?;
-                if let Some(line) = frame_times(&mut work_ms) {
+                if let Some(line) = frame_times(&work) {
                     eprintln!("breakshot: {line}");
                 }
                 return Ok(());
