@@ -901,3 +901,70 @@ fn the_window_opens_on_the_view_chosen_last_unless_told_otherwise() {
     let kept = std::fs::read_to_string(data.join(breakshot_client::view::choice::VIEW_FILE));
     assert_eq!(kept.expect("still there"), "3d");
 }
+
+#[test]
+fn the_3d_view_shows_a_jumping_ball_at_its_height_above_the_cloth() {
+    // The jump scene replayed, as in the top-down test above.
+    let scene = Scene::from_json(JUMP).expect("valid scene");
+    let shot = scene.to_shot().expect("valid shot");
+    let strike = shot.strike.expect("a strike").1;
+    let mut game = Game::new(Variant::Practice, Settings::offline(), 1);
+    let mut record = GameRecord::of(&game);
+    for command in [
+        Command::LoadLayout {
+            balls: breakshot_shared::rules::layout_from_scene(&scene).expect("a layout"),
+        },
+        Command::Shot { strike, call: None },
+    ] {
+        let seat = game.to_move();
+        let verdict = game.apply(seat, &command).expect("accepted");
+        record.push(seat, command, verdict.shot.map(|s| s.hash));
+    }
+    let mut viewer = ReplayViewer::new(record.clone()).expect("a record of this version");
+    let (mut frame, mut best) = (0u32, BallState::at_rest(DVec2::ZERO));
+    for n in 1..=400 {
+        viewer.tick(1.0 / 60.0);
+        let cue = viewer.balls()[0];
+        if cue.lift > best.lift {
+            (frame, best) = (n, cue);
+        }
+    }
+    let radius = Params::default().ball_radius;
+    assert!(
+        best.lift > 0.8 * radius,
+        "the cue ball rises only {} m",
+        best.lift
+    );
+    let Some(pic) = screenshot_at(
+        "jump.rec",
+        &record.encode(),
+        &["--view", "3d", "replay"],
+        frame,
+    ) else {
+        return;
+    };
+    // Until the shot starts the camera looks at the cue ball along the shot.
+    let layout = Layout::new(1280.0, 720.0, Frame::new(game.table(), game.balls()));
+    let camera = Orbit::default().camera(&layout, shot.balls[0].pos, strike.dir, radius);
+    let flying = best.pos.extend(radius + best.lift);
+    let [x, y] = camera.project(flying).expect("in view");
+    let r = camera.pixels_at(flying, radius);
+    // The ball is where its height puts it: white around its centre and near its top ...
+    for (dx, dy) in [(-0.3, -0.2), (0.3, -0.2), (0.0, -0.75)] {
+        let got = pic.at(x + dx * r, y + dy * r);
+        assert!(
+            glinting(got, CUE_BALL),
+            "no ball at ({dx}, {dy}) R: {got:?}"
+        );
+    }
+    // ... and not where it would be on the cloth: below it, the cloth (or the shadow).
+    let [lx, ly] = camera.project(best.pos.extend(radius)).expect("in view");
+    let low = pic.at(
+        lx,
+        ly + 0.6 * camera.pixels_at(best.pos.extend(radius), radius),
+    );
+    assert!(
+        !glinting(low, CUE_BALL),
+        "a ball on the cloth under the flying one: {low:?}"
+    );
+}

@@ -303,7 +303,7 @@ pub fn balls(camera: &Camera, shown: &[Ball], radius: f64) {
             // The shadow falls on the cloth away from the light, fainter the higher the ball.
             let height = b.centre.z.max(0.0);
             let at = b.centre.truncate() - light.truncate() / light.z * height;
-            let alpha = (90.0 / (1.0 + 4.0 * (height - radius).max(0.0) / radius)) as u8;
+            let alpha = (90.0 / (1.0 + 0.5 * (height - radius).max(0.0) / radius)) as u8;
             m.disc(at.extend(ON_CLOTH * 0.7), 1.05 * radius, [0, 0, 0], alpha);
         }
         m.flush();
