@@ -213,7 +213,7 @@ impl PracticeScreen {
             20.0,
             WHITE,
         );
-        let hint = "W/S elevation  |  A aim line  |  G ghost  |  P paths  |  H ball in hand  |  R reset  |  F3 debug  |  Esc menu";
+        let hint = "W/S elevation  |  A G P aids  |  V view  |  L trail  |  H in hand  |  R reset  |  Esc menu";
         let dims = draw::text_width(hint, 16.0);
         draw::label(hint, layout.hud.w - dims - 10.0, y, 16.0, LIGHTGRAY);
         draw::label(

@@ -112,7 +112,7 @@ impl ReplayScreen {
             "playing"
         };
         let line = format!(
-            "Replay: entry {done} of {total}  |  {state}  |  speed x{}  |  Space pause  |  Left/Right shot by shot  |  +/- speed  |  Esc menu",
+            "Replay: entry {done} of {total}  |  {state}  |  speed x{}  |  Space pause  |  Left/Right shot by shot  |  +/- speed  |  V 3-D view  |  Esc menu",
             v.speed
         );
         draw::label(
