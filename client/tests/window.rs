@@ -968,3 +968,71 @@ fn the_3d_view_shows_a_jumping_ball_at_its_height_above_the_cloth() {
         "a ball on the cloth under the flying one: {low:?}"
     );
 }
+
+#[test]
+fn v_opens_the_3d_view_remembers_it_and_the_mouse_aims_through_the_camera() {
+    let (Some(xvfb), Some(_)) = (find_in_path("xvfb-run"), find_in_path("xdotool")) else {
+        eprintln!("skipped: needs xvfb-run and xdotool (apt-get install xvfb xdotool)");
+        return;
+    };
+    let dir = breakshot_testkit::scratch("window-v");
+    let (data, scene, out) = (
+        dir.path().join("data"),
+        dir.path().join("scene.json"),
+        dir.path().join("out.png"),
+    );
+    std::fs::write(&scene, SCENE).expect("scene written");
+    let parsed = Scene::from_json(SCENE).expect("valid scene");
+    let shot = parsed.to_shot().expect("valid shot");
+    let layout = Layout::new(1280.0, 720.0, Frame::new(shot.table, &shot.balls));
+    let radius = Params::default().ball_radius;
+    let cue = shot.balls[0].pos;
+    // The player presses V, then points at the blue 2 as the 3-D view first shows it.
+    let opened = Orbit::default().camera(&layout, cue, Aim::default().dir(), radius);
+    let [x, y] = opened
+        .project(shot.balls[2].pos.extend(radius))
+        .expect("the 2 in view")
+        .map(f32::round);
+    let script = format!(
+        r#""$0" --data "$1" practice "$2" --screenshot "$3" --frames 600 --size 1280x720 &
+pid=$!
+wid=$(xdotool search --sync --name Breakshot | head -n 1)
+sleep 0.3
+xdotool key --window "$wid" v
+sleep 0.3
+xdotool mousemove --window "$wid" 200 200
+sleep 0.3
+xdotool mousemove --window "$wid" {x} {y}
+wait $pid"#
+    );
+    let run = breakshot_testkit::run(
+        Process::new(xvfb)
+            .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
+            .arg(env!("CARGO_BIN_EXE_breakshot"))
+            .args([&data, &scene, &out]),
+        None,
+        Duration::from_secs(120),
+    );
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let kept = std::fs::read_to_string(data.join(breakshot_client::view::choice::VIEW_FILE));
+    assert_eq!(kept.expect("the view remembered").trim(), "3d");
+    // The cue points at the spot under the mouse, and the camera has turned to look along it:
+    // the 2 is drawn where that camera puts it.
+    let spot = opened.onto_plane([x, y], radius).expect("on the cloth");
+    let aimed = Orbit::default().camera(&layout, cue, spot - cue, radius);
+    let pic = picture(&out);
+    let ids: Vec<&str> = parsed.balls.iter().map(|b| b.id.as_str()).collect();
+    balls_are_drawn_in_3d(&pic, &aimed, &ids[2..3], &shot.balls[2..3]);
+    let [bx, _] = aimed
+        .project(shot.balls[2].pos.extend(radius))
+        .expect("in view");
+    let [cx, _] = aimed.project(cue.extend(radius)).expect("in view");
+    assert!(
+        (bx - cx).abs() < 3.0,
+        "the 2 is straight ahead: {bx} vs {cx}"
+    );
+}
