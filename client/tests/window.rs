@@ -18,7 +18,7 @@ use breakshot_client::view::palette::{
     ball_look, Rgb, BALL_WHITE, CLOTH, CUE_BALL, CUE_WOOD, CUSHION, RAIL_WOOD,
 };
 use breakshot_shared::physics::Simulator;
-use breakshot_shared::physics::{BallState, MotionState, Params, Strike};
+use breakshot_shared::physics::{BallState, EventKind, MotionState, Params, Strike};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Command, EightBallRules, Game, Settings, Variant};
 use breakshot_shared::scene::Scene;
@@ -969,12 +969,37 @@ fn the_3d_view_shows_a_jumping_ball_at_its_height_above_the_cloth() {
     );
 }
 
-#[test]
-fn v_opens_the_3d_view_remembers_it_and_the_mouse_aims_through_the_camera() {
+/// Runs `breakshot ARGS --screenshot OUT --frames FRAMES` under a virtual display while
+/// `xdotool` plays `keys` on its window (one xdotool command a line, `$wid` the window, a
+/// short pause before each); None if xvfb-run or xdotool is missing (the reason is printed).
+fn played(args: &[&OsStr], out: &Path, frames: u32, keys: &[&str]) -> Option<Output> {
     let (Some(xvfb), Some(_)) = (find_in_path("xvfb-run"), find_in_path("xdotool")) else {
         eprintln!("skipped: needs xvfb-run and xdotool (apt-get install xvfb xdotool)");
-        return;
+        return None;
     };
+    let mut script = format!(
+        "\"$0\" \"$@\" --screenshot \"{}\" --frames {frames} --size 1280x720 &\n\
+         pid=$!\nwid=$(xdotool search --sync --name Breakshot | head -n 1)\n",
+        out.display()
+    );
+    for key in keys {
+        script.push_str(&format!("sleep 0.3\nxdotool {key}\n"));
+    }
+    script.push_str("wait $pid\n");
+    let data = breakshot_testkit::scratch("window-data");
+    Some(breakshot_testkit::run(
+        Process::new(xvfb)
+            .env("BREAKSHOT_DATA", data.path())
+            .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
+            .arg(env!("CARGO_BIN_EXE_breakshot"))
+            .args(args),
+        None,
+        Duration::from_secs(120),
+    ))
+}
+
+#[test]
+fn v_opens_the_3d_view_remembers_it_and_the_mouse_aims_through_the_camera() {
     let dir = breakshot_testkit::scratch("window-v");
     let (data, scene, out) = (
         dir.path().join("data"),
@@ -993,26 +1018,21 @@ fn v_opens_the_3d_view_remembers_it_and_the_mouse_aims_through_the_camera() {
         .project(shot.balls[2].pos.extend(radius))
         .expect("the 2 in view")
         .map(f32::round);
-    let script = format!(
-        r#""$0" --data "$1" practice "$2" --screenshot "$3" --frames 600 --size 1280x720 &
-pid=$!
-wid=$(xdotool search --sync --name Breakshot | head -n 1)
-sleep 0.3
-xdotool key --window "$wid" v
-sleep 0.3
-xdotool mousemove --window "$wid" 200 200
-sleep 0.3
-xdotool mousemove --window "$wid" {x} {y}
-wait $pid"#
-    );
-    let run = breakshot_testkit::run(
-        Process::new(xvfb)
-            .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
-            .arg(env!("CARGO_BIN_EXE_breakshot"))
-            .args([&data, &scene, &out]),
-        None,
-        Duration::from_secs(120),
-    );
+    let args = [
+        OsStr::new("--data"),
+        data.as_os_str(),
+        OsStr::new("practice"),
+        scene.as_os_str(),
+    ];
+    let keys = [
+        "key --window \"$wid\" v".to_string(),
+        "mousemove --window \"$wid\" 200 200".to_string(),
+        format!("mousemove --window \"$wid\" {x} {y}"),
+    ];
+    let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
+    let Some(run) = played(&args, &out, 600, &keys) else {
+        return;
+    };
     assert!(
         run.status.success(),
         "{}",
@@ -1021,7 +1041,7 @@ wait $pid"#
     let kept = std::fs::read_to_string(data.join(breakshot_client::view::choice::VIEW_FILE));
     assert_eq!(kept.expect("the view remembered").trim(), "3d");
     // The cue points at the spot under the mouse, and the camera has turned to look along it:
-    // the 2 is drawn where that camera puts it.
+    // the 2 is drawn where that camera puts it, straight ahead of the cue ball.
     let spot = opened.onto_plane([x, y], radius).expect("on the cloth");
     let aimed = Orbit::default().camera(&layout, cue, spot - cue, radius);
     let pic = picture(&out);
@@ -1034,5 +1054,53 @@ wait $pid"#
     assert!(
         (bx - cx).abs() < 3.0,
         "the 2 is straight ahead: {bx} vs {cx}"
+    );
+}
+
+#[test]
+fn l_shows_the_cue_ball_s_trail_after_the_shot() {
+    const CUT: &str = include_str!("../scenes/cut-shot.json");
+    let dir = breakshot_testkit::scratch("window-trail");
+    let (scene, out) = (dir.path().join("scene.json"), dir.path().join("out.png"));
+    std::fs::write(&scene, CUT).expect("scene written");
+    let args = [OsStr::new("practice"), scene.as_os_str()];
+    let keys = ["key --window \"$wid\" l", "key --window \"$wid\" space"];
+    let Some(run) = played(&args, &out, 240, &keys) else {
+        return;
+    };
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let pic = picture(&out);
+    let parsed = Scene::from_json(CUT).expect("valid scene");
+    let shot = parsed.to_shot().expect("valid shot");
+    let layout = Layout::new(1280.0, 720.0, Frame::new(shot.table, &shot.balls));
+    let outcome = Simulator::new().run(&shot).expect("valid shot").clone();
+    // After the cue ball meets the 3, where neither the cue stick nor the next shot's aids
+    // are drawn: the trail's warm colour over the cloth (white aid lines are not warm).
+    let contact = outcome
+        .events
+        .iter()
+        .find(|e| {
+            matches!(
+                e.kind,
+                EventKind::BallBall { a: 0, .. } | EventKind::BallBall { b: 0, .. }
+            )
+        })
+        .expect("the cue ball meets the 3")
+        .t;
+    let warm = [0.2, 0.5, 0.8]
+        .iter()
+        .filter(|&&dt| {
+            let [x, y] = layout.to_screen(outcome.state_at(0, contact + dt).pos);
+            let c = pic.at(x, y);
+            c[0] >= CLOTH[0] + 25 && c[1] >= c[2] + 35
+        })
+        .count();
+    assert!(
+        warm >= 2,
+        "the trail is at {warm} of 3 points after the contact"
     );
 }
