@@ -62,6 +62,46 @@ mod tests {
     }
 
     #[test]
+    fn once_the_groups_are_decided_each_player_s_tray_holds_their_group() {
+        use breakshot_shared::ai::{self, Level};
+        use breakshot_shared::rules::is_off_table;
+        // A strong computer plays both seats until someone has pocketed a ball of a group.
+        let mut game = Game::new(
+            Variant::EightBall(EightBallRules::Wpa),
+            Settings::offline(),
+            3,
+        );
+        for turn in 0..60 {
+            if game.group_of(Seat::A).is_some() {
+                break;
+            }
+            let command = ai::decide(&game, Level::new(5), turn).expect("a move");
+            let seat = game.to_move();
+            game.apply(seat, &command)
+                .expect("the computer's move is legal");
+        }
+        let groups = [Seat::A, Seat::B].map(|s| game.group_of(s).expect("groups decided"));
+        let balls = game.balls();
+        let pocketed: Vec<usize> = (1..balls.len())
+            .filter(|&b| is_off_table(&balls[b]))
+            .collect();
+        assert!(!pocketed.is_empty());
+        let t = trays(&game, &pocketed).expect("8-ball has trays");
+        for (k, group) in groups.iter().enumerate() {
+            assert!(t.seats[k]
+                .iter()
+                .all(|&b| group.balls().contains(&(b as u8))));
+        }
+        // Every ball is in one tray, the 8 between.
+        let mut all: Vec<usize> = t.seats.concat();
+        all.extend(&t.between);
+        all.sort_unstable();
+        assert_eq!(all, pocketed);
+        assert!(t.between.iter().all(|&b| b == 8));
+        assert!(t.seats.iter().any(|s| !s.is_empty()));
+    }
+
+    #[test]
     fn a_tray_is_labelled_with_the_player_s_name_or_the_seat() {
         let names = [None, Some("ann".to_string())];
         assert_eq!(
