@@ -570,6 +570,23 @@ fn a_masse_set_up_shows_its_elevation_and_its_curving_path() {
     assert!(lit, "no path drawn at ({x}, {y}), off the cue's line");
 }
 
+/// A practice game's record: the scene's layout, then `strike`; and the game after them.
+fn practice_record(scene: &Scene, strike: Strike) -> (Game, GameRecord) {
+    let mut game = Game::new(Variant::Practice, Settings::offline(), 1);
+    let mut record = GameRecord::of(&game);
+    for command in [
+        Command::LoadLayout {
+            balls: breakshot_shared::rules::layout_from_scene(scene).expect("a layout"),
+        },
+        Command::Shot { strike, call: None },
+    ] {
+        let seat = game.to_move();
+        let verdict = game.apply(seat, &command).expect("accepted");
+        record.push(seat, command, verdict.shot.map(|s| s.hash));
+    }
+    (game, record)
+}
+
 #[test]
 fn a_replayed_jump_shows_the_ball_in_flight_bigger_with_its_shadow_on_the_cloth() {
     // A practice game: the jump scene's layout, then its shot.
@@ -580,18 +597,7 @@ fn a_replayed_jump_shows_the_ball_in_flight_bigger_with_its_shadow_on_the_cloth(
         .strike
         .expect("a strike")
         .1;
-    let mut game = Game::new(Variant::Practice, Settings::offline(), 1);
-    let mut record = GameRecord::of(&game);
-    for command in [
-        Command::LoadLayout {
-            balls: breakshot_shared::rules::layout_from_scene(&scene).expect("a layout"),
-        },
-        Command::Shot { strike, call: None },
-    ] {
-        let seat = game.to_move();
-        let verdict = game.apply(seat, &command).expect("accepted");
-        record.push(seat, command, verdict.shot.map(|s| s.hash));
-    }
+    let (game, record) = practice_record(&scene, strike);
     // The frame at which the window shows the cue ball highest: the replay steps as the
     // window does, 1/60 s a frame.
     let mut viewer = ReplayViewer::new(record.clone()).expect("a record of this version");
@@ -908,18 +914,7 @@ fn the_3d_view_shows_a_jumping_ball_at_its_height_above_the_cloth() {
     let scene = Scene::from_json(JUMP).expect("valid scene");
     let shot = scene.to_shot().expect("valid shot");
     let strike = shot.strike.expect("a strike").1;
-    let mut game = Game::new(Variant::Practice, Settings::offline(), 1);
-    let mut record = GameRecord::of(&game);
-    for command in [
-        Command::LoadLayout {
-            balls: breakshot_shared::rules::layout_from_scene(&scene).expect("a layout"),
-        },
-        Command::Shot { strike, call: None },
-    ] {
-        let seat = game.to_move();
-        let verdict = game.apply(seat, &command).expect("accepted");
-        record.push(seat, command, verdict.shot.map(|s| s.hash));
-    }
+    let (game, record) = practice_record(&scene, strike);
     let mut viewer = ReplayViewer::new(record.clone()).expect("a record of this version");
     let (mut frame, mut best) = (0u32, BallState::at_rest(DVec2::ZERO));
     for n in 1..=400 {
@@ -1103,4 +1098,44 @@ fn l_shows_the_cue_ball_s_trail_after_the_shot() {
         warm >= 2,
         "the trail is at {warm} of 3 points after the contact"
     );
+}
+
+#[test]
+fn the_cue_is_seen_going_through_the_cue_ball_as_a_shot_starts() {
+    const CUT: &str = include_str!("../scenes/cut-shot.json");
+    let scene = Scene::from_json(CUT).expect("valid scene");
+    let shot = scene.to_shot().expect("valid shot");
+    let strike = shot.strike.expect("a strike").1;
+    let (game, record) = practice_record(&scene, strike);
+    // The frames the window shows the shot's start and, later, the shot under way.
+    let mut viewer = ReplayViewer::new(record.clone()).expect("a record of this version");
+    let started = (1..=400u32)
+        .find(|_| {
+            viewer.tick(1.0 / 60.0);
+            viewer.shot().is_some()
+        })
+        .expect("the shot starts");
+    let layout = Layout::new(1280.0, 720.0, Frame::new(game.table(), game.balls()));
+    let radius = Params::default().ball_radius;
+    let cue = shot.balls[0].pos;
+    let dir = strike.dir.normalize();
+    // Wood along the line behind where the cue ball was, clear of its shadow.
+    let wood = |pic: &Picture| {
+        [4.0, 8.0, 12.0]
+            .iter()
+            .filter(|&&k| {
+                let [x, y] = layout.to_screen(cue - dir * k * radius);
+                close(pic.at(x, y), CUE_WOOD, 30)
+            })
+            .count()
+    };
+    let Some(striking) = screenshot_at("cut.rec", &record.encode(), &["replay"], started + 2)
+    else {
+        return;
+    };
+    assert_eq!(wood(&striking), 3, "no cue at the strike");
+    let Some(later) = screenshot_at("cut.rec", &record.encode(), &["replay"], started + 30) else {
+        return;
+    };
+    assert_eq!(wood(&later), 0, "the cue is still shown half a second on");
 }

@@ -11,7 +11,7 @@ use breakshot_client::view::flight::{flight, Flight};
 use breakshot_client::view::layout::{Layout, Rect, RAIL_WIDTH};
 use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::palette::{self, ball_look, Rgb};
-use breakshot_client::view::playback::Drop;
+use breakshot_client::view::playback::{Drop, Stroke};
 use breakshot_client::view::sphere::{self, ScreenAxes};
 use breakshot_client::view::trail::TrailPoint;
 use breakshot_client::view::tray::Trays;
@@ -31,7 +31,12 @@ pub struct Pen<'a> {
     pub drops: Vec<Drop>,
     /// The cue ball's trail to draw on the cloth (empty when hidden).
     pub trail: Vec<TrailPoint>,
+    /// The cue going through the cue ball as a shot starts.
+    pub stroke: Option<Stroke>,
 }
+
+/// How far the cue's tip goes past where it met the ball at the end of its stroke (m).
+const FOLLOW_THROUGH: f64 = 0.08;
 
 /// The layout's mapping of scene directions: x down the screen, y to the right
 /// ([`Layout::dir_to_screen`]).
@@ -259,7 +264,8 @@ pub fn balls(
                 turn: turns.get(d.ball),
             })
         }));
-        return table3d::balls(camera, &shown, radius);
+        table3d::balls(camera, &shown, radius);
+        return stroke(pen, radius);
     }
     let r = layout.px(radius);
     for in_air in [false, true] {
@@ -270,6 +276,17 @@ pub fn balls(
             let air = flight(s.lift, radius);
             ball_turned(id, layout.to_screen(s.pos), r, turns.get(i), air);
         }
+    }
+    stroke(pen, radius);
+}
+
+/// The cue going through where the cue ball was as the shot starts, level, slowing down.
+fn stroke(pen: &Pen, radius: f64) {
+    if let Some(s) = pen.stroke {
+        let mut aim = Aim::default();
+        aim.point_along(s.dir);
+        let eased = 1.0 - (1.0 - s.done).powi(2);
+        cue_at(pen, s.at, &aim, -FOLLOW_THROUGH * eased, radius);
     }
 }
 
@@ -430,13 +447,19 @@ pub fn segment(pen: &Pen, a: DVec2, b: DVec2, width: f32, c: Color) {
 /// The cue stick behind the cue ball, drawn back further the harder the shot. Seen from
 /// above, an elevated cue is foreshortened: its length on the table shrinks with cos θ.
 pub fn cue_stick(pen: &Pen, cue: DVec2, aim: &Aim, radius: f64) {
+    cue_at(pen, cue, aim, radius * (0.3 + 8.0 * aim.power), radius);
+}
+
+/// The cue set up as `aim` says with its tip `back` metres behind the spot it strikes on the
+/// ball at `cue` (negative: through it).
+fn cue_at(pen: &Pen, cue: DVec2, aim: &Aim, back: f64, radius: f64) {
     let layout = pen.layout;
     if let Some(camera) = &pen.camera {
-        return table3d::cue_stick(camera, cue, aim, radius);
+        return table3d::cue_stick(camera, cue, aim, back, radius);
     }
     let dir = aim.dir();
     let slant = aim.elevation_deg.to_radians().cos().max(0.05);
-    let gap = radius * (1.3 + 8.0 * aim.power) * slant;
+    let gap = (radius + back) * slant;
     let tip = cue - dir * gap;
     let butt = tip - dir * (1.3 * slant);
     let (a, b) = (layout.to_screen(tip), layout.to_screen(butt));

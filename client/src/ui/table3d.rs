@@ -445,9 +445,9 @@ pub fn segment(camera: &Camera, a: DVec2, b: DVec2, c: Color) {
     });
 }
 
-/// The cue stick behind the cue ball along the aim, raised by its elevation, drawn back
-/// further the harder the shot.
-pub fn cue_stick(camera: &Camera, cue: DVec2, aim: &Aim, radius: f64) {
+/// The cue stick behind the cue ball along the aim, raised by its elevation, its tip `back`
+/// metres behind the spot it strikes (negative: through it).
+pub fn cue_stick(camera: &Camera, cue: DVec2, aim: &Aim, back: f64, radius: f64) {
     let (s, c) = aim.elevation_deg.to_radians().sin_cos();
     let d = aim.dir();
     // The way the cue moves: along the aim and down by its elevation.
@@ -456,7 +456,7 @@ pub fn cue_stick(camera: &Camera, cue: DVec2, aim: &Aim, radius: f64) {
     let up = side.cross(along);
     let contact = cue.extend(radius) + radius * (side * aim.tip.x + up * aim.tip.y)
         - along * radius * (1.0 - aim.tip.length_squared()).max(0.0).sqrt();
-    let tip = contact - along * radius * (0.3 + 8.0 * aim.power);
+    let tip = contact - along * back;
     let butt = tip - along * 1.45;
     in_world(camera, || {
         let mut m = Meshes::default();

@@ -134,6 +134,7 @@ impl TableView {
             drops: shot
                 .map(|p| p.dropping(&Table::new(kind), radius))
                 .unwrap_or_default(),
+            stroke: shot.and_then(|p| p.stroke(cue)),
             trail: if self.show_trail {
                 self.trail.points()
             } else {

@@ -12,6 +12,20 @@ const DROP_CENTRING: f64 = 0.08;
 /// Gravity for the fall (m/s²).
 const GRAVITY: f64 = 9.81;
 
+/// How long the cue is shown going through at the start of a shot (s).
+pub const STROKE_TIME: f64 = 0.15;
+
+/// The cue's stroke at the start of a shot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stroke {
+    /// Where the struck ball was.
+    pub at: DVec2,
+    /// The way the cue went (unit, on the table): the way the ball left.
+    pub dir: DVec2,
+    /// How far through the stroke the shot is: 0 at the strike, 1 at its end.
+    pub done: f64,
+}
+
 /// A ball seen falling into a pocket.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Drop {
@@ -89,6 +103,21 @@ impl Playback {
                 _ => None,
             })
             .collect()
+    }
+
+    /// The cue going through ball `ball` in the first [`STROKE_TIME`] of the shot; None after
+    /// it, or when the ball left without moving across the table.
+    pub fn stroke(&self, ball: usize) -> Option<Stroke> {
+        if self.time >= STROKE_TIME || ball >= self.outcome.history.len() {
+            return None;
+        }
+        let start = self.outcome.state_at(ball, 0.0);
+        let dir = start.vel.try_normalize()?;
+        Some(Stroke {
+            at: start.pos,
+            dir,
+            done: self.time / STROKE_TIME,
+        })
     }
 
     /// The balls falling into pockets at the time shown, pocketed less than [`DROP_TIME`]
@@ -203,6 +232,23 @@ mod tests {
         // It starts where it was caught.
         let caught = outcome.state_at(1, fell).pos;
         assert_eq!(drop_centre(caught, hole, 0.0, r), caught.extend(r));
+    }
+
+    #[test]
+    fn the_cue_is_seen_going_through_the_ball_at_the_start_only() {
+        let outcome = straight_in();
+        let mut p = Playback::new(outcome.clone());
+        let s = p.stroke(0).expect("at the strike");
+        assert_eq!(s.at, outcome.state_at(0, 0.0).pos);
+        let want = DVec2::new(-1.0, -1.0).normalize();
+        assert!((s.dir - want).length() < 1e-9, "{}", s.dir);
+        assert_eq!(s.done, 0.0);
+        p.advance(0.5 * STROKE_TIME, 1.0);
+        assert!((p.stroke(0).expect("still").done - 0.5).abs() < 1e-9);
+        // The ball at rest was not struck.
+        assert_eq!(p.stroke(1), None);
+        p.advance(STROKE_TIME, 1.0);
+        assert_eq!(p.stroke(0), None);
     }
 
     #[test]
