@@ -14,6 +14,7 @@ use breakshot_client::net::host::{default_data_dir, DEFAULT_PORT};
 use breakshot_client::net::{fetch_record_blocking, player_name, HostOptions, NetLink, SeatStore};
 use breakshot_client::play::practice::three_cushion_scene;
 use breakshot_client::play::replay::ReplayViewer;
+use breakshot_client::view::camera::ViewKind;
 use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::{AimAid, Invite, RoomCode};
 use breakshot_shared::rules::{EightBallRules, Variant};
@@ -46,6 +47,10 @@ struct Cli {
     /// `breakshot` in the user's data directory, e.g. ~/.local/share/breakshot).
     #[arg(long, value_name = "DIR", global = true)]
     data: Option<PathBuf>,
+    /// Open on this view of the table: `top` (flat, from above) or `3d` (default: the view
+    /// chosen last with V, else top).
+    #[arg(long, value_name = "VIEW", global = true, value_parser = ["top", "3d"])]
+    view: Option<String>,
     /// Your name in online games, as the other player sees it; remembered for next time
     /// (default: the name given last, else your login name).
     #[arg(long, value_name = "NAME", global = true)]
@@ -392,6 +397,8 @@ fn open_window(cli: &Cli, start: ui::Start) -> ExitCode {
         screenshot: cli.screenshot.clone(),
         frames: cli.frames,
         seed: cli.seed,
+        view: cli.view.as_deref().and_then(ViewKind::parse),
+        data: data_dir(cli).ok(),
     };
     let result: Rc<RefCell<Option<anyhow::Result<()>>>> = Rc::new(RefCell::new(None));
     let slot = result.clone();

@@ -12,17 +12,19 @@ use std::time::Duration;
 use breakshot_client::play::aim::Aim;
 use breakshot_client::play::replay::ReplayViewer;
 use breakshot_client::view::aids::{predict, PathPoint};
+use breakshot_client::view::camera::{Camera, Orbit};
 use breakshot_client::view::flight::flight;
 use breakshot_client::view::layout::{Frame, Layout};
 use breakshot_client::view::palette::{
     ball_ids, ball_look, Rgb, BALL_WHITE, CLOTH, CUE_BALL, CUE_WOOD, CUSHION, DIAMOND, POCKET,
+    RAIL_WOOD,
 };
 use breakshot_shared::physics::Simulator;
-use breakshot_shared::physics::{BallState, MotionState, Params, Strike};
+use breakshot_shared::physics::{BallState, EventKind, MotionState, Params, Strike};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Command, EightBallRules, Game, Settings, Variant};
 use breakshot_shared::scene::Scene;
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 
 const SCENE: &str = r#"{
   "table": "9ft",
@@ -105,14 +107,18 @@ fn window_at(args: &[&OsStr], out: &Path, frames: u32) -> Option<Output> {
     window_sized(args, out, frames, (1280, 720))
 }
 
-/// As [`window_at`], in a window of `size` pixels.
+/// As [`window_at`], in a window of `size` pixels. The window's data directory is a fresh
+/// one (unless `args` give `--data`), so nothing the user chose before (the view, the name)
+/// changes what it shows.
 fn window_sized(args: &[&OsStr], out: &Path, frames: u32, size: (u32, u32)) -> Option<Output> {
     let Some(xvfb) = find_in_path("xvfb-run") else {
         eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
         return None;
     };
+    let data = breakshot_testkit::scratch("window-data");
     Some(breakshot_testkit::run(
         Process::new(xvfb)
+            .env("BREAKSHOT_DATA", data.path())
             // The X authority file in the test's own folder: xvfb-run leaves nothing in /tmp,
             // even when it is stopped.
             .args(["-a", "-f"])
@@ -573,6 +579,23 @@ fn a_masse_set_up_shows_its_elevation_and_its_curving_path() {
     assert!(lit, "no path drawn at ({x}, {y}), off the cue's line");
 }
 
+/// A practice game's record: the scene's layout, then `strike`; and the game after them.
+fn practice_record(scene: &Scene, strike: Strike) -> (Game, GameRecord) {
+    let mut game = Game::new(Variant::Practice, Settings::offline(), 1);
+    let mut record = GameRecord::of(&game);
+    for command in [
+        Command::LoadLayout {
+            balls: breakshot_shared::rules::layout_from_scene(scene).expect("a layout"),
+        },
+        Command::Shot { strike, call: None },
+    ] {
+        let seat = game.to_move();
+        let verdict = game.apply(seat, &command).expect("accepted");
+        record.push(seat, command, verdict.shot.map(|s| s.hash));
+    }
+    (game, record)
+}
+
 #[test]
 fn a_replayed_jump_shows_the_ball_in_flight_bigger_with_its_shadow_on_the_cloth() {
     // A practice game: the jump scene's layout, then its shot.
@@ -583,18 +606,7 @@ fn a_replayed_jump_shows_the_ball_in_flight_bigger_with_its_shadow_on_the_cloth(
         .strike
         .expect("a strike")
         .1;
-    let mut game = Game::new(Variant::Practice, Settings::offline(), 1);
-    let mut record = GameRecord::of(&game);
-    for command in [
-        Command::LoadLayout {
-            balls: breakshot_shared::rules::layout_from_scene(&scene).expect("a layout"),
-        },
-        Command::Shot { strike, call: None },
-    ] {
-        let seat = game.to_move();
-        let verdict = game.apply(seat, &command).expect("accepted");
-        record.push(seat, command, verdict.shot.map(|s| s.hash));
-    }
+    let (game, record) = practice_record(&scene, strike);
     // The frame at which the window shows the cue ball highest: the replay steps as the
     // window does, 1/60 s a frame.
     let mut viewer = ReplayViewer::new(record.clone()).expect("a record of this version");
@@ -979,4 +991,401 @@ fn a_wrong_fingerprint_is_said_in_words_that_fit_the_window() {
         !(0..height).any(|y| lit(y, width - 12..width)),
         "text runs into the window's edge"
     );
+}
+
+/// Whether `got` is `want` lit, allowing for the 3-D view's glints: the same colour scaled by
+/// one factor up to 1.4, within 30 per channel.
+fn glinting(got: Rgb, want: Rgb) -> bool {
+    let dot = |a: Rgb, b: Rgb| {
+        a.iter()
+            .zip(b)
+            .map(|(&x, y)| x as f32 * y as f32)
+            .sum::<f32>()
+    };
+    let k = (dot(got, want) / dot(want, want).max(1.0)).clamp(0.3, 1.4);
+    got.iter()
+        .zip(want)
+        .all(|(&x, y)| (x as f32 - k * y as f32).abs() <= 30.0)
+}
+
+/// Each ball's colour, shaded, around its centre as `camera` projects it: a few points left
+/// and right of the middle and above it (clear of the cue stick and the ghost ball below, the
+/// aim line through the middle and the number spot on top); three of four must show it.
+fn balls_are_drawn_in_3d(pic: &Picture, camera: &Camera, ids: &[&str], balls: &[BallState]) {
+    let radius = Params::default().ball_radius;
+    for (id, state) in ids.iter().zip(balls) {
+        let centre = state.pos.extend(radius);
+        let [x, y] = camera.project(centre).expect("in front of the camera");
+        let r = camera.pixels_at(centre, radius);
+        let look = ball_look(id);
+        let seen: Vec<Rgb> = [(-0.3, -0.15), (0.3, -0.15), (-0.3, -0.45), (0.3, -0.45)]
+            .iter()
+            .map(|(dx, dy)| pic.at(x + dx * r, y + dy * r))
+            .collect();
+        let hits = seen.iter().filter(|&&c| glinting(c, look.color)).count();
+        assert!(
+            hits >= 3,
+            "ball {id} at ({x}, {y}) r {r}: saw {seen:?}, want {:?} shaded",
+            look.color
+        );
+    }
+}
+
+#[test]
+fn the_3d_view_shows_the_cloth_the_rails_and_the_balls_where_the_physics_puts_them() {
+    let Some(pic) = screenshot(
+        "scene.json",
+        SCENE.as_bytes(),
+        &["--view", "3d", "practice"],
+    ) else {
+        return;
+    };
+    let scene = Scene::from_json(SCENE).expect("valid scene");
+    let shot = scene.to_shot().expect("valid shot");
+    let layout = Layout::new(
+        pic.width as f32,
+        pic.height as f32,
+        Frame::new(shot.table, &shot.balls),
+    );
+    let radius = Params::default().ball_radius;
+    // The window opens behind the cue ball along the scene's aim, as the camera code says.
+    let camera = Orbit::default().camera(&layout, shot.balls[0].pos, Aim::default().dir(), radius);
+
+    // The cloth: points of the playing surface clear of the balls and the aim line, in the
+    // part of the window the table is drawn in (not under the tray).
+    let (mut cloth, mut total) = (0, 0);
+    for i in 1..12 {
+        for j in 1..24 {
+            let p = DVec2::new(1.27 * i as f64 / 12.0, 2.54 * j as f64 / 24.0);
+            let clear = shot
+                .balls
+                .iter()
+                .all(|b| (b.pos - p).length() > 3.0 * radius)
+                && (p.x - shot.balls[0].pos.x).abs() > 0.05;
+            let Some(px) = camera.project(p.extend(0.0)) else {
+                continue;
+            };
+            if !clear || px[1] >= layout.tray.y || px[0] >= layout.elevation_view.x || px[1] < 0.0 {
+                continue;
+            }
+            total += 1;
+            cloth += shaded(pic.at(px[0], px[1]), CLOTH, 8.0) as u32;
+        }
+    }
+    assert!(total > 100, "only {total} points of the cloth in view");
+    assert!(
+        cloth * 100 >= total * 95,
+        "cloth at {cloth} of {total} points"
+    );
+
+    // The rails: the wood's top and the cushions' tops along both long sides, between the
+    // diamonds.
+    let h = Params::default().cushion_height;
+    let (mut wood, mut cushion, mut seen) = (0, 0, 0);
+    for k in 2..8 {
+        let y = 2.54 * (k as f64 + 0.5) / 8.0;
+        for (wood_x, cushion_x) in [(-0.09, -0.02), (1.27 + 0.09, 1.27 + 0.02)] {
+            let (Some(w), Some(c)) = (
+                camera.project(DVec3::new(wood_x, y, h)),
+                camera.project(DVec3::new(cushion_x, y, h)),
+            ) else {
+                continue;
+            };
+            if w[0] < 0.0 || w[0] >= layout.elevation_view.x || w[1] >= layout.tray.y {
+                continue;
+            }
+            seen += 1;
+            wood += shaded(pic.at(w[0], w[1]), RAIL_WOOD, 12.0) as u32;
+            cushion += shaded(pic.at(c[0], c[1]), CUSHION, 12.0) as u32;
+        }
+    }
+    assert!(seen >= 8, "only {seen} rail points in view");
+    assert_eq!(
+        (wood, cushion),
+        (seen, seen),
+        "wood and cushion tops of {seen} points"
+    );
+
+    let ids: Vec<&str> = scene.balls.iter().map(|b| b.id.as_str()).collect();
+    balls_are_drawn_in_3d(&pic, &camera, &ids, &shot.balls);
+    // Not the flat picture: where the top-down view draws the blue 2 is cloth here.
+    let flat = layout.to_screen(shot.balls[2].pos);
+    assert!(!shaded(
+        pic.at(flat[0], flat[1]),
+        ball_look("2").color,
+        40.0
+    ));
+}
+
+#[test]
+fn the_window_opens_on_the_view_chosen_last_unless_told_otherwise() {
+    let dir = breakshot_testkit::scratch("window-view-choice");
+    let data = dir.path().join("data");
+    std::fs::create_dir_all(&data).expect("data directory");
+    // What pressing V into the 3-D view leaves behind.
+    std::fs::write(data.join(breakshot_client::view::choice::VIEW_FILE), "3d").expect("written");
+    let scene = dir.path().join("scene.json");
+    std::fs::write(&scene, SCENE).expect("scene written");
+    let parsed = Scene::from_json(SCENE).expect("valid scene");
+    let shot = parsed.to_shot().expect("valid shot");
+    let layout = Layout::new(1280.0, 720.0, Frame::new(shot.table, &shot.balls));
+    let radius = Params::default().ball_radius;
+    let camera = Orbit::default().camera(&layout, shot.balls[0].pos, Aim::default().dir(), radius);
+    let ids: Vec<&str> = parsed.balls.iter().map(|b| b.id.as_str()).collect();
+    let run = |extra: &[&str], name: &str| {
+        let out = dir.path().join(name);
+        let mut args: Vec<&OsStr> = vec!["--data".as_ref(), data.as_os_str()];
+        args.extend(extra.iter().map(OsStr::new));
+        args.extend(["practice".as_ref(), scene.as_os_str()]);
+        let run = window(&args, &out)?;
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        Some(picture(&out))
+    };
+    let Some(remembered) = run(&[], "remembered.png") else {
+        return;
+    };
+    balls_are_drawn_in_3d(&remembered, &camera, &ids, &shot.balls);
+    let Some(told) = run(&["--view", "top"], "told.png") else {
+        return;
+    };
+    balls_are_drawn(&told, &layout, &ids, &shot.balls);
+    // Being told is not a choice: the remembered view stays.
+    let kept = std::fs::read_to_string(data.join(breakshot_client::view::choice::VIEW_FILE));
+    assert_eq!(kept.expect("still there"), "3d");
+}
+
+#[test]
+fn the_3d_view_shows_a_jumping_ball_at_its_height_above_the_cloth() {
+    // The jump scene replayed, as in the top-down test above.
+    let scene = Scene::from_json(JUMP).expect("valid scene");
+    let shot = scene.to_shot().expect("valid shot");
+    let strike = shot.strike.expect("a strike").1;
+    let (game, record) = practice_record(&scene, strike);
+    let mut viewer = ReplayViewer::new(record.clone()).expect("a record of this version");
+    let (mut frame, mut best) = (0u32, BallState::at_rest(DVec2::ZERO));
+    for n in 1..=400 {
+        viewer.tick(1.0 / 60.0);
+        let cue = viewer.balls()[0];
+        if cue.lift > best.lift {
+            (frame, best) = (n, cue);
+        }
+    }
+    let radius = Params::default().ball_radius;
+    assert!(
+        best.lift > 0.8 * radius,
+        "the cue ball rises only {} m",
+        best.lift
+    );
+    let Some(pic) = screenshot_at(
+        "jump.rec",
+        &record.encode(),
+        &["--view", "3d", "replay"],
+        frame,
+    ) else {
+        return;
+    };
+    // Until the shot starts the camera looks at the cue ball along the shot.
+    let layout = Layout::new(1280.0, 720.0, Frame::new(game.table(), game.balls()));
+    let camera = Orbit::default().camera(&layout, shot.balls[0].pos, strike.dir, radius);
+    let flying = best.pos.extend(radius + best.lift);
+    let [x, y] = camera.project(flying).expect("in view");
+    let r = camera.pixels_at(flying, radius);
+    // The ball is where its height puts it: white around its centre and near its top ...
+    for (dx, dy) in [(-0.3, -0.2), (0.3, -0.2), (0.0, -0.75)] {
+        let got = pic.at(x + dx * r, y + dy * r);
+        assert!(
+            glinting(got, CUE_BALL),
+            "no ball at ({dx}, {dy}) R: {got:?}"
+        );
+    }
+    // ... and not where it would be on the cloth: below it, the cloth (or the shadow).
+    let [lx, ly] = camera.project(best.pos.extend(radius)).expect("in view");
+    let low = pic.at(
+        lx,
+        ly + 0.6 * camera.pixels_at(best.pos.extend(radius), radius),
+    );
+    assert!(
+        !glinting(low, CUE_BALL),
+        "a ball on the cloth under the flying one: {low:?}"
+    );
+}
+
+/// Runs `breakshot ARGS --screenshot OUT --frames FRAMES` under a virtual display while
+/// `xdotool` plays `keys` on its window (one xdotool command a line, `$wid` the window, a
+/// short pause before each); None if xvfb-run or xdotool is missing (the reason is printed).
+fn played(args: &[&OsStr], out: &Path, frames: u32, keys: &[&str]) -> Option<Output> {
+    let (Some(xvfb), Some(_)) = (find_in_path("xvfb-run"), find_in_path("xdotool")) else {
+        eprintln!("skipped: needs xvfb-run and xdotool (apt-get install xvfb xdotool)");
+        return None;
+    };
+    let mut script = format!(
+        "\"$0\" \"$@\" --screenshot \"{}\" --frames {frames} --size 1280x720 &\n\
+         pid=$!\nwid=$(xdotool search --sync --name Breakshot | head -n 1)\n",
+        out.display()
+    );
+    for key in keys {
+        script.push_str(&format!("sleep 0.3\nxdotool {key}\n"));
+    }
+    script.push_str("wait $pid\n");
+    let data = breakshot_testkit::scratch("window-data");
+    Some(breakshot_testkit::run(
+        Process::new(xvfb)
+            .env("BREAKSHOT_DATA", data.path())
+            .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
+            .arg(env!("CARGO_BIN_EXE_breakshot"))
+            .args(args),
+        None,
+        Duration::from_secs(120),
+    ))
+}
+
+#[test]
+fn v_opens_the_3d_view_remembers_it_and_the_mouse_aims_through_the_camera() {
+    let dir = breakshot_testkit::scratch("window-v");
+    let (data, scene, out) = (
+        dir.path().join("data"),
+        dir.path().join("scene.json"),
+        dir.path().join("out.png"),
+    );
+    std::fs::write(&scene, SCENE).expect("scene written");
+    let parsed = Scene::from_json(SCENE).expect("valid scene");
+    let shot = parsed.to_shot().expect("valid shot");
+    let layout = Layout::new(1280.0, 720.0, Frame::new(shot.table, &shot.balls));
+    let radius = Params::default().ball_radius;
+    let cue = shot.balls[0].pos;
+    // The player presses V, then points at the blue 2 as the 3-D view first shows it.
+    let opened = Orbit::default().camera(&layout, cue, Aim::default().dir(), radius);
+    let [x, y] = opened
+        .project(shot.balls[2].pos.extend(radius))
+        .expect("the 2 in view")
+        .map(f32::round);
+    let args = [
+        OsStr::new("--data"),
+        data.as_os_str(),
+        OsStr::new("practice"),
+        scene.as_os_str(),
+    ];
+    let keys = [
+        "key --window \"$wid\" v".to_string(),
+        "mousemove --window \"$wid\" 200 200".to_string(),
+        format!("mousemove --window \"$wid\" {x} {y}"),
+    ];
+    let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
+    let Some(run) = played(&args, &out, 600, &keys) else {
+        return;
+    };
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let kept = std::fs::read_to_string(data.join(breakshot_client::view::choice::VIEW_FILE));
+    assert_eq!(kept.expect("the view remembered").trim(), "3d");
+    // The cue points at the spot under the mouse, and the camera has turned to look along it:
+    // the 2 is drawn where that camera puts it, straight ahead of the cue ball.
+    let spot = opened.onto_plane([x, y], radius).expect("on the cloth");
+    let aimed = Orbit::default().camera(&layout, cue, spot - cue, radius);
+    let pic = picture(&out);
+    let ids: Vec<&str> = parsed.balls.iter().map(|b| b.id.as_str()).collect();
+    balls_are_drawn_in_3d(&pic, &aimed, &ids[2..3], &shot.balls[2..3]);
+    let [bx, _] = aimed
+        .project(shot.balls[2].pos.extend(radius))
+        .expect("in view");
+    let [cx, _] = aimed.project(cue.extend(radius)).expect("in view");
+    assert!(
+        (bx - cx).abs() < 3.0,
+        "the 2 is straight ahead: {bx} vs {cx}"
+    );
+}
+
+#[test]
+fn l_shows_the_cue_ball_s_trail_after_the_shot() {
+    const CUT: &str = include_str!("../scenes/cut-shot.json");
+    let dir = breakshot_testkit::scratch("window-trail");
+    let (scene, out) = (dir.path().join("scene.json"), dir.path().join("out.png"));
+    std::fs::write(&scene, CUT).expect("scene written");
+    let args = [OsStr::new("practice"), scene.as_os_str()];
+    let keys = ["key --window \"$wid\" l", "key --window \"$wid\" space"];
+    let Some(run) = played(&args, &out, 240, &keys) else {
+        return;
+    };
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let pic = picture(&out);
+    let parsed = Scene::from_json(CUT).expect("valid scene");
+    let shot = parsed.to_shot().expect("valid shot");
+    let layout = Layout::new(1280.0, 720.0, Frame::new(shot.table, &shot.balls));
+    let outcome = Simulator::new().run(&shot).expect("valid shot").clone();
+    // After the cue ball meets the 3, where neither the cue stick nor the next shot's aids
+    // are drawn: the trail's warm colour over the cloth (white aid lines are not warm).
+    let contact = outcome
+        .events
+        .iter()
+        .find(|e| {
+            matches!(
+                e.kind,
+                EventKind::BallBall { a: 0, .. } | EventKind::BallBall { b: 0, .. }
+            )
+        })
+        .expect("the cue ball meets the 3")
+        .t;
+    let warm = [0.2, 0.5, 0.8]
+        .iter()
+        .filter(|&&dt| {
+            let [x, y] = layout.to_screen(outcome.state_at(0, contact + dt).pos);
+            let c = pic.at(x, y);
+            c[0] >= CLOTH[0] + 25 && c[1] >= c[2] + 35
+        })
+        .count();
+    assert!(
+        warm >= 2,
+        "the trail is at {warm} of 3 points after the contact"
+    );
+}
+
+#[test]
+fn the_cue_is_seen_going_through_the_cue_ball_as_a_shot_starts() {
+    const CUT: &str = include_str!("../scenes/cut-shot.json");
+    let scene = Scene::from_json(CUT).expect("valid scene");
+    let shot = scene.to_shot().expect("valid shot");
+    let strike = shot.strike.expect("a strike").1;
+    let (game, record) = practice_record(&scene, strike);
+    // The frames the window shows the shot's start and, later, the shot under way.
+    let mut viewer = ReplayViewer::new(record.clone()).expect("a record of this version");
+    let started = (1..=400u32)
+        .find(|_| {
+            viewer.tick(1.0 / 60.0);
+            viewer.shot().is_some()
+        })
+        .expect("the shot starts");
+    let layout = Layout::new(1280.0, 720.0, Frame::new(game.table(), game.balls()));
+    let radius = Params::default().ball_radius;
+    let cue = shot.balls[0].pos;
+    let dir = strike.dir.normalize();
+    // Wood along the line behind where the cue ball was, clear of its shadow.
+    let wood = |pic: &Picture| {
+        [4.0, 8.0, 12.0]
+            .iter()
+            .filter(|&&k| {
+                let [x, y] = layout.to_screen(cue - dir * k * radius);
+                close(pic.at(x, y), CUE_WOOD, 30)
+            })
+            .count()
+    };
+    let Some(striking) = screenshot_at("cut.rec", &record.encode(), &["replay"], started + 2)
+    else {
+        return;
+    };
+    assert_eq!(wood(&striking), 3, "no cue at the strike");
+    let Some(later) = screenshot_at("cut.rec", &record.encode(), &["replay"], started + 30) else {
+        return;
+    };
+    assert_eq!(wood(&later), 0, "the cue is still shown half a second on");
 }

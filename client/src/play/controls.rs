@@ -68,6 +68,10 @@ pub enum Key {
     PowerDown,
     /// Keep the spin from shot to shot, or not.
     KeepSpin,
+    /// Switch between the top-down and the 3-D view.
+    View,
+    /// Show or hide the cue ball's trail after a shot.
+    Trail,
 }
 
 /// One frame of input, read from the devices by the window.
@@ -81,6 +85,11 @@ pub struct InputFrame {
     pub left_down: bool,
     /// The left button went up this frame.
     pub left_released: bool,
+    /// The right button is held: moving the mouse turns the 3-D camera.
+    pub right_down: bool,
+    /// Held camera keys, each −1, 0 or 1: turn about the cue ball (Q/E), rise or sink
+    /// (Home/End), come nearer or go back (Z/X).
+    pub camera: [f32; 3],
     /// Wheel notches this frame (up is positive).
     pub wheel: f32,
     /// Shift is held (fine aim).
@@ -231,7 +240,9 @@ impl Controls {
                 | Key::Erase
                 | Key::Send
                 | Key::PowerUp
-                | Key::PowerDown => {}
+                | Key::PowerDown
+                | Key::View
+                | Key::Trail => {}
             }
         }
         if ctx.stage == Stage::Watching {

@@ -1,17 +1,42 @@
 //! Drawing the table, the balls and the panel. Positions come from the library's
-//! [`Layout`]; physics values become f32 only here, at the last moment.
+//! [`Layout`]; physics values become f32 only here, at the last moment. What lies on the
+//! table is drawn through a [`Pen`]: flat from above, or in 3-D through its camera
+//! (`table3d`).
 
 use ::glam::{DQuat, DVec2};
 use breakshot_client::play::aim::Aim;
 use breakshot_client::view::aids::{self, AidToggles, PathPoint, Prediction};
+use breakshot_client::view::camera::Camera;
 use breakshot_client::view::flight::{flight, Flight};
 use breakshot_client::view::layout::{Layout, Rect, RAIL_WIDTH};
 use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::palette::{self, ball_look, Rgb};
+use breakshot_client::view::playback::{Drop, Stroke};
 use breakshot_client::view::sphere::{self, ScreenAxes};
+use breakshot_client::view::trail::TrailPoint;
+use breakshot_client::view::tray::Trays;
 use breakshot_shared::physics::{BallState, Table, TableKind};
 use macroquad::models::Vertex;
 use macroquad::prelude::*;
+
+use super::table3d;
+
+/// How the table and what lies on it are drawn this frame.
+pub struct Pen<'a> {
+    /// The window's layout: the top-down view, and the panel, tray and HUD in both views.
+    pub layout: &'a Layout,
+    /// The 3-D view's camera, when it is shown.
+    pub camera: Option<Camera>,
+    /// Balls seen falling into pockets (the 3-D view shows them).
+    pub drops: Vec<Drop>,
+    /// The cue ball's trail to draw on the cloth (empty when hidden).
+    pub trail: Vec<TrailPoint>,
+    /// The cue going through the cue ball as a shot starts.
+    pub stroke: Option<Stroke>,
+}
+
+/// How far the cue's tip goes past where it met the ball at the end of its stroke (m).
+const FOLLOW_THROUGH: f64 = 0.08;
 
 /// The layout's mapping of scene directions: x down the screen, y to the right
 /// ([`Layout::dir_to_screen`]).
@@ -21,7 +46,7 @@ const SCREEN_AXES: ScreenAxes = ScreenAxes {
 };
 
 /// Width of the cushion rubber drawn behind the nose line (m).
-const CUSHION_WIDTH: f64 = 0.045;
+pub const CUSHION_WIDTH: f64 = 0.045;
 /// Sides of the polygon a ball is drawn as.
 const BALL_SIDES: u8 = 48;
 
@@ -46,12 +71,31 @@ fn fill_rect(r: Rect, c: Color) {
     draw_rectangle(r.x, r.y, r.w, r.h, c);
 }
 
-/// The cloth, rails, cushions, diamonds and pockets.
-pub fn table(layout: &Layout, kind: TableKind) {
-    if !layout.frame.rails {
-        fill_rect(layout.cloth, color(palette::CLOTH));
-        return;
+/// The cloth, rails, cushions, diamonds and pockets, and the cue ball's trail on the cloth.
+pub fn table(pen: &Pen, kind: TableKind) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        table3d::table(camera, layout, kind);
+        return table3d::trail(camera, &pen.trail);
     }
+    if layout.frame.rails {
+        rails(layout, kind);
+    } else {
+        fill_rect(layout.cloth, color(palette::CLOTH));
+    }
+    for w in pen.trail.windows(2) {
+        let (a, b) = (layout.to_screen(w[0].pos), layout.to_screen(w[1].pos));
+        draw_line(a[0], a[1], b[0], b[1], 2.5, trail_colour(w[1].strength));
+    }
+}
+
+/// The colour of a stretch of the cue ball's trail drawn with `strength`.
+pub fn trail_colour(strength: f32) -> Color {
+    Color::new(1.0, 0.92, 0.55, 0.85 * strength)
+}
+
+/// The table's rails, cushions, pockets and diamonds around the cloth.
+fn rails(layout: &Layout, kind: TableKind) {
     let t = Table::new(kind);
     fill_rect(layout.outer, color(palette::RAIL_WOOD));
     let cushion = layout.px(CUSHION_WIDTH);
@@ -105,12 +149,12 @@ pub fn table(layout: &Layout, kind: TableKind) {
     diamonds(layout, kind.has_pockets());
 }
 
-/// Sights on the wood: every eighth of the length, every quarter of the width; a pool
-/// table has its side pockets where a carom table has its middle diamonds.
-fn diamonds(layout: &Layout, pockets: bool) {
+/// Sights on the wood, halfway across it (scene coordinates): every eighth of the length,
+/// every quarter of the width; a pool table has its side pockets where a carom table has
+/// its middle diamonds.
+pub fn diamond_spots(layout: &Layout, pockets: bool) -> Vec<DVec2> {
     let (w, l) = (layout.frame.size.x, layout.frame.size.y);
     let back = CUSHION_WIDTH + 0.5 * (RAIL_WIDTH - CUSHION_WIDTH);
-    let size = layout.px(0.012).max(2.0);
     let mut spots = Vec::new();
     for k in (1..8).filter(|&k| k != 4 || !pockets) {
         let y = l * k as f64 / 8.0;
@@ -122,7 +166,12 @@ fn diamonds(layout: &Layout, pockets: bool) {
         spots.push(DVec2::new(x, -back));
         spots.push(DVec2::new(x, l + back));
     }
-    for s in spots {
+    spots
+}
+
+fn diamonds(layout: &Layout, pockets: bool) {
+    let size = layout.px(0.012).max(2.0);
+    for s in diamond_spots(layout, pockets) {
         let p = layout.to_screen(s);
         draw_poly(p[0], p[1], 4, size, 0.0, color(palette::DIAMOND));
     }
@@ -206,13 +255,26 @@ pub fn ball_turned(id: &str, at: [f32; 2], r: f32, turn: DQuat, air: Flight) {
 /// The balls still on the table, each turned as `turns` says; balls in flight are drawn
 /// after those on the cloth, so they pass over them.
 pub fn balls(
-    layout: &Layout,
+    pen: &Pen,
     ids: &[String],
     states: &[BallState],
     radius: f64,
     skip: Option<usize>,
     turns: &Orientations,
 ) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        let mut shown = table3d::on_table(ids, states, radius, skip, turns);
+        shown.extend(pen.drops.iter().filter_map(|d| {
+            Some(table3d::Ball {
+                id: ids.get(d.ball)?,
+                centre: d.centre,
+                turn: turns.get(d.ball),
+            })
+        }));
+        table3d::balls(camera, &shown, radius);
+        return stroke(pen, radius);
+    }
     let r = layout.px(radius);
     for in_air in [false, true] {
         for (i, (id, s)) in ids.iter().zip(states).enumerate() {
@@ -222,6 +284,17 @@ pub fn balls(
             let air = flight(s.lift, radius);
             ball_turned(id, layout.to_screen(s.pos), r, turns.get(i), air);
         }
+    }
+    stroke(pen, radius);
+}
+
+/// The cue going through where the cue ball was as the shot starts, level, slowing down.
+fn stroke(pen: &Pen, radius: f64) {
+    if let Some(s) = pen.stroke {
+        let mut aim = Aim::default();
+        aim.point_along(s.dir);
+        let eased = 1.0 - (1.0 - s.done).powi(2);
+        cue_at(pen, s.at, &aim, -FOLLOW_THROUGH * eased, radius);
     }
 }
 
@@ -236,8 +309,54 @@ pub fn tray(layout: &Layout, ids: &[String], pocketed: &[usize], radius: f64) {
     }
 }
 
+/// The pocketed balls of an 8-ball game in a tray per player, each named, the 8 and balls
+/// down on an open table between them; a game without groups has the one tray of [`tray`].
+pub fn player_trays(
+    layout: &Layout,
+    ids: &[String],
+    trays: Option<Trays>,
+    pocketed: &[usize],
+    names: [String; 2],
+    radius: f64,
+) {
+    let Some(t) = trays else {
+        return tray(layout, ids, pocketed, radius);
+    };
+    let area = layout.tray;
+    fill_rect(area, Color::new(0.0, 0.0, 0.0, 0.35));
+    let r = layout.px(radius).max(3.0);
+    let pitch = 2.6 * r;
+    let y = area.y + 0.5 * area.h;
+    let row = |balls: &[usize], x0: f32| {
+        for (k, &b) in balls.iter().enumerate() {
+            if let Some(id) = ids.get(b) {
+                ball(id, [x0 + 1.5 * r + k as f32 * pitch, y], r);
+            }
+        }
+    };
+    let width = |n: usize| n as f32 * pitch + 0.5 * r;
+    let [a, b] = names;
+    // Seat A from the left, seat B ending at the right, what is shared in the middle.
+    label(&a, area.x + 8.0, y + 6.0, 18.0, LIGHTGRAY);
+    row(&t.seats[0], area.x + 16.0 + text_width(&a, 18.0));
+    let b_x = area.x + area.w - width(t.seats[1].len()) - 8.0;
+    label(
+        &b,
+        b_x - text_width(&b, 18.0) - 8.0,
+        y + 6.0,
+        18.0,
+        LIGHTGRAY,
+    );
+    row(&t.seats[1], b_x);
+    row(&t.between, area.x + 0.5 * (area.w - width(t.between.len())));
+}
+
 /// Aim line, ghost ball and predicted paths, as toggled.
-pub fn aids(layout: &Layout, p: &Prediction, toggles: AidToggles, radius: f64, object_id: &str) {
+pub fn aids(pen: &Pen, p: &Prediction, toggles: AidToggles, radius: f64, object_id: &str) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        return table3d::aids(camera, p, toggles, radius, object_id);
+    }
     // Stretches in the air (a jump) are dotted: every other piece of them is left out.
     let line = |pts: &[PathPoint], width: f32, c: Color| {
         let mut flying = 0usize;
@@ -289,24 +408,66 @@ pub fn aids(layout: &Layout, p: &Prediction, toggles: AidToggles, radius: f64, o
     }
 }
 
+/// A ball on the table at `pos` (scene coordinates), unturned.
+pub fn ball_at(pen: &Pen, id: &str, pos: DVec2, radius: f64) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        let ball = table3d::Ball {
+            id,
+            centre: pos.extend(radius),
+            turn: DQuat::IDENTITY,
+        };
+        return table3d::balls(camera, &[ball], radius);
+    }
+    ball(id, layout.to_screen(pos), layout.px(radius));
+}
+
+/// A circle just outside `radius` metres about `centre` on the table (a pocket to call).
+pub fn mark(pen: &Pen, centre: DVec2, radius: f64, width: f32, c: Color) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        return table3d::mark(camera, centre, 1.1 * radius, c);
+    }
+    let p = layout.to_screen(centre);
+    draw_poly_lines(p[0], p[1], 32, layout.px(radius) + 3.0, 0.0, width, c);
+}
+
 /// A ring around the ball at `pos`, to mark it.
-pub fn ring(layout: &Layout, pos: DVec2, radius: f64, c: Color) {
+pub fn ring(pen: &Pen, pos: DVec2, radius: f64, c: Color) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        return table3d::ring(camera, pos, radius, c);
+    }
     let p = layout.to_screen(pos);
     draw_poly_lines(p[0], p[1], BALL_SIDES, layout.px(radius) + 4.0, 0.0, 2.5, c);
 }
 
 /// A straight line on the table, from `a` to `b` (scene coordinates).
-pub fn segment(layout: &Layout, a: DVec2, b: DVec2, width: f32, c: Color) {
+pub fn segment(pen: &Pen, a: DVec2, b: DVec2, width: f32, c: Color) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        return table3d::segment(camera, a, b, c);
+    }
     let (a, b) = (layout.to_screen(a), layout.to_screen(b));
     draw_line(a[0], a[1], b[0], b[1], width, c);
 }
 
 /// The cue stick behind the cue ball, drawn back further the harder the shot. Seen from
 /// above, an elevated cue is foreshortened: its length on the table shrinks with cos θ.
-pub fn cue_stick(layout: &Layout, cue: DVec2, aim: &Aim, radius: f64) {
+pub fn cue_stick(pen: &Pen, cue: DVec2, aim: &Aim, radius: f64) {
+    cue_at(pen, cue, aim, radius * (0.3 + 8.0 * aim.power), radius);
+}
+
+/// The cue set up as `aim` says with its tip `back` metres behind the spot it strikes on the
+/// ball at `cue` (negative: through it).
+fn cue_at(pen: &Pen, cue: DVec2, aim: &Aim, back: f64, radius: f64) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        return table3d::cue_stick(camera, cue, aim, back, radius);
+    }
     let dir = aim.dir();
     let slant = aim.elevation_deg.to_radians().cos().max(0.05);
-    let gap = radius * (1.3 + 8.0 * aim.power) * slant;
+    let gap = (radius + back) * slant;
     let tip = cue - dir * gap;
     let butt = tip - dir * (1.3 * slant);
     let w = layout.px(0.012).max(3.0);
@@ -321,9 +482,18 @@ pub fn cue_stick(layout: &Layout, cue: DVec2, aim: &Aim, radius: f64) {
     over_table(tip, tip - dir * 0.02, palette::CUE_FERRULE);
 }
 
-/// The cue-ball face (tip offset) and the power bar; `keep_spin`, when the player sets up
-/// shots here, says whether the tip stays put after a shot (K).
+/// The cue-ball face (tip offset) and the power bar, on the background (the 3-D view may
+/// reach under the panel); `keep_spin`, when the player sets up shots here, says whether
+/// the tip stays put after a shot (K).
 pub fn panel(layout: &Layout, aim: &Aim, keep_spin: Option<bool>) {
+    let left = layout.elevation_view.x - 4.0;
+    draw_rectangle(
+        left,
+        layout.hud.h,
+        layout.screen[0] - left,
+        layout.screen[1],
+        color(palette::BACKGROUND),
+    );
     let [cx, cy] = layout.tip_center;
     let r = layout.tip_radius;
     let title = match keep_spin {
@@ -421,8 +591,17 @@ fn elevation_view(layout: &Layout, elevation_deg: f64) {
     draw_rectangle_lines(v.x, v.y, v.w, v.h, 1.0, LIGHTGRAY);
 }
 
-/// The shaded area where the cue ball may be put, and the ball being dragged.
-pub fn in_hand(layout: &Layout, area: Rect, dragged: Option<(DVec2, bool)>, radius: f64) {
+/// The shaded area where the cue ball may be put (pixels of the layout), and the ball being
+/// dragged.
+pub fn in_hand(pen: &Pen, area: Rect, dragged: Option<(DVec2, bool)>, radius: f64) {
+    let layout = pen.layout;
+    if let Some(camera) = &pen.camera {
+        let corners = (
+            layout.to_scene([area.x, area.y]),
+            layout.to_scene([area.x + area.w, area.y + area.h]),
+        );
+        return table3d::in_hand(camera, corners, dragged, radius);
+    }
     fill_rect(area, Color::new(1.0, 1.0, 1.0, 0.08));
     draw_rectangle_lines(
         area.x,

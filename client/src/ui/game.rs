@@ -14,6 +14,7 @@ use breakshot_client::view::layout::{Frame, Layout, Rect};
 use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::palette;
 use breakshot_client::view::playback::Playback;
+use breakshot_client::view::tray;
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
 use breakshot_shared::protocol::limits::RECONNECT_WINDOW;
@@ -24,6 +25,7 @@ use breakshot_shared::rules::{
 use macroquad::prelude::*;
 
 use super::hud::{game_hud, HudInfo};
+use super::view::TableView;
 use super::{draw, invite, menu, Screen, Step};
 
 pub struct GameScreen {
@@ -42,6 +44,8 @@ pub struct GameScreen {
     turns: Orientations,
     /// The player pressed Esc in an online game and is asked whether to leave.
     leaving: bool,
+    /// Top-down or 3-D, and the 3-D camera.
+    view: TableView,
 }
 
 /// The buttons of the choices offered, in a row along the top of the cloth so the table
@@ -77,6 +81,7 @@ impl GameScreen {
             copied: false,
             turns: Orientations::new(),
             leaving: false,
+            view: TableView::new(),
         }
     }
 
@@ -195,6 +200,11 @@ impl GameScreen {
             }
             _ => {}
         }
+        let aiming = matches!(turn, Turn::Shoot { .. });
+        let r = game.params().ball_radius;
+        let aim = self.controls.aim.dir();
+        self.view.update(&input, Self::cue_spot(&game), aim, aiming);
+        let mut input = self.view.pointer(&input, &layout, r);
         if let Turn::Shoot { call: true, .. } = turn {
             if input.left_pressed {
                 if let Some(p) = layout.pocket_at(&Table::new(game.table()), input.mouse) {
@@ -391,7 +401,8 @@ impl GameScreen {
         let balls = self.flow.balls();
         let names = palette::ball_ids(game);
         let turn = self.turn();
-        draw::table(&layout, game.table());
+        let pen = self.view.pen(&layout, r, self.flow.shot(), game.table(), 0);
+        draw::table(&pen, game.table());
 
         let dragging = match self.controls.drag {
             Drag::CueBall { at } => Some((at, game.legal_cue_placement([at.x, at.y]).is_ok())),
@@ -403,15 +414,15 @@ impl GameScreen {
                 .first_hit
                 .and_then(|b| names.get(b))
                 .map_or("", |s| s.as_str());
-            draw::aids(&layout, pred, self.shown_aids(), r, object);
+            draw::aids(&pen, pred, self.shown_aids(), r, object);
         }
-        draw::balls(&layout, &names, &balls, r, dragging.map(|_| 0), &self.turns);
+        draw::balls(&pen, &names, &balls, r, dragging.map(|_| 0), &self.turns);
         let shooting = matches!(turn, Turn::Shoot { .. }) && dragging.is_none();
         if shooting {
             // In 9-ball the ball on is ringed; a first contact the rules forbid is warned of.
             if game.variant() == Variant::NineBall {
                 for n in game.legal_first_balls() {
-                    draw::ring(&layout, balls[usize::from(n)].pos, r, YELLOW);
+                    draw::ring(&pen, balls[usize::from(n)].pos, r, YELLOW);
                 }
             }
             // In three-cushion a miss scores nothing but is no foul: nothing to warn of.
@@ -420,7 +431,7 @@ impl GameScreen {
                 let legal = game.legal_first_balls();
                 if let Some(warning) = aids::first_hit_warning(&legal, pred.first_hit) {
                     if let Some(end) = pred.aim_end.filter(|_| self.shown_aids().aim_line) {
-                        draw::segment(&layout, cue, end, 2.5, RED);
+                        draw::segment(&pen, cue, end, 2.5, RED);
                     }
                     draw::label(&warning, layout.cloth.x, layout.cloth.y + 22.0, 20.0, RED);
                 }
@@ -439,21 +450,22 @@ impl GameScreen {
                 (b[0] - a[0]).abs(),
                 (b[1] - a[1]).abs(),
             );
-            draw::in_hand(&layout, rect, dragging, r);
+            draw::in_hand(&pen, rect, dragging, r);
             if is_off_table(&balls[0]) && dragging.is_none() {
-                let p = layout.to_screen(cue);
-                draw::ball("cue", p, layout.px(r));
+                draw::ball_at(&pen, "cue", cue, r);
             }
         }
         if let Turn::Shoot { call: true, .. } = turn {
-            self.draw_call(&layout, game);
+            self.draw_call(&pen, game);
         }
         if shooting {
-            draw::cue_stick(&layout, cue, &self.controls.aim, r);
+            draw::cue_stick(&pen, cue, &self.controls.aim, r);
         } else if let Some(strike) = self.flow.opponent_aim(self.link.seat()) {
-            draw::cue_stick(&layout, cue, &Aim::from_strike(&strike), r);
+            draw::cue_stick(&pen, cue, &Aim::from_strike(&strike), r);
         }
-        draw::tray(&layout, &names, &self.flow.tray(), r);
+        let (pocketed, seats) = (self.flow.tray(), tray::seat_names(&self.flow.names));
+        let trays = tray::trays(game, &pocketed);
+        draw::player_trays(&layout, &names, trays, &pocketed, seats, r);
         draw::panel(&layout, &self.controls.aim, Some(self.controls.keep_spin));
         game_hud(
             &layout,
@@ -543,25 +555,18 @@ impl GameScreen {
     }
 
     /// The pockets to call, the called one marked.
-    fn draw_call(&self, layout: &Layout, game: &Game) {
+    fn draw_call(&self, pen: &draw::Pen, game: &Game) {
+        let layout = pen.layout;
         let table = Table::new(game.table());
         for (i, pk) in table.pockets.iter().enumerate() {
-            let p = layout.to_screen(table.to_scene(pk.center));
+            let centre = table.to_scene(pk.center);
             let chosen = self.flow.call == Some(i as u8);
             let c = if chosen {
                 YELLOW
             } else {
                 Color::new(1.0, 1.0, 1.0, 0.5)
             };
-            draw_poly_lines(
-                p[0],
-                p[1],
-                32,
-                layout.px(pk.radius) + 3.0,
-                0.0,
-                if chosen { 4.0 } else { 2.0 },
-                c,
-            );
+            draw::mark(pen, centre, pk.radius, if chosen { 4.0 } else { 2.0 }, c);
         }
         if self.flow.call.is_none() {
             draw::label(

@@ -7,7 +7,7 @@ use macroquad::prelude::{
 
 use breakshot_client::play::controls::{InputFrame, Key};
 
-const KEYS: [(KeyCode, Key); 23] = [
+const KEYS: [(KeyCode, Key); 25] = [
     (KeyCode::Space, Key::Shoot),
     (KeyCode::A, Key::AimLine),
     (KeyCode::G, Key::GhostBall),
@@ -31,7 +31,14 @@ const KEYS: [(KeyCode, Key); 23] = [
     (KeyCode::Up, Key::PowerUp),
     (KeyCode::Down, Key::PowerDown),
     (KeyCode::K, Key::KeepSpin),
+    (KeyCode::V, Key::View),
+    (KeyCode::L, Key::Trail),
 ];
+
+/// −1, 0 or 1 as one key or the other is held.
+fn axis(minus: KeyCode, plus: KeyCode) -> f32 {
+    is_key_down(plus) as i32 as f32 - is_key_down(minus) as i32 as f32
+}
 
 pub fn read(dt: f64) -> InputFrame {
     let (mx, my) = mouse_position();
@@ -41,6 +48,12 @@ pub fn read(dt: f64) -> InputFrame {
         left_pressed: is_mouse_button_pressed(MouseButton::Left),
         left_down: is_mouse_button_down(MouseButton::Left),
         left_released: is_mouse_button_released(MouseButton::Left),
+        right_down: is_mouse_button_down(MouseButton::Right),
+        camera: [
+            axis(KeyCode::Q, KeyCode::E),
+            axis(KeyCode::End, KeyCode::Home),
+            axis(KeyCode::X, KeyCode::Z),
+        ],
         // Some platforms report 120 per notch, others 1.
         wheel: if wheel.abs() >= 60.0 {
             wheel / 120.0

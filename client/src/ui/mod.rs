@@ -11,6 +11,8 @@ mod menu;
 mod practice;
 mod replay;
 mod speaker;
+mod table3d;
+mod view;
 
 use std::path::PathBuf;
 
@@ -21,6 +23,8 @@ use breakshot_client::play::computer::ComputerLink;
 use breakshot_client::play::controls::InputFrame;
 use breakshot_client::play::link::{GameLink, LocalLink};
 use breakshot_client::play::replay::ReplayViewer;
+use breakshot_client::view::camera::ViewKind;
+use breakshot_client::view::choice;
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::palette;
 use breakshot_client::view::playback::Playback;
@@ -56,6 +60,10 @@ pub struct Options {
     pub frames: u32,
     /// Seed of the practice rack (random if not given).
     pub seed: Option<u64>,
+    /// The view to open on (else the one remembered in `data`).
+    pub view: Option<ViewKind>,
+    /// The data directory, where the view chosen is remembered.
+    pub data: Option<PathBuf>,
 }
 
 /// Two players at this computer: the rules run here.
@@ -156,8 +164,36 @@ impl Screen {
     }
 }
 
+/// The frame times of a run, each frame's work (ms) and whether balls were moving in it:
+/// how many frames, their median and 90th percentile, of all and of those with balls moving.
+fn frame_times(work: &[(f64, bool)]) -> Option<String> {
+    let stats = |mut ms: Vec<f64>| {
+        ms.sort_by(f64::total_cmp);
+        let at = |q: f64| ms[((ms.len() - 1) as f64 * q).round() as usize];
+        (!ms.is_empty()).then(|| {
+            format!(
+                "{} frames: {:.1} ms (median), {:.1} ms (90th percentile)",
+                ms.len(),
+                at(0.5),
+                at(0.9)
+            )
+        })
+    };
+    let all = stats(work.iter().map(|w| w.0).collect())?;
+    let moving = stats(work.iter().filter(|w| w.1).map(|w| w.0).collect());
+    Some(match moving {
+        Some(m) => format!("work per frame, {all}; with balls moving, {m}"),
+        None => format!("work per frame, {all}"),
+    })
+}
+
 /// Runs the screens until the player quits or the screenshot is taken.
 pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
+    let remembered = options.data.as_deref().and_then(choice::remembered);
+    view::start(
+        options.view.or(remembered).unwrap_or_default(),
+        options.data.clone(),
+    );
     let mut screen = match start {
         Start::Menu => Screen::Menu(menu::MenuScreen::new()),
         Start::Network(link) => network_game(link),
@@ -182,8 +218,14 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
     let mut frames = 0u32;
     let started = std::time::Instant::now();
     let mut speaker = speaker::Speaker::new().await;
+    // Each frame's work (not its pacing), for the figure a screenshot run prints.
+    let mut work = Vec::new();
+    let mut moving = false;
     loop {
         let real_dt = clock.frame_time();
+        if frames > 0 {
+            work.push((clock.work_ms(), moving));
+        }
         // A screenshot shows frame N of the animation at FPS, whatever the machine's speed:
         // on a loaded or software-rendered display frames take longer than 1/FPS.
         let dt = if options.screenshot.is_some() {
@@ -197,6 +239,7 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
         speaker.hear(screen.shot());
         clear_background(draw::color(palette::BACKGROUND));
         screen.draw();
+        moving = screen.shot().is_some();
         frames += 1;
         if let Some(path) = &options.screenshot {
             // A screenshot of a network game shows the server's first answer, if it comes
@@ -204,7 +247,11 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
             let answered = !screen.awaiting_server() || started.elapsed() > SCREENSHOT_PATIENCE;
             if frames >= options.frames && answered {
                 // Read the frame back now: after next_frame() the buffer is gone.
-                return capture::save_screen(path);
+                capture::save_screen(path)?;
+                if let Some(line) = frame_times(&work) {
+                    eprintln!("breakshot: {line}");
+                }
+                return Ok(());
             }
         }
         match next {

@@ -11,6 +11,7 @@ use breakshot_shared::physics::{Shot, Simulator, TableKind};
 use breakshot_shared::scene::Scene;
 use macroquad::prelude::*;
 
+use super::view::TableView;
 use super::{draw, menu, Screen, Step};
 
 pub struct PracticeScreen {
@@ -29,6 +30,7 @@ pub struct PracticeScreen {
     frame_ms: f64,
     /// How each ball is turned, for drawing.
     turns: Orientations,
+    view: TableView,
 }
 
 impl PracticeScreen {
@@ -52,6 +54,7 @@ impl PracticeScreen {
             shots: 0,
             frame_ms: 0.0,
             turns: Orientations::new(),
+            view: TableView::new(),
         })
     }
 
@@ -73,6 +76,11 @@ impl PracticeScreen {
         self.frame_ms = 0.9 * self.frame_ms + 0.1 * input.dt * 1000.0;
         let layout = self.layout();
         let cue = self.practice.balls[self.practice.cue].pos;
+        let r = self.practice.params.ball_radius;
+        let aiming = !self.practice.busy();
+        self.view
+            .update(input, cue, self.controls.aim.dir(), aiming);
+        let input = &self.view.pointer(input, &layout, r);
         let ctx = Context {
             layout: &layout,
             cue,
@@ -141,7 +149,10 @@ impl PracticeScreen {
         let layout = self.layout();
         let p = &self.practice;
         let r = p.params.ball_radius;
-        draw::table(&layout, p.table);
+        let pen = self
+            .view
+            .pen(&layout, r, p.playback.as_ref(), p.table, p.cue);
+        draw::table(&pen, p.table);
         let shown = p.shown_balls();
         let cue = shown[p.cue].pos;
         let dragging = match self.controls.drag {
@@ -154,11 +165,11 @@ impl PracticeScreen {
                     .first_hit
                     .and_then(|b| p.ids.get(b))
                     .map_or("", |s| s.as_str());
-                draw::aids(&layout, pred, self.toggles, r, object);
+                draw::aids(&pen, pred, self.toggles, r, object);
             }
         }
         draw::balls(
-            &layout,
+            &pen,
             &p.ids,
             &shown,
             r,
@@ -166,10 +177,10 @@ impl PracticeScreen {
             &self.turns,
         );
         if !p.busy() && p.in_hand {
-            draw::in_hand(&layout, layout.cloth, dragging, r);
+            draw::in_hand(&pen, layout.cloth, dragging, r);
         }
         if !p.busy() && dragging.is_none() {
-            draw::cue_stick(&layout, cue, &self.controls.aim, r);
+            draw::cue_stick(&pen, cue, &self.controls.aim, r);
         }
         draw::tray(&layout, &p.ids, &p.shown_pocketed(), r);
         draw::panel(&layout, &self.controls.aim, Some(self.controls.keep_spin));
@@ -203,7 +214,7 @@ impl PracticeScreen {
             20.0,
             WHITE,
         );
-        let hint = "W/S elevation  |  A aim line  |  G ghost  |  P paths  |  H ball in hand  |  R reset  |  F3 debug  |  Esc menu";
+        let hint = "W/S elevation  |  A G P aids  |  V view  |  L trail  |  H in hand  |  R reset  |  Esc menu";
         let dims = draw::text_width(hint, 16.0);
         draw::label(hint, layout.hud.w - dims - 10.0, y, 16.0, LIGHTGRAY);
         draw::label(

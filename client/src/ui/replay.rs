@@ -9,10 +9,12 @@ use breakshot_client::view::layout::{Frame, Layout};
 use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::palette;
 use breakshot_client::view::playback::Playback;
+use breakshot_client::view::tray;
 use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
 
 use super::hud::{game_hud, HudInfo};
+use super::view::TableView;
 use super::{draw, menu, Screen, Step};
 
 pub struct ReplayScreen {
@@ -20,6 +22,7 @@ pub struct ReplayScreen {
     frame: Frame,
     /// How each ball is turned, for drawing.
     turns: Orientations,
+    view: TableView,
 }
 
 impl ReplayScreen {
@@ -29,6 +32,7 @@ impl ReplayScreen {
             viewer,
             frame,
             turns: Orientations::new(),
+            view: TableView::new(),
         }
     }
 
@@ -45,6 +49,16 @@ impl ReplayScreen {
             }
         }
         self.viewer.tick(input.dt);
+        // The camera looks at the cue ball along the shot being shown (or the next one).
+        let game = self.viewer.game();
+        let (done, _) = self.viewer.position();
+        let aim = match self.viewer.record().entries.get(done).map(|e| &e.command) {
+            Some(Command::Shot { strike, .. }) => Aim::from_strike(strike).dir(),
+            _ => ::glam::DVec2::Y,
+        };
+        let cue = game.balls().first().map_or(::glam::DVec2::ZERO, |b| b.pos);
+        self.view
+            .update(input, cue, aim, self.viewer.shot().is_none());
         Step::Stay
     }
 
@@ -59,9 +73,12 @@ impl ReplayScreen {
         let v = &self.viewer;
         let r = v.game().params().ball_radius;
         let ids = palette::ball_ids(v.game());
-        draw::table(&layout, v.game().table());
-        draw::balls(&layout, &ids, &v.balls(), r, None, &self.turns);
-        draw::tray(&layout, &ids, &v.tray(), r);
+        let pen = self.view.pen(&layout, r, v.shot(), v.game().table(), 0);
+        draw::table(&pen, v.game().table());
+        draw::balls(&pen, &ids, &v.balls(), r, None, &self.turns);
+        let (pocketed, seats) = (v.tray(), tray::seat_names(&[None, None]));
+        let trays = tray::trays(v.game(), &pocketed);
+        draw::player_trays(&layout, &ids, trays, &pocketed, seats, r);
         // The panel shows the strike of the shot being played (or the next one).
         let (done, total) = v.position();
         if let Some(Command::Shot { strike, .. }) = v.record().entries.get(done).map(|e| &e.command)
@@ -88,7 +105,7 @@ impl ReplayScreen {
             "playing"
         };
         let line = format!(
-            "Replay: entry {done} of {total}  |  {state}  |  speed x{}  |  Space pause  |  Left/Right shot by shot  |  +/- speed  |  Esc menu",
+            "Replay: entry {done} of {total}  |  {state}  |  speed x{}  |  Space pause  |  Left/Right shot by shot  |  +/- speed  |  V 3-D view  |  Esc menu",
             v.speed
         );
         draw::label(

@@ -2,7 +2,38 @@
 //! `outcome.state_at(ball, t)`; nothing is stepped, so a slow frame never changes where a ball
 //! ends up.
 
-use breakshot_shared::physics::{BallState, EventKind, Outcome};
+use breakshot_shared::physics::{BallState, EventKind, Outcome, Table};
+use glam::{DVec2, DVec3};
+
+/// How long a pocketed ball is shown falling into its pocket (s).
+pub const DROP_TIME: f64 = 0.25;
+/// How long it takes to slide from where it was caught to the middle of the pocket (s).
+const DROP_CENTRING: f64 = 0.08;
+/// Gravity for the fall (m/s²).
+const GRAVITY: f64 = 9.81;
+
+/// How long the cue is shown going through at the start of a shot (s).
+pub const STROKE_TIME: f64 = 0.15;
+
+/// The cue's stroke at the start of a shot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stroke {
+    /// Where the struck ball was.
+    pub at: DVec2,
+    /// The way the cue went (unit, on the table): the way the ball left.
+    pub dir: DVec2,
+    /// How far through the stroke the shot is: 0 at the strike, 1 at its end.
+    pub done: f64,
+}
+
+/// A ball seen falling into a pocket.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Drop {
+    /// The ball.
+    pub ball: usize,
+    /// Its centre (scene coordinates, z up from the cloth).
+    pub centre: DVec3,
+}
 
 /// The slowest playback speed.
 pub const MIN_SPEED: f64 = 0.125;
@@ -73,6 +104,54 @@ impl Playback {
             })
             .collect()
     }
+
+    /// The cue going through ball `ball` in the first [`STROKE_TIME`] of the shot; None after
+    /// it, or when the ball left without moving across the table.
+    pub fn stroke(&self, ball: usize) -> Option<Stroke> {
+        if self.time >= STROKE_TIME || ball >= self.outcome.history.len() {
+            return None;
+        }
+        let start = self.outcome.state_at(ball, 0.0);
+        let dir = start.vel.try_normalize()?;
+        Some(Stroke {
+            at: start.pos,
+            dir,
+            done: self.time / STROKE_TIME,
+        })
+    }
+
+    /// The balls falling into pockets at the time shown, pocketed less than [`DROP_TIME`]
+    /// ago. The physics ends a ball at the pocket's edge; this is for the eye only: the ball
+    /// slides to the middle of the pocket as it falls under gravity. `table` is the shot's
+    /// table, for its pockets; balls of `radius`.
+    pub fn dropping(&self, table: &Table, radius: f64) -> Vec<Drop> {
+        self.outcome
+            .events
+            .iter()
+            .take_while(|e| e.t <= self.time)
+            .filter_map(|e| match e.kind {
+                EventKind::BallPocket { ball, pocket } => Some((ball as usize, pocket, e.t)),
+                _ => None,
+            })
+            .filter(|&(_, _, t)| self.time - t < DROP_TIME)
+            .filter_map(|(ball, pocket, t)| {
+                let hole = table.to_scene(table.pockets.get(pocket as usize)?.center);
+                let caught = self.outcome.state_at(ball, t).pos;
+                let centre = drop_centre(caught, hole, self.time - t, radius);
+                Some(Drop { ball, centre })
+            })
+            .collect()
+    }
+}
+
+/// Where a ball caught by a pocket at `caught` is `since` seconds later: moving to the
+/// pocket's middle `hole` and falling from its resting height `radius`.
+pub fn drop_centre(caught: DVec2, hole: DVec2, since: f64, radius: f64) -> DVec3 {
+    let since = since.max(0.0);
+    let along = (since / DROP_CENTRING).min(1.0);
+    caught
+        .lerp(hole, along)
+        .extend(radius - 0.5 * GRAVITY * since * since)
 }
 
 #[cfg(test)]
@@ -117,6 +196,59 @@ mod tests {
         assert!(p.finished());
         assert_eq!(p.balls(), outcome.finals);
         assert_eq!(p.pocketed_so_far(), vec![1]);
+    }
+
+    #[test]
+    fn a_pocketed_ball_is_seen_falling_into_its_pocket_for_a_moment() {
+        let outcome = straight_in();
+        let table = Table::new(TableKind::NineFoot);
+        let r = 0.028575;
+        let (fell, pocket) = outcome
+            .events
+            .iter()
+            .find_map(|e| match e.kind {
+                EventKind::BallPocket { ball: 1, pocket } => Some((e.t, pocket as usize)),
+                _ => None,
+            })
+            .expect("ball 1 falls");
+        let mut p = Playback::new(outcome.clone());
+        p.advance(fell - 0.01, 1.0);
+        assert!(p.dropping(&table, r).is_empty());
+        p.advance(0.01 + 0.5 * DROP_TIME, 1.0);
+        let [d] = p.dropping(&table, r)[..] else {
+            panic!("{:?}", p.dropping(&table, r))
+        };
+        assert_eq!(d.ball, 1);
+        // Below the cloth, in the middle of its pocket.
+        let hole = table.to_scene(table.pockets[pocket].center);
+        assert!(d.centre.z < r - 0.05, "{}", d.centre);
+        assert!(
+            (d.centre.truncate() - hole).length() < 1e-9,
+            "{} vs {hole}",
+            d.centre
+        );
+        p.advance(DROP_TIME, 1.0);
+        assert!(p.dropping(&table, r).is_empty(), "gone once it has fallen");
+        // It starts where it was caught.
+        let caught = outcome.state_at(1, fell).pos;
+        assert_eq!(drop_centre(caught, hole, 0.0, r), caught.extend(r));
+    }
+
+    #[test]
+    fn the_cue_is_seen_going_through_the_ball_at_the_start_only() {
+        let outcome = straight_in();
+        let mut p = Playback::new(outcome.clone());
+        let s = p.stroke(0).expect("at the strike");
+        assert_eq!(s.at, outcome.state_at(0, 0.0).pos);
+        let want = DVec2::new(-1.0, -1.0).normalize();
+        assert!((s.dir - want).length() < 1e-9, "{}", s.dir);
+        assert_eq!(s.done, 0.0);
+        p.advance(0.5 * STROKE_TIME, 1.0);
+        assert!((p.stroke(0).expect("still").done - 0.5).abs() < 1e-9);
+        // The ball at rest was not struck.
+        assert_eq!(p.stroke(1), None);
+        p.advance(STROKE_TIME, 1.0);
+        assert_eq!(p.stroke(0), None);
     }
 
     #[test]
