@@ -291,9 +291,11 @@ fn family_shot(
 proptest! {
     #![proptest_config(ProptestConfig { cases: 48, .. ProptestConfig::default() })]
 
-    /// The whole family of the issue: every shot into touching balls ends, keeps every
-    /// invariant, has at most one event per pair at an instant, and stays within the
-    /// measured envelope of ball–ball events (docs/stability.md).
+    /// The whole family of the issue: every shot into touching balls ends without the event
+    /// limit, keeps every invariant, has at most one event per pair at an instant and fewer
+    /// than 500 events in all; on the open cloth a line of n takes at most 4n + 10 ball–ball
+    /// events, and a 2-D cluster of n anywhere at most 10n + 20. (A line on a table is bound
+    /// by the 500 alone: its balls come back off the cushions into each other.)
     #[test]
     fn shots_into_touching_balls_stay_bounded(
         n in 2usize..=15,
@@ -309,7 +311,15 @@ proptest! {
         prop_assume!(breakshot_shared::physics::engine::check(&shot).is_ok());
         let out = run_checked(&shot);
         let hits = ball_ball_events(&out);
-        prop_assert!(out.events.len() < 1000, "{} events", out.events.len());
-        prop_assert!(hits <= 16 * n + 40, "{hits} ball-ball events for {n} balls");
+        prop_assert!(out.events.len() < 500, "{} events", out.events.len());
+        match (layout, place) {
+            (Layout::Line, Place::Open) => {
+                prop_assert!(hits <= 4 * n + 10, "{hits} ball-ball events for a line of {n}");
+            }
+            (Layout::Cluster, _) => {
+                prop_assert!(hits <= 10 * n + 20, "{hits} ball-ball events for a cluster of {n}");
+            }
+            (Layout::Line, _) => {}
+        }
     }
 }
