@@ -221,6 +221,9 @@ pub struct Simulator {
     pieces: Vec<Piece>,
     own: Vec<Own>,
     pair: Vec<f64>,
+    /// For each ball `i`, the earliest collision among its pairs `i < j`: the loop looks
+    /// for the next event over these instead of over every pair.
+    row: Vec<f64>,
     /// For each pair `i < j` (at `i·n + j`), when it last took part in an impact.
     last: Vec<f64>,
     /// For each pair `i < j`, whether its last impact left it held (moving as one).
@@ -345,6 +348,8 @@ impl Simulator {
         self.own.resize(n, NO_OWN);
         self.pair.clear();
         self.pair.resize(n * n, f64::INFINITY);
+        self.row.clear();
+        self.row.resize(n, f64::INFINITY);
         self.last.clear();
         self.last.resize(n * n, f64::NEG_INFINITY);
         self.held.clear();
@@ -412,12 +417,10 @@ impl Simulator {
                 next = Next::Own(i);
             }
         }
-        for i in 0..n {
-            for &t in &self.pair[i * n + i + 1..(i + 1) * n] {
-                if t < best {
-                    best = t;
-                    next = Next::Pair;
-                }
+        for &t in &self.row[..n] {
+            if t < best {
+                best = t;
+                next = Next::Pair;
             }
         }
         (best, next)
@@ -529,7 +532,14 @@ impl Simulator {
                 }
             }
         };
-        self.pair[i * n + j] = t.unwrap_or(f64::INFINITY);
+        let t = t.unwrap_or(f64::INFINITY);
+        let old = std::mem::replace(&mut self.pair[i * n + j], t);
+        if t <= self.row[i] {
+            self.row[i] = t;
+        } else if old == self.row[i] {
+            let pairs = &self.pair[i * n + i + 1..(i + 1) * n];
+            self.row[i] = pairs.iter().copied().fold(f64::INFINITY, f64::min);
+        }
     }
 
     /// Ball `i` starts a new piece at `t` in state `s`: record it and re-predict.
@@ -638,7 +648,7 @@ impl Simulator {
         let g = &mut self.scratch;
         g.balls.clear();
         let mut fastest: f64 = 0.0;
-        for i in 0..n {
+        for i in (0..n).filter(|&i| self.row[i] == t) {
             for j in i + 1..n {
                 if self.pair[i * n + j] == t {
                     let (a, b) = (&self.pieces[i], &self.pieces[j]);
