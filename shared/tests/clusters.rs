@@ -164,6 +164,32 @@ fn frozen_lines_hit_stun_and_rolling_from_thirty_centimetres() {
     }
 }
 
+/// The shots a sweep found over 4n + 10 before held sets met slowly answered as one body and
+/// a blow's remnants were settled: hard follow into long lines, whose rear the cue ball's
+/// follow drives into the still-sliding front one ball at a time (docs/stability.md, "Why a
+/// line broke up"). They took 79 ball–ball events each.
+#[test]
+fn hard_follow_into_long_lines_stays_within_four_n_plus_ten() {
+    let shots = [
+        (13, 0.0, 11.984734226673634, -0.01865983085763214),
+        (
+            15,
+            1.4708437406896022,
+            11.364562074424644,
+            0.0007525925095593147,
+        ),
+    ];
+    for (n, approach, speed, angle) in shots {
+        let shot = open_shot(line(DVec2::ZERO, n, approach, speed, ROLLING, angle));
+        let out = run_checked(&shot);
+        let hits = ball_ball_events(&out);
+        println!(
+            "line of {n}, rolling at {speed:.1} m/s from {approach:.2} m: {hits} ball-ball events"
+        );
+        assert!(hits <= 4 * n + 10, "line of {n}: {hits} ball-ball events");
+    }
+}
+
 #[test]
 fn frozen_rack_with_no_gaps_broken_at_four_eight_and_twelve() {
     for table in [TableKind::SevenFoot, TableKind::NineFoot] {
