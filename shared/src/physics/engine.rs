@@ -41,8 +41,10 @@ pub const CONTACT_GAP: f64 = 1e-9;
 /// is still going on. Resolved one pair at a time, such a gap would give a cascade.
 pub const NEAR_TIME: f64 = 1e-6;
 /// A pair pressed together by the cloth that meets again within `PERSIST_TIME` (s) of its
-/// last impact, slower than `PERSIST_SPEED` (m/s), is held rather than bounced (the
-/// persistence rule of a sustained push): bounced, it would come back in ever shorter hops.
+/// last impact, slower than `PERSIST_SPEED` (m/s) or than the `(1 − e)/2` of its last blow's
+/// speed that a blow leaves each ball, is held rather than bounced (the persistence rule of
+/// a sustained push): bounced, it would come back in ever shorter hops. A held set met
+/// slower than `PERSIST_SPEED` answers as one body.
 pub const PERSIST_TIME: f64 = 0.5;
 pub const PERSIST_SPEED: f64 = 0.05;
 /// Overlap between two balls (m) that a shot may start with: rounding, not a real overlap.
@@ -867,13 +869,15 @@ enum Next {
     Pair,
 }
 
-/// Resolves the impact of a touching group: every contact of the group within
-/// `CONTACT_GAP` takes part, whether or not its own collision was predicted.
+/// Resolves the impact of a touching group: every contact of the group (within
+/// `CONTACT_GAP`, or what the impact closes in `NEAR_TIME`) takes part, whether or not its
+/// own collision was predicted.
 ///
 /// The impact runs in rounds. Each round takes every contact approaching faster than
 /// `HOLD_SPEED` and resolves it from the velocities the previous round left: a contact that
-/// shares no ball with another by the pairwise model (restitution, throw, spin transfer), a
-/// connected set of them as one simultaneous impact ([`simultaneous_impact`]). A line of
+/// shares no body with another by the pairwise model (restitution, throw, spin transfer), a
+/// connected set of them as one simultaneous impact ([`simultaneous_impact`]). A body is a
+/// ball, or a held set when the group meets slower than `PERSIST_SPEED`. A line of
 /// touching balls is so resolved as the wave a real cradle carries, one contact after the
 /// other, and the far ball leaves. Within a round every contact is updated from the same
 /// velocities, so the result does not depend on how the balls are numbered. What the rounds
