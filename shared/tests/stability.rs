@@ -32,7 +32,9 @@ fn after_collisions(out: &Outcome, i: usize) -> BallState {
 fn newtons_cradle_resolves_in_a_handful_of_events() {
     let v = 2.0;
     for count in 2..=5usize {
-        for gap in [0.0, 1e-12, 1e-9, 1e-6, 1e-3] {
+        // Gaps just outside the contact tolerance (1 nm to 1 µm) close within the impact
+        // (`NEAR_TIME`), so they take part in it as touching balls do.
+        for gap in [0.0, 1e-12, 1e-9, 1e-8, 1e-7, 1e-6, 1e-3] {
             let mut balls = vec![ball([0.0, 0.0], [0.0, v], [0.0; 3])];
             for k in 0..count {
                 let y = (k + 1) as f64 * (2.0 * R + gap);
@@ -46,10 +48,7 @@ fn newtons_cradle_resolves_in_a_handful_of_events() {
                 "cradle {count} balls gap {gap:e}: {hits} ball-ball events, {} in all",
                 out.events.len()
             );
-            assert!(
-                hits <= 3 * count,
-                "{count} balls, gap {gap}: {hits} collisions"
-            );
+            assert!(hits <= count, "{count} balls, gap {gap}: {hits} collisions");
             let far = after_collisions(&out, count);
             assert!(
                 far.vel.y > 0.85 * v,

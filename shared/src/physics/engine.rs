@@ -35,9 +35,16 @@ pub const HOLD_SPEED: f64 = 1e-3;
 /// Gap between two balls (m) under which they count as touching: they take part in each
 /// other's impacts. At the fastest legal speed the gap would close in under 1e-10 s.
 pub const CONTACT_GAP: f64 = 1e-9;
+/// A ball nearer to a colliding group than the group's fastest approach closes in
+/// `NEAR_TIME` (s) takes part in its impact as if touching: a real impact lasts about
+/// 0.2 ms (Hertzian contact), so a gap closing within a microsecond closes while the impact
+/// is still going on. Resolved one pair at a time, such a gap would give a cascade.
+pub const NEAR_TIME: f64 = 1e-6;
 /// A pair pressed together by the cloth that meets again within `PERSIST_TIME` (s) of its
-/// last impact, slower than `PERSIST_SPEED` (m/s), is held rather than bounced (the
-/// persistence rule of a sustained push): bounced, it would come back in ever shorter hops.
+/// last impact, slower than `PERSIST_SPEED` (m/s) or than the `(1 − e)/2` of its last blow's
+/// speed that a blow leaves each ball, is held rather than bounced (the persistence rule of
+/// a sustained push): bounced, it would come back in ever shorter hops. A held set met
+/// slower than `PERSIST_SPEED` answers as one body.
 pub const PERSIST_TIME: f64 = 0.5;
 pub const PERSIST_SPEED: f64 = 0.05;
 /// Overlap between two balls (m) that a shot may start with: rounding, not a real overlap.
@@ -216,10 +223,15 @@ pub struct Simulator {
     pieces: Vec<Piece>,
     own: Vec<Own>,
     pair: Vec<f64>,
+    /// For each ball `i`, the earliest collision among its pairs `i < j`: the loop looks
+    /// for the next event over these instead of over every pair.
+    row: Vec<f64>,
     /// For each pair `i < j` (at `i·n + j`), when it last took part in an impact.
     last: Vec<f64>,
     /// For each pair `i < j`, whether its last impact left it held (moving as one).
     held: Vec<bool>,
+    /// For each pair `i < j`, the fastest it approached in the last impact that bounced it.
+    blow: Vec<f64>,
     /// For each ball, a box holding its current piece's whole path.
     boxes: Vec<(DVec2, DVec2)>,
     scratch: Scratch,
@@ -338,10 +350,14 @@ impl Simulator {
         self.own.resize(n, NO_OWN);
         self.pair.clear();
         self.pair.resize(n * n, f64::INFINITY);
+        self.row.clear();
+        self.row.resize(n, f64::INFINITY);
         self.last.clear();
         self.last.resize(n * n, f64::NEG_INFINITY);
         self.held.clear();
         self.held.resize(n * n, false);
+        self.blow.clear();
+        self.blow.resize(n * n, 0.0);
         for i in 0..n {
             self.predict_own(i, 0.0, &ctx);
         }
@@ -353,6 +369,9 @@ impl Simulator {
 
         let mut now = 0.0;
         let mut stopped_by_horizon = false;
+        // Steps of the loop: every step but a group impact in which nothing acts records an
+        // event, so this also bounds a run of such silent steps.
+        let mut steps = 0;
         loop {
             let (t, next) = self.earliest(n);
             if t > ctx.limit {
@@ -362,7 +381,8 @@ impl Simulator {
             if !t.is_finite() {
                 break;
             }
-            if self.outcome.events.len() >= MAX_EVENTS {
+            steps += 1;
+            if self.outcome.events.len() >= MAX_EVENTS || steps > 2 * MAX_EVENTS {
                 return Err(ShotError::EventLimit);
             }
             now = t;
@@ -399,12 +419,10 @@ impl Simulator {
                 next = Next::Own(i);
             }
         }
-        for i in 0..n {
-            for &t in &self.pair[i * n + i + 1..(i + 1) * n] {
-                if t < best {
-                    best = t;
-                    next = Next::Pair;
-                }
+        for &t in &self.row[..n] {
+            if t < best {
+                best = t;
+                next = Next::Pair;
             }
         }
         (best, next)
@@ -516,7 +534,14 @@ impl Simulator {
                 }
             }
         };
-        self.pair[i * n + j] = t.unwrap_or(f64::INFINITY);
+        let t = t.unwrap_or(f64::INFINITY);
+        let old = std::mem::replace(&mut self.pair[i * n + j], t);
+        if t <= self.row[i] {
+            self.row[i] = t;
+        } else if old == self.row[i] {
+            let pairs = &self.pair[i * n + i + 1..(i + 1) * n];
+            self.row[i] = pairs.iter().copied().fold(f64::INFINITY, f64::min);
+        }
     }
 
     /// Ball `i` starts a new piece at `t` in state `s`: record it and re-predict.
@@ -624,9 +649,13 @@ impl Simulator {
         let r = ctx.params.ball_radius;
         let g = &mut self.scratch;
         g.balls.clear();
-        for i in 0..n {
+        let mut fastest: f64 = 0.0;
+        for i in (0..n).filter(|&i| self.row[i] == t) {
             for j in i + 1..n {
                 if self.pair[i * n + j] == t {
+                    let (a, b) = (&self.pieces[i], &self.pieces[j]);
+                    let normal = (b.pos_at(t) - a.pos_at(t)).normalize_or_zero();
+                    fastest = fastest.max((a.vel_at(t) - b.vel_at(t)).dot(normal));
                     for b in [i, j] {
                         if !g.balls.contains(&b) {
                             g.balls.push(b);
@@ -640,9 +669,10 @@ impl Simulator {
         // never part of a touching group (its shadow may lie on one without touching it).
         let flying = |b: usize| self.pieces[b].start.motion == MotionState::Airborne;
         let in_flight = g.balls.iter().any(|&b| flying(b));
-        // Grow the group by every ball touching one of its balls, transitively. A ball whose
-        // path's box is out of reach cannot touch (most balls, most of the time).
-        let reach = 2.0 * r + CONTACT_GAP;
+        // Grow the group by every ball touching one of its balls (or as near as the impact's
+        // speed closes in `NEAR_TIME`), transitively. A ball whose path's box is out of reach
+        // cannot touch (most balls, most of the time).
+        let reach = 2.0 * r + CONTACT_GAP + NEAR_TIME * fastest;
         g.positions.clear();
         g.positions.resize(n, DVec2::INFINITY);
         for k in 0..seeds {
@@ -691,6 +721,7 @@ impl Simulator {
         g.contacts.clear();
         g.recent.clear();
         g.kept.clear();
+        g.blow.clear();
         for a in 0..g.balls.len() {
             for b in a + 1..g.balls.len() {
                 let d = g.states[b].pos - g.states[a].pos;
@@ -704,6 +735,7 @@ impl Simulator {
                     let last = self.last[g.balls[a] * n + g.balls[b]];
                     g.recent.push(t - last < PERSIST_TIME);
                     g.kept.push(self.held[g.balls[a] * n + g.balls[b]]);
+                    g.blow.push(self.blow[g.balls[a] * n + g.balls[b]]);
                 }
             }
         }
@@ -719,6 +751,9 @@ impl Simulator {
             if g.acted[k] {
                 let (i, j) = (g.balls[a], g.balls[b]);
                 self.last[i * n + j] = t;
+                if g.blow[k] > 0.0 {
+                    self.blow[i * n + j] = g.blow[k];
+                }
                 self.outcome.events.push(Event {
                     t,
                     kind: EventKind::BallBall {
@@ -792,6 +827,9 @@ struct Scratch {
     /// whether that impact left it held.
     recent: Vec<bool>,
     kept: Vec<bool>,
+    /// Each contact's pair's fastest approach in its last bounce, on entry; during the
+    /// impact, the fastest approach at which it is bounced now (0 if it is not).
+    blow: Vec<f64>,
     /// Contacts (indices) taking part in the current round, and which of them are resolved.
     active: Vec<usize>,
     done: Vec<bool>,
@@ -831,13 +869,15 @@ enum Next {
     Pair,
 }
 
-/// Resolves the impact of a touching group: every contact of the group within
-/// `CONTACT_GAP` takes part, whether or not its own collision was predicted.
+/// Resolves the impact of a touching group: every contact of the group (within
+/// `CONTACT_GAP`, or what the impact closes in `NEAR_TIME`) takes part, whether or not its
+/// own collision was predicted.
 ///
 /// The impact runs in rounds. Each round takes every contact approaching faster than
 /// `HOLD_SPEED` and resolves it from the velocities the previous round left: a contact that
-/// shares no ball with another by the pairwise model (restitution, throw, spin transfer), a
-/// connected set of them as one simultaneous impact ([`simultaneous_impact`]). A line of
+/// shares no body with another by the pairwise model (restitution, throw, spin transfer), a
+/// connected set of them as one simultaneous impact ([`simultaneous_impact`]). A body is a
+/// ball, or a held set when the group meets slower than `PERSIST_SPEED`. A line of
 /// touching balls is so resolved as the wave a real cradle carries, one contact after the
 /// other, and the far ball leaves. Within a round every contact is updated from the same
 /// velocities, so the result does not depend on how the balls are numbered. What the rounds
@@ -858,21 +898,33 @@ fn group_impact(g: &mut Scratch, ctx: &Ctx) {
     if g.recent.contains(&true) {
         accelerations(g, ctx);
     }
+    // Slower than a push's hop, or than what a blow leaves its pair (each ball keeps about
+    // (1 − e)/2 of a blow's speed), it is the settling of that push or blow.
+    let residual = (1.0 - restitution(ctx)) / 2.0;
     for k in 0..g.contacts.len() {
         let (a, b) = g.contacts[k];
+        let slow = PERSIST_SPEED.max(residual * g.blow[k]);
         g.recent[k] = g.recent[k]
-            && approach(g, k) < PERSIST_SPEED
+            && approach(g, k) < slow
             && (g.acc[a] - g.acc[b]).dot(g.normals[k]) > TOUCH_ACCEL;
+        g.blow[k] = 0.0;
     }
     g.wall_acted.clear();
     g.wall_acted.resize(g.walls.len(), false);
+    // A held set met slower than a push moves as one body in the rounds too: a slow meeting
+    // with it is one contact, not a wave through every contact of the set. A faster blow
+    // releases it, and the wave runs through it as through any touching line.
+    let fastest = (0..g.contacts.len()).fold(0.0f64, |m, k| m.max(approach(g, k)));
+    let bodies = fastest <= PERSIST_SPEED && join_kept(g);
     let rounds = 4 * (g.contacts.len() + g.walls.len()) + 8;
     for _ in 0..rounds {
         g.active.clear();
         for k in 0..g.contacts.len() {
-            if approach(g, k) > HOLD_SPEED && !g.recent[k] {
+            let u = approach(g, k);
+            if u > HOLD_SPEED && !g.recent[k] {
                 g.active.push(k);
                 g.acted[k] = true;
+                g.blow[k] = g.blow[k].max(u);
             }
         }
         let walls_approach = g
@@ -895,26 +947,32 @@ fn group_impact(g: &mut Scratch, ctx: &Ctx) {
             g.component_normals.push(g.normals[g.active[first]]);
             let mut k = 0;
             while k < g.component.len() {
+                // Contacts sharing a body (a ball, or a held set) are one simultaneous impact.
                 let (a, b) = g.component[k];
+                let (a, b) = (root(&g.parent, a), root(&g.parent, b));
                 for m in 0..g.active.len() {
-                    let (c, d) = g.contacts[g.active[m]];
+                    let contact = g.contacts[g.active[m]];
+                    let (c, d) = (root(&g.parent, contact.0), root(&g.parent, contact.1));
                     if !g.done[m] && (c == a || c == b || d == a || d == b) {
                         g.done[m] = true;
-                        g.component.push((c, d));
+                        g.component.push(contact);
                         g.component_normals.push(g.normals[g.active[m]]);
                     }
                 }
                 k += 1;
             }
-            if g.component.len() == 1 {
-                let (a, b) = g.component[0];
+            let (a, b) = g.component[0];
+            // A lone contact between two single balls takes the pairwise model (with throw
+            // and spin transfer); one with a held set, the simultaneous impact of bodies.
+            let single = |m: usize| {
+                !bodies
+                    || (0..g.states.len())
+                        .all(|o| o == m || root(&g.parent, o) != root(&g.parent, m))
+            };
+            if g.component.len() == 1 && single(a) && single(b) {
                 collide_pair(&mut g.states, a, b, ctx);
             } else {
-                let e = match ctx.models.ball_ball {
-                    BallBallModel::Ideal => 1.0,
-                    BallBallModel::Frictional => ctx.params.e_ball,
-                };
-                simultaneous_impact(g, e);
+                simultaneous_impact(g, restitution(ctx));
             }
         }
         // A ball driven into a cushion bounces off it, unless one of its ball contacts
@@ -943,6 +1001,14 @@ fn group_impact(g: &mut Scratch, ctx: &Ctx) {
     }
 }
 
+/// The ball–ball restitution of the collision model.
+fn restitution(ctx: &Ctx) -> f64 {
+    match ctx.models.ball_ball {
+        BallBallModel::Ideal => 1.0,
+        BallBallModel::Frictional => ctx.params.e_ball,
+    }
+}
+
 /// The speed at which contact `k` of the group closes (negative: opening).
 fn approach(g: &Scratch, k: usize) -> f64 {
     let (a, b) = g.contacts[k];
@@ -965,16 +1031,7 @@ fn settle(g: &mut Scratch, ctx: &Ctx) {
     // contact held before that the rounds left moving as one is still held: a push on a
     // held set moves it as one body, without an event inside it.
     // Slot `n` is the cushions: one body that does not move.
-    g.parent.clear();
-    g.parent.extend(0..=g.states.len());
-    for k in 0..g.contacts.len() {
-        let (a, b) = g.contacts[k];
-        let (sa, sb) = (&g.states[a], &g.states[b]);
-        if g.kept[k] && sa.vel == sb.vel && sa.spin == sb.spin {
-            let (ra, rb) = (root(&g.parent, a), root(&g.parent, b));
-            g.parent[ra.max(rb)] = ra.min(rb);
-        }
-    }
+    join_kept(g);
     for _ in 0..PASSES {
         // Every contact between different bodies takes part; the impact itself decides
         // which carry an impulse.
@@ -1022,6 +1079,24 @@ fn settle(g: &mut Scratch, ctx: &Ctx) {
             break;
         }
     }
+}
+
+/// Starts the held sets afresh (`Scratch::parent`) from the contacts held before this impact
+/// whose balls still move alike; true if any set has more than one ball.
+fn join_kept(g: &mut Scratch) -> bool {
+    g.parent.clear();
+    g.parent.extend(0..=g.states.len());
+    let mut joined = false;
+    for k in 0..g.contacts.len() {
+        let (a, b) = g.contacts[k];
+        let (sa, sb) = (&g.states[a], &g.states[b]);
+        if g.kept[k] && sa.vel == sb.vel && sa.spin == sb.spin {
+            let (ra, rb) = (root(&g.parent, a), root(&g.parent, b));
+            g.parent[ra.max(rb)] = ra.min(rb);
+            joined = true;
+        }
+    }
+    joined
 }
 
 /// Gives every ball of each held set the set's average velocity and spin; true if that
@@ -1230,6 +1305,7 @@ fn flight_impact(g: &mut Scratch, ctx: &Ctx) {
     g.parent.extend(0..=g.states.len());
     g.acted.clear();
     g.acted.resize(g.contacts.len(), true);
+    g.blow.iter_mut().for_each(|b| *b = 0.0);
     g.wall_acted.clear();
     for k in 0..g.contacts.len() {
         let (a, b) = g.contacts[k];
@@ -1241,11 +1317,7 @@ fn flight_impact(g: &mut Scratch, ctx: &Ctx) {
 fn collide_pair(states: &mut [BallState], a: usize, b: usize, ctx: &Ctx) {
     let (sa, sb) = (states[a], states[b]);
     if sa.motion == MotionState::Airborne || sb.motion == MotionState::Airborne {
-        let e = match ctx.models.ball_ball {
-            BallBallModel::Ideal => 1.0,
-            BallBallModel::Frictional => ctx.params.e_ball,
-        };
-        airborne::collide(states, a, b, e, ctx.params);
+        airborne::collide(states, a, b, restitution(ctx), ctx.params);
         return;
     }
     let (ka, kb) = ball_ball::collide(

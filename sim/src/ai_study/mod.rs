@@ -4,7 +4,7 @@
 //! strength against the search budget.
 
 mod games;
-mod ghost;
+pub(crate) mod ghost;
 mod plot;
 
 use std::fmt::Write as _;
