@@ -523,9 +523,9 @@ impl GameScreen {
             draw_thinking(&layout);
         }
         let keys = if self.link.chats() {
-            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  A G P: aids  |  T: chat  |  Esc: leave"
+            "Mouse: aim, drag back: shoot  |  Space: shoot  |  W/S: elevation  |  V: 3-D  |  A G P L: aids  |  T: chat  |  Esc: leave"
         } else {
-            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: cue elevation  |  A G P: aids  |  F3: debug  |  Esc: leave"
+            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  V: 3-D view  |  A G P L: aids  |  Esc: leave"
         };
         let message = self.flow.message.as_str();
         let footer = match (self.link.watching(), message.is_empty()) {
