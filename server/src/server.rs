@@ -45,13 +45,16 @@ use crate::records;
 use crate::secret::{Entropy, OsEntropy, TestEntropy};
 use crate::source::source_key;
 use crate::stats::Stats;
-use crate::store::{Store, StoreError};
+use crate::store::{Location, Store, StoreError};
 use crate::tls::{Identity, TlsError};
 
 #[derive(Clone, Debug)]
 pub struct Config {
     pub bind: SocketAddr,
+    /// The certificate's directory, and the SQLite store's unless `store` says otherwise.
     pub data: PathBuf,
+    /// Where the games are kept: SQLite in `data` by default.
+    pub store: Location,
     pub limits: Limits,
     /// Tests only: draw room codes, seat tokens and game seeds from this seed instead of the
     /// operating system, so a test's games are the same on every run. Never set in service:
@@ -79,6 +82,7 @@ impl Config {
     pub fn new(bind: SocketAddr, data: PathBuf) -> Config {
         Config {
             bind,
+            store: Location::Sqlite(data.clone()),
             data,
             limits: Limits::default(),
             predictable_seed: None,
@@ -142,7 +146,6 @@ impl Server {
             source,
         })?;
         let identity = Identity::load_or_create(&config.data)?;
-        let store = Store::open(&config.data)?;
         let physics = reference_hash().map_err(|e| ServerError::Physics(e.to_string()))?;
         let mut hub = Hub::new(
             HubConfig {
@@ -154,7 +157,18 @@ impl Server {
                 None => Box::new(OsEntropy),
             },
         );
-        let restored = restore(&store, &mut hub)?;
+        // The PostgreSQL driver blocks on a runtime of its own, which cannot start inside the
+        // server's: the store is opened and read back on a plain thread (the writer thread,
+        // where it is used from then on, is one too).
+        let (store, restored) = std::thread::scope(|s| {
+            s.spawn(|| -> Result<_, ServerError> {
+                let store = Store::at(&config.store)?;
+                let restored = restore(&store, &mut hub)?;
+                Ok((store, restored))
+            })
+            .join()
+        })
+        .map_err(|_| ServerError::StorageFailed("opening the store failed".into()))??;
         let reset_key = crate::tls::reset_key(&config.data)?;
         let endpoint =
             endpoint(identity.server_config()?, reset_key, config.bind).map_err(|source| {
