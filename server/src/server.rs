@@ -60,8 +60,8 @@ pub struct Config {
     /// operating system, so a test's games are the same on every run. Never set in service:
     /// predictable tokens let anyone take a seat.
     pub predictable_seed: Option<u64>,
-    /// Threads that run rooms' messages (shots are simulated there); one per core by
-    /// default.
+    /// Threads that run rooms' messages (shots are simulated there); by default one per
+    /// core and at least two.
     pub room_threads: usize,
     /// Tests only: called on the worker thread before each message a room runs, so a test
     /// can make one room as slow as it likes and watch the others. `None` in service.
@@ -168,7 +168,9 @@ impl Server {
             })
             .join()
         })
-        .map_err(|_| ServerError::StorageFailed("opening the store failed".into()))??;
+        .map_err(|_| {
+            ServerError::StorageFailed("the thread opening the store panicked".into())
+        })??;
         let reset_key = crate::tls::reset_key(&config.data)?;
         let endpoint =
             endpoint(identity.server_config()?, reset_key, config.bind).map_err(|source| {
