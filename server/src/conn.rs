@@ -19,6 +19,7 @@ use crate::limits::Limits;
 use crate::output::ConnId;
 use crate::ratelimit::Bucket;
 use crate::stats::Stats;
+use crate::work::Returned;
 
 /// What the writer thread hands a connection.
 #[derive(Debug)]
@@ -27,13 +28,15 @@ pub enum Outbound {
     Close(String),
 }
 
-/// What a connection tells the hub.
+/// What a connection (or a room's worker) tells the hub.
 #[derive(Debug)]
 pub enum HubEvent {
     Connected(ConnId, IpAddr),
     /// A message and when its frame was read (the start of the server's time for it).
     Message(ConnId, ClientMessage, Instant),
     Disconnected(ConnId),
+    /// A room back from running a message on a worker thread.
+    Returned(Returned),
     Shutdown,
 }
 

@@ -2,8 +2,12 @@
 //! handshake, validates every message, rate-limits, routes messages to rooms and keeps the
 //! index from seat-token digests to seats. The driver feeds it events with `now` and
 //! carries out the outputs.
+//!
+//! A message for a room is lent out with the room ([`Output::Run`]), so the driver can run
+//! rooms in parallel; until the room is [`Hub::returned`], the hub holds that room's later
+//! events in arrival order, and answers every other room and connection at once.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, VecDeque};
 use std::net::IpAddr;
 use std::time::{Duration, Instant};
 
@@ -11,7 +15,7 @@ use breakshot_shared::protocol::limits::{
     CHAT_BURST, CHAT_REFILL, MAX_ROOMS, MAX_SPECTATORS, ROOM_CODE_LEN,
 };
 use breakshot_shared::protocol::{
-    validate, ClientMessage, ErrorCode, Role, RoomCode, ServerMessage, PROTOCOL_VERSION,
+    validate, ClientMessage, ErrorCode, Role, RoomCode, SeatToken, ServerMessage, PROTOCOL_VERSION,
 };
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Game, Phase, Seat};
@@ -23,6 +27,7 @@ use crate::ratelimit::Bucket;
 use crate::room::{Entry, Room, RoomRules, Who};
 use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
 use crate::source::source_key;
+use crate::work::{Returned, RoomWork};
 
 #[derive(Clone, Debug)]
 pub struct HubConfig {
@@ -35,6 +40,8 @@ struct Conn {
     addr: IpAddr,
     greeted: bool,
     room: Option<(RoomCode, Role)>,
+    /// Its entry into a room is held until the room comes back.
+    entering: bool,
     chat: Bucket,
     messages: Bucket,
 }
@@ -48,9 +55,19 @@ struct Source {
     rooms: usize,
 }
 
+/// An event for a room that is out running a message, kept until it comes back.
+enum Held {
+    Message(Who, ClientMessage, Instant),
+    /// A create, join, rejoin or spectate, routed again once the room is back.
+    Enter(ConnId, ClientMessage),
+    Disconnect(ConnId),
+}
+
 pub struct Hub {
     config: HubConfig,
+    /// The rooms here; a room lent out with its work is in `away` instead.
     rooms: BTreeMap<RoomCode, Room>,
+    away: BTreeMap<RoomCode, VecDeque<Held>>,
     /// Who created each open room, for the rooms-per-address limit.
     creators: BTreeMap<RoomCode, IpAddr>,
     sources: BTreeMap<IpAddr, Source>,
@@ -80,6 +97,7 @@ impl Hub {
         Hub {
             config,
             rooms: BTreeMap::new(),
+            away: BTreeMap::new(),
             creators: BTreeMap::new(),
             sources: BTreeMap::new(),
             conns: BTreeMap::new(),
@@ -97,8 +115,87 @@ impl Hub {
         self.rooms.get(code)
     }
 
+    /// The rooms here (not those out running a message).
     pub fn rooms(&self) -> impl Iterator<Item = &Room> {
         self.rooms.values()
+    }
+
+    /// Every open room, here or out.
+    pub fn room_count(&self) -> usize {
+        self.rooms.len() + self.away.len()
+    }
+
+    /// Rooms out running a message.
+    pub fn rooms_away(&self) -> usize {
+        self.away.len()
+    }
+
+    /// A room back from its work: it takes the events held for it, in order, until one of
+    /// them sends it out again.
+    pub fn returned(&mut self, now: Instant, back: Returned) -> Vec<Output> {
+        let room = *back.0;
+        let code = room.code().clone();
+        let mut held = self.away.remove(&code).unwrap_or_default();
+        self.rooms.insert(code.clone(), room);
+        let mut out = Vec::new();
+        while let Some(event) = held.pop_front() {
+            match event {
+                Held::Message(who, msg, read) => {
+                    out.extend(self.lend(&code, who, msg, read));
+                    if let Some(waiting) = self.away.get_mut(&code) {
+                        waiting.extend(held);
+                        break;
+                    }
+                }
+                Held::Enter(conn, msg) => {
+                    let Some(c) = self.conns.get_mut(&conn) else {
+                        continue;
+                    };
+                    c.entering = false;
+                    out.extend(self.route(now, now, conn, msg, None));
+                    if self.conns.get(&conn).is_some_and(|c| c.room.is_some()) {
+                        self.refund_entry(conn);
+                    }
+                }
+                Held::Disconnect(conn) => {
+                    if let Some(room) = self.rooms.get_mut(&code) {
+                        out.extend(room.disconnect(now, conn));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Sends `msg` out with its room, or holds it if the room is already out.
+    fn lend(
+        &mut self,
+        code: &RoomCode,
+        who: Who,
+        msg: ClientMessage,
+        read: Instant,
+    ) -> Vec<Output> {
+        if let Some(held) = self.away.get_mut(code) {
+            held.push_back(Held::Message(who, msg, read));
+            return Vec::new();
+        }
+        match self.rooms.remove(code) {
+            Some(room) => {
+                self.away.insert(code.clone(), VecDeque::new());
+                vec![Output::Run(RoomWork::new(Box::new(room), who, msg, read))]
+            }
+            None => error(who.conn, ErrorCode::NoSuchRoom, "the room is closed"),
+        }
+    }
+
+    /// The room an entry names, if that room is out: the entry waits for it.
+    fn entry_away(&self, msg: &ClientMessage) -> Option<RoomCode> {
+        let code = match msg {
+            ClientMessage::Join { room, .. } | ClientMessage::Spectate { room } => room.clone(),
+            ClientMessage::Rejoin { token } => self.tokens.get(&TokenDigest::of(token))?.0.clone(),
+            _ => return None,
+        };
+        self.away.contains_key(&code).then_some(code)
     }
 
     /// Brings back a room from the store (after its record was replayed and checked).
@@ -147,6 +244,7 @@ impl Hub {
                 addr,
                 greeted: false,
                 room: None,
+                entering: false,
                 chat: Bucket::new(CHAT_BURST, CHAT_REFILL, now),
                 messages: Bucket::new(per_second, Duration::from_secs(1) / per_second, now),
             },
@@ -167,13 +265,33 @@ impl Hub {
         if let Some(source) = self.sources.get_mut(&state.addr) {
             source.conns = source.conns.saturating_sub(1);
         }
-        match state.room.and_then(|(code, _)| self.rooms.get_mut(&code)) {
+        let Some((code, _)) = state.room else {
+            return Vec::new();
+        };
+        if let Some(held) = self.away.get_mut(&code) {
+            held.push_back(Held::Disconnect(conn));
+            return Vec::new();
+        }
+        match self.rooms.get_mut(&code) {
             Some(room) => room.disconnect(now, conn),
             None => Vec::new(),
         }
     }
 
+    /// A message read just now.
     pub fn handle(&mut self, now: Instant, conn: ConnId, msg: ClientMessage) -> Vec<Output> {
+        self.handle_read(now, now, conn, msg)
+    }
+
+    /// A message read at `read` (carried with a room's work for the server's time per
+    /// command).
+    pub fn handle_read(
+        &mut self,
+        now: Instant,
+        read: Instant,
+        conn: ConnId,
+        msg: ClientMessage,
+    ) -> Vec<Output> {
         let Some(state) = self.conns.get_mut(&conn) else {
             return Vec::new();
         };
@@ -185,6 +303,13 @@ impl Hub {
         }
         if !state.greeted {
             return self.hello(conn, msg);
+        }
+        if state.entering {
+            return error(
+                conn,
+                ErrorCode::Unexpected,
+                "the answer to your entry into a room is on its way",
+            );
         }
         let msg = match validate(msg) {
             Ok(msg) => msg,
@@ -215,7 +340,7 @@ impl Hub {
                 "too many attempts to enter rooms from this address; wait a little",
             );
         }
-        let out = self.route(now, conn, msg, in_room.clone());
+        let out = self.route(now, read, conn, msg, in_room.clone());
         // Only failed entries are charged: guessing codes or tokens is what the budget is
         // for, and players behind one address (or rejoining after a restart) must not be
         // locked out by their own successes.
@@ -229,10 +354,22 @@ impl Hub {
     fn route(
         &mut self,
         now: Instant,
+        read: Instant,
         conn: ConnId,
         msg: ClientMessage,
         in_room: Option<(RoomCode, Role)>,
     ) -> Vec<Output> {
+        if in_room.is_none() {
+            if let Some(code) = self.entry_away(&msg) {
+                if let Some(c) = self.conns.get_mut(&conn) {
+                    c.entering = true;
+                }
+                if let Some(held) = self.away.get_mut(&code) {
+                    held.push_back(Held::Enter(conn, msg));
+                }
+                return Vec::new();
+            }
+        }
         match (msg, in_room) {
             (ClientMessage::Hello { .. }, _) => {
                 error(conn, ErrorCode::Unexpected, "already greeted")
@@ -274,10 +411,7 @@ impl Hub {
                 }
                 None => error(conn, ErrorCode::NoSuchRoom, format!("no room {room}")),
             },
-            (other, Some((code, role))) => match self.rooms.get_mut(&code) {
-                Some(room) => room.handle(now, Who { conn, role }, other),
-                None => error(conn, ErrorCode::NoSuchRoom, "the room is closed"),
-            },
+            (other, Some((code, role))) => self.lend(&code, Who { conn, role }, other, read),
             (_, None) => error(conn, ErrorCode::Unexpected, "join or create a room first"),
         }
     }
@@ -323,14 +457,16 @@ impl Hub {
     /// Rooms created from `addr` whose game is not over. A finished room stays in memory
     /// until its players leave, but no longer counts against its creator's limit.
     fn rooms_in_play(&self, addr: IpAddr) -> usize {
+        // A room out running a message counts as in play.
         self.creators
             .iter()
             .filter(|(code, creator)| {
                 **creator == addr
-                    && self
-                        .rooms
-                        .get(*code)
-                        .is_some_and(|r| !matches!(r.game().phase(), Phase::Over { .. }))
+                    && (self.away.contains_key(*code)
+                        || self
+                            .rooms
+                            .get(*code)
+                            .is_some_and(|r| !matches!(r.game().phase(), Phase::Over { .. })))
             })
             .count()
     }
@@ -408,7 +544,7 @@ impl Hub {
         rules: RoomRules,
         name: String,
     ) -> Vec<Output> {
-        if self.rooms.len() >= self.config.limits.max_rooms.min(MAX_ROOMS) {
+        if self.room_count() >= self.config.limits.max_rooms.min(MAX_ROOMS) {
             return error(conn, ErrorCode::ServerBusy, "the server is full; try later");
         }
         let addr = self.conns.get(&conn).map(|c| c.addr);
@@ -424,7 +560,7 @@ impl Hub {
             let mut bytes = [0u8; ROOM_CODE_LEN];
             self.rng.fill(&mut bytes);
             let code = RoomCode::from_random(bytes);
-            if !self.rooms.contains_key(&code) {
+            if !self.rooms.contains_key(&code) && !self.away.contains_key(&code) {
                 break code;
             }
         };
@@ -458,12 +594,7 @@ impl Hub {
         entry.out
     }
 
-    fn rejoin(
-        &mut self,
-        now: Instant,
-        conn: ConnId,
-        token: breakshot_shared::protocol::SeatToken,
-    ) -> Vec<Output> {
+    fn rejoin(&mut self, now: Instant, conn: ConnId, token: SeatToken) -> Vec<Output> {
         let digest = TokenDigest::of(&token);
         let Some((code, seat)) = self.tokens.get(&digest).cloned() else {
             if let Some(result) = self.endings.answer(now, &digest) {

@@ -8,6 +8,7 @@ pub mod endings;
 pub mod hub;
 pub mod limits;
 pub mod output;
+pub mod pool;
 pub mod ratelimit;
 pub mod records;
 pub mod room;
@@ -19,7 +20,8 @@ pub mod store;
 pub mod timing;
 pub mod tls;
 pub mod verify;
+pub mod work;
 
 pub use limits::Limits;
-pub use server::{run, Config, Server, ServerError};
+pub use server::{run, Config, RoomHook, Server, ServerError};
 pub use stats::Stats;

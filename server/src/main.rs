@@ -6,7 +6,8 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context;
-use breakshot_server::verify::verify_dir;
+use breakshot_server::store::Location;
+use breakshot_server::verify::{verify_dir, verify_store};
 use breakshot_server::{Config, Limits, Server};
 use clap::{Parser, Subcommand};
 use tokio::signal::unix::{signal, SignalKind};
@@ -23,6 +24,10 @@ struct Cli {
     /// Directory for the certificate and the game store.
     #[arg(long, default_value = "breakshot-data")]
     data: PathBuf,
+    /// Keep the games in this PostgreSQL database (postgres://USER@HOST/DB) instead of
+    /// SQLite in the data directory.
+    #[arg(long, value_parser = parse_store)]
+    store: Option<Location>,
     /// Host name or address players use to reach this server, for the invite (defaults to
     /// the bound address).
     #[arg(long)]
@@ -56,13 +61,20 @@ enum Command {
     Verify {
         #[arg(long, default_value = "breakshot-data")]
         data: PathBuf,
+        /// Verify the games in this PostgreSQL database instead.
+        #[arg(long, value_parser = parse_store)]
+        store: Option<Location>,
     },
+}
+
+fn parse_store(url: &str) -> Result<Location, String> {
+    Location::parse(url).map_err(|e| e.to_string())
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
-        Some(Command::Verify { data }) => verify(data),
+        Some(Command::Verify { data, store }) => verify(data, store.as_ref()),
         None => serve(&cli).map(|()| true),
     };
     match result {
@@ -91,6 +103,9 @@ fn serve(cli: &Cli) -> anyhow::Result<()> {
         let mut terminate = signal(SignalKind::terminate()).context("listening for SIGTERM")?;
         let mut config = Config::new(cli.bind, cli.data.clone());
         config.limits = limits(cli);
+        if let Some(store) = &cli.store {
+            config.store = store.clone();
+        }
         let server = Server::bind(&config)?;
         let mut invite = server.invite();
         if let Some(host) = &cli.host {
@@ -140,9 +155,11 @@ fn limits(cli: &Cli) -> Limits {
     limits
 }
 
-fn verify(data: &std::path::Path) -> anyhow::Result<bool> {
-    let checks =
-        verify_dir(data).with_context(|| format!("reading games in {}", data.display()))?;
+fn verify(data: &std::path::Path, store: Option<&Location>) -> anyhow::Result<bool> {
+    let checks = match store {
+        Some(store) => verify_store(store).context("reading games in the PostgreSQL store")?,
+        None => verify_dir(data).with_context(|| format!("reading games in {}", data.display()))?,
+    };
     let mut failed = 0;
     for c in &checks {
         let state = if c.finished { "finished" } else { "unfinished" };

@@ -6,6 +6,7 @@ use breakshot_shared::rules::{Seat, Settings, Variant};
 use serde::{Deserialize, Serialize};
 
 use crate::secret::TokenDigest;
+use crate::work::RoomWork;
 
 /// A connection, numbered by the driver.
 pub type ConnId = u64;
@@ -23,6 +24,10 @@ pub enum Output {
     /// it after committing every earlier store operation, so it holds every result already
     /// sent.
     SendRecord { to: ConnId, room: RoomCode },
+    /// Run a message through its room away from the hub (see [`crate::work`]): carry out
+    /// the outputs the work returns, then give the room back with
+    /// [`crate::hub::Hub::returned`]. Everything before it in the list comes first.
+    Run(RoomWork),
 }
 
 #[derive(Debug)]

@@ -1,10 +1,19 @@
-//! The driver: binds the QUIC endpoint, runs the hub on its own thread and the store on a
-//! writer thread, and moves bytes between them and the connections.
+//! The driver: binds the QUIC endpoint, runs the hub on its own thread, rooms' messages on a
+//! pool of worker threads and the store on a writer thread, and moves bytes between them and
+//! the connections.
 //!
 //! ```text
-//! connections --HubEvent--> hub thread --Vec<Output>--> writer thread --Outbound--> connections
-//!                                                       (stores, then sends)
+//! connections --HubEvent--> hub thread --Vec<Output>-------------------> writer thread --Outbound--> connections
+//!                              |   ^                                     (stores, then sends)
+//!                    Run(room) v   | Returned(room)                        ^
+//!                            room workers --Vec<Output> (the room's)------+
 //! ```
+//!
+//! The hub thread only routes, checks and counts; a message for a room goes out with the
+//! room to a worker (the shot's simulation runs there), which hands the room's outputs to the
+//! writer and then the room back to the hub. One room is on at most one worker at a time, and
+//! the hub holds its next events until it is back, so a room's events keep their order while
+//! a long simulation in one room delays no other room and no handshake.
 //!
 //! The writer thread takes whatever batches are waiting, commits all their store operations
 //! in one transaction, and only then hands their messages to the connections: results are
@@ -20,7 +29,7 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use breakshot_shared::protocol::{reference_hash, Fingerprint, Invite};
+use breakshot_shared::protocol::{reference_hash, Fingerprint, Invite, RoomCode};
 use thiserror::Error;
 use tokio::sync::mpsc::error::TrySendError;
 use tokio::sync::Notify;
@@ -31,31 +40,54 @@ use crate::endings::Ending;
 use crate::hub::{Hub, HubConfig};
 use crate::limits::Limits;
 use crate::output::{ConnId, Output, StoreOp};
+use crate::pool::{self, Pool};
 use crate::records;
 use crate::secret::{Entropy, OsEntropy, TestEntropy};
 use crate::source::source_key;
 use crate::stats::Stats;
-use crate::store::{Store, StoreError};
+use crate::store::{Location, Store, StoreError};
 use crate::tls::{Identity, TlsError};
 
 #[derive(Clone, Debug)]
 pub struct Config {
     pub bind: SocketAddr,
+    /// The certificate's directory, and the SQLite store's unless `store` says otherwise.
     pub data: PathBuf,
+    /// Where the games are kept: SQLite in `data` by default.
+    pub store: Location,
     pub limits: Limits,
     /// Tests only: draw room codes, seat tokens and game seeds from this seed instead of the
     /// operating system, so a test's games are the same on every run. Never set in service:
     /// predictable tokens let anyone take a seat.
     pub predictable_seed: Option<u64>,
+    /// Threads that run rooms' messages (shots are simulated there); by default one per
+    /// core and at least two.
+    pub room_threads: usize,
+    /// Tests only: called on the worker thread before each message a room runs, so a test
+    /// can make one room as slow as it likes and watch the others. `None` in service.
+    pub before_room_work: Option<RoomHook>,
+}
+
+/// See [`Config::before_room_work`].
+#[derive(Clone)]
+pub struct RoomHook(pub Arc<dyn Fn(&RoomCode) + Send + Sync>);
+
+impl std::fmt::Debug for RoomHook {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("RoomHook")
+    }
 }
 
 impl Config {
     pub fn new(bind: SocketAddr, data: PathBuf) -> Config {
         Config {
             bind,
+            store: Location::Sqlite(data.clone()),
             data,
             limits: Limits::default(),
             predictable_seed: None,
+            room_threads: pool::default_threads(),
+            before_room_work: None,
         }
     }
 }
@@ -91,6 +123,8 @@ pub struct Server {
     store: Store,
     restored: usize,
     limits: Limits,
+    room_threads: usize,
+    before_room_work: Option<RoomHook>,
     stats: Arc<Stats>,
 }
 
@@ -112,7 +146,6 @@ impl Server {
             source,
         })?;
         let identity = Identity::load_or_create(&config.data)?;
-        let store = Store::open(&config.data)?;
         let physics = reference_hash().map_err(|e| ServerError::Physics(e.to_string()))?;
         let mut hub = Hub::new(
             HubConfig {
@@ -124,7 +157,20 @@ impl Server {
                 None => Box::new(OsEntropy),
             },
         );
-        let restored = restore(&store, &mut hub)?;
+        // The PostgreSQL driver blocks on a runtime of its own, which cannot start inside the
+        // server's: the store is opened and read back on a plain thread (the writer thread,
+        // where it is used from then on, is one too).
+        let (store, restored) = std::thread::scope(|s| {
+            s.spawn(|| -> Result<_, ServerError> {
+                let store = Store::at(&config.store)?;
+                let restored = restore(&store, &mut hub)?;
+                Ok((store, restored))
+            })
+            .join()
+        })
+        .map_err(|_| {
+            ServerError::StorageFailed("the thread opening the store panicked".into())
+        })??;
         let reset_key = crate::tls::reset_key(&config.data)?;
         let endpoint =
             endpoint(identity.server_config()?, reset_key, config.bind).map_err(|source| {
@@ -140,6 +186,8 @@ impl Server {
             store,
             restored,
             limits: config.limits.clone(),
+            room_threads: config.room_threads,
+            before_room_work: config.before_room_work.clone(),
             stats: Arc::new(Stats::default()),
         })
     }
@@ -188,15 +236,27 @@ impl Server {
             hub,
             store,
             limits,
+            room_threads,
+            before_room_work,
             stats,
             ..
         } = self;
         let (hub_tx, hub_rx) = mpsc::channel::<HubEvent>();
         let (writer_tx, writer_rx) = mpsc::channel::<WriterMsg>();
         let failed = Arc::new(Notify::new());
-        let hub_thread = spawn_hub(hub, hub_rx, writer_tx.clone(), stats.clone());
-        let writer_thread = spawn_writer(store, writer_rx, failed.clone(), stats.clone());
         let hub_tx = conn::HubSender::new(hub_tx, stats.clone());
+        let hub_thread = spawn_hub(
+            hub,
+            hub_rx,
+            hub_tx.clone(),
+            writer_tx.clone(),
+            Workers {
+                pool: Pool::new(room_threads),
+                hook: before_room_work,
+            },
+            stats.clone(),
+        );
+        let writer_thread = spawn_writer(store, writer_rx, failed.clone(), stats.clone());
 
         let gate = Gate::new(stats.clone());
         let mut next_id: ConnId = 0;
@@ -419,14 +479,24 @@ fn restore(store: &Store, hub: &mut Hub) -> Result<usize, ServerError> {
     Ok(restored)
 }
 
+/// The threads that run rooms' messages, with the tests' hook.
+struct Workers {
+    pool: Pool,
+    hook: Option<RoomHook>,
+}
+
 fn spawn_hub(
     mut hub: Hub,
     events: Receiver<HubEvent>,
+    back: conn::HubSender,
     writer: Sender<WriterMsg>,
+    workers: Workers,
     stats: Arc<Stats>,
 ) -> JoinHandle<()> {
+    // The pool moves into the thread: when the hub stops, dropping it finishes the rooms'
+    // work already queued (so every accepted command is stored) before the writer stops.
     std::thread::spawn(move || loop {
-        stats.rooms.store(hub.rooms().count(), Ordering::Relaxed);
+        stats.rooms.store(hub.room_count(), Ordering::Relaxed);
         let wait = hub
             .next_deadline()
             .map(|d| d.saturating_duration_since(Instant::now()));
@@ -447,8 +517,9 @@ fn spawn_hub(
                 hub.connected(now, id, addr);
                 Vec::new()
             }
-            Ok(HubEvent::Message(id, msg, _)) => hub.handle(now, id, msg),
+            Ok(HubEvent::Message(id, msg, read)) => hub.handle_read(now, read, id, msg),
             Ok(HubEvent::Disconnected(id)) => hub.disconnected(now, id),
+            Ok(HubEvent::Returned(room)) => hub.returned(now, room),
             Ok(HubEvent::Shutdown) | Err(RecvTimeoutError::Disconnected) => return,
             Err(RecvTimeoutError::Timeout) => hub.tick(now),
         };
@@ -457,8 +528,28 @@ fn spawn_hub(
         if hub.next_deadline().is_some_and(|d| d <= now) {
             out.extend(hub.tick(now));
         }
+        let (work, out): (Vec<_>, Vec<_>) =
+            out.into_iter().partition(|o| matches!(o, Output::Run(_)));
+        // What the hub said goes to the writer before any room it lent out can answer.
         if !out.is_empty() && writer.send(WriterMsg::Batch(out, read)).is_err() {
             return;
+        }
+        for o in work {
+            let Output::Run(work) = o else { continue };
+            let writer = writer.clone();
+            let back = back.clone();
+            let hook = workers.hook.clone();
+            workers.pool.run(move || {
+                if let Some(RoomHook(hook)) = hook {
+                    hook(work.room());
+                }
+                let read = work.read;
+                let (out, room) = work.run(Instant::now());
+                // The room's results reach the writer before the room is back at the hub,
+                // so its next results always come after these.
+                let _ = writer.send(WriterMsg::Batch(out, Some(read)));
+                let _ = back.send(HubEvent::Returned(room));
+            });
         }
     })
 }
@@ -509,7 +600,8 @@ fn spawn_writer(
                             let (to, what) = match o {
                                 Output::Send { to, msg } => (to, Outbound::Message(msg)),
                                 Output::Close { conn, reason } => (conn, Outbound::Close(reason)),
-                                Output::Store(_) => continue,
+                                // The hub thread hands every `Run` to the workers.
+                                Output::Store(_) | Output::Run(_) => continue,
                                 Output::SendRecord { to, room } => {
                                     (to, Outbound::Message(records::answer(&store, &room)))
                                 }

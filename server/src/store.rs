@@ -1,8 +1,12 @@
-//! The game store: SQLite in the data directory, WAL with `synchronous=FULL`, so a commit
-//! that returned survives a crash or a power cut. One row per room (its settings and seat
-//! token digests), one per game (its header: rules, settings, seed; and, once it is over, its
-//! result) and one per accepted command. A command is one appended row, so a write costs the
-//! same at the thousandth command as at the first; a game's record is assembled on read.
+//! The game store, with one durability contract and two backends: SQLite in the data
+//! directory (the embedded default, no setup) and PostgreSQL (`--store postgres://...`), for
+//! a store that lives outside the server's machine.
+//!
+//! One row per room (its settings and seat token digests), one per game (its header: rules,
+//! settings, seed; and, once it is over, its result) and one per accepted command. A command
+//! is one appended row, so a write costs the same at the thousandth command as at the first;
+//! a game's record is assembled on read. [`Store::apply`] commits a batch in one transaction
+//! and returns only once it is durable: the server shows nothing before that.
 //!
 //! Everything here blocks; the server calls it from its own writer thread, never from an
 //! async worker.
@@ -13,26 +17,23 @@ use std::time::{SystemTime, UNIX_EPOCH};
 use bincode::config;
 use breakshot_shared::protocol::limits::MAX_RECORD;
 use breakshot_shared::protocol::RoomCode;
-use breakshot_shared::replay::{self, GameRecord, RecordEntry, RecordError, RECORD_VERSION};
+use breakshot_shared::replay::{GameRecord, RecordEntry, RecordError};
 use breakshot_shared::rules::Seat;
-use rusqlite::{params, Connection, OptionalExtension};
 use thiserror::Error;
 
 use crate::output::{RoomMeta, StoreOp};
 
-pub const DB_FILE: &str = "games.sqlite3";
+mod postgres;
+mod sqlite;
 
-/// The schema this build writes (`PRAGMA user_version`). Version 1 (no version set) kept
-/// each game's whole record in `games.record`; it is migrated in place on open: the record
-/// becomes the game's header, with no command rows after it. Version 2 may hold records of
-/// format 1 (level strikes, before the cue elevation); on open they are rewritten in the
-/// current format, so a game goes on with rows of one format only.
-const SCHEMA: i64 = 3;
+pub use sqlite::DB_FILE;
 
 #[derive(Debug, Error)]
 pub enum StoreError {
     #[error("database: {0}")]
     Sql(#[from] rusqlite::Error),
+    #[error("PostgreSQL: {0}")]
+    Postgres(#[from] ::postgres::Error),
     #[error("room {room}: stored settings are unreadable: {why}")]
     Meta { room: String, why: String },
     #[error("room {room} game {number}: {why}")]
@@ -41,8 +42,32 @@ pub enum StoreError {
         number: u32,
         why: RecordError,
     },
-    #[error("the store's schema version {0} is newer than this build's ({SCHEMA})")]
-    Schema(i64),
+    #[error("the store's schema version {found} is newer than this build's ({known})")]
+    Schema { found: i64, known: i64 },
+    #[error("{0}")]
+    Location(String),
+}
+
+/// Where the games are kept.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Location {
+    /// SQLite in this directory.
+    Sqlite(std::path::PathBuf),
+    /// A PostgreSQL database, by its connection URL (`postgres://user@host/db`).
+    Postgres(String),
+}
+
+impl Location {
+    /// A `--store` argument: a `postgres://` or `postgresql://` URL.
+    pub fn parse(url: &str) -> Result<Location, StoreError> {
+        if url.starts_with("postgres://") || url.starts_with("postgresql://") {
+            Ok(Location::Postgres(url.to_string()))
+        } else {
+            Err(StoreError::Location(format!(
+                "{url:?} is not a postgres:// URL (without --store the games are kept in SQLite in the data directory)"
+            )))
+        }
+    }
 }
 
 /// One stored game with its room.
@@ -73,184 +98,82 @@ pub fn unix_now() -> u64 {
         .map_or(0, |d| d.as_secs())
 }
 
-pub struct Store {
-    db: Connection,
+pub struct Store(Backend);
+
+enum Backend {
+    Sqlite(sqlite::SqliteStore),
+    // Boxed: a client with its prepared statements is several times a SQLite connection.
+    Postgres(Box<postgres::PgStore>),
 }
 
 impl Store {
-    /// Opens (or creates) the store in `dir`, migrating an older schema.
+    /// Opens (or creates) the SQLite store in `dir`, migrating an older schema.
     pub fn open(dir: &Path) -> Result<Store, StoreError> {
-        let db = Connection::open(dir.join(DB_FILE))?;
-        db.pragma_update(None, "journal_mode", "WAL")?;
-        db.pragma_update(None, "synchronous", "FULL")?;
-        let version: i64 = db.pragma_query_value(None, "user_version", |r| r.get(0))?;
-        if version > SCHEMA {
-            return Err(StoreError::Schema(version));
+        Ok(Store(Backend::Sqlite(sqlite::SqliteStore::open(dir)?)))
+    }
+
+    /// Connects to a PostgreSQL store, creating or migrating its tables. Blocks; call it
+    /// outside an async runtime (the server does, on a thread of its own).
+    pub fn connect(url: &str) -> Result<Store, StoreError> {
+        Ok(Store(Backend::Postgres(Box::new(
+            postgres::PgStore::connect(url)?,
+        ))))
+    }
+
+    pub fn at(location: &Location) -> Result<Store, StoreError> {
+        match location {
+            Location::Sqlite(dir) => Store::open(dir),
+            Location::Postgres(url) => Store::connect(url),
         }
-        let has_v1_games: bool = db.query_row(
-            "SELECT COUNT(*) FROM pragma_table_info('games') WHERE name = 'record'",
-            [],
-            |r| r.get(0),
-        )?;
-        let tx = db.unchecked_transaction()?;
-        if has_v1_games {
-            tx.execute_batch(
-                "ALTER TABLE games RENAME COLUMN record TO header;
-                 ALTER TABLE games ADD COLUMN winner INTEGER;
-                 ALTER TABLE games ADD COLUMN reason TEXT;
-                 ALTER TABLE games ADD COLUMN finished_at INTEGER;",
-            )?;
-        }
-        tx.execute_batch(
-            "CREATE TABLE IF NOT EXISTS rooms (
-                 code TEXT PRIMARY KEY,
-                 meta BLOB NOT NULL
-             );
-             CREATE TABLE IF NOT EXISTS games (
-                 room TEXT NOT NULL REFERENCES rooms(code),
-                 number INTEGER NOT NULL,
-                 header BLOB NOT NULL,
-                 finished INTEGER NOT NULL,
-                 winner INTEGER,
-                 reason TEXT,
-                 finished_at INTEGER,
-                 PRIMARY KEY (room, number)
-             );
-             CREATE TABLE IF NOT EXISTS commands (
-                 room TEXT NOT NULL,
-                 number INTEGER NOT NULL,
-                 idx INTEGER NOT NULL,
-                 entry BLOB NOT NULL,
-                 PRIMARY KEY (room, number, idx)
-             ) WITHOUT ROWID;
-             CREATE INDEX IF NOT EXISTS games_finished ON games (finished, finished_at);",
-        )?;
-        if version < 3 {
-            rewrite_old_records(&tx)?;
-        }
-        tx.pragma_update(None, "user_version", SCHEMA)?;
-        tx.commit()?;
-        Ok(Store { db })
     }
 
     /// Applies `ops` in one transaction: all of them are durable when this returns `Ok`.
     pub fn apply(&mut self, ops: &[&StoreOp]) -> Result<(), StoreError> {
-        let tx = self.db.transaction()?;
-        for op in ops {
-            match op {
-                StoreOp::Room(meta) => {
-                    let blob =
-                        bincode::serde::encode_to_vec(meta, config::standard()).map_err(|e| {
-                            StoreError::Meta {
-                                room: meta.code.to_string(),
-                                why: e.to_string(),
-                            }
-                        })?;
-                    tx.prepare_cached(
-                        "INSERT INTO rooms (code, meta) VALUES (?1, ?2)
-                         ON CONFLICT(code) DO UPDATE SET meta = excluded.meta",
-                    )?
-                    .execute(params![meta.code.as_str(), blob])?;
-                }
-                StoreOp::GameStarted {
-                    room,
-                    number,
-                    header,
-                } => {
-                    tx.prepare_cached(
-                        "INSERT INTO games (room, number, header, finished) VALUES (?1, ?2, ?3, 0)
-                         ON CONFLICT(room, number) DO UPDATE
-                         SET header = excluded.header, finished = 0, winner = NULL,
-                             reason = NULL, finished_at = NULL",
-                    )?
-                    .execute(params![room.as_str(), number, header])?;
-                    tx.prepare_cached("DELETE FROM commands WHERE room = ?1 AND number = ?2")?
-                        .execute(params![room.as_str(), number])?;
-                }
-                StoreOp::Command {
-                    room,
-                    number,
-                    index,
-                    entry,
-                } => {
-                    tx.prepare_cached(
-                        "INSERT INTO commands (room, number, idx, entry) VALUES (?1, ?2, ?3, ?4)",
-                    )?
-                    .execute(params![room.as_str(), number, index, entry])?;
-                }
-                StoreOp::GameEnded {
-                    room,
-                    number,
-                    winner,
-                    reason,
-                } => {
-                    let at = unix_now();
-                    tx.prepare_cached(
-                        "UPDATE games SET finished = 1, winner = ?3, reason = ?4, finished_at = ?5
-                         WHERE room = ?1 AND number = ?2",
-                    )?
-                    .execute(params![
-                        room.as_str(),
-                        number,
-                        winner.map(seat_number),
-                        reason,
-                        i64::try_from(at).unwrap_or(i64::MAX)
-                    ])?;
-                }
-            }
+        match &mut self.0 {
+            Backend::Sqlite(s) => s.apply(ops),
+            Backend::Postgres(s) => s.apply(ops),
         }
-        tx.commit()?;
-        Ok(())
     }
 
     /// Games still being played, for a restart.
     pub fn unfinished(&self) -> Result<Vec<StoredGame>, StoreError> {
-        self.games("WHERE g.finished = 0")
+        match &self.0 {
+            Backend::Sqlite(s) => s.unfinished(),
+            Backend::Postgres(s) => s.games(false),
+        }
+    }
+
+    /// Every stored game, in room and game order.
+    pub fn all(&self) -> Result<Vec<StoredGame>, StoreError> {
+        match &self.0 {
+            Backend::Sqlite(s) => s.all(),
+            Backend::Postgres(s) => s.games(true),
+        }
     }
 
     /// The latest game of each room if it ended at `since` (Unix seconds) or later: the
     /// games whose players may still come back to learn the result.
     pub fn ended_since(&self, since: u64) -> Result<Vec<EndedGame>, StoreError> {
-        let mut stmt = self.db.prepare(
-            "SELECT r.code, r.meta, g.number, g.winner, g.reason, g.finished_at
-             FROM games g JOIN rooms r ON r.code = g.room
-             WHERE g.finished = 1 AND g.finished_at >= ?1
-               AND g.number = (SELECT MAX(number) FROM games WHERE room = g.room)
-             ORDER BY g.finished_at",
-        )?;
-        let since = i64::try_from(since).unwrap_or(i64::MAX);
-        let rows = stmt.query_map(params![since], |r| {
-            Ok((
-                r.get::<_, String>(0)?,
-                r.get::<_, Vec<u8>>(1)?,
-                r.get::<_, u32>(2)?,
-                r.get::<_, Option<i64>>(3)?,
-                r.get::<_, Option<String>>(4)?,
-                r.get::<_, i64>(5)?,
-            ))
-        })?;
-        let mut out = Vec::new();
-        for row in rows {
-            let (code, meta, number, winner, reason, at) = row?;
-            let meta = decode_meta(&meta).map_err(|why| StoreError::Meta { room: code, why })?;
-            out.push(EndedGame {
-                meta,
-                number,
-                winner: match winner {
-                    Some(0) => Some(Seat::A),
-                    Some(1) => Some(Seat::B),
-                    _ => None,
-                },
-                reason: reason.unwrap_or_default(),
-                at: u64::try_from(at).unwrap_or(0),
-            });
+        match &self.0 {
+            Backend::Sqlite(s) => s.ended_since(since),
+            Backend::Postgres(s) => s.ended_since(since),
         }
-        Ok(out)
     }
 
-    /// Every stored game, in room and game order.
-    pub fn all(&self) -> Result<Vec<StoredGame>, StoreError> {
-        self.games("")
+    /// One game's record, encoded.
+    pub fn record(&self, room: &RoomCode, number: u32) -> Result<Option<Vec<u8>>, StoreError> {
+        match &self.0 {
+            Backend::Sqlite(s) => s.record(room, number),
+            Backend::Postgres(s) => s.record(room, number),
+        }
+    }
+
+    /// The latest game of a room: (number, encoded record, finished).
+    pub fn latest(&self, room: &RoomCode) -> Result<Option<(u32, Vec<u8>, bool)>, StoreError> {
+        match &self.0 {
+            Backend::Sqlite(s) => s.latest(room),
+            Backend::Postgres(s) => s.latest(room),
+        }
     }
 
     /// Replaces one game's record whole (for tests of tamper detection).
@@ -260,158 +183,20 @@ impl Store {
         number: u32,
         record: &[u8],
     ) -> Result<bool, StoreError> {
-        let tx = self.db.unchecked_transaction()?;
-        let n = tx.execute(
-            "UPDATE games SET header = ?3 WHERE room = ?1 AND number = ?2",
-            params![room.as_str(), number, record],
-        )?;
-        tx.execute(
-            "DELETE FROM commands WHERE room = ?1 AND number = ?2",
-            params![room.as_str(), number],
-        )?;
-        tx.commit()?;
-        Ok(n == 1)
-    }
-
-    /// One game's record, encoded.
-    pub fn record(&self, room: &RoomCode, number: u32) -> Result<Option<Vec<u8>>, StoreError> {
-        let header: Option<Vec<u8>> = self
-            .db
-            .query_row(
-                "SELECT header FROM games WHERE room = ?1 AND number = ?2",
-                params![room.as_str(), number],
-                |r| r.get(0),
-            )
-            .optional()?;
-        let Some(header) = header else {
-            return Ok(None);
-        };
-        let record = self
-            .assemble(room.as_str(), number, &header)?
-            .map_err(|why| StoreError::Record {
-                room: room.to_string(),
-                number,
-                why,
-            })?;
-        Ok(Some(record.encode()))
-    }
-
-    /// The latest game of a room: (number, encoded record, finished).
-    pub fn latest(&self, room: &RoomCode) -> Result<Option<(u32, Vec<u8>, bool)>, StoreError> {
-        let latest: Option<(u32, bool)> = self
-            .db
-            .query_row(
-                "SELECT number, finished FROM games WHERE room = ?1
-                 ORDER BY number DESC LIMIT 1",
-                params![room.as_str()],
-                |r| Ok((r.get(0)?, r.get(1)?)),
-            )
-            .optional()?;
-        let Some((number, finished)) = latest else {
-            return Ok(None);
-        };
-        Ok(self
-            .record(room, number)?
-            .map(|record| (number, record, finished)))
-    }
-
-    /// A game's record: its header followed by its command rows, in order.
-    fn assemble(
-        &self,
-        room: &str,
-        number: u32,
-        header: &[u8],
-    ) -> Result<Result<GameRecord, RecordError>, StoreError> {
-        let mut stmt = self.db.prepare_cached(
-            "SELECT entry FROM commands WHERE room = ?1 AND number = ?2 ORDER BY idx",
-        )?;
-        let mut rows = stmt.query(params![room, number])?;
-        let mut record = match GameRecord::decode(header) {
-            Ok(r) => r,
-            Err(e) => return Ok(Err(e)),
-        };
-        while let Some(row) = rows.next()? {
-            let bytes: Vec<u8> = row.get(0)?;
-            match RecordEntry::decode(&bytes) {
-                Ok(entry) => record.entries.push(entry),
-                Err(e) => return Ok(Err(e)),
-            }
+        match &self.0 {
+            Backend::Sqlite(s) => s.overwrite_record(room, number, record),
+            Backend::Postgres(s) => s.overwrite_record(room, number, record),
         }
-        Ok(Ok(record))
-    }
-
-    fn games(&self, filter: &str) -> Result<Vec<StoredGame>, StoreError> {
-        let sql = format!(
-            "SELECT r.code, r.meta, g.number, g.header, g.finished
-             FROM games g JOIN rooms r ON r.code = g.room {filter}
-             ORDER BY g.room, g.number"
-        );
-        let mut stmt = self.db.prepare(&sql)?;
-        let rows = stmt.query_map([], |r| {
-            Ok((
-                r.get::<_, String>(0)?,
-                r.get::<_, Vec<u8>>(1)?,
-                r.get::<_, u32>(2)?,
-                r.get::<_, Vec<u8>>(3)?,
-                r.get::<_, bool>(4)?,
-            ))
-        })?;
-        let mut out = Vec::new();
-        for row in rows {
-            let (code, meta, number, header, finished) = row?;
-            let record = self.assemble(&code, number, &header)?;
-            let meta = decode_meta(&meta).map_err(|why| StoreError::Meta { room: code, why })?;
-            out.push(StoredGame {
-                meta,
-                number,
-                record,
-                finished,
-            });
-        }
-        Ok(out)
     }
 }
 
-/// Rewrites every game stored in an older record format, its header and its command rows, in
-/// the current one. A game that does not decode is left as it is: reading it reports why.
-fn rewrite_old_records(tx: &Connection) -> Result<(), StoreError> {
-    let games: Vec<(String, u32, Vec<u8>)> = tx
-        .prepare("SELECT room, number, header FROM games")?
-        .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))?
-        .collect::<Result<_, _>>()?;
-    for (room, number, header) in games {
-        let Ok(version) = replay::format_version(&header) else {
-            continue;
-        };
-        if version == RECORD_VERSION {
-            continue;
-        }
-        let Ok(record) = GameRecord::decode(&header) else {
-            continue;
-        };
-        let rows: Vec<(i64, Vec<u8>)> = tx
-            .prepare("SELECT idx, entry FROM commands WHERE room = ?1 AND number = ?2")?
-            .query_map(params![room, number], |r| Ok((r.get(0)?, r.get(1)?)))?
-            .collect::<Result<_, _>>()?;
-        let Ok(entries) = rows
-            .iter()
-            .map(|(idx, bytes)| RecordEntry::decode_version(bytes, version).map(|e| (idx, e)))
-            .collect::<Result<Vec<_>, _>>()
-        else {
-            continue;
-        };
-        tx.execute(
-            "UPDATE games SET header = ?3 WHERE room = ?1 AND number = ?2",
-            params![room, number, record.encode()],
-        )?;
-        for (idx, entry) in entries {
-            tx.execute(
-                "UPDATE commands SET entry = ?4 WHERE room = ?1 AND number = ?2 AND idx = ?3",
-                params![room, number, idx, entry.encode()],
-            )?;
-        }
+/// A game's record: its header followed by its command rows, in order.
+fn assemble(header: &[u8], entries: Vec<Vec<u8>>) -> Result<GameRecord, RecordError> {
+    let mut record = GameRecord::decode(header)?;
+    for bytes in entries {
+        record.entries.push(RecordEntry::decode(&bytes)?);
     }
-    Ok(())
+    Ok(record)
 }
 
 fn seat_number(seat: Seat) -> i64 {
@@ -421,263 +206,24 @@ fn seat_number(seat: Seat) -> i64 {
     }
 }
 
+fn seat_of(number: i64) -> Option<Seat> {
+    match number {
+        0 => Some(Seat::A),
+        1 => Some(Seat::B),
+        _ => None,
+    }
+}
+
+fn encode_meta(meta: &RoomMeta) -> Result<Vec<u8>, StoreError> {
+    bincode::serde::encode_to_vec(meta, config::standard()).map_err(|e| StoreError::Meta {
+        room: meta.code.to_string(),
+        why: e.to_string(),
+    })
+}
+
 fn decode_meta(bytes: &[u8]) -> Result<RoomMeta, String> {
     let cfg = config::standard().with_limit::<MAX_RECORD>();
     bincode::serde::decode_from_slice(bytes, cfg)
         .map(|(m, _)| m)
         .map_err(|e| e.to_string())
-}
-
-#[cfg(test)]
-mod tests {
-    use breakshot_shared::protocol::AimAid;
-    use breakshot_shared::rules::{EightBallRules, Settings, Variant};
-
-    use super::*;
-    use crate::output::StoredSeat;
-    use crate::secret::TokenDigest;
-
-    #[test]
-    fn games_survive_reopening_and_finished_ones_are_not_reloaded() {
-        let tmp = breakshot_testkit::scratch("store");
-        let dir = tmp.path().to_path_buf();
-        let meta = |code: &str| RoomMeta {
-            code: RoomCode::parse(code).unwrap(),
-            variant: Variant::EightBall(EightBallRules::Wpa),
-            settings: Settings::offline(),
-            aim_aid: AimAid::Off,
-            seats: [
-                Some(StoredSeat {
-                    name: "ann".into(),
-                    digest: TokenDigest([1; 32]),
-                }),
-                None,
-            ],
-        };
-        let record = GameRecord::new(
-            Variant::EightBall(EightBallRules::Wpa),
-            Settings::offline(),
-            7,
-        );
-        let game = |code: &str| StoreOp::GameStarted {
-            room: RoomCode::parse(code).unwrap(),
-            number: 1,
-            header: record.encode(),
-        };
-        let ended = StoreOp::GameEnded {
-            room: RoomCode::parse("BBBBBBBB").unwrap(),
-            number: 1,
-            winner: Some(Seat::B),
-            reason: "A conceded".into(),
-        };
-        {
-            let mut store = Store::open(&dir).unwrap();
-            let ops = [
-                StoreOp::Room(meta("AAAAAAAA")),
-                game("AAAAAAAA"),
-                StoreOp::Room(meta("BBBBBBBB")),
-                game("BBBBBBBB"),
-            ];
-            store.apply(&ops.iter().collect::<Vec<_>>()).unwrap();
-            store.apply(&[&ended]).unwrap();
-        }
-        let store = Store::open(&dir).unwrap();
-        let open = store.unfinished().unwrap();
-        assert_eq!(open.len(), 1);
-        assert_eq!(open[0].meta.code.as_str(), "AAAAAAAA");
-        assert_eq!(open[0].record, Ok(record.clone()));
-        assert_eq!(
-            open[0].meta.seats[0].as_ref().unwrap().digest,
-            TokenDigest([1; 32])
-        );
-        assert_eq!(store.all().unwrap().len(), 2);
-        let ended = store.ended_since(unix_now() - 60).unwrap();
-        assert_eq!(ended.len(), 1);
-        assert_eq!(ended[0].meta.code.as_str(), "BBBBBBBB");
-        assert_eq!(ended[0].winner, Some(Seat::B));
-        assert_eq!(ended[0].reason, "A conceded");
-        assert!(store.ended_since(unix_now() + 60).unwrap().is_empty());
-    }
-
-    fn room_meta(code: &RoomCode) -> RoomMeta {
-        RoomMeta {
-            code: code.clone(),
-            variant: Variant::Practice,
-            settings: Settings::offline(),
-            aim_aid: AimAid::Off,
-            seats: [None, None],
-        }
-    }
-
-    fn place(i: u32) -> RecordEntry {
-        RecordEntry {
-            seat: Seat::A,
-            command: breakshot_shared::rules::Command::PlaceCueBall {
-                pos: [0.5, f64::from(i)],
-            },
-            hash: None,
-        }
-    }
-
-    #[test]
-    fn a_game_is_appended_one_row_per_command_and_assembled_on_read() {
-        let tmp = breakshot_testkit::scratch("append");
-        let dir = tmp.path().to_path_buf();
-        let code = RoomCode::parse("CCCCCCCC").unwrap();
-        let mut record = GameRecord::new(Variant::Practice, Settings::offline(), 3);
-        {
-            let mut store = Store::open(&dir).unwrap();
-            let start = StoreOp::whole_game(&code, 1, &record);
-            let mut ops = vec![StoreOp::Room(room_meta(&code))];
-            ops.extend(start);
-            store.apply(&ops.iter().collect::<Vec<_>>()).unwrap();
-            for i in 0..50 {
-                let entry = place(i);
-                let op = StoreOp::Command {
-                    room: code.clone(),
-                    number: 1,
-                    index: i,
-                    entry: entry.encode(),
-                };
-                store.apply(&[&op]).unwrap();
-                record.entries.push(entry);
-            }
-            // Appending never rewrites: the header row is as it was stored first.
-            let header: Vec<u8> = store
-                .db
-                .query_row("SELECT header FROM games", [], |r| r.get(0))
-                .unwrap();
-            assert_eq!(GameRecord::decode(&header).unwrap().entries.len(), 0);
-            let rows: u32 = store
-                .db
-                .query_row("SELECT COUNT(*) FROM commands", [], |r| r.get(0))
-                .unwrap();
-            assert_eq!(rows, 50);
-            // The same index twice is refused: nothing is overwritten by mistake.
-            let again = StoreOp::Command {
-                room: code.clone(),
-                number: 1,
-                index: 7,
-                entry: place(99).encode(),
-            };
-            assert!(store.apply(&[&again]).is_err());
-        }
-        let store = Store::open(&dir).unwrap();
-        let stored = store.record(&code, 1).unwrap().unwrap();
-        assert_eq!(GameRecord::decode(&stored).unwrap(), record);
-        assert_eq!(store.unfinished().unwrap()[0].record, Ok(record));
-    }
-
-    #[test]
-    fn records_of_the_first_format_are_rewritten_in_the_current_one() {
-        let tmp = breakshot_testkit::scratch("format");
-        let dir = tmp.path().to_path_buf();
-        let code = RoomCode::parse("EEEEEEEE").unwrap();
-        let mut header = GameRecord::new(Variant::Practice, Settings::offline(), 5).encode();
-        // A header with no entries is laid out alike in both formats but for its version.
-        header[0] = 1;
-        // One format-1 command row: seat A, a level shot (speed 1.5 along +y, tip 0.25 high,
-        // no elevation field), pocket 2 called, a hash; the bytes of the pinned format-1
-        // record in shared/tests/rules_record.rs.
-        let old_row: Vec<u8> = (0..OLD_SHOT_ROW.len())
-            .step_by(2)
-            .map(|i| u8::from_str_radix(&OLD_SHOT_ROW[i..i + 2], 16).unwrap())
-            .collect();
-        {
-            let mut store = Store::open(&dir).unwrap();
-            let ops = [
-                StoreOp::Room(room_meta(&code)),
-                StoreOp::GameStarted {
-                    room: code.clone(),
-                    number: 1,
-                    header,
-                },
-                StoreOp::Command {
-                    room: code.clone(),
-                    number: 1,
-                    index: 0,
-                    entry: old_row,
-                },
-            ];
-            store.apply(&ops.iter().collect::<Vec<_>>()).unwrap();
-            store.db.pragma_update(None, "user_version", 2).unwrap();
-        }
-        let mut store = Store::open(&dir).unwrap();
-        let shot = RecordEntry {
-            seat: Seat::A,
-            command: breakshot_shared::rules::Command::Shot {
-                strike: breakshot_shared::physics::Strike {
-                    speed: 1.5,
-                    dir: glam::DVec2::new(0.0, 1.0),
-                    tip: glam::DVec2::new(0.0, 0.25),
-                    elevation_deg: 0.0,
-                },
-                call: Some(2),
-            },
-            hash: Some(0x0123_4567_89ab_cdef),
-        };
-        let mut record = GameRecord::new(Variant::Practice, Settings::offline(), 5);
-        record.entries.push(shot);
-        assert_eq!(store.unfinished().unwrap()[0].record, Ok(record.clone()));
-        // The game goes on with rows of the current format only.
-        let op = StoreOp::Command {
-            room: code.clone(),
-            number: 1,
-            index: 1,
-            entry: place(1).encode(),
-        };
-        store.apply(&[&op]).unwrap();
-        record.entries.push(place(1));
-        drop(store);
-        let store = Store::open(&dir).unwrap();
-        assert_eq!(store.all().unwrap()[0].record, Ok(record));
-    }
-
-    const OLD_SHOT_ROW: &str = "0000000000000000f83f0000000000000000000000000000f03f0000000000000000000000000000d03f010201fdefcdab8967452301";
-
-    #[test]
-    fn a_store_of_the_first_schema_is_migrated_in_place() {
-        let tmp = breakshot_testkit::scratch("migrate");
-        let dir = tmp.path().to_path_buf();
-        let code = RoomCode::parse("DDDDDDDD").unwrap();
-        let mut record = GameRecord::new(Variant::Practice, Settings::offline(), 4);
-        record.entries.extend((0..3).map(place));
-        {
-            // The first schema: the whole record in one column.
-            let db = Connection::open(dir.join(DB_FILE)).unwrap();
-            db.execute_batch(
-                "CREATE TABLE rooms (code TEXT PRIMARY KEY, meta BLOB NOT NULL);
-                 CREATE TABLE games (room TEXT NOT NULL REFERENCES rooms(code),
-                     number INTEGER NOT NULL, record BLOB NOT NULL,
-                     finished INTEGER NOT NULL, PRIMARY KEY (room, number));",
-            )
-            .unwrap();
-            let meta = bincode::serde::encode_to_vec(room_meta(&code), config::standard()).unwrap();
-            db.execute(
-                "INSERT INTO rooms VALUES (?1, ?2)",
-                params![code.as_str(), meta],
-            )
-            .unwrap();
-            db.execute(
-                "INSERT INTO games VALUES (?1, 1, ?2, 0)",
-                params![code.as_str(), record.encode()],
-            )
-            .unwrap();
-        }
-        let mut store = Store::open(&dir).unwrap();
-        assert_eq!(store.unfinished().unwrap()[0].record, Ok(record.clone()));
-        // The game goes on in the new form.
-        let next = place(3);
-        let op = StoreOp::Command {
-            room: code.clone(),
-            number: 1,
-            index: 3,
-            entry: next.encode(),
-        };
-        store.apply(&[&op]).unwrap();
-        record.entries.push(next);
-        drop(store);
-        let store = Store::open(&dir).unwrap();
-        assert_eq!(store.all().unwrap()[0].record, Ok(record));
-    }
 }

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use breakshot_shared::protocol::RoomCode;
 
-use crate::store::{Store, StoreError, DB_FILE};
+use crate::store::{Location, Store, StoreError, DB_FILE};
 
 /// The verdict on one stored game.
 #[derive(Debug)]
@@ -24,7 +24,12 @@ pub fn verify_dir(dir: &Path) -> Result<Vec<GameCheck>, StoreError> {
             dir.join(DB_FILE),
         )));
     }
-    let store = Store::open(dir)?;
+    verify_store(&Location::Sqlite(dir.to_path_buf()))
+}
+
+/// Checks every game in a store (SQLite or PostgreSQL).
+pub fn verify_store(location: &Location) -> Result<Vec<GameCheck>, StoreError> {
+    let store = Store::at(location)?;
     Ok(store
         .all()?
         .into_iter()

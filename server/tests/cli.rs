@@ -124,3 +124,32 @@ fn the_server_prints_its_invite_first_and_stops_cleanly_on_ctrl_c() {
     server.interrupt();
     assert!(server.wait(Duration::from_secs(60)).success());
 }
+
+#[test]
+fn a_store_that_is_not_a_postgres_url_is_refused_and_an_unreachable_one_is_an_error() {
+    let scratch = breakshot_testkit::scratch("cli-store");
+    let data = scratch.path().as_os_str();
+    let out = server(&[
+        OsStr::new("--data"),
+        data,
+        OsStr::new("--store"),
+        OsStr::new("sqlite:games.db"),
+    ]);
+    let text = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{text}");
+    assert!(text.contains("is not a postgres:// URL"), "{text}");
+
+    // Nothing listens on this socket folder: the store cannot be read, exit 2.
+    let nowhere = format!(
+        "postgresql://breakshot@/postgres?host={}&connect_timeout=5",
+        scratch.path().display()
+    );
+    let out = server(&[
+        OsStr::new("verify"),
+        OsStr::new("--store"),
+        OsStr::new(&nowhere),
+    ]);
+    let text = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{text}");
+    assert!(text.contains("PostgreSQL"), "{text}");
+}

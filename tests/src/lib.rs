@@ -28,6 +28,8 @@ pub const SEED: u64 = 2026;
 
 pub use breakshot_testkit::scratch;
 
+pub mod postgres;
+
 /// A server running in this process.
 pub struct TestServer {
     pub invite: Invite,

@@ -61,8 +61,28 @@ impl World {
         }
     }
 
+    /// What the hub and the rooms it lends out answer, as a driver with one worker that
+    /// runs every room's work at once would carry it out.
     fn send(&mut self, conn: ConnId, msg: ClientMessage) -> Vec<Output> {
-        self.hub.handle(self.now, conn, msg)
+        let out = self.hub.handle(self.now, conn, msg);
+        self.settle(out)
+    }
+
+    /// Runs every room's work in `out` in place, and gives the rooms back.
+    fn settle(&mut self, out: Vec<Output>) -> Vec<Output> {
+        let mut done = Vec::new();
+        for o in out {
+            match o {
+                Output::Run(work) => {
+                    let (worked, back) = work.run(self.now);
+                    done.extend(self.settle(worked));
+                    let after = self.hub.returned(self.now, back);
+                    done.extend(self.settle(after));
+                }
+                other => done.push(other),
+            }
+        }
+        done
     }
 
     fn greet(&mut self, conn: ConnId) {
@@ -863,4 +883,107 @@ fn a_finished_room_no_longer_counts_against_its_creators_limit() {
         .any(|m| matches!(m, ServerMessage::GameOver { .. })));
     assert!(w.hub.room(&rooms[0]).is_some());
     joined(&w.send(99, create), 99);
+}
+
+#[test]
+fn a_room_out_on_a_long_shot_holds_only_its_own_events_and_keeps_their_order() {
+    let mut w = World::new();
+    let (slow, _, _) = w.pair(Settings::offline());
+    w.greet(3);
+    w.greet(4);
+    let create = ClientMessage::CreateRoom {
+        variant: Variant::EightBall(EightBallRules::Wpa),
+        mode: Settings::offline(),
+        aim_aid: AimAid::Off,
+        name: "cy".into(),
+    };
+    let (fast, _) = joined(&w.send(3, create.clone()), 3);
+    let join = ClientMessage::Join {
+        room: fast.clone(),
+        name: "di".into(),
+    };
+    joined(&w.send(4, join), 4);
+
+    // A shot in the slow room sends the room out with it, and nothing is answered yet.
+    let shot = break_shot(&w.game(&slow));
+    let mut out = w.hub.handle(w.now, 1, shot);
+    assert_eq!(out.len(), 1, "{out:?}");
+    let Some(Output::Run(slow_work)) = out.pop() else {
+        panic!("the shot is not lent out with its room");
+    };
+    assert_eq!(slow_work.room(), &slow);
+    assert!(w.hub.room(&slow).is_none());
+    assert_eq!(w.hub.room_count(), 2);
+
+    // While its simulation has not even started, the room's own events wait...
+    let chat = ClientMessage::Chat {
+        text: "good luck".into(),
+    };
+    assert!(w.hub.handle(w.now, 2, chat).is_empty());
+    w.greet(5);
+    let spectate = ClientMessage::Spectate { room: slow.clone() };
+    assert!(w.hub.handle(w.now, 5, spectate.clone()).is_empty());
+    assert_eq!(
+        error_code(&w.hub.handle(w.now, 5, spectate), 5),
+        Some(ErrorCode::Unexpected),
+        "a second entry while the first waits"
+    );
+
+    // ...while the other room plays a shot through to its result,
+    let out = w.send(3, break_shot(&w.game(&fast)));
+    for conn in [3, 4] {
+        assert!(
+            sent_to(&out, conn)
+                .iter()
+                .any(|m| matches!(m, ServerMessage::ShotResolved { turn: 0, .. })),
+            "conn {conn}: {out:?}"
+        );
+    }
+    // and a new player is greeted and given a room.
+    w.greet(6);
+    joined(&w.send(6, create), 6);
+
+    // The slow shot finishes: its results first, then the held events in the order they came.
+    let (worked, back) = slow_work.run(w.now);
+    assert!(matches!(worked[0], Output::Store(StoreOp::Command { .. })));
+    assert!(sent_to(&worked, 2)
+        .iter()
+        .any(|m| matches!(m, ServerMessage::ShotResolved { turn: 0, .. })));
+    let after = w.hub.returned(w.now, back);
+    assert!(
+        matches!(&after[..], [Output::Run(work)] if work.room() == &slow),
+        "the held chat goes out with the room before the spectator enters: {after:?}"
+    );
+    let after = w.settle(after);
+    assert!(sent_to(&after, 2)
+        .iter()
+        .any(|m| matches!(m, ServerMessage::Chat { text, .. } if text == "good luck")));
+    let to_spectator = sent_to(&after, 5);
+    assert!(
+        matches!(&to_spectator[..], [ServerMessage::Joined { snapshot, .. }] if snapshot.game.turn() == 1),
+        "the spectator enters after the chat and sees the shot played: {to_spectator:?}"
+    );
+    assert!(w.hub.room(&slow).is_some());
+}
+
+#[test]
+fn a_player_who_leaves_while_the_room_is_out_is_seen_leaving_after_its_results() {
+    let mut w = World::new();
+    let (room, _, _) = w.pair(Settings::offline());
+    let shot = break_shot(&w.game(&room));
+    let mut out = w.hub.handle(w.now, 1, shot);
+    let Some(Output::Run(work)) = out.pop() else {
+        panic!("the shot is not lent out with its room");
+    };
+    assert!(w.hub.disconnected(w.now, 2).is_empty());
+    let (worked, back) = work.run(w.now);
+    assert!(sent_to(&worked, 2)
+        .iter()
+        .any(|m| matches!(m, ServerMessage::ShotResolved { .. })));
+    let after = w.hub.returned(w.now, back);
+    assert!(sent_to(&after, 1)
+        .iter()
+        .any(|m| matches!(m, ServerMessage::PlayerLeft { seat: Seat::B, .. })));
+    // The seat is held for its window, as for any dropped player.
+    assert!(w.hub.room(&room).unwrap().next_deadline().is_some());
 }

@@ -1,0 +1,273 @@
+//! The PostgreSQL backend: the same tables as SQLite, in a database that may live on another
+//! machine and be shared by several servers' tools (`verify`, replays). Every session asks for
+//! `synchronous_commit = on`, so a commit that returned is on the database server's disk
+//! whatever its default is. The schema is made and upgraded by the numbered migrations in
+//! `server/migrations/postgres/`, one instance at a time (an advisory lock).
+
+use std::cell::RefCell;
+
+use breakshot_shared::protocol::RoomCode;
+use postgres::{Client, NoTls, Statement};
+
+use super::{
+    assemble, decode_meta, encode_meta, seat_number, seat_of, unix_now, EndedGame, StoreError,
+    StoredGame,
+};
+use crate::output::StoreOp;
+
+/// The migrations, in order: version n is the n-th.
+const MIGRATIONS: &[&str] = &[include_str!("../../migrations/postgres/0001_games.sql")];
+
+/// The advisory lock key under which the schema is migrated ("BRKSHOT" in ASCII).
+const MIGRATION_LOCK: i64 = 0x0042_524b_5348_4f54;
+
+/// The statements a write uses, prepared once per connection.
+struct Writes {
+    room: Statement,
+    game: Statement,
+    clear: Statement,
+    command: Statement,
+    ended: Statement,
+}
+
+pub struct PgStore {
+    // The reads take `&self` like SQLite's; one connection serves them one at a time.
+    db: RefCell<Client>,
+    writes: Writes,
+}
+
+fn int(n: u32) -> i64 {
+    i64::from(n)
+}
+
+impl PgStore {
+    pub fn connect(url: &str) -> Result<PgStore, StoreError> {
+        let mut db = Client::connect(url, NoTls)?;
+        db.batch_execute("SET synchronous_commit = on")?;
+        migrate(&mut db)?;
+        let writes = Writes {
+            room: db.prepare(
+                "INSERT INTO rooms (code, meta) VALUES ($1, $2)
+                 ON CONFLICT (code) DO UPDATE SET meta = excluded.meta",
+            )?,
+            game: db.prepare(
+                "INSERT INTO games (room, number, header, finished) VALUES ($1, $2, $3, FALSE)
+                 ON CONFLICT (room, number) DO UPDATE
+                 SET header = excluded.header, finished = FALSE, winner = NULL,
+                     reason = NULL, finished_at = NULL",
+            )?,
+            clear: db.prepare("DELETE FROM commands WHERE room = $1 AND number = $2")?,
+            command: db.prepare(
+                "INSERT INTO commands (room, number, idx, entry) VALUES ($1, $2, $3, $4)",
+            )?,
+            ended: db.prepare(
+                "UPDATE games SET finished = TRUE, winner = $3, reason = $4, finished_at = $5
+                 WHERE room = $1 AND number = $2",
+            )?,
+        };
+        Ok(PgStore {
+            db: RefCell::new(db),
+            writes,
+        })
+    }
+
+    pub fn apply(&mut self, ops: &[&StoreOp]) -> Result<(), StoreError> {
+        let w = &self.writes;
+        let mut tx = self.db.get_mut().transaction()?;
+        for op in ops {
+            match op {
+                StoreOp::Room(meta) => {
+                    tx.execute(&w.room, &[&meta.code.as_str(), &encode_meta(meta)?])?;
+                }
+                StoreOp::GameStarted {
+                    room,
+                    number,
+                    header,
+                } => {
+                    tx.execute(&w.game, &[&room.as_str(), &int(*number), header])?;
+                    tx.execute(&w.clear, &[&room.as_str(), &int(*number)])?;
+                }
+                StoreOp::Command {
+                    room,
+                    number,
+                    index,
+                    entry,
+                } => {
+                    tx.execute(
+                        &w.command,
+                        &[&room.as_str(), &int(*number), &int(*index), entry],
+                    )?;
+                }
+                StoreOp::GameEnded {
+                    room,
+                    number,
+                    winner,
+                    reason,
+                } => {
+                    let at = i64::try_from(unix_now()).unwrap_or(i64::MAX);
+                    tx.execute(
+                        &w.ended,
+                        &[
+                            &room.as_str(),
+                            &int(*number),
+                            &winner.map(seat_number),
+                            reason,
+                            &at,
+                        ],
+                    )?;
+                }
+            }
+        }
+        tx.commit()?;
+        Ok(())
+    }
+
+    /// Every game (`all`) or the unfinished ones, in room and game order.
+    pub fn games(&self, all: bool) -> Result<Vec<StoredGame>, StoreError> {
+        let rows = self.db.borrow_mut().query(
+            "SELECT r.code, r.meta, g.number, g.header, g.finished
+             FROM games g JOIN rooms r ON r.code = g.room
+             WHERE $1 OR NOT g.finished
+             ORDER BY g.room COLLATE \"C\", g.number",
+            &[&all],
+        )?;
+        let mut out = Vec::new();
+        for row in rows {
+            let code: String = row.get(0);
+            let number = game_number(row.get(2));
+            let header: Vec<u8> = row.get(3);
+            let record = assemble(&header, self.entries(&code, number)?);
+            let meta =
+                decode_meta(row.get(1)).map_err(|why| StoreError::Meta { room: code, why })?;
+            out.push(StoredGame {
+                meta,
+                number,
+                record,
+                finished: row.get(4),
+            });
+        }
+        Ok(out)
+    }
+
+    pub fn ended_since(&self, since: u64) -> Result<Vec<EndedGame>, StoreError> {
+        let since = i64::try_from(since).unwrap_or(i64::MAX);
+        let rows = self.db.borrow_mut().query(
+            "SELECT r.code, r.meta, g.number, g.winner, g.reason, g.finished_at
+             FROM games g JOIN rooms r ON r.code = g.room
+             WHERE g.finished AND g.finished_at >= $1
+               AND g.number = (SELECT MAX(number) FROM games WHERE room = g.room)
+             ORDER BY g.finished_at",
+            &[&since],
+        )?;
+        rows.into_iter()
+            .map(|row| {
+                let code: String = row.get(0);
+                let meta =
+                    decode_meta(row.get(1)).map_err(|why| StoreError::Meta { room: code, why })?;
+                Ok(EndedGame {
+                    meta,
+                    number: game_number(row.get(2)),
+                    winner: row.get::<_, Option<i64>>(3).and_then(seat_of),
+                    reason: row.get::<_, Option<String>>(4).unwrap_or_default(),
+                    at: u64::try_from(row.get::<_, i64>(5)).unwrap_or(0),
+                })
+            })
+            .collect()
+    }
+
+    pub fn record(&self, room: &RoomCode, number: u32) -> Result<Option<Vec<u8>>, StoreError> {
+        let header = self.db.borrow_mut().query_opt(
+            "SELECT header FROM games WHERE room = $1 AND number = $2",
+            &[&room.as_str(), &int(number)],
+        )?;
+        let Some(header) = header else {
+            return Ok(None);
+        };
+        let header: Vec<u8> = header.get(0);
+        let record = assemble(&header, self.entries(room.as_str(), number)?).map_err(|why| {
+            StoreError::Record {
+                room: room.to_string(),
+                number,
+                why,
+            }
+        })?;
+        Ok(Some(record.encode()))
+    }
+
+    pub fn latest(&self, room: &RoomCode) -> Result<Option<(u32, Vec<u8>, bool)>, StoreError> {
+        let latest = self.db.borrow_mut().query_opt(
+            "SELECT number, finished FROM games WHERE room = $1 ORDER BY number DESC LIMIT 1",
+            &[&room.as_str()],
+        )?;
+        let Some(latest) = latest else {
+            return Ok(None);
+        };
+        let (number, finished) = (game_number(latest.get(0)), latest.get(1));
+        Ok(self
+            .record(room, number)?
+            .map(|record| (number, record, finished)))
+    }
+
+    pub fn overwrite_record(
+        &self,
+        room: &RoomCode,
+        number: u32,
+        record: &[u8],
+    ) -> Result<bool, StoreError> {
+        let mut db = self.db.borrow_mut();
+        let mut tx = db.transaction()?;
+        let n = tx.execute(
+            "UPDATE games SET header = $3 WHERE room = $1 AND number = $2",
+            &[&room.as_str(), &int(number), &record],
+        )?;
+        tx.execute(
+            "DELETE FROM commands WHERE room = $1 AND number = $2",
+            &[&room.as_str(), &int(number)],
+        )?;
+        tx.commit()?;
+        Ok(n == 1)
+    }
+
+    /// A game's command rows, in order.
+    fn entries(&self, room: &str, number: u32) -> Result<Vec<Vec<u8>>, StoreError> {
+        let rows = self.db.borrow_mut().query(
+            "SELECT entry FROM commands WHERE room = $1 AND number = $2 ORDER BY idx",
+            &[&room, &int(number)],
+        )?;
+        Ok(rows.into_iter().map(|r| r.get(0)).collect())
+    }
+}
+
+/// A stored game number (written from a `u32`).
+fn game_number(n: i64) -> u32 {
+    u32::try_from(n).unwrap_or(u32::MAX)
+}
+
+/// Brings the schema up to this build's, in one transaction under an advisory lock: of
+/// several instances starting at once, one migrates and the others then find nothing to do.
+fn migrate(db: &mut Client) -> Result<(), StoreError> {
+    let known = i64::try_from(MIGRATIONS.len()).unwrap_or(i64::MAX);
+    let mut tx = db.transaction()?;
+    tx.execute("SELECT pg_advisory_xact_lock($1)", &[&MIGRATION_LOCK])?;
+    tx.batch_execute("CREATE TABLE IF NOT EXISTS breakshot_schema (version BIGINT NOT NULL)")?;
+    let found: i64 = tx
+        .query_one(
+            "SELECT COALESCE(MAX(version), 0) FROM breakshot_schema",
+            &[],
+        )?
+        .get(0);
+    if found > known {
+        return Err(StoreError::Schema { found, known });
+    }
+    for (version, sql) in (1..).zip(MIGRATIONS) {
+        if version > found {
+            tx.batch_execute(sql)?;
+            tx.execute(
+                "INSERT INTO breakshot_schema (version) VALUES ($1)",
+                &[&version],
+            )?;
+        }
+    }
+    tx.commit()?;
+    Ok(())
+}
