@@ -54,6 +54,7 @@ impl World {
                 ..Limits::default()
             },
             physics: reference_hash().unwrap(),
+            shared_store: false,
         };
         World {
             hub: Hub::new(config, Box::new(TestEntropy::new(9))),
