@@ -10,8 +10,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use breakshot_shared::protocol::{
-    decode_payload, encode_frame, payload_len, ClientMessage, SeatToken, ServerMessage,
-    HEADER_LEN,
+    decode_payload, encode_frame, payload_len, ClientMessage, SeatToken, ServerMessage, HEADER_LEN,
 };
 use tokio::sync::mpsc::{channel, Receiver};
 use tokio::sync::Notify;

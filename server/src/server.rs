@@ -502,7 +502,7 @@ fn replayed(stored: StoredGame) -> Option<Restored> {
 /// Asks the store for the room of a seat no room here knows (see [`Store::claim`]).
 fn claim(store: &Store, token: &SeatToken) -> Claimed {
     match store.claim(&TokenDigest::of(token)) {
-        Ok(Claim::Taken(stored)) => match replayed(stored) {
+        Ok(Claim::Taken(stored)) => match replayed(*stored) {
             Some(r) => {
                 tracing::info!(room = %r.meta.code, "room taken over from a stopped instance");
                 Claimed::Taken(Box::new(r))

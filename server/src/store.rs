@@ -56,7 +56,7 @@ pub enum StoreError {
 pub enum Claim {
     /// The token's room was left unfinished by an instance that is gone: it is this
     /// instance's now, with its latest game to restore.
-    Taken(StoredGame),
+    Taken(Box<StoredGame>),
     /// Another live instance owns the room.
     Elsewhere,
     /// No unfinished room of another instance has this seat.

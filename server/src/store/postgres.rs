@@ -233,7 +233,7 @@ impl PgStore {
             return Ok(Claim::Elsewhere);
         }
         match self.games(false, Some(&room))?.pop() {
-            Some(game) => Ok(Claim::Taken(game)),
+            Some(game) => Ok(Claim::Taken(Box::new(game))),
             None => {
                 self.release(&room)?;
                 Ok(Claim::NotFound)
