@@ -251,6 +251,7 @@ impl Hub {
         token: SeatToken,
         claimed: Claimed,
     ) -> Vec<Output> {
+        let elsewhere = matches!(claimed, Claimed::Elsewhere);
         if let Claimed::Taken(r) = claimed {
             let Restored {
                 meta,
@@ -259,20 +260,20 @@ impl Hub {
                 game,
             } = *r;
             self.restore(now, meta, number, record, game);
-        } else if matches!(claimed, Claimed::Elsewhere) {
-            if let Some(c) = self.conns.get_mut(&conn) {
-                c.entering = false;
-                return error(
-                    conn,
-                    ErrorCode::ServerBusy,
-                    "this game is played on another server instance; try again shortly",
-                );
-            }
         }
         let Some(c) = self.conns.get_mut(&conn) else {
             return Vec::new();
         };
         c.entering = false;
+        if elsewhere {
+            // The token is a real seat's, not a guess: asking again costs nothing.
+            self.refund_entry(conn);
+            return error(
+                conn,
+                ErrorCode::ServerBusy,
+                "this game is played on another server instance; try again shortly",
+            );
+        }
         let msg = ClientMessage::Rejoin { token };
         if self.entry_away(&msg).is_some() {
             // The room is out running a message: the rejoin waits for it.
