@@ -2,7 +2,7 @@
 //! message, where no PostgreSQL server is installed). A room is owned by one instance at a
 //! time: the others refuse its players and cannot write its games; when its owner stops, even
 //! when killed with SIGKILL, its players come back through another instance, which rebuilds
-//! the room from the shot log, and the game is finished there.
+//! the room from the shot log, and the game is finished there. A room that closes lets go.
 //!
 //! The instance that is killed is this test binary run again with [`CHILD`] set: it serves
 //! like `breakshot-server --store URL` until it is killed.
@@ -38,6 +38,8 @@ fn instance_process() {
     let (url, data) = spec.split_once(' ').expect("URL DATA");
     let mut config = Config::new(([127, 0, 0, 1], 0).into(), data.into());
     config.store = Location::Postgres(url.into());
+    // The same games on every run, as the in-process test servers play.
+    config.predictable_seed = Some(SEED);
     let runtime = tokio::runtime::Runtime::new().expect("runtime");
     runtime.block_on(async {
         let server = Server::bind(&config).expect("binding");
@@ -69,13 +71,17 @@ fn start_process(cluster: &Cluster, data: &Path) -> (Spawned, Invite) {
     panic!("the instance printed no invite");
 }
 
-/// An in-process instance on the cluster, with randomness of its own (`seed`), so two
-/// instances never make the same room codes.
-async fn start_instance(cluster: &Cluster, data: &Path, seed: u64) -> Result<TestServer> {
+/// An in-process instance's configuration on the cluster, with randomness of its own
+/// (`seed`), so two instances never make the same room codes.
+fn instance_config(cluster: &Cluster, data: &Path, seed: u64) -> Config {
     let mut config = TestServer::config(([127, 0, 0, 1], 0).into(), data);
     config.store = Location::Postgres(cluster.url.clone());
     config.predictable_seed = Some(seed);
-    TestServer::start_with(config).await
+    config
+}
+
+async fn start_instance(cluster: &Cluster, data: &Path, seed: u64) -> Result<TestServer> {
+    TestServer::start_with(instance_config(cluster, data, seed)).await
 }
 
 /// Plays one move, chosen by the computer player for whoever is to move, and waits until
@@ -256,4 +262,49 @@ async fn a_game_on_a_killed_instance_is_finished_through_another() -> Result<()>
     other.stop().await?;
     assert_eq!(verified(&cluster).await?, 1);
     Ok(())
+}
+
+/// Advisory locks held in the cluster: one per room an instance owns.
+async fn advisory_locks(cluster: &Cluster) -> Result<i64> {
+    let url = cluster.url.clone();
+    tokio::task::spawn_blocking(move || -> Result<i64> {
+        let mut db = ::postgres::Client::connect(&url, ::postgres::NoTls)?;
+        let row = db.query_one(
+            "SELECT COUNT(*) FROM pg_locks WHERE locktype = 'advisory'",
+            &[],
+        )?;
+        Ok(row.get(0))
+    })
+    .await?
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_room_that_closes_lets_go_of_its_lock() -> Result<()> {
+    let Some(cluster) = Cluster::start("a_room_that_closes_lets_go") else {
+        return Ok(());
+    };
+    let data = scratch("closing");
+    let mut config = instance_config(&cluster, data.path(), SEED);
+    // A room stays open for its players' return (a rematch) this long after they leave.
+    config.limits.reconnect_window = Duration::from_millis(200);
+    let server = TestServer::start_with(config).await?;
+    let (mut a, mut b, _room) = seated_pair(&server.invite).await?;
+    assert_eq!(advisory_locks(&cluster).await?, 1, "the new room is owned");
+    a.send(ClientMessage::Concede).await?;
+    for p in [&mut a, &mut b] {
+        p.until("the game's end", |m| {
+            matches!(m, ServerMessage::GameOver { .. })
+        })
+        .await?;
+    }
+    drop((a, b));
+    let deadline = Instant::now() + PATIENCE;
+    while advisory_locks(&cluster).await? != 0 {
+        anyhow::ensure!(
+            Instant::now() < deadline,
+            "the closed room's lock was never let go"
+        );
+        tokio::time::sleep(Duration::from_millis(20)).await;
+    }
+    server.stop().await
 }
