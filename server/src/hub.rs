@@ -44,6 +44,12 @@ pub struct HubConfig {
 pub enum Claimed {
     /// The room is this server's now: its latest game, replayed with every hash checked.
     Taken(Box<Restored>),
+    /// The seat's room is closed, its last game over `age` ago.
+    Ended {
+        meta: Box<RoomMeta>,
+        ending: Ending,
+        age: Duration,
+    },
     /// Another live instance owns the room (or the store could not say).
     Elsewhere,
     /// No room elsewhere has the seat (or its room is here already).
@@ -260,6 +266,8 @@ impl Hub {
                 game,
             } = *r;
             self.restore(now, meta, number, record, game);
+        } else if let Claimed::Ended { meta, ending, age } = claimed {
+            self.restore_ending(now, &meta, ending, age);
         }
         let Some(c) = self.conns.get_mut(&conn) else {
             return Vec::new();
@@ -280,7 +288,7 @@ impl Hub {
             return self.route(now, now, conn, msg, None);
         }
         let out = self.rejoin(now, conn, token, false);
-        if self.conns.get(&conn).is_some_and(|c| c.room.is_some()) {
+        if self.conns.get(&conn).is_some_and(|c| c.room.is_some()) || told_result(&out, conn) {
             self.refund_entry(conn);
         }
         out

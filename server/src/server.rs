@@ -39,13 +39,13 @@ use crate::conn::{self, HubEvent, Outbound, Outlet};
 use crate::endings::Ending;
 use crate::hub::{Claimed, Hub, HubConfig, Restored};
 use crate::limits::Limits;
-use crate::output::{ConnId, Output, StoreOp};
+use crate::output::{ConnId, Output, RoomMeta, StoreOp};
 use crate::pool::{self, Pool};
 use crate::records;
 use crate::secret::{Entropy, OsEntropy, TestEntropy, TokenDigest};
 use crate::source::source_key;
 use crate::stats::Stats;
-use crate::store::{Claim, Location, Store, StoreError, StoredGame};
+use crate::store::{Claim, EndedGame, Location, Store, StoreError, StoredGame};
 use crate::tls::{Identity, TlsError};
 
 #[derive(Clone, Debug)]
@@ -460,16 +460,22 @@ fn restore(store: &Store, hub: &mut Hub) -> Result<usize, ServerError> {
     let retention = hub.config().limits.finished_retention.as_secs();
     let today = crate::store::unix_now();
     for ended in store.ended_since(today.saturating_sub(retention))? {
-        let ending = Ending {
-            room: ended.meta.code.clone(),
-            game: ended.number,
-            winner: ended.winner,
-            reason: ended.reason,
-        };
-        let age = Duration::from_secs(today.saturating_sub(ended.at));
-        hub.restore_ending(now, &ended.meta, ending, age);
+        let (meta, ending, age) = ending_of(ended);
+        hub.restore_ending(now, &meta, ending, age);
     }
     Ok(restored)
+}
+
+/// A stored game's end as the hub keeps it, with how long ago it was.
+fn ending_of(ended: EndedGame) -> (RoomMeta, Ending, Duration) {
+    let ending = Ending {
+        room: ended.meta.code.clone(),
+        game: ended.number,
+        winner: ended.winner,
+        reason: ended.reason,
+    };
+    let age = crate::store::unix_now().saturating_sub(ended.at);
+    (ended.meta, ending, Duration::from_secs(age))
 }
 
 /// A stored game replayed with every hash checked, or `None` (and why, in the log).
@@ -509,6 +515,14 @@ fn claim(store: &Store, token: &SeatToken) -> Claimed {
             }
             None => Claimed::NotFound,
         },
+        Ok(Claim::Ended(ended)) => {
+            let (meta, ending, age) = ending_of(*ended);
+            Claimed::Ended {
+                meta: Box::new(meta),
+                ending,
+                age,
+            }
+        }
         Ok(Claim::Elsewhere) => Claimed::Elsewhere,
         Ok(Claim::NotFound) => Claimed::NotFound,
         Err(e) => {

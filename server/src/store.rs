@@ -57,6 +57,8 @@ pub enum Claim {
     /// The token's room was left unfinished by an instance that is gone: it is this
     /// instance's now, with its latest game to restore.
     Taken(Box<StoredGame>),
+    /// The token's room is closed and its last game over.
+    Ended(Box<EndedGame>),
     /// Another live instance owns the room.
     Elsewhere,
     /// No unfinished room of another instance has this seat.
@@ -187,7 +189,7 @@ impl Store {
     pub fn ended_since(&self, since: u64) -> Result<Vec<EndedGame>, StoreError> {
         match &self.0 {
             Backend::Sqlite(s) => s.ended_since(since),
-            Backend::Postgres(s) => s.ended_since(since),
+            Backend::Postgres(s) => s.ended_since(since, None),
         }
     }
 

@@ -2,7 +2,8 @@
 //! message, where no PostgreSQL server is installed). A room is owned by one instance at a
 //! time: the others refuse its players and cannot write its games; when its owner stops, even
 //! when killed with SIGKILL, its players come back through another instance, which rebuilds
-//! the room from the shot log, and the game is finished there. A room that closes lets go.
+//! the room from the shot log, and the game is finished there. A room that closes lets go,
+//! and its players learn the result through any instance.
 //!
 //! The instance that is killed is this test binary run again with [`CHILD`] set: it serves
 //! like `breakshot-server --store URL` until it is killed.
@@ -279,7 +280,7 @@ async fn advisory_locks(cluster: &Cluster) -> Result<i64> {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn a_room_that_closes_lets_go_of_its_lock() -> Result<()> {
+async fn a_room_that_closes_lets_go_of_its_lock_and_any_instance_tells_the_result() -> Result<()> {
     let Some(cluster) = Cluster::start("a_room_that_closes_lets_go") else {
         return Ok(());
     };
@@ -289,7 +290,11 @@ async fn a_room_that_closes_lets_go_of_its_lock() -> Result<()> {
     config.limits.reconnect_window = Duration::from_millis(200);
     let server = TestServer::start_with(config).await?;
     let (mut a, mut b, _room) = seated_pair(&server.invite).await?;
+    let tokens = [a.client.token(), b.client.token()].map(|t| t.expect("a seat token"));
     assert_eq!(advisory_locks(&cluster).await?, 1, "the new room is owned");
+    // Another instance, up while the game is played (so it has not read its end at start).
+    let data_b = scratch("closing-b");
+    let other = start_instance(&cluster, data_b.path(), SEED + 1).await?;
     a.send(ClientMessage::Concede).await?;
     for p in [&mut a, &mut b] {
         p.until("the game's end", |m| {
@@ -306,5 +311,23 @@ async fn a_room_that_closes_lets_go_of_its_lock() -> Result<()> {
         );
         tokio::time::sleep(Duration::from_millis(20)).await;
     }
+    // A player coming back through the other instance learns how the game ended.
+    let mut late = Player::connect(&other.invite).await?;
+    late.send(ClientMessage::Rejoin { token: tokens[1] })
+        .await?;
+    let told = late.recv().await?;
+    assert!(
+        matches!(
+            told,
+            ServerMessage::GameFinished {
+                seat: Seat::B,
+                winner: Some(Seat::B),
+                ..
+            }
+        ),
+        "{told:?}"
+    );
+    drop(late);
+    other.stop().await?;
     server.stop().await
 }

@@ -240,13 +240,15 @@ impl PgStore {
         if !self.own(&room)? {
             return Ok(Claim::Elsewhere);
         }
-        match self.games(false, Some(&room))?.pop() {
-            Some(game) => Ok(Claim::Taken(Box::new(game))),
-            None => {
-                self.release(&room)?;
-                Ok(Claim::NotFound)
-            }
+        if let Some(game) = self.games(false, Some(&room))?.pop() {
+            return Ok(Claim::Taken(Box::new(game)));
         }
+        // The game is over: nothing to own, but its player may learn how it ended.
+        self.release(&room)?;
+        Ok(match self.ended_since(0, Some(&room))?.pop() {
+            Some(ended) => Claim::Ended(Box::new(ended)),
+            None => Claim::NotFound,
+        })
     }
 
     /// Every game (`all`) or the unfinished ones, of one room or of all, in room and game
@@ -277,15 +279,21 @@ impl PgStore {
         Ok(out)
     }
 
-    pub fn ended_since(&self, since: u64) -> Result<Vec<EndedGame>, StoreError> {
+    /// The latest game of each room (or of one) if it ended at `since` or later.
+    pub fn ended_since(
+        &self,
+        since: u64,
+        room: Option<&str>,
+    ) -> Result<Vec<EndedGame>, StoreError> {
         let since = i64::try_from(since).unwrap_or(i64::MAX);
         let rows = self.db.borrow_mut().query(
             "SELECT r.code, r.meta, g.number, g.winner, g.reason, g.finished_at
              FROM games g JOIN rooms r ON r.code = g.room
              WHERE g.finished AND g.finished_at >= $1
+               AND ($2::TEXT IS NULL OR g.room = $2)
                AND g.number = (SELECT MAX(number) FROM games WHERE room = g.room)
              ORDER BY g.finished_at",
-            &[&since],
+            &[&since, &room],
         )?;
         rows.into_iter()
             .map(|row| {
