@@ -505,7 +505,9 @@ fn replayed(stored: StoredGame) -> Option<Restored> {
     }
 }
 
-/// Asks the store for the room of a seat no room here knows (see [`Store::claim`]).
+/// Asks the store for the room of a seat no room here knows (see [`Store::claim`]). A room
+/// taken over is replayed here, on the writer thread, holding up other writes for that long:
+/// a takeover is rare, and a game's replay is bounded by its length limit.
 fn claim(store: &Store, token: &SeatToken) -> Claimed {
     match store.claim(&TokenDigest::of(token)) {
         Ok(Claim::Taken(stored)) => match replayed(*stored) {
