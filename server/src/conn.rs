@@ -10,11 +10,12 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use breakshot_shared::protocol::{
-    decode_payload, encode_frame, payload_len, ClientMessage, ServerMessage, HEADER_LEN,
+    decode_payload, encode_frame, payload_len, ClientMessage, SeatToken, ServerMessage, HEADER_LEN,
 };
 use tokio::sync::mpsc::{channel, Receiver};
 use tokio::sync::Notify;
 
+use crate::hub::Claimed;
 use crate::limits::Limits;
 use crate::output::ConnId;
 use crate::ratelimit::Bucket;
@@ -37,6 +38,8 @@ pub enum HubEvent {
     Disconnected(ConnId),
     /// A room back from running a message on a worker thread.
     Returned(Returned),
+    /// The store's answer to a claim for a connection's seat token.
+    Claimed(ConnId, SeatToken, Claimed),
     Shutdown,
 }
 

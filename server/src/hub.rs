@@ -22,7 +22,7 @@ use breakshot_shared::rules::{Game, Phase, Seat};
 
 use crate::endings::{Ending, Endings};
 use crate::limits::Limits;
-use crate::output::{ConnId, Output, RoomMeta};
+use crate::output::{ConnId, Output, RoomMeta, StoreOp};
 use crate::ratelimit::Bucket;
 use crate::room::{Entry, Room, RoomRules, Who};
 use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
@@ -34,6 +34,35 @@ pub struct HubConfig {
     pub limits: Limits,
     /// The reference-shot hash of this build's physics; clients must match it.
     pub physics: u64,
+    /// Other server instances share the store: a seat token no room here knows may belong
+    /// to a room one of them left, which the store is asked for ([`Output::Claim`]).
+    pub shared_store: bool,
+}
+
+/// The store's answer to an [`Output::Claim`].
+#[derive(Debug)]
+pub enum Claimed {
+    /// The room is this server's now: its latest game, replayed with every hash checked.
+    Taken(Box<Restored>),
+    /// The seat's room is closed, its last game over `age` ago.
+    Ended {
+        meta: Box<RoomMeta>,
+        ending: Ending,
+        age: Duration,
+    },
+    /// Another live instance owns the room (or the store could not say).
+    Elsewhere,
+    /// No room elsewhere has the seat (or its room is here already).
+    NotFound,
+}
+
+/// A game brought back from the store, replayed and checked.
+#[derive(Debug)]
+pub struct Restored {
+    pub meta: RoomMeta,
+    pub number: u32,
+    pub record: GameRecord,
+    pub game: Game,
 }
 
 struct Conn {
@@ -219,6 +248,52 @@ impl Hub {
         self.rooms.insert(room.code().clone(), room);
     }
 
+    /// The store answered a claim for `conn`'s seat `token`: a room taken over is restored
+    /// here, then the rejoin is answered as any other.
+    pub fn claimed(
+        &mut self,
+        now: Instant,
+        conn: ConnId,
+        token: SeatToken,
+        claimed: Claimed,
+    ) -> Vec<Output> {
+        let elsewhere = matches!(claimed, Claimed::Elsewhere);
+        if let Claimed::Taken(r) = claimed {
+            let Restored {
+                meta,
+                number,
+                record,
+                game,
+            } = *r;
+            self.restore(now, meta, number, record, game);
+        } else if let Claimed::Ended { meta, ending, age } = claimed {
+            self.restore_ending(now, &meta, ending, age);
+        }
+        let Some(c) = self.conns.get_mut(&conn) else {
+            return Vec::new();
+        };
+        c.entering = false;
+        if elsewhere {
+            // The token is a real seat's, not a guess: asking again costs nothing.
+            self.refund_entry(conn);
+            return error(
+                conn,
+                ErrorCode::ServerBusy,
+                "this game is played on another server instance; try again shortly",
+            );
+        }
+        let msg = ClientMessage::Rejoin { token };
+        if self.entry_away(&msg).is_some() {
+            // The room is out running a message: the rejoin waits for it.
+            return self.route(now, now, conn, msg, None);
+        }
+        let out = self.rejoin(now, conn, token, false);
+        if self.conns.get(&conn).is_some_and(|c| c.room.is_some()) || told_result(&out, conn) {
+            self.refund_entry(conn);
+        }
+        out
+    }
+
     /// Remembers a game found over in the store at start, `age` after it ended.
     pub fn restore_ending(&mut self, now: Instant, meta: &RoomMeta, ending: Ending, age: Duration) {
         let Some(left) = self.config.limits.finished_retention.checked_sub(age) else {
@@ -402,7 +477,7 @@ impl Hub {
                 self.create(now, conn, rules, name)
             }
             (ClientMessage::Join { room, name }, None) => self.join(now, conn, room, name),
-            (ClientMessage::Rejoin { token }, None) => self.rejoin(now, conn, token),
+            (ClientMessage::Rejoin { token }, None) => self.rejoin(now, conn, token, true),
             (ClientMessage::Spectate { room }, None) => match self.rooms.get_mut(&room) {
                 Some(r) => {
                     let entry = r.spectate(now, conn, MAX_SPECTATORS);
@@ -436,6 +511,9 @@ impl Hub {
             .collect();
         self.endings.expire(now);
         for code in closed {
+            if self.config.shared_store {
+                out.push(Output::Store(StoreOp::Released(code.clone())));
+            }
             self.tokens.retain(|_, (c, _)| *c != code);
             if let Some(room) = self.rooms.remove(&code) {
                 self.keep_ending(now, &room);
@@ -594,11 +672,19 @@ impl Hub {
         entry.out
     }
 
-    fn rejoin(&mut self, now: Instant, conn: ConnId, token: SeatToken) -> Vec<Output> {
+    /// A seat token's player comes back; with `claim`, a token no room here knows is looked
+    /// for in a shared store.
+    fn rejoin(&mut self, now: Instant, conn: ConnId, token: SeatToken, claim: bool) -> Vec<Output> {
         let digest = TokenDigest::of(&token);
         let Some((code, seat)) = self.tokens.get(&digest).cloned() else {
             if let Some(result) = self.endings.answer(now, &digest) {
                 return vec![send(conn, result)];
+            }
+            if claim && self.config.shared_store {
+                if let Some(c) = self.conns.get_mut(&conn) {
+                    c.entering = true;
+                }
+                return vec![Output::Claim { conn, token }];
             }
             return error(
                 conn,

@@ -1,6 +1,6 @@
 //! What the sans-IO core asks its driver to do, in order.
 
-use breakshot_shared::protocol::{AimAid, RoomCode, ServerMessage};
+use breakshot_shared::protocol::{AimAid, RoomCode, SeatToken, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Seat, Settings, Variant};
 use serde::{Deserialize, Serialize};
@@ -24,6 +24,10 @@ pub enum Output {
     /// it after committing every earlier store operation, so it holds every result already
     /// sent.
     SendRecord { to: ConnId, room: RoomCode },
+    /// Ask the store for the room of an unknown seat token, in a store shared with other
+    /// server instances: the room may have been left by an instance that stopped. The answer
+    /// goes back to [`crate::hub::Hub::claimed`]. Everything before it in the list comes first.
+    Claim { conn: ConnId, token: SeatToken },
     /// Run a message through its room away from the hub (see [`crate::work`]): carry out
     /// the outputs the work returns, then give the room back with
     /// [`crate::hub::Hub::returned`]. Everything before it in the list comes first.
@@ -57,6 +61,8 @@ pub enum StoreOp {
         winner: Option<Seat>,
         reason: String,
     },
+    /// The room closed on this server: a store shared with other instances lets go of it.
+    Released(RoomCode),
 }
 
 impl StoreOp {

@@ -29,7 +29,7 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use breakshot_shared::protocol::{reference_hash, Fingerprint, Invite, RoomCode};
+use breakshot_shared::protocol::{reference_hash, Fingerprint, Invite, RoomCode, SeatToken};
 use thiserror::Error;
 use tokio::sync::mpsc::error::TrySendError;
 use tokio::sync::Notify;
@@ -37,15 +37,15 @@ use tokio::sync::Notify;
 use crate::admission::{Entry, Gate, Refusal, Ticket};
 use crate::conn::{self, HubEvent, Outbound, Outlet};
 use crate::endings::Ending;
-use crate::hub::{Hub, HubConfig};
+use crate::hub::{Claimed, Hub, HubConfig, Restored};
 use crate::limits::Limits;
-use crate::output::{ConnId, Output, StoreOp};
+use crate::output::{ConnId, Output, RoomMeta, StoreOp};
 use crate::pool::{self, Pool};
 use crate::records;
-use crate::secret::{Entropy, OsEntropy, TestEntropy};
+use crate::secret::{Entropy, OsEntropy, TestEntropy, TokenDigest};
 use crate::source::source_key;
 use crate::stats::Stats;
-use crate::store::{Location, Store, StoreError};
+use crate::store::{Claim, EndedGame, Location, Store, StoreError, StoredGame};
 use crate::tls::{Identity, TlsError};
 
 #[derive(Clone, Debug)]
@@ -151,6 +151,7 @@ impl Server {
             HubConfig {
                 limits: config.limits.clone(),
                 physics,
+                shared_store: matches!(config.store, Location::Postgres(_)),
             },
             match config.predictable_seed {
                 Some(seed) => Box::new(TestEntropy::new(seed)),
@@ -256,7 +257,13 @@ impl Server {
             },
             stats.clone(),
         );
-        let writer_thread = spawn_writer(store, writer_rx, failed.clone(), stats.clone());
+        let writer_thread = spawn_writer(
+            store,
+            writer_rx,
+            hub_tx.clone(),
+            failed.clone(),
+            stats.clone(),
+        );
 
         let gate = Gate::new(stats.clone());
         let mut next_id: ConnId = 0;
@@ -444,39 +451,87 @@ fn restore(store: &Store, hub: &mut Hub) -> Result<usize, ServerError> {
     let now = Instant::now();
     let mut restored = 0;
     for stored in store.unfinished()? {
-        let room = stored.meta.code.clone();
-        let record = match stored.record {
-            Ok(r) => r,
-            Err(e) => {
-                tracing::error!(%room, game = stored.number, error = %e, "stored record unreadable; not restored");
-                continue;
-            }
-        };
-        match record.replay() {
-            Ok(game) => {
-                tracing::info!(%room, game = stored.number, commands = record.entries.len(), "game restored");
-                hub.restore(now, stored.meta, stored.number, record, game);
-                restored += 1;
-            }
-            Err(e) => {
-                tracing::error!(%room, game = stored.number, error = %e, "stored game does not replay; not restored")
-            }
+        if let Some(r) = replayed(stored) {
+            hub.restore(now, r.meta, r.number, r.record, r.game);
+            restored += 1;
         }
     }
     // Games that ended recently: their players may still come back to learn the result.
     let retention = hub.config().limits.finished_retention.as_secs();
     let today = crate::store::unix_now();
     for ended in store.ended_since(today.saturating_sub(retention))? {
-        let ending = Ending {
-            room: ended.meta.code.clone(),
-            game: ended.number,
-            winner: ended.winner,
-            reason: ended.reason,
-        };
-        let age = Duration::from_secs(today.saturating_sub(ended.at));
-        hub.restore_ending(now, &ended.meta, ending, age);
+        let (meta, ending, age) = ending_of(ended);
+        hub.restore_ending(now, &meta, ending, age);
     }
     Ok(restored)
+}
+
+/// A stored game's end as the hub keeps it, with how long ago it was.
+fn ending_of(ended: EndedGame) -> (RoomMeta, Ending, Duration) {
+    let ending = Ending {
+        room: ended.meta.code.clone(),
+        game: ended.number,
+        winner: ended.winner,
+        reason: ended.reason,
+    };
+    let age = crate::store::unix_now().saturating_sub(ended.at);
+    (ended.meta, ending, Duration::from_secs(age))
+}
+
+/// A stored game replayed with every hash checked, or `None` (and why, in the log).
+fn replayed(stored: StoredGame) -> Option<Restored> {
+    let room = stored.meta.code.clone();
+    let record = match stored.record {
+        Ok(r) => r,
+        Err(e) => {
+            tracing::error!(%room, game = stored.number, error = %e, "stored record unreadable; not restored");
+            return None;
+        }
+    };
+    match record.replay() {
+        Ok(game) => {
+            tracing::info!(%room, game = stored.number, commands = record.entries.len(), "game restored");
+            Some(Restored {
+                meta: stored.meta,
+                number: stored.number,
+                record,
+                game,
+            })
+        }
+        Err(e) => {
+            tracing::error!(%room, game = stored.number, error = %e, "stored game does not replay; not restored");
+            None
+        }
+    }
+}
+
+/// Asks the store for the room of a seat no room here knows (see [`Store::claim`]). A room
+/// taken over is replayed here, on the writer thread, holding up other writes for that long:
+/// a takeover is rare, and a game's replay is bounded by its length limit.
+fn claim(store: &Store, token: &SeatToken) -> Claimed {
+    match store.claim(&TokenDigest::of(token)) {
+        Ok(Claim::Taken(stored)) => match replayed(*stored) {
+            Some(r) => {
+                tracing::info!(room = %r.meta.code, "room taken over from a stopped instance");
+                Claimed::Taken(Box::new(r))
+            }
+            None => Claimed::NotFound,
+        },
+        Ok(Claim::Ended(ended)) => {
+            let (meta, ending, age) = ending_of(*ended);
+            Claimed::Ended {
+                meta: Box::new(meta),
+                ending,
+                age,
+            }
+        }
+        Ok(Claim::Elsewhere) => Claimed::Elsewhere,
+        Ok(Claim::NotFound) => Claimed::NotFound,
+        Err(e) => {
+            tracing::error!(error = %e, "the store could not say who owns a room");
+            Claimed::Elsewhere
+        }
+    }
 }
 
 /// The threads that run rooms' messages, with the tests' hook.
@@ -520,6 +575,7 @@ fn spawn_hub(
             Ok(HubEvent::Message(id, msg, read)) => hub.handle_read(now, read, id, msg),
             Ok(HubEvent::Disconnected(id)) => hub.disconnected(now, id),
             Ok(HubEvent::Returned(room)) => hub.returned(now, room),
+            Ok(HubEvent::Claimed(id, token, claimed)) => hub.claimed(now, id, token, claimed),
             Ok(HubEvent::Shutdown) | Err(RecvTimeoutError::Disconnected) => return,
             Err(RecvTimeoutError::Timeout) => hub.tick(now),
         };
@@ -557,6 +613,7 @@ fn spawn_hub(
 fn spawn_writer(
     mut store: Store,
     inbox: Receiver<WriterMsg>,
+    hub: conn::HubSender,
     failed: Arc<Notify>,
     stats: Arc<Stats>,
 ) -> JoinHandle<Result<(), String>> {
@@ -602,6 +659,12 @@ fn spawn_writer(
                                 Output::Close { conn, reason } => (conn, Outbound::Close(reason)),
                                 // The hub thread hands every `Run` to the workers.
                                 Output::Store(_) | Output::Run(_) => continue,
+                                // Read after every earlier write is committed, as records are.
+                                Output::Claim { conn, token } => {
+                                    let claimed = claim(&store, &token);
+                                    let _ = hub.send(HubEvent::Claimed(conn, token, claimed));
+                                    continue;
+                                }
                                 Output::SendRecord { to, room } => {
                                     (to, Outbound::Message(records::answer(&store, &room)))
                                 }

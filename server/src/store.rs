@@ -22,6 +22,7 @@ use breakshot_shared::rules::Seat;
 use thiserror::Error;
 
 use crate::output::{RoomMeta, StoreOp};
+use crate::secret::TokenDigest;
 
 mod postgres;
 mod sqlite;
@@ -46,6 +47,22 @@ pub enum StoreError {
     Schema { found: i64, known: i64 },
     #[error("{0}")]
     Location(String),
+    #[error("room {0} is owned by another server instance")]
+    OwnedElsewhere(String),
+}
+
+/// What the store made of a seat token no room on this server knows.
+#[derive(Debug)]
+pub enum Claim {
+    /// The token's room was left unfinished by an instance that is gone: it is this
+    /// instance's now, with its latest game to restore.
+    Taken(Box<StoredGame>),
+    /// The token's room is closed and its last game over.
+    Ended(Box<EndedGame>),
+    /// Another live instance owns the room.
+    Elsewhere,
+    /// No unfinished room of another instance has this seat.
+    NotFound,
 }
 
 /// Where the games are kept.
@@ -135,19 +152,35 @@ impl Store {
         }
     }
 
-    /// Games still being played, for a restart.
+    /// Games still being played, for a restart. In a shared store, only those of rooms no
+    /// other instance owns, which become this one's.
     pub fn unfinished(&self) -> Result<Vec<StoredGame>, StoreError> {
         match &self.0 {
             Backend::Sqlite(s) => s.unfinished(),
-            Backend::Postgres(s) => s.games(false),
+            Backend::Postgres(s) => s.unfinished(),
         }
+    }
+
+    /// Looks for the room of a seat no room on this server has: in a store shared by
+    /// several instances, the room of one that stopped is taken over. SQLite belongs to one
+    /// server, which restored every room at start.
+    pub fn claim(&self, seat: &TokenDigest) -> Result<Claim, StoreError> {
+        match &self.0 {
+            Backend::Sqlite(_) => Ok(Claim::NotFound),
+            Backend::Postgres(s) => s.claim(seat),
+        }
+    }
+
+    /// Whether other server instances may share this store (and so own some of its rooms).
+    pub fn shared(&self) -> bool {
+        matches!(self.0, Backend::Postgres(_))
     }
 
     /// Every stored game, in room and game order.
     pub fn all(&self) -> Result<Vec<StoredGame>, StoreError> {
         match &self.0 {
             Backend::Sqlite(s) => s.all(),
-            Backend::Postgres(s) => s.games(true),
+            Backend::Postgres(s) => s.games(true, None),
         }
     }
 
@@ -156,7 +189,7 @@ impl Store {
     pub fn ended_since(&self, since: u64) -> Result<Vec<EndedGame>, StoreError> {
         match &self.0 {
             Backend::Sqlite(s) => s.ended_since(since),
-            Backend::Postgres(s) => s.ended_since(since),
+            Backend::Postgres(s) => s.ended_since(since, None),
         }
     }
 

@@ -12,7 +12,7 @@ use breakshot_shared::replay::{GameRecord, RecordEntry};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Seat, Settings, Variant};
 use glam::DVec2;
 
-use super::{Hub, HubConfig};
+use super::{Claimed, Hub, HubConfig, Restored};
 use crate::limits::Limits;
 use crate::output::{ConnId, Output, StoreOp};
 use crate::secret::TestEntropy;
@@ -47,6 +47,11 @@ fn stores(out: &[Output]) -> usize {
 
 impl World {
     fn new() -> World {
+        World::with_store(false)
+    }
+
+    /// A hub whose store other instances share (or not).
+    fn with_store(shared_store: bool) -> World {
         let config = HubConfig {
             limits: Limits {
                 reconnect_window: WINDOW,
@@ -54,6 +59,7 @@ impl World {
                 ..Limits::default()
             },
             physics: reference_hash().unwrap(),
+            shared_store,
         };
         World {
             hub: Hub::new(config, Box::new(TestEntropy::new(9))),
@@ -986,4 +992,55 @@ fn a_player_who_leaves_while_the_room_is_out_is_seen_leaving_after_its_results()
         .any(|m| matches!(m, ServerMessage::PlayerLeft { seat: Seat::B, .. })));
     // The seat is held for its window, as for any dropped player.
     assert!(w.hub.room(&room).unwrap().next_deadline().is_some());
+}
+
+#[test]
+fn with_a_shared_store_an_unknown_seat_is_claimed_and_its_room_rebuilt_or_refused() {
+    let mut owner = World::with_store(true);
+    let (room, token_a, _) = owner.pair(Settings::offline());
+    let shot = break_shot(&owner.game(&room));
+    owner.send(1, shot);
+    let left = owner.hub.room(&room).unwrap();
+    let (meta, number, record) = (left.meta(), left.game_number(), left.record().clone());
+    let game = left.game().clone();
+
+    let mut other = World::with_store(true);
+    other.greet(1);
+    let out = other.send(1, ClientMessage::Rejoin { token: token_a });
+    assert!(
+        matches!(&out[..], [Output::Claim { conn: 1, .. }]),
+        "{out:?}"
+    );
+    // While the store is asked, the connection waits.
+    let out = other.send(1, ClientMessage::Concede);
+    assert_eq!(error_code(&out, 1), Some(ErrorCode::Unexpected));
+    let out = other.hub.claimed(other.now, 1, token_a, Claimed::Elsewhere);
+    assert_eq!(error_code(&out, 1), Some(ErrorCode::ServerBusy));
+    assert_eq!(other.hub.room_count(), 0);
+
+    other.send(1, ClientMessage::Rejoin { token: token_a });
+    let restored = Restored {
+        meta,
+        number,
+        record,
+        game: game.clone(),
+    };
+    let out = other
+        .hub
+        .claimed(other.now, 1, token_a, Claimed::Taken(Box::new(restored)));
+    let rejoined = sent_to(&out, 1).into_iter().find_map(|m| match m {
+        ServerMessage::Joined { role, snapshot, .. } => Some((*role, snapshot.game.clone())),
+        _ => None,
+    });
+    assert_eq!(rejoined, Some((Role::Player(Seat::A), game)));
+    // The token is known here now: the next rejoin asks the store nothing.
+    other.greet(3);
+    let out = other.send(3, ClientMessage::Rejoin { token: token_a });
+    assert!(!out.iter().any(|o| matches!(o, Output::Claim { .. })));
+
+    // A hub that owns its store alone never asks it.
+    let mut alone = World::new();
+    alone.greet(1);
+    let out = alone.send(1, ClientMessage::Rejoin { token: token_a });
+    assert_eq!(error_code(&out, 1), Some(ErrorCode::BadToken));
 }

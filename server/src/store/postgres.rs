@@ -3,20 +3,34 @@
 //! `synchronous_commit = on`, so a commit that returned is on the database server's disk
 //! whatever its default is. The schema is made and upgraded by the numbered migrations in
 //! `server/migrations/postgres/`, one instance at a time (an advisory lock).
+//!
+//! Several server instances may share one database. Each room is owned by one instance at a
+//! time through a session-level advisory lock on the room's code, held on the connection
+//! that writes the room's games: nothing is written for a room whose lock this connection
+//! does not hold, so two instances never both store (and so never both show) a command of
+//! one room. When an instance dies its connection ends and PostgreSQL lets go of its locks;
+//! another instance then takes the room over when a player comes back to it. A lock needs no
+//! renewing and cannot outlive the connection it fences, which a lease in a table would have
+//! to be checked for on every write.
 
 use std::cell::RefCell;
+use std::collections::BTreeSet;
 
 use breakshot_shared::protocol::RoomCode;
 use postgres::{Client, NoTls, Statement};
 
 use super::{
-    assemble, decode_meta, encode_meta, seat_number, seat_of, unix_now, EndedGame, StoreError,
-    StoredGame,
+    assemble, decode_meta, encode_meta, seat_number, seat_of, unix_now, Claim, EndedGame,
+    StoreError, StoredGame,
 };
 use crate::output::StoreOp;
+use crate::secret::TokenDigest;
 
 /// The migrations, in order: version n is the n-th.
-const MIGRATIONS: &[&str] = &[include_str!("../../migrations/postgres/0001_games.sql")];
+const MIGRATIONS: &[&str] = &[
+    include_str!("../../migrations/postgres/0001_games.sql"),
+    include_str!("../../migrations/postgres/0002_seats.sql"),
+];
 
 /// The advisory lock key under which the schema is migrated ("BRKSHOT" in ASCII).
 const MIGRATION_LOCK: i64 = 0x0042_524b_5348_4f54;
@@ -28,12 +42,26 @@ struct Writes {
     clear: Statement,
     command: Statement,
     ended: Statement,
+    seat: Statement,
 }
 
 pub struct PgStore {
     // The reads take `&self` like SQLite's; one connection serves them one at a time.
     db: RefCell<Client>,
     writes: Writes,
+    /// The rooms whose advisory lock this connection holds.
+    owned: RefCell<BTreeSet<String>>,
+}
+
+/// A room's advisory lock key: its code's bytes (8 letters or digits) as one number, so no
+/// two rooms share a lock. The migration lock's key starts with a zero byte, which no
+/// code does.
+fn room_key(code: &str) -> i64 {
+    let mut bytes = [0u8; 8];
+    for (b, c) in bytes.iter_mut().rev().zip(code.bytes().rev()) {
+        *b = c;
+    }
+    i64::from_be_bytes(bytes)
 }
 
 fn int(n: u32) -> i64 {
@@ -44,6 +72,14 @@ impl PgStore {
     pub fn connect(url: &str) -> Result<PgStore, StoreError> {
         let mut db = Client::connect(url, NoTls)?;
         db.batch_execute("SET synchronous_commit = on")?;
+        // The rooms' locks last as long as this session: when this server's machine or its
+        // network dies, the database ends the session (and frees the rooms) once the
+        // connection has been silent for about 25 s, instead of the system's default of hours.
+        // Unix-socket sessions ignore these, and a process that dies closes its socket at once.
+        db.batch_execute(
+            "SET tcp_keepalives_idle = 10; SET tcp_keepalives_interval = 5;
+             SET tcp_keepalives_count = 3; SET tcp_user_timeout = 25000",
+        )?;
         migrate(&mut db)?;
         let writes = Writes {
             room: db.prepare(
@@ -64,20 +100,67 @@ impl PgStore {
                 "UPDATE games SET finished = TRUE, winner = $3, reason = $4, finished_at = $5
                  WHERE room = $1 AND number = $2",
             )?,
+            seat: db.prepare(
+                "INSERT INTO seats (digest, room) VALUES ($1, $2) ON CONFLICT (digest) DO NOTHING",
+            )?,
         };
         Ok(PgStore {
             db: RefCell::new(db),
             writes,
+            owned: RefCell::new(BTreeSet::new()),
         })
     }
 
+    /// Takes the room's lock unless this connection holds it already; `false` if another
+    /// instance holds it.
+    fn own(&self, room: &str) -> Result<bool, StoreError> {
+        if self.owned.borrow().contains(room) {
+            return Ok(true);
+        }
+        let got: bool = self
+            .db
+            .borrow_mut()
+            .query_one("SELECT pg_try_advisory_lock($1)", &[&room_key(room)])?
+            .get(0);
+        if got {
+            self.owned.borrow_mut().insert(room.to_string());
+        }
+        Ok(got)
+    }
+
+    fn release(&self, room: &str) -> Result<(), StoreError> {
+        if self.owned.borrow_mut().remove(room) {
+            self.db
+                .borrow_mut()
+                .execute("SELECT pg_advisory_unlock($1)", &[&room_key(room)])?;
+        }
+        Ok(())
+    }
+
     pub fn apply(&mut self, ops: &[&StoreOp]) -> Result<(), StoreError> {
+        // Every room written must be this instance's: the locks are taken before the
+        // transaction (a session lock outlives it either way).
+        for op in ops {
+            let room = match op {
+                StoreOp::Room(meta) => &meta.code,
+                StoreOp::GameStarted { room, .. }
+                | StoreOp::Command { room, .. }
+                | StoreOp::GameEnded { room, .. } => room,
+                StoreOp::Released(_) => continue,
+            };
+            if !self.own(room.as_str())? {
+                return Err(StoreError::OwnedElsewhere(room.to_string()));
+            }
+        }
         let w = &self.writes;
         let mut tx = self.db.get_mut().transaction()?;
         for op in ops {
             match op {
                 StoreOp::Room(meta) => {
                     tx.execute(&w.room, &[&meta.code.as_str(), &encode_meta(meta)?])?;
+                    for seat in meta.seats.iter().flatten() {
+                        tx.execute(&w.seat, &[&seat.digest.0.as_slice(), &meta.code.as_str()])?;
+                    }
                 }
                 StoreOp::GameStarted {
                     room,
@@ -116,20 +199,67 @@ impl PgStore {
                         ],
                     )?;
                 }
+                StoreOp::Released(_) => {}
             }
         }
         tx.commit()?;
+        // Let go only once what the room's last batch says is committed, so whoever takes
+        // the room next reads all of it.
+        for op in ops {
+            if let StoreOp::Released(room) = op {
+                self.release(room.as_str())?;
+            }
+        }
         Ok(())
     }
 
-    /// Every game (`all`) or the unfinished ones, in room and game order.
-    pub fn games(&self, all: bool) -> Result<Vec<StoredGame>, StoreError> {
+    /// The unfinished games of rooms no other instance owns, taking them.
+    pub fn unfinished(&self) -> Result<Vec<StoredGame>, StoreError> {
+        let mut out = Vec::new();
+        for game in self.games(false, None)? {
+            if self.own(game.meta.code.as_str())? {
+                out.push(game);
+            }
+        }
+        Ok(out)
+    }
+
+    /// The room of a seat token, taken from an instance that let go of it (or stopped).
+    pub fn claim(&self, seat: &TokenDigest) -> Result<Claim, StoreError> {
+        let room = self.db.borrow_mut().query_opt(
+            "SELECT room FROM seats WHERE digest = $1",
+            &[&seat.0.as_slice()],
+        )?;
+        let Some(room) = room.map(|r| r.get::<_, String>(0)) else {
+            return Ok(Claim::NotFound);
+        };
+        if self.owned.borrow().contains(&room) {
+            // Already here: the room was brought back by an earlier claim.
+            return Ok(Claim::NotFound);
+        }
+        if !self.own(&room)? {
+            return Ok(Claim::Elsewhere);
+        }
+        if let Some(game) = self.games(false, Some(&room))?.pop() {
+            return Ok(Claim::Taken(Box::new(game)));
+        }
+        // The game is over: nothing to own, but its player may learn how it ended.
+        self.release(&room)?;
+        Ok(match self.ended_since(0, Some(&room))?.pop() {
+            Some(ended) => Claim::Ended(Box::new(ended)),
+            None => Claim::NotFound,
+        })
+    }
+
+    /// Every game (`all`) or the unfinished ones, of one room or of all, in room and game
+    /// order.
+    pub fn games(&self, all: bool, room: Option<&str>) -> Result<Vec<StoredGame>, StoreError> {
         let rows = self.db.borrow_mut().query(
             "SELECT r.code, r.meta, g.number, g.header, g.finished
              FROM games g JOIN rooms r ON r.code = g.room
-             WHERE $1 OR NOT g.finished
+             WHERE ($1 OR NOT g.finished) AND ($2::TEXT IS NULL OR g.room = $2)
              ORDER BY g.room COLLATE \"C\", g.number",
-            &[&all],
+            &[&all, &room],
         )?;
         let mut out = Vec::new();
         for row in rows {
@@ -149,15 +279,21 @@ impl PgStore {
         Ok(out)
     }
 
-    pub fn ended_since(&self, since: u64) -> Result<Vec<EndedGame>, StoreError> {
+    /// The latest game of each room (or of one) if it ended at `since` or later.
+    pub fn ended_since(
+        &self,
+        since: u64,
+        room: Option<&str>,
+    ) -> Result<Vec<EndedGame>, StoreError> {
         let since = i64::try_from(since).unwrap_or(i64::MAX);
         let rows = self.db.borrow_mut().query(
             "SELECT r.code, r.meta, g.number, g.winner, g.reason, g.finished_at
              FROM games g JOIN rooms r ON r.code = g.room
              WHERE g.finished AND g.finished_at >= $1
+               AND ($2::TEXT IS NULL OR g.room = $2)
                AND g.number = (SELECT MAX(number) FROM games WHERE room = g.room)
              ORDER BY g.finished_at",
-            &[&since],
+            &[&since, &room],
         )?;
         rows.into_iter()
             .map(|row| {

@@ -143,6 +143,8 @@ impl SqliteStore {
                         i64::try_from(at).unwrap_or(i64::MAX)
                     ])?;
                 }
+                // One server owns every room of its own SQLite file.
+                StoreOp::Released(_) => {}
             }
         }
         tx.commit()?;
