@@ -67,7 +67,7 @@ pub fn run(command: &mut Command, stdin: Option<&[u8]>, limit: Duration) -> Outp
         }
     };
     // Whatever it started and left running (an X server, a server it hosted) goes with it.
-    kill_group(&child);
+    kill_group(&mut child);
     if let Some(writer) = writer {
         if let Ok(Err(e)) = writer.join() {
             panic!("writing to {name}: {e}");
@@ -189,16 +189,29 @@ fn drain(mut pipe: impl Read + Send + 'static) -> mpsc::Receiver<Vec<u8>> {
 }
 
 /// Kills the program's whole process group and reaps the program.
+/// Stops the program's whole process group and reaps the program.
 fn stop_group(child: &mut Child) {
     kill_group(child);
     let _ = child.kill();
     let _ = child.wait();
 }
 
-fn kill_group(child: &Child) {
+/// Stops what is left of the program's process group: first asked to end (SIGTERM), so an X
+/// server removes its lock file, then killed if it has not gone within a few seconds.
+fn kill_group(child: &mut Child) {
     #[cfg(unix)]
     if let Some(pid) = rustix::process::Pid::from_raw(child.id() as i32) {
-        let _ = rustix::process::kill_process_group(pid, rustix::process::Signal::KILL);
+        use rustix::process::{kill_process_group, test_kill_process_group, Signal};
+        if kill_process_group(pid, Signal::TERM).is_err() {
+            return; // nothing left in the group
+        }
+        let deadline = Instant::now() + Duration::from_secs(5);
+        while test_kill_process_group(pid).is_ok() && Instant::now() < deadline {
+            // The program itself, once ended, stays in the group until it is reaped.
+            let _ = child.try_wait();
+            thread::sleep(Duration::from_millis(10));
+        }
+        let _ = kill_process_group(pid, Signal::KILL);
     }
     #[cfg(not(unix))]
     let _ = child;
