@@ -232,6 +232,22 @@ fn assemble(header: &[u8], entries: Vec<Vec<u8>>) -> Result<GameRecord, RecordEr
     Ok(record)
 }
 
+/// Room `room`'s game `number`, assembled and encoded whole, as `record` answers: a record
+/// that does not assemble is an error naming the game.
+fn encoded_record(
+    room: &RoomCode,
+    number: u32,
+    header: &[u8],
+    entries: Vec<Vec<u8>>,
+) -> Result<Vec<u8>, StoreError> {
+    let record = assemble(header, entries).map_err(|why| StoreError::Record {
+        room: room.to_string(),
+        number,
+        why,
+    })?;
+    Ok(record.encode())
+}
+
 fn seat_number(seat: Seat) -> i64 {
     match seat {
         Seat::A => 0,

@@ -20,8 +20,8 @@ use breakshot_shared::protocol::RoomCode;
 use postgres::{Client, NoTls, Statement};
 
 use super::{
-    assemble, decode_meta, encode_meta, seat_number, seat_of, unix_now, Claim, EndedGame,
-    StoreError, StoredGame,
+    assemble, decode_meta, encode_meta, encoded_record, seat_number, seat_of, unix_now, Claim,
+    EndedGame, StoreError, StoredGame,
 };
 use crate::output::StoreOp;
 use crate::secret::TokenDigest;
@@ -320,14 +320,8 @@ impl PgStore {
             return Ok(None);
         };
         let header: Vec<u8> = header.get(0);
-        let record = assemble(&header, self.entries(room.as_str(), number)?).map_err(|why| {
-            StoreError::Record {
-                room: room.to_string(),
-                number,
-                why,
-            }
-        })?;
-        Ok(Some(record.encode()))
+        let entries = self.entries(room.as_str(), number)?;
+        encoded_record(room, number, &header, entries).map(Some)
     }
 
     pub fn latest(&self, room: &RoomCode) -> Result<Option<(u32, Vec<u8>, bool)>, StoreError> {

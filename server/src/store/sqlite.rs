@@ -8,8 +8,8 @@ use breakshot_shared::replay::{self, GameRecord, RecordEntry, RECORD_VERSION};
 use rusqlite::{params, Connection, OptionalExtension};
 
 use super::{
-    assemble, decode_meta, encode_meta, seat_number, seat_of, unix_now, EndedGame, StoreError,
-    StoredGame,
+    assemble, decode_meta, encode_meta, encoded_record, seat_number, seat_of, unix_now, EndedGame,
+    StoreError, StoredGame,
 };
 use crate::output::StoreOp;
 
@@ -230,14 +230,8 @@ impl SqliteStore {
         let Some(header) = header else {
             return Ok(None);
         };
-        let record = assemble(&header, self.entries(room.as_str(), number)?).map_err(|why| {
-            StoreError::Record {
-                room: room.to_string(),
-                number,
-                why,
-            }
-        })?;
-        Ok(Some(record.encode()))
+        let entries = self.entries(room.as_str(), number)?;
+        encoded_record(room, number, &header, entries).map(Some)
     }
 
     /// The latest game of a room: (number, encoded record, finished).
