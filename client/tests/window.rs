@@ -596,19 +596,25 @@ fn practice_record(scene: &Scene, strike: Strike) -> (Game, GameRecord) {
     (game, record)
 }
 
-#[test]
-fn a_replayed_jump_shows_the_ball_in_flight_bigger_with_its_shadow_on_the_cloth() {
-    // A practice game: the jump scene's layout, then its shot.
+/// The jump scene played as a practice game (its layout, then its shot).
+struct Jump {
+    /// The game after the shot, and its record.
+    game: Game,
+    record: GameRecord,
+    /// The shot's strike and where the cue ball stood.
+    strike: Strike,
+    start: DVec2,
+    /// The frame at which a replay shows the cue ball highest (the replay steps as the window
+    /// does, 1/60 s a frame), and the cue ball then.
+    frame: u32,
+    best: BallState,
+}
+
+fn jump_at_its_highest() -> Jump {
     let scene = Scene::from_json(JUMP).expect("valid scene");
-    let strike = scene
-        .to_shot()
-        .expect("valid shot")
-        .strike
-        .expect("a strike")
-        .1;
+    let shot = scene.to_shot().expect("valid shot");
+    let strike = shot.strike.expect("a strike").1;
     let (game, record) = practice_record(&scene, strike);
-    // The frame at which the window shows the cue ball highest: the replay steps as the
-    // window does, 1/60 s a frame.
     let mut viewer = ReplayViewer::new(record.clone()).expect("a record of this version");
     let (mut frame, mut best) = (0u32, BallState::at_rest(DVec2::ZERO));
     for n in 1..=400 {
@@ -618,6 +624,26 @@ fn a_replayed_jump_shows_the_ball_in_flight_bigger_with_its_shadow_on_the_cloth(
             (frame, best) = (n, cue);
         }
     }
+    Jump {
+        game,
+        record,
+        strike,
+        start: shot.balls[0].pos,
+        frame,
+        best,
+    }
+}
+
+#[test]
+fn a_replayed_jump_shows_the_ball_in_flight_bigger_with_its_shadow_on_the_cloth() {
+    let Jump {
+        game,
+        record,
+        strike,
+        frame,
+        best,
+        ..
+    } = jump_at_its_highest();
     let r_m = Params::default().ball_radius;
     assert!(
         best.lift > 0.5 * r_m,
@@ -1161,19 +1187,14 @@ fn the_window_opens_on_the_view_chosen_last_unless_told_otherwise() {
 #[test]
 fn the_3d_view_shows_a_jumping_ball_at_its_height_above_the_cloth() {
     // The jump scene replayed, as in the top-down test above.
-    let scene = Scene::from_json(JUMP).expect("valid scene");
-    let shot = scene.to_shot().expect("valid shot");
-    let strike = shot.strike.expect("a strike").1;
-    let (game, record) = practice_record(&scene, strike);
-    let mut viewer = ReplayViewer::new(record.clone()).expect("a record of this version");
-    let (mut frame, mut best) = (0u32, BallState::at_rest(DVec2::ZERO));
-    for n in 1..=400 {
-        viewer.tick(1.0 / 60.0);
-        let cue = viewer.balls()[0];
-        if cue.lift > best.lift {
-            (frame, best) = (n, cue);
-        }
-    }
+    let Jump {
+        game,
+        record,
+        strike,
+        start,
+        frame,
+        best,
+    } = jump_at_its_highest();
     let radius = Params::default().ball_radius;
     assert!(
         best.lift > 0.8 * radius,
@@ -1190,7 +1211,7 @@ fn the_3d_view_shows_a_jumping_ball_at_its_height_above_the_cloth() {
     };
     // Until the shot starts the camera looks at the cue ball along the shot.
     let layout = Layout::new(1280.0, 720.0, Frame::new(game.table(), game.balls()));
-    let camera = Orbit::default().camera(&layout, shot.balls[0].pos, strike.dir, radius);
+    let camera = Orbit::default().camera(&layout, start, strike.dir, radius);
     let flying = best.pos.extend(radius + best.lift);
     let [x, y] = camera.project(flying).expect("in view");
     let r = camera.pixels_at(flying, radius);

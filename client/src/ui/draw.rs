@@ -357,17 +357,9 @@ pub fn aids(pen: &Pen, p: &Prediction, toggles: AidToggles, radius: f64, object_
     if let Some(camera) = &pen.camera {
         return table3d::aids(camera, p, toggles, radius, object_id);
     }
-    // Stretches in the air (a jump) are dotted: every other piece of them is left out.
     let line = |pts: &[PathPoint], width: f32, c: Color| {
-        let mut flying = 0usize;
-        for w in pts.windows(2) {
-            if w[0].lift > 0.0 || w[1].lift > 0.0 {
-                flying += 1;
-                if flying % 2 == 0 {
-                    continue;
-                }
-            }
-            let (a, b) = (layout.to_screen(w[0].pos), layout.to_screen(w[1].pos));
+        for (p, q) in aids::drawn_pieces(pts) {
+            let (a, b) = (layout.to_screen(p.pos), layout.to_screen(q.pos));
             draw_line(a[0], a[1], b[0], b[1], width, c);
         }
     };

@@ -5,7 +5,7 @@
 
 use ::glam::{DQuat, DVec2, DVec3};
 use breakshot_client::play::aim::Aim;
-use breakshot_client::view::aids::{AidToggles, PathPoint, Prediction};
+use breakshot_client::view::aids::{drawn_pieces, AidToggles, PathPoint, Prediction};
 use breakshot_client::view::camera::Camera;
 use breakshot_client::view::layout::{Layout, RAIL_WIDTH};
 use breakshot_client::view::orientation::Orientations;
@@ -364,22 +364,15 @@ fn line_on_cloth(a: DVec3, b: DVec3, c: Color) {
 
 /// A path as a line on the cloth, risen where the ball flies; flying stretches dotted.
 fn path(pts: &[PathPoint], radius: f64, c: Color) {
-    let mut flying = 0usize;
-    for w in pts.windows(2) {
-        if w[0].lift > 0.0 || w[1].lift > 0.0 {
-            flying += 1;
-            if flying % 2 == 0 {
-                continue;
-            }
+    let z = |p: &PathPoint| {
+        if p.lift > 0.0 {
+            p.lift + radius
+        } else {
+            ON_CLOTH
         }
-        let z = |p: &PathPoint| {
-            if p.lift > 0.0 {
-                p.lift + radius
-            } else {
-                ON_CLOTH
-            }
-        };
-        line_on_cloth(w[0].pos.extend(z(&w[0])), w[1].pos.extend(z(&w[1])), c);
+    };
+    for (p, q) in drawn_pieces(pts) {
+        line_on_cloth(p.pos.extend(z(p)), q.pos.extend(z(q)), c);
     }
 }
 

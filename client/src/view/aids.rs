@@ -86,6 +86,21 @@ pub struct PathPoint {
     pub lift: f64,
 }
 
+/// The pieces of a path that are drawn, in order: every piece on the cloth, and every other
+/// piece of a stretch in the air, so that a jump's flight is dotted in both views.
+pub fn drawn_pieces(pts: &[PathPoint]) -> impl Iterator<Item = (&PathPoint, &PathPoint)> {
+    let mut flying = 0usize;
+    pts.windows(2).filter_map(move |w| {
+        if w[0].lift > 0.0 || w[1].lift > 0.0 {
+            flying += 1;
+            if flying % 2 == 0 {
+                return None;
+            }
+        }
+        Some((&w[0], &w[1]))
+    })
+}
+
 /// What a shot is predicted to do (scene coordinates).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Prediction {
@@ -394,5 +409,25 @@ mod tests {
             first_hit_warning(&solids, None).as_deref(),
             Some("Foul: the cue ball would hit no ball")
         );
+    }
+
+    #[test]
+    fn a_flight_is_dotted_and_the_cloth_drawn_whole() {
+        let at = |x: f64, lift: f64| PathPoint {
+            pos: DVec2::new(x, 0.0),
+            lift,
+        };
+        let pts = [
+            at(0.0, 0.0),
+            at(1.0, 0.0),
+            at(2.0, 0.1),
+            at(3.0, 0.2),
+            at(4.0, 0.1),
+            at(5.0, 0.0),
+            at(6.0, 0.0),
+        ];
+        let starts: Vec<f64> = drawn_pieces(&pts).map(|(a, _)| a.pos.x).collect();
+        // On the cloth 0-1 and 5-6; in the air 1-2, 2-3, 3-4, 4-5, of which every other.
+        assert_eq!(starts, [0.0, 1.0, 3.0, 5.0]);
     }
 }
