@@ -287,7 +287,7 @@ fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
         .expect("an invite line")
         .parse()
         .expect("a valid invite");
-    assert_eq!(invite.host, "127.0.0.1");
+    assert_eq!(invite.first().host, "127.0.0.1");
     assert!(invite.room.is_some());
 
     let pic = picture(&out);

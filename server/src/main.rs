@@ -9,6 +9,7 @@ use anyhow::Context;
 use breakshot_server::store::Location;
 use breakshot_server::verify::{verify_dir, verify_store};
 use breakshot_server::{Config, Limits, Server};
+use breakshot_shared::protocol::ServerAddress;
 use clap::{Parser, Subcommand};
 use tokio::signal::unix::{signal, SignalKind};
 
@@ -32,6 +33,10 @@ struct Cli {
     /// the bound address).
     #[arg(long)]
     host: Option<String>,
+    /// Another instance's HOST:PORT for the invite, tried after this one (repeatable; the
+    /// instances share one --store database and the same certificate and keys).
+    #[arg(long, value_name = "HOST:PORT")]
+    also: Vec<ServerAddress>,
     /// Connections open at once (including handshakes).
     #[arg(long)]
     max_connections: Option<usize>,
@@ -109,8 +114,9 @@ fn serve(cli: &Cli) -> anyhow::Result<()> {
         let server = Server::bind(&config)?;
         let mut invite = server.invite();
         if let Some(host) = &cli.host {
-            invite.host = host.clone();
+            invite = invite.with_host(host);
         }
+        invite.servers.extend(cli.also.iter().cloned());
         let mut out = std::io::stdout().lock();
         writeln!(out, "{invite}")?;
         out.flush()?;

@@ -221,12 +221,7 @@ impl Server {
             std::net::IpAddr::V6(ip) => format!("[{ip}]"),
             ip => ip.to_string(),
         };
-        Invite {
-            host,
-            port: addr.port(),
-            room: None,
-            fingerprint: self.fingerprint,
-        }
+        Invite::new(host, addr.port(), self.fingerprint)
     }
 
     /// Serves until `shutdown` resolves (or a storage write fails), then closes every

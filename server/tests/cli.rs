@@ -117,12 +117,60 @@ fn the_server_prints_its_invite_first_and_stops_cleanly_on_ctrl_c() {
     let stdout = server.child().stdout.take().expect("piped");
     let (line, _rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
     let invite: Invite = line.trim().parse().unwrap();
-    assert_eq!(invite.host, "127.0.0.1");
-    assert_ne!(invite.port, 0);
+    assert_eq!(invite.first().host, "127.0.0.1");
+    assert_ne!(invite.first().port, 0);
     assert!(invite.room.is_none());
 
     server.interrupt();
     assert!(server.wait(Duration::from_secs(60)).success());
+}
+
+#[test]
+fn the_invite_names_the_public_host_then_the_other_instances_in_order() {
+    let dir = breakshot_testkit::scratch("cli-also");
+    let mut serving = Spawned::start(
+        Command::new(BIN)
+            .args(["--bind", "127.0.0.1:0", "--host", "pool.example.org"])
+            .args([
+                "--also",
+                "b.example.org:4434",
+                "--also",
+                "[2001:db8::7]:4433",
+            ])
+            .arg("--data")
+            .arg(dir.path())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null()),
+    );
+    let stdout = serving.child().stdout.take().expect("piped");
+    let (line, _rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
+    let invite: Invite = line.trim().parse().unwrap();
+    let servers: Vec<String> = invite.servers.iter().map(|s| s.to_string()).collect();
+    let port = invite.first().port;
+    assert_eq!(
+        servers,
+        [
+            format!("pool.example.org:{port}"),
+            "b.example.org:4434".into(),
+            "[2001:db8::7]:4433".into()
+        ]
+    );
+    serving.interrupt();
+    assert!(serving.wait(Duration::from_secs(60)).success());
+
+    // An address that is not HOST:PORT is refused before anything starts.
+    let out = server(&[
+        OsStr::new("--also"),
+        OsStr::new("b.example.org"),
+        OsStr::new("--data"),
+        dir.path().as_os_str(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("HOST:PORT"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
 }
 
 #[test]

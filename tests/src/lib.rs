@@ -115,7 +115,12 @@ pub struct Player {
 impl Player {
     /// Connects and says hello, once.
     pub async fn connect(invite: &Invite) -> Result<Player> {
-        let client = Client::connect(invite.clone(), Reconnect::never()).await?;
+        Player::connect_with(invite, Reconnect::never()).await
+    }
+
+    /// Connects and says hello, reconnecting as `policy` says.
+    pub async fn connect_with(invite: &Invite, policy: Reconnect) -> Result<Player> {
+        let client = Client::connect(invite.clone(), policy).await?;
         Ok(Player {
             client,
             replica: Replica::default(),
@@ -127,13 +132,16 @@ impl Player {
         Ok(self.client.send(&msg).await?)
     }
 
-    /// The next message (applied to the replica).
+    /// The next message (applied to the replica). The client's own reconnections (with a
+    /// policy that reconnects) are passed over: the server's `Joined` follows them.
     pub async fn recv(&mut self) -> Result<ServerMessage> {
-        let event = tokio::time::timeout(PATIENCE, self.client.recv())
-            .await
-            .map_err(|_| anyhow!("no message from the server"))??;
-        let ClientEvent::Message(msg) = event else {
-            bail!("a client that never reconnects reported {event:?}");
+        let msg = loop {
+            let event = tokio::time::timeout(PATIENCE, self.client.recv())
+                .await
+                .map_err(|_| anyhow!("no message from the server"))??;
+            if let ClientEvent::Message(msg) = event {
+                break msg;
+            }
         };
         let me = match self.client.role() {
             Some(Role::Player(seat)) => Some(seat),
@@ -214,9 +222,17 @@ pub async fn create_room(host: &mut Player, name: &str) -> Result<RoomCode> {
 
 /// Two players seated in a new 8-ball room: (host in seat A, guest in seat B, room).
 pub async fn seated_pair(invite: &Invite) -> Result<(Player, Player, RoomCode)> {
-    let mut a = Player::connect(invite).await?;
+    seated_pair_with(invite, Reconnect::never()).await
+}
+
+/// [`seated_pair`] with players that reconnect as `policy` says.
+pub async fn seated_pair_with(
+    invite: &Invite,
+    policy: Reconnect,
+) -> Result<(Player, Player, RoomCode)> {
+    let mut a = Player::connect_with(invite, policy).await?;
     let room = create_room(&mut a, "alice").await?;
-    let mut b = Player::connect(invite).await?;
+    let mut b = Player::connect_with(invite, policy).await?;
     b.send(ClientMessage::Join {
         room: room.clone(),
         name: "bob".into(),

@@ -34,8 +34,8 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
     // The invite is text naming the bound address, a room and the server's certificate.
     let text = host.invite().to_string();
     let invite: Invite = text.parse()?;
-    assert_eq!(invite.port, host.server().local_addr().port());
-    assert_eq!(invite.host, "127.0.0.1");
+    assert_eq!(invite.first().port, host.server().local_addr().port());
+    assert_eq!(invite.first().host, "127.0.0.1");
     assert!(!host.needs_address());
     let room = invite.room.clone().expect("the invite names the room");
     assert!(data.path().join("server").join("cert.der").is_file());
@@ -131,8 +131,8 @@ fn the_invite_names_the_address_the_host_gives() -> anyhow::Result<()> {
     };
     let host = Host::start(&options)?;
     let invite = host.invite();
-    assert_eq!(invite.host, "pool.example.org");
-    assert_eq!(invite.port, host.server().local_addr().port());
+    assert_eq!(invite.first().host, "pool.example.org");
+    assert_eq!(invite.first().port, host.server().local_addr().port());
     assert!(!host.needs_address());
     Ok(())
 }

@@ -1,9 +1,10 @@
 //! Several server instances on one PostgreSQL database (a throwaway cluster; skipped, with a
 //! message, where no PostgreSQL server is installed). A room is owned by one instance at a
 //! time: the others refuse its players and cannot write its games; when its owner stops, even
-//! when killed with SIGKILL, its players come back through another instance, which rebuilds
-//! the room from the shot log, and the game is finished there. A room that closes lets go,
-//! and its players learn the result through any instance.
+//! when killed with SIGKILL, its players' clients, given an invite that lists both instances,
+//! come back through the other one by themselves, it rebuilds the room from the shot log, and
+//! the game is finished there. A room that closes lets go, and its players learn the result
+//! through any instance.
 //!
 //! The instance that is killed is this test binary run again with [`CHILD`] set: it serves
 //! like `breakshot-server --store URL` until it is killed.
@@ -14,15 +15,17 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
 use breakshot_client::bot::Chooser;
+use breakshot_client::net::Reconnect;
 use breakshot_server::output::StoreOp;
 use breakshot_server::store::{Location, Store, StoreError};
+use breakshot_server::tls;
 use breakshot_server::verify::verify_store;
 use breakshot_server::{Config, Server};
-use breakshot_shared::protocol::{ClientMessage, ErrorCode, Invite, SeatToken, ServerMessage};
+use breakshot_shared::protocol::{ClientMessage, ErrorCode, Invite, ServerAddress, ServerMessage};
 use breakshot_shared::rules::{Game, Phase, Seat};
 use breakshot_testkit::{read_line, Spawned};
 use breakshot_tests::postgres::Cluster;
-use breakshot_tests::{scratch, seated_pair, Player, TestServer, PATIENCE, SEED};
+use breakshot_tests::{scratch, seated_pair, seated_pair_with, Player, TestServer, PATIENCE, SEED};
 
 /// Set (to `URL DATA`) in the instance process a test starts.
 const CHILD: &str = "BREAKSHOT_INSTANCE_SERVER";
@@ -74,15 +77,21 @@ fn start_process(cluster: &Cluster, data: &Path) -> (Spawned, Invite) {
 
 /// An in-process instance's configuration on the cluster, with randomness of its own
 /// (`seed`), so two instances never make the same room codes.
-fn instance_config(cluster: &Cluster, data: &Path, seed: u64) -> Config {
-    let mut config = TestServer::config(([127, 0, 0, 1], 0).into(), data);
+fn instance_config(cluster: &Cluster, data: &Path, seed: u64, port: u16) -> Config {
+    let mut config = TestServer::config(([127, 0, 0, 1], port).into(), data);
     config.store = Location::Postgres(cluster.url.clone());
     config.predictable_seed = Some(seed);
     config
 }
 
-async fn start_instance(cluster: &Cluster, data: &Path, seed: u64) -> Result<TestServer> {
-    TestServer::start_with(instance_config(cluster, data, seed)).await
+/// Starts an in-process instance on `port` (0: any free one).
+async fn start_instance(
+    cluster: &Cluster,
+    data: &Path,
+    seed: u64,
+    port: u16,
+) -> Result<TestServer> {
+    TestServer::start_with(instance_config(cluster, data, seed, port)).await
 }
 
 /// Plays one move, chosen by the computer player for whoever is to move, and waits until
@@ -113,26 +122,67 @@ async fn play_move(chooser: &mut Chooser, a: &mut Player, b: &mut Player) -> Res
     Ok(true)
 }
 
-/// Rejoins `token`'s seat through `invite`, retrying (within [`PATIENCE`]) while the
-/// instance says another one still owns the room: after a crash the database notices the
-/// dead connection, and lets go of its rooms, a moment later. Returns the player and the game
-/// it was given.
-async fn rejoin(invite: &Invite, token: SeatToken) -> Result<(Player, Game)> {
-    let deadline = Instant::now() + PATIENCE;
-    loop {
-        let mut p = Player::connect(invite).await?;
-        p.send(ClientMessage::Rejoin { token }).await?;
-        match p.recv().await? {
-            ServerMessage::Joined { snapshot, .. } => return Ok((p, snapshot.game)),
-            ServerMessage::Error {
-                code: ErrorCode::ServerBusy,
-                ..
-            } if Instant::now() < deadline => {
-                tokio::time::sleep(Duration::from_millis(50)).await;
-            }
-            other => bail!("rejoining, got {other:?}"),
-        }
+/// How the players' clients reconnect in these tests: as the game's, with quicker retries.
+fn reconnecting() -> Reconnect {
+    Reconnect {
+        first_for: PATIENCE,
+        rejoin_for: PATIENCE,
+        pause: Duration::from_millis(50),
+        max_pause: Duration::from_millis(500),
     }
+}
+
+/// A loopback port nothing listens on now, for an instance started later whose address an
+/// invite must already list.
+fn free_port() -> u16 {
+    let socket = std::net::UdpSocket::bind(("127.0.0.1", 0)).expect("a free UDP port");
+    socket.local_addr().expect("its address").port()
+}
+
+/// Gives the instance in `to` the identity (certificate, key, reset key) of the one in
+/// `from`, so one invite's fingerprint holds for both.
+fn share_identity(from: &Path, to: &Path) {
+    for file in [tls::CERT_FILE, tls::KEY_FILE, tls::RESET_KEY_FILE] {
+        std::fs::copy(from.join(file), to.join(file)).expect("copying the identity");
+    }
+}
+
+/// `invite` listing another instance on `port` after its own address.
+fn also_at(invite: &Invite, port: u16) -> Invite {
+    let mut both = invite.clone();
+    both.servers.push(ServerAddress {
+        host: "127.0.0.1".into(),
+        port,
+    });
+    both
+}
+
+/// Waits until `player` is seated again after its connection was lost.
+async fn seated_again(player: &mut Player) -> Result<Game> {
+    match player
+        .until("the seat back", |m| {
+            matches!(m, ServerMessage::Joined { .. })
+        })
+        .await?
+    {
+        ServerMessage::Joined { snapshot, .. } => Ok(snapshot.game),
+        other => bail!("expected Joined, got {other:?}"),
+    }
+}
+
+/// Plays `a` and `b`'s game to its end.
+async fn play_out(chooser: &mut Chooser, a: &mut Player, b: &mut Player) -> Result<()> {
+    let mut moves = 0;
+    while play_move(chooser, a, b).await? {
+        moves += 1;
+        anyhow::ensure!(moves < MAX_MOVES, "the game never ended");
+    }
+    assert!(matches!(
+        a.game().context("a game")?.phase(),
+        Phase::Over { .. }
+    ));
+    assert_eq!(a.game(), b.game());
+    Ok(())
 }
 
 /// Checks every stored game and returns how many there are.
@@ -151,13 +201,18 @@ async fn two_instances_never_both_accept_commands_for_one_room() -> Result<()> {
         return Ok(());
     };
     let (data_a, data_b) = (scratch("instance-a"), scratch("instance-b"));
-    let first = start_instance(&cluster, data_a.path(), SEED).await?;
-    let (mut a, mut b, room) = seated_pair(&first.invite).await?;
+    let first = start_instance(&cluster, data_a.path(), SEED, 0).await?;
+    // The players' invite lists the second instance after the first, before it is up.
+    let port_b = free_port();
+    let invite = also_at(&first.invite, port_b);
+    let (mut a, mut b, room) = seated_pair_with(&invite, reconnecting()).await?;
     let tokens = [a.client.token(), b.client.token()].map(|t| t.expect("a seat token"));
     let mut chooser = Chooser::new(5);
     play_move(&mut chooser, &mut a, &mut b).await?;
 
-    let second = start_instance(&cluster, data_b.path(), SEED + 1).await?;
+    share_identity(data_a.path(), data_b.path());
+    let second = start_instance(&cluster, data_b.path(), SEED + 1, port_b).await?;
+    assert_eq!(second.invite.fingerprint, first.invite.fingerprint);
     assert_eq!(
         second.restored, 0,
         "the second instance took a live room at start"
@@ -198,19 +253,57 @@ async fn two_instances_never_both_accept_commands_for_one_room() -> Result<()> {
     // The owner plays on.
     play_move(&mut chooser, &mut a, &mut b).await?;
     let before = a.game().context("a game")?.clone();
+    drop(stray);
 
-    // Once the owner stops, the other instance takes the room over from the shot log.
-    drop((a, b, stray));
+    // The owner stops (as an instance is drained: SIGTERM). Its players' clients find the
+    // room on the invite's next address, which takes it over from the shot log.
     first.stop().await?;
-    let (mut a, game_a) = rejoin(&second.invite, tokens[0]).await?;
-    let (mut b, game_b) = rejoin(&second.invite, tokens[1]).await?;
-    assert_eq!(game_a, before);
-    assert_eq!(game_b, before);
+    for p in [&mut a, &mut b] {
+        assert_eq!(seated_again(p).await?, before);
+        assert_eq!(
+            p.client.address_index(),
+            1,
+            "not through the second address"
+        );
+    }
     assert!(play_move(&mut chooser, &mut a, &mut b).await?);
     assert!(a.game().context("a game")?.turn() > before.turn());
+    assert_eq!(a.replica.desyncs() + b.replica.desyncs(), 0);
     drop((a, b));
     second.stop().await?;
     assert_eq!(verified(&cluster).await?, 1);
+    Ok(())
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_client_told_its_game_is_played_elsewhere_asks_the_next_address() -> Result<()> {
+    let Some(cluster) = Cluster::start("a_client_told_its_game_is_played_elsewhere") else {
+        return Ok(());
+    };
+    let (data_a, data_b) = (scratch("elsewhere-a"), scratch("elsewhere-b"));
+    let owner = start_instance(&cluster, data_a.path(), SEED, 0).await?;
+    let (mut a, mut b, room) = seated_pair(&owner.invite).await?;
+    let mut chooser = Chooser::new(3);
+    play_move(&mut chooser, &mut a, &mut b).await?;
+    let seen = b.game().context("a game")?.clone();
+    let token = b.client.token().context("a seat token")?;
+    share_identity(data_a.path(), data_b.path());
+    let other = start_instance(&cluster, data_b.path(), SEED + 1, 0).await?;
+
+    // Bob comes back with an invite that lists the other instance first: it answers that
+    // the game is played elsewhere, and the client asks the next address, the owner.
+    let mut invite = also_at(&other.invite, owner.addr.port());
+    invite.room = Some(room);
+    drop(b);
+    let mut back = Player::connect_with(&invite, reconnecting()).await?;
+    assert_eq!(back.client.address_index(), 0);
+    back.send(ClientMessage::Rejoin { token }).await?;
+    assert_eq!(seated_again(&mut back).await?, seen);
+    assert_eq!(back.client.address_index(), 1, "not through the owner");
+    assert!(play_move(&mut chooser, &mut a, &mut back).await?);
+    drop((a, back));
+    other.stop().await?;
+    owner.stop().await?;
     Ok(())
 }
 
@@ -221,8 +314,9 @@ async fn a_game_on_a_killed_instance_is_finished_through_another() -> Result<()>
     };
     let (data_a, data_b) = (scratch("killed-a"), scratch("killed-b"));
     let (mut process, invite) = start_process(&cluster, data_a.path());
-    let (mut a, mut b, _room) = seated_pair(&invite).await?;
-    let tokens = [a.client.token(), b.client.token()].map(|t| t.expect("a seat token"));
+    let port_b = free_port();
+    let invite = also_at(&invite, port_b);
+    let (mut a, mut b, _room) = seated_pair_with(&invite, reconnecting()).await?;
     let mut chooser = Chooser::new(11);
     for _ in 0..4 {
         anyhow::ensure!(
@@ -231,34 +325,31 @@ async fn a_game_on_a_killed_instance_is_finished_through_another() -> Result<()>
         );
     }
     let seen = a.game().context("a game")?.clone();
-    let other = start_instance(&cluster, data_b.path(), SEED + 1).await?;
+    share_identity(data_a.path(), data_b.path());
+    let other = start_instance(&cluster, data_b.path(), SEED + 1, port_b).await?;
     assert_eq!(other.restored, 0);
 
-    // SIGKILL, mid-game.
+    // SIGKILL, mid-game. A client hears nothing from a dead server until its connection
+    // idles out; the test does not wait for that, and drops the connections itself.
     process.child().kill()?;
     process.wait(PATIENCE);
-    let desyncs_before = a.replica.desyncs() + b.replica.desyncs();
-    drop((a, b));
-    let (mut a, game) = rejoin(&other.invite, tokens[0]).await?;
-    let (mut b, _) = rejoin(&other.invite, tokens[1]).await?;
-    assert_eq!(
-        game, seen,
-        "the room was rebuilt as the players last saw it"
-    );
-    let mut moves = 0;
-    while play_move(&mut chooser, &mut a, &mut b).await? {
-        moves += 1;
-        anyhow::ensure!(moves < MAX_MOVES, "the game never ended");
+    for p in [&mut a, &mut b] {
+        p.pull_cable();
     }
-    assert!(matches!(
-        a.game().context("a game")?.phase(),
-        Phase::Over { .. }
-    ));
-    assert_eq!(a.game(), b.game());
-    assert_eq!(
-        desyncs_before + a.replica.desyncs() + b.replica.desyncs(),
-        0
-    );
+    for p in [&mut a, &mut b] {
+        assert_eq!(
+            seated_again(p).await?,
+            seen,
+            "the room was rebuilt as the players last saw it"
+        );
+        assert_eq!(
+            p.client.address_index(),
+            1,
+            "not through the second address"
+        );
+    }
+    play_out(&mut chooser, &mut a, &mut b).await?;
+    assert_eq!(a.replica.desyncs() + b.replica.desyncs(), 0);
     drop((a, b));
     other.stop().await?;
     assert_eq!(verified(&cluster).await?, 1);
@@ -285,7 +376,7 @@ async fn a_room_that_closes_lets_go_of_its_lock_and_any_instance_tells_the_resul
         return Ok(());
     };
     let data = scratch("closing");
-    let mut config = instance_config(&cluster, data.path(), SEED);
+    let mut config = instance_config(&cluster, data.path(), SEED, 0);
     // A room stays open for its players' return (a rematch) this long after they leave.
     config.limits.reconnect_window = Duration::from_millis(200);
     let server = TestServer::start_with(config).await?;
@@ -294,7 +385,7 @@ async fn a_room_that_closes_lets_go_of_its_lock_and_any_instance_tells_the_resul
     assert_eq!(advisory_locks(&cluster).await?, 1, "the new room is owned");
     // Another instance, up while the game is played (so it has not read its end at start).
     let data_b = scratch("closing-b");
-    let other = start_instance(&cluster, data_b.path(), SEED + 1).await?;
+    let other = start_instance(&cluster, data_b.path(), SEED + 1, 0).await?;
     a.send(ClientMessage::Concede).await?;
     for p in [&mut a, &mut b] {
         p.until("the game's end", |m| {

@@ -2,10 +2,11 @@
 //! `Hello` first, then framed messages both ways.
 
 use std::net::SocketAddr;
+use std::time::Duration;
 
 use breakshot_shared::protocol::{
-    decode_payload, encode_frame, payload_len, reference_hash, ClientMessage, FrameError, Invite,
-    ServerMessage, HEADER_LEN, PROTOCOL_VERSION,
+    decode_payload, encode_frame, payload_len, reference_hash, ClientMessage, Fingerprint,
+    FrameError, Invite, ServerAddress, ServerMessage, HEADER_LEN, PROTOCOL_VERSION,
 };
 use thiserror::Error;
 
@@ -39,6 +40,18 @@ pub enum NetError {
     Handshake(String),
 }
 
+impl NetError {
+    /// The server answered and will not have us (or is not the server the invite names):
+    /// asking again cannot change the answer.
+    pub fn is_refusal(&self) -> bool {
+        matches!(self, NetError::Rejected(_) | NetError::WrongFingerprint)
+    }
+}
+
+/// How long one address of several is given to answer before the next is tried (a handshake
+/// takes a few round trips; an instance that is down never answers).
+pub const ATTEMPT_LIMIT: Duration = Duration::from_secs(3);
+
 /// A client endpoint for any number of connections.
 pub fn endpoint() -> Result<quinn::Endpoint, NetError> {
     let any: SocketAddr = ([0, 0, 0, 0], 0).into();
@@ -65,24 +78,67 @@ pub struct Reader {
 
 impl Channel {
     /// Connects to the server the invite names, trusting only its fingerprint, and
-    /// completes the handshake (protocol version and physics reference hash).
+    /// completes the handshake (protocol version and physics reference hash). The invite's
+    /// addresses are tried in order.
     pub async fn open(endpoint: &quinn::Endpoint, invite: &Invite) -> Result<Channel, NetError> {
-        Self::open_as(endpoint, invite, PROTOCOL_VERSION).await
+        Ok(Self::open_from(endpoint, invite, 0).await?.0)
     }
 
-    /// [`Channel::open`] claiming another protocol version (to test refusals).
-    pub async fn open_as(
+    /// [`Channel::open`] trying the invite's addresses in order from the one at `start`
+    /// (wrapping round), giving each [`ATTEMPT_LIMIT`] while others remain. Returns the
+    /// channel and the index of the address that answered. When none does, a refusal is
+    /// reported before a failure to connect: it says more.
+    pub async fn open_from(
         endpoint: &quinn::Endpoint,
         invite: &Invite,
+        start: usize,
+    ) -> Result<(Channel, usize), NetError> {
+        let n = invite.servers.len();
+        let mut failure = NetError::Connect("the invite names no server".into());
+        for k in 0..n {
+            let at = (start + k) % n;
+            let attempt = Self::open_at(
+                endpoint,
+                &invite.servers[at],
+                invite.fingerprint,
+                PROTOCOL_VERSION,
+            );
+            let result = if k + 1 < n {
+                tokio::time::timeout(ATTEMPT_LIMIT, attempt)
+                    .await
+                    .unwrap_or_else(|_| {
+                        Err(NetError::Connect(format!(
+                            "{} did not answer",
+                            invite.servers[at]
+                        )))
+                    })
+            } else {
+                attempt.await
+            };
+            match result {
+                Ok(c) => return Ok((c, at)),
+                Err(e) if failure.is_refusal() && !e.is_refusal() => {}
+                Err(e) => failure = e,
+            }
+        }
+        Err(failure)
+    }
+
+    /// Connects to one address, trusting only `fingerprint`, and says `Hello` claiming
+    /// `protocol` (another version than ours, to test refusals).
+    pub async fn open_at(
+        endpoint: &quinn::Endpoint,
+        server: &ServerAddress,
+        fingerprint: Fingerprint,
         protocol: u32,
     ) -> Result<Channel, NetError> {
         let physics = reference_hash().map_err(|e| NetError::Connect(e.to_string()))?;
-        let addr = tokio::net::lookup_host(invite.authority())
+        let addr = tokio::net::lookup_host(server.authority())
             .await
-            .map_err(|_| NetError::Resolve(invite.authority()))?
+            .map_err(|_| NetError::Resolve(server.authority()))?
             .find(SocketAddr::is_ipv4)
-            .ok_or_else(|| NetError::Resolve(invite.authority()))?;
-        let config = client_config(invite.fingerprint).map_err(NetError::Connect)?;
+            .ok_or_else(|| NetError::Resolve(server.authority()))?;
+        let config = client_config(fingerprint).map_err(NetError::Connect)?;
         let conn = endpoint
             .connect_with(config, addr, "breakshot")
             .map_err(|e| NetError::Connect(e.to_string()))?

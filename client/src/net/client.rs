@@ -7,7 +7,9 @@
 use std::time::{Duration, Instant};
 
 use breakshot_shared::protocol::limits::RECONNECT_WINDOW;
-use breakshot_shared::protocol::{ClientMessage, Invite, Role, RoomCode, SeatToken, ServerMessage};
+use breakshot_shared::protocol::{
+    ClientMessage, ErrorCode, Invite, Role, RoomCode, SeatToken, ServerMessage,
+};
 use tokio::sync::mpsc;
 use tokio::task::JoinHandle;
 
@@ -49,21 +51,23 @@ impl Reconnect {
         }
     }
 
-    /// Opens a connection, retrying for `patience` with growing pauses. A server that
-    /// answers and refuses us is final.
+    /// Opens a connection, trying the invite's addresses in order from the one at `start`,
+    /// again and again for `patience` with growing pauses. Returns it with the index of the
+    /// address that answered. A server that answers and refuses us is final.
     async fn open(
         &self,
         ep: &quinn::Endpoint,
         invite: &Invite,
+        start: usize,
         patience: Duration,
-    ) -> Result<Channel, NetError> {
+    ) -> Result<(Channel, usize), NetError> {
         let since = Instant::now();
         let mut pause = self.pause;
         loop {
-            match Channel::open(ep, invite).await {
+            match Channel::open_from(ep, invite, start).await {
                 Ok(c) => return Ok(c),
                 // Refusals are final: retrying cannot change the answer.
-                Err(e @ (NetError::Rejected(_) | NetError::WrongFingerprint)) => return Err(e),
+                Err(e) if e.is_refusal() => return Err(e),
                 Err(e) if since.elapsed() + pause > patience => return Err(e),
                 Err(_) => {
                     tokio::time::sleep(pause).await;
@@ -124,14 +128,38 @@ impl Drop for Live {
     }
 }
 
+/// No connection, while the seat is being taken back.
+struct Lost {
+    /// Why the last connection ended.
+    why: String,
+    /// The last instance asked plays the game elsewhere: pause before asking the next, so
+    /// instances that disagree for a moment (one still holds a dead one's room) are not
+    /// hammered.
+    pause_first: bool,
+}
+
+/// Taking a seat back, from the first loss until a `Rejoin` is answered other than "played
+/// elsewhere".
+struct Retry {
+    since: Instant,
+    /// The pause before asking again after a "played elsewhere"; doubles each time.
+    pause: Duration,
+}
+
 /// A client of one server: see the module documentation.
 pub struct Client {
     endpoint: quinn::Endpoint,
     invite: Invite,
+    /// The index in the invite of the address connected to (or last connected to).
+    at: usize,
     policy: Reconnect,
     live: Option<Live>,
-    /// Why the last connection dropped, while the seat is being taken back.
-    lost: Option<String>,
+    /// Set while there is no connection and the seat is being taken back.
+    lost: Option<Lost>,
+    /// Set while the seat is being taken back, connected or not.
+    retry: Option<Retry>,
+    /// The seat a `Rejoin` sent asks back, until the server answers it.
+    asked: Option<SeatToken>,
     token: Option<SeatToken>,
     role: Option<Role>,
     room: Option<RoomCode>,
@@ -142,13 +170,16 @@ impl Client {
     /// handshake. Must be called inside a tokio runtime.
     pub async fn connect(invite: Invite, policy: Reconnect) -> Result<Client, NetError> {
         let endpoint = endpoint()?;
-        let conn = policy.open(&endpoint, &invite, policy.first_for).await?;
+        let (conn, at) = policy.open(&endpoint, &invite, 0, policy.first_for).await?;
         Ok(Client {
             endpoint,
             invite,
+            at,
             policy,
             live: Some(Live::new(conn)),
             lost: None,
+            retry: None,
+            asked: None,
             token: None,
             role: None,
             room: None,
@@ -158,6 +189,9 @@ impl Client {
     /// Sends a message. While the seat is being taken back there is no connection and the
     /// message is lost, as it would be on a dropped connection.
     pub async fn send(&mut self, msg: &ClientMessage) -> Result<(), NetError> {
+        if let ClientMessage::Rejoin { token } = msg {
+            self.asked = Some(*token);
+        }
         match &mut self.live {
             Some(live) => live.writer.send(msg).await,
             None => Err(NetError::Lost("reconnecting".into())),
@@ -174,17 +208,32 @@ impl Client {
 
     /// The next event. A lost connection is an error, unless this client holds a seat and
     /// its policy lets it take the seat back: then [`ClientEvent::Reconnecting`] and, once
-    /// connected again, [`ClientEvent::Reconnected`] come first. Cancel-safe.
+    /// connected again, [`ClientEvent::Reconnected`] come first. An instance that answers a
+    /// `Rejoin` with [`ErrorCode::ServerBusy`] (the game is played on another instance of a
+    /// server that has several) is treated the same way: the next address is asked.
+    /// Cancel-safe.
     pub async fn recv(&mut self) -> Result<ClientEvent, NetError> {
-        if let Some(why) = self.lost.clone() {
-            let conn = self
+        if let Some(lost) = &self.lost {
+            let retry = self.retry.get_or_insert(Retry {
+                since: Instant::now(),
+                pause: self.policy.pause,
+            });
+            if lost.pause_first {
+                tokio::time::sleep(retry.pause).await;
+                retry.pause = (retry.pause * 2).min(self.policy.max_pause);
+            }
+            let left = self.policy.rejoin_for.saturating_sub(retry.since.elapsed());
+            let why = lost.why.clone();
+            let (conn, at) = self
                 .policy
-                .open(&self.endpoint, &self.invite, self.policy.rejoin_for)
+                .open(&self.endpoint, &self.invite, self.at, left)
                 .await
                 .map_err(|e| NetError::Lost(format!("{why}; reconnecting failed: {e}")))?;
+            self.at = at;
             let mut live = Live::new(conn);
             if let Some(token) = self.token {
                 live.writer.send(&ClientMessage::Rejoin { token }).await?;
+                self.asked = Some(token);
             }
             self.live = Some(live);
             self.lost = None;
@@ -195,6 +244,12 @@ impl Client {
         };
         let end = match live.incoming.recv().await {
             Some(Ok(msg)) => {
+                if let Some(token) = self.asked.take() {
+                    if played_elsewhere(&msg) && self.may_retry() {
+                        return Ok(self.ask_next_instance(token, &msg));
+                    }
+                    self.retry = None;
+                }
                 self.note(&msg);
                 return Ok(ClientEvent::Message(msg));
             }
@@ -203,13 +258,38 @@ impl Client {
         };
         self.live = None;
         match self.token {
-            Some(_) if !self.policy.rejoin_for.is_zero() => {
+            Some(_) if self.may_retry() => {
                 let why = end.to_string();
-                self.lost = Some(why.clone());
+                self.lost = Some(Lost {
+                    why: why.clone(),
+                    pause_first: false,
+                });
                 Ok(ClientEvent::Reconnecting(why))
             }
             _ => Err(end),
         }
+    }
+
+    /// Whether the policy lets this client connect again by itself.
+    fn may_retry(&self) -> bool {
+        !self.policy.rejoin_for.is_zero()
+    }
+
+    /// The instance connected to says another one plays the game of the seat `token` asked
+    /// back: leaves it and starts asking the invite's next address.
+    fn ask_next_instance(&mut self, token: SeatToken, answer: &ServerMessage) -> ClientEvent {
+        self.live = None;
+        self.token = Some(token);
+        self.at = (self.at + 1) % self.invite.servers.len();
+        let why = match answer {
+            ServerMessage::Error { message, .. } => message.clone(),
+            _ => "the game is played on another server instance".into(),
+        };
+        self.lost = Some(Lost {
+            why: why.clone(),
+            pause_first: true,
+        });
+        ClientEvent::Reconnecting(why)
     }
 
     /// Remembers the seat a `Joined` gave, to take it back after a drop.
@@ -226,6 +306,11 @@ impl Client {
             }
             self.room = Some(snapshot.room.clone());
         }
+    }
+
+    /// The index in the invite of the address this client is (or was last) connected to.
+    pub fn address_index(&self) -> usize {
+        self.at
     }
 
     /// The seat token to take the seat back with, once seated.
@@ -255,4 +340,15 @@ impl Client {
         self.live = None;
         let _ = tokio::time::timeout(grace, self.endpoint.wait_idle()).await;
     }
+}
+
+/// The answer an instance gives to a `Rejoin` for a game another instance plays.
+fn played_elsewhere(msg: &ServerMessage) -> bool {
+    matches!(
+        msg,
+        ServerMessage::Error {
+            code: ErrorCode::ServerBusy,
+            ..
+        }
+    )
 }

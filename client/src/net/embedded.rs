@@ -110,11 +110,7 @@ impl EmbeddedServer {
     /// The server's invite as this computer dials it (loopback for a wildcard bind).
     pub fn loopback_invite(&self) -> Invite {
         let at = loopback_for(self.addr);
-        Invite {
-            host: host_text(at.ip()),
-            port: at.port(),
-            ..self.invite.clone()
-        }
+        Invite::new(host_text(at.ip()), at.port(), self.invite.fingerprint)
     }
 }
 
@@ -163,7 +159,7 @@ impl Host {
                 .map(host_text)
         };
         if let Some(address) = address.or_else(lan) {
-            addressed.host = address;
+            addressed = addressed.with_host(address);
         }
         let seats = SeatStore::new(&options.data);
         // The computer's seat is not kept when the host closes: its game cannot go on.

@@ -98,6 +98,7 @@ impl HostOptions {
 /// cannot dial: the host has to give their LAN or public address instead.
 pub fn names_wildcard(invite: &Invite) -> bool {
     invite
+        .first()
         .server_name()
         .parse::<IpAddr>()
         .is_ok_and(|ip| ip.is_unspecified())

@@ -56,7 +56,11 @@ pub fn draw_panel(invite: &Invite, copied: bool) {
     let note = if wildcard {
         wrap(&format!("Note: {ADDRESS_NOTE}."), p.w - 32.0, NOTE)
     } else {
-        wrap(&format!("{}.", router_hint(invite.port)), p.w - 32.0, NOTE)
+        wrap(
+            &format!("{}.", router_hint(invite.first().port)),
+            p.w - 32.0,
+            NOTE,
+        )
     };
     let height = p.h + NOTE * 1.3 * note.len() as f32;
     draw_rectangle(p.x, p.y, p.w, height, Color::new(0.0, 0.0, 0.0, 0.82));

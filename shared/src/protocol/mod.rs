@@ -12,7 +12,7 @@ pub mod validate;
 
 pub use framing::{decode_payload, encode_frame, payload_len, split_frame, FrameError, HEADER_LEN};
 pub use ids::{Fingerprint, RoomCode, SeatToken};
-pub use invite::{Invite, InviteError};
+pub use invite::{Invite, InviteError, ServerAddress};
 pub use messages::{
     command_of, AimAid, ClientMessage, ErrorCode, Role, Ruling, SeatView, ServerMessage, Snapshot,
 };
