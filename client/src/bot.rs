@@ -49,6 +49,10 @@ pub struct BotConfig {
     /// How the bot that opens each room and the one that joins it choose their moves: None
     /// for ghost-ball aim, else the computer player at that level.
     pub levels: [Option<Level>; 2],
+    /// Games start evenly spread over this time rather than all at once, as players arrive
+    /// at a server over time (thousands of handshakes in the same second are a load of
+    /// their own).
+    pub ramp: Duration,
 }
 
 impl BotConfig {
@@ -63,6 +67,7 @@ impl BotConfig {
             retry_for: RETRY_FOR,
             think: Duration::ZERO,
             levels: [None, None],
+            ramp: Duration::ZERO,
         }
     }
 }
@@ -149,9 +154,11 @@ pub async fn run(config: &BotConfig) -> Report {
     let mut tasks = Vec::new();
     for g in 0..config.games {
         let config = config.clone();
-        tasks.push(tokio::spawn(
-            async move { play_game(&config, g as u64).await },
-        ));
+        let start = config.ramp.mul_f64(g as f64 / config.games as f64);
+        tasks.push(tokio::spawn(async move {
+            tokio::time::sleep(start).await;
+            play_game(&config, g as u64).await
+        }));
     }
     let mut report = Report::default();
     for t in tasks {

@@ -28,6 +28,9 @@ struct Cli {
     /// Pause before each move (milliseconds), as a player would think.
     #[arg(long, default_value_t = 0)]
     think_ms: u64,
+    /// Start the games evenly spread over this many milliseconds instead of all at once.
+    #[arg(long, default_value_t = 0)]
+    ramp_ms: u64,
     /// The bots play as the computer player at this level (1 to 5) instead of aiming
     /// ghost-ball pots.
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=5))]
@@ -58,6 +61,7 @@ fn main_inner() -> anyhow::Result<bool> {
     let mut config = BotConfig::new(invite, cli.games);
     config.seed = cli.seed;
     config.think = std::time::Duration::from_millis(cli.think_ms);
+    config.ramp = std::time::Duration::from_millis(cli.ramp_ms);
     let level = cli.level.map(Level::new);
     config.levels = [level, level.filter(|_| !cli.vs_ghost)];
     let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
