@@ -9,8 +9,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command as Process, Output};
 use std::time::Duration;
 
-use breakshot_client::play::aim::Aim;
-use breakshot_client::play::replay::ReplayViewer;
+use breakshot_client::play::{Aim, ReplayViewer};
 use breakshot_client::view::aids::{predict, PathPoint};
 use breakshot_client::view::camera::{Camera, Orbit};
 use breakshot_client::view::flight::flight;

@@ -9,7 +9,7 @@ use breakshot_shared::rules::{Command, Game, Seat, TurnId};
 
 use super::seats::SeatStore;
 use super::session::{Session, SessionEvent};
-use crate::play::link::{game_events, AwayResult, GameEvent, GameLink};
+use crate::play::{game_events, AwayResult, GameEvent, GameLink};
 use crate::view::hud::Connection;
 
 /// A [`GameLink`] over a [`Session`].

@@ -5,9 +5,9 @@ use std::collections::VecDeque;
 use breakshot_shared::protocol::limits::MAX_CHAT_CHARS;
 
 /// Lines of chat kept on screen.
-pub const SHOWN_LINES: usize = 5;
+pub(crate) const SHOWN_LINES: usize = 5;
 /// Seconds a line stays on screen while no line is being typed.
-pub const SHOWN_SECS: f64 = 12.0;
+pub(crate) const SHOWN_SECS: f64 = 12.0;
 
 /// One line said in the room.
 #[derive(Clone, Debug, PartialEq, Eq)]

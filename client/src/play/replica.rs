@@ -230,7 +230,7 @@ impl Replica {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::play::game_flow::GameFlow;
+    use crate::play::GameFlow;
     use crate::view::hud::Connection;
     use breakshot_shared::physics::{simulations_on_this_thread, Strike};
     use breakshot_shared::protocol::Ruling;

@@ -4,7 +4,7 @@
 //! (`table3d`).
 
 use ::glam::{DQuat, DVec2};
-use breakshot_client::play::aim::Aim;
+use breakshot_client::play::Aim;
 use breakshot_client::view::aids::{self, AidToggles, PathPoint, Prediction};
 use breakshot_client::view::camera::Camera;
 use breakshot_client::view::flight::{flight, Flight};

@@ -2,8 +2,7 @@
 
 use breakshot_client::net::seats::hosted_from;
 use breakshot_client::net::{player_name, HostOptions, NetLink, SeatStore};
-use breakshot_client::play::controls::{InputFrame, Key};
-use breakshot_client::play::link::GameLink;
+use breakshot_client::play::{GameLink, InputFrame, Key};
 use breakshot_client::view::layout::{menu_buttons, Rect};
 use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::Invite;

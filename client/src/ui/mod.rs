@@ -19,10 +19,7 @@ use std::path::PathBuf;
 use breakshot_shared::scene::Scene;
 use macroquad::prelude::{clear_background, next_frame};
 
-use breakshot_client::play::computer::ComputerLink;
-use breakshot_client::play::controls::InputFrame;
-use breakshot_client::play::link::{GameLink, LocalLink};
-use breakshot_client::play::replay::ReplayViewer;
+use breakshot_client::play::{ComputerLink, GameLink, InputFrame, LocalLink, ReplayViewer};
 use breakshot_client::view::camera::ViewKind;
 use breakshot_client::view::choice;
 use breakshot_client::view::hud::Connection;

@@ -1,7 +1,6 @@
 //! The practice screen: a table with no rules and no server.
 
-use breakshot_client::play::controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
-use breakshot_client::play::practice::Practice;
+use breakshot_client::play::{Context, Controls, Drag, InputFrame, Intent, Key, Practice, Stage};
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::layout::{Frame, Layout};
 use breakshot_client::view::orientation::Orientations;

@@ -1,9 +1,6 @@
 //! The replay screen: a recorded game, shot by shot.
 
-use breakshot_client::play::aim::Aim;
-use breakshot_client::play::controls::{InputFrame, Key};
-use breakshot_client::play::link::Judgement;
-use breakshot_client::play::replay::ReplayViewer;
+use breakshot_client::play::{Aim, InputFrame, Judgement, Key, ReplayViewer};
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::layout::{Frame, Layout};
 use breakshot_client::view::orientation::Orientations;

@@ -4,7 +4,7 @@
 //! aids as lines on the cloth. Numbers are printed in 2-D over the projected spots.
 
 use ::glam::{DQuat, DVec2, DVec3};
-use breakshot_client::play::aim::Aim;
+use breakshot_client::play::Aim;
 use breakshot_client::view::aids::{drawn_pieces, AidToggles, PathPoint, Prediction};
 use breakshot_client::view::camera::Camera;
 use breakshot_client::view::layout::{Layout, RAIL_WIDTH};

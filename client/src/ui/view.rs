@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use std::sync::Mutex;
 
 use ::glam::DVec2;
-use breakshot_client::play::controls::{InputFrame, Key};
+use breakshot_client::play::{InputFrame, Key};
 use breakshot_client::view::camera::{area, Camera, Orbit, ViewKind};
 use breakshot_client::view::choice;
 use breakshot_client::view::layout::Layout;

@@ -286,8 +286,7 @@ impl ViewKind {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::play::aim::Aim;
-    use crate::play::controls::{Context, Controls, InputFrame, Stage};
+    use crate::play::{Aim, Context, Controls, InputFrame, Stage};
     use crate::view::layout::Frame;
     use breakshot_shared::physics::TableKind;
 
