@@ -13,7 +13,7 @@ use anyhow::{bail, Context as _};
 use breakshot_client::net::host::{default_data_dir, DEFAULT_PORT};
 use breakshot_client::net::{fetch_record_blocking, player_name, HostOptions, NetLink, SeatStore};
 use breakshot_client::play::{three_cushion_scene, ReplayViewer};
-use breakshot_client::view::camera::ViewKind;
+use breakshot_client::view::ViewKind;
 use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::{AimAid, Invite, RoomCode};
 use breakshot_shared::rules::{EightBallRules, Variant};

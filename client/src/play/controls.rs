@@ -7,7 +7,7 @@ use glam::DVec2;
 
 use super::aim::{Aim, MAX_SHOT_SPEED};
 use crate::view::aids::Aid;
-use crate::view::layout::Layout;
+use crate::view::Layout;
 
 /// How much finer the aim turns while Shift is held.
 pub(crate) const FINE_FACTOR: f64 = 0.1;
@@ -399,7 +399,7 @@ fn dist(a: [f32; 2], b: [f32; 2]) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::view::layout::Frame;
+    use crate::view::Frame;
     use breakshot_shared::physics::TableKind;
 
     const R: f64 = 0.028575;

@@ -11,7 +11,7 @@ use super::chat::Chat;
 use super::link::{AwayResult, GameEvent, Judgement};
 use super::replica::Replica;
 use crate::view::hud::Connection;
-use crate::view::playback::Playback;
+use crate::view::Playback;
 
 /// What the player here may do now.
 #[derive(Clone, Debug, PartialEq)]

@@ -11,7 +11,7 @@ use breakshot_shared::rules::{
 };
 
 use super::link::{game_events, GameEvent};
-use crate::view::playback::Playback;
+use crate::view::Playback;
 
 /// What the replica learned from an event.
 #[derive(Clone, Debug, PartialEq)]

@@ -9,11 +9,7 @@ use breakshot_client::play::{
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{connection as connection_text, Connection};
-use breakshot_client::view::layout::{Frame, Layout, Rect};
-use breakshot_client::view::orientation::Orientations;
-use breakshot_client::view::palette;
-use breakshot_client::view::playback::Playback;
-use breakshot_client::view::tray;
+use breakshot_client::view::{palette, tray, Frame, Layout, Orientations, Playback, Rect};
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
 use breakshot_shared::protocol::limits::RECONNECT_WINDOW;

@@ -3,7 +3,7 @@
 
 use breakshot_client::play::Judgement;
 use breakshot_client::view::hud::{self, Connection};
-use breakshot_client::view::layout::Layout;
+use breakshot_client::view::Layout;
 use breakshot_shared::rules::{Game, Seat};
 use macroquad::prelude::*;
 

@@ -3,7 +3,7 @@
 use breakshot_client::net::seats::hosted_from;
 use breakshot_client::net::{player_name, HostOptions, NetLink, SeatStore};
 use breakshot_client::play::{GameLink, InputFrame, Key};
-use breakshot_client::view::layout::{menu_buttons, Rect};
+use breakshot_client::view::{menu_buttons, Rect};
 use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::Invite;
 use breakshot_shared::rules::{EightBallRules, Variant};

@@ -20,11 +20,8 @@ use breakshot_shared::scene::Scene;
 use macroquad::prelude::{clear_background, next_frame};
 
 use breakshot_client::play::{ComputerLink, GameLink, InputFrame, LocalLink, ReplayViewer};
-use breakshot_client::view::camera::ViewKind;
-use breakshot_client::view::choice;
 use breakshot_client::view::hud::Connection;
-use breakshot_client::view::palette;
-use breakshot_client::view::playback::Playback;
+use breakshot_client::view::{choice, palette, Playback, ViewKind};
 use breakshot_shared::ai::Level;
 use breakshot_shared::rules::{Settings, Variant};
 

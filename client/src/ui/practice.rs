@@ -2,9 +2,7 @@
 
 use breakshot_client::play::{Context, Controls, Drag, InputFrame, Intent, Key, Practice, Stage};
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
-use breakshot_client::view::layout::{Frame, Layout};
-use breakshot_client::view::orientation::Orientations;
-use breakshot_client::view::playback::Playback;
+use breakshot_client::view::{Frame, Layout, Orientations, Playback};
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, TableKind};
 use breakshot_shared::scene::Scene;
