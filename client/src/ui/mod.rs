@@ -99,7 +99,7 @@ pub fn data_dir() -> Option<std::path::PathBuf> {
     DATA_DIR
         .get()
         .cloned()
-        .or_else(breakshot_client::net::host::default_data_dir)
+        .or_else(breakshot_client::net::default_data_dir)
 }
 
 /// A seed for a new rack from the clock: every rack is different.
