@@ -29,7 +29,7 @@ pub use host::{
 pub use link::{NetLink, NoRoom};
 pub use name::player_name;
 pub use pinned::client_config;
-pub use records::{fetch_record, fetch_record_blocking, FetchError, FetchedRecord};
+pub use records::{fetch_record, fetch_record_blocking, FetchError, FetchedRecord, FETCH_TIMEOUT};
 pub use seats::{hosted_from, Remembered, SeatStore};
 pub use session::{Session, SessionEvent};
 

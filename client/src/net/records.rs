@@ -9,7 +9,7 @@ use thiserror::Error;
 use super::channel::{endpoint, Channel, NetError};
 
 /// How long connecting and fetching may take before the server counts as unreachable.
-pub(crate) const FETCH_TIMEOUT: Duration = Duration::from_secs(15);
+pub const FETCH_TIMEOUT: Duration = Duration::from_secs(15);
 
 #[derive(Debug, Error)]
 /// Why a game's record could not be fetched.

@@ -16,7 +16,7 @@ pub(crate) const DEFAULT_SHOT_SPEED: f64 = 1.5;
 pub struct Aim {
     /// Direction in the scene plane, radians from +x.
     pub angle: f64,
-    /// 0 to 1: the cue speed, as a share of [`MAX_SHOT_SPEED`] (the bar, the keys and the
+    /// 0 to 1: the cue speed, as a share of `MAX_SHOT_SPEED` (the bar, the keys and the
     /// pull-back all move it in proportion).
     pub power: f64,
     /// Tip offset [side, height] in units of R, within the miscue limit.
@@ -113,7 +113,7 @@ impl Aim {
 pub(crate) const AIM_SHARE_INTERVAL: f64 = 0.1;
 
 /// Decides when the aim being set up is shown to the others in an online room: when it has
-/// changed, and no more often than every [`AIM_SHARE_INTERVAL`].
+/// changed, and no more often than every `AIM_SHARE_INTERVAL`.
 #[derive(Clone, Debug, Default)]
 pub struct AimShare {
     last: Option<Strike>,

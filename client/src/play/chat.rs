@@ -84,7 +84,7 @@ impl Chat {
         None
     }
 
-    /// Keeps a line said in the room (the oldest goes past [`SHOWN_LINES`]).
+    /// Keeps a line said in the room (the oldest goes past `SHOWN_LINES`).
     pub fn heard(&mut self, from: &str, text: &str) {
         let line = ChatLine {
             from: from.to_owned(),
@@ -102,7 +102,7 @@ impl Chat {
     }
 
     /// The lines to show now: all of them while a line is typed, else those said in the
-    /// last [`SHOWN_SECS`].
+    /// last `SHOWN_SECS`.
     pub fn shown(&self) -> impl Iterator<Item = &ChatLine> {
         let all = self.typing.is_some();
         self.lines

@@ -161,7 +161,7 @@ pub struct Orbit {
     /// Turned about the cue ball from straight behind the aim (radians, anticlockwise from
     /// above).
     pub around: f64,
-    /// Height angle above the cloth (radians), [`MIN_PITCH`] to [`TOP_PITCH`].
+    /// Height angle above the cloth (radians), `MIN_PITCH` to `TOP_PITCH`.
     pub pitch: f64,
     /// Distance from the cue ball (m).
     pub distance: f64,

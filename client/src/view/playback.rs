@@ -105,7 +105,7 @@ impl Playback {
             .collect()
     }
 
-    /// The cue going through ball `ball` in the first [`STROKE_TIME`] of the shot; None after
+    /// The cue going through ball `ball` in the first `STROKE_TIME` of the shot; None after
     /// it, or when the ball left without moving across the table.
     pub fn stroke(&self, ball: usize) -> Option<Stroke> {
         if self.time >= STROKE_TIME || ball >= self.outcome.history.len() {
@@ -120,7 +120,7 @@ impl Playback {
         })
     }
 
-    /// The balls falling into pockets at the time shown, pocketed less than [`DROP_TIME`]
+    /// The balls falling into pockets at the time shown, pocketed less than `DROP_TIME`
     /// ago. The physics ends a ball at the pocket's edge; this is for the eye only: the ball
     /// slides to the middle of the pocket as it falls under gravity. `table` is the shot's
     /// table, for its pockets; balls of `radius`.

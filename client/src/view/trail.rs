@@ -21,7 +21,7 @@ pub(crate) const FAINTEST: f32 = 0.15;
 pub struct TrailPoint {
     /// The ball's centre on the table (scene coordinates).
     pub pos: DVec2,
-    /// How strongly it is drawn: 1 where the ball is now, fading to [`FAINTEST`].
+    /// How strongly it is drawn: 1 where the ball is now, fading to `FAINTEST`.
     pub strength: f32,
 }
 
