@@ -17,9 +17,8 @@ use breakshot_shared::rules::{
 use glam::DVec2;
 use tokio::sync::oneshot;
 
-use crate::net::link::command_message;
-use crate::net::{Client, ClientEvent, NetError, Reconnect};
-use crate::play::replica::Replica;
+use crate::net::{command_message, Client, ClientEvent, NetError, Reconnect};
+use crate::play::Replica;
 
 /// How long a bot keeps trying to reach a server that went away.
 pub const RETRY_FOR: Duration = Duration::from_secs(120);

@@ -10,11 +10,12 @@ use std::process::ExitCode;
 use std::rc::Rc;
 
 use anyhow::{bail, Context as _};
-use breakshot_client::net::host::{default_data_dir, DEFAULT_PORT};
-use breakshot_client::net::{fetch_record_blocking, player_name, HostOptions, NetLink, SeatStore};
-use breakshot_client::play::practice::three_cushion_scene;
-use breakshot_client::play::replay::ReplayViewer;
-use breakshot_client::view::camera::ViewKind;
+use breakshot_client::net::{
+    default_data_dir, fetch_record_blocking, player_name, HostOptions, NetLink, SeatStore,
+    DEFAULT_PORT,
+};
+use breakshot_client::play::{three_cushion_scene, ReplayViewer};
+use breakshot_client::view::ViewKind;
 use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::{AimAid, Invite, RoomCode};
 use breakshot_shared::rules::{EightBallRules, Variant};
@@ -344,13 +345,10 @@ fn announce(host: &breakshot_client::net::Host) {
         host.data().display()
     );
     if host.needs_address() {
-        eprintln!("breakshot: {}", breakshot_client::net::host::ADDRESS_NOTE);
+        eprintln!("breakshot: {}", breakshot_client::net::ADDRESS_NOTE);
     } else {
         let port = host.server().local_addr().port();
-        eprintln!(
-            "breakshot: {}",
-            breakshot_client::net::host::router_hint(port)
-        );
+        eprintln!("breakshot: {}", breakshot_client::net::router_hint(port));
     }
 }
 

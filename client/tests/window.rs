@@ -9,16 +9,13 @@ use std::path::{Path, PathBuf};
 use std::process::{Command as Process, Output};
 use std::time::Duration;
 
-use breakshot_client::play::aim::Aim;
-use breakshot_client::play::replay::ReplayViewer;
+use breakshot_client::play::{Aim, ReplayViewer};
 use breakshot_client::view::aids::{predict, PathPoint};
-use breakshot_client::view::camera::{Camera, Orbit};
-use breakshot_client::view::flight::flight;
-use breakshot_client::view::layout::{Frame, Layout};
 use breakshot_client::view::palette::{
     ball_ids, ball_look, Rgb, BALL_WHITE, CLOTH, CUE_BALL, CUE_WOOD, CUSHION, DIAMOND, POCKET,
     RAIL_WOOD,
 };
+use breakshot_client::view::{flight, Camera, Frame, Layout, Orbit};
 use breakshot_shared::physics::Simulator;
 use breakshot_shared::physics::{BallState, EventKind, MotionState, Params, Strike};
 use breakshot_shared::replay::GameRecord;
@@ -848,7 +845,7 @@ fn the_menu_fits_a_small_window() {
         pixels,
     };
     const FILL: Rgb = [24, 104, 74];
-    let buttons = breakshot_client::view::layout::menu_buttons(640.0, 480.0, 8);
+    let buttons = breakshot_client::view::menu_buttons(640.0, 480.0, 8);
     for b in &buttons {
         let mid = b.y + 0.5 * b.h;
         // The button is drawn, and no letter reaches its sides.
@@ -938,7 +935,7 @@ fn resume_game_in_the_menu_takes_the_remembered_seat_back() {
     });
 
     // The menu, in a real window: click its first button, "Resume game".
-    let first = breakshot_client::view::layout::menu_buttons(1280.0, 720.0, 8)[0];
+    let first = breakshot_client::view::menu_buttons(1280.0, 720.0, 8)[0];
     let (x, y) = (first.x + 0.5 * first.w, first.y + 0.5 * first.h);
     let script = format!(
         "\"$0\" --data \"$1\" --size 1280x720 & \

@@ -8,9 +8,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, bail, Result};
 use breakshot_client::net::{Client, ClientEvent, Reconnect, Session, SessionEvent};
-use breakshot_client::play::game_flow::GameFlow;
-use breakshot_client::play::link::{GameEvent, GameLink};
-use breakshot_client::play::replica::Replica;
+use breakshot_client::play::{GameEvent, GameFlow, GameLink, Replica};
 use breakshot_server::{Config, Server, ServerError, Stats};
 use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, Role, RoomCode, ServerMessage};

@@ -7,8 +7,7 @@ use breakshot_client::bot::{run, BotConfig};
 use breakshot_client::net::{
     fetch_record, EmbeddedServer, Host, HostOptions, NetLink, SeatedComputer, Session,
 };
-use breakshot_client::play::game_flow::{GameFlow, Turn};
-use breakshot_client::play::link::{GameEvent, GameLink};
+use breakshot_client::play::{GameEvent, GameFlow, GameLink, Turn};
 use breakshot_client::view::hud::Connection;
 use breakshot_server::Config;
 use breakshot_shared::ai::{self, Level};

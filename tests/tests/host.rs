@@ -4,8 +4,7 @@
 use std::time::{Duration, Instant};
 
 use breakshot_client::net::{Host, HostOptions, NetLink, Session, SessionEvent};
-use breakshot_client::play::game_flow::GameFlow;
-use breakshot_client::play::link::{GameEvent, GameLink};
+use breakshot_client::play::{GameEvent, GameFlow, GameLink};
 use breakshot_client::view::hud::Connection;
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, Role, ServerMessage};
 use breakshot_shared::rules::{Command, Seat, Settings};

@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use anyhow::{anyhow, bail, Context, Result};
 use breakshot_client::bot::{run, BotConfig};
-use breakshot_client::net::pinned::client_config;
+use breakshot_client::net::client_config;
 use breakshot_server::{Limits, Stats};
 use breakshot_shared::protocol::{
     encode_frame, reference_hash, ClientMessage, ErrorCode, Fingerprint, ServerMessage,

@@ -4,9 +4,7 @@
 use std::time::{Duration, Instant};
 
 use breakshot_client::net::{NetLink, Session, SessionEvent};
-use breakshot_client::play::game_flow::GameFlow;
-use breakshot_client::play::link::{GameEvent, GameLink};
-use breakshot_client::play::replica::{Check, Replica};
+use breakshot_client::play::{Check, GameEvent, GameFlow, GameLink, Replica};
 use breakshot_client::view::hud::Connection;
 use breakshot_shared::protocol::{AimAid, ClientMessage, Role, ServerMessage};
 use breakshot_shared::rules::{Command, Seat, Settings};

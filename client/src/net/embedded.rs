@@ -22,7 +22,7 @@ use super::host::{
 use super::link::NetLink;
 use super::seats::SeatStore;
 use super::session::Session;
-use crate::play::link::{GameEvent, GameLink};
+use crate::play::{GameEvent, GameLink};
 use crate::view::hud::Connection;
 
 /// How long hosting waits for its own server to seat it. The server is in this process and

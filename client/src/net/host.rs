@@ -107,7 +107,7 @@ pub fn names_wildcard(invite: &Invite) -> bool {
 /// The address another computer on the same network dials to reach this one: the first
 /// IPv4 address in a private range (a home or office LAN), else any other routable IPv4,
 /// else a routable IPv6 address. Loopback, link-local and wildcard addresses never.
-pub fn lan_address(candidates: &[IpAddr]) -> Option<IpAddr> {
+pub(crate) fn lan_address(candidates: &[IpAddr]) -> Option<IpAddr> {
     let dialable = |ip: &IpAddr| match ip {
         IpAddr::V4(v4) => !(v4.is_loopback() || v4.is_link_local() || v4.is_unspecified()),
         IpAddr::V6(v6) => {
@@ -138,7 +138,7 @@ pub(super) fn interface_addresses() -> Vec<IpAddr> {
 }
 
 /// The environment variable that names the data directory (what `--data` gives).
-pub const DATA_ENV: &str = "BREAKSHOT_DATA";
+pub(crate) const DATA_ENV: &str = "BREAKSHOT_DATA";
 
 /// The default data directory: `$BREAKSHOT_DATA` if set, else `breakshot` in the user's
 /// data directory (`$XDG_DATA_HOME`, else `~/.local/share` on Linux and other Unix systems,
@@ -164,7 +164,7 @@ pub fn default_data_dir() -> Option<PathBuf> {
 
 /// Where this computer reaches a server bound to `bound`: the loopback address of the same
 /// family when the server listens on every interface, else the bound address itself.
-pub fn loopback_for(bound: SocketAddr) -> SocketAddr {
+pub(crate) fn loopback_for(bound: SocketAddr) -> SocketAddr {
     let ip = match bound.ip() {
         IpAddr::V4(ip) if ip.is_unspecified() => IpAddr::V4(Ipv4Addr::LOCALHOST),
         IpAddr::V6(ip) if ip.is_unspecified() => IpAddr::V6(Ipv6Addr::LOCALHOST),
@@ -175,7 +175,7 @@ pub fn loopback_for(bound: SocketAddr) -> SocketAddr {
 
 /// The host part of an invite for an address the host gives: a name or an IP address (an
 /// IPv6 address is put in brackets).
-pub fn invite_host(address: &str) -> Result<String, HostError> {
+pub(crate) fn invite_host(address: &str) -> Result<String, HostError> {
     let a = address.trim();
     if let Ok(ip) = a
         .trim_start_matches('[')

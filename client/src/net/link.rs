@@ -9,7 +9,7 @@ use breakshot_shared::rules::{Command, Game, Seat, TurnId};
 
 use super::seats::SeatStore;
 use super::session::{Session, SessionEvent};
-use crate::play::link::{game_events, AwayResult, GameEvent, GameLink};
+use crate::play::{game_events, AwayResult, GameEvent, GameLink};
 use crate::view::hud::Connection;
 
 /// A [`GameLink`] over a [`Session`].
@@ -173,7 +173,7 @@ impl NetLink {
 
 /// The message a player sends for `command` on `turn`; None for a command only the rules
 /// themselves make (the shot clock, a forfeit) or only practice allows.
-pub fn command_message(turn: TurnId, command: Command) -> Option<ClientMessage> {
+pub(crate) fn command_message(turn: TurnId, command: Command) -> Option<ClientMessage> {
     Some(match command {
         Command::Shot { strike, call } => ClientMessage::Shot { turn, strike, call },
         Command::PlaceCueBall { pos } => ClientMessage::PlaceCueBall { turn, pos },

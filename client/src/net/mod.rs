@@ -2,27 +2,35 @@
 //! framed message stream, the local game mirror that predicts and checks every shot, a polling
 //! session for frame loops, and fetching a stored game's record.
 
-pub mod channel;
-pub mod client;
-pub mod computer;
+mod channel;
+mod client;
+mod computer;
 #[cfg(feature = "host")]
 mod embedded;
-pub mod host;
-pub mod link;
-pub mod name;
-pub mod pinned;
-pub mod records;
-pub mod seats;
-pub mod session;
+// Without the embedded server, the helpers it shares with this module have no caller.
+#[cfg_attr(not(feature = "host"), allow(dead_code))]
+mod host;
+mod link;
+mod name;
+mod pinned;
+mod records;
+mod seats;
+mod session;
 
-pub use channel::{endpoint, Channel, NetError, Reader, Writer};
+pub use channel::{endpoint, Channel, NetError, Reader, Writer, ATTEMPT_LIMIT};
 pub use client::{Client, ClientEvent, Reconnect};
 pub use computer::SeatedComputer;
 #[cfg(feature = "host")]
 pub use embedded::{EmbeddedServer, Host};
-pub use host::{HostError, HostOptions};
+pub use host::{
+    default_data_dir, names_wildcard, router_hint, HostError, HostOptions, ADDRESS_NOTE,
+    DEFAULT_PORT,
+};
 pub use link::{NetLink, NoRoom};
 pub use name::player_name;
-pub use records::{fetch_record, fetch_record_blocking, FetchError, FetchedRecord};
-pub use seats::{Remembered, SeatStore};
+pub use pinned::client_config;
+pub use records::{fetch_record, fetch_record_blocking, FetchError, FetchedRecord, FETCH_TIMEOUT};
+pub use seats::{hosted_from, Remembered, SeatStore};
 pub use session::{Session, SessionEvent};
+
+pub(crate) use link::command_message;

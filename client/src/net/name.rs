@@ -8,7 +8,7 @@ use breakshot_shared::protocol::is_valid_name;
 use breakshot_shared::protocol::limits::MAX_NAME_CHARS;
 
 /// The file under the data directory that holds the name.
-pub const NAME_FILE: &str = "name";
+pub(crate) const NAME_FILE: &str = "name";
 
 /// The name to play under: `given` (checked, then remembered in `data`), else the name
 /// remembered there, else the user's login name, else "player".

@@ -16,13 +16,13 @@ use rustls::{CertificateError, DigitallySignedStruct, SignatureScheme};
 use sha2::{Digest, Sha256};
 
 /// Keep-alive so a thinking player's connection never idles out.
-pub const KEEP_ALIVE: Duration = Duration::from_secs(5);
+pub(crate) const KEEP_ALIVE: Duration = Duration::from_secs(5);
 /// How long a silent connection lives (keep-alive keeps a thinking player's alive).
-pub const IDLE_TIMEOUT: Duration = Duration::from_secs(30);
+pub(crate) const IDLE_TIMEOUT: Duration = Duration::from_secs(30);
 
 #[derive(Debug)]
 /// A certificate verifier that trusts one SHA-256 fingerprint and nothing else.
-pub struct PinnedCert {
+pub(crate) struct PinnedCert {
     fingerprint: Fingerprint,
     provider: Arc<CryptoProvider>,
 }

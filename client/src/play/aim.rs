@@ -6,9 +6,9 @@ use breakshot_shared::physics::Strike;
 use glam::DVec2;
 
 /// Cue speed at full power (m/s): a hard break. The engine accepts up to 15.
-pub const MAX_SHOT_SPEED: f64 = 12.0;
+pub(crate) const MAX_SHOT_SPEED: f64 = 12.0;
 /// Cue speed of a fresh set-up (m/s): a soft shot.
-pub const DEFAULT_SHOT_SPEED: f64 = 1.5;
+pub(crate) const DEFAULT_SHOT_SPEED: f64 = 1.5;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 /// The shot being set up: direction, power, the tip's offset on the cue ball and the cue's
@@ -16,7 +16,7 @@ pub const DEFAULT_SHOT_SPEED: f64 = 1.5;
 pub struct Aim {
     /// Direction in the scene plane, radians from +x.
     pub angle: f64,
-    /// 0 to 1: the cue speed, as a share of [`MAX_SHOT_SPEED`] (the bar, the keys and the
+    /// 0 to 1: the cue speed, as a share of `MAX_SHOT_SPEED` (the bar, the keys and the
     /// pull-back all move it in proportion).
     pub power: f64,
     /// Tip offset [side, height] in units of R, within the miscue limit.
@@ -110,10 +110,10 @@ impl Aim {
 }
 
 /// Seconds between two showings of a player's aim to the others, at the most.
-pub const AIM_SHARE_INTERVAL: f64 = 0.1;
+pub(crate) const AIM_SHARE_INTERVAL: f64 = 0.1;
 
 /// Decides when the aim being set up is shown to the others in an online room: when it has
-/// changed, and no more often than every [`AIM_SHARE_INTERVAL`].
+/// changed, and no more often than every `AIM_SHARE_INTERVAL`.
 #[derive(Clone, Debug, Default)]
 pub struct AimShare {
     last: Option<Strike>,

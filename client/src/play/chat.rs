@@ -5,9 +5,9 @@ use std::collections::VecDeque;
 use breakshot_shared::protocol::limits::MAX_CHAT_CHARS;
 
 /// Lines of chat kept on screen.
-pub const SHOWN_LINES: usize = 5;
+pub(crate) const SHOWN_LINES: usize = 5;
 /// Seconds a line stays on screen while no line is being typed.
-pub const SHOWN_SECS: f64 = 12.0;
+pub(crate) const SHOWN_SECS: f64 = 12.0;
 
 /// One line said in the room.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -84,7 +84,7 @@ impl Chat {
         None
     }
 
-    /// Keeps a line said in the room (the oldest goes past [`SHOWN_LINES`]).
+    /// Keeps a line said in the room (the oldest goes past `SHOWN_LINES`).
     pub fn heard(&mut self, from: &str, text: &str) {
         let line = ChatLine {
             from: from.to_owned(),
@@ -102,7 +102,7 @@ impl Chat {
     }
 
     /// The lines to show now: all of them while a line is typed, else those said in the
-    /// last [`SHOWN_SECS`].
+    /// last `SHOWN_SECS`.
     pub fn shown(&self) -> impl Iterator<Item = &ChatLine> {
         let all = self.typing.is_some();
         self.lines

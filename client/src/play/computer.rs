@@ -13,7 +13,7 @@ use super::link::{GameEvent, GameLink, LocalLink};
 
 /// The least time (of frames, in seconds) the computer is shown thinking, so the player
 /// sees it take its turn even when it decides at once.
-pub const SHOWN_THINKING: f64 = 0.8;
+pub(crate) const SHOWN_THINKING: f64 = 0.8;
 
 /// A seat the computer plays.
 pub struct Computer {

@@ -7,25 +7,25 @@ use glam::DVec2;
 
 use super::aim::{Aim, MAX_SHOT_SPEED};
 use crate::view::aids::Aid;
-use crate::view::layout::Layout;
+use crate::view::Layout;
 
 /// How much finer the aim turns while Shift is held.
-pub const FINE_FACTOR: f64 = 0.1;
+pub(crate) const FINE_FACTOR: f64 = 0.1;
 /// Arrow-key aim rate (radians per second), and with Shift.
-pub const KEY_AIM_RATE: f64 = 0.35;
+pub(crate) const KEY_AIM_RATE: f64 = 0.35;
 /// Arrow-key power rate while held (full scale per second).
-pub const KEY_POWER_RATE: f64 = 0.5;
+pub(crate) const KEY_POWER_RATE: f64 = 0.5;
 /// Cue speed one press of Up or Down adds or takes (m/s; a tenth with Shift): soft to a
 /// break in about ten presses.
-pub const KEY_SPEED_STEP: f64 = 1.0;
+pub(crate) const KEY_SPEED_STEP: f64 = 1.0;
 /// Cue elevation rate while its key is held (degrees per second; a tenth with Shift).
-pub const KEY_ELEVATION_RATE: f64 = 30.0;
+pub(crate) const KEY_ELEVATION_RATE: f64 = 30.0;
 /// Power change per mouse-wheel notch.
-pub const WHEEL_POWER_STEP: f64 = 0.02;
+pub(crate) const WHEEL_POWER_STEP: f64 = 0.02;
 /// Pull-back distance (in ball radii) that gives full power.
-pub const FULL_PULL_RADII: f64 = 14.0;
+pub(crate) const FULL_PULL_RADII: f64 = 14.0;
 /// A pull-back weaker than this is a click, not a shot.
-pub const MIN_PULL_POWER: f64 = 0.03;
+pub(crate) const MIN_PULL_POWER: f64 = 0.03;
 
 /// Keys that do one thing when pressed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -381,7 +381,13 @@ impl Controls {
 
 /// Power of a pull-back from `from` to `to` (pixels): how far the mouse moved back against
 /// the aim, with full power at [`FULL_PULL_RADII`] ball radii.
-pub fn pull_power(layout: &Layout, aim: &Aim, from: [f32; 2], to: [f32; 2], radius: f64) -> f64 {
+pub(crate) fn pull_power(
+    layout: &Layout,
+    aim: &Aim,
+    from: [f32; 2],
+    to: [f32; 2],
+    radius: f64,
+) -> f64 {
     let back = layout.to_scene(from) - layout.to_scene(to);
     (back.dot(aim.dir()) / (FULL_PULL_RADII * radius)).min(1.0)
 }
@@ -393,7 +399,7 @@ fn dist(a: [f32; 2], b: [f32; 2]) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::view::layout::Frame;
+    use crate::view::Frame;
     use breakshot_shared::physics::TableKind;
 
     const R: f64 = 0.028575;

@@ -11,7 +11,7 @@ use super::chat::Chat;
 use super::link::{AwayResult, GameEvent, Judgement};
 use super::replica::Replica;
 use crate::view::hud::Connection;
-use crate::view::playback::Playback;
+use crate::view::Playback;
 
 /// What the player here may do now.
 #[derive(Clone, Debug, PartialEq)]
@@ -281,7 +281,7 @@ impl GameFlow {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::play::link::{GameLink, LocalLink};
+    use crate::play::{GameLink, LocalLink};
     use breakshot_shared::physics::simulations_on_this_thread;
     use breakshot_shared::rules::{EightBallRules, Settings, Variant};
     use glam::DVec2;
@@ -517,7 +517,7 @@ mod tests {
 
     #[test]
     fn a_game_that_ended_while_away_is_shown_as_won_or_lost_for_this_seat() {
-        use crate::play::link::AwayResult;
+        use crate::play::AwayResult;
         let mut flow = GameFlow::new(Connection::Connecting);
         let lost = AwayResult::for_seat(Seat::A, Some(Seat::B), "A conceded");
         flow.handle(GameEvent::EndedAway(lost.clone()));

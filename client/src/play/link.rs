@@ -215,7 +215,7 @@ impl GameLink for LocalLink {
 
 /// What a server message means for a game screen of the player in seat `me` (None: a
 /// spectator, or not seated yet).
-pub fn game_events(msg: &ServerMessage, me: Option<Seat>) -> Vec<GameEvent> {
+pub(crate) fn game_events(msg: &ServerMessage, me: Option<Seat>) -> Vec<GameEvent> {
     let secs = |ms: u64| ms as f64 / 1000.0;
     match msg {
         ServerMessage::Joined { snapshot, .. } | ServerMessage::GameStarted { snapshot } => {

@@ -1,13 +1,25 @@
 //! Playing without a window: the shot being set up, the mapping from mouse and keys to
 //! commands, and the offline practice table.
 
-pub mod aim;
-pub mod chat;
-pub mod computer;
-pub mod controls;
-pub mod game_flow;
+mod aim;
+mod chat;
+mod computer;
+mod controls;
+mod game_flow;
 pub mod leave;
-pub mod link;
-pub mod practice;
-pub mod replay;
-pub mod replica;
+mod link;
+mod practice;
+mod replay;
+mod replica;
+
+pub use aim::{Aim, AimShare};
+pub use chat::{Chat, ChatKey, ChatLine};
+pub use computer::ComputerLink;
+pub use controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
+pub use game_flow::{GameFlow, Turn};
+pub use link::{AwayResult, GameEvent, GameLink, Judgement, LocalLink};
+pub use practice::{three_cushion_scene, Practice, PracticeError};
+pub use replay::{ReplayOpenError, ReplayViewer};
+pub use replica::{Check, Replica};
+
+pub(crate) use link::game_events;

@@ -12,8 +12,7 @@ use breakshot_shared::rules::{rack, Game, Settings, Variant};
 use breakshot_shared::scene::SceneBall;
 
 use super::aim::Aim;
-use crate::view::palette;
-use crate::view::playback::Playback;
+use crate::view::{palette, Playback};
 
 #[derive(Debug, thiserror::Error, PartialEq)]
 /// Why a practice action was refused.

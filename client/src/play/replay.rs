@@ -8,7 +8,7 @@ use breakshot_shared::replay::{GameRecord, RecordError, RECORD_VERSION};
 use breakshot_shared::rules::{Command, Game, Verdict};
 
 use super::replica::Replica;
-use crate::view::playback::{Playback, MAX_SPEED, MIN_SPEED};
+use crate::view::{Playback, MAX_SPEED, MIN_SPEED};
 
 /// Pause between two entries at normal speed (s), so a viewer can follow.
 const HOLD: f64 = 0.8;

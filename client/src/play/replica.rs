@@ -11,7 +11,7 @@ use breakshot_shared::rules::{
 };
 
 use super::link::{game_events, GameEvent};
-use crate::view::playback::Playback;
+use crate::view::Playback;
 
 /// What the replica learned from an event.
 #[derive(Clone, Debug, PartialEq)]
@@ -230,7 +230,7 @@ impl Replica {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::play::game_flow::GameFlow;
+    use crate::play::GameFlow;
     use crate::view::hud::Connection;
     use breakshot_shared::physics::{simulations_on_this_thread, Strike};
     use breakshot_shared::protocol::Ruling;

@@ -4,17 +4,14 @@
 //! (`table3d`).
 
 use ::glam::{DQuat, DVec2};
-use breakshot_client::play::aim::Aim;
+use breakshot_client::play::Aim;
 use breakshot_client::view::aids::{self, AidToggles, PathPoint, Prediction};
-use breakshot_client::view::camera::Camera;
-use breakshot_client::view::flight::{flight, Flight};
-use breakshot_client::view::layout::{Layout, Rect, RAIL_WIDTH};
-use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::palette::{self, ball_look, Rgb};
-use breakshot_client::view::playback::{Drop, Stroke};
 use breakshot_client::view::sphere::{self, ScreenAxes};
-use breakshot_client::view::trail::TrailPoint;
 use breakshot_client::view::tray::Trays;
+use breakshot_client::view::{
+    flight, Camera, Flight, Layout, Orientations, PocketDrop, Rect, Stroke, TrailPoint, RAIL_WIDTH,
+};
 use breakshot_shared::physics::{BallState, Table, TableKind};
 use macroquad::models::Vertex;
 use macroquad::prelude::*;
@@ -28,7 +25,7 @@ pub struct Pen<'a> {
     /// The 3-D view's camera, when it is shown.
     pub camera: Option<Camera>,
     /// Balls seen falling into pockets (the 3-D view shows them).
-    pub drops: Vec<Drop>,
+    pub drops: Vec<PocketDrop>,
     /// The cue ball's trail to draw on the cloth (empty when hidden).
     pub trail: Vec<TrailPoint>,
     /// The cue going through the cue ball as a shot starts.

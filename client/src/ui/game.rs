@@ -2,19 +2,14 @@
 //! players at one computer), shown from the events of a [`GameLink`].
 
 use ::glam::DVec2;
-use breakshot_client::play::aim::{Aim, AimShare};
-use breakshot_client::play::chat::{Chat, ChatKey};
-use breakshot_client::play::controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
-use breakshot_client::play::game_flow::{GameFlow, Turn};
 use breakshot_client::play::leave::{self, LeaveAnswer};
-use breakshot_client::play::link::{AwayResult, GameLink};
+use breakshot_client::play::{
+    Aim, AimShare, AwayResult, Chat, ChatKey, Context, Controls, Drag, GameFlow, GameLink,
+    InputFrame, Intent, Key, Stage, Turn,
+};
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{connection as connection_text, Connection};
-use breakshot_client::view::layout::{Frame, Layout, Rect};
-use breakshot_client::view::orientation::Orientations;
-use breakshot_client::view::palette;
-use breakshot_client::view::playback::Playback;
-use breakshot_client::view::tray;
+use breakshot_client::view::{palette, tray, Frame, Layout, Orientations, Playback, Rect};
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
 use breakshot_shared::protocol::limits::RECONNECT_WINDOW;

@@ -1,9 +1,9 @@
 //! The heads-up display of a rules game (replays now, network games later): both players,
 //! whose turn, groups, what the game waits for, the last verdict and the connection.
 
-use breakshot_client::play::link::Judgement;
+use breakshot_client::play::Judgement;
 use breakshot_client::view::hud::{self, Connection};
-use breakshot_client::view::layout::Layout;
+use breakshot_client::view::Layout;
 use breakshot_shared::rules::{Game, Seat};
 use macroquad::prelude::*;
 

@@ -5,7 +5,7 @@ use macroquad::prelude::{
     is_mouse_button_released, mouse_position, mouse_wheel, KeyCode, MouseButton,
 };
 
-use breakshot_client::play::controls::{InputFrame, Key};
+use breakshot_client::play::{InputFrame, Key};
 
 const KEYS: [(KeyCode, Key); 25] = [
     (KeyCode::Space, Key::Shoot),

@@ -1,8 +1,8 @@
 //! The invite panel a host sees while the other seat is empty: the invite to send, a button
 //! that copies it to the clipboard, and a note when the invite's address cannot be dialled.
 
-use breakshot_client::net::host::{names_wildcard, router_hint, ADDRESS_NOTE};
-use breakshot_client::view::layout::Rect;
+use breakshot_client::net::{names_wildcard, router_hint, ADDRESS_NOTE};
+use breakshot_client::view::Rect;
 use breakshot_shared::protocol::Invite;
 use macroquad::prelude::*;
 

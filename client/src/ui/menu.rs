@@ -1,10 +1,8 @@
 //! The menu the window opens on when no command is given.
 
-use breakshot_client::net::seats::hosted_from;
-use breakshot_client::net::{player_name, HostOptions, NetLink, SeatStore};
-use breakshot_client::play::controls::{InputFrame, Key};
-use breakshot_client::play::link::GameLink;
-use breakshot_client::view::layout::{menu_buttons, Rect};
+use breakshot_client::net::{hosted_from, player_name, HostOptions, NetLink, SeatStore};
+use breakshot_client::play::{GameLink, InputFrame, Key};
+use breakshot_client::view::{menu_buttons, Rect};
 use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::Invite;
 use breakshot_shared::rules::{EightBallRules, Variant};

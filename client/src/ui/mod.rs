@@ -19,15 +19,9 @@ use std::path::PathBuf;
 use breakshot_shared::scene::Scene;
 use macroquad::prelude::{clear_background, next_frame};
 
-use breakshot_client::play::computer::ComputerLink;
-use breakshot_client::play::controls::InputFrame;
-use breakshot_client::play::link::{GameLink, LocalLink};
-use breakshot_client::play::replay::ReplayViewer;
-use breakshot_client::view::camera::ViewKind;
-use breakshot_client::view::choice;
+use breakshot_client::play::{ComputerLink, GameLink, InputFrame, LocalLink, ReplayViewer};
 use breakshot_client::view::hud::Connection;
-use breakshot_client::view::palette;
-use breakshot_client::view::playback::Playback;
+use breakshot_client::view::{choice, palette, Playback, ViewKind};
 use breakshot_shared::ai::Level;
 use breakshot_shared::rules::{Settings, Variant};
 
@@ -105,7 +99,7 @@ pub fn data_dir() -> Option<std::path::PathBuf> {
     DATA_DIR
         .get()
         .cloned()
-        .or_else(breakshot_client::net::host::default_data_dir)
+        .or_else(breakshot_client::net::default_data_dir)
 }
 
 /// A seed for a new rack from the clock: every rack is different.

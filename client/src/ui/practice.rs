@@ -1,11 +1,8 @@
 //! The practice screen: a table with no rules and no server.
 
-use breakshot_client::play::controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
-use breakshot_client::play::practice::Practice;
+use breakshot_client::play::{Context, Controls, Drag, InputFrame, Intent, Key, Practice, Stage};
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
-use breakshot_client::view::layout::{Frame, Layout};
-use breakshot_client::view::orientation::Orientations;
-use breakshot_client::view::playback::Playback;
+use breakshot_client::view::{Frame, Layout, Orientations, Playback};
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, TableKind};
 use breakshot_shared::scene::Scene;

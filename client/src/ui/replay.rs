@@ -1,15 +1,8 @@
 //! The replay screen: a recorded game, shot by shot.
 
-use breakshot_client::play::aim::Aim;
-use breakshot_client::play::controls::{InputFrame, Key};
-use breakshot_client::play::link::Judgement;
-use breakshot_client::play::replay::ReplayViewer;
+use breakshot_client::play::{Aim, InputFrame, Judgement, Key, ReplayViewer};
 use breakshot_client::view::hud::Connection;
-use breakshot_client::view::layout::{Frame, Layout};
-use breakshot_client::view::orientation::Orientations;
-use breakshot_client::view::palette;
-use breakshot_client::view::playback::Playback;
-use breakshot_client::view::tray;
+use breakshot_client::view::{palette, tray, Frame, Layout, Orientations, Playback};
 use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
 

@@ -2,8 +2,8 @@
 //! audio when the client is built with the `sound` feature, silently otherwise. M mutes,
 //! [ and ] turn the volume down and up.
 
-use breakshot_client::view::playback::Playback;
 use breakshot_client::view::sound::{Mixer, SoundTrack};
+use breakshot_client::view::Playback;
 use macroquad::prelude::{is_key_pressed, KeyCode};
 
 /// Volume change per key press.

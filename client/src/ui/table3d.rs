@@ -4,14 +4,10 @@
 //! aids as lines on the cloth. Numbers are printed in 2-D over the projected spots.
 
 use ::glam::{DQuat, DVec2, DVec3};
-use breakshot_client::play::aim::Aim;
+use breakshot_client::play::Aim;
 use breakshot_client::view::aids::{drawn_pieces, AidToggles, PathPoint, Prediction};
-use breakshot_client::view::camera::Camera;
-use breakshot_client::view::layout::{Layout, RAIL_WIDTH};
-use breakshot_client::view::orientation::Orientations;
 use breakshot_client::view::palette::{self, ball_look, Rgb};
-use breakshot_client::view::sphere;
-use breakshot_client::view::trail::TrailPoint;
+use breakshot_client::view::{sphere, Camera, Layout, Orientations, TrailPoint, RAIL_WIDTH};
 use breakshot_shared::physics::{BallState, Params, Table, TableKind};
 use macroquad::models::Vertex;
 use macroquad::prelude::*;

@@ -8,12 +8,8 @@ use std::path::PathBuf;
 use std::sync::Mutex;
 
 use ::glam::DVec2;
-use breakshot_client::play::controls::{InputFrame, Key};
-use breakshot_client::view::camera::{area, Camera, Orbit, ViewKind};
-use breakshot_client::view::choice;
-use breakshot_client::view::layout::Layout;
-use breakshot_client::view::playback::Playback;
-use breakshot_client::view::trail::Trail;
+use breakshot_client::play::{InputFrame, Key};
+use breakshot_client::view::{area, choice, Camera, Layout, Orbit, Playback, Trail, ViewKind};
 use breakshot_shared::physics::{Table, TableKind};
 
 use super::draw::Pen;

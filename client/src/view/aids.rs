@@ -144,7 +144,7 @@ pub fn predict(sim: &mut Simulator, shot: &Shot, cue: usize) -> Result<Predictio
 }
 
 /// The aids for a simulated shot.
-pub fn prediction_of(outcome: &Outcome, cue: usize) -> Prediction {
+pub(crate) fn prediction_of(outcome: &Outcome, cue: usize) -> Prediction {
     let cue16 = cue as u16;
     let mut aim_end = None;
     let mut aim_time = None;

@@ -11,17 +11,17 @@ use glam::{DMat4, DVec2, DVec3, DVec4};
 use super::layout::{Layout, Rect};
 
 /// Vertical field of view (radians).
-pub const FOV_Y: f64 = 0.70;
+pub(crate) const FOV_Y: f64 = 0.70;
 /// The lowest the camera goes: this angle above the cloth (radians) as it looks at the cue ball.
-pub const MIN_PITCH: f64 = 0.10;
+pub(crate) const MIN_PITCH: f64 = 0.10;
 /// Straight down.
-pub const TOP_PITCH: f64 = std::f64::consts::FRAC_PI_2;
+pub(crate) const TOP_PITCH: f64 = std::f64::consts::FRAC_PI_2;
 /// The camera's height angle when the 3-D view opens (radians).
-pub const DEFAULT_PITCH: f64 = 0.32;
+pub(crate) const DEFAULT_PITCH: f64 = 0.32;
 /// Distance from the cue ball when the 3-D view opens (m).
-pub const DEFAULT_DISTANCE: f64 = 1.1;
+pub(crate) const DEFAULT_DISTANCE: f64 = 1.1;
 /// The nearest and farthest the camera may be from the cue ball (m).
-pub const DISTANCE_RANGE: (f64, f64) = (0.35, 3.5);
+pub(crate) const DISTANCE_RANGE: (f64, f64) = (0.35, 3.5);
 /// Where the cue ball sits in the 3-D area, as a fraction of its height from the top: low,
 /// so the table ahead of the shot fills the view.
 const CUE_AT: f64 = 0.68;
@@ -161,7 +161,7 @@ pub struct Orbit {
     /// Turned about the cue ball from straight behind the aim (radians, anticlockwise from
     /// above).
     pub around: f64,
-    /// Height angle above the cloth (radians), [`MIN_PITCH`] to [`TOP_PITCH`].
+    /// Height angle above the cloth (radians), `MIN_PITCH` to `TOP_PITCH`.
     pub pitch: f64,
     /// Distance from the cue ball (m).
     pub distance: f64,
@@ -286,9 +286,8 @@ impl ViewKind {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::play::aim::Aim;
-    use crate::play::controls::{Context, Controls, InputFrame, Stage};
-    use crate::view::layout::Frame;
+    use crate::play::{Aim, Context, Controls, InputFrame, Stage};
+    use crate::view::Frame;
     use breakshot_shared::physics::TableKind;
 
     const R: f64 = 0.028575;

@@ -5,14 +5,14 @@
 /// Growth of the drawn radius per ball radius of height. A real eye a metre above the table
 /// would see a jump of a few centimetres make the ball a few percent bigger, too little to
 /// read; this makes a typical jump (a ball radius or two) plainly visible.
-pub const GROWTH_PER_RADIUS: f64 = 0.3;
+pub(crate) const GROWTH_PER_RADIUS: f64 = 0.3;
 /// The largest drawn size, as a multiple of the radius.
-pub const MAX_SCALE: f64 = 2.0;
+pub(crate) const MAX_SCALE: f64 = 2.0;
 /// Where a ball's shadow falls on the cloth, from its centre, in ball radii (screen x, y):
 /// at rest.
-pub const SHADOW_AT_REST: [f64; 2] = [0.22, 0.28];
+pub(crate) const SHADOW_AT_REST: [f64; 2] = [0.22, 0.28];
 /// How much further the shadow falls per ball radius of height.
-pub const SHADOW_PER_RADIUS: [f64; 2] = [0.3, 0.38];
+pub(crate) const SHADOW_PER_RADIUS: [f64; 2] = [0.3, 0.38];
 
 /// A ball's look at a height.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -153,7 +153,7 @@ fn choices(options: &[Choice]) -> String {
 }
 
 /// The last verdict as lines: each reason, then the end of the game if it is not among them.
-pub fn verdict_lines(v: &Verdict) -> Vec<String> {
+pub(crate) fn verdict_lines(v: &Verdict) -> Vec<String> {
     let mut lines = v.reasons.clone();
     if let Some((_, reason)) = &v.over {
         if !lines.contains(reason) {
@@ -175,7 +175,7 @@ pub fn shot_clock(seconds_left: Option<f64>) -> Option<String> {
 }
 
 /// Seconds left under which the shot clock is shown as a warning.
-pub const CLOCK_WARNING_SECS: f64 = 10.0;
+pub(crate) const CLOCK_WARNING_SECS: f64 = 10.0;
 
 /// Whether the shot clock is running out: the HUD shows it in red.
 pub fn clock_running_out(seconds_left: f64) -> bool {

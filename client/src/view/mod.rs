@@ -3,15 +3,24 @@
 //! view's camera and the cue ball's trail.
 
 pub mod aids;
-pub mod camera;
+mod camera;
 pub mod choice;
-pub mod flight;
+mod flight;
 pub mod hud;
-pub mod layout;
-pub mod orientation;
+mod layout;
+mod orientation;
 pub mod palette;
-pub mod playback;
+mod playback;
 pub mod sound;
 pub mod sphere;
-pub mod trail;
+mod trail;
 pub mod tray;
+
+pub use camera::{area, Camera, Orbit, ViewKind};
+pub use flight::{flight, Flight};
+pub use layout::{menu_buttons, Frame, Layout, Rect, RAIL_WIDTH};
+pub use orientation::Orientations;
+pub use playback::{Playback, PocketDrop, Stroke};
+pub use trail::{Trail, TrailPoint};
+
+pub(crate) use playback::{MAX_SPEED, MIN_SPEED};

@@ -24,17 +24,17 @@ pub const CUE_BALL: Rgb = [246, 244, 232];
 /// The white of stripes and of the number disc.
 pub const BALL_WHITE: Rgb = [244, 240, 226];
 /// The dots on the cue ball that show its spin.
-pub const CUE_MARKER: Rgb = [200, 40, 40];
+pub(crate) const CUE_MARKER: Rgb = [200, 40, 40];
 /// A ball whose id is not a pool ball number.
-pub const OTHER_BALL: Rgb = [200, 200, 200];
+pub(crate) const OTHER_BALL: Rgb = [200, 200, 200];
 /// The cue stick's wood.
 pub const CUE_WOOD: Rgb = [214, 180, 120];
 /// The cue's ferrule, at its tip.
 pub const CUE_FERRULE: Rgb = [240, 240, 240];
 /// The yellow carom ball, seat B's (seat A's white is [`CUE_BALL`]).
-pub const CAROM_YELLOW: Rgb = [246, 206, 40];
+pub(crate) const CAROM_YELLOW: Rgb = [246, 206, 40];
 /// The red carom ball, the object ball of both.
-pub const CAROM_RED: Rgb = [200, 24, 30];
+pub(crate) const CAROM_RED: Rgb = [200, 24, 30];
 
 const SOLIDS: [Rgb; 8] = [
     [250, 196, 20], // 1 yellow

@@ -6,14 +6,14 @@ use breakshot_shared::physics::{BallState, EventKind, Outcome, Table};
 use glam::{DVec2, DVec3};
 
 /// How long a pocketed ball is shown falling into its pocket (s).
-pub const DROP_TIME: f64 = 0.25;
+pub(crate) const DROP_TIME: f64 = 0.25;
 /// How long it takes to slide from where it was caught to the middle of the pocket (s).
 const DROP_CENTRING: f64 = 0.08;
 /// Gravity for the fall (m/s²).
 const GRAVITY: f64 = 9.81;
 
 /// How long the cue is shown going through at the start of a shot (s).
-pub const STROKE_TIME: f64 = 0.15;
+pub(crate) const STROKE_TIME: f64 = 0.15;
 
 /// The cue's stroke at the start of a shot.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -28,7 +28,7 @@ pub struct Stroke {
 
 /// A ball seen falling into a pocket.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Drop {
+pub struct PocketDrop {
     /// The ball.
     pub ball: usize,
     /// Its centre (scene coordinates, z up from the cloth).
@@ -36,9 +36,9 @@ pub struct Drop {
 }
 
 /// The slowest playback speed.
-pub const MIN_SPEED: f64 = 0.125;
+pub(crate) const MIN_SPEED: f64 = 0.125;
 /// The fastest playback speed.
-pub const MAX_SPEED: f64 = 8.0;
+pub(crate) const MAX_SPEED: f64 = 8.0;
 
 /// A shot being shown.
 #[derive(Clone, Debug)]
@@ -105,7 +105,7 @@ impl Playback {
             .collect()
     }
 
-    /// The cue going through ball `ball` in the first [`STROKE_TIME`] of the shot; None after
+    /// The cue going through ball `ball` in the first `STROKE_TIME` of the shot; None after
     /// it, or when the ball left without moving across the table.
     pub fn stroke(&self, ball: usize) -> Option<Stroke> {
         if self.time >= STROKE_TIME || ball >= self.outcome.history.len() {
@@ -120,11 +120,11 @@ impl Playback {
         })
     }
 
-    /// The balls falling into pockets at the time shown, pocketed less than [`DROP_TIME`]
+    /// The balls falling into pockets at the time shown, pocketed less than `DROP_TIME`
     /// ago. The physics ends a ball at the pocket's edge; this is for the eye only: the ball
     /// slides to the middle of the pocket as it falls under gravity. `table` is the shot's
     /// table, for its pockets; balls of `radius`.
-    pub fn dropping(&self, table: &Table, radius: f64) -> Vec<Drop> {
+    pub fn dropping(&self, table: &Table, radius: f64) -> Vec<PocketDrop> {
         self.outcome
             .events
             .iter()
@@ -138,7 +138,7 @@ impl Playback {
                 let hole = table.to_scene(table.pockets.get(pocket as usize)?.center);
                 let caught = self.outcome.state_at(ball, t).pos;
                 let centre = drop_centre(caught, hole, self.time - t, radius);
-                Some(Drop { ball, centre })
+                Some(PocketDrop { ball, centre })
             })
             .collect()
     }
@@ -146,7 +146,7 @@ impl Playback {
 
 /// Where a ball caught by a pocket at `caught` is `since` seconds later: moving to the
 /// pocket's middle `hole` and falling from its resting height `radius`.
-pub fn drop_centre(caught: DVec2, hole: DVec2, since: f64, radius: f64) -> DVec3 {
+pub(crate) fn drop_centre(caught: DVec2, hole: DVec2, since: f64, radius: f64) -> DVec3 {
     let since = since.max(0.0);
     let along = (since / DROP_CENTRING).min(1.0);
     caught

@@ -5,7 +5,7 @@
 use breakshot_shared::physics::{EventKind, Outcome};
 
 /// Sample rate of the synthesised sounds (Hz).
-pub const SAMPLE_RATE: u32 = 44_100;
+pub(crate) const SAMPLE_RATE: u32 = 44_100;
 
 /// The kinds of sound a shot makes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -52,7 +52,7 @@ const BEFORE: f64 = 1e-6;
 const SILENT: f32 = 0.02;
 
 /// The sounds of the shot's events with times in `(from, to]`, in time order.
-pub fn cues(outcome: &Outcome, from: f64, to: f64) -> Vec<Cue> {
+pub(crate) fn cues(outcome: &Outcome, from: f64, to: f64) -> Vec<Cue> {
     let vel = |b: u16, t: f64| outcome.state_at(b as usize, (t - BEFORE).max(0.0)).vel;
     outcome
         .events

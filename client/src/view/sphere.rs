@@ -9,9 +9,9 @@ use super::palette::{self, BallLook, Rgb};
 
 /// Rings of the fan: with [`SECTORS`], fine enough that a spot's edge stays smooth on a big
 /// window.
-pub const RINGS: usize = 14;
+pub(crate) const RINGS: usize = 14;
 /// Points on each ring.
-pub const SECTORS: usize = 48;
+pub(crate) const SECTORS: usize = 48;
 /// Angular radius of a number spot: cos of the half-angle it covers.
 const SPOT_COS: f64 = 0.9;
 /// Half-width of a stripe, as the sine of the latitude it reaches.

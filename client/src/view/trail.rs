@@ -12,16 +12,16 @@ const SAMPLES_PER_SECOND: f64 = 60.0;
 /// Most points in a trail.
 const MAX_POINTS: usize = 1200;
 /// How quickly a stretch of the trail fades (s of shot time).
-pub const FADE_TIME: f64 = 1.5;
+pub(crate) const FADE_TIME: f64 = 1.5;
 /// How faint the oldest stretch gets.
-pub const FAINTEST: f32 = 0.15;
+pub(crate) const FAINTEST: f32 = 0.15;
 
 /// One point of the trail and how strongly it is drawn (0 to 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrailPoint {
     /// The ball's centre on the table (scene coordinates).
     pub pos: DVec2,
-    /// How strongly it is drawn: 1 where the ball is now, fading to [`FAINTEST`].
+    /// How strongly it is drawn: 1 where the ball is now, fading to `FAINTEST`.
     pub strength: f32,
 }
 

@@ -10,7 +10,7 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use breakshot_client::net::{Host, HostOptions, NetLink, SeatStore};
-use breakshot_client::play::link::{GameEvent, GameLink};
+use breakshot_client::play::{GameEvent, GameLink};
 use breakshot_client::view::hud::Connection;
 use breakshot_shared::protocol::{ClientMessage, Invite};
 use breakshot_shared::rules::Command;
