@@ -85,12 +85,12 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
         (&mut host as &mut dyn GameLink, &mut host_flow),
         (&mut guest, &mut guest_flow),
     ] {
-        let GameEvent::Judged(j) =
-            poll_link_until(link, flow, "Judged", |e| matches!(e, GameEvent::Judged(_)))
-        else {
+        let GameEvent::Judged { hash } = poll_link_until(link, flow, "Judged", |e| {
+            matches!(e, GameEvent::Judged { .. })
+        }) else {
             unreachable!()
         };
-        hashes.push(j.hash.expect("a shot has a hash"));
+        hashes.push(hash.expect("a shot has a hash"));
     }
     assert_eq!(hashes[0], hashes[1]);
     for flow in [&host_flow, &guest_flow] {

@@ -5,10 +5,10 @@
 
 use breakshot_shared::physics::{BallState, Strike};
 use breakshot_shared::protocol::AimAid;
-use breakshot_shared::rules::{Choice, Command, Game, InHand, Phase, Seat, TurnId};
+use breakshot_shared::rules::{Choice, Command, Game, InHand, Phase, Seat, TurnId, Verdict};
 
 use super::chat::Chat;
-use super::link::{AwayResult, GameEvent, Judgement};
+use super::link::{AwayResult, GameEvent};
 use super::replica::Replica;
 use crate::view::hud::Connection;
 use crate::view::Playback;
@@ -39,8 +39,11 @@ pub enum Turn {
 /// A game screen's state: the [`Replica`] of the game, and what the screen shows around it.
 pub struct GameFlow {
     replica: Replica,
-    /// The judgement of the last command, as shown.
-    pub last_verdict: Option<Judgement>,
+    /// What the rules said of the last command, once the side that decides has judged it.
+    pub last_verdict: Option<Verdict>,
+    /// The verdict of the command accepted last, until the deciding side's judgement
+    /// arrives.
+    pending_verdict: Option<Verdict>,
     /// The line of text under the table.
     pub message: String,
     /// The connection state shown.
@@ -70,6 +73,7 @@ impl GameFlow {
         GameFlow {
             replica: Replica::default(),
             last_verdict: None,
+            pending_verdict: None,
             message: String::new(),
             connection,
             call: None,
@@ -134,7 +138,7 @@ impl GameFlow {
 
     /// The judgement to show: none while a shot is shown (fouls, turn changes and pockets
     /// appear when the balls stop, or at once when the shot is skipped).
-    pub fn shown_verdict(&self) -> Option<&Judgement> {
+    pub fn shown_verdict(&self) -> Option<&Verdict> {
         match self.shot() {
             Some(_) => None,
             None => self.last_verdict.as_ref(),
@@ -146,6 +150,7 @@ impl GameFlow {
         match &event {
             GameEvent::Started(_) => {
                 self.last_verdict = None;
+                self.pending_verdict = None;
                 self.call = None;
                 self.message = "New game".into();
             }
@@ -154,7 +159,7 @@ impl GameFlow {
                 seat,
                 command,
             } => {
-                self.accepted(*turn, *seat, command);
+                self.pending_verdict = self.accepted(*turn, *seat, command);
                 return;
             }
             GameEvent::Decided {
@@ -164,11 +169,11 @@ impl GameFlow {
             } => {
                 // The rules here decide: their verdict is the judgement.
                 if let Some(v) = self.accepted(*turn, *seat, command) {
-                    self.last_verdict = Some(Judgement::of(&v));
+                    self.last_verdict = Some(v);
                 }
                 return;
             }
-            GameEvent::Judged(j) => self.last_verdict = Some(j.clone()),
+            GameEvent::Judged { .. } => self.last_verdict = self.pending_verdict.take(),
             GameEvent::Refused(why) => self.message = format!("Refused: {why}"),
             GameEvent::Connection(c) => self.connection = c.clone(),
             GameEvent::ShotClock(s) => self.shot_clock = s.filter(|s| s.is_finite()),
@@ -186,12 +191,7 @@ impl GameFlow {
     }
 
     /// Applies an accepted command to the replica; a shot starts playing at once.
-    fn accepted(
-        &mut self,
-        turn: TurnId,
-        seat: Seat,
-        command: &Command,
-    ) -> Option<breakshot_shared::rules::Verdict> {
+    fn accepted(&mut self, turn: TurnId, seat: Seat, command: &Command) -> Option<Verdict> {
         if matches!(command, Command::Shot { .. }) {
             self.call = None;
             self.before_shot = self.game().cloned();
@@ -384,7 +384,7 @@ mod tests {
                     seat: Seat::A,
                     command,
                 });
-                flow.handle(GameEvent::Judged(Judgement::default()));
+                flow.handle(GameEvent::Judged { hash: None });
             } else {
                 send(&mut link, &mut flow, Seat::A, command);
             }
@@ -423,13 +423,13 @@ mod tests {
         let strike = Strike::at_angle(8.0, 90.0, DVec2::ZERO);
         let command = Command::Shot { strike, call: None };
         let verdict = other.apply(Seat::A, &command).expect("legal");
-        let mut judgement = Judgement::of(&verdict);
+        let hash = verdict.shot.as_ref().map(|s| s.hash);
         flow.handle(GameEvent::Accepted {
             turn: 0,
             seat: Seat::A,
             command: command.clone(),
         });
-        flow.handle(GameEvent::Judged(judgement.clone()));
+        flow.handle(GameEvent::Judged { hash });
         assert_eq!(
             flow.replica().desyncs(),
             0,
@@ -439,13 +439,14 @@ mod tests {
         assert_eq!(flow.game(), Some(&other));
 
         let (_, mut flow) = local();
-        judgement.hash = judgement.hash.map(|h| h ^ 1);
         flow.handle(GameEvent::Accepted {
             turn: 0,
             seat: Seat::A,
             command,
         });
-        flow.handle(GameEvent::Judged(judgement));
+        flow.handle(GameEvent::Judged {
+            hash: hash.map(|h| h ^ 1),
+        });
         assert_eq!(flow.replica().desyncs(), 1);
     }
 

@@ -6,7 +6,7 @@ use std::collections::VecDeque;
 
 use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{AimAid, Invite, SeatView, ServerMessage};
-use breakshot_shared::rules::{Command, Game, Seat, Settings, TurnId, Variant, Verdict};
+use breakshot_shared::rules::{Command, Game, Seat, Settings, TurnId, Variant};
 
 use super::chat::ChatLine;
 use super::game_flow::GameFlow;
@@ -38,9 +38,13 @@ pub enum GameEvent {
         /// The command.
         command: Command,
     },
-    /// The judgement of the last accepted command: readable reasons, whether it was a foul,
-    /// and for a shot the deciding side's state hash.
-    Judged(Judgement),
+    /// The deciding side has judged the last accepted command; for a shot, this is its
+    /// state hash. What the rules said is the verdict of the copy of the game here (the same
+    /// rules), checked against this hash.
+    Judged {
+        /// The deciding side's state hash of the table at rest, for a shot.
+        hash: Option<u64>,
+    },
     /// Our command was refused; nothing changed.
     Refused(String),
     /// The connection changed.
@@ -100,28 +104,6 @@ impl AwayResult {
             headline.to_owned(),
             format!("The game ended while you were away: {}", self.reason),
         ]
-    }
-}
-
-/// The rules' judgement of a command, as shown.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Judgement {
-    /// Readable reasons, most important first.
-    pub reasons: Vec<String>,
-    /// The command was a foul.
-    pub foul: bool,
-    /// For a shot, the state hash of the table at rest.
-    pub hash: Option<u64>,
-}
-
-impl Judgement {
-    /// The judgement in a rules verdict.
-    pub fn of(verdict: &Verdict) -> Judgement {
-        Judgement {
-            reasons: crate::view::hud::verdict_lines(verdict),
-            foul: verdict.foul,
-            hash: verdict.shot.as_ref().map(|s| s.hash),
-        }
     }
 }
 
@@ -264,27 +246,19 @@ pub(crate) fn game_events(msg: &ServerMessage, me: Option<Seat>) -> Vec<GameEven
             seat: *seat,
             command: command.clone(),
         }],
-        ServerMessage::ShotResolved { hash, ruling, .. } => vec![GameEvent::Judged(Judgement {
-            reasons: ruling.reasons.clone(),
-            foul: ruling.foul,
-            hash: Some(*hash),
-        })],
+        ServerMessage::ShotResolved { hash, .. } => vec![GameEvent::Judged { hash: Some(*hash) }],
         ServerMessage::Applied {
             turn,
             seat,
             command,
-            ruling,
+            ..
         } => vec![
             GameEvent::Accepted {
                 turn: *turn,
                 seat: *seat,
                 command: command.clone(),
             },
-            GameEvent::Judged(Judgement {
-                reasons: ruling.reasons.clone(),
-                foul: ruling.foul,
-                hash: None,
-            }),
+            GameEvent::Judged { hash: None },
         ],
         ServerMessage::TurnChanged { shot_clock_ms, .. } => {
             vec![GameEvent::ShotClock(shot_clock_ms.map(secs))]

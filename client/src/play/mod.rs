@@ -17,7 +17,7 @@ pub use chat::{Chat, ChatKey, ChatLine};
 pub use computer::ComputerLink;
 pub use controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
 pub use game_flow::{GameFlow, Turn};
-pub use link::{AwayResult, GameEvent, GameLink, Judgement, LocalLink};
+pub use link::{AwayResult, GameEvent, GameLink, LocalLink};
 pub use practice::{three_cushion_scene, Practice, PracticeError};
 pub use replay::{ReplayOpenError, ReplayViewer};
 pub use replica::{Check, Replica};

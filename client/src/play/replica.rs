@@ -118,7 +118,7 @@ impl Replica {
                     server: 0,
                 }),
             },
-            GameEvent::Judged(j) => self.judge(j.hash),
+            GameEvent::Judged { hash } => self.judge(*hash),
             _ => None,
         }
     }

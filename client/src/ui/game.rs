@@ -584,7 +584,12 @@ impl GameScreen {
             ),
             format!("desyncs {}", self.flow.replica().desyncs()),
         ];
-        if let Some(hash) = self.flow.last_verdict.as_ref().and_then(|v| v.hash) {
+        let last_shot = self
+            .flow
+            .last_verdict
+            .as_ref()
+            .and_then(|v| v.shot.as_ref());
+        if let Some(hash) = last_shot.map(|s| s.hash) {
             lines.push(format!("last hash {}", hash_hex(hash)));
         }
         if let Some(p) = self.flow.shot() {

@@ -1,10 +1,9 @@
 //! The heads-up display of a rules game (replays now, network games later): both players,
 //! whose turn, groups, what the game waits for, the last verdict and the connection.
 
-use breakshot_client::play::Judgement;
 use breakshot_client::view::hud::{self, Connection};
 use breakshot_client::view::Layout;
-use breakshot_shared::rules::{Game, Seat};
+use breakshot_shared::rules::{Game, Seat, Verdict};
 use macroquad::prelude::*;
 
 use super::draw;
@@ -12,7 +11,7 @@ use super::draw;
 pub struct HudInfo<'a> {
     pub game: &'a Game,
     pub me: Option<Seat>,
-    pub verdict: Option<&'a Judgement>,
+    pub verdict: Option<&'a Verdict>,
     pub shot_clock: Option<f64>,
     pub connection: &'a Connection,
     /// The players' names, by seat, when known.
@@ -76,7 +75,7 @@ pub fn game_hud(layout: &Layout, info: &HudInfo) {
         };
         let tray = layout.tray;
         let size = (tray.h / 3.4).clamp(12.0, 20.0);
-        for (k, line) in v.reasons.iter().take(3).enumerate() {
+        for (k, line) in hud::verdict_lines(v).iter().take(3).enumerate() {
             let w = measure_text(line, None, size as u16, 1.0).width;
             let y = tray.y + size * (k as f32 + 1.0);
             draw_text(line, tray.x + tray.w - w - 8.0, y, size, c);

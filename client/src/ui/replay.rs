@@ -1,6 +1,6 @@
 //! The replay screen: a recorded game, shot by shot.
 
-use breakshot_client::play::{Aim, InputFrame, Judgement, Key, ReplayViewer};
+use breakshot_client::play::{Aim, InputFrame, Key, ReplayViewer};
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::{palette, tray, Frame, Layout, Orientations, Playback};
 use breakshot_shared::rules::Command;
@@ -78,13 +78,13 @@ impl ReplayScreen {
         {
             draw::panel(&layout, &Aim::from_strike(strike), None);
         }
-        let verdict = v.last_verdict.as_ref().map(Judgement::of);
+
         game_hud(
             &layout,
             &HudInfo {
                 game: v.game(),
                 me: None,
-                verdict: verdict.as_ref(),
+                verdict: v.last_verdict.as_ref(),
                 shot_clock: None,
                 connection: &Connection::Offline,
                 names: &[None, None],

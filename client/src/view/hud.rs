@@ -153,7 +153,7 @@ fn choices(options: &[Choice]) -> String {
 }
 
 /// The last verdict as lines: each reason, then the end of the game if it is not among them.
-pub(crate) fn verdict_lines(v: &Verdict) -> Vec<String> {
+pub fn verdict_lines(v: &Verdict) -> Vec<String> {
     let mut lines = v.reasons.clone();
     if let Some((_, reason)) = &v.over {
         if !lines.contains(reason) {
