@@ -1,14 +1,127 @@
-//! Ghost-ball pots ranked by geometry alone: the baseline player of the load bot and of the
-//! computer player's study.
+//! The ghost-ball player, by geometry alone: the baseline player of the load bot and of the
+//! computer player's study. It aims at a legal ball's ghost position for a pocket (one of the
+//! three straightest pots, at random) with a little aim noise, a random speed and follow or
+//! draw; breaks at full pace; accepts the table when offered; and puts the cue ball anywhere
+//! legal when it is in hand off the table.
 
 use glam::DVec2;
 
-use crate::physics::Table;
-use crate::rules::{is_off_table, Game};
+use super::geometry::rotate;
+use super::noise::Rng;
+use crate::physics::{Strike, Table};
+use crate::rules::{is_off_table, Choice, Command, Game, InHand, Phase};
+
+/// The ghost-ball player's move for the seat to move, its randomness drawn from `rng`;
+/// `None` when the game is over (or no legal spot for a ball in hand was found).
+pub fn ghost_move(game: &Game, rng: &mut Rng) -> Option<Command> {
+    match game.phase() {
+        Phase::Deciding { options } => {
+            let choice = if options.contains(&Choice::AcceptTable) {
+                Choice::AcceptTable
+            } else {
+                *options.first()?
+            };
+            Some(Command::Decide(choice))
+        }
+        Phase::Shooting {
+            in_hand: Some(area),
+            ..
+        } if must_place(game) => Some(Command::PlaceCueBall {
+            pos: placement(game, *area, rng)?,
+        }),
+        Phase::Shooting { .. } => {
+            let (strike, pocket) = aim(game, rng);
+            // Name the pocket aimed at when the rules ask for a call.
+            let call = pocket.filter(|_| game.needs_call());
+            Some(Command::Shot { strike, call })
+        }
+        Phase::Over { .. } => None,
+    }
+}
+
+/// With the cue ball in hand: must it be placed before the shot? It must when it is off the
+/// table.
+fn must_place(game: &Game) -> bool {
+    is_off_table(&game.balls()[game.cue_ball()])
+}
+
+/// A random legal spot in `area`: two radii clear of the cushions, and a radius short of
+/// the head string in the kitchen.
+fn placement(game: &Game, area: InHand, rng: &mut Rng) -> Option<[f64; 2]> {
+    let (lo, hi) = game.in_hand_area(area);
+    let r = game.params().ball_radius;
+    let max_y = match area {
+        InHand::Kitchen => hi.y - r,
+        InHand::Anywhere => hi.y - 2.0 * r,
+    };
+    (0..200)
+        .map(|_| {
+            [
+                rng.range(lo.x + 2.0 * r, hi.x - 2.0 * r),
+                rng.range(lo.y + 2.0 * r, max_y),
+            ]
+        })
+        .find(|p| game.legal_cue_placement(*p).is_ok())
+}
+
+/// Ghost-ball aim at a legal ball into a pocket, with a little noise; the break (or a table
+/// with nothing to aim at) is a hard hit at the nearest ball. Returns the pocket aimed at.
+fn aim(game: &Game, rng: &mut Rng) -> (Strike, Option<u8>) {
+    let r = game.params().ball_radius;
+    let GhostView {
+        cue,
+        targets,
+        pockets,
+    } = GhostView::of(game);
+    if game.is_break() || targets.is_empty() {
+        let at = targets
+            .iter()
+            .map(|t| t.1)
+            .min_by(|a, b| a.distance(cue).total_cmp(&b.distance(cue)))
+            .unwrap_or(cue + DVec2::Y);
+        let dir = rotate((at - cue).normalize_or(DVec2::Y), rng.range(-0.01, 0.01));
+        let strike = Strike {
+            speed: rng.range(8.0, 10.0),
+            dir,
+            tip: DVec2::ZERO,
+            elevation_deg: 0.0,
+        };
+        return (strike, None);
+    }
+    let options = ranked_pots(cue, &targets, &pockets, r);
+    let (aim, call) = match options.get(below(rng, options.len().min(3))).copied() {
+        Some((_, aim, pocket)) => (aim, Some(pocket)),
+        None => {
+            let (_, t) = targets[below(rng, targets.len())];
+            let nearest = (0..pockets.len())
+                .min_by(|a, b| pockets[*a].distance(t).total_cmp(&pockets[*b].distance(t)))
+                .map(|k| k as u8);
+            ((t - cue).normalize_or(DVec2::Y), nearest)
+        }
+    };
+    // Drawn in this order (aim, speed, tip): the study's recorded games depend on it.
+    let dir = rotate(aim, rng.range(-0.008, 0.008));
+    let strike = Strike {
+        speed: rng.range(2.5, 5.0),
+        dir,
+        tip: DVec2::new(0.0, rng.range(-0.2, 0.3)),
+        elevation_deg: 0.0,
+    };
+    (strike, call)
+}
+
+/// A number in `0..n`, drawing nothing when `n` is 0.
+fn below(rng: &mut Rng, n: usize) -> usize {
+    if n == 0 {
+        0
+    } else {
+        (rng.next_u64() % n as u64) as usize
+    }
+}
 
 /// What the ghost-ball player looks at in a game: the cue ball, the balls it may aim at
 /// (those the rules let it hit first, still on the table) and the pockets' centres.
-pub struct GhostView {
+struct GhostView {
     /// The cue ball's centre.
     pub cue: DVec2,
     /// The balls that may be aimed at, with their centres.
@@ -19,7 +132,7 @@ pub struct GhostView {
 
 impl GhostView {
     /// The view of `game` as it stands.
-    pub fn of(game: &Game) -> GhostView {
+    fn of(game: &Game) -> GhostView {
         let balls = game.balls();
         let table = Table::new(game.table());
         let legal = game.legal_first_balls();
@@ -44,7 +157,7 @@ impl GhostView {
 /// Every pot of a target into a pocket that the ghost-ball aim makes at all likely (the cue
 /// ball's aim within about 73° of the object ball's path), best first: `(score, aim,
 /// pocket)`, scored by straightness less a tenth of the distance the balls travel.
-pub fn ranked_pots(
+fn ranked_pots(
     cue: DVec2,
     targets: &[(u8, DVec2)],
     pockets: &[DVec2],
