@@ -5,16 +5,11 @@
 
 use std::time::{Duration, Instant};
 
-use breakshot_shared::ai::{self, ranked_pots, GhostView, Level};
-use breakshot_shared::physics::Strike;
+use breakshot_shared::ai::{self, Level, Rng};
 use breakshot_shared::protocol::{
     AimAid, ClientMessage, ErrorCode, Invite, Role, RoomCode, ServerMessage,
 };
-use breakshot_shared::rules::{
-    is_off_table, rack::SplitMix64, Choice, EightBallRules, Game, InHand, Phase, Seat, Settings,
-    TurnId, Variant,
-};
-use glam::DVec2;
+use breakshot_shared::rules::{EightBallRules, Game, Phase, Seat, Settings, TurnId, Variant};
 use tokio::sync::oneshot;
 
 use crate::net::{command_message, Client, ClientEvent, NetError, Reconnect};
@@ -556,124 +551,10 @@ impl Chooser {
     /// The move for the seat to move, `None` if the game is over. The computer player may
     /// think for up to a second.
     pub fn choose(&mut self, game: &Game) -> Option<ClientMessage> {
-        let turn = game.turn();
-        if let Some(level) = self.level {
-            let command = ai::decide(game, level, self.rng.0.next_u64())?;
-            return command_message(turn, command);
-        }
-        let msg = match game.phase() {
-            Phase::Deciding { options } => {
-                let choice = if options.contains(&Choice::AcceptTable) {
-                    Choice::AcceptTable
-                } else {
-                    *options.first()?
-                };
-                ClientMessage::Decide { turn, choice }
-            }
-            Phase::Shooting {
-                in_hand: Some(area),
-                ..
-            } if is_off_table(&game.balls()[0]) => ClientMessage::PlaceCueBall {
-                turn,
-                pos: self.placement(game, *area)?,
-            },
-            Phase::Shooting { .. } => {
-                let (strike, pocket) = self.aim(game);
-                // Name the pocket aimed at when the rules ask for a call.
-                let call = pocket.filter(|_| game.needs_call());
-                ClientMessage::Shot { turn, strike, call }
-            }
-            Phase::Over { .. } => return None,
+        let command = match self.level {
+            Some(level) => ai::decide(game, level, self.rng.next_u64())?,
+            None => ai::ghost_move(game, &mut self.rng)?,
         };
-        Some(msg)
-    }
-
-    fn placement(&mut self, game: &Game, area: InHand) -> Option<[f64; 2]> {
-        let (lo, hi) = game.in_hand_area(area);
-        let r = game.params().ball_radius;
-        (0..200)
-            .map(|_| {
-                [
-                    self.rng.range(lo.x + 2.0 * r, hi.x - 2.0 * r),
-                    self.rng.range(lo.y + 2.0 * r, hi.y - r),
-                ]
-            })
-            .find(|p| game.legal_cue_placement(*p).is_ok())
-    }
-
-    /// Ghost-ball aim at a legal ball into a pocket, with a little noise.
-    fn aim(&mut self, game: &Game) -> (Strike, Option<u8>) {
-        let r = game.params().ball_radius;
-        let GhostView {
-            cue,
-            targets,
-            pockets,
-        } = GhostView::of(game);
-        if game.is_break() || targets.is_empty() {
-            let at = targets
-                .iter()
-                .map(|t| t.1)
-                .min_by(|a, b| a.distance(cue).total_cmp(&b.distance(cue)))
-                .unwrap_or(cue + DVec2::Y);
-            let dir = rotate(
-                (at - cue).normalize_or(DVec2::Y),
-                self.rng.range(-0.01, 0.01),
-            );
-            let strike = Strike {
-                speed: self.rng.range(8.0, 10.0),
-                dir,
-                tip: DVec2::ZERO,
-                elevation_deg: 0.0,
-            };
-            return (strike, None);
-        }
-        let options = ranked_pots(cue, &targets, &pockets, r);
-        let pick = options.get(self.rng.below(options.len().min(3))).copied();
-        let (aim, call) = match pick {
-            Some((_, aim, pocket)) => (aim, Some(pocket)),
-            None => {
-                let (_, t) = targets[self.rng.below(targets.len())];
-                let nearest = (0..pockets.len())
-                    .min_by(|a, b| pockets[*a].distance(t).total_cmp(&pockets[*b].distance(t)))
-                    .map(|k| k as u8);
-                ((t - cue).normalize_or(DVec2::Y), nearest)
-            }
-        };
-        let strike = Strike {
-            speed: self.rng.range(2.5, 5.0),
-            dir: rotate(aim, self.rng.range(-0.008, 0.008)),
-            tip: DVec2::new(0.0, self.rng.range(-0.2, 0.3)),
-            elevation_deg: 0.0,
-        };
-        (strike, call)
-    }
-}
-
-/// Rotates `v` by `angle` radians (small angles: aim noise).
-fn rotate(v: DVec2, angle: f64) -> DVec2 {
-    let (s, c) = angle.sin_cos();
-    DVec2::new(v.x * c - v.y * s, v.x * s + v.y * c)
-}
-
-/// Aim noise and pauses, from the rules' SplitMix64 generator.
-#[derive(Clone, Debug)]
-struct Rng(SplitMix64);
-
-impl Rng {
-    fn new(seed: u64) -> Rng {
-        Rng(SplitMix64::new(seed))
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.0.unit()
-    }
-
-    /// A number in `0..n`, or 0 when `n` is 0.
-    fn below(&mut self, n: usize) -> usize {
-        if n == 0 {
-            0
-        } else {
-            self.0.below(n as u64) as usize
-        }
+        command_message(game.turn(), command)
     }
 }

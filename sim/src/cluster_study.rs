@@ -5,10 +5,9 @@
 //! so frozen clusters, balls frozen to rails and balls resting against each other turn up as
 //! they do in play (docs/stability.md).
 
+use breakshot_shared::ai::{ghost_move, Rng};
 use breakshot_shared::physics::{EventKind, ShotError, TableKind};
 use breakshot_shared::rules::{Command, EightBallRules, Game, RuleError, Seat, Settings, Variant};
-
-use crate::ai_study::ghost::Ghost;
 
 /// What the study measured.
 #[derive(Debug, serde::Serialize)]
@@ -47,7 +46,7 @@ pub fn run(games: usize, shots_per_game: usize, seed: u64) -> Summary {
             ..Settings::offline()
         };
         let mut game = Game::new(variants[g % variants.len()], settings, game_seed);
-        let mut players = [Ghost::new(game_seed ^ 0xA), Ghost::new(game_seed ^ 0xB)];
+        let mut players = [Rng::new(game_seed ^ 0xA), Rng::new(game_seed ^ 0xB)];
         let mut shots = 0;
         // Each shot takes at most a few commands (a decision, a placement, the shot).
         for _ in 0..4 * shots_per_game {
@@ -55,8 +54,8 @@ pub fn run(games: usize, shots_per_game: usize, seed: u64) -> Summary {
                 break;
             }
             let seat = game.to_move();
-            let player = &mut players[usize::from(seat == Seat::B)];
-            let Some(command) = player.choose(&game) else {
+            let rng = &mut players[usize::from(seat == Seat::B)];
+            let Some(command) = ghost_move(&game, rng) else {
                 break;
             };
             let is_shot = matches!(command, Command::Shot { .. });

@@ -37,7 +37,7 @@ use crate::physics::Strike;
 use crate::rules::{Command, Game, InHand, Phase, Variant};
 
 pub use candidates::{Breadth, Kind};
-pub use ghost::{ranked_pots, GhostView};
+pub use ghost::ghost_move;
 pub use noise::{Noise, Rng, AIM_SIGMA_DEG, ELEVATION_SIGMA_DEG, SPEED_SIGMA, TIP_SIGMA_M};
 pub use scene_judge::{suggest, Suggestion};
 pub use search::Schedule;

@@ -39,6 +39,11 @@ impl Rng {
         self.0.unit()
     }
 
+    /// Uniform in [lo, hi).
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.unit()
+    }
+
     /// A standard normal number (Box–Muller; one of the pair is dropped to keep the state a
     /// single word).
     pub fn gaussian(&mut self) -> f64 {

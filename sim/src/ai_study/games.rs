@@ -2,10 +2,8 @@
 
 use std::time::Instant;
 
-use breakshot_shared::ai::{self, Player};
+use breakshot_shared::ai::{self, Player, Rng};
 use breakshot_shared::rules::{Command, Game, Seat, Settings, Variant};
-
-use super::ghost::Ghost;
 
 /// A game stops as a draw after this many commands (keeps the study bounded).
 const MAX_COMMANDS: usize = 400;
@@ -44,7 +42,7 @@ fn index(seat: Seat) -> usize {
 /// Plays one game of `variant` from `seed`: `a` sits in seat A (which breaks), `b` in B.
 pub fn play(variant: Variant, a: Contestant, b: Contestant, seed: u64) -> GameRecord {
     let mut game = Game::new(variant, Settings::offline(), seed);
-    let mut ghosts = [Ghost::new(seed ^ 0xA), Ghost::new(seed ^ 0xB)];
+    let mut ghosts = [Rng::new(seed ^ 0xA), Rng::new(seed ^ 0xB)];
     let mut record = GameRecord::default();
     let mut opponent_shot = false;
     let breaker = game.to_move();
@@ -63,7 +61,7 @@ pub fn play(variant: Variant, a: Contestant, b: Contestant, seed: u64) -> GameRe
                 ),
                 None => break,
             },
-            Contestant::Ghost => match ghosts[i].choose(&game) {
+            Contestant::Ghost => match ai::ghost_move(&game, &mut ghosts[i]) {
                 Some(c) => (c, 0),
                 None => break,
             },

@@ -4,7 +4,6 @@
 //! strength against the search budget.
 
 mod games;
-pub(crate) mod ghost;
 mod plot;
 
 use std::fmt::Write as _;
@@ -14,11 +13,10 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use anyhow::Context;
-use breakshot_shared::ai::{self, Level, Player};
+use breakshot_shared::ai::{self, Level, Player, Rng};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Phase, Seat, Settings, Variant};
 
 use games::{play, Contestant, GameRecord};
-use ghost::Ghost;
 
 /// The variants the games cycle through.
 const VARIANTS: [Variant; 3] = [
@@ -139,7 +137,7 @@ fn positions(count: usize) -> Vec<Game> {
     while out.len() < count && seed < 10_000 {
         let variant = VARIANTS[seed as usize % VARIANTS.len()];
         let mut game = Game::new(variant, Settings::offline(), seed);
-        let mut ghost = Ghost::new(seed);
+        let mut ghost = Rng::new(seed);
         for n in 0..60 {
             let due =
                 matches!(game.phase(), Phase::Shooting { in_hand: None, .. }) && !game.is_break();
@@ -149,7 +147,7 @@ fn positions(count: usize) -> Vec<Game> {
                     break;
                 }
             }
-            let Some(cmd) = ghost.choose(&game) else {
+            let Some(cmd) = ai::ghost_move(&game, &mut ghost) else {
                 break;
             };
             if game.apply(game.to_move(), &cmd).is_err() {
