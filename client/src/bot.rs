@@ -80,6 +80,9 @@ pub struct GameSummary {
     /// Commands the server refused, of the bot that opened the room and of the one that
     /// joined it.
     pub refused: [u32; 2],
+    /// When the game was in play, as the bot that opened the room saw it: from both seats
+    /// taken to the end (None for a game that never started or never ended).
+    pub played: Option<(Instant, Instant)>,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -115,10 +118,30 @@ impl Report {
         v[rank.clamp(1, v.len()) - 1]
     }
 
+    /// The most games in play at the same moment.
+    pub fn peak_games(&self) -> usize {
+        let mut changes: Vec<(Instant, i32)> = self
+            .games
+            .iter()
+            .filter_map(|g| g.played)
+            .flat_map(|(from, to)| [(from, 1), (to, -1)])
+            .collect();
+        // An end and a start at the same instant: the end first.
+        changes.sort();
+        let mut now = 0i32;
+        let mut peak = 0;
+        for (_, change) in changes {
+            now += change;
+            peak = peak.max(now);
+        }
+        peak as usize
+    }
+
     /// The report as one JSON object with exactly the documented keys.
     pub fn to_json(&self) -> String {
         serde_json::json!({
             "games_completed": self.games_completed,
+            "peak_games": self.peak_games(),
             "shots": self.shots,
             "desyncs": self.desyncs,
             "p50_ms": round3(self.percentile_ms(0.5)),
@@ -195,6 +218,7 @@ async fn play_game(config: &BotConfig, g: u64) -> (GameSummary, PlayerResult, Pl
         reason: host.over.clone().unwrap_or_default(),
         resolved: host.resolved.clone(),
         refused: [host.refused, guest.refused],
+        played: host.began.zip(host.ended),
     };
     (summary, host, guest)
 }
@@ -211,6 +235,9 @@ pub(crate) enum Start {
 #[derive(Debug, Default)]
 pub(crate) struct PlayerResult {
     room: Option<RoomCode>,
+    /// When both seats were taken, and when the game ended.
+    began: Option<Instant>,
+    ended: Option<Instant>,
     over: Option<String>,
     shots: u32,
     confirmed: u32,
@@ -387,6 +414,7 @@ impl Bot {
                     self.game_shots = 0;
                     if let Phase::Over { reason, .. } = snapshot.game.phase() {
                         self.result.over = Some(reason.clone());
+                        self.result.ended.get_or_insert_with(Instant::now);
                         if !self.stays {
                             return Ok(());
                         }
@@ -407,6 +435,9 @@ impl Bot {
                         self.paced = Some(Instant::now() + shown + LOOK);
                     }
                 }
+                ServerMessage::PlayerJoined { .. } => {
+                    self.result.began.get_or_insert_with(Instant::now);
+                }
                 ServerMessage::GameStarted { .. } => {
                     self.acted = None;
                     self.game_shots = 0;
@@ -424,12 +455,14 @@ impl Bot {
                 }
                 ServerMessage::GameOver { reason, .. } if self.stays => {
                     self.result.over = Some(reason.clone());
+                    self.result.ended.get_or_insert_with(Instant::now);
                     client.send(&ClientMessage::Rematch).await?;
                 }
                 ServerMessage::GameOver { reason, .. }
                 | ServerMessage::GameFinished { reason, .. } => {
                     // `GameFinished`: the game ended while this bot was away.
                     self.result.over = Some(reason.clone());
+                    self.result.ended.get_or_insert_with(Instant::now);
                     return Ok(());
                 }
                 ServerMessage::Error {
@@ -556,5 +589,33 @@ impl Chooser {
             None => ai::ghost_move(game, &mut self.rng)?,
         };
         command_message(game.turn(), command)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_peak_counts_games_in_play_at_one_moment() {
+        let t0 = Instant::now();
+        let at = |s: u64| t0 + Duration::from_secs(s);
+        let game = |played| GameSummary {
+            played,
+            ..GameSummary::default()
+        };
+        let report = Report {
+            games: vec![
+                game(Some((at(0), at(10)))),
+                game(Some((at(5), at(15)))),
+                // Starts as the first ends: never three at once.
+                game(Some((at(10), at(20)))),
+                game(Some((at(12), at(13)))),
+                game(None),
+            ],
+            ..Report::default()
+        };
+        assert_eq!(report.peak_games(), 3);
+        assert_eq!(Report::default().peak_games(), 0);
     }
 }

@@ -76,6 +76,7 @@ fn main_inner() -> anyhow::Result<bool> {
             "games completed: {} of {}",
             report.games_completed, cli.games
         );
+        println!("peak games:      {}", report.peak_games());
         println!("shots:           {}", report.shots);
         println!("desyncs:         {}", report.desyncs);
         println!("rejoins:         {}", report.rejoins);
