@@ -2,6 +2,8 @@
 //! [`room::Room`]s) driven by a thin QUIC layer, with every accepted command stored before
 //! anyone sees its result.
 
+#![warn(unreachable_pub)]
+
 pub mod admission;
 pub mod conn;
 pub mod endings;

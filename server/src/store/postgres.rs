@@ -45,7 +45,7 @@ struct Writes {
     seat: Statement,
 }
 
-pub struct PgStore {
+pub(super) struct PgStore {
     // The reads take `&self` like SQLite's; one connection serves them one at a time.
     db: RefCell<Client>,
     writes: Writes,
@@ -69,7 +69,7 @@ fn int(n: u32) -> i64 {
 }
 
 impl PgStore {
-    pub fn connect(url: &str) -> Result<PgStore, StoreError> {
+    pub(super) fn connect(url: &str) -> Result<PgStore, StoreError> {
         let mut db = Client::connect(url, NoTls)?;
         db.batch_execute("SET synchronous_commit = on")?;
         // The rooms' locks last as long as this session: when this server's machine or its
@@ -137,7 +137,7 @@ impl PgStore {
         Ok(())
     }
 
-    pub fn apply(&mut self, ops: &[&StoreOp]) -> Result<(), StoreError> {
+    pub(super) fn apply(&mut self, ops: &[&StoreOp]) -> Result<(), StoreError> {
         // Every room written must be this instance's: the locks are taken before the
         // transaction (a session lock outlives it either way).
         for op in ops {
@@ -214,7 +214,7 @@ impl PgStore {
     }
 
     /// The unfinished games of rooms no other instance owns, taking them.
-    pub fn unfinished(&self) -> Result<Vec<StoredGame>, StoreError> {
+    pub(super) fn unfinished(&self) -> Result<Vec<StoredGame>, StoreError> {
         let mut out = Vec::new();
         for game in self.games(false, None)? {
             if self.own(game.meta.code.as_str())? {
@@ -225,7 +225,7 @@ impl PgStore {
     }
 
     /// The room of a seat token, taken from an instance that let go of it (or stopped).
-    pub fn claim(&self, seat: &TokenDigest) -> Result<Claim, StoreError> {
+    pub(super) fn claim(&self, seat: &TokenDigest) -> Result<Claim, StoreError> {
         let room = self.db.borrow_mut().query_opt(
             "SELECT room FROM seats WHERE digest = $1",
             &[&seat.0.as_slice()],
@@ -253,7 +253,11 @@ impl PgStore {
 
     /// Every game (`all`) or the unfinished ones, of one room or of all, in room and game
     /// order.
-    pub fn games(&self, all: bool, room: Option<&str>) -> Result<Vec<StoredGame>, StoreError> {
+    pub(super) fn games(
+        &self,
+        all: bool,
+        room: Option<&str>,
+    ) -> Result<Vec<StoredGame>, StoreError> {
         let rows = self.db.borrow_mut().query(
             "SELECT r.code, r.meta, g.number, g.header, g.finished
              FROM games g JOIN rooms r ON r.code = g.room
@@ -280,7 +284,7 @@ impl PgStore {
     }
 
     /// The latest game of each room (or of one) if it ended at `since` or later.
-    pub fn ended_since(
+    pub(super) fn ended_since(
         &self,
         since: u64,
         room: Option<&str>,
@@ -311,7 +315,11 @@ impl PgStore {
             .collect()
     }
 
-    pub fn record(&self, room: &RoomCode, number: u32) -> Result<Option<Vec<u8>>, StoreError> {
+    pub(super) fn record(
+        &self,
+        room: &RoomCode,
+        number: u32,
+    ) -> Result<Option<Vec<u8>>, StoreError> {
         let header = self.db.borrow_mut().query_opt(
             "SELECT header FROM games WHERE room = $1 AND number = $2",
             &[&room.as_str(), &int(number)],
@@ -324,7 +332,10 @@ impl PgStore {
         encoded_record(room, number, &header, entries).map(Some)
     }
 
-    pub fn latest(&self, room: &RoomCode) -> Result<Option<(u32, Vec<u8>, bool)>, StoreError> {
+    pub(super) fn latest(
+        &self,
+        room: &RoomCode,
+    ) -> Result<Option<(u32, Vec<u8>, bool)>, StoreError> {
         let latest = self.db.borrow_mut().query_opt(
             "SELECT number, finished FROM games WHERE room = $1 ORDER BY number DESC LIMIT 1",
             &[&room.as_str()],
@@ -338,7 +349,7 @@ impl PgStore {
             .map(|record| (number, record, finished)))
     }
 
-    pub fn overwrite_record(
+    pub(super) fn overwrite_record(
         &self,
         room: &RoomCode,
         number: u32,

@@ -22,13 +22,13 @@ pub const DB_FILE: &str = "games.sqlite3";
 /// current format, so a game goes on with rows of one format only.
 const SCHEMA: i64 = 3;
 
-pub struct SqliteStore {
+pub(super) struct SqliteStore {
     pub(super) db: Connection,
 }
 
 impl SqliteStore {
     /// Opens (or creates) the store in `dir`, migrating an older schema.
-    pub fn open(dir: &Path) -> Result<SqliteStore, StoreError> {
+    pub(super) fn open(dir: &Path) -> Result<SqliteStore, StoreError> {
         let db = Connection::open(dir.join(DB_FILE))?;
         db.pragma_update(None, "journal_mode", "WAL")?;
         db.pragma_update(None, "synchronous", "FULL")?;
@@ -86,7 +86,7 @@ impl SqliteStore {
     }
 
     /// Applies `ops` in one transaction: all of them are durable when this returns `Ok`.
-    pub fn apply(&mut self, ops: &[&StoreOp]) -> Result<(), StoreError> {
+    pub(super) fn apply(&mut self, ops: &[&StoreOp]) -> Result<(), StoreError> {
         let tx = self.db.transaction()?;
         for op in ops {
             match op {
@@ -152,13 +152,13 @@ impl SqliteStore {
     }
 
     /// Games still being played, for a restart.
-    pub fn unfinished(&self) -> Result<Vec<StoredGame>, StoreError> {
+    pub(super) fn unfinished(&self) -> Result<Vec<StoredGame>, StoreError> {
         self.games("WHERE g.finished = 0")
     }
 
     /// The latest game of each room if it ended at `since` (Unix seconds) or later: the
     /// games whose players may still come back to learn the result.
-    pub fn ended_since(&self, since: u64) -> Result<Vec<EndedGame>, StoreError> {
+    pub(super) fn ended_since(&self, since: u64) -> Result<Vec<EndedGame>, StoreError> {
         let mut stmt = self.db.prepare(
             "SELECT r.code, r.meta, g.number, g.winner, g.reason, g.finished_at
              FROM games g JOIN rooms r ON r.code = g.room
@@ -193,12 +193,12 @@ impl SqliteStore {
     }
 
     /// Every stored game, in room and game order.
-    pub fn all(&self) -> Result<Vec<StoredGame>, StoreError> {
+    pub(super) fn all(&self) -> Result<Vec<StoredGame>, StoreError> {
         self.games("")
     }
 
     /// Replaces one game's record whole (for tests of tamper detection).
-    pub fn overwrite_record(
+    pub(super) fn overwrite_record(
         &self,
         room: &RoomCode,
         number: u32,
@@ -218,7 +218,11 @@ impl SqliteStore {
     }
 
     /// One game's record, encoded.
-    pub fn record(&self, room: &RoomCode, number: u32) -> Result<Option<Vec<u8>>, StoreError> {
+    pub(super) fn record(
+        &self,
+        room: &RoomCode,
+        number: u32,
+    ) -> Result<Option<Vec<u8>>, StoreError> {
         let header: Option<Vec<u8>> = self
             .db
             .query_row(
@@ -235,7 +239,10 @@ impl SqliteStore {
     }
 
     /// The latest game of a room: (number, encoded record, finished).
-    pub fn latest(&self, room: &RoomCode) -> Result<Option<(u32, Vec<u8>, bool)>, StoreError> {
+    pub(super) fn latest(
+        &self,
+        room: &RoomCode,
+    ) -> Result<Option<(u32, Vec<u8>, bool)>, StoreError> {
         let latest: Option<(u32, bool)> = self
             .db
             .query_row(

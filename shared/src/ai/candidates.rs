@@ -30,7 +30,7 @@ pub enum Kind {
 
 /// A shot the search may choose.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Candidate {
+pub(super) struct Candidate {
     pub strike: Strike,
     /// The pocket called (the pocket aimed at, for a pot).
     pub call: Option<u8>,
@@ -57,7 +57,7 @@ pub struct Breadth {
 }
 
 /// The shooter's view of a table.
-pub struct View<'a> {
+pub(super) struct View<'a> {
     pub layout: &'a Layout,
     /// Balls the cue ball may hit first (empty = any).
     pub targets: &'a [u8],
@@ -257,7 +257,7 @@ struct Route {
 }
 
 /// Every shot worth simulating from this table.
-pub fn generate(lab: &mut Lab, view: &View, breadth: &Breadth) -> Vec<Candidate> {
+pub(super) fn generate(lab: &mut Lab, view: &View, breadth: &Breadth) -> Vec<Candidate> {
     let layout = view.layout;
     let Some(cue) = layout.cue() else {
         return Vec::new();
@@ -516,7 +516,7 @@ fn kicks(view: &View, cue: DVec2) -> Vec<Candidate> {
 }
 
 /// Break shots: the cue ball driven into the head ball of the rack, full and a little off.
-pub fn breaks(layout: &Layout, targets: &[u8]) -> Vec<Candidate> {
+pub(super) fn breaks(layout: &Layout, targets: &[u8]) -> Vec<Candidate> {
     let Some(cue) = layout.cue() else {
         return Vec::new();
     };

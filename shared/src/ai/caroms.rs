@@ -28,7 +28,7 @@ fn directions(breadth: &Breadth) -> usize {
 /// first (those whose neighbours in the fan score too: a small error in the stroke still
 /// scores), at most [`KEEP`]; if none scores, a spread of the fan's strokes, so the search
 /// still has a choice. Also returns the simulations spent.
-pub fn caroms(game: &Game, breadth: &Breadth) -> (Vec<Candidate>, usize) {
+pub(super) fn caroms(game: &Game, breadth: &Breadth) -> (Vec<Candidate>, usize) {
     let shooter = game.to_move();
     let n = directions(breadth);
     let tips: &[DVec2] = if breadth.side {

@@ -24,7 +24,7 @@ const LOOK_AHEAD: Breadth = Breadth {
 /// Trials per look-ahead shot.
 const LOOK_AHEAD_TRIALS: u64 = 2;
 
-pub struct GameJudge<'a> {
+pub(super) struct GameJudge<'a> {
     game: &'a Game,
     me: Seat,
     noise: Noise,
@@ -32,7 +32,7 @@ pub struct GameJudge<'a> {
 }
 
 impl<'a> GameJudge<'a> {
-    pub fn new(game: &'a Game, player: &Player) -> GameJudge<'a> {
+    pub(super) fn new(game: &'a Game, player: &Player) -> GameJudge<'a> {
         GameJudge {
             game,
             me: game.to_move(),
@@ -41,7 +41,7 @@ impl<'a> GameJudge<'a> {
         }
     }
 
-    pub fn runs_total(&self) -> usize {
+    pub(super) fn runs_total(&self) -> usize {
         self.runs
     }
 

@@ -8,7 +8,7 @@ use crate::physics::{BallState, MotionState, Params, Table, TableKind};
 /// A pocket seen from the table: its capture centre, the middle of its mouth, and the
 /// direction a ball ideally enters it (outwards).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PocketView {
+pub(super) struct PocketView {
     pub index: u8,
     pub center: DVec2,
     pub mouth: DVec2,
@@ -18,7 +18,7 @@ pub struct PocketView {
 
 /// A snapshot of the balls on the table, in scene coordinates.
 #[derive(Clone, Debug)]
-pub struct Layout {
+pub(super) struct Layout {
     pub size: DVec2,
     pub radius: f64,
     /// `(ball number, position)` of every ball on the table, the cue ball included.
@@ -32,7 +32,7 @@ const CORNER_WINDOW: f64 = 0.03;
 const SIDE_WINDOW: f64 = 0.034;
 
 impl Layout {
-    pub fn new(kind: TableKind, balls: &[BallState]) -> Layout {
+    pub(super) fn new(kind: TableKind, balls: &[BallState]) -> Layout {
         let table = Table::new(kind);
         let (w, l) = crate::rules::rack::table_size(kind);
         let size = DVec2::new(w, l);
@@ -79,16 +79,16 @@ impl Layout {
         }
     }
 
-    pub fn pos(&self, ball: u8) -> Option<DVec2> {
+    pub(super) fn pos(&self, ball: u8) -> Option<DVec2> {
         self.balls.iter().find(|(b, _)| *b == ball).map(|(_, p)| *p)
     }
 
-    pub fn cue(&self) -> Option<DVec2> {
+    pub(super) fn cue(&self) -> Option<DVec2> {
         self.pos(0)
     }
 
     /// Does a ball moving from `a` to `b` pass clear of every ball but those in `skip`?
-    pub fn clear(&self, a: DVec2, b: DVec2, skip: &[u8]) -> bool {
+    pub(super) fn clear(&self, a: DVec2, b: DVec2, skip: &[u8]) -> bool {
         let d = 2.0 * self.radius;
         self.balls
             .iter()
@@ -99,7 +99,13 @@ impl Layout {
     /// The chance of potting `ball` in `pocket` straight from the cue ball at `cue`, by the
     /// geometry alone, for a player whose aim errs with standard deviation `aim_sigma`
     /// (radians): zero if a path is blocked or the cut is too thin.
-    pub fn pot_chance(&self, cue: DVec2, ball: u8, pocket: &PocketView, aim_sigma: f64) -> f64 {
+    pub(super) fn pot_chance(
+        &self,
+        cue: DVec2,
+        ball: u8,
+        pocket: &PocketView,
+        aim_sigma: f64,
+    ) -> f64 {
         let Some(ob) = self.pos(ball) else {
             return 0.0;
         };
@@ -137,7 +143,7 @@ impl Layout {
     }
 
     /// The best of [`Layout::pot_chance`] over `targets` and every pocket.
-    pub fn best_pot(&self, cue: DVec2, targets: &[u8], aim_sigma: f64) -> f64 {
+    pub(super) fn best_pot(&self, cue: DVec2, targets: &[u8], aim_sigma: f64) -> f64 {
         let mut best: f64 = 0.0;
         for &t in targets {
             for p in &self.pockets {
@@ -149,7 +155,7 @@ impl Layout {
 }
 
 /// Distance from `p` to the segment `a`–`b`.
-pub fn segment_distance(a: DVec2, b: DVec2, p: DVec2) -> f64 {
+pub(super) fn segment_distance(a: DVec2, b: DVec2, p: DVec2) -> f64 {
     let ab = b - a;
     let len2 = ab.length_squared();
     if len2 == 0.0 {
@@ -160,12 +166,12 @@ pub fn segment_distance(a: DVec2, b: DVec2, p: DVec2) -> f64 {
 }
 
 /// `v` turned by `angle` radians.
-pub fn rotate(v: DVec2, angle: f64) -> DVec2 {
+pub(super) fn rotate(v: DVec2, angle: f64) -> DVec2 {
     let (s, c) = (libm::sin(angle), libm::cos(angle));
     DVec2::new(v.x * c - v.y * s, v.x * s + v.y * c)
 }
 
 /// The signed angle (radians) from `a` to `b`.
-pub fn angle_between(a: DVec2, b: DVec2) -> f64 {
+pub(super) fn angle_between(a: DVec2, b: DVec2) -> f64 {
     libm::atan2(a.x * b.y - a.y * b.x, a.dot(b))
 }

@@ -8,7 +8,7 @@ use crate::physics::{
 };
 
 /// A simulator for trial shots from one table, counting what it runs.
-pub struct Lab {
+pub(super) struct Lab {
     sim: Simulator,
     shot: Shot,
     /// Simulations run so far.
@@ -17,7 +17,7 @@ pub struct Lab {
 
 impl Lab {
     /// `shot` is the table as it lies (its strike, if any, is ignored).
-    pub fn new(shot: Shot) -> Lab {
+    pub(super) fn new(shot: Shot) -> Lab {
         Lab {
             sim: Simulator::new(),
             shot: Shot {
@@ -28,16 +28,16 @@ impl Lab {
         }
     }
 
-    pub fn table(&self) -> TableKind {
+    pub(super) fn table(&self) -> TableKind {
         self.shot.table
     }
 
-    pub fn balls(&self) -> &[BallState] {
+    pub(super) fn balls(&self) -> &[BallState] {
         &self.shot.balls
     }
 
     /// The outcome of striking ball `cue` with `strike`, `None` if the engine refuses it.
-    pub fn strike(&mut self, cue: usize, strike: Strike) -> Option<&Outcome> {
+    pub(super) fn strike(&mut self, cue: usize, strike: Strike) -> Option<&Outcome> {
         self.runs += 1;
         self.shot.strike = Some((cue, strike));
         let out = self.sim.run(&self.shot).ok();
@@ -47,7 +47,7 @@ impl Lab {
 
     /// Does ball `ball`, sent off sliding at `speed` along `dir` with the rest at rest, end up
     /// in a pocket? The probe the search uses to find a pocket's window.
-    pub fn rolls_in(&mut self, ball: usize, dir: DVec2, speed: f64) -> bool {
+    pub(super) fn rolls_in(&mut self, ball: usize, dir: DVec2, speed: f64) -> bool {
         let Some(start) = self.shot.balls.get(ball).copied() else {
             return false;
         };
@@ -70,7 +70,7 @@ impl Lab {
 }
 
 /// The first ball the cue ball `cue` hits in `out`, and that ball's direction as it leaves.
-pub fn first_hit(out: &Outcome, cue: usize) -> Option<(usize, DVec2)> {
+pub(super) fn first_hit(out: &Outcome, cue: usize) -> Option<(usize, DVec2)> {
     out.events.iter().find_map(|e| match e.kind {
         EventKind::BallBall { a, b } if usize::from(a) == cue || usize::from(b) == cue => {
             let other = if usize::from(a) == cue { b } else { a };

@@ -55,7 +55,7 @@ impl Rng {
 }
 
 /// Mixes a seed with a salt into an independent stream (one SplitMix64 step of both).
-pub fn mix(seed: u64, salt: u64) -> u64 {
+pub(super) fn mix(seed: u64, salt: u64) -> u64 {
     SplitMix64::new(seed ^ salt.wrapping_mul(0x9E37_79B9_7F4A_7C15)).next_u64()
 }
 

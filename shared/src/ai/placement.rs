@@ -18,7 +18,11 @@ use crate::physics::{BallState, Strike};
 use crate::rules::{rack, Command, Game, InHand};
 
 /// The best spot for the cue ball and the simulations spent finding it.
-pub fn best_spot(game: &Game, player: &Player, area: Option<InHand>) -> (Option<[f64; 2]>, usize) {
+pub(super) fn best_spot(
+    game: &Game,
+    player: &Player,
+    area: Option<InHand>,
+) -> (Option<[f64; 2]>, usize) {
     let me = game.to_move();
     let layout = Layout::new(game.table(), game.balls());
     let pottable = value::pottable(game);

@@ -7,7 +7,7 @@ use crate::physics::Strike;
 
 /// What one trial of a candidate led to.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Played {
+pub(super) struct Played {
     /// How good the result is for the shooter, 0 (lost) to 1 (won).
     pub value: f64,
     /// The shot did what it was meant to (a pot that keeps the turn, or a win).
@@ -15,7 +15,7 @@ pub struct Played {
 }
 
 /// Plays a strike as delivered and judges the result.
-pub trait Judge {
+pub(super) trait Judge {
     /// `deep`: look one shot further where the shooter keeps the table.
     fn play(&mut self, strike: &Strike, call: Option<u8>, deep: bool) -> Played;
     /// Simulations run so far.
@@ -35,7 +35,7 @@ pub struct Schedule {
 
 /// The chosen candidate and what its trials showed.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Choice {
+pub(super) struct Choice {
     pub candidate: Candidate,
     /// Mean value over its trials.
     pub value: f64,
@@ -64,7 +64,7 @@ impl Tally {
 
 /// The best of `candidates` for a player with `noise`. Trial `k` of every candidate uses the
 /// same noise draws (common random numbers), so candidates are compared on equal luck.
-pub fn choose<J: Judge>(
+pub(super) fn choose<J: Judge>(
     judge: &mut J,
     candidates: &[Candidate],
     noise: Noise,

@@ -10,7 +10,7 @@ const IN_HAND_QUALITY: f64 = 0.9;
 const KITCHEN_QUALITY: f64 = 0.6;
 
 /// How good the best pot is for whoever shoots next on `game`: 0 (nothing) to 1 (sure).
-pub fn shot_quality(game: &Game, aim_sigma: f64) -> f64 {
+pub(super) fn shot_quality(game: &Game, aim_sigma: f64) -> f64 {
     let in_hand = match game.phase() {
         Phase::Shooting { in_hand, .. } => *in_hand,
         _ => return 0.0,
@@ -29,7 +29,7 @@ pub fn shot_quality(game: &Game, aim_sigma: f64) -> f64 {
 }
 
 /// Balls the player to move may pot on a direct shot and keep the table.
-pub fn pottable(game: &Game) -> Vec<u8> {
+pub(super) fn pottable(game: &Game) -> Vec<u8> {
     match game.variant() {
         Variant::Practice => (1..game.balls().len() as u8).collect(),
         _ => game.legal_first_balls(),
@@ -54,7 +54,7 @@ fn progress(game: &Game, seat: Seat) -> f64 {
 }
 
 /// The worth of `game` to `me`, 0 (lost) to 1 (won): a rough chance of winning.
-pub fn value(game: &Game, me: Seat, aim_sigma: f64) -> f64 {
+pub(super) fn value(game: &Game, me: Seat, aim_sigma: f64) -> f64 {
     value_at(game, me, aim_sigma, 1)
 }
 

@@ -15,7 +15,7 @@ use crate::physics::Strike;
 use crate::rules::{Choice, Command, Seat, Settings, Variant};
 
 /// The version this module reads.
-pub const VERSION: u32 = 1;
+pub(super) const VERSION: u32 = 1;
 
 #[derive(Deserialize)]
 struct LevelStrike {

@@ -11,7 +11,7 @@ use super::{
 
 const EIGHT: u8 = 8;
 /// Object balls that must reach a cushion in a break that pockets nothing.
-pub const BREAK_CUSHION_BALLS: usize = 4;
+pub(super) const BREAK_CUSHION_BALLS: usize = 4;
 
 fn on_table(balls: &[BallState], ball: u8) -> bool {
     balls

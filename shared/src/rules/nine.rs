@@ -9,7 +9,7 @@ use super::{ball_name, pocket_name, rack, Choice, Game, InHand, Next, Pending, R
 
 const NINE: u8 = 9;
 /// Consecutive fouls that lose the game.
-pub const FOULS_TO_LOSE: u8 = 3;
+pub(super) const FOULS_TO_LOSE: u8 = 3;
 
 /// The lowest-numbered object ball on the table.
 pub(super) fn lowest_ball(balls: &[BallState]) -> Option<u8> {

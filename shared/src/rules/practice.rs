@@ -13,7 +13,7 @@ use super::{
 };
 
 /// Practice layouts hold the cue ball and the fifteen object balls.
-pub const PRACTICE_BALLS: usize = 16;
+pub(super) const PRACTICE_BALLS: usize = 16;
 
 pub(super) fn check_place_ball(
     game: &Game,
