@@ -10,7 +10,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use breakshot_shared::protocol::{
-    decode_payload, encode_frame, payload_len, ClientMessage, SeatToken, ServerMessage, HEADER_LEN,
+    decode_payload, encode_frame, payload_len, ClientMessage, RoomCode, SeatToken, ServerMessage,
+    HEADER_LEN,
 };
 use tokio::sync::mpsc::{channel, Receiver};
 use tokio::sync::Notify;
@@ -38,6 +39,8 @@ pub enum HubEvent {
     Disconnected(ConnId),
     /// A room back from running a message on a worker thread.
     Returned(Returned),
+    /// A room whose work on a worker thread failed (panicked): it does not come back.
+    Failed(RoomCode),
     /// The store's answer to a claim for a connection's seat token.
     Claimed(ConnId, SeatToken, Claimed),
     Shutdown,

@@ -196,6 +196,41 @@ impl Hub {
         out
     }
 
+    /// A room whose work failed (a bug: handling a message panicked). Its state cannot be
+    /// trusted, so it is dropped rather than taken back: its players are told and are out
+    /// of it, entries held for it are answered, and its game stays in the store as last
+    /// committed (every result shown was), restored when the server starts again.
+    pub fn failed(&mut self, code: &RoomCode) -> Vec<Output> {
+        const WHY: &str = "this room stopped after an internal error; its game is stored up to \
+                           the last result shown";
+        let mut out = Vec::new();
+        for event in self.away.remove(code).unwrap_or_default() {
+            if let Held::Enter(conn, _) = event {
+                if let Some(c) = self.conns.get_mut(&conn) {
+                    c.entering = false;
+                    out.extend(error(conn, ErrorCode::ServerBusy, WHY));
+                }
+            }
+        }
+        for (&id, c) in &mut self.conns {
+            if c.room.as_ref().is_some_and(|(r, _)| r == code) {
+                c.room = None;
+                out.extend(error(id, ErrorCode::ServerBusy, WHY));
+            }
+        }
+        self.rooms.remove(code);
+        self.tokens.retain(|_, (c, _)| c != code);
+        if let Some(addr) = self.creators.remove(code) {
+            if let Some(source) = self.sources.get_mut(&addr) {
+                source.rooms = source.rooms.saturating_sub(1);
+            }
+        }
+        if self.config.shared_store {
+            out.push(Output::Store(StoreOp::Released(code.clone())));
+        }
+        out
+    }
+
     /// Sends `msg` out with its room, or holds it if the room is already out.
     fn lend(
         &mut self,

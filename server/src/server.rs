@@ -570,6 +570,7 @@ fn spawn_hub(
             Ok(HubEvent::Message(id, msg, read)) => hub.handle_read(now, read, id, msg),
             Ok(HubEvent::Disconnected(id)) => hub.disconnected(now, id),
             Ok(HubEvent::Returned(room)) => hub.returned(now, room),
+            Ok(HubEvent::Failed(code)) => hub.failed(&code),
             Ok(HubEvent::Claimed(id, token, claimed)) => hub.claimed(now, id, token, claimed),
             Ok(HubEvent::Shutdown) | Err(RecvTimeoutError::Disconnected) => return,
             Err(RecvTimeoutError::Timeout) => hub.tick(now),
@@ -591,15 +592,28 @@ fn spawn_hub(
             let back = back.clone();
             let hook = workers.hook.clone();
             workers.pool.run(move || {
-                if let Some(RoomHook(hook)) = hook {
-                    hook(work.room());
-                }
+                let code = work.room().clone();
                 let read = work.read;
-                let (out, room) = work.run(Instant::now());
-                // The room's results reach the writer before the room is back at the hub,
-                // so its next results always come after these.
-                let _ = writer.send(WriterMsg::Batch(out, Some(read)));
-                let _ = back.send(HubEvent::Returned(room));
+                // A panic here is a bug in a room; it must cost that room only, not the
+                // worker thread and not the rooms behind it.
+                let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    if let Some(RoomHook(hook)) = hook {
+                        hook(work.room());
+                    }
+                    work.run(Instant::now())
+                }));
+                match ran {
+                    Ok((out, room)) => {
+                        // The room's results reach the writer before the room is back at
+                        // the hub, so its next results always come after these.
+                        let _ = writer.send(WriterMsg::Batch(out, Some(read)));
+                        let _ = back.send(HubEvent::Returned(room));
+                    }
+                    Err(_) => {
+                        tracing::error!(room = %code, "a room's work panicked; the room is closed");
+                        let _ = back.send(HubEvent::Failed(code));
+                    }
+                }
             });
         }
     })
