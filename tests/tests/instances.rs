@@ -15,13 +15,14 @@ use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
 use breakshot_client::bot::Chooser;
-use breakshot_client::net::Reconnect;
+use breakshot_client::net::{fetch_record, Reconnect};
 use breakshot_server::output::StoreOp;
 use breakshot_server::store::{Location, Store, StoreError};
 use breakshot_server::tls;
 use breakshot_server::verify::verify_store;
 use breakshot_server::{Config, Server};
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, Invite, ServerAddress, ServerMessage};
+use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Game, Phase, Seat};
 use breakshot_testkit::{read_line, Spawned};
 use breakshot_tests::postgres::Cluster;
@@ -254,6 +255,14 @@ async fn two_instances_never_both_accept_commands_for_one_room() -> Result<()> {
     play_move(&mut chooser, &mut a, &mut b).await?;
     let before = a.game().context("a game")?.clone();
     drop(stray);
+    // The game so far can be watched again through either instance: it replays, every hash
+    // checked, to the table the players see.
+    for instance in [&first, &second] {
+        let fetched = fetch_record(&instance.invite, &room).await?;
+        assert!(!fetched.finished);
+        let record = GameRecord::decode(&fetched.bytes)?;
+        assert_eq!(record.replay()?, before, "through {}", instance.invite);
+    }
 
     // The owner stops (as an instance is drained: SIGTERM). Its players' clients find the
     // room on the invite's next address, which takes it over from the shot log.
