@@ -881,9 +881,7 @@ fn commands_out_of_turn_or_phase_change_nothing() {
     let bad = Command::Shot {
         strike: Strike {
             speed: f64::NAN,
-            dir: DVec2::Y,
-            tip: DVec2::ZERO,
-            elevation_deg: 0.0,
+            ..HIT.strike()
         },
         call: None,
     };
