@@ -18,10 +18,14 @@ use breakshot_client::view::palette::{
 use breakshot_client::view::{flight, Camera, Frame, Layout, Orbit};
 use breakshot_shared::physics::Simulator;
 use breakshot_shared::physics::{BallState, EventKind, MotionState, Params, Strike};
+#[cfg(feature = "host")]
+use breakshot_shared::protocol::{Invite, RoomCode, SeatToken, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Command, EightBallRules, Game, Settings, Variant};
 use breakshot_shared::scene::Scene;
 use glam::{DVec2, DVec3};
+
+mod common;
 
 const SCENE: &str = r#"{
   "table": "9ft",
@@ -41,6 +45,25 @@ fn find_in_path(name: &str) -> Option<PathBuf> {
     std::env::split_paths(&path)
         .map(|dir| dir.join(name))
         .find(|p| p.is_file())
+}
+
+/// `xvfb-run`, or None with the reason printed (the test is then skipped).
+fn xvfb_run() -> Option<PathBuf> {
+    let found = find_in_path("xvfb-run");
+    if found.is_none() {
+        eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
+    }
+    found
+}
+
+/// Fails the test unless `breakshot` exited cleanly, showing what it wrote to standard error.
+fn assert_ran(run: &Output) {
+    assert!(
+        run.status.success(),
+        "breakshot exited with {}: {}",
+        run.status,
+        String::from_utf8_lossy(&run.stderr)
+    );
 }
 
 fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
@@ -108,10 +131,7 @@ fn window_at(args: &[&OsStr], out: &Path, frames: u32) -> Option<Output> {
 /// one (unless `args` give `--data`), so nothing the user chose before (the view, the name)
 /// changes what it shows.
 fn window_sized(args: &[&OsStr], out: &Path, frames: u32, size: (u32, u32)) -> Option<Output> {
-    let Some(xvfb) = find_in_path("xvfb-run") else {
-        eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
-        return None;
-    };
+    let xvfb = xvfb_run()?;
     let data = breakshot_testkit::scratch("window-data");
     Some(breakshot_testkit::run(
         Process::new(xvfb)
@@ -134,8 +154,13 @@ fn window_sized(args: &[&OsStr], out: &Path, frames: u32, size: (u32, u32)) -> O
 
 /// The screenshot `window` saved, checked to be the size asked for.
 fn picture(out: &Path) -> Picture {
+    picture_sized(out, (1280, 720))
+}
+
+/// The screenshot `window_sized` saved, checked to be `size`.
+fn picture_sized(out: &Path, size: (u32, u32)) -> Picture {
     let (width, height, pixels) = read_png(out);
-    assert_eq!((width, height), (1280, 720));
+    assert_eq!((width, height), size);
     Picture {
         width,
         height,
@@ -157,14 +182,14 @@ fn screenshot_at(name: &str, contents: &[u8], args: &[&str], frames: u32) -> Opt
     std::fs::write(&input, contents).expect("input written");
     let mut all: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
     all.push(input.as_os_str());
-    let run = window_at(&all, &out, frames)?;
-    assert!(
-        run.status.success(),
-        "breakshot exited with {}: {}",
-        run.status,
-        String::from_utf8_lossy(&run.stderr)
-    );
-    Some(picture(&out))
+    ran_to_picture(&all, &out, frames)
+}
+
+/// The screenshot of `breakshot ARGS` at frame `frames`, saved to `out`, once it has exited
+/// cleanly; None if there is no `xvfb-run` (the reason is printed).
+fn ran_to_picture(args: &[&OsStr], out: &Path, frames: u32) -> Option<Picture> {
+    assert_ran(&window_at(args, out, frames)?);
+    Some(picture(out))
 }
 
 #[test]
@@ -270,12 +295,7 @@ fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
     let Some(run) = window(&[&args[..], &[data.as_os_str()]].concat(), &out) else {
         return;
     };
-    assert!(
-        run.status.success(),
-        "breakshot host exited with {}: {}",
-        run.status,
-        String::from_utf8_lossy(&run.stderr)
-    );
+    assert_ran(&run);
     // The first line on standard output is the invite, naming the bound loopback address.
     let stdout = String::from_utf8_lossy(&run.stdout);
     let invite: breakshot_shared::protocol::Invite = stdout
@@ -322,28 +342,16 @@ fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
 #[test]
 #[cfg(feature = "host")]
 fn replay_from_a_server_shows_the_fetched_games_table() {
-    use breakshot_client::bot::{run, BotConfig};
-    use breakshot_client::net::{fetch_record_blocking, EmbeddedServer};
+    use breakshot_client::net::fetch_record_blocking;
 
-    if find_in_path("xvfb-run").is_none() {
-        eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
+    if xvfb_run().is_none() {
         return;
     }
     let dir = breakshot_testkit::scratch("window-fetch");
-    let server = EmbeddedServer::start(breakshot_server::Config::new(
-        std::net::SocketAddr::from(([127, 0, 0, 1], 0)),
-        dir.path().join("server"),
-    ))
-    .expect("a server on loopback");
+    let server = common::loopback_server(dir.path().join("server"));
     let invite = server.loopback_invite();
     // Two bots play a game on the server; its rack depends on the room's random seed.
-    let runtime = tokio::runtime::Runtime::new().expect("a runtime");
-    let bots = BotConfig::new(invite.clone(), 1);
-    let report = runtime
-        .block_on(async { tokio::time::timeout(Duration::from_secs(120), run(&bots)).await })
-        .expect("the bots' game ended within two minutes");
-    assert!(report.errors.is_empty(), "{:?}", report.errors);
-    let room = report.games[0].room.clone().expect("the bots' room");
+    let room = common::bots_game(&server);
     let fetched = fetch_record_blocking(&invite, &room).expect("the record");
     let record = GameRecord::decode(&fetched.bytes).expect("a record");
 
@@ -352,16 +360,82 @@ fn replay_from_a_server_shows_the_fetched_games_table() {
     let args = ["replay", "--server", &invite_text, "--game", room.as_str()].map(OsStr::new);
     let run = window(&args, &out).expect("xvfb-run is installed");
     drop(server);
-    assert!(
-        run.status.success(),
-        "breakshot replay --server exited with {}: {}",
-        run.status,
-        String::from_utf8_lossy(&run.stderr)
-    );
+    assert_ran(&run);
     let pic = picture(&out);
     // Four frames are well inside the pause before the first shot: this game's rack.
     let racked = Game::new(record.variant, record.settings, record.seed);
     rack_is_drawn(&pic, &racked);
+}
+
+/// The next message `client` receives for which `want` holds.
+#[cfg(feature = "host")]
+async fn next(
+    client: &mut breakshot_client::net::Client,
+    want: impl Fn(&ServerMessage) -> bool,
+) -> ServerMessage {
+    use breakshot_client::net::ClientEvent;
+    loop {
+        if let ClientEvent::Message(m) = client.recv().await.expect("a message") {
+            if want(&m) {
+                return m;
+            }
+        }
+    }
+}
+
+/// `f` run on `runtime`; fails the test if it takes more than a minute.
+#[cfg(feature = "host")]
+fn within<T>(runtime: &tokio::runtime::Runtime, what: &str, f: impl Future<Output = T>) -> T {
+    runtime
+        .block_on(async { tokio::time::timeout(Duration::from_secs(60), f).await })
+        .unwrap_or_else(|_| panic!("{what} did not happen within a minute"))
+}
+
+/// `host` opens an online 8-ball room on the server of `invite` and Bob joins it; then Bob's
+/// connection closes and the host is told he left. The host's client, the room and Bob's seat
+/// token.
+#[cfg(feature = "host")]
+async fn left_by_bob(
+    invite: &Invite,
+    host: &str,
+) -> (breakshot_client::net::Client, RoomCode, SeatToken) {
+    use breakshot_client::net::{Client, Reconnect};
+    use breakshot_shared::protocol::{AimAid, ClientMessage};
+
+    let mut hosting = Client::connect(invite.clone(), Reconnect::never())
+        .await
+        .expect("connected");
+    hosting
+        .send(&ClientMessage::CreateRoom {
+            variant: Variant::EightBall(EightBallRules::Wpa),
+            mode: Settings::online(),
+            aim_aid: AimAid::Full,
+            name: host.into(),
+        })
+        .await
+        .expect("sent");
+    let ServerMessage::Joined { snapshot, .. } =
+        next(&mut hosting, |m| matches!(m, ServerMessage::Joined { .. })).await
+    else {
+        unreachable!("matched above")
+    };
+    let mut bob = Client::connect(invite.clone(), Reconnect::never())
+        .await
+        .expect("connected");
+    bob.send(&ClientMessage::Join {
+        room: snapshot.room.clone(),
+        name: "bob".into(),
+    })
+    .await
+    .expect("sent");
+    next(&mut bob, |m| matches!(m, ServerMessage::Joined { .. })).await;
+    let token = bob.token().expect("Bob's seat token");
+    bob.close(Duration::from_millis(100)).await;
+    next(&mut hosting, |m| {
+        matches!(m, ServerMessage::PlayerLeft { .. })
+    })
+    .await;
+    (hosting, snapshot.room, token)
 }
 
 /// A player whose opponent ended the game while they were away, with the server restarted
@@ -370,73 +444,30 @@ fn replay_from_a_server_shows_the_fetched_games_table() {
 #[test]
 #[cfg(feature = "host")]
 fn a_game_that_ended_while_away_shows_its_result_and_forgets_the_seat() {
-    use breakshot_client::net::{Client, ClientEvent, EmbeddedServer, Reconnect, SeatStore};
-    use breakshot_server::Config;
-    use breakshot_shared::protocol::{
-        AimAid, ClientMessage, Invite, RoomCode, SeatToken, ServerMessage,
-    };
+    use breakshot_client::net::SeatStore;
+    use breakshot_shared::protocol::ClientMessage;
 
-    if find_in_path("xvfb-run").is_none() {
-        eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
+    if xvfb_run().is_none() {
         return;
     }
     let dir = breakshot_testkit::scratch("window-away");
     let (data, seats) = (dir.path().join("server"), dir.path().join("client"));
-    let loopback = std::net::SocketAddr::from(([127, 0, 0, 1], 0));
-    let server = EmbeddedServer::start(Config::new(loopback, data.clone())).expect("a server");
+    let server = common::loopback_server(data.clone());
     let invite = server.loopback_invite();
 
     // Alice hosts, Bob joins; Bob's connection drops and Alice concedes while he is away.
-    async fn next(client: &mut Client, want: impl Fn(&ServerMessage) -> bool) -> ServerMessage {
-        loop {
-            match client.recv().await.expect("a message") {
-                ClientEvent::Message(m) if want(&m) => return m,
-                _ => {}
-            }
-        }
-    }
-    let played = async {
-        let mut alice = Client::connect(invite.clone(), Reconnect::never()).await?;
-        alice
-            .send(&ClientMessage::CreateRoom {
-                variant: Variant::EightBall(EightBallRules::Wpa),
-                mode: Settings::online(),
-                aim_aid: AimAid::Full,
-                name: "alice".into(),
-            })
-            .await?;
-        let ServerMessage::Joined { snapshot, .. } =
-            next(&mut alice, |m| matches!(m, ServerMessage::Joined { .. })).await
-        else {
-            unreachable!("matched above")
-        };
-        let mut bob = Client::connect(invite.clone(), Reconnect::never()).await?;
-        bob.send(&ClientMessage::Join {
-            room: snapshot.room.clone(),
-            name: "bob".into(),
-        })
-        .await?;
-        next(&mut bob, |m| matches!(m, ServerMessage::Joined { .. })).await;
-        let token: SeatToken = bob.token().expect("Bob's seat token");
-        bob.close(Duration::from_millis(100)).await;
-        next(&mut alice, |m| {
-            matches!(m, ServerMessage::PlayerLeft { .. })
-        })
-        .await;
-        alice.send(&ClientMessage::Concede).await?;
-        next(&mut alice, |m| matches!(m, ServerMessage::GameOver { .. })).await;
-        Ok::<(RoomCode, SeatToken), breakshot_client::net::NetError>((snapshot.room, token))
-    };
     let runtime = tokio::runtime::Runtime::new().expect("a runtime");
-    let (room, token) = runtime
-        .block_on(async { tokio::time::timeout(Duration::from_secs(60), played).await })
-        .expect("the game was played within a minute")
-        .expect("the game was played");
+    let (room, token) = within(&runtime, "the game", async {
+        let (mut alice, room, token) = left_by_bob(&invite, "alice").await;
+        alice.send(&ClientMessage::Concede).await.expect("sent");
+        next(&mut alice, |m| matches!(m, ServerMessage::GameOver { .. })).await;
+        (room, token)
+    });
     drop(server);
 
     // Bob's computer remembers his seat; the server comes back on the same data.
     let store = SeatStore::new(&seats);
-    let server = EmbeddedServer::start(Config::new(loopback, data)).expect("the server again");
+    let server = common::loopback_server(data);
     let again: Invite = server.loopback_invite().with_room(room);
     store.save(&again, token).expect("the seat remembered");
 
@@ -445,12 +476,7 @@ fn a_game_that_ended_while_away_shows_its_result_and_forgets_the_seat() {
     let args = [OsStr::new("join"), OsStr::new(&text), OsStr::new("--data")];
     let run = window(&[&args[..], &[seats.as_os_str()]].concat(), &out).expect("xvfb-run");
     drop(server);
-    assert!(
-        run.status.success(),
-        "breakshot join exited with {}: {}",
-        run.status,
-        String::from_utf8_lossy(&run.stderr)
-    );
+    assert_ran(&run);
     assert_eq!(
         store.load(&again),
         None,
@@ -476,11 +502,7 @@ fn a_nine_ball_game_rings_the_ball_on() {
     let Some(run) = window(&args, &out) else {
         return;
     };
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    assert_ran(&run);
     let pic = picture(&out);
     let game = Game::new(Variant::NineBall, Settings::offline(), 3);
     let layout = Layout::new(
@@ -691,14 +713,7 @@ fn screenshot_of(name: &str, args: &[&str], frames: u32) -> Option<Picture> {
     let dir = breakshot_testkit::scratch(&format!("window-{name}"));
     let out = dir.path().join("out.png");
     let args: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
-    let run = window_at(&args, &out, frames)?;
-    assert!(
-        run.status.success(),
-        "breakshot exited with {}: {}",
-        run.status,
-        String::from_utf8_lossy(&run.stderr)
-    );
-    Some(picture(&out))
+    ran_to_picture(&args, &out, frames)
 }
 
 #[test]
@@ -832,18 +847,8 @@ fn the_menu_fits_a_small_window() {
     let Some(run) = window_sized(&[], &out, 3, (640, 480)) else {
         return;
     };
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    let (width, height, pixels) = read_png(&out);
-    assert_eq!((width, height), (640, 480));
-    let pic = Picture {
-        width,
-        height,
-        pixels,
-    };
+    assert_ran(&run);
+    let pic = picture_sized(&out, (640, 480));
     const FILL: Rgb = [24, 104, 74];
     let buttons = breakshot_client::view::menu_buttons(640.0, 480.0, 8);
     for b in &buttons {
@@ -867,9 +872,7 @@ fn the_menu_fits_a_small_window() {
 #[test]
 #[cfg(feature = "host")]
 fn resume_game_in_the_menu_takes_the_remembered_seat_back() {
-    use breakshot_client::net::{Client, ClientEvent, EmbeddedServer, Reconnect, SeatStore};
-    use breakshot_server::Config;
-    use breakshot_shared::protocol::{AimAid, ClientMessage, ServerMessage};
+    use breakshot_client::net::SeatStore;
     use breakshot_shared::rules::Seat;
 
     let (Some(xvfb), Some(_)) = (find_in_path("xvfb-run"), find_in_path("xdotool")) else {
@@ -878,61 +881,14 @@ fn resume_game_in_the_menu_takes_the_remembered_seat_back() {
     };
     let dir = breakshot_testkit::scratch("window-resume");
     let seats = dir.path().join("client");
-    let loopback = std::net::SocketAddr::from(([127, 0, 0, 1], 0));
-    let server =
-        EmbeddedServer::start(Config::new(loopback, dir.path().join("server"))).expect("a server");
+    let server = common::loopback_server(dir.path().join("server"));
     let invite = server.loopback_invite();
-    async fn next(client: &mut Client, want: impl Fn(&ServerMessage) -> bool) -> ServerMessage {
-        loop {
-            if let ClientEvent::Message(m) = client.recv().await.expect("a message") {
-                if want(&m) {
-                    return m;
-                }
-            }
-        }
-    }
-    fn within<T>(runtime: &tokio::runtime::Runtime, what: &str, f: impl Future<Output = T>) -> T {
-        runtime
-            .block_on(async { tokio::time::timeout(Duration::from_secs(60), f).await })
-            .unwrap_or_else(|_| panic!("{what} did not happen within a minute"))
-    }
     let runtime = tokio::runtime::Runtime::new().expect("a runtime");
     // Ann hosts; Bob joined from this computer, which kept his seat, then his window closed.
-    let mut ann = within(&runtime, "the host's seat", async {
-        let mut ann = Client::connect(invite.clone(), Reconnect::never())
-            .await
-            .expect("connected");
-        ann.send(&ClientMessage::CreateRoom {
-            variant: Variant::EightBall(EightBallRules::Wpa),
-            mode: Settings::online(),
-            aim_aid: AimAid::Full,
-            name: "ann".into(),
-        })
-        .await
-        .expect("sent");
-        let ServerMessage::Joined { snapshot, .. } =
-            next(&mut ann, |m| matches!(m, ServerMessage::Joined { .. })).await
-        else {
-            unreachable!("matched above")
-        };
-        let mut bob = Client::connect(invite.clone(), Reconnect::never())
-            .await
-            .expect("connected");
-        bob.send(&ClientMessage::Join {
-            room: snapshot.room.clone(),
-            name: "bob".into(),
-        })
-        .await
-        .expect("sent");
-        next(&mut bob, |m| matches!(m, ServerMessage::Joined { .. })).await;
-        let token = bob.token().expect("Bob's seat token");
-        SeatStore::new(&seats)
-            .save(&invite.with_room(snapshot.room.clone()), token)
-            .expect("the seat remembered");
-        bob.close(Duration::from_millis(100)).await;
-        next(&mut ann, |m| matches!(m, ServerMessage::PlayerLeft { .. })).await;
-        ann
-    });
+    let (mut ann, room, token) = within(&runtime, "the host's seat", left_by_bob(&invite, "ann"));
+    SeatStore::new(&seats)
+        .save(&invite.with_room(room), token)
+        .expect("the seat remembered");
 
     // The menu, in a real window: click its first button, "Resume game".
     let first = breakshot_client::view::menu_buttons(1280.0, 720.0, 8)[0];
@@ -964,14 +920,10 @@ fn resume_game_in_the_menu_takes_the_remembered_seat_back() {
 #[test]
 #[cfg(feature = "host")]
 fn a_wrong_fingerprint_is_said_in_words_that_fit_the_window() {
-    use breakshot_client::net::EmbeddedServer;
-    use breakshot_server::Config;
-    use breakshot_shared::protocol::{Fingerprint, RoomCode};
+    use breakshot_shared::protocol::Fingerprint;
 
     let dir = breakshot_testkit::scratch("window-fingerprint");
-    let loopback = std::net::SocketAddr::from(([127, 0, 0, 1], 0));
-    let server =
-        EmbeddedServer::start(Config::new(loopback, dir.path().join("server"))).expect("a server");
+    let server = common::loopback_server(dir.path().join("server"));
     let mut invite = server.loopback_invite();
     invite.fingerprint = Fingerprint([0xab; 32]);
     invite.room = Some(RoomCode::parse("ABCDEFGH").expect("a room code"));
@@ -988,17 +940,9 @@ fn a_wrong_fingerprint_is_said_in_words_that_fit_the_window() {
         return;
     };
     drop(server);
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    let (width, height, pixels) = read_png(&out);
-    let pic = Picture {
-        width,
-        height,
-        pixels,
-    };
+    assert_ran(&run);
+    let pic = picture_sized(&out, (640, 480));
+    let (width, height) = (pic.width, pic.height);
     // Light text rows under the headline: the reason takes two lines, and no letter touches
     // the window's right edge.
     let lit = |y: u32, xs: std::ops::Range<u32>| {
@@ -1161,11 +1105,7 @@ fn the_window_opens_on_the_view_chosen_last_unless_told_otherwise() {
         args.extend(extra.iter().map(OsStr::new));
         args.extend(["practice".as_ref(), scene.as_os_str()]);
         let run = window(&args, &out)?;
-        assert!(
-            run.status.success(),
-            "{}",
-            String::from_utf8_lossy(&run.stderr)
-        );
+        assert_ran(&run);
         Some(picture(&out))
     };
     let Some(remembered) = run(&[], "remembered.png") else {
@@ -1296,11 +1236,7 @@ fn v_opens_the_3d_view_remembers_it_and_the_mouse_aims_through_the_camera() {
     let Some(run) = played(&args, &out, 600, &keys) else {
         return;
     };
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    assert_ran(&run);
     let kept = std::fs::read_to_string(data.join(breakshot_client::view::choice::VIEW_FILE));
     assert_eq!(kept.expect("the view remembered").trim(), "3d");
     // The cue points at the spot under the mouse, and the camera has turned to look along it:
@@ -1331,11 +1267,7 @@ fn l_shows_the_cue_ball_s_trail_after_the_shot() {
     let Some(run) = played(&args, &out, 240, &keys) else {
         return;
     };
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    assert_ran(&run);
     let pic = picture(&out);
     let parsed = Scene::from_json(CUT).expect("valid scene");
     let shot = parsed.to_shot().expect("valid shot");

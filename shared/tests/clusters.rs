@@ -68,61 +68,43 @@ fn cue(from: DVec2, speed: f64, spin: Spin, angle: f64) -> BallState {
     )
 }
 
-/// A line of `n` touching balls along +y from `start`, with a cue ball `approach` metres
-/// short of the first, moving along the line turned by `angle`.
-fn line(
-    start: DVec2,
-    n: usize,
-    approach: f64,
-    speed: f64,
-    spin: Spin,
-    angle: f64,
-) -> Vec<BallState> {
-    let mut balls = vec![cue(
-        start - DVec2::new(0.0, approach + 2.0 * R),
-        speed,
-        spin,
-        angle,
-    )];
-    for k in 0..n {
-        let p = start + DVec2::new(0.0, k as f64 * 2.0 * R);
-        balls.push(ball([p.x, p.y], [0.0; 2], [0.0; 3]));
-    }
-    balls
+/// The places of a line of `n` touching balls along +y from `start`.
+fn line(start: DVec2, n: usize) -> Vec<DVec2> {
+    (0..n)
+        .map(|k| start + DVec2::new(0.0, k as f64 * 2.0 * R))
+        .collect()
 }
 
-/// A 2-D cluster of `n` touching balls: rows of a triangular lattice filled from the apex at
-/// `start`, with a cue ball `approach` metres short of the apex.
-fn cluster(
-    start: DVec2,
-    n: usize,
-    approach: f64,
-    speed: f64,
-    spin: Spin,
-    angle: f64,
-) -> Vec<BallState> {
-    let mut balls = vec![cue(
-        start - DVec2::new(0.0, approach + 2.0 * R),
-        speed,
-        spin,
-        angle,
-    )];
+/// The places of a 2-D cluster of `n` touching balls: rows of a triangular lattice filled
+/// from the apex at `start`.
+fn cluster(start: DVec2, n: usize) -> Vec<DVec2> {
     let row_step = 2.0 * R * libm::sqrt(3.0) / 2.0;
+    let mut places = Vec::new();
     let mut row = 0;
-    while balls.len() <= n {
+    while places.len() < n {
         for k in 0..=row {
-            if balls.len() > n {
+            if places.len() == n {
                 break;
             }
-            let p = start
-                + DVec2::new(
-                    (k as f64 - row as f64 / 2.0) * 2.0 * R,
-                    row as f64 * row_step,
-                );
-            balls.push(ball([p.x, p.y], [0.0; 2], [0.0; 3]));
+            places.push(
+                start
+                    + DVec2::new(
+                        (k as f64 - row as f64 / 2.0) * 2.0 * R,
+                        row as f64 * row_step,
+                    ),
+            );
         }
         row += 1;
     }
+    places
+}
+
+/// Balls at rest at `frozen`, and a cue ball `approach` metres short of the first (along
+/// −y), moving along +y turned by `angle`.
+fn struck(frozen: &[DVec2], approach: f64, speed: f64, spin: Spin, angle: f64) -> Vec<BallState> {
+    let from = frozen[0] - DVec2::new(0.0, approach + 2.0 * R);
+    let mut balls = vec![cue(from, speed, spin, angle)];
+    balls.extend(frozen.iter().map(|p| ball([p.x, p.y], [0.0; 2], [0.0; 3])));
     balls
 }
 
@@ -143,7 +125,7 @@ fn run_checked(shot: &Shot) -> Outcome {
 fn frozen_lines_hit_stun_and_rolling_from_thirty_centimetres() {
     for n in [2usize, 3, 5, 8, 15] {
         for (name, spin) in [("stun", STUN), ("rolling", ROLLING)] {
-            let shot = open_shot(line(DVec2::ZERO, n, 0.3, 1.0, spin, 0.0));
+            let shot = open_shot(struck(&line(DVec2::ZERO, n), 0.3, 1.0, spin, 0.0));
             let out = run_checked(&shot);
             let hits = ball_ball_events(&out);
             println!(
@@ -180,7 +162,13 @@ fn hard_follow_into_long_lines_stays_within_four_n_plus_ten() {
         ),
     ];
     for (n, approach, speed, angle) in shots {
-        let shot = open_shot(line(DVec2::ZERO, n, approach, speed, ROLLING, angle));
+        let shot = open_shot(struck(
+            &line(DVec2::ZERO, n),
+            approach,
+            speed,
+            ROLLING,
+            angle,
+        ));
         let out = run_checked(&shot);
         let hits = ball_ball_events(&out);
         println!(
@@ -214,7 +202,7 @@ fn a_rolling_ball_pushes_a_frozen_pair_along_a_rail() {
     let shot = open_shot(vec![]);
     let x = ball_cushion::contact_distance(&shot.params);
     for speed in [0.3, 1.0, 3.0] {
-        let balls = line(DVec2::new(x, 0.8), 2, 0.2, speed, ROLLING, 0.0);
+        let balls = struck(&line(DVec2::new(x, 0.8), 2), 0.2, speed, ROLLING, 0.0);
         let shot = Shot {
             table,
             ..open_shot(balls)
@@ -304,10 +292,11 @@ fn family_shot(
         Place::Open => approach,
         _ => approach.min(start.y - 2.0 * R - contact - 1e-3),
     };
-    let balls = match layout {
-        Layout::Line => line(start, n, approach, speed, spin, angle),
-        Layout::Cluster => cluster(start, n, approach, speed, spin, angle),
+    let frozen = match layout {
+        Layout::Line => line(start, n),
+        Layout::Cluster => cluster(start, n),
     };
+    let balls = struck(&frozen, approach, speed, spin, angle);
     Shot {
         table,
         ..open_shot(balls)

@@ -111,6 +111,16 @@ fn records(data: &Path) -> Vec<(String, GameRecord)> {
         .collect()
 }
 
+/// A free loopback port, as an address to bind the server to each time it starts: fixed, so
+/// that an invite stays valid across restarts.
+fn fixed_address() -> String {
+    let port = std::net::UdpSocket::bind("127.0.0.1:0")
+        .and_then(|s| s.local_addr())
+        .expect("a free port")
+        .port();
+    format!("127.0.0.1:{port}")
+}
+
 fn verify_passes(data: &Path) {
     let checks = verify_dir(data).expect("verifying");
     for c in &checks {
@@ -122,12 +132,7 @@ fn verify_passes(data: &Path) {
 fn killing_the_server_loses_nothing_and_players_rejoin() {
     let scratch = scratch("faults");
     let data = scratch.path().join("data");
-    // A fixed port, so the bots' invite stays valid across restarts.
-    let port = std::net::UdpSocket::bind("127.0.0.1:0")
-        .and_then(|s| s.local_addr())
-        .expect("a free port")
-        .port();
-    let bind = format!("127.0.0.1:{port}");
+    let bind = fixed_address();
     let (mut server, invite) = start(&bind, &data);
 
     let runtime = tokio::runtime::Runtime::new().expect("runtime");
@@ -244,11 +249,7 @@ async fn answer(conn: &mut Channel) -> ServerMessage {
 fn the_longest_game_the_limits_allow_survives_a_kill_and_verifies() {
     let scratch = scratch("faults-longest");
     let data = scratch.path().join("data");
-    let port = std::net::UdpSocket::bind("127.0.0.1:0")
-        .and_then(|s| s.local_addr())
-        .expect("a free port")
-        .port();
-    let bind = format!("127.0.0.1:{port}");
+    let bind = fixed_address();
     let (mut server, invite) = start(&bind, &data);
     let limit = Limits::default().max_practice_commands;
     let runtime = tokio::runtime::Runtime::new().expect("runtime");

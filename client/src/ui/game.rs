@@ -61,6 +61,14 @@ fn choice_buttons(layout: &Layout, options: &[Choice]) -> Vec<(Choice, Rect)> {
         .collect()
 }
 
+/// The choice whose button is under `mouse`, if any.
+fn choice_at(layout: &Layout, options: &[Choice], mouse: [f32; 2]) -> Option<Choice> {
+    choice_buttons(layout, options)
+        .into_iter()
+        .find(|(_, r)| r.contains(mouse))
+        .map(|(choice, _)| choice)
+}
+
 impl GameScreen {
     pub fn new(link: Box<dyn GameLink>, connection: Connection) -> GameScreen {
         GameScreen {
@@ -174,20 +182,14 @@ impl GameScreen {
 
         match &turn {
             Turn::Decide { seat, options } if input.left_pressed => {
-                let hit = choice_buttons(&layout, options)
-                    .into_iter()
-                    .find(|(_, r)| r.contains(input.mouse));
-                if let Some((choice, _)) = hit {
+                if let Some(choice) = choice_at(&layout, options, input.mouse) {
                     self.link.send(&game, *seat, Command::Decide(choice));
                 }
                 input.left_pressed = false;
             }
             Turn::Shoot { seat, .. } if input.left_pressed => {
                 if let Phase::Shooting { options, .. } = game.phase() {
-                    let hit = choice_buttons(&layout, options)
-                        .into_iter()
-                        .find(|(_, r)| r.contains(input.mouse));
-                    if let Some((choice, _)) = hit {
+                    if let Some(choice) = choice_at(&layout, options, input.mouse) {
                         self.link.send(&game, *seat, Command::Decide(choice));
                         input.left_pressed = false;
                     }

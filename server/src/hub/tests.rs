@@ -41,6 +41,16 @@ fn error_code(out: &[Output], conn: ConnId) -> Option<ErrorCode> {
     })
 }
 
+/// Opens a WPA 8-ball room with no aim aid, for a player called `name`.
+fn create_room(mode: Settings, name: &str) -> ClientMessage {
+    ClientMessage::CreateRoom {
+        variant: Variant::EightBall(EightBallRules::Wpa),
+        mode,
+        aim_aid: AimAid::Off,
+        name: name.into(),
+    }
+}
+
 fn stores(out: &[Output]) -> usize {
     out.iter().filter(|o| matches!(o, Output::Store(_))).count()
 }
@@ -110,15 +120,7 @@ impl World {
     fn pair(&mut self, settings: Settings) -> (RoomCode, SeatToken, SeatToken) {
         self.greet(1);
         self.greet(2);
-        let out = self.send(
-            1,
-            ClientMessage::CreateRoom {
-                variant: Variant::EightBall(EightBallRules::Wpa),
-                mode: settings,
-                aim_aid: AimAid::Off,
-                name: "ann".into(),
-            },
-        );
+        let out = self.send(1, create_room(settings, "ann"));
         let (room, token_a) = joined(&out, 1);
         let out = self.send(
             2,
@@ -285,23 +287,21 @@ fn refused_commands_store_nothing_and_change_nothing() {
     let (room, _, _) = w.pair(Settings::offline());
     let before = w.game(&room);
     let good = break_shot(&before);
-    let stale = match good.clone() {
-        ClientMessage::Shot { strike, call, .. } => ClientMessage::Shot {
-            turn: 5,
-            strike,
-            call,
-        },
-        _ => unreachable!(),
+    let ClientMessage::Shot { strike, call, .. } = good.clone() else {
+        unreachable!()
+    };
+    let stale = ClientMessage::Shot {
+        turn: 5,
+        strike,
+        call,
     };
     let nan = ClientMessage::Shot {
         turn: 0,
         strike: Strike {
             speed: f64::NAN,
-            dir: DVec2::Y,
-            tip: DVec2::ZERO,
-            elevation_deg: 0.0,
+            ..strike
         },
-        call: None,
+        call,
     };
     for (conn, msg, code) in [
         (2, good.clone(), ErrorCode::NotYourTurn),
@@ -429,15 +429,7 @@ fn every_seat_sees_the_shot_clock_from_the_opening_break_and_after_a_return() {
     };
     w.greet(1);
     w.greet(2);
-    let out = w.send(
-        1,
-        ClientMessage::CreateRoom {
-            variant: Variant::EightBall(EightBallRules::Wpa),
-            mode: settings,
-            aim_aid: AimAid::Off,
-            name: "ann".into(),
-        },
-    );
+    let out = w.send(1, create_room(settings, "ann"));
     let (room, _) = joined(&out, 1);
     let clock_told = |out: &[Output], conn| {
         sent_to(out, conn).iter().find_map(|m| match m {
@@ -690,12 +682,7 @@ fn failed_entries_spend_an_address_budget_that_refills_and_successes_are_free() 
 fn an_address_may_hold_only_so_many_open_rooms() {
     let mut w = World::new();
     let cap = Limits::default().rooms_per_address;
-    let create = ClientMessage::CreateRoom {
-        variant: Variant::EightBall(EightBallRules::Wpa),
-        mode: Settings::offline(),
-        aim_aid: AimAid::Off,
-        name: "ann".into(),
-    };
+    let create = create_room(Settings::offline(), "ann");
     for conn in 0..cap as ConnId {
         w.greet(100 + conn);
         let out = w.send(100 + conn, create.clone());
@@ -850,12 +837,7 @@ fn a_player_away_when_the_game_ended_is_told_the_result_after_the_room_is_gone()
 fn a_finished_room_no_longer_counts_against_its_creators_limit() {
     let mut w = World::new();
     let cap = Limits::default().rooms_per_address;
-    let create = ClientMessage::CreateRoom {
-        variant: Variant::EightBall(EightBallRules::Wpa),
-        mode: Settings::offline(),
-        aim_aid: AimAid::Off,
-        name: "ann".into(),
-    };
+    let create = create_room(Settings::offline(), "ann");
     let mut rooms = Vec::new();
     for conn in 0..cap as ConnId {
         w.greet(100 + conn);
@@ -897,12 +879,7 @@ fn a_room_out_on_a_long_shot_holds_only_its_own_events_and_keeps_their_order() {
     let (slow, _, _) = w.pair(Settings::offline());
     w.greet(3);
     w.greet(4);
-    let create = ClientMessage::CreateRoom {
-        variant: Variant::EightBall(EightBallRules::Wpa),
-        mode: Settings::offline(),
-        aim_aid: AimAid::Off,
-        name: "cy".into(),
-    };
+    let create = create_room(Settings::offline(), "cy");
     let (fast, _) = joined(&w.send(3, create.clone()), 3);
     let join = ClientMessage::Join {
         room: fast.clone(),

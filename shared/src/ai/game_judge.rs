@@ -8,7 +8,7 @@ use super::search::{Judge, Played};
 use super::value;
 use super::Player;
 use crate::physics::{MotionState, Strike};
-use crate::rules::{Command, Game, Phase, Seat, Variant};
+use crate::rules::{Command, Game, Phase, Seat, Variant, Verdict};
 
 /// The shots the look-ahead considers from the position a trial leaves.
 const LOOK_AHEAD: Breadth = Breadth {
@@ -93,21 +93,29 @@ impl<'a> GameJudge<'a> {
         }
     }
 
-    fn play_once(&mut self, game: &Game, strike: &Strike, call: Option<u8>) -> Played {
+    /// `strike` played by `seat` on a copy of `game`, counted as a run: the game after it and
+    /// the verdict, or None if the rules refuse it.
+    fn trial(
+        &mut self,
+        game: &Game,
+        seat: Seat,
+        strike: &Strike,
+        call: Option<u8>,
+    ) -> Option<(Game, Verdict)> {
         self.runs += 1;
         let mut g = game.clone();
-        let shooter = g.to_move();
-        let Ok(verdict) = g.apply(
-            shooter,
-            &Command::Shot {
-                strike: *strike,
-                call,
-            },
-        ) else {
-            return Played {
-                value: 0.0,
-                success: false,
-            };
+        let shot = Command::Shot {
+            strike: *strike,
+            call,
+        };
+        let verdict = g.apply(seat, &shot).ok()?;
+        Some((g, verdict))
+    }
+
+    fn play_once(&mut self, game: &Game, strike: &Strike, call: Option<u8>) -> Played {
+        let shooter = game.to_move();
+        let Some((g, verdict)) = self.trial(game, shooter, strike, call) else {
+            return Played::REFUSED;
         };
         let sigma = self.noise.aim_sigma();
         if game.variant() == Variant::Practice {
@@ -126,14 +134,19 @@ impl<'a> GameJudge<'a> {
             };
             return Played { value, success };
         }
-        let success = match &verdict.over {
-            Some((winner, _)) => *winner == Some(shooter),
-            None => !verdict.foul && verdict.next == shooter,
-        };
         Played {
             value: value::value(&g, self.me, sigma),
-            success,
+            success: succeeded(&verdict, shooter),
         }
+    }
+}
+
+/// Whether a shot `seat` played did what it was meant to: won the game, or kept the turn
+/// without a foul.
+fn succeeded(verdict: &Verdict, seat: Seat) -> bool {
+    match &verdict.over {
+        Some((winner, _)) => *winner == Some(seat),
+        None => !verdict.foul && verdict.next == seat,
     }
 }
 
@@ -143,19 +156,8 @@ impl Judge for GameJudge<'_> {
         if !deep || game.variant() == Variant::Practice {
             return self.play_once(game, strike, call);
         }
-        let mut g = game.clone();
-        self.runs += 1;
-        let Ok(verdict) = g.apply(
-            self.me,
-            &Command::Shot {
-                strike: *strike,
-                call,
-            },
-        ) else {
-            return Played {
-                value: 0.0,
-                success: false,
-            };
+        let Some((g, verdict)) = self.trial(game, self.me, strike, call) else {
+            return Played::REFUSED;
         };
         let keeps = verdict.over.is_none()
             && !verdict.foul
@@ -164,10 +166,7 @@ impl Judge for GameJudge<'_> {
             && g.balls()
                 .first()
                 .is_some_and(|b| b.motion != MotionState::Pocketed);
-        let success = match &verdict.over {
-            Some((winner, _)) => *winner == Some(self.me),
-            None => !verdict.foul && verdict.next == self.me,
-        };
+        let success = succeeded(&verdict, self.me);
         let value = if keeps {
             self.look_ahead(&g)
         } else {

@@ -94,10 +94,7 @@ impl Judge for SceneJudge<'_> {
     fn play(&mut self, strike: &Strike, _call: Option<u8>, _deep: bool) -> Played {
         let kind = self.lab_kind();
         let Some(out) = self.lab.strike(0, *strike) else {
-            return Played {
-                value: 0.0,
-                success: false,
-            };
+            return Played::REFUSED;
         };
         let facts = ShotFacts::from_outcome(out, kind);
         let finals = out.finals.clone();

@@ -14,6 +14,14 @@ pub(super) struct Played {
     pub success: bool,
 }
 
+impl Played {
+    /// A strike that could not be played: worth nothing, and no success.
+    pub(super) const REFUSED: Played = Played {
+        value: 0.0,
+        success: false,
+    };
+}
+
 /// Plays a strike as delivered and judges the result.
 pub(super) trait Judge {
     /// `deep`: look one shot further where the shooter keeps the table.

@@ -138,6 +138,16 @@ mod tests {
         }
     }
 
+    /// A room for "ann" with no aim aid.
+    fn room(variant: Variant, mode: Settings) -> ClientMessage {
+        ClientMessage::CreateRoom {
+            variant,
+            mode,
+            aim_aid: super::super::messages::AimAid::Off,
+            name: "ann".into(),
+        }
+    }
+
     #[test]
     fn an_elevated_shot_keeps_its_elevation() {
         for degrees in [0.0, 45.0, 90.0] {
@@ -188,48 +198,35 @@ mod tests {
             ClientMessage::Chat {
                 text: "bell\u{7}".into(),
             },
-            ClientMessage::CreateRoom {
-                variant: crate::rules::Variant::NineBall,
-                mode: Settings {
+            room(
+                Variant::NineBall,
+                Settings {
                     table: TableKind::Open,
                     ..Settings::offline()
                 },
-                aim_aid: super::super::messages::AimAid::Off,
-                name: "ann".into(),
-            },
-            ClientMessage::CreateRoom {
-                variant: crate::rules::Variant::NineBall,
-                mode: Settings {
+            ),
+            room(
+                Variant::NineBall,
+                Settings {
                     table: TableKind::Carom,
                     ..Settings::offline()
                 },
-                aim_aid: super::super::messages::AimAid::Off,
-                name: "ann".into(),
-            },
-            ClientMessage::CreateRoom {
-                variant: Variant::ThreeCushion { race: 0 },
-                mode: Settings {
+            ),
+            room(
+                Variant::ThreeCushion { race: 0 },
+                Settings {
                     table: TableKind::Carom,
                     ..Settings::offline()
                 },
-                aim_aid: super::super::messages::AimAid::Off,
-                name: "ann".into(),
-            },
-            ClientMessage::CreateRoom {
-                variant: Variant::three_cushion(),
-                mode: Settings::offline(),
-                aim_aid: super::super::messages::AimAid::Off,
-                name: "ann".into(),
-            },
-            ClientMessage::CreateRoom {
-                variant: crate::rules::Variant::NineBall,
-                mode: Settings {
+            ),
+            room(Variant::three_cushion(), Settings::offline()),
+            room(
+                Variant::NineBall,
+                Settings {
                     shot_clock: Some(0),
                     ..Settings::offline()
                 },
-                aim_aid: super::super::messages::AimAid::Off,
-                name: "ann".into(),
-            },
+            ),
         ] {
             assert!(validate(bad.clone()).is_err(), "accepted {bad:?}");
         }

@@ -157,16 +157,27 @@ fn setup(variant: Variant, geo: Geometry, object: u8, parked: &[u8]) -> Game {
     table(variant, &[(0, geo.cue), (object, geo.object)], parked)
 }
 
+fn shot(geo: Geometry, call: Option<u8>) -> Command {
+    Command::Shot {
+        strike: geo.strike(),
+        call,
+    }
+}
+
 fn shoot(g: &mut Game, geo: Geometry, call: Option<u8>) -> Verdict {
     let seat = g.to_move();
-    g.apply(
-        seat,
-        &Command::Shot {
-            strike: geo.strike(),
-            call,
-        },
-    )
-    .unwrap_or_else(|e| panic!("shot refused: {e}"))
+    g.apply(seat, &shot(geo, call))
+        .unwrap_or_else(|e| panic!("shot refused: {e}"))
+}
+
+/// Asserts that the game ended with `winner` for `why`.
+fn assert_won(v: &Verdict, winner: Seat, why: &str) {
+    assert_eq!(v.over, Some((Some(winner), why.to_string())));
+}
+
+/// Asserts that `seat` is to break a new rack.
+fn assert_breaks(g: &Game, seat: Seat) {
+    assert_eq!((g.to_move(), g.breaker(), g.is_break()), (seat, seat, true));
 }
 
 fn in_hand(g: &Game) -> Option<InHand> {
@@ -408,10 +419,7 @@ fn eight_ball_groups_follow_the_first_legal_pot() {
 fn eight_must_be_called() {
     let mut g = setup(WPA, POT, 8, &all_but(&[1, 2, 3, 4, 5, 6, 7, 8]));
     g.group_a = Some(Group::Solids);
-    let cmd = Command::Shot {
-        strike: POT.strike(),
-        call: None,
-    };
+    let cmd = shot(POT, None);
     assert_eq!(
         g.check(Seat::A, &cmd),
         Err(RuleError::InvalidShot("call a pocket for the 8".into()))
@@ -420,10 +428,7 @@ fn eight_must_be_called() {
         g.apply(Seat::A, &cmd),
         Err(RuleError::InvalidShot("call a pocket for the 8".into()))
     );
-    let bad_pocket = Command::Shot {
-        strike: POT.strike(),
-        call: Some(6),
-    };
+    let bad_pocket = shot(POT, Some(6));
     assert!(matches!(
         g.check(Seat::A, &bad_pocket),
         Err(RuleError::InvalidShot(_))
@@ -447,10 +452,7 @@ fn called_shots_setting_needs_the_ball_in_the_called_pocket() {
         g
     };
     let g = mk();
-    let uncalled = Command::Shot {
-        strike: POT.strike(),
-        call: None,
-    };
+    let uncalled = shot(POT, None);
     assert_eq!(
         g.check(Seat::A, &uncalled),
         Err(RuleError::InvalidShot(
@@ -472,10 +474,33 @@ fn called_shots_setting_needs_the_ball_in_the_called_pocket() {
 
 /// A break-shot table: only the given balls, Player A breaking from the kitchen.
 fn break_table(variant: Variant, geo: Geometry, object: u8) -> Game {
-    let mut g = setup(variant, geo, object, &all_but(&[object]));
+    breaking(setup(variant, geo, object, &all_but(&[object])))
+}
+
+/// `g` with Player A to break from the kitchen.
+fn breaking(mut g: Game) -> Game {
     g.breaking = true;
     g.phase = shooting(Some(InHand::Kitchen));
     g
+}
+
+/// The two answers `chooser` has to the 8 falling on the break: spot it and shoot on (with
+/// the cue ball `in_hand`), or re-rack and break.
+fn spot_or_rerack(g: &Game, chooser: Seat, spotted_in_hand: Option<InHand>) {
+    let mut spotted = g.clone();
+    spotted
+        .apply(chooser, &Command::Decide(Choice::SpotEightAndContinue))
+        .unwrap();
+    assert_eq!(spotted.balls()[8].pos, rack::foot_spot(spotted.table()));
+    assert_eq!(
+        (spotted.to_move(), in_hand(&spotted)),
+        (chooser, spotted_in_hand)
+    );
+    let mut reracked = g.clone();
+    reracked
+        .apply(chooser, &Command::Decide(Choice::Rerack))
+        .unwrap();
+    assert_breaks(&reracked, chooser);
 }
 
 #[test]
@@ -504,10 +529,7 @@ fn break_must_be_taken_from_the_kitchen() {
     assert_eq!(g.legal_cue_placement([0.635, 0.6]), Ok(()));
     // A cue ball left outside the kitchen cannot break.
     g.balls[0] = BallState::at_rest(DVec2::new(0.635, 1.0));
-    let cmd = Command::Shot {
-        strike: HIT.strike(),
-        call: None,
-    };
+    let cmd = shot(HIT, None);
     assert!(matches!(
         g.check(Seat::A, &cmd),
         Err(RuleError::IllegalPlacement(_))
@@ -586,10 +608,7 @@ fn illegal_break_gives_the_opponent_three_choices() {
 
     let mut g = broken();
     g.apply(Seat::B, &Command::Decide(Choice::Rerack)).unwrap();
-    assert_eq!(
-        (g.to_move(), g.breaker(), g.is_break()),
-        (Seat::B, Seat::B, true)
-    );
+    assert_breaks(&g, Seat::B);
     assert_eq!(
         g.balls
             .iter()
@@ -602,10 +621,7 @@ fn illegal_break_gives_the_opponent_three_choices() {
     let mut g = broken();
     g.apply(Seat::B, &Command::Decide(Choice::OpponentRebreaks))
         .unwrap();
-    assert_eq!(
-        (g.to_move(), g.breaker(), g.is_break()),
-        (Seat::A, Seat::A, true)
-    );
+    assert_breaks(&g, Seat::A);
 }
 
 #[test]
@@ -624,10 +640,7 @@ fn scratch_on_a_legal_break_gives_ball_in_hand_behind_the_head_string() {
     assert_eq!((g.to_move(), in_hand(&g)), (Seat::B, Some(InHand::Kitchen)));
     assert!(pocketed(&g, 3) && g.group_of(Seat::B).is_none());
     // The cue ball must be placed, and only in the kitchen.
-    let shot = Command::Shot {
-        strike: HIT.strike(),
-        call: None,
-    };
+    let shot = shot(HIT, None);
     assert_eq!(
         g.check(Seat::B, &shot),
         Err(RuleError::WrongPhase("place the cue ball first".into()))
@@ -658,27 +671,15 @@ fn eight_on_the_break_wpa_breaker_chooses_bar_wins() {
         options(&g),
         vec![Choice::SpotEightAndContinue, Choice::Rerack]
     );
-    let mut spotted = g.clone();
-    spotted
-        .apply(Seat::A, &Command::Decide(Choice::SpotEightAndContinue))
-        .unwrap();
-    assert_eq!(spotted.balls()[8].pos, rack::foot_spot(spotted.table()));
-    assert_eq!((spotted.to_move(), in_hand(&spotted)), (Seat::A, None));
-    g.apply(Seat::A, &Command::Decide(Choice::Rerack)).unwrap();
-    assert_eq!(
-        (g.to_move(), g.breaker(), g.is_break()),
-        (Seat::A, Seat::A, true)
-    );
+    spot_or_rerack(&g, Seat::A, None);
 
     // Bar rules: the 8 on the break wins.
     let mut g = break_table(BAR, KITCHEN_POT, 8);
     let v = shoot(&mut g, KITCHEN_POT, None);
-    assert_eq!(
-        v.over,
-        Some((
-            Some(Seat::A),
-            "Player A wins: the 8 fell on the break (bar rules)".into()
-        ))
+    assert_won(
+        &v,
+        Seat::A,
+        "Player A wins: the 8 fell on the break (bar rules)",
     );
 }
 
@@ -694,29 +695,14 @@ fn eight_on_the_break_with_a_scratch_wpa_opponent_chooses_bar_loses() {
         ]
     );
     assert_eq!(g.to_move(), Seat::B);
-    let mut spotted = g.clone();
-    spotted
-        .apply(Seat::B, &Command::Decide(Choice::SpotEightAndContinue))
-        .unwrap();
-    assert_eq!(spotted.balls()[8].pos, rack::foot_spot(spotted.table()));
-    assert_eq!(
-        (spotted.to_move(), in_hand(&spotted)),
-        (Seat::B, Some(InHand::Kitchen))
-    );
-    g.apply(Seat::B, &Command::Decide(Choice::Rerack)).unwrap();
-    assert_eq!(
-        (g.to_move(), g.breaker(), g.is_break()),
-        (Seat::B, Seat::B, true)
-    );
+    spot_or_rerack(&g, Seat::B, Some(InHand::Kitchen));
 
     let mut g = break_table(BAR, KITCHEN_POT_SCRATCH, 8);
     let v = shoot(&mut g, KITCHEN_POT_SCRATCH, None);
-    assert_eq!(
-        v.over,
-        Some((
-            Some(Seat::B),
-            "Player A loses: scratched while pocketing the 8 on the break (bar rules)".into()
-        ))
+    assert_won(
+        &v,
+        Seat::B,
+        "Player A loses: scratched while pocketing the 8 on the break (bar rules)",
     );
 }
 
@@ -727,23 +713,16 @@ fn ball_in_hand_after_a_foul_goes_anywhere_free() {
         .run();
     let object = HIT.object;
     let overlapping = [object[0] + R, object[1]];
-    assert!(matches!(
-        g.apply(Seat::B, &Command::PlaceCueBall { pos: overlapping }),
-        Err(RuleError::IllegalPlacement(_))
-    ));
-    assert!(matches!(
-        g.apply(
-            Seat::B,
-            &Command::PlaceCueBall {
-                pos: [f64::NAN, 1.0]
-            }
-        ),
-        Err(RuleError::IllegalPlacement(_))
-    ));
-    assert!(matches!(
-        g.apply(Seat::B, &Command::PlaceCueBall { pos: [0.01, 1.0] }),
-        Err(RuleError::IllegalPlacement(_))
-    ));
+    let into_the_cushion = [0.01, 1.0];
+    for pos in [overlapping, [f64::NAN, 1.0], into_the_cushion] {
+        assert!(
+            matches!(
+                g.apply(Seat::B, &Command::PlaceCueBall { pos }),
+                Err(RuleError::IllegalPlacement(_))
+            ),
+            "{pos:?}"
+        );
+    }
     assert_eq!(
         g.apply(Seat::A, &Command::PlaceCueBall { pos: [0.635, 1.8] }),
         Err(RuleError::NotYourTurn)
@@ -878,10 +857,7 @@ fn out_of_time_before_the_break_gives_the_break_away() {
 fn conceding_ends_the_game_and_nothing_is_accepted_after() {
     let mut g = Game::new(WPA, Settings::offline(), 1);
     let v = g.apply(Seat::B, &Command::Concede).unwrap();
-    assert_eq!(
-        v.over,
-        Some((Some(Seat::A), "Player B conceded; Player A wins".into()))
-    );
+    assert_won(&v, Seat::A, "Player B conceded; Player A wins");
     assert_eq!(
         g.apply(Seat::A, &Command::Concede),
         Err(RuleError::GameOver)
@@ -892,10 +868,7 @@ fn conceding_ends_the_game_and_nothing_is_accepted_after() {
 fn commands_out_of_turn_or_phase_change_nothing() {
     let mut g = Game::new(WPA, Settings::offline(), 1);
     let before = g.clone();
-    let shot = Command::Shot {
-        strike: HIT.strike(),
-        call: None,
-    };
+    let shot = shot(HIT, None);
     assert_eq!(g.apply(Seat::B, &shot), Err(RuleError::NotYourTurn));
     assert!(matches!(
         g.apply(Seat::A, &Command::Decide(Choice::Rerack)),
@@ -908,9 +881,7 @@ fn commands_out_of_turn_or_phase_change_nothing() {
     let bad = Command::Shot {
         strike: Strike {
             speed: f64::NAN,
-            dir: DVec2::Y,
-            tip: DVec2::ZERO,
-            elevation_deg: 0.0,
+            ..HIT.strike()
         },
         call: None,
     };
@@ -927,13 +898,7 @@ const NINE: Variant = Variant::NineBall;
 
 #[test]
 fn nine_ball_break_must_hit_the_one_first() {
-    let mut g = table(
-        NINE,
-        &[(0, KITCHEN_POT.cue), (2, KITCHEN_POT.object)],
-        &[1, 3, 9],
-    );
-    g.breaking = true;
-    g.phase = shooting(Some(InHand::Kitchen));
+    let mut g = breaking(setup(NINE, KITCHEN_POT, 2, &[1, 3, 9]));
     let v = shoot(&mut g, KITCHEN_POT, None);
     assert_eq!(
         v.reasons[0],
@@ -954,13 +919,7 @@ fn nine_ball_break_must_hit_the_one_first() {
 #[test]
 fn nine_ball_push_out_after_the_break() {
     let broken = || {
-        let mut g = table(
-            NINE,
-            &[(0, KITCHEN_POT.cue), (1, KITCHEN_POT.object)],
-            &[2, 3, 9],
-        );
-        g.breaking = true;
-        g.phase = shooting(Some(InHand::Kitchen));
+        let mut g = breaking(setup(NINE, KITCHEN_POT, 1, &[2, 3, 9]));
         let v = shoot(&mut g, KITCHEN_POT, None);
         assert_eq!(
             v.reasons,
@@ -973,15 +932,7 @@ fn nine_ball_push_out_after_the_break() {
     g.apply(Seat::A, &Command::Decide(Choice::PushOut)).unwrap();
     assert!(matches!(g.phase(), Phase::Shooting { push_out: true, .. }));
     // Hitting nothing is no foul on a push-out.
-    let strike = Strike {
-        speed: 1.0,
-        dir: DVec2::new(1.0, 0.0),
-        tip: DVec2::ZERO,
-        elevation_deg: 0.0,
-    };
-    let v = g
-        .apply(Seat::A, &Command::Shot { strike, call: None })
-        .unwrap();
+    let v = g.apply(Seat::A, &shot(MISS, None)).unwrap();
     assert_eq!(
         v.reasons,
         vec![
@@ -1008,9 +959,7 @@ fn nine_ball_push_out_after_the_break() {
 
     // Not declaring a push-out: the same shot is a foul and the option lapses.
     let mut g = broken();
-    let v = g
-        .apply(Seat::A, &Command::Shot { strike, call: None })
-        .unwrap();
+    let v = g.apply(Seat::A, &shot(MISS, None)).unwrap();
     assert_eq!(v.reasons[0], "Foul: the cue ball hit no ball");
     assert!(options(&g).is_empty());
     assert_eq!(
@@ -1021,7 +970,7 @@ fn nine_ball_push_out_after_the_break() {
 
 #[test]
 fn nine_ball_lowest_ball_first() {
-    let mut g = table(NINE, &[(0, HIT.cue), (3, HIT.object)], &[2, 9]);
+    let mut g = setup(NINE, HIT, 3, &[2, 9]);
     assert_eq!(g.legal_first_balls(), vec![2]);
     let v = shoot(&mut g, HIT, None);
     assert_eq!(
@@ -1050,19 +999,13 @@ fn nine_ball_nine_on_any_legal_shot_wins() {
         &[3],
     );
     let v = shoot(&mut g, geo, None);
-    assert_eq!(
-        v.over,
-        Some((
-            Some(Seat::A),
-            "Player A wins: the 9 fell on a legal shot".into()
-        ))
-    );
+    assert_won(&v, Seat::A, "Player A wins: the 9 fell on a legal shot");
 }
 
 #[test]
 fn nine_ball_nine_pocketed_on_a_foul_is_spotted() {
     // The 9 is hit first (a foul: the 2 is lowest) and falls: it comes back on the foot spot.
-    let mut g = table(NINE, &[(0, POT.cue), (9, POT.object)], &[2]);
+    let mut g = setup(NINE, POT, 9, &[2]);
     let v = shoot(&mut g, POT, None);
     assert_eq!(
         v.reasons,
@@ -1078,11 +1021,8 @@ fn nine_ball_nine_pocketed_on_a_foul_is_spotted() {
 
 #[test]
 fn nine_ball_three_consecutive_fouls_lose() {
-    let mut g = table(NINE, &[(0, MISS.cue), (2, MISS.object)], &[9]);
-    let miss = Command::Shot {
-        strike: MISS.strike(),
-        call: None,
-    };
+    let mut g = setup(NINE, MISS, 2, &[9]);
+    let miss = shot(MISS, None);
     let mut last = None;
     for (k, seat) in [Seat::A, Seat::B, Seat::A, Seat::B, Seat::A]
         .into_iter()
@@ -1107,18 +1047,16 @@ fn nine_ball_three_consecutive_fouls_lose() {
         last = Some(v);
     }
     let v = last.unwrap();
-    assert_eq!(
-        v.over,
-        Some((
-            Some(Seat::B),
-            "Player A loses: 3 consecutive fouls; Player B wins".into()
-        ))
+    assert_won(
+        &v,
+        Seat::B,
+        "Player A loses: 3 consecutive fouls; Player B wins",
     );
 }
 
 #[test]
 fn nine_ball_a_legal_shot_clears_the_foul_count() {
-    let mut g = table(NINE, &[(0, HIT.cue), (2, HIT.object)], &[9]);
+    let mut g = setup(NINE, HIT, 2, &[9]);
     g.fouls = [2, 0];
     let v = shoot(&mut g, HIT, None);
     assert!(!v.foul, "{v:?}");
@@ -1135,12 +1073,10 @@ fn nine_ball_time_expired_counts_as_a_foul() {
     );
     g.fouls = [2, 0];
     let v = g.apply(Seat::A, &Command::TimeExpired).unwrap();
-    assert_eq!(
-        v.over,
-        Some((
-            Some(Seat::B),
-            "Player A loses: 3 consecutive fouls; Player B wins".into()
-        ))
+    assert_won(
+        &v,
+        Seat::B,
+        "Player A loses: 3 consecutive fouls; Player B wins",
     );
 }
 
@@ -1148,11 +1084,7 @@ fn nine_ball_time_expired_counts_as_a_foul() {
 
 #[test]
 fn practice_has_no_turns_and_no_fouls() {
-    let mut g = table(
-        Variant::Practice,
-        &[(0, POT_SCRATCH.cue), (3, POT_SCRATCH.object)],
-        &[],
-    );
+    let mut g = setup(Variant::Practice, POT_SCRATCH, 3, &[]);
     let v = shoot(&mut g, POT_SCRATCH, None);
     assert!(!v.foul);
     assert_eq!(
@@ -1165,15 +1097,7 @@ fn practice_has_no_turns_and_no_fouls() {
     // Either seat may act; the cue ball goes anywhere free.
     g.apply(Seat::B, &Command::PlaceCueBall { pos: [0.635, 2.0] })
         .unwrap();
-    let v = g
-        .apply(
-            Seat::B,
-            &Command::Shot {
-                strike: MISS.strike(),
-                call: None,
-            },
-        )
-        .unwrap();
+    let v = g.apply(Seat::B, &shot(MISS, None)).unwrap();
     assert!(!v.foul && v.over.is_none());
     assert_eq!(
         g.apply(Seat::A, &Command::ProposeStalemate),
@@ -1200,26 +1124,20 @@ fn practice_places_any_ball_freely() {
     )
     .unwrap();
     assert_eq!(g.balls()[5], BallState::at_rest(DVec2::new(0.3, 0.3)));
-    assert!(matches!(
-        g.apply(
-            Seat::A,
-            &Command::PlaceBall {
-                ball: 6,
-                pos: Some([0.3 + R, 0.3])
-            }
-        ),
-        Err(RuleError::IllegalPlacement(_))
-    ));
-    assert!(matches!(
-        g.apply(
-            Seat::A,
-            &Command::PlaceBall {
-                ball: 16,
-                pos: None
-            }
-        ),
-        Err(RuleError::IllegalPlacement(_))
-    ));
+    let overlapping = Command::PlaceBall {
+        ball: 6,
+        pos: Some([0.3 + R, 0.3]),
+    };
+    let no_such_ball = Command::PlaceBall {
+        ball: 16,
+        pos: None,
+    };
+    for cmd in [overlapping, no_such_ball] {
+        assert!(
+            matches!(g.apply(Seat::A, &cmd), Err(RuleError::IllegalPlacement(_))),
+            "{cmd:?}"
+        );
+    }
     g.apply(Seat::A, &Command::PlaceBall { ball: 5, pos: None })
         .unwrap();
     assert!(pocketed(&g, 5));
@@ -1254,17 +1172,15 @@ fn practice_loads_a_scene() {
     let wrong_len = Command::LoadLayout {
         balls: vec![None; 3],
     };
-    assert!(matches!(
-        g.apply(Seat::A, &wrong_len),
-        Err(RuleError::IllegalPlacement(_))
-    ));
     let overlap = Command::LoadLayout {
         balls: (0..16).map(|_| Some([0.5, 0.5])).collect(),
     };
-    assert!(matches!(
-        g.apply(Seat::A, &overlap),
-        Err(RuleError::IllegalPlacement(_))
-    ));
+    for cmd in [wrong_len, overlap] {
+        assert!(
+            matches!(g.apply(Seat::A, &cmd), Err(RuleError::IllegalPlacement(_))),
+            "{cmd:?}"
+        );
+    }
 }
 
 #[test]

@@ -32,16 +32,7 @@ fn gone(ball: u8, t: f64) -> Departure {
 #[test]
 fn wpa_nine_ball_no_push_out_after_a_scratch_or_an_illegal_break() {
     // A scratch on the break.
-    let mut g = table(
-        NINE,
-        &[
-            (0, KITCHEN_POT_SCRATCH.cue),
-            (1, KITCHEN_POT_SCRATCH.object),
-        ],
-        &[2, 3, 9],
-    );
-    g.breaking = true;
-    g.phase = shooting(Some(InHand::Kitchen));
+    let mut g = breaking(setup(NINE, KITCHEN_POT_SCRATCH, 1, &[2, 3, 9]));
     let v = shoot(&mut g, KITCHEN_POT_SCRATCH, None);
     assert!(v.foul, "{v:?}");
     assert_eq!(
@@ -50,13 +41,7 @@ fn wpa_nine_ball_no_push_out_after_a_scratch_or_an_illegal_break() {
         "WPA 9-ball 2.4: no push-out after a foul on the break (a scratch)"
     );
     // An illegal break: the 1 hit softly, nothing reaches a cushion.
-    let mut g = table(
-        NINE,
-        &[(0, KITCHEN_SOFT.cue), (1, KITCHEN_SOFT.object)],
-        &[2, 3, 9],
-    );
-    g.breaking = true;
-    g.phase = shooting(Some(InHand::Kitchen));
+    let mut g = breaking(setup(NINE, KITCHEN_SOFT, 1, &[2, 3, 9]));
     let v = shoot(&mut g, KITCHEN_SOFT, None);
     assert!(v.reasons[0].starts_with("Foul: illegal break"), "{v:?}");
     assert_eq!(
@@ -151,7 +136,7 @@ fn wpa_kitchen_shot_that_crosses_the_head_string_first_may_hit_a_ball_behind_it(
 fn wpa_spot_on_request_when_every_legal_ball_is_behind_the_head_string() {
     // A legal break that scratches, leaving the only legal balls (the 3 and the 11) in the
     // kitchen: the incoming player may have the one nearest the head string spotted.
-    let mut g = table(
+    let mut g = breaking(table(
         WPA,
         &[
             (0, [0.635, 0.3]),
@@ -160,9 +145,7 @@ fn wpa_spot_on_request_when_every_legal_ball_is_behind_the_head_string() {
             (8, [0.635, 2.0]),
         ],
         &[],
-    );
-    g.breaking = true;
-    g.phase = shooting(Some(InHand::Kitchen));
+    ));
     let mut finals = g.balls.clone();
     finals[0] = off_table();
     let facts = ShotFacts {
