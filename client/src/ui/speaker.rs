@@ -1,6 +1,6 @@
 //! Playing a shot's sounds: the cues `view::sound` finds for each frame, through macroquad's
 //! audio when the client is built with the `sound` feature, silently otherwise. M mutes,
-//! [ and ] turn the volume down and up.
+//! `[` and `]` turn the volume down and up.
 
 use breakshot_client::view::sound::{Mixer, SoundTrack};
 use breakshot_client::view::Playback;
