@@ -219,7 +219,7 @@ pub struct SoundTrack {
 
 impl SoundTrack {
     /// The cues between the last call and shot time `now` of `outcome` (since the start, for
-    /// a new shot), except those more than `LATE` behind.
+    /// a new shot), except those more than 0.25 s (`LATE`) behind.
     pub fn due(&mut self, outcome: &Outcome, now: f64) -> Vec<Cue> {
         let mark = (outcome.duration.to_bits(), outcome.events.len());
         let from = match self.heard {
