@@ -27,6 +27,8 @@ pub enum Decision {
     Refuse(Refusal),
 }
 
+/// Why a connection attempt was refused, before any cryptography; each has its own counter in
+/// [`Stats`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Refusal {
     /// The server holds `max_connections`.
@@ -95,10 +97,12 @@ impl Ledger {
         }
     }
 
+    /// Connections open, counting those still in their handshake.
     pub fn connections(&self) -> usize {
         self.total.connections
     }
 
+    /// Handshakes in progress: admitted, and neither connected nor failed yet.
     pub fn handshakes(&self) -> usize {
         self.total.handshakes
     }
@@ -117,6 +121,7 @@ pub struct Gate {
 }
 
 impl Gate {
+    /// An empty ledger whose totals are mirrored into `stats` (`connections`, `handshaking`).
     pub fn new(stats: Arc<Stats>) -> Gate {
         Gate {
             ledger: Arc::default(),
@@ -159,12 +164,15 @@ impl Gate {
 
 /// The gate's answer to an attempt.
 pub enum Entry {
+    /// Start its handshake; the ticket holds its slots.
     Admitted(Ticket),
+    /// Send it a QUIC retry: it must prove its address first.
     Retry,
+    /// Refuse it, for this reason.
     Refused(Refusal),
 }
 
-/// One admitted connection's slots: its handshake's until [`Ticket::connected`], its
+/// One admitted connection's slots: its handshake's until [`Ticket::handshake_over`], its
 /// connection's until dropped.
 pub struct Ticket {
     gate: Gate,

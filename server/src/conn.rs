@@ -26,16 +26,21 @@ use crate::work::Returned;
 /// What the writer thread hands a connection.
 #[derive(Debug)]
 pub enum Outbound {
+    /// Encode one message as a frame and write it on the stream.
     Message(ServerMessage),
+    /// Finish the stream, give the peer up to 2 s to read what is queued, then close with this
+    /// reason.
     Close(String),
 }
 
 /// What a connection (or a room's worker) tells the hub.
 #[derive(Debug)]
 pub enum HubEvent {
+    /// A connection opened its stream, from this address (an IPv4-mapped address as IPv4).
     Connected(ConnId, IpAddr),
     /// A message and when its frame was read (the start of the server's time for it).
     Message(ConnId, ClientMessage, Instant),
+    /// A connection ended, however it ended; nothing more comes from it.
     Disconnected(ConnId),
     /// A room back from running a message on a worker thread.
     Returned(Returned),
@@ -43,6 +48,7 @@ pub enum HubEvent {
     Failed(RoomCode),
     /// The store's answer to a claim for a connection's seat token.
     Claimed(ConnId, SeatToken, Claimed),
+    /// The server is stopping: the hub thread ends once the rooms' work already queued is done.
     Shutdown,
 }
 
@@ -54,10 +60,12 @@ pub struct HubSender {
 }
 
 impl HubSender {
+    /// Wraps the hub's channel; what waits in it is counted in `stats.hub_queue` and its peak.
     pub fn new(tx: Sender<HubEvent>, stats: Arc<Stats>) -> HubSender {
         HubSender { tx, stats }
     }
 
+    /// Queues `event` for the hub thread; fails only once that thread has stopped.
     pub fn send(&self, event: HubEvent) -> Result<(), SendError<HubEvent>> {
         let queued = self.stats.hub_queue.fetch_add(1, Ordering::Relaxed) + 1;
         self.stats
@@ -71,6 +79,7 @@ impl HubSender {
 
 /// The writer thread's end of a connection's outgoing queue.
 pub struct Outlet {
+    /// The connection's bounded queue (`outbound_queue` messages); a full one gets it closed.
     pub tx: tokio::sync::mpsc::Sender<Outbound>,
     /// Wakes the connection to close it (its queue is full, so a message cannot say so).
     pub kill: Arc<Notify>,
@@ -90,8 +99,11 @@ pub fn outlet(capacity: usize) -> (Outlet, Receiver<Outbound>, Arc<Notify>) {
     )
 }
 
-/// Application close codes.
+/// Application close code for an orderly end: the server shutting down, or a close the hub
+/// asked for.
 pub const CLOSE_NORMAL: u32 = 0;
+/// Application close code for a client that broke the protocol: a malformed or late frame, too
+/// many messages, no stream opened, or not reading what it is sent.
 pub const CLOSE_PROTOCOL: u32 = 1;
 
 /// How long queued bytes get to reach the peer before a close.

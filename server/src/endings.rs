@@ -14,9 +14,13 @@ use crate::secret::TokenDigest;
 /// How one game ended, as told to a returning player.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Ending {
+    /// The room's code.
     pub room: RoomCode,
+    /// The game's number in its room, from 1.
     pub game: u32,
+    /// `None` if nobody won (also for a game abandoned before anyone could win).
     pub winner: Option<Seat>,
+    /// The readable reason, as `GameOver` gave it ("abandoned" for a game that never ended).
     pub reason: String,
 }
 
@@ -71,10 +75,12 @@ impl Endings {
         self.seats.retain(|_, k| k.until > now);
     }
 
+    /// Seats kept, counting any whose time is up but that [`Endings::expire`] has not dropped yet.
     pub fn len(&self) -> usize {
         self.seats.len()
     }
 
+    /// Whether no seat is kept.
     pub fn is_empty(&self) -> bool {
         self.seats.is_empty()
     }

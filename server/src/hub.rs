@@ -29,8 +29,11 @@ use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
 use crate::source::source_key;
 use crate::work::{Returned, RoomWork};
 
+/// What a hub is started with; fixed for its life.
 #[derive(Clone, Debug)]
 pub struct HubConfig {
+    /// The message, room, entry and retention limits it enforces (the connection counts are
+    /// [`crate::admission`]'s).
     pub limits: Limits,
     /// The reference-shot hash of this build's physics; clients must match it.
     pub physics: u64,
@@ -46,8 +49,11 @@ pub enum Claimed {
     Taken(Box<Restored>),
     /// The seat's room is closed, its last game over `age` ago.
     Ended {
+        /// The room as last stored: the seats whose tokens are told the result.
         meta: Box<RoomMeta>,
+        /// How its last game ended.
         ending: Ending,
+        /// How long ago it ended, in whole seconds of the store's clock.
         age: Duration,
     },
     /// Another live instance owns the room (or the store could not say).
@@ -59,9 +65,13 @@ pub enum Claimed {
 /// A game brought back from the store, replayed and checked.
 #[derive(Debug)]
 pub struct Restored {
+    /// The room's settings and seats as last stored.
     pub meta: RoomMeta,
+    /// The game's number in its room, from 1.
     pub number: u32,
+    /// The game's record as stored, every hash checked.
     pub record: GameRecord,
+    /// The game as the replay left it: where play resumes.
     pub game: Game,
 }
 
@@ -92,6 +102,8 @@ enum Held {
     Disconnect(ConnId),
 }
 
+/// Every connection, room and seat token of one server; run on one thread, which passes `now`
+/// with each event and carries out the outputs in order.
 pub struct Hub {
     config: HubConfig,
     /// The rooms here; a room lent out with its work is in `away` instead.
@@ -122,6 +134,7 @@ fn error(to: ConnId, code: ErrorCode, message: impl Into<String>) -> Vec<Output>
 }
 
 impl Hub {
+    /// A hub with no connections or rooms; `rng` draws room codes, seat tokens and game seeds.
     pub fn new(config: HubConfig, rng: Box<dyn Entropy>) -> Hub {
         Hub {
             config,
@@ -136,10 +149,12 @@ impl Hub {
         }
     }
 
+    /// The configuration it was made with (the driver reads `finished_retention` at start).
     pub fn config(&self) -> &HubConfig {
         &self.config
     }
 
+    /// Room `code` if it is here; `None` also while it is out running a message.
     pub fn room(&self, code: &RoomCode) -> Option<&Room> {
         self.rooms.get(code)
     }
@@ -368,6 +383,8 @@ impl Hub {
         source.conns += 1;
     }
 
+    /// A connection ended: a seated player's seat is held for the reconnect window (after the
+    /// room's held events, if it is out).
     pub fn disconnected(&mut self, now: Instant, conn: ConnId) -> Vec<Output> {
         let Some(state) = self.conns.remove(&conn) else {
             return Vec::new();
@@ -531,6 +548,8 @@ impl Hub {
         self.rooms.values().filter_map(Room::next_deadline).min()
     }
 
+    /// Runs what is due by `now` (shot clocks, forfeits at the end of a reconnect window) and drops
+    /// closed rooms, keeping their seats' results; the driver calls it at [`Hub::next_deadline`].
     pub fn tick(&mut self, now: Instant) -> Vec<Output> {
         let mut out = Vec::new();
         for room in self.rooms.values_mut() {

@@ -2,7 +2,7 @@
 //! [`room::Room`]s) driven by a thin QUIC layer, with every accepted command stored before
 //! anyone sees its result.
 
-#![warn(unreachable_pub)]
+#![warn(missing_docs, unreachable_pub)]
 
 pub mod admission;
 pub mod conn;

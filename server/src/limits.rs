@@ -8,6 +8,7 @@ use std::time::Duration;
 use breakshot_shared::protocol::limits as protocol;
 use breakshot_shared::rules::Variant;
 
+/// The server's resources and defences; the defaults are those docs/operations.md lists.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Limits {
     /// Connections open at once, counting those still in their handshake. Beyond it new

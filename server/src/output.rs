@@ -11,29 +11,53 @@ use crate::work::RoomWork;
 /// A connection, numbered by the driver.
 pub type ConnId = u64;
 
+/// One thing for the driver to do. The hub and rooms return them in lists, carried out in
+/// order.
 #[derive(Debug)]
 pub enum Output {
     /// Send one message on one connection.
-    Send { to: ConnId, msg: ServerMessage },
+    Send {
+        /// The connection; one that is gone already is skipped.
+        to: ConnId,
+        /// The message, written as one frame.
+        msg: ServerMessage,
+    },
     /// Close a connection after what was queued for it is sent.
-    Close { conn: ConnId, reason: String },
+    Close {
+        /// The connection to close (with code [`crate::conn::CLOSE_NORMAL`]).
+        conn: ConnId,
+        /// Sent to the peer as the close reason.
+        reason: String,
+    },
     /// Store durably. Every `Send` after a `Store` in the same list must wait until the
     /// store is done: that is how nothing is shown before it is safe on disk.
     Store(StoreOp),
     /// Send `to` the stored record of `room`'s latest game (or an error). The writer reads
     /// it after committing every earlier store operation, so it holds every result already
     /// sent.
-    SendRecord { to: ConnId, room: RoomCode },
+    SendRecord {
+        /// The connection that sent `FetchRecord`.
+        to: ConnId,
+        /// The room whose latest game is sent, finished or not.
+        room: RoomCode,
+    },
     /// Ask the store for the room of an unknown seat token, in a store shared with other
     /// server instances: the room may have been left by an instance that stopped. The answer
     /// goes back to [`crate::hub::Hub::claimed`]. Everything before it in the list comes first.
-    Claim { conn: ConnId, token: SeatToken },
+    Claim {
+        /// The connection rejoining; its entry waits for the answer.
+        conn: ConnId,
+        /// The seat token it sent; the store is asked only for its digest.
+        token: SeatToken,
+    },
     /// Run a message through its room away from the hub (see [`crate::work`]): carry out
     /// the outputs the work returns, then give the room back with
     /// [`crate::hub::Hub::returned`]. Everything before it in the list comes first.
     Run(RoomWork),
 }
 
+/// One durable write. The writer commits every operation of a batch in one transaction before
+/// it sends any message of that batch.
 #[derive(Debug)]
 pub enum StoreOp {
     /// A room's lasting facts: settings and who holds the seats (as token digests).
@@ -41,24 +65,35 @@ pub enum StoreOp {
     /// A game begins: its header, an encoded [`breakshot_shared::replay::GameRecord`] with
     /// no entries yet (rules, settings, seed).
     GameStarted {
+        /// The room it is played in.
         room: RoomCode,
+        /// Its number in the room, from 1; each rematch is the next.
         number: u32,
+        /// `GameRecord::encode` of the record with no entries.
         header: Vec<u8>,
     },
     /// One more command of a game: an encoded [`breakshot_shared::replay::RecordEntry`],
     /// `index` counting from 0. Appended; nothing already stored is rewritten.
     Command {
+        /// The game's room, as in its `GameStarted`.
         room: RoomCode,
+        /// The game's number in the room.
         number: u32,
+        /// The command's place in the game's record; rows are appended in this order.
         index: u32,
+        /// `RecordEntry::encode`: the command with its shot's hash.
         entry: Vec<u8>,
     },
     /// The game ended (`winner: None` for no winner, or a game abandoned before anyone
     /// could win).
     GameEnded {
+        /// The game's room.
         room: RoomCode,
+        /// The game's number in the room.
         number: u32,
+        /// Who won, if anyone.
         winner: Option<Seat>,
+        /// The readable reason, as `GameOver` gave it ("abandoned" when nobody could win).
         reason: String,
     },
     /// The room closed on this server: a store shared with other instances lets go of it.
@@ -93,17 +128,26 @@ impl StoreOp {
     }
 }
 
+/// A taken seat as the store keeps it: its token only as a digest.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct StoredSeat {
+    /// The player's name as given when taking the seat (1 to 24 characters).
     pub name: String,
+    /// SHA-256 of the seat token; a rejoin is checked against it.
     pub digest: TokenDigest,
 }
 
+/// A room's lasting facts, stored when it is created and again when seat B is taken.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RoomMeta {
+    /// The room's code: its key in every table.
     pub code: RoomCode,
+    /// The game played: a pool variant, or three-cushion with its race.
     pub variant: Variant,
+    /// The rules' settings: calls, shot clock, table.
     pub settings: Settings,
+    /// The aim-aid policy the players agreed to (honest clients enforce it).
     pub aim_aid: AimAid,
+    /// Seats A and B, in that order; `None` for a seat nobody has taken.
     pub seats: [Option<StoredSeat>; 2],
 }

@@ -9,6 +9,8 @@ use std::thread::JoinHandle;
 
 type Job = Box<dyn FnOnce() + Send>;
 
+/// Worker threads (`room-worker-N`) taking jobs from one queue; dropping it finishes the jobs
+/// already queued, then stops them.
 pub struct Pool {
     jobs: Option<Sender<Job>>,
     threads: Vec<JoinHandle<()>>,
@@ -20,6 +22,7 @@ pub fn default_threads() -> usize {
 }
 
 impl Pool {
+    /// Starts `threads` workers, at least one; a thread the system refuses to start is left out.
     pub fn new(threads: usize) -> Pool {
         let (tx, rx) = mpsc::channel::<Job>();
         let rx = Arc::new(Mutex::new(rx));
@@ -38,6 +41,7 @@ impl Pool {
         }
     }
 
+    /// Queues `job` for the next free thread; jobs start in the order they were queued.
     pub fn run(&self, job: impl FnOnce() + Send + 'static) {
         if let Some(jobs) = &self.jobs {
             // The threads only stop once `jobs` is dropped, so the send cannot fail.

@@ -2,6 +2,7 @@
 
 use std::time::{Duration, Instant};
 
+/// One token bucket; the caller passes `now`, so it never reads a clock.
 #[derive(Clone, Debug)]
 pub struct Bucket {
     burst: u32,
@@ -11,6 +12,7 @@ pub struct Bucket {
 }
 
 impl Bucket {
+    /// A full bucket: `burst` tokens, one more earned every `refill`, never more than `burst`.
     pub fn new(burst: u32, refill: Duration, now: Instant) -> Bucket {
         Bucket {
             burst,

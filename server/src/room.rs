@@ -16,6 +16,7 @@ use breakshot_shared::rules::{Command, Game, Phase, RuleError, Seat, Settings, V
 use crate::output::{ConnId, Output, RoomMeta, StoreOp, StoredSeat};
 use crate::secret::TokenDigest;
 
+/// Where `seat` sits in a room's two-seat arrays (`[A, B]`, as in [`RoomMeta::seats`]).
 pub fn index(seat: Seat) -> usize {
     match seat {
         Seat::A => 0,
@@ -23,6 +24,7 @@ pub fn index(seat: Seat) -> usize {
     }
 }
 
+/// The opponent of `seat`.
 pub fn other(seat: Seat) -> Seat {
     match seat {
         Seat::A => Seat::B,
@@ -35,7 +37,9 @@ const SEATS: [Seat; 2] = [Seat::A, Seat::B];
 /// Who sent a message to the room.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Who {
+    /// The sender's connection.
     pub conn: ConnId,
+    /// What the hub's index says it is in this room: a seat's player or a spectator.
     pub role: Role,
 }
 
@@ -58,8 +62,11 @@ enum Clock {
 /// A room's fixed choices.
 #[derive(Clone, Copy, Debug)]
 pub struct RoomRules {
+    /// The game played: a pool variant, or three-cushion with its race.
     pub variant: Variant,
+    /// The rules' settings: calls, shot clock, table.
     pub settings: Settings,
+    /// The aim-aid policy the players agreed to (honest clients enforce it).
     pub aim_aid: AimAid,
     /// How long a dropped player's seat is held.
     pub reconnect_window: Duration,
@@ -69,6 +76,8 @@ pub struct RoomRules {
     pub max_commands: usize,
 }
 
+/// One room: its seats, spectators, game and record. Owned by the hub, or by one worker while
+/// it runs a message.
 pub struct Room {
     code: RoomCode,
     rules: RoomRules,
@@ -201,10 +210,12 @@ impl Room {
         room
     }
 
+    /// The room's code: its key in the hub and in the store.
     pub fn code(&self) -> &RoomCode {
         &self.code
     }
 
+    /// The current game, as every accepted command has left it.
     pub fn game(&self) -> &Game {
         &self.game
     }
@@ -214,10 +225,13 @@ impl Room {
         self.game_number
     }
 
+    /// The current game's record: its header and every command accepted so far (the store's copy
+    /// catches up once the writer commits).
     pub fn record(&self) -> &GameRecord {
         &self.record
     }
 
+    /// Whether nobody is in the room and no seat awaits a reconnect; the hub then drops it.
     pub fn is_closed(&self) -> bool {
         self.closed
     }
@@ -229,6 +243,7 @@ impl Room {
             .filter_map(|s| self.seats[index(s)].as_ref().map(|st| (s, st.digest)))
     }
 
+    /// The room's lasting facts as the store keeps them: settings, and seats by token digest.
     pub fn meta(&self) -> RoomMeta {
         RoomMeta {
             code: self.code.clone(),

@@ -12,6 +12,7 @@ use sha2::{Digest, Sha256};
 pub struct TokenDigest(pub [u8; 32]);
 
 impl TokenDigest {
+    /// The digest kept in place of `token`, which is never stored or logged.
     pub fn of(token: &SeatToken) -> TokenDigest {
         TokenDigest(Sha256::digest(token.0).into())
     }
@@ -30,6 +31,7 @@ impl TokenDigest {
 /// Where random bytes come from: the operating system in the server, a fixed sequence in
 /// tests so that room codes and seeds are reproducible.
 pub trait Entropy: Send {
+    /// Fills all of `buf` with random bytes (they become room codes, seat tokens and seeds).
     fn fill(&mut self, buf: &mut [u8]);
 }
 
@@ -50,6 +52,7 @@ impl Entropy for OsEntropy {
 pub struct TestEntropy(SplitMix64);
 
 impl TestEntropy {
+    /// The same bytes for the same `seed` on every run and platform.
     pub fn new(seed: u64) -> TestEntropy {
         TestEntropy(SplitMix64::new(seed))
     }
@@ -64,12 +67,14 @@ impl Entropy for TestEntropy {
     }
 }
 
+/// A fresh 128-bit seat token; only the player who takes the seat is sent it.
 pub fn new_token(rng: &mut dyn Entropy) -> SeatToken {
     let mut t = [0u8; 16];
     rng.fill(&mut t);
     SeatToken(t)
 }
 
+/// A fresh game seed: it draws the racks, and is recorded, so a replay needs no randomness.
 pub fn new_seed(rng: &mut dyn Entropy) -> u64 {
     let mut b = [0u8; 8];
     rng.fill(&mut b);

@@ -48,13 +48,16 @@ use crate::stats::Stats;
 use crate::store::{Claim, EndedGame, Location, Store, StoreError, StoredGame};
 use crate::tls::{Identity, TlsError};
 
+/// How to start a server; [`Config::new`] gives the defaults that the binary's flags change.
 #[derive(Clone, Debug)]
 pub struct Config {
+    /// The UDP address to listen on (port 0: any free port, see [`Server::local_addr`]).
     pub bind: SocketAddr,
     /// The certificate's directory, and the SQLite store's unless `store` says otherwise.
     pub data: PathBuf,
     /// Where the games are kept: SQLite in `data` by default.
     pub store: Location,
+    /// The server's resources and defences (docs/operations.md, *Limits*).
     pub limits: Limits,
     /// Tests only: draw room codes, seat tokens and game seeds from this seed instead of the
     /// operating system, so a test's games are the same on every run. Never set in service:
@@ -79,6 +82,8 @@ impl std::fmt::Debug for RoomHook {
 }
 
 impl Config {
+    /// A server on `bind` with everything in `data`: the SQLite store, default limits, the
+    /// system's randomness and one room thread per core (at least two).
     pub fn new(bind: SocketAddr, data: PathBuf) -> Config {
         Config {
             bind,
@@ -92,25 +97,37 @@ impl Config {
     }
 }
 
+/// Why a server could not start, or stopped.
 #[derive(Debug, Error)]
 pub enum ServerError {
+    /// The data directory cannot be created.
     #[error("data directory {path}: {source}")]
     DataDir {
+        /// The directory, as given.
         path: String,
+        /// The system's error.
         source: std::io::Error,
     },
+    /// The identity (certificate, key, reset secret) cannot be loaded, made or used.
     #[error("{0}")]
     Tls(#[from] TlsError),
+    /// The store cannot be opened, migrated or read back at start.
     #[error("store: {0}")]
     Store(#[from] StoreError),
     // The io error is the source: printing it here too would say it twice in a chain.
+    /// The UDP socket cannot be bound (the address is in use, or not this machine's).
     #[error("binding {addr}")]
     Bind {
+        /// The address asked for.
         addr: SocketAddr,
+        /// The system's error.
         source: std::io::Error,
     },
+    /// This build cannot simulate its reference shot, so it cannot check clients' physics.
     #[error("the reference shot does not simulate: {0}")]
     Physics(String),
+    /// A store write failed, so the server stopped without sending the unstored results; fix the
+    /// store and start it again (the games are kept as last committed).
     #[error("a storage write failed, so the server stopped: {0}")]
     StorageFailed(String),
 }
@@ -198,6 +215,7 @@ impl Server {
         self.stats.clone()
     }
 
+    /// The address bound, with the port the system chose if `bind` asked for port 0.
     pub fn local_addr(&self) -> SocketAddr {
         // The endpoint was bound to a real socket in `bind`.
         self.endpoint
@@ -205,6 +223,7 @@ impl Server {
             .unwrap_or_else(|_| SocketAddr::from(([0, 0, 0, 0], 0)))
     }
 
+    /// SHA-256 of the server's certificate, as every invite carries it.
     pub fn fingerprint(&self) -> Fingerprint {
         self.fingerprint
     }

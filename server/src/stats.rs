@@ -5,6 +5,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use crate::timing::Histogram;
 
+/// Live counters of a running server, shared by its threads ([`crate::Server::stats`]).
 #[derive(Debug, Default)]
 pub struct Stats {
     /// Connections open, counting those still in their handshake.
@@ -33,6 +34,7 @@ pub struct Stats {
 }
 
 impl Stats {
+    /// Reads one counter: a recent value, not synchronised with the others.
     pub fn get(counter: &AtomicUsize) -> usize {
         counter.load(Ordering::Relaxed)
     }

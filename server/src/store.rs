@@ -29,24 +29,46 @@ mod sqlite;
 
 pub use sqlite::DB_FILE;
 
+/// Why the store failed. On a write the server stops without sending the unstored results.
 #[derive(Debug, Error)]
 pub enum StoreError {
+    /// SQLite failed (for `verify --data`, also: the directory holds no store).
     #[error("database: {0}")]
     Sql(#[from] rusqlite::Error),
+    /// PostgreSQL failed, or the connection to it was lost.
     #[error("PostgreSQL: {0}")]
     Postgres(#[from] ::postgres::Error),
+    /// A room's stored settings do not decode (or cannot be encoded).
     #[error("room {room}: stored settings are unreadable: {why}")]
-    Meta { room: String, why: String },
+    Meta {
+        /// The room's code.
+        room: String,
+        /// The decoder's (or encoder's) message.
+        why: String,
+    },
+    /// A game's header or command rows do not make a record.
     #[error("room {room} game {number}: {why}")]
     Record {
+        /// The room's code.
         room: String,
+        /// The game's number in the room.
         number: u32,
+        /// What is wrong with the record.
         why: RecordError,
     },
+    /// The store was made or upgraded by a newer server: run that build (or a newer one).
     #[error("the store's schema version {found} is newer than this build's ({known})")]
-    Schema { found: i64, known: i64 },
+    Schema {
+        /// The store's schema version.
+        found: i64,
+        /// The newest version this build knows.
+        known: i64,
+    },
+    /// A `--store` argument that is not a PostgreSQL URL.
     #[error("{0}")]
     Location(String),
+    /// A write for a room whose lock another instance holds (two drew one code, say): refused, so
+    /// two instances never both store a command of one room.
     #[error("room {0} is owned by another server instance")]
     OwnedElsewhere(String),
 }
@@ -90,19 +112,26 @@ impl Location {
 /// One stored game with its room.
 #[derive(Debug)]
 pub struct StoredGame {
+    /// The room as last stored.
     pub meta: RoomMeta,
+    /// The game's number in its room, from 1.
     pub number: u32,
     /// The record assembled from the header and the command rows (or why it cannot be).
     pub record: Result<GameRecord, RecordError>,
+    /// Whether the game's end is stored (a result, or abandoned).
     pub finished: bool,
 }
 
 /// A stored game that is over, with its room.
 #[derive(Clone, Debug)]
 pub struct EndedGame {
+    /// The room as last stored: whose seats are told the result.
     pub meta: RoomMeta,
+    /// The game's number in its room, from 1.
     pub number: u32,
+    /// `None` if nobody won (also for a game abandoned before anyone could win).
     pub winner: Option<Seat>,
+    /// The readable reason, as `GameOver` gave it.
     pub reason: String,
     /// When the store recorded the end (seconds since the Unix epoch).
     pub at: u64,
@@ -115,6 +144,8 @@ pub fn unix_now() -> u64 {
         .map_or(0, |d| d.as_secs())
 }
 
+/// The game store on one of its backends. Every call blocks: the server uses it from its
+/// writer thread (and at start, from a thread of its own).
 pub struct Store(Backend);
 
 enum Backend {
@@ -137,6 +168,7 @@ impl Store {
         ))))
     }
 
+    /// Opens the store `location` names, as [`Store::open`] or [`Store::connect`] does.
     pub fn at(location: &Location) -> Result<Store, StoreError> {
         match location {
             Location::Sqlite(dir) => Store::open(dir),

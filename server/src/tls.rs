@@ -13,7 +13,11 @@ use rustls::pki_types::{CertificateDer, PrivateKeyDer, PrivatePkcs8KeyDer};
 use sha2::{Digest, Sha256};
 use thiserror::Error;
 
+/// The certificate (DER) in the data directory; if it is lost, a new one is made and every
+/// earlier invite stops working.
 pub const CERT_FILE: &str = "cert.der";
+/// The certificate's private key (PKCS#8 DER), mode 0600: whoever has it can impersonate the
+/// server.
 pub const KEY_FILE: &str = "key.der";
 /// The secret behind QUIC stateless resets, kept so that a restarted server can tell the
 /// clients of its previous run at once that their connections are gone (instead of leaving
@@ -25,23 +29,33 @@ pub const KEEP_ALIVE: Duration = Duration::from_secs(5);
 /// A peer silent this long is gone.
 pub const IDLE_TIMEOUT: Duration = Duration::from_secs(30);
 
+/// Why the server's identity could not be loaded, made or used.
 #[derive(Debug, Error)]
 pub enum TlsError {
+    /// A file of the identity in the data directory could not be read or written.
     #[error("{path}: {source}")]
     Io {
+        /// The file.
         path: String,
+        /// The system's error.
         source: std::io::Error,
     },
+    /// The self-signed certificate could not be made.
     #[error("making the certificate: {0}")]
     Generate(#[from] rcgen::Error),
+    /// rustls refused the certificate or key (a damaged `cert.der` or `key.der`, say).
     #[error("TLS: {0}")]
     Rustls(#[from] rustls::Error),
+    /// quinn refused the TLS or transport configuration.
     #[error("QUIC TLS: {0}")]
     Quic(String),
 }
 
+/// The server's certificate and key, as kept in [`CERT_FILE`] and [`KEY_FILE`].
 pub struct Identity {
+    /// The self-signed certificate; its SHA-256 is the fingerprint.
     pub cert: CertificateDer<'static>,
+    /// The certificate's private key (PKCS#8), as secret as the server itself.
     pub key: PrivatePkcs8KeyDer<'static>,
 }
 
@@ -77,6 +91,7 @@ impl Identity {
         })
     }
 
+    /// SHA-256 of the certificate: what invites carry and clients pin.
     pub fn fingerprint(&self) -> Fingerprint {
         fingerprint_of(&self.cert)
     }
@@ -135,6 +150,7 @@ pub fn reset_key(dir: &Path) -> Result<[u8; 32], TlsError> {
     Ok(key)
 }
 
+/// SHA-256 of a certificate's DER bytes, the fingerprint clients compare with the invite's.
 pub fn fingerprint_of(cert: &CertificateDer<'_>) -> Fingerprint {
     Fingerprint(Sha256::digest(cert.as_ref()).into())
 }

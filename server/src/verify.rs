@@ -9,9 +9,13 @@ use crate::store::{Location, Store, StoreError, DB_FILE};
 /// The verdict on one stored game.
 #[derive(Debug)]
 pub struct GameCheck {
+    /// The room's code.
     pub room: RoomCode,
+    /// The game's number in its room, from 1.
     pub number: u32,
+    /// Commands in its record (0 if the record is unreadable).
     pub commands: usize,
+    /// Whether the game's end is stored.
     pub finished: bool,
     /// `Err` names the first command whose replay differs (or why the record is unreadable).
     pub result: Result<(), String>,

@@ -33,6 +33,7 @@ impl RoomWork {
         }
     }
 
+    /// The code of the room out on this work (for the tests' hook, and the log if it panics).
     pub fn room(&self) -> &RoomCode {
         self.room.code()
     }

@@ -13,6 +13,7 @@ use super::{
 };
 use crate::output::StoreOp;
 
+/// The SQLite store's file in the data directory (with its `-wal` and `-shm` files while open).
 pub const DB_FILE: &str = "games.sqlite3";
 
 /// The schema this build writes (`PRAGMA user_version`). Version 1 (no version set) kept
