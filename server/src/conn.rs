@@ -212,7 +212,7 @@ enum ReadEnd {
 }
 
 /// Reads one message. Waiting for a frame to start is unlimited (a player may think), but
-/// once its length has arrived the rest must follow within `frame_timeout`.
+/// once its first byte has arrived the rest must follow within `frame_timeout`.
 async fn read_message(
     recv: &mut quinn::RecvStream,
     frame_timeout: Duration,

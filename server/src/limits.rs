@@ -28,7 +28,7 @@ pub struct Limits {
     pub handshake_timeout: Duration,
     /// How long a connected client has to open its stream.
     pub open_timeout: Duration,
-    /// How long the rest of a frame may take once its length has arrived: a client that
+    /// How long the rest of a frame may take once its first byte has arrived: a client that
     /// sends half a frame and stalls is closed.
     pub frame_timeout: Duration,
     /// Messages queued for one client that it has not taken yet. A client that stops reading

@@ -22,22 +22,32 @@ pub fn default_threads() -> usize {
 }
 
 impl Pool {
-    /// Starts `threads` workers, at least one; a thread the system refuses to start is left out.
-    pub fn new(threads: usize) -> Pool {
+    /// Starts `threads` workers, at least one. A thread the system refuses to start is left
+    /// out with a warning; if none starts, rooms could never run, so that is an error.
+    pub fn new(threads: usize) -> std::io::Result<Pool> {
         let (tx, rx) = mpsc::channel::<Job>();
         let rx = Arc::new(Mutex::new(rx));
-        let threads = (0..threads.max(1))
-            .map(|i| {
-                let rx = rx.clone();
-                std::thread::Builder::new()
-                    .name(format!("room-worker-{i}"))
-                    .spawn(move || work(&rx))
-            })
-            .filter_map(Result::ok)
-            .collect();
-        Pool {
-            jobs: Some(tx),
-            threads,
+        let mut started = Vec::new();
+        let mut refused = None;
+        for i in 0..threads.max(1) {
+            let rx = rx.clone();
+            match std::thread::Builder::new()
+                .name(format!("room-worker-{i}"))
+                .spawn(move || work(&rx))
+            {
+                Ok(t) => started.push(t),
+                Err(e) => {
+                    tracing::warn!(error = %e, "a room worker thread did not start");
+                    refused = Some(e);
+                }
+            }
+        }
+        match (started.is_empty(), refused) {
+            (true, Some(e)) => Err(e),
+            _ => Ok(Pool {
+                jobs: Some(tx),
+                threads: started,
+            }),
         }
     }
 
@@ -81,7 +91,7 @@ mod tests {
 
     #[test]
     fn a_job_that_does_not_finish_does_not_stop_the_next() {
-        let pool = Pool::new(2);
+        let pool = Pool::new(2).expect("threads");
         let (release_tx, release_rx) = mpsc::channel::<()>();
         let (events_tx, events_rx) = mpsc::channel::<&str>();
         let events = events_tx.clone();
@@ -102,7 +112,7 @@ mod tests {
     #[test]
     fn dropping_the_pool_finishes_the_queued_jobs() {
         let (tx, rx) = mpsc::channel();
-        let pool = Pool::new(1);
+        let pool = Pool::new(1).expect("a thread");
         for i in 0..5 {
             let tx = tx.clone();
             pool.run(move || tx.send(i).unwrap());

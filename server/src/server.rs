@@ -123,6 +123,9 @@ pub enum ServerError {
         /// The system's error.
         source: std::io::Error,
     },
+    /// Not one thread to run rooms on could be started.
+    #[error("cannot start the room worker threads: {0}")]
+    Threads(std::io::Error),
     /// This build cannot simulate its reference shot, so it cannot check clients' physics.
     #[error("the reference shot does not simulate: {0}")]
     Physics(String),
@@ -266,7 +269,7 @@ impl Server {
             hub_tx.clone(),
             writer_tx.clone(),
             Workers {
-                pool: Pool::new(room_threads),
+                pool: Pool::new(room_threads).map_err(ServerError::Threads)?,
                 hook: before_room_work,
             },
             stats.clone(),
