@@ -1,7 +1,7 @@
 //! Breakshot's shared core: the physics engine, scenes, and the state hash. Pure and
 //! deterministic: no I/O, no clock, no threads.
 
-#![warn(unreachable_pub)]
+#![warn(missing_docs, unreachable_pub)]
 
 pub mod ai;
 pub mod hash;

@@ -32,7 +32,9 @@ pub const MAX_RECORD_BYTES: usize = 1 << 22;
 /// One applied command.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RecordEntry {
+    /// The seat the command was applied for.
     pub seat: Seat,
+    /// The command as applied (a shot's aim normalised).
     pub command: Command,
     /// The state hash of the shot the command played (`ShotReport::hash`), `None` for
     /// commands that play no shot.
@@ -42,22 +44,32 @@ pub struct RecordEntry {
 /// A whole game.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct GameRecord {
+    /// The format version, first in the encoding; [`RECORD_VERSION`] once decoded.
     pub version: u32,
+    /// The game played.
     pub variant: Variant,
+    /// The game's settings, as [`Game::settings`] gives them.
     pub settings: Settings,
+    /// The rack seed the game started from ([`Game::seed`]).
     pub seed: u64,
+    /// Every applied command, in order.
     pub entries: Vec<RecordEntry>,
 }
 
 /// Why bytes are not a record.
 #[derive(Clone, Debug, PartialEq, Eq, Error)]
 pub enum RecordError {
+    /// More than [`MAX_RECORD_BYTES`] bytes.
     #[error("record is larger than {MAX_RECORD_BYTES} bytes")]
     TooLarge,
+    /// A format version this build does not read (outside
+    /// [`OLDEST_RECORD_VERSION`]..=[`RECORD_VERSION`]).
     #[error("record format version {0} is not supported (this build reads {OLDEST_RECORD_VERSION} to {RECORD_VERSION})")]
     Version(u32),
+    /// bincode could not decode the bytes; holds its error.
     #[error("record is malformed: {0}")]
     Malformed(String),
+    /// This many bytes follow the end of the record.
     #[error("record has {0} unexpected bytes after its end")]
     TrailingBytes(usize),
 }
@@ -65,19 +77,29 @@ pub enum RecordError {
 /// Why a record does not replay.
 #[derive(Clone, Debug, PartialEq, Eq, Error)]
 pub enum ReplayError {
+    /// The record is not in the current format (decode it with [`GameRecord::decode`]).
     #[error("record format version {0} is not supported (this build reads {RECORD_VERSION})")]
     Version(u32),
+    /// The rules refused a recorded command.
     #[error("entry {entry} ({seat:?}): the rules refuse the command: {error}")]
     Rejected {
+        /// The entry's index, from 0.
         entry: usize,
+        /// The seat it was recorded for.
         seat: Seat,
+        /// Why the rules refused it.
         error: RuleError,
     },
+    /// A command replayed to a different shot hash than recorded (or played a shot where
+    /// none was recorded, or none where one was): the physics or the rules differ.
     #[error("entry {entry}: the state hash differs (recorded {}, replayed {})",
         show(*.recorded), show(*.replayed))]
     HashMismatch {
+        /// The entry's index, from 0.
         entry: usize,
+        /// The hash in the record; `None` for a command that played no shot.
         recorded: Option<u64>,
+        /// The hash the replay gave; `None` if it played no shot.
         replayed: Option<u64>,
     },
 }
@@ -179,6 +201,7 @@ impl GameRecord {
         });
     }
 
+    /// The record in its encoding, its version first ([`GameRecord::decode`] reads it back).
     pub fn encode(&self) -> Vec<u8> {
         // Encoding into a Vec only fails for types serde cannot express in bincode, which
         // these are not; an empty result would then be refused by `decode`.

@@ -14,21 +14,30 @@ pub const RESULT_VERSION: u32 = 1;
 /// Most ball states `--sample` may produce (samples × balls).
 pub const MAX_SAMPLES: usize = 1_000_000;
 
+/// A scene as read from a scene file: the table, the physics, the balls at t = 0 and an
+/// optional strike (docs/scene.md).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, try_from = "RawScene")]
 pub struct Scene {
+    /// The table played on; `"9ft"` if not given.
     #[serde(default)]
     pub table: TableKind,
     /// The table's default parameters ([`Params::for_table`]) with the scene's overrides.
     #[serde(default)]
     pub physics: Params,
+    /// Which ball–ball and cushion models the engine uses.
     #[serde(default)]
     pub models: Models,
+    /// Effects switched on or off; all those the table has are on by default.
     #[serde(default)]
     pub effects: Effects,
+    /// Stop simulating at this time (s) even if balls still move; required when nothing can
+    /// stop them (every friction off).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub horizon: Option<f64>,
+    /// The balls at t = 0, ids unique.
     pub balls: Vec<SceneBall>,
+    /// A cue strike on one ball at t = 0, if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub strike: Option<SceneStrike>,
 }
@@ -76,26 +85,37 @@ impl TryFrom<RawScene> for Scene {
     }
 }
 
+/// A ball of a scene at t = 0.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneBall {
+    /// The ball's name in the result and in `strike.ball`; unique and not empty.
     pub id: String,
+    /// Centre on the cloth (m, scene coordinates: origin at a corner of the playing surface).
     pub pos: [f64; 2],
+    /// Velocity of the centre (m/s); zero if not given.
     #[serde(default)]
     pub vel: [f64; 2],
+    /// Angular velocity (rad/s) in the table frame; zero if not given.
     #[serde(default)]
     pub spin: [f64; 3],
 }
 
+/// A cue strike in a scene: exactly one of `dir` and `angle_deg` gives the aim.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneStrike {
+    /// The `id` of the ball struck.
     pub ball: String,
+    /// Cue stick speed (m/s), not the ball's: 0 to 15.
     pub speed: f64,
+    /// Aim direction in the table plane, of any non-zero length.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dir: Option<[f64; 2]>,
+    /// Aim in degrees from +x (90 = +y).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub angle_deg: Option<f64>,
+    /// Tip offset `[side, height]` in units of R, within 0.5 R of the centre; centre if not given.
     #[serde(default)]
     pub tip: [f64; 2],
     /// Cue elevation in degrees (0 level, 90 straight down).
@@ -120,6 +140,7 @@ impl Scene {
         Ok(scene)
     }
 
+    /// The scene as pretty-printed JSON that [`Scene::from_json`] reads back.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_default()
     }
@@ -324,52 +345,85 @@ fn height(s: &BallState, shot: &Shot) -> Option<f64> {
     (s.motion == MotionState::Airborne).then_some(shot.params.ball_radius + s.lift)
 }
 
+/// What `breakshot-sim run` prints: the events, the final table and its state hash.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SceneResult {
+    /// The result format's version, [`RESULT_VERSION`].
     pub version: u32,
+    /// Every event of the shot, in time order.
     pub events: Vec<ResultEvent>,
+    /// The final state of every ball, in the scene's order.
     pub balls: Vec<ResultBall>,
+    /// When the last ball stopped, or the horizon (s).
     pub duration: f64,
+    /// The state hash of the final table as 16 hexadecimal digits; equal on every machine for
+    /// equal inputs.
     pub hash: String,
+    /// The balls every `--sample` seconds from t = 0 to `duration`; `None` without `--sample`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub samples: Option<Vec<Sample>>,
 }
 
+/// One event of a result.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ResultEvent {
+    /// When it happened (s after the strike).
     pub t: f64,
+    /// The contract's name for it: `strike`, `ball_ball`, `sliding_to_rolling`, ...
     pub kind: String,
+    /// The ids of the balls involved (one, or two for `ball_ball`).
     pub balls: Vec<String>,
 }
 
+/// A ball at the end of the shot.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ResultBall {
+    /// The ball's id in the scene.
     pub id: String,
+    /// Centre on the cloth (m, scene coordinates); for a pocketed ball, where it entered the
+    /// pocket's capture circle.
     pub pos: [f64; 2],
     /// Height of the centre above the cloth, for a ball in flight only.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub z: Option<f64>,
+    /// Velocity of the centre (m/s).
     pub vel: [f64; 2],
+    /// Angular velocity (rad/s) in the table frame.
     pub spin: [f64; 3],
+    /// A motion state (`stationary`, `spinning`, `sliding`, `rolling`, `airborne`), or
+    /// `pocketed` or `off_table`.
     pub state: String,
+    /// When the ball came to rest, was pocketed or left the table (s); `None` if it still
+    /// moved at the horizon.
     pub rest_time: Option<f64>,
+    /// The name of the pocket it fell in (`lb`, `lc`, `lt`, `rb`, `rc`, `rt`); `None` if not
+    /// pocketed.
     pub pocket: Option<String>,
 }
 
+/// The table at one time, from the exact motion, not stepped.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Sample {
+    /// Time of the sample (s).
     pub t: f64,
+    /// Every ball at that time, in the scene's order.
     pub balls: Vec<SampleBall>,
 }
 
+/// One ball in a sample.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SampleBall {
+    /// The ball's id in the scene.
     pub id: String,
+    /// Centre on the cloth (m, scene coordinates).
     pub pos: [f64; 2],
     /// Height of the centre above the cloth, for a ball in flight only.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub z: Option<f64>,
+    /// Velocity of the centre (m/s).
     pub vel: [f64; 2],
+    /// Angular velocity (rad/s) in the table frame.
     pub spin: [f64; 3],
+    /// The ball's motion state at that time, or `pocketed` or `off_table`.
     pub state: String,
 }

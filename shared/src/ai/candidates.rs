@@ -18,11 +18,17 @@ use crate::physics::Strike;
 /// What a candidate is, for reports and for ordering ties.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Kind {
+    /// The cue ball sends an object ball directly into a pocket.
     Pot,
+    /// The object ball goes into the pocket off a rail.
     Bank,
+    /// A legal ball is played into a pottable one near it.
     Combination,
+    /// The cue ball reaches a legal ball off one rail.
     Kick,
+    /// A contact meant to leave the opponent nothing rather than to pot.
     Safety,
+    /// A break: the head ball hit full or slightly off, at 7 to 11 m/s.
     Break,
     /// A three-cushion stroke.
     Carom,
@@ -48,9 +54,13 @@ pub struct Breadth {
     pub speeds: usize,
     /// Also try side spin.
     pub side: bool,
+    /// Also try banks.
     pub banks: bool,
+    /// Also try combinations.
     pub combinations: bool,
+    /// Also try one-rail kicks (tried anyway when nothing else reaches a legal ball).
     pub kicks: bool,
+    /// Also try safeties.
     pub safeties: bool,
     /// Aim corrections by trial shots per candidate.
     pub corrections: usize,

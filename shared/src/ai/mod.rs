@@ -53,7 +53,9 @@ use noise::mix;
 pub struct Level(u8);
 
 impl Level {
+    /// The weakest level, a beginner.
     pub const MIN: u8 = 1;
+    /// The strongest level.
     pub const MAX: u8 = 5;
 
     /// `n` clamped into 1..=5.
@@ -61,6 +63,7 @@ impl Level {
         Level(n.clamp(Self::MIN, Self::MAX))
     }
 
+    /// The level as a number, 1 to 5.
     pub fn number(self) -> u8 {
         self.0
     }
@@ -132,9 +135,13 @@ impl Level {
 /// A search's settings: a level, or a custom noise and budget (for studies).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Player {
+    /// How far the player's strikes stray from the ones it means.
     pub noise: Noise,
+    /// Which candidates it looks at.
     pub breadth: Breadth,
+    /// How many trials it gives them.
     pub schedule: Schedule,
+    /// Spots tried for a ball in hand (0 counts as 1).
     pub placements: usize,
 }
 

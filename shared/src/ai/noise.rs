@@ -26,10 +26,12 @@ pub const TIP_SIGMA_M: f64 = 0.0005;
 pub struct Rng(SplitMix64);
 
 impl Rng {
+    /// A source that starts from `seed`; equal seeds give equal sequences.
     pub fn new(seed: u64) -> Rng {
         Rng(SplitMix64::new(seed))
     }
 
+    /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
         self.0.next_u64()
     }

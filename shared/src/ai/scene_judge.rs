@@ -14,9 +14,11 @@ use crate::rules::facts::ShotFacts;
 /// What `suggest` found.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Suggestion {
+    /// The strike on the cue ball [`suggest`] was asked about.
     pub strike: Strike,
     /// Share of the trials under the level's noise that succeeded.
     pub p_success: f64,
+    /// What the search took the shot for (a pot, a bank, a safety, ...).
     pub kind: Kind,
 }
 

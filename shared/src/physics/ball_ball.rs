@@ -57,7 +57,9 @@ pub fn collision_time(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -
 /// Velocity and spin of one ball going into or out of a collision.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Kinematics {
+    /// Horizontal velocity of the centre (m/s).
     pub vel: DVec2,
+    /// Angular velocity (rad/s) in the table frame.
     pub spin: DVec3,
 }
 

@@ -60,20 +60,27 @@ pub struct Strike {
 /// What the cue gives the ball: the horizontal and vertical velocity and the spin.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Launch {
+    /// Horizontal velocity (m/s): along the aim, turned by the squirt.
     pub vel: DVec2,
     /// Vertical velocity (m/s), negative: into the slate (zero for a level cue).
     pub vz: f64,
+    /// Angular velocity (rad/s) in the table frame.
     pub spin: DVec3,
 }
 
+/// Why a strike is refused.
 #[derive(Clone, Copy, Debug, Error, PartialEq)]
 pub enum StrikeError {
+    /// The speed is not finite or not within 0 to [`MAX_CUE_SPEED`].
     #[error("strike.speed must be a finite number between 0 and {MAX_CUE_SPEED} m/s")]
     Speed,
+    /// The aim direction is zero or not finite.
     #[error("strike.dir must be a finite, non-zero direction")]
     Direction,
+    /// The tip lies beyond [`MISCUE_LIMIT`] from the centre, or is not finite.
     #[error("strike.tip must be finite and within {MISCUE_LIMIT} R of the centre (miscue)")]
     Miscue,
+    /// The elevation is not within 0 to [`MAX_ELEVATION_DEG`] degrees.
     #[error("strike.elevation_deg must be a finite number from 0 to {MAX_ELEVATION_DEG}")]
     Elevation,
 }

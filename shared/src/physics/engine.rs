@@ -46,6 +46,7 @@ pub const NEAR_TIME: f64 = 1e-6;
 /// a sustained push): bounced, it would come back in ever shorter hops. A held set met
 /// slower than `PERSIST_SPEED` answers as one body.
 pub const PERSIST_TIME: f64 = 0.5;
+/// The approach speed (m/s) of the persistence rule: see [`PERSIST_TIME`].
 pub const PERSIST_SPEED: f64 = 0.05;
 /// Overlap between two balls (m) that a shot may start with: rounding, not a real overlap.
 pub const OVERLAP_TOLERANCE: f64 = 1e-9;
@@ -55,11 +56,15 @@ pub const MAX_BALLS: usize = 128;
 /// Everything that defines a shot.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shot {
+    /// The table played on; its pockets are left out when `effects.pockets` is off.
     pub table: TableKind,
+    /// The physical parameters (radius, mass, friction, restitution, ...).
     pub params: Params,
+    /// Which ball–ball and cushion models resolve the impacts.
     pub models: Models,
+    /// The effects simulated; an effect that is off costs nothing.
     pub effects: Effects,
-    /// Stop at this time even if balls still move.
+    /// Stop at this time (s) even if balls still move.
     pub horizon: Option<f64>,
     /// Balls in scene coordinates (origin at a corner of the playing surface).
     pub balls: Vec<BallState>,
@@ -93,26 +98,55 @@ impl Shot {
 /// Why a shot cannot be simulated. Ball numbers are indices into [`Shot::balls`].
 #[derive(Clone, Debug, Error, PartialEq)]
 pub enum ShotError {
+    /// A physical parameter is out of range; the text names it.
     #[error("{0}")]
     Params(String),
+    /// A ball's position, velocity or spin holds a NaN or an infinity.
     #[error("ball {ball}: {field} must be finite numbers")]
-    NotFinite { ball: usize, field: &'static str },
+    NotFinite {
+        /// The ball at fault.
+        ball: usize,
+        /// Which of its fields: `pos`, `vel` or `spin`.
+        field: &'static str,
+    },
+    /// Two balls on the table overlap by more than [`OVERLAP_TOLERANCE`].
     #[error("balls {a} and {b} overlap")]
-    Overlap { a: usize, b: usize },
+    Overlap {
+        /// The lower-numbered ball of the pair.
+        a: usize,
+        /// The higher-numbered ball of the pair.
+        b: usize,
+    },
+    /// A ball's height or vertical velocity is not finite, its height is negative, or it is in
+    /// flight with the `airborne` effect off.
     #[error("ball {ball}: lift must be a finite height, not negative, and zero (with vz) when the airborne effect is off")]
-    Lift { ball: usize },
+    Lift {
+        /// The ball at fault.
+        ball: usize,
+    },
+    /// A ball's centre is where no ball can rest: off the bed, into a cushion nose, or inside
+    /// a pocket's capture circle.
     #[error("ball {ball} is not on the playing surface")]
-    OffTable { ball: usize },
+    OffTable {
+        /// The ball at fault.
+        ball: usize,
+    },
+    /// No horizon, and a friction is off, so the balls might never come to rest.
     #[error("horizon is required when slide_friction, roll_friction or spin_friction is off")]
     HorizonRequired,
+    /// The horizon is not a positive finite number of seconds.
     #[error("horizon must be a positive finite number of seconds")]
     Horizon,
+    /// The strike names a ball index out of range, or a ball pocketed or off the table.
     #[error("strike.ball names no ball on the table")]
     StrikeBall,
+    /// The strike itself is refused (speed, aim, tip or elevation).
     #[error("{0}")]
     Strike(#[from] StrikeError),
+    /// More than [`MAX_BALLS`] balls.
     #[error("a shot has at most {MAX_BALLS} balls")]
     TooManyBalls,
+    /// The simulation passed [`MAX_EVENTS`] events and was stopped.
     #[error("the shot exceeded {MAX_EVENTS} events")]
     EventLimit,
 }
@@ -266,6 +300,7 @@ struct Ctx<'a> {
 }
 
 impl Simulator {
+    /// A simulator with empty buffers; they grow to fit the shots it runs.
     pub fn new() -> Self {
         Self::default()
     }

@@ -34,10 +34,15 @@ pub const REST_EPS: f64 = 1e-12;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum MotionState {
+    /// At rest on the cloth: no velocity, no spin.
     Stationary,
+    /// The centre at rest, the ball turning about the vertical only.
     Spinning,
+    /// Moving with its contact point slipping on the cloth: sliding friction acts.
     Sliding,
+    /// Moving with no slip at the cloth (`v = R·(ω × ẑ)`): rolling resistance acts.
     Rolling,
+    /// Fell into a pocket; it stays there for the rest of the shot.
     Pocketed,
     /// In flight above the cloth.
     Airborne,
@@ -46,6 +51,8 @@ pub enum MotionState {
 }
 
 impl MotionState {
+    /// The name scenes and results give the state; a transition event joins two
+    /// (`sliding_to_rolling`).
     pub fn name(self) -> &'static str {
         match self {
             MotionState::Stationary => "stationary",
@@ -75,9 +82,14 @@ impl MotionState {
 /// Position, velocity and spin of one ball at one instant.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BallState {
+    /// Centre on the cloth (m): scene coordinates in a [`super::Shot`] and its results,
+    /// centred ones inside the engine.
     pub pos: DVec2,
+    /// Horizontal velocity of the centre (m/s).
     pub vel: DVec2,
+    /// Angular velocity (rad/s) in the table frame: rolling along +y at `v` is `[-v/R, 0, 0]`.
     pub spin: DVec3,
+    /// The motion state, which decides the closed form that carries the ball on.
     pub motion: MotionState,
     /// The pocket the ball fell into, if it did (index into the table's pockets).
     pub pocket: Option<u8>,
@@ -172,6 +184,7 @@ impl BallState {
 /// The constants of the motion model, with effects that are off already zeroed.
 #[derive(Clone, Copy, Debug)]
 pub struct MotionModel {
+    /// Ball radius R (m).
     pub radius: f64,
     /// μs·g, or 0 without sliding friction.
     slide_decel: f64,
@@ -184,6 +197,7 @@ pub struct MotionModel {
 }
 
 impl MotionModel {
+    /// The model for `params`, with the frictions `effects` switches off set to zero.
     pub fn new(params: &Params, effects: &Effects) -> Self {
         let on = |flag: bool, value: f64| if flag { value } else { 0.0 };
         MotionModel {
@@ -203,7 +217,9 @@ impl MotionModel {
 /// until `t_end`, when its motion state changes by itself.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Piece {
+    /// When the piece starts (s after the strike).
     pub t0: f64,
+    /// The ball's state at `t0`, already classified.
     pub start: BallState,
     /// Acceleration of the centre (m/s²).
     pub acc: DVec2,

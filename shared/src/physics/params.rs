@@ -19,8 +19,17 @@ const CAROM_F_CUSHION: f64 = 0.292;
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
 pub enum BallFriction {
+    /// The same μ at every speed (a scene writes a plain number).
     Constant(f64),
-    SpeedDependent { a: f64, b: f64, c: f64 },
+    /// μ = a + b·exp(−c·v_rel), written `{"a", "b", "c"}`.
+    SpeedDependent {
+        /// The limit of μ at high speed.
+        a: f64,
+        /// How much more μ is at zero relative speed.
+        b: f64,
+        /// How fast the extra friction fades (s/m).
+        c: f64,
+    },
 }
 
 impl BallFriction {
@@ -227,11 +236,17 @@ impl Params {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Effects {
+    /// Sliding balls lose slip to the cloth; when off they keep their velocity and spin.
     pub slide_friction: bool,
+    /// Rolling balls slow down; when off they roll on for ever.
     pub roll_friction: bool,
+    /// Spin about the vertical decays; when off it lasts.
     pub spin_friction: bool,
+    /// Ball–ball contacts transfer a tangential impulse (throw, spin transfer).
     pub ball_friction: bool,
+    /// The rails stop balls; when off, balls are not stopped by them.
     pub cushions: bool,
+    /// Balls fall into pockets; when off the rails run unbroken, as on a carom table.
     pub pockets: bool,
     /// Balls leave the cloth: an elevated strike drives the ball into the slate and it may
     /// bounce up; when off, the slate takes the vertical part of every impulse.
@@ -305,6 +320,8 @@ pub enum CushionModel {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Models {
+    /// How two balls collide; frictional by default.
     pub ball_ball: BallBallModel,
+    /// How a ball bounces off a rail or a jaw; Han (2005) by default.
     pub cushion: CushionModel,
 }

@@ -24,6 +24,7 @@ pub type Poly = [f64; 5];
 
 use glam::DVec2;
 
+/// The value of the polynomial `c` at `t` (Horner's scheme).
 #[inline]
 pub fn eval(c: &Poly, t: f64) -> f64 {
     (((c[4] * t + c[3]) * t + c[2]) * t + c[1]) * t + c[0]
@@ -189,7 +190,9 @@ fn critical_points(c: &Poly, lo: f64, hi: f64, out: &mut [f64; 4]) -> usize {
 /// touching objects are left alone instead of colliding again and again at the same instant.
 #[derive(Clone, Copy, Debug)]
 pub struct Touch {
+    /// Bound on `−f'(0)`, in `f`'s units per second.
     pub speed: f64,
+    /// Bound on `−f''(0)`, in `f`'s units per second squared.
     pub accel: f64,
 }
 

@@ -25,12 +25,13 @@ pub const SIDE_MOUTH: f64 = 0.137;
 pub const CORNER_JAW_RADIUS: f64 = 0.0209;
 /// Radius of the rounded nose at a side pocket's jaws (m).
 pub const SIDE_JAW_RADIUS: f64 = 0.008;
-/// Capture circle of a corner pocket: radius, and how far its centre lies outside the corner
-/// along each axis (m).
+/// Radius of a corner pocket's capture circle (m).
 pub const CORNER_POCKET_RADIUS: f64 = 0.062;
+/// How far a corner pocket's capture circle lies outside the corner along each axis (m).
 pub const CORNER_POCKET_OFFSET: f64 = 0.02;
-/// Capture circle of a side pocket: radius, and how far its centre lies behind the nose line.
+/// Radius of a side pocket's capture circle (m).
 pub const SIDE_POCKET_RADIUS: f64 = 0.0645;
+/// How far a side pocket's capture circle lies behind the nose line (m).
 pub const SIDE_POCKET_OFFSET: f64 = 0.05;
 
 /// The tables a scene can name.
@@ -39,10 +40,13 @@ pub enum TableKind {
     /// Unbounded cloth: no cushions, no pockets.
     #[serde(rename = "open")]
     Open,
+    /// A 7-foot pool table: 1.9812 × 0.9906 m, six pockets.
     #[serde(rename = "7ft")]
     SevenFoot,
+    /// An 8-foot pool table: 2.2352 × 1.1176 m, six pockets.
     #[serde(rename = "8ft")]
     EightFoot,
+    /// A 9-foot pool table: 2.54 × 1.27 m, six pockets; the default.
     #[default]
     #[serde(rename = "9ft")]
     NineFoot,
@@ -52,6 +56,7 @@ pub enum TableKind {
 }
 
 impl TableKind {
+    /// The name scenes give the table: `open`, `7ft`, `8ft`, `9ft` or `carom`.
     pub fn name(self) -> &'static str {
         match self {
             TableKind::Open => "open",
@@ -83,45 +88,60 @@ impl TableKind {
 /// A straight cushion nose from `a` to `b`; `normal` points into the playing area.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Rail {
+    /// One end of the nose line (engine coordinates, m).
     pub a: DVec2,
+    /// The other end.
     pub b: DVec2,
+    /// Unit normal, pointing into the playing area.
     pub normal: DVec2,
 }
 
 /// A rounded cushion nose (a pocket jaw): a vertical cylinder of `radius` about `center`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Jaw {
+    /// The cylinder's axis (engine coordinates, m), behind the nose line.
     pub center: DVec2,
+    /// The nose's radius (m): [`CORNER_JAW_RADIUS`] or [`SIDE_JAW_RADIUS`].
     pub radius: f64,
 }
 
 /// A pocket: a ball whose centre comes within `radius` of `center` falls.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pocket {
+    /// `l` or `r` (the side, x < 0 or x > 0) then `b`, `c` or `t` (y < 0, middle, y > 0).
     pub name: &'static str,
+    /// The capture circle's centre (engine coordinates, m), outside the playing area.
     pub center: DVec2,
+    /// The capture circle's radius (m).
     pub radius: f64,
 }
 
 /// A table in engine coordinates (centred).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Table {
+    /// The table this is.
     pub kind: TableKind,
     /// Half the width and half the length of the playing surface (0 for the open table).
     pub half: DVec2,
+    /// The straight cushion noses: six on a pocket table, four on a closed one, none open.
     pub rails: Vec<Rail>,
+    /// The rounded noses at the pockets' jaws, two per rail of a pocket table.
     pub jaws: Vec<Jaw>,
+    /// The six pockets in index order (`lb`, `lc`, `lt`, `rb`, `rc`, `rt`), or none.
     pub pockets: Vec<Pocket>,
 }
 
 /// Which cushion a ball touched.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub enum Cushion {
+    /// A straight rail: index into [`Table::rails`].
     Rail(u8),
+    /// A pocket jaw: index into [`Table::jaws`].
     Jaw(u8),
 }
 
 impl Table {
+    /// The table of `kind` with its pockets (if it has any), centred on the origin.
     pub fn new(kind: TableKind) -> Table {
         let Some((width, length)) = kind.size() else {
             return Table {
@@ -217,10 +237,12 @@ impl Table {
         }
     }
 
+    /// Whether a ball can fall anywhere (not on the open or carom table, nor with pockets off).
     pub fn has_pockets(&self) -> bool {
         !self.pockets.is_empty()
     }
 
+    /// Whether there are rails at all (not on the open table).
     pub fn has_cushions(&self) -> bool {
         !self.rails.is_empty()
     }

@@ -13,12 +13,16 @@ use super::limits::MAX_FRAME;
 /// Why a frame could not be made or read.
 #[derive(Debug, Error, PartialEq, Eq)]
 pub enum FrameError {
+    /// The payload's length (bytes, from the header or as encoded) is over [`MAX_FRAME`].
     #[error("frame of {0} bytes exceeds the {MAX_FRAME}-byte limit")]
     TooLong(usize),
+    /// The header announces a payload of zero bytes.
     #[error("empty frame")]
     Empty,
+    /// bincode could not encode or decode the payload; holds its error.
     #[error("malformed payload: {0}")]
     Malformed(String),
+    /// The payload held this many bytes after one complete message.
     #[error("{0} trailing bytes after the message")]
     Trailing(usize),
 }

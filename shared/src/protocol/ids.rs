@@ -14,13 +14,16 @@ pub const ROOM_ALPHABET: &[u8; 32] = b"23456789ABCDEFGHJKMNPQRSTUVWXYZ_";
 #[derive(Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub struct RoomCode(String);
 
+/// Why a room code or a fingerprint typed or pasted by a person was refused.
 #[derive(Debug, Error, PartialEq, Eq)]
 pub enum IdError {
     #[error(
         "a room code is {ROOM_CODE_LEN} characters from {}",
         String::from_utf8_lossy(ROOM_ALPHABET)
     )]
+    /// Not [`ROOM_CODE_LEN`] characters from [`ROOM_ALPHABET`].
     RoomCode,
+    /// Not 64 hexadecimal digits.
     #[error("a fingerprint is 64 hexadecimal digits (SHA-256)")]
     Fingerprint,
 }
@@ -50,6 +53,7 @@ impl RoomCode {
         RoomCode::parse(&self.0).is_ok_and(|c| c.0 == self.0)
     }
 
+    /// The code in upper case, as shown to players.
     pub fn as_str(&self) -> &str {
         &self.0
     }
@@ -104,6 +108,7 @@ impl fmt::Debug for SeatToken {
 pub struct Fingerprint(pub [u8; 32]);
 
 impl Fingerprint {
+    /// Parses 64 hexadecimal digits (either case; surrounding white space is ignored).
     pub fn parse(s: &str) -> Result<Fingerprint, IdError> {
         let s = s.trim();
         if s.len() != 64 || !s.is_ascii() {

@@ -13,6 +13,7 @@ use thiserror::Error;
 
 use super::ids::{Fingerprint, RoomCode};
 
+/// What every invite starts with.
 pub const SCHEME: &str = "breakshot://";
 
 /// One address an invite names: a host and a UDP port.
@@ -20,6 +21,7 @@ pub const SCHEME: &str = "breakshot://";
 pub struct ServerAddress {
     /// A name, an IPv4 address, or an IPv6 address in brackets.
     pub host: String,
+    /// The UDP port the server listens on.
     pub port: u16,
 }
 
@@ -28,19 +30,25 @@ pub struct ServerAddress {
 pub struct Invite {
     /// The addresses to try, in order; never empty.
     pub servers: Vec<ServerAddress>,
+    /// The room to join or watch; `None` in a server's own address.
     pub room: Option<RoomCode>,
     /// The certificate every listed instance presents.
     pub fingerprint: Fingerprint,
 }
 
+/// Why a text is not an invite.
 #[derive(Debug, Error, PartialEq, Eq)]
 pub enum InviteError {
+    /// The text does not start with [`SCHEME`].
     #[error("an invite starts with {SCHEME}")]
     Scheme,
+    /// No `#` followed by the fingerprint.
     #[error("an invite ends with #FINGERPRINT (the server certificate's SHA-256)")]
     MissingFingerprint,
+    /// A missing or malformed `HOST:PORT`, or no address at all.
     #[error("an invite names HOST:PORT (several separated by commas)")]
     Address,
+    /// A malformed room code or fingerprint.
     #[error(transparent)]
     Id(#[from] super::ids::IdError),
 }

@@ -25,6 +25,7 @@ pub enum AimAid {
 pub enum ClientMessage {
     /// The first message of every connection.
     Hello {
+        /// The client's [`super::PROTOCOL_VERSION`]; the server refuses any other.
         protocol: u32,
         /// [`super::reference::reference_hash`] as the client computes it.
         physics: u64,
@@ -32,57 +33,104 @@ pub enum ClientMessage {
     /// Opens a room and takes seat A in it. `mode` holds the room's settings (calling every
     /// shot, shot clock).
     CreateRoom {
+        /// The game the room plays (8-ball, 9-ball, practice, three-cushion).
         variant: Variant,
+        /// The rules' settings; the table must suit the variant.
         mode: Settings,
+        /// The aim-aid policy agreed for the room, shown to everyone.
         aim_aid: AimAid,
+        /// The creator's name as others see it: 1 to 24 printable characters.
         name: String,
     },
     /// Takes the free seat of a room.
-    Join { room: RoomCode, name: String },
+    Join {
+        /// The room's code, as the invite gives it.
+        room: RoomCode,
+        /// The joining player's name: 1 to 24 printable characters.
+        name: String,
+    },
     /// Takes back a seat after a dropped connection or a server restart.
-    Rejoin { token: SeatToken },
+    Rejoin {
+        /// The secret the server gave with [`ServerMessage::Joined`] for this seat.
+        token: SeatToken,
+    },
     /// Watches a room without a seat.
-    Spectate { room: RoomCode },
+    Spectate {
+        /// The room to watch.
+        room: RoomCode,
+    },
     /// Strikes the cue ball. `turn` is the turn the shooter saw; a stale turn is refused.
     Shot {
+        /// The [`TurnId`] the shooter saw; any other is refused as `StaleTurn`.
         turn: TurnId,
+        /// The cue's strike; checked and its aim normalised before the server simulates it.
         strike: Strike,
         /// The pocket called for this shot; if `None`, the last [`ClientMessage::CallPocket`]
         /// of this turn stands.
         call: Option<u8>,
     },
     /// Places the cue ball when in hand (scene coordinates).
-    PlaceCueBall { turn: TurnId, pos: [f64; 2] },
+    PlaceCueBall {
+        /// The turn the player saw.
+        turn: TurnId,
+        /// Where the cue ball's centre goes (m, scene coordinates: origin at a corner).
+        pos: [f64; 2],
+    },
     /// Announces the pocket for the coming shot, so the opponent sees it before the strike.
-    CallPocket { turn: TurnId, pocket: u8 },
+    CallPocket {
+        /// The turn the shooter saw.
+        turn: TurnId,
+        /// Index into the table's pockets, 0..6.
+        pocket: u8,
+    },
     /// Answers a choice the rules offer (after an illegal break, a push-out, ...).
-    Decide { turn: TurnId, choice: Choice },
+    Decide {
+        /// The turn the player saw.
+        turn: TurnId,
+        /// One of the options the current phase offers.
+        choice: Choice,
+    },
     /// Gives up the game.
     Concede,
     /// Asks for another game in the same room (the other player must ask too).
     Rematch,
     /// A line of chat for the room.
-    Chat { text: String },
+    Chat {
+        /// The line: 1 to 200 printable characters.
+        text: String,
+    },
     /// Asks for the record of the room's latest game, finished or not, to watch it again.
     /// Needs no seat and may be sent at any time after `Welcome`: like spectating, a record
     /// is open to whoever knows the room code. Answered by [`ServerMessage::Record`].
-    FetchRecord { room: RoomCode },
+    FetchRecord {
+        /// The room whose latest game is wanted.
+        room: RoomCode,
+    },
     /// Where the shooter is aiming now, shown live to the others in the room. Sent at most
     /// a few times a second; the server relays it and keeps nothing.
-    Aim { turn: TurnId, strike: Strike },
+    Aim {
+        /// The turn being aimed; an aim out of turn is dropped.
+        turn: TurnId,
+        /// The strike as it stands now, checked like a shot's.
+        strike: Strike,
+    },
 }
 
 /// What a connection is in a room.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Role {
+    /// Holds this seat and may send its commands.
     Player(Seat),
+    /// Watches: receives everything the players do, but cannot act on the game.
     Spectator,
 }
 
 /// One seat as others see it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SeatView {
+    /// The name the player chose.
     pub name: String,
+    /// Whether the player's connection is up now.
     pub connected: bool,
     /// While disconnected: milliseconds left before the game is forfeited.
     pub reconnect_ms: Option<u64>,
@@ -91,11 +139,15 @@ pub struct SeatView {
 /// Everything a client needs to show a room from scratch (on join, rejoin and rematch).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Snapshot {
+    /// The room's code.
     pub room: RoomCode,
     /// Games played in this room so far, this one included.
     pub game_number: u32,
+    /// The whole game: rules, settings, balls, phase and the player to move.
     pub game: Game,
+    /// Seats A and B, in that order; `None` while a seat has not been taken.
     pub seats: [Option<SeatView>; 2],
+    /// The room's aim-aid policy.
     pub aim_aid: AimAid,
     /// The pocket called for the current turn, if any.
     pub called: Option<u8>,
@@ -106,6 +158,7 @@ pub struct Snapshot {
 /// The rules' judgement of an accepted command.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Ruling {
+    /// Whether the rules called a foul.
     pub foul: bool,
     /// Readable reasons, in the order the rules found them.
     pub reasons: Vec<String>,
@@ -122,17 +175,26 @@ pub enum ErrorCode {
     Unexpected,
     /// A number is not finite, out of range, or a text too long.
     Invalid,
+    /// No open room has this code (for `FetchRecord`: no stored game in it).
     NoSuchRoom,
+    /// Both seats are taken, or the room has its most spectators.
     RoomFull,
+    /// The server knows no seat with this token.
     BadToken,
+    /// The command belongs to the other seat.
     NotYourTurn,
     /// The command answers a turn that is over.
     StaleTurn,
     /// The rules refuse the command.
     Illegal,
+    /// A spectator sent a command only players may send.
     Spectator,
+    /// Chat faster than the room allows.
     RateLimited,
+    /// The game is over: a command for it comes too late.
     GameOver,
+    /// The server cannot serve this now: it is full, its store failed, or the game is
+    /// played on another instance. Try again later, or the invite's next address.
     ServerBusy,
     /// The answer would not fit in one frame (a stored record beyond
     /// [`super::limits::MAX_SENT_RECORD`]).
@@ -144,91 +206,137 @@ pub enum ErrorCode {
 pub enum ServerMessage {
     /// The handshake succeeded.
     Welcome {
+        /// The server's [`super::PROTOCOL_VERSION`], equal to the client's.
         protocol: u32,
     },
     /// The handshake failed; the server closes the connection after this.
     Reject {
+        /// Why, readable by a person (e.g. the two protocol versions, or the physics hashes).
         reason: String,
     },
     /// The connection is now in a room. `token` is sent once, to the player who took the
     /// seat (and again on rejoin).
     Joined {
+        /// A seat, or a spectator.
         role: Role,
+        /// The seat's secret for a later `Rejoin`; `None` for a spectator.
         token: Option<SeatToken>,
+        /// The room as it is now.
         snapshot: Box<Snapshot>,
     },
     /// A new game started in the room (a rematch).
     GameStarted {
+        /// The room with its new game.
         snapshot: Box<Snapshot>,
     },
     /// The other seat was taken.
     PlayerJoined {
+        /// The seat taken.
         seat: Seat,
+        /// Its player's name.
         name: String,
     },
     /// The shooter called a pocket for this turn.
     PocketCalled {
+        /// The turn the call belongs to.
         turn: TurnId,
+        /// The shooter's seat.
         seat: Seat,
+        /// Index into the table's pockets, 0..6.
         pocket: u8,
     },
     /// A shot was accepted: sent to everyone at once so each starts simulating it.
     ShotAccepted {
+        /// The turn the shot was taken on (before it is applied).
         turn: TurnId,
+        /// The shooter's seat.
         seat: Seat,
+        /// Exactly what the server simulates, aim normalised and call filled in.
         command: Command,
     },
     /// The server's own simulation of the accepted shot.
     ShotResolved {
+        /// The turn of the matching `ShotAccepted`.
         turn: TurnId,
+        /// The physics state hash of the shot's final table; a client's own differs only
+        /// when its physics do (a desync).
         hash: u64,
+        /// The table after the rules (balls spotted and so on), indexed by ball number.
         balls: Vec<BallState>,
+        /// What the rules made of the shot.
         ruling: Ruling,
     },
     /// A command other than a shot (placing the cue ball, a decision, a concession, the
     /// shot clock running out) was applied.
     Applied {
+        /// The turn the command answered (before it is applied).
         turn: TurnId,
+        /// The seat the command was applied for (for `TimeExpired`, the one out of time).
         seat: Seat,
+        /// The command as applied.
         command: Command,
+        /// What the rules made of it.
         ruling: Ruling,
     },
     /// The table is ready for the next command.
     TurnChanged {
+        /// The new current turn, which the next command must name.
         turn: TurnId,
+        /// The seat the table waits for.
         to_move: Seat,
+        /// Milliseconds left on the shot clock, counting the last shot's time on screen;
+        /// `None` if the room has no clock.
         shot_clock_ms: Option<u64>,
     },
     /// A player dropped; their seat is held for `reconnect_ms` milliseconds.
     PlayerLeft {
+        /// The seat left empty.
         seat: Seat,
+        /// How long the seat is held before the game is forfeited (ms).
         reconnect_ms: u64,
     },
+    /// A dropped player came back.
     PlayerBack {
+        /// The seat taken back.
         seat: Seat,
     },
+    /// The game ended.
     GameOver {
+        /// The winning seat; `None` if nobody won.
         winner: Option<Seat>,
+        /// Why, readable by a person.
         reason: String,
     },
+    /// The other player wants another game; a new one starts when both have asked.
     RematchOffered {
+        /// The seat that asked.
         seat: Seat,
     },
+    /// A chat line, relayed to everyone in the room.
     Chat {
+        /// The player's name, or `spectator`.
         from: String,
+        /// The line as sent.
         text: String,
     },
+    /// A command was refused; nothing changed.
     Error {
+        /// What kind of refusal, for the client to act on.
         code: ErrorCode,
+        /// Why, readable by a person (the rules' reason for `Illegal`).
         message: String,
     },
     /// The answer to [`ClientMessage::FetchRecord`]: the room's latest game (numbered from 1)
     /// as it is stored, an encoded [`crate::replay::GameRecord`] holding every command
     /// applied so far.
     Record {
+        /// The room asked about.
         room: RoomCode,
+        /// The game's number in its room, from 1.
         game: u32,
+        /// Whether the game is over; if not, the record ends at its latest command.
         finished: bool,
+        /// The record, as [`crate::replay::GameRecord::encode`] writes it.
         record: Vec<u8>,
     },
     /// The answer to a [`ClientMessage::Rejoin`] whose game ended while the player was away
@@ -236,17 +344,24 @@ pub enum ServerMessage {
     /// seat the token held. The connection is left out of any room; the game is over for
     /// this player.
     GameFinished {
+        /// The room the game was played in.
         room: RoomCode,
         /// The game's number in its room, from 1.
         game: u32,
+        /// The seat the token held.
         seat: Seat,
+        /// The winning seat; `None` if nobody won.
         winner: Option<Seat>,
+        /// Why the game ended, readable by a person.
         reason: String,
     },
     /// The shooter's aim on `turn`, relayed from its [`ClientMessage::Aim`].
     Aim {
+        /// The turn being aimed.
         turn: TurnId,
+        /// The shooter's seat.
         seat: Seat,
+        /// The strike as it stands now (checked, aim normalised).
         strike: Strike,
     },
 }

@@ -13,29 +13,40 @@ use crate::rules::{Settings, Variant};
 /// Pockets on a table with pockets.
 pub const POCKETS: u8 = 6;
 
+/// Why a client's message is invalid on its own, whatever the game's state (answered as
+/// [`ErrorCode::Invalid`]).
 #[derive(Debug, Error, PartialEq)]
 pub enum InvalidMessage {
+    /// The strike is not finite, or beyond the cue's limits (speed, tip, elevation).
     #[error("{0}")]
     Strike(#[from] StrikeError),
+    /// A pocket index of [`POCKETS`] or more.
     #[error("pocket must be 0..{POCKETS}")]
     Pocket,
+    /// A cue-ball placement that is not finite.
     #[error("cue ball position must be finite numbers")]
     Position,
+    /// A player's name that is empty, too long or not printable.
     #[error("name must be 1 to {MAX_NAME_CHARS} printable characters")]
     Name,
+    /// A chat line that is empty, too long or not printable.
     #[error("chat must be 1 to {MAX_CHAT_CHARS} printable characters")]
     Chat,
+    /// A room code that is not well-formed.
     #[error("malformed room code")]
     Room,
+    /// A new room whose table, race or shot clock is out of range.
     #[error("a room is played on a 7, 8 or 9-foot table (three-cushion: the carom table, a race of 1 to {MAX_RACE} points) with a shot clock of {MIN_SHOT_CLOCK} to {MAX_SHOT_CLOCK} s, if any")]
     Mode,
 }
 
-/// Shortest and longest shot clock a room may have (seconds).
+/// Shortest shot clock a room may have (seconds).
 pub const MIN_SHOT_CLOCK: u32 = 10;
+/// Longest shot clock a room may have (seconds).
 pub const MAX_SHOT_CLOCK: u32 = 600;
 
 impl InvalidMessage {
+    /// The error code sent with the refusal: always [`ErrorCode::Invalid`].
     pub fn code(&self) -> ErrorCode {
         ErrorCode::Invalid
     }

@@ -16,6 +16,7 @@ const FROZEN: f64 = 1e-6;
 /// A ball that left the table (WPA 8.5 "driven off the table"), and when.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Departure {
+    /// The ball's number.
     pub ball: u8,
     /// Seconds after the strike.
     pub t: f64,

@@ -98,13 +98,17 @@ pub use practice::layout_from_scene;
 /// Which game is played.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Variant {
+    /// 8-ball under one of its two rule sets.
     EightBall(EightBallRules),
+    /// 9-ball (WPA): the lowest-numbered ball first, the 9 wins.
     NineBall,
+    /// A sandbox: no turns, no fouls, any ball placed anywhere free.
     Practice,
     /// Three-cushion billiards on the carom table, a race to `race` points
     /// ([`three_cushion::DEFAULT_RACE`] unless agreed otherwise; 1 to
     /// [`three_cushion::MAX_RACE`]).
     ThreeCushion {
+        /// The points a player needs to win the match.
         race: u32,
     },
 }
@@ -181,11 +185,14 @@ impl Default for Settings {
 /// A player's seat. Seat A breaks the first rack.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 pub enum Seat {
+    /// Breaks the first rack; online, the player who created the room.
     A,
+    /// The other player; online, the one who joined the room.
     B,
 }
 
 impl Seat {
+    /// The opponent's seat.
     pub fn other(self) -> Seat {
         match self {
             Seat::A => Seat::B,
@@ -218,9 +225,17 @@ pub type TurnId = u32;
 pub enum Command {
     /// Strike the cue ball. `call` is the pocket (index into the table's pockets) the
     /// shooter calls: required for the 8, and for every shot with `call_every_shot`.
-    Shot { strike: Strike, call: Option<u8> },
+    Shot {
+        /// The strike on the shooter's cue ball ([`Game::cue_ball`]).
+        strike: Strike,
+        /// The called pocket, 0..6; `None` when nothing is called.
+        call: Option<u8>,
+    },
     /// Put the cue ball at `pos` (scene coordinates) while it is in hand.
-    PlaceCueBall { pos: [f64; 2] },
+    PlaceCueBall {
+        /// The cue ball's centre (m, scene coordinates), inside the area in hand allows.
+        pos: [f64; 2],
+    },
     /// Answer a choice the rules offered.
     Decide(Choice),
     /// The shot clock ran out (sent by the server on behalf of the seat to move).
@@ -231,10 +246,18 @@ pub enum Command {
     /// same player breaks.
     ProposeStalemate,
     /// Practice only: put any ball at `pos`, or take it off the table with `None`.
-    PlaceBall { ball: u8, pos: Option<[f64; 2]> },
+    PlaceBall {
+        /// The ball's number (0 = cue ball).
+        ball: u8,
+        /// Its centre (m, scene coordinates); `None` takes it off the table.
+        pos: Option<[f64; 2]>,
+    },
     /// Practice only: lay out the table, one entry per ball number (`None` = off the table).
     /// [`layout_from_scene`] builds one from a scene file.
-    LoadLayout { balls: Vec<Option<[f64; 2]>> },
+    LoadLayout {
+        /// Centres (m, scene coordinates), indexed by ball number.
+        balls: Vec<Option<[f64; 2]>>,
+    },
     /// The seat's player left and did not come back within the reconnect window (sent by
     /// the server on their behalf): they lose, as by conceding, but the reason says so.
     Forfeit,
@@ -287,6 +310,7 @@ impl fmt::Display for Choice {
 pub enum InHand {
     /// Behind the head string (centre at `y < length/4`).
     Kitchen,
+    /// Anywhere on the cloth, clear of the cushions, pockets and other balls.
     Anywhere,
 }
 
@@ -300,6 +324,7 @@ pub enum Group {
 }
 
 impl Group {
+    /// The group a ball belongs to; `None` for the cue ball and the 8.
     pub fn of(ball: u8) -> Option<Group> {
         match ball {
             1..=7 => Some(Group::Solids),
@@ -308,6 +333,7 @@ impl Group {
         }
     }
 
+    /// The group's ball numbers.
     pub fn balls(self) -> std::ops::RangeInclusive<u8> {
         match self {
             Group::Solids => 1..=7,
@@ -315,6 +341,7 @@ impl Group {
         }
     }
 
+    /// The opponent's group once groups are assigned.
     pub fn other(self) -> Group {
         match self {
             Group::Solids => Group::Stripes,
@@ -339,15 +366,23 @@ pub enum Phase {
     /// push-out, the spot on request of WPA 1.5). `push_out`: this shot was declared a
     /// push-out.
     Shooting {
+        /// Where the cue ball may be placed; `None` when it is not in hand.
         in_hand: Option<InHand>,
+        /// Declarations the shooter may make first, with [`Command::Decide`].
         options: Vec<Choice>,
+        /// Whether the coming shot is a declared push-out.
         push_out: bool,
     },
     /// `to_move()` must pick one of `options`.
-    Deciding { options: Vec<Choice> },
+    Deciding {
+        /// The choices offered; running out of time takes the first.
+        options: Vec<Choice>,
+    },
     /// The game is over (`winner: None` when nobody won: practice was ended).
     Over {
+        /// The winning seat, if any.
         winner: Option<Seat>,
+        /// Why the game ended, readable by a person.
         reason: String,
     },
 }
@@ -357,6 +392,7 @@ pub enum Phase {
 pub struct ShotReport {
     /// The physics state hash of the table at rest (before any ball is spotted).
     pub hash: u64,
+    /// Every event of the shot, in time order.
     pub events: Vec<Event>,
     /// (ball, pocket) in the order they fell.
     pub pocketed: Vec<(u8, u8)>,
@@ -368,7 +404,9 @@ pub struct Verdict {
     /// Readable reasons, most important first ("Foul: wrong ball first — hit the 8 before a
     /// solid").
     pub reasons: Vec<String>,
+    /// Whether the command was judged a foul.
     pub foul: bool,
+    /// What the shot did; `None` for any command that is not a shot.
     pub shot: Option<ShotReport>,
     /// The seat to move next.
     pub next: Seat,
@@ -383,18 +421,27 @@ pub struct Verdict {
 /// Why a command was refused. Nothing changed.
 #[derive(Clone, Debug, PartialEq, Eq, Error, Serialize, Deserialize)]
 pub enum RuleError {
+    /// The command came from the seat not to move.
     #[error("it is not your turn")]
     NotYourTurn,
+    /// The game is over; nothing more can be applied.
     #[error("the game is over")]
     GameOver,
+    /// The command does not fit the phase (a shot while a choice is due, ...); says why.
     #[error("not now: {0}")]
     WrongPhase(String),
+    /// A ball would not lie where it may: outside the area in hand allows, against a cushion,
+    /// in a pocket or on another ball (in practice, any ball placed).
     #[error("illegal cue ball placement: {0}")]
     IllegalPlacement(String),
+    /// The strike is refused, the call names no pocket, or a required call is missing.
     #[error("invalid shot: {0}")]
     InvalidShot(String),
+    /// The choice is not among the options offered.
     #[error("invalid choice: {0}")]
     InvalidChoice(String),
+    /// The command has no place in this variant or these settings (a stalemate in
+    /// practice, a shot clock running out where there is none, ...).
     #[error("not in this game: {0}")]
     NotAllowed(String),
 }
@@ -499,18 +546,22 @@ impl Game {
         game
     }
 
+    /// The game played, fixed for the whole game.
     pub fn variant(&self) -> Variant {
         self.variant
     }
 
+    /// The settings, with the table the variant plays on.
     pub fn settings(&self) -> Settings {
         self.settings
     }
 
+    /// The seed every rack's random layout derives from.
     pub fn seed(&self) -> u64 {
         self.seed
     }
 
+    /// The table played on (the carom table for three-cushion, whatever was asked).
     pub fn table(&self) -> TableKind {
         self.settings.table
     }
@@ -520,6 +571,7 @@ impl Game {
         &self.balls
     }
 
+    /// The number of commands applied so far: a command must answer this turn.
     pub fn turn(&self) -> TurnId {
         self.turn
     }
@@ -529,6 +581,7 @@ impl Game {
         self.to_move
     }
 
+    /// What the game waits for now.
     pub fn phase(&self) -> &Phase {
         &self.phase
     }

@@ -30,10 +30,12 @@ pub const RACK_GAP: f64 = 2.0 * RACK_JITTER;
 pub struct SplitMix64(u64);
 
 impl SplitMix64 {
+    /// A generator that starts from `seed`; equal seeds give equal sequences.
     pub fn new(seed: u64) -> Self {
         SplitMix64(seed)
     }
 
+    /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
@@ -66,6 +68,7 @@ impl SplitMix64 {
         DVec2::new(r * libm::cos(angle), r * libm::sin(angle))
     }
 
+    /// Shuffles `items` in place (Fisher–Yates), every order equally likely.
     pub fn shuffle<T>(&mut self, items: &mut [T]) {
         for i in (1..items.len()).rev() {
             let j = self.below(i as u64 + 1) as usize;

@@ -38,9 +38,11 @@ use crate::physics::{
     engine, simulate, BallState, EventKind, MotionState, Outcome, Shot, Strike, TableKind,
 };
 
-/// Ball numbers (indices in the ball list).
+/// Ball numbers (indices in the ball list): the white, seat A's ball.
 pub const WHITE: u8 = 0;
+/// The yellow, seat B's ball.
 pub const YELLOW: u8 = 1;
+/// The red, the object ball of both seats.
 pub const RED: u8 = 2;
 /// Points that win a match unless another race is agreed.
 pub const DEFAULT_RACE: u32 = 15;
@@ -63,11 +65,13 @@ pub fn bottom_spot() -> DVec2 {
     DVec2::new(0.5 * s.x, 0.25 * s.y)
 }
 
+/// The centre spot, in the middle of the table (scene coordinates, m).
 pub fn centre_spot() -> DVec2 {
     let s = size();
     DVec2::new(0.5 * s.x, 0.5 * s.y)
 }
 
+/// The top spot, a quarter of the length from the top cushion (scene coordinates, m).
 pub fn top_spot() -> DVec2 {
     let s = size();
     DVec2::new(0.5 * s.x, 0.75 * s.y)
@@ -95,7 +99,9 @@ pub fn start_position(starter: Seat) -> Vec<BallState> {
 /// What the shooter's ball touched, in order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Touch {
+    /// A bounce off any cushion.
     Cushion,
+    /// A contact with the ball of this number.
     Ball(u8),
 }
 
@@ -135,7 +141,10 @@ impl CaromFacts {
 /// The judgement of one shot.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Judgement {
+    /// The shot scored: both object balls touched, three cushions before the second.
     pub point: bool,
+    /// A ball left the table, the shooter's ball played into the one it touched, or the
+    /// opening shot missed the red first; a foul scores no point.
     pub foul: bool,
     /// Readable reasons, the decisive one first.
     pub reasons: Vec<String>,
@@ -253,6 +262,7 @@ pub fn judge(facts: &CaromFacts, cue: u8, frozen_to: Option<u8>, opening: bool) 
 /// The result of a shot applied to a match.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CaromVerdict {
+    /// What the rules made of the shot.
     pub judgement: Judgement,
     /// The seat to shoot next.
     pub next: Seat,
@@ -300,26 +310,32 @@ impl Match {
         }
     }
 
+    /// The three balls, by number, in scene coordinates.
     pub fn balls(&self) -> &[BallState] {
         &self.balls
     }
 
+    /// The seat to shoot next.
     pub fn to_move(&self) -> Seat {
         self.to_move
     }
 
+    /// Points of seats A and B.
     pub fn scores(&self) -> [u32; 2] {
         self.scores
     }
 
+    /// Innings begun, the opening one counted as 1.
     pub fn innings(&self) -> u32 {
         self.innings
     }
 
+    /// The points that win the match, 1 to [`MAX_RACE`].
     pub fn race(&self) -> u32 {
         self.race
     }
 
+    /// The seat that reached the race; `None` while the match goes on.
     pub fn winner(&self) -> Option<Seat> {
         self.winner
     }
