@@ -9,7 +9,7 @@
 //! [`MAX_RECORD_BYTES`] so a hostile length prefix cannot make it allocate without bound.
 //!
 //! Versions: 1 had level strikes only; 2 adds the cue elevation to every strike. Records of
-//! version 1 still decode (see [`v1`]), as current records with θ = 0, and replay and verify
+//! version 1 still decode (see `replay/v1.rs`), as current records with θ = 0, and replay and verify
 //! as they did.
 
 mod v1;

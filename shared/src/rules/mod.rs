@@ -59,8 +59,9 @@
 //!   pocketed or driven off the table counts. This feeds both the no-rail foul and the
 //!   break's four balls to a rail.
 //! - 8.5 Driven off the table: the physics reports it through [`facts::departures`] ("ball X
-//!   left the table at time t"); the engine is two-dimensional and reports none yet, so these
-//!   clauses are tested with departures handed to [`ShotFacts::read`].
+//!   left the table at time t": a ball in flight that comes down beyond the rails, see
+//!   `shared/tests/airborne.rs`); the clauses are tested with departures handed to
+//!   [`ShotFacts::read`] (`rules/tests/wpa.rs`).
 //! - 8-ball: 3.3 break (legal break, the three options after an illegal one, the 8 on the
 //!   break, an object ball off the table on the break: a foul, the incoming player accepts
 //!   the table in position or takes the cue ball behind the head string); a scratch on a
