@@ -225,20 +225,35 @@ impl Store {
         }
     }
 
-    /// One game's record, encoded.
+    /// One game's record, encoded: its header and its command rows, assembled.
     pub fn record(&self, room: &RoomCode, number: u32) -> Result<Option<Vec<u8>>, StoreError> {
-        match &self.0 {
-            Backend::Sqlite(s) => s.record(room, number),
-            Backend::Postgres(s) => s.record(room, number),
-        }
+        let code = room.as_str();
+        let header = match &self.0 {
+            Backend::Sqlite(s) => s.header(code, number)?,
+            Backend::Postgres(s) => s.header(code, number)?,
+        };
+        let Some(header) = header else {
+            return Ok(None);
+        };
+        let entries = match &self.0 {
+            Backend::Sqlite(s) => s.entries(code, number)?,
+            Backend::Postgres(s) => s.entries(code, number)?,
+        };
+        encoded_record(room, number, &header, entries).map(Some)
     }
 
     /// The latest game of a room: (number, encoded record, finished).
     pub fn latest(&self, room: &RoomCode) -> Result<Option<(u32, Vec<u8>, bool)>, StoreError> {
-        match &self.0 {
-            Backend::Sqlite(s) => s.latest(room),
-            Backend::Postgres(s) => s.latest(room),
-        }
+        let latest = match &self.0 {
+            Backend::Sqlite(s) => s.latest_game(room.as_str())?,
+            Backend::Postgres(s) => s.latest_game(room.as_str())?,
+        };
+        let Some((number, finished)) = latest else {
+            return Ok(None);
+        };
+        Ok(self
+            .record(room, number)?
+            .map(|record| (number, record, finished)))
     }
 
     /// Replaces one game's record whole (for tests of tamper detection).

@@ -20,8 +20,8 @@ use breakshot_shared::protocol::RoomCode;
 use postgres::{Client, NoTls, Statement};
 
 use super::{
-    assemble, decode_meta, encode_meta, encoded_record, seat_number, seat_of, unix_now, Claim,
-    EndedGame, StoreError, StoredGame,
+    assemble, decode_meta, encode_meta, seat_number, seat_of, unix_now, Claim, EndedGame,
+    StoreError, StoredGame,
 };
 use crate::output::StoreOp;
 use crate::secret::TokenDigest;
@@ -315,38 +315,22 @@ impl PgStore {
             .collect()
     }
 
-    pub(super) fn record(
-        &self,
-        room: &RoomCode,
-        number: u32,
-    ) -> Result<Option<Vec<u8>>, StoreError> {
+    /// Game `number` of `room`: its header row, if it is stored.
+    pub(super) fn header(&self, room: &str, number: u32) -> Result<Option<Vec<u8>>, StoreError> {
         let header = self.db.borrow_mut().query_opt(
             "SELECT header FROM games WHERE room = $1 AND number = $2",
-            &[&room.as_str(), &int(number)],
+            &[&room, &int(number)],
         )?;
-        let Some(header) = header else {
-            return Ok(None);
-        };
-        let header: Vec<u8> = header.get(0);
-        let entries = self.entries(room.as_str(), number)?;
-        encoded_record(room, number, &header, entries).map(Some)
+        Ok(header.map(|row| row.get(0)))
     }
 
-    pub(super) fn latest(
-        &self,
-        room: &RoomCode,
-    ) -> Result<Option<(u32, Vec<u8>, bool)>, StoreError> {
+    /// The latest game of `room`: (number, finished).
+    pub(super) fn latest_game(&self, room: &str) -> Result<Option<(u32, bool)>, StoreError> {
         let latest = self.db.borrow_mut().query_opt(
             "SELECT number, finished FROM games WHERE room = $1 ORDER BY number DESC LIMIT 1",
-            &[&room.as_str()],
+            &[&room],
         )?;
-        let Some(latest) = latest else {
-            return Ok(None);
-        };
-        let (number, finished) = (game_number(latest.get(0)), latest.get(1));
-        Ok(self
-            .record(room, number)?
-            .map(|record| (number, record, finished)))
+        Ok(latest.map(|row| (game_number(row.get(0)), row.get(1))))
     }
 
     pub(super) fn overwrite_record(
@@ -370,7 +354,7 @@ impl PgStore {
     }
 
     /// A game's command rows, in order.
-    fn entries(&self, room: &str, number: u32) -> Result<Vec<Vec<u8>>, StoreError> {
+    pub(super) fn entries(&self, room: &str, number: u32) -> Result<Vec<Vec<u8>>, StoreError> {
         let rows = self.db.borrow_mut().query(
             "SELECT entry FROM commands WHERE room = $1 AND number = $2 ORDER BY idx",
             &[&room, &int(number)],

@@ -8,8 +8,8 @@ use breakshot_shared::replay::{self, GameRecord, RecordEntry, RECORD_VERSION};
 use rusqlite::{params, Connection, OptionalExtension};
 
 use super::{
-    assemble, decode_meta, encode_meta, encoded_record, seat_number, seat_of, unix_now, EndedGame,
-    StoreError, StoredGame,
+    assemble, decode_meta, encode_meta, seat_number, seat_of, unix_now, EndedGame, StoreError,
+    StoredGame,
 };
 use crate::output::StoreOp;
 
@@ -218,51 +218,33 @@ impl SqliteStore {
         Ok(n == 1)
     }
 
-    /// One game's record, encoded.
-    pub(super) fn record(
-        &self,
-        room: &RoomCode,
-        number: u32,
-    ) -> Result<Option<Vec<u8>>, StoreError> {
-        let header: Option<Vec<u8>> = self
+    /// Game `number` of `room`: its header row, if it is stored.
+    pub(super) fn header(&self, room: &str, number: u32) -> Result<Option<Vec<u8>>, StoreError> {
+        Ok(self
             .db
             .query_row(
                 "SELECT header FROM games WHERE room = ?1 AND number = ?2",
-                params![room.as_str(), number],
+                params![room, number],
                 |r| r.get(0),
             )
-            .optional()?;
-        let Some(header) = header else {
-            return Ok(None);
-        };
-        let entries = self.entries(room.as_str(), number)?;
-        encoded_record(room, number, &header, entries).map(Some)
+            .optional()?)
     }
 
-    /// The latest game of a room: (number, encoded record, finished).
-    pub(super) fn latest(
-        &self,
-        room: &RoomCode,
-    ) -> Result<Option<(u32, Vec<u8>, bool)>, StoreError> {
-        let latest: Option<(u32, bool)> = self
+    /// The latest game of `room`: (number, finished).
+    pub(super) fn latest_game(&self, room: &str) -> Result<Option<(u32, bool)>, StoreError> {
+        Ok(self
             .db
             .query_row(
                 "SELECT number, finished FROM games WHERE room = ?1
                  ORDER BY number DESC LIMIT 1",
-                params![room.as_str()],
+                params![room],
                 |r| Ok((r.get(0)?, r.get(1)?)),
             )
-            .optional()?;
-        let Some((number, finished)) = latest else {
-            return Ok(None);
-        };
-        Ok(self
-            .record(room, number)?
-            .map(|record| (number, record, finished)))
+            .optional()?)
     }
 
     /// A game's command rows, in order.
-    fn entries(&self, room: &str, number: u32) -> Result<Vec<Vec<u8>>, StoreError> {
+    pub(super) fn entries(&self, room: &str, number: u32) -> Result<Vec<Vec<u8>>, StoreError> {
         let mut stmt = self.db.prepare_cached(
             "SELECT entry FROM commands WHERE room = ?1 AND number = ?2 ORDER BY idx",
         )?;
