@@ -28,6 +28,36 @@ pub use breakshot_testkit::scratch;
 
 pub mod postgres;
 
+/// The body of a test binary run again as a server process: prints the invite, then serves
+/// `config` until the process is killed.
+pub fn serve_until_killed(config: &Config) {
+    let runtime = tokio::runtime::Runtime::new().expect("runtime");
+    runtime.block_on(async {
+        let server = Server::bind(config).expect("binding");
+        println!("{}", server.invite());
+        server.run(std::future::pending()).await.expect("serving");
+    });
+}
+
+/// The invite a server process prints on `out` (the test harness may speak first on the
+/// same line: the invite starts at its scheme), or None if none comes within [`PATIENCE`].
+/// Read on a thread of its own, so a server that never prints it cannot hang the test.
+pub fn printed_invite(out: std::process::ChildStdout) -> Option<Invite> {
+    use std::io::{BufRead, BufReader};
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let invite = BufReader::new(out)
+            .lines()
+            .map_while(std::result::Result::ok)
+            .find_map(|line| {
+                let at = line.find("breakshot://")?;
+                line[at..].trim().parse::<Invite>().ok()
+            });
+        let _ = tx.send(invite);
+    });
+    rx.recv_timeout(PATIENCE).ok().flatten()
+}
+
 /// A server running in this process.
 pub struct TestServer {
     pub invite: Invite,

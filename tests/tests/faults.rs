@@ -5,7 +5,6 @@
 //! The server process is this test binary run again with [`CHILD`] set: it serves like
 //! `breakshot-server` (the same library, store and invite line) until it is killed.
 
-use std::io::{BufRead, BufReader};
 use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
@@ -14,11 +13,11 @@ use breakshot_client::bot::{run, BotConfig};
 use breakshot_client::net::{endpoint, Channel};
 use breakshot_server::store::Store;
 use breakshot_server::verify::verify_dir;
-use breakshot_server::{Config, Limits, Server};
+use breakshot_server::{Config, Limits};
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Settings, Variant};
-use breakshot_tests::scratch;
+use breakshot_tests::{printed_invite, scratch, serve_until_killed};
 
 /// Set (to `BIND DATA`) in the server process this test starts.
 const CHILD: &str = "BREAKSHOT_FAULTS_SERVER";
@@ -36,13 +35,10 @@ fn server_process() {
         return;
     };
     let (bind, data) = spec.split_once(' ').expect("BIND DATA");
-    let config = Config::new(bind.parse().expect("a socket address"), data.into());
-    let runtime = tokio::runtime::Runtime::new().expect("runtime");
-    runtime.block_on(async {
-        let server = Server::bind(&config).expect("binding");
-        println!("{}", server.invite());
-        server.run(std::future::pending()).await.expect("serving");
-    });
+    serve_until_killed(&Config::new(
+        bind.parse().expect("a socket address"),
+        data.into(),
+    ));
 }
 
 /// Starts the server on `bind` and returns it with its invite line.
@@ -70,22 +66,8 @@ fn start(bind: &str, data: &Path) -> (Child, Invite) {
         )
         .spawn()
         .expect("starting the server process");
-    // Read the invite on a thread of its own, so a server that never prints it fails the
-    // test instead of hanging it. The test harness speaks first, on the same line too: the
-    // invite starts at its scheme.
     let stdout = child.stdout.take().expect("stdout");
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        let invite = BufReader::new(stdout)
-            .lines()
-            .map_while(Result::ok)
-            .find_map(|line| {
-                let at = line.find("breakshot://")?;
-                line[at..].trim().parse::<Invite>().ok()
-            });
-        let _ = tx.send(invite);
-    });
-    let Ok(Some(invite)) = rx.recv_timeout(PATIENCE) else {
+    let Some(invite) = printed_invite(stdout) else {
         let _ = child.kill();
         let _ = child.wait();
         panic!("the server printed no invite");

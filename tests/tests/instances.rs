@@ -20,13 +20,16 @@ use breakshot_server::output::StoreOp;
 use breakshot_server::store::{Location, Store, StoreError};
 use breakshot_server::tls;
 use breakshot_server::verify::verify_store;
-use breakshot_server::{Config, Server};
+use breakshot_server::Config;
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, Invite, ServerAddress, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Game, Phase, Seat};
-use breakshot_testkit::{read_line, Spawned};
+use breakshot_testkit::Spawned;
 use breakshot_tests::postgres::Cluster;
-use breakshot_tests::{scratch, seated_pair, seated_pair_with, Player, TestServer, PATIENCE, SEED};
+use breakshot_tests::{
+    printed_invite, scratch, seated_pair, seated_pair_with, serve_until_killed, Player, TestServer,
+    PATIENCE, SEED,
+};
 
 /// Set (to `URL DATA`) in the instance process a test starts.
 const CHILD: &str = "BREAKSHOT_INSTANCE_SERVER";
@@ -45,12 +48,7 @@ fn instance_process() {
     config.store = Location::Postgres(url.into());
     // The same games on every run, as the in-process test servers play.
     config.predictable_seed = Some(SEED);
-    let runtime = tokio::runtime::Runtime::new().expect("runtime");
-    runtime.block_on(async {
-        let server = Server::bind(&config).expect("binding");
-        println!("{}", server.invite());
-        server.run(std::future::pending()).await.expect("serving");
-    });
+    serve_until_killed(&config);
 }
 
 /// Starts an instance process on the cluster and returns it with its invite.
@@ -63,17 +61,9 @@ fn start_process(cluster: &Cluster, data: &Path) -> (Spawned, Invite) {
             .env("RUST_LOG", "warn")
             .stdout(Stdio::piped()),
     );
-    let mut out = child.child().stdout.take().expect("stdout");
-    // The test harness speaks first: the invite is the line that starts with its scheme.
-    for _ in 0..20 {
-        let (line, rest) = read_line(out, PATIENCE);
-        if let Some(at) = line.find("breakshot://") {
-            let invite = line[at..].trim().parse().expect("an invite");
-            return (child, invite);
-        }
-        out = rest.into_inner();
-    }
-    panic!("the instance printed no invite");
+    let out = child.child().stdout.take().expect("stdout");
+    let invite = printed_invite(out).expect("the instance printed no invite");
+    (child, invite)
 }
 
 /// An in-process instance's configuration on the cluster, with randomness of its own
