@@ -4,6 +4,7 @@
 #![warn(missing_docs, unreachable_pub)]
 
 pub mod bot;
+pub mod memory;
 pub mod net;
 pub mod play;
 pub mod view;

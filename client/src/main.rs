@@ -10,9 +10,9 @@ use std::process::ExitCode;
 use std::rc::Rc;
 
 use anyhow::{bail, Context as _};
+use breakshot_client::memory::player_name;
 use breakshot_client::net::{
-    default_data_dir, fetch_record_blocking, player_name, HostOptions, NetLink, SeatStore,
-    DEFAULT_PORT,
+    default_data_dir, fetch_record_blocking, HostOptions, NetLink, SeatStore, DEFAULT_PORT,
 };
 use breakshot_client::play::{three_cushion_scene, ReplayViewer};
 use breakshot_client::view::ViewKind;

@@ -4,7 +4,6 @@
 //! Needs `xvfb-run`; without it the test says why and passes (CI installs it).
 
 use std::ffi::OsStr;
-use std::future::Future;
 use std::path::{Path, PathBuf};
 use std::process::{Command as Process, Output};
 use std::time::Duration;
@@ -385,7 +384,11 @@ async fn next(
 
 /// `f` run on `runtime`; fails the test if it takes more than a minute.
 #[cfg(feature = "host")]
-fn within<T>(runtime: &tokio::runtime::Runtime, what: &str, f: impl Future<Output = T>) -> T {
+fn within<T>(
+    runtime: &tokio::runtime::Runtime,
+    what: &str,
+    f: impl std::future::Future<Output = T>,
+) -> T {
     runtime
         .block_on(async { tokio::time::timeout(Duration::from_secs(60), f).await })
         .unwrap_or_else(|_| panic!("{what} did not happen within a minute"))
@@ -1100,7 +1103,7 @@ fn the_window_opens_on_the_view_chosen_last_unless_told_otherwise() {
     let data = dir.path().join("data");
     std::fs::create_dir_all(&data).expect("data directory");
     // What pressing V into the 3-D view leaves behind.
-    std::fs::write(data.join(breakshot_client::view::choice::VIEW_FILE), "3d").expect("written");
+    std::fs::write(data.join(breakshot_client::memory::VIEW_FILE), "3d").expect("written");
     let scene = dir.path().join("scene.json");
     std::fs::write(&scene, SCENE).expect("scene written");
     let parsed = Scene::from_json(SCENE).expect("valid scene");
@@ -1127,7 +1130,7 @@ fn the_window_opens_on_the_view_chosen_last_unless_told_otherwise() {
     };
     balls_are_drawn(&told, &layout, &ids, &shot.balls);
     // Being told is not a choice: the remembered view stays.
-    let kept = std::fs::read_to_string(data.join(breakshot_client::view::choice::VIEW_FILE));
+    let kept = std::fs::read_to_string(data.join(breakshot_client::memory::VIEW_FILE));
     assert_eq!(kept.expect("still there"), "3d");
 }
 
@@ -1247,7 +1250,7 @@ fn v_opens_the_3d_view_remembers_it_and_the_mouse_aims_through_the_camera() {
         return;
     };
     assert_ran(&run);
-    let kept = std::fs::read_to_string(data.join(breakshot_client::view::choice::VIEW_FILE));
+    let kept = std::fs::read_to_string(data.join(breakshot_client::memory::VIEW_FILE));
     assert_eq!(kept.expect("the view remembered").trim(), "3d");
     // The cue points at the spot under the mouse, and the camera has turned to look along it:
     // the 2 is drawn where that camera puts it, straight ahead of the cue ball.

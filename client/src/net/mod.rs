@@ -11,7 +11,6 @@ mod embedded;
 #[cfg_attr(not(feature = "host"), allow(dead_code))]
 mod host;
 mod link;
-mod name;
 mod pinned;
 mod records;
 mod seats;
@@ -27,7 +26,6 @@ pub use host::{
     DEFAULT_PORT,
 };
 pub use link::{NetLink, NoRoom};
-pub use name::player_name;
 pub use pinned::client_config;
 pub use records::{fetch_record, fetch_record_blocking, FetchError, FetchedRecord, FETCH_TIMEOUT};
 pub use seats::{hosted_from, Remembered, SeatStore};

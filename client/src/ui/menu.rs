@@ -1,6 +1,7 @@
 //! The menu the window opens on when no command is given.
 
-use breakshot_client::net::{hosted_from, player_name, HostOptions, NetLink, SeatStore};
+use breakshot_client::memory::player_name;
+use breakshot_client::net::{hosted_from, HostOptions, NetLink, SeatStore};
 use breakshot_client::play::{GameLink, InputFrame, Key};
 use breakshot_client::view::{menu_buttons, Rect};
 use breakshot_shared::ai::Level;

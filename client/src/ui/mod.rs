@@ -19,9 +19,10 @@ use std::path::PathBuf;
 use breakshot_shared::scene::Scene;
 use macroquad::prelude::{clear_background, next_frame};
 
+use breakshot_client::memory;
 use breakshot_client::play::{ComputerLink, GameLink, InputFrame, LocalLink, ReplayViewer};
 use breakshot_client::view::hud::Connection;
-use breakshot_client::view::{choice, palette, Playback, ViewKind};
+use breakshot_client::view::{palette, Playback, ViewKind};
 use breakshot_shared::ai::Level;
 use breakshot_shared::rules::{Settings, Variant};
 
@@ -183,7 +184,7 @@ fn frame_times(work: &[(f64, bool)]) -> Option<String> {
 
 /// Runs the screens until the player quits or the screenshot is taken.
 pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
-    let remembered = options.data.as_deref().and_then(choice::remembered);
+    let remembered = options.data.as_deref().and_then(memory::remembered_view);
     view::start(
         options.view.or(remembered).unwrap_or_default(),
         options.data.clone(),

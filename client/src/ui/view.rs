@@ -8,8 +8,9 @@ use std::path::PathBuf;
 use std::sync::Mutex;
 
 use ::glam::DVec2;
+use breakshot_client::memory;
 use breakshot_client::play::{InputFrame, Key};
-use breakshot_client::view::{area, choice, Camera, Layout, Orbit, Playback, Trail, ViewKind};
+use breakshot_client::view::{area, Camera, Layout, Orbit, Playback, Trail, ViewKind};
 use breakshot_shared::physics::{Table, TableKind};
 
 use super::draw::Pen;
@@ -41,7 +42,7 @@ fn choose(view: ViewKind) {
     let Ok(mut c) = CHOICE.lock() else { return };
     c.0 = view;
     if let Some(data) = &c.1 {
-        if let Err(e) = choice::remember(data, view) {
+        if let Err(e) = memory::remember_view(data, view) {
             tracing::warn!(error = %e, "cannot remember the view");
         }
     }

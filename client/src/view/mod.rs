@@ -4,7 +4,6 @@
 
 pub mod aids;
 mod camera;
-pub mod choice;
 mod flight;
 pub mod hud;
 mod layout;

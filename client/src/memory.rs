@@ -1,5 +1,6 @@
-//! The player's name, as the other player and spectators see it: given once with `--name`,
-//! remembered in the data directory beside the seats.
+//! What the client remembers between runs, each in a small file of the data directory
+//! (beside the seats): the player's name, given once with `--name`, and the view of the
+//! table chosen last (top-down or 3-D), so the window opens on it next time.
 
 use std::fs;
 use std::path::Path;
@@ -7,8 +8,23 @@ use std::path::Path;
 use breakshot_shared::protocol::is_valid_name;
 use breakshot_shared::protocol::limits::MAX_NAME_CHARS;
 
+use crate::view::ViewKind;
+
 /// The file under the data directory that holds the name.
-pub(crate) const NAME_FILE: &str = "name";
+pub const NAME_FILE: &str = "name";
+/// The file under the data directory that holds the view's name.
+pub const VIEW_FILE: &str = "view";
+
+/// The text remembered in `data`'s `file`, if there is one.
+fn recall(data: &Path, file: &str) -> Option<String> {
+    fs::read_to_string(data.join(file)).ok()
+}
+
+/// Remembers `text` in `data`'s `file`, creating the directory if need be.
+fn keep(data: &Path, file: &str, text: &str) -> std::io::Result<()> {
+    fs::create_dir_all(data)?;
+    fs::write(data.join(file), text)
+}
 
 /// The name to play under: `given` (checked, then remembered in `data`), else the name
 /// remembered there, else the user's login name, else "player".
@@ -20,19 +36,17 @@ pub fn player_name(data: &Path, given: Option<&str>) -> Result<String, String> {
                 "--name {name:?}: a name is 1 to {MAX_NAME_CHARS} printable characters"
             ));
         }
-        let saved = fs::create_dir_all(data).and_then(|()| fs::write(data.join(NAME_FILE), name));
-        if let Err(e) = saved {
+        if let Err(e) = keep(data, NAME_FILE, name) {
             tracing::warn!(error = %e, "cannot remember the name");
         }
         return Ok(name.to_owned());
     }
-    let remembered = fs::read_to_string(data.join(NAME_FILE)).ok();
     let login = || {
         std::env::var("USER")
             .or_else(|_| std::env::var("USERNAME"))
             .ok()
     };
-    Ok(remembered
+    Ok(recall(data, NAME_FILE)
         .map(|n| n.trim().to_owned())
         .filter(|n| is_valid_name(n))
         .or_else(|| {
@@ -41,6 +55,16 @@ pub fn player_name(data: &Path, given: Option<&str>) -> Result<String, String> {
                 .filter(|n| is_valid_name(n))
         })
         .unwrap_or_else(|| "player".to_owned()))
+}
+
+/// The view remembered in `data`, if one was and it is readable.
+pub fn remembered_view(data: &Path) -> Option<ViewKind> {
+    ViewKind::parse(&recall(data, VIEW_FILE)?)
+}
+
+/// Remembers `view` in `data` for next time.
+pub fn remember_view(data: &Path, view: ViewKind) -> std::io::Result<()> {
+    keep(data, VIEW_FILE, view.name())
 }
 
 #[cfg(test)]
@@ -68,5 +92,18 @@ mod tests {
         let dir = breakshot_testkit::scratch("name-none");
         let name = player_name(dir.path(), None).expect("a name");
         assert!(is_valid_name(&name), "{name:?}");
+    }
+
+    #[test]
+    fn the_view_chosen_is_remembered_and_a_spoilt_file_is_ignored() {
+        let dir = breakshot_testkit::scratch("view-choice");
+        let data = dir.path().join("data");
+        assert_eq!(remembered_view(&data), None);
+        remember_view(&data, ViewKind::ThreeD).expect("written");
+        assert_eq!(remembered_view(&data), Some(ViewKind::ThreeD));
+        remember_view(&data, ViewKind::TopDown).expect("written");
+        assert_eq!(remembered_view(&data), Some(ViewKind::TopDown));
+        fs::write(data.join(VIEW_FILE), "sideways").expect("written");
+        assert_eq!(remembered_view(&data), None);
     }
 }
