@@ -351,15 +351,14 @@ impl GameScreen {
         self.flow.shot()
     }
 
-    /// True while nothing has come from the server yet: no game, no result, no refusal.
+    /// True while the server has not answered our entry yet: no game, no result, no
+    /// refusal, and the connection not closed. (Being connected is not an answer: the
+    /// handshake ends before the server has read our join.)
     pub fn awaiting_server(&self) -> bool {
         self.flow.game().is_none()
             && self.flow.ended_away.is_none()
             && self.flow.message.is_empty()
-            && matches!(
-                self.flow.connection,
-                Connection::Connecting | Connection::Reconnecting
-            )
+            && !matches!(self.flow.connection, Connection::Closed(_))
     }
 
     pub fn draw(&mut self) {
