@@ -233,7 +233,6 @@ impl Hub {
                 out.extend(error(id, ErrorCode::ServerBusy, WHY));
             }
         }
-        self.rooms.remove(code);
         self.tokens.retain(|_, (c, _)| c != code);
         if let Some(addr) = self.creators.remove(code) {
             if let Some(source) = self.sources.get_mut(&addr) {
