@@ -1,6 +1,8 @@
-//! The one network client: connects by invite (retrying a server that is not up yet), says
-//! `Hello`, remembers the seat token the server hands out, and when a seated player's
-//! connection drops, connects again and takes the seat back with `Rejoin`. The window's
+//! The one network client: connects by invite (the invite's addresses in order, retrying a
+//! server that is not up yet), says `Hello`, remembers the seat token the server hands out,
+//! and when a seated player's connection drops, connects again and takes the seat back with
+//! `Rejoin` (going on to the next address when an instance says the game is played on
+//! another). The window's
 //! [`Session`](super::Session), the bot and the integration tests all drive this client;
 //! none has a reconnect loop of its own.
 
