@@ -14,13 +14,13 @@ use breakshot_client::memory::player_name;
 use breakshot_client::net::{
     default_data_dir, fetch_record_blocking, HostOptions, NetLink, SeatStore, DEFAULT_PORT,
 };
-use breakshot_client::play::{three_cushion_scene, ReplayViewer};
+use breakshot_client::play::{rack_scene, ReplayViewer};
 use breakshot_client::view::ViewKind;
 use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::{AimAid, Invite, RoomCode};
 use breakshot_shared::rules::{EightBallRules, Variant};
 use breakshot_shared::scene::Scene;
-use clap::{ArgGroup, Parser, Subcommand};
+use clap::{ArgGroup, Args, Parser, Subcommand};
 
 #[derive(Parser, Debug)]
 #[command(
@@ -37,9 +37,6 @@ struct Cli {
     /// Frames to render before the screenshot is taken.
     #[arg(long, value_name = "N", default_value_t = 5, global = true)]
     frames: u32,
-    /// Seed of the practice rack (the same seed gives the same rack).
-    #[arg(long, global = true)]
-    seed: Option<u64>,
     /// Initial window size, WIDTHxHEIGHT.
     #[arg(long, value_name = "WxH", default_value = "1280x720", global = true)]
     size: String,
@@ -52,34 +49,93 @@ struct Cli {
     /// chosen last with V, else top).
     #[arg(long, value_name = "VIEW", global = true, value_parser = ["top", "3d"])]
     view: Option<String>,
-    /// Your name in online games, as the other player sees it; remembered for next time
-    /// (default: the name given last, else your login name).
-    #[arg(long, value_name = "NAME", global = true)]
+}
+
+/// The games a rules game can be, for `--mode`.
+const MODES: [&str; 3] = ["8ball", "9ball", "3cushion"];
+
+/// Which game to play: the options of every command that starts a rules game.
+#[derive(Args, Debug)]
+struct GameArgs {
+    /// The game: `8ball`, `9ball`, or `3cushion` (three-cushion billiards on the carom
+    /// table).
+    #[arg(long, default_value = "8ball", value_parser = MODES)]
+    mode: String,
+    /// 8-ball's rule set: `wpa` (the World Pool-Billiard Association's rules: ball in hand
+    /// after any foul; the 8 on the break is spotted or the balls re-racked) or `bar` (a
+    /// scratch while shooting at the 8 loses; the 8 on the break wins). Default `wpa`.
+    #[arg(long, value_name = "RULES", value_parser = ["wpa", "bar"])]
+    rules: Option<String>,
+    /// Three-cushion: the points that win the game, 1 to 1000 (default 15).
+    #[arg(long, value_name = "POINTS", value_parser = clap::value_parser!(u32).range(1..=1000))]
+    race: Option<u32>,
+}
+
+impl GameArgs {
+    /// The rules variant these options name; `--rules` and `--race` only where they mean
+    /// something.
+    fn variant(&self) -> anyhow::Result<Variant> {
+        if self.rules.is_some() && self.mode != "8ball" {
+            bail!(
+                "--rules chooses 8-ball's rule set; it means nothing with --mode {}",
+                self.mode
+            );
+        }
+        if self.race.is_some() && self.mode != "3cushion" {
+            bail!(
+                "--race sets the points of a three-cushion game; it means nothing with --mode {}",
+                self.mode
+            );
+        }
+        Ok(match (self.mode.as_str(), self.rules.as_deref()) {
+            ("9ball", _) => Variant::NineBall,
+            ("3cushion", _) => Variant::ThreeCushion {
+                race: self.race.unwrap_or(DEFAULT_RACE),
+            },
+            (_, Some("bar")) => Variant::EightBall(EightBallRules::Bar),
+            _ => Variant::EightBall(EightBallRules::Wpa),
+        })
+    }
+}
+
+/// The points a three-cushion game is played to when `--race` does not say.
+const DEFAULT_RACE: u32 = 15;
+
+/// The name shown to the other player: the option of the commands that play online.
+#[derive(Args, Debug)]
+struct NameArg {
+    /// Your name as the other player sees it; remembered for next time (default: the name
+    /// given last, else your login name).
+    #[arg(long, value_name = "NAME")]
     name: Option<String>,
-    /// Three-cushion (`--mode 3cushion`): the points that win the game.
-    #[arg(long, value_name = "POINTS", default_value_t = 15, global = true,
-          value_parser = clap::value_parser!(u32).range(1..=1000))]
-    race: u32,
+}
+
+/// The seed of the rack: the option of the commands that rack balls at this computer.
+#[derive(Args, Debug)]
+struct SeedArg {
+    /// Seed of the rack (the same seed gives the same rack; default: a new rack each time).
+    #[arg(long, value_name = "N")]
+    seed: Option<u64>,
 }
 
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Host a game and show the invite for the other player.
     Host {
-        #[arg(long, default_value = "8ball", value_parser = ["8ball", "9ball", "3cushion"])]
-        mode: String,
-        #[arg(long, default_value = "wpa", value_parser = ["wpa", "bar"])]
-        rules: String,
+        #[command(flatten)]
+        game: GameArgs,
+        #[command(flatten)]
+        name: NameArg,
         /// UDP address the game server listens on (open this port to the other player).
-        #[arg(long, default_value_t = SocketAddr::from(([0, 0, 0, 0], DEFAULT_PORT)))]
+        #[arg(long, value_name = "ADDR", default_value_t = SocketAddr::from(([0, 0, 0, 0], DEFAULT_PORT)))]
         bind: SocketAddr,
         /// The address the other player dials to reach this computer, written into the
-        /// invite (default: the bound address).
+        /// invite (default: this computer's LAN address).
         #[arg(long, value_name = "HOST")]
         address: Option<String>,
-        /// Aiming aids allowed in the room: full, first-contact (aim line and ghost ball) or
-        /// off.
-        #[arg(long, default_value = "full", value_parser = ["full", "first-contact", "off"])]
+        /// Aiming aids allowed in the room: `full`, `first-contact` (aim line and ghost ball)
+        /// or `off`.
+        #[arg(long, value_name = "AIDS", default_value = "full", value_parser = ["full", "first-contact", "off"])]
         aids: String,
         /// Open a new room even if this computer's last hosted game is unfinished (by
         /// default a restarted host goes back to it: same room, same invite).
@@ -90,43 +146,56 @@ enum Command {
         #[arg(long)]
         computer: bool,
         /// With --computer: how strong it plays, 1 (beginner) to 5 (strong).
-        #[arg(long, default_value_t = 3, requires = "computer", value_parser = clap::value_parser!(u8).range(1..=5))]
+        #[arg(long, value_name = "LEVEL", default_value_t = 3, requires = "computer", value_parser = clap::value_parser!(u8).range(1..=5))]
         level: u8,
+    },
+    /// Join a game with the invite the host sent (a full room is watched).
+    Join {
+        /// The invite the host's game shows, `breakshot://HOST:PORT/ROOM#FINGERPRINT`
+        /// (quote it: it contains `#`).
+        #[arg(value_name = "INVITE")]
+        invite: String,
+        #[command(flatten)]
+        name: NameArg,
     },
     /// Two players taking turns at this computer.
     Local {
-        #[arg(long, default_value = "8ball", value_parser = ["8ball", "9ball", "3cushion"])]
-        mode: String,
-        #[arg(long, default_value = "wpa", value_parser = ["wpa", "bar"])]
-        rules: String,
+        #[command(flatten)]
+        game: GameArgs,
+        #[command(flatten)]
+        seed: SeedArg,
     },
     /// Play against the computer at this computer, offline.
     VsComputer {
         /// How strong the computer plays: 1 (beginner) to 5 (strong).
-        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(1..=5))]
+        #[arg(long, value_name = "LEVEL", default_value_t = 3, value_parser = clap::value_parser!(u8).range(1..=5))]
         level: u8,
-        #[arg(long, default_value = "8ball", value_parser = ["8ball", "9ball", "3cushion"])]
-        mode: String,
-        #[arg(long, default_value = "wpa", value_parser = ["wpa", "bar"])]
-        rules: String,
-        /// Who breaks the first game (then the break alternates).
+        #[command(flatten)]
+        game: GameArgs,
+        /// Who breaks the first game, `me` or `computer` (then the break alternates).
         #[arg(long = "break", value_name = "WHO", default_value = "me", value_parser = ["me", "computer"])]
         breaker: String,
+        #[command(flatten)]
+        seed: SeedArg,
     },
-    /// Join a game with the invite the host sent (a full room is watched).
-    Join { invite: String },
-    /// Play offline with no server, from a rack or from a scene file.
+    /// Play offline with no rules, from a rack or from a scene file.
     Practice {
+        /// A scene file (JSON, see docs/scene.md): its table, balls and physics, and its
+        /// strike as the first aim.
+        #[arg(value_name = "SCENE")]
         scene: Option<PathBuf>,
-        /// The table without a scene: a pool rack, or the three-cushion start.
-        #[arg(long, default_value = "pool", value_parser = ["pool", "3cushion"], conflicts_with = "scene")]
+        /// The table without a scene: an `8ball` or `9ball` rack (`pool` is the 8-ball
+        /// rack), or the `3cushion` start on the carom table.
+        #[arg(long, value_name = "MODE", default_value = "8ball", value_parser = ["8ball", "9ball", "pool", "3cushion"], conflicts_with = "scene")]
         mode: String,
+        #[command(flatten)]
+        seed: SeedArg,
     },
     /// Watch a recorded game: from a file, or from a server by its room code.
     #[command(group(ArgGroup::new("source").required(true).args(["file", "server"])))]
     Replay {
-        /// A game record file.
-        #[arg(conflicts_with = "server")]
+        /// A game record file (saved with `replay --server ... --save FILE`).
+        #[arg(value_name = "FILE", conflicts_with = "server")]
         file: Option<PathBuf>,
         /// The server that recorded the game: breakshot://HOST:PORT#FINGERPRINT, as
         /// breakshot-server prints it (a room invite works too).
@@ -179,10 +248,20 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
     parse_size(&cli.size)?;
     Ok(match &cli.command {
         None => ui::Start::Menu,
-        Some(Command::Practice { scene: None, mode }) if mode == "3cushion" => {
-            ui::Start::Practice(Some(Box::new(three_cushion_scene())))
-        }
-        Some(Command::Practice { scene: None, .. }) => ui::Start::Practice(None),
+        Some(Command::Practice {
+            scene: None,
+            mode,
+            seed,
+        }) => match mode.as_str() {
+            "9ball" => ui::Start::Practice(Some(Box::new(rack_scene(
+                Variant::NineBall,
+                seed.seed.unwrap_or_else(ui::fresh_seed),
+            )))),
+            "3cushion" => {
+                ui::Start::Practice(Some(Box::new(rack_scene(Variant::three_cushion(), 0))))
+            }
+            _ => ui::Start::Practice(None),
+        },
         Some(Command::Practice {
             scene: Some(path), ..
         }) => {
@@ -191,20 +270,20 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             let scene = Scene::from_json(&text).with_context(|| format!("{}", path.display()))?;
             ui::Start::Practice(Some(Box::new(scene)))
         }
-        Some(Command::Local { mode, rules }) => ui::Start::Local(variant(mode, rules, cli.race)),
+        Some(Command::Local { game, .. }) => ui::Start::Local(game.variant()?),
         Some(Command::VsComputer {
             level,
-            mode,
-            rules,
+            game,
             breaker,
+            ..
         }) => ui::Start::VsComputer {
-            variant: variant(mode, rules, cli.race),
+            variant: game.variant()?,
             level: Level::new(*level),
             computer_breaks: breaker == "computer",
         },
         Some(Command::Host {
-            mode,
-            rules,
+            game,
+            name: name_arg,
             bind,
             address,
             aids,
@@ -214,22 +293,25 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
         }) => {
             let options = HostOptions {
                 bind: *bind,
-                variant: variant(mode, rules, cli.race),
+                variant: game.variant()?,
                 aim_aid: aim_aid(aids),
                 address: address.clone(),
                 resume: !new,
-                name: name(cli)?,
+                name: name(cli, name_arg)?,
                 computer: computer.then(|| Level::new(*level)),
                 ..HostOptions::new(data_dir(cli)?)
             };
             host(&options)?
         }
-        Some(Command::Join { invite }) => {
+        Some(Command::Join {
+            invite,
+            name: name_arg,
+        }) => {
             let invite: Invite = invite
                 .parse()
                 .with_context(|| format!("{invite:?} is not an invite"))?;
             let seats = SeatStore::new(&data_dir(cli)?);
-            let link = NetLink::join(invite, &name(cli)?, Some(seats))?;
+            let link = NetLink::join(invite, &name(cli, name_arg)?, Some(seats))?;
             ui::Start::Network(Box::new(link))
         }
         Some(Command::Replay {
@@ -251,8 +333,18 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
 }
 
 /// The player's name: `--name` (remembered), else the one remembered in the data directory.
-fn name(cli: &Cli) -> anyhow::Result<String> {
-    player_name(&data_dir(cli)?, cli.name.as_deref()).map_err(anyhow::Error::msg)
+fn name(cli: &Cli, arg: &NameArg) -> anyhow::Result<String> {
+    player_name(&data_dir(cli)?, arg.name.as_deref()).map_err(anyhow::Error::msg)
+}
+
+/// The rack's seed the command gives, if it racks balls at this computer.
+fn seed(cli: &Cli) -> Option<u64> {
+    match &cli.command {
+        Some(Command::Local { seed, .. })
+        | Some(Command::VsComputer { seed, .. })
+        | Some(Command::Practice { seed, .. }) => seed.seed,
+        _ => None,
+    }
 }
 
 /// The data directory: `--data`, else the default (see [`default_data_dir`]).
@@ -361,16 +453,6 @@ fn aim_aid(name: &str) -> AimAid {
     }
 }
 
-/// The rules variant named by `--mode` and `--rules` (both checked by the parser).
-fn variant(mode: &str, rules: &str, race: u32) -> Variant {
-    match (mode, rules) {
-        ("9ball", _) => Variant::NineBall,
-        ("3cushion", _) => Variant::ThreeCushion { race },
-        (_, "bar") => Variant::EightBall(EightBallRules::Bar),
-        _ => Variant::EightBall(EightBallRules::Wpa),
-    }
-}
-
 fn parse_size(text: &str) -> anyhow::Result<(i32, i32)> {
     let parsed = text.split_once(['x', 'X']).and_then(|(w, h)| {
         let (w, h) = (w.trim().parse::<i32>().ok()?, h.trim().parse::<i32>().ok()?);
@@ -394,7 +476,7 @@ fn open_window(cli: &Cli, start: ui::Start) -> ExitCode {
     let options = ui::Options {
         screenshot: cli.screenshot.clone(),
         frames: cli.frames,
-        seed: cli.seed,
+        seed: seed(cli),
         view: cli.view.as_deref().and_then(ViewKind::parse),
         data: data_dir(cli).ok(),
     };

@@ -83,6 +83,13 @@ fn bad_options_are_refused() {
         &["practice", "--size", "12x"][..],
         &["local", "--mode", "snooker"][..],
         &["local", "--mode", "3cushion", "--race", "0"][..],
+        // Options refused where they mean nothing.
+        &["local", "--race", "5"][..],
+        &["vs-computer", "--mode", "9ball", "--rules", "bar"][..],
+        &["host", "--mode", "3cushion", "--rules", "wpa"][..],
+        &["practice", "--name", "ann"][..],
+        &["join", "breakshot://127.0.0.1:4433/ROOM#ab", "--seed", "3"][..],
+        &["replay", "x.rec", "--race", "3"][..],
         &["vs-computer", "--level", "0"][..],
         &["vs-computer", "--level", "6"][..],
         &["vs-computer", "--break", "nobody"][..],
@@ -272,4 +279,109 @@ fn a_record_of_another_format_version_is_named_once() {
         1,
         "said once: {err}"
     );
+}
+
+/// Each subcommand's `--help`: the options it takes and no other, each with a line of help.
+#[test]
+fn every_subcommand_lists_only_its_own_options_each_with_help() {
+    let window = ["--screenshot", "--frames", "--size", "--data", "--view"];
+    let cases: [(&str, &[&str]); 6] = [
+        (
+            "host",
+            &[
+                "--mode",
+                "--rules",
+                "--race",
+                "--name",
+                "--bind",
+                "--address",
+                "--aids",
+                "--new",
+                "--computer",
+                "--level",
+            ],
+        ),
+        ("join", &["--name"]),
+        ("local", &["--mode", "--rules", "--race", "--seed"]),
+        (
+            "vs-computer",
+            &[
+                "--level", "--mode", "--rules", "--race", "--break", "--seed",
+            ],
+        ),
+        ("practice", &["--mode", "--seed"]),
+        ("replay", &["--server", "--game", "--save"]),
+    ];
+    let all = [
+        "--mode",
+        "--rules",
+        "--race",
+        "--name",
+        "--bind",
+        "--address",
+        "--aids",
+        "--new",
+        "--computer",
+        "--level",
+        "--break",
+        "--seed",
+        "--server",
+        "--game",
+        "--save",
+    ];
+    for (sub, own) in cases {
+        let out = breakshot(&[sub, "--help"]);
+        assert_eq!(out.status.code(), Some(0), "{sub} --help");
+        let help = String::from_utf8_lossy(&out.stdout).into_owned();
+        // Option lines read `      --name <VALUE>   help text`.
+        let options: Vec<(&str, &str)> = help
+            .lines()
+            .map(str::trim_start)
+            .filter(|l| l.starts_with("--"))
+            .map(|l| {
+                let (name, rest) = l.split_once(' ').unwrap_or((l, ""));
+                let rest = rest.trim_start();
+                let text = match rest.strip_prefix('<') {
+                    Some(value) => value.split_once('>').map_or("", |(_, t)| t),
+                    None => rest,
+                };
+                (name, text.trim())
+            })
+            .collect();
+        let listed: Vec<&str> = options.iter().map(|(name, _)| *name).collect();
+        for option in all {
+            assert_eq!(
+                listed.contains(&option),
+                own.contains(&option),
+                "{sub} --help and {option}:\n{help}"
+            );
+        }
+        for option in window {
+            assert!(
+                listed.contains(&option),
+                "{sub} --help lacks {option}:\n{help}"
+            );
+        }
+        for (name, text) in &options {
+            assert!(
+                text.split_whitespace().count() >= 3,
+                "{sub}: {name} has no help line:\n{help}"
+            );
+        }
+    }
+    // The positional arguments say what they are.
+    for (sub, arg, words) in [
+        ("join", "<INVITE>", "invite"),
+        ("practice", "[SCENE]", "scene file"),
+        ("replay", "[FILE]", "record file"),
+    ] {
+        let out = breakshot(&[sub, "--help"]);
+        let help = String::from_utf8_lossy(&out.stdout).into_owned();
+        let line = help
+            .lines()
+            .skip_while(|l| l.trim() != "Arguments:")
+            .find(|l| l.contains(arg))
+            .unwrap_or_else(|| panic!("{sub} --help lacks {arg}:\n{help}"));
+        assert!(line.to_lowercase().contains(words), "{sub}: {line}");
+    }
 }

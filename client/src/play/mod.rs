@@ -18,7 +18,7 @@ pub use computer::ComputerLink;
 pub use controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
 pub use game_flow::{GameFlow, Turn};
 pub use link::{AwayResult, GameEvent, GameLink, LocalLink};
-pub use practice::{three_cushion_scene, Practice, PracticeError};
+pub use practice::{rack_scene, Practice, PracticeError};
 pub use replay::{ReplayOpenError, ReplayViewer};
 pub use replica::{Check, Replica};
 

@@ -266,10 +266,11 @@ impl Practice {
 }
 
 /// Ids of racked balls: "cue", then "1", "2", ...
-/// The three-cushion start (UMB) on the carom table as a scene: the white to play, the
-/// yellow and the red, named as the game names them ([`palette::ball_ids`]).
-pub fn three_cushion_scene() -> Scene {
-    let game = Game::new(Variant::three_cushion(), Settings::offline(), 0);
+/// The opening position of `variant`'s game (its rack shuffled by `seed`: the three-cushion
+/// start on the carom table, a 9-ball diamond, ...) as a scene, the balls named as the game
+/// names them ([`palette::ball_ids`]).
+pub fn rack_scene(variant: Variant, seed: u64) -> Scene {
+    let game = Game::new(variant, Settings::offline(), seed);
     let balls = palette::ball_ids(&game)
         .into_iter()
         .zip(game.balls())
