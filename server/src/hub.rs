@@ -117,6 +117,21 @@ pub struct Hub {
     /// Seats of games that ended, for players who come back after their room is gone.
     endings: Endings,
     rng: Box<dyn Entropy>,
+    /// Draining: no new room is opened; the games in play go on to their end.
+    draining: bool,
+    /// Rooms refused because of the drain.
+    drain_refusals: usize,
+}
+
+/// How many rooms are in each state, for the operator's metrics.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Census {
+    /// Rooms waiting for their second player.
+    pub waiting: usize,
+    /// Rooms with both players and a game in play (a room out running a command counts here).
+    pub playing: usize,
+    /// Rooms whose game is over, kept for a rematch.
+    pub over: usize,
 }
 
 fn send(to: ConnId, msg: ServerMessage) -> Output {
@@ -146,7 +161,37 @@ impl Hub {
             tokens: BTreeMap::new(),
             endings: Endings::default(),
             rng,
+            draining: false,
+            drain_refusals: 0,
         }
+    }
+
+    /// How many rooms the drain has refused so far.
+    pub fn drain_refusals(&self) -> usize {
+        self.drain_refusals
+    }
+
+    /// Opens no new room from now on (the games in play go on): the server drains.
+    pub fn drain(&mut self) {
+        self.draining = true;
+    }
+
+    /// Rooms by state; linear in the rooms, so the driver takes it now and then, not per event.
+    pub fn census(&self) -> Census {
+        let mut census = Census {
+            playing: self.away.len(),
+            ..Census::default()
+        };
+        for room in self.rooms.values() {
+            if room.is_waiting() {
+                census.waiting += 1;
+            } else if matches!(room.game().phase(), Phase::Over { .. }) {
+                census.over += 1;
+            } else {
+                census.playing += 1;
+            }
+        }
+        census
     }
 
     /// The configuration it was made with (the driver reads `finished_retention` at start).
@@ -675,6 +720,14 @@ impl Hub {
         rules: RoomRules,
         name: String,
     ) -> Vec<Output> {
+        if self.draining {
+            self.drain_refusals += 1;
+            return error(
+                conn,
+                ErrorCode::ServerBusy,
+                "this server is shutting down and opens no new games; try another",
+            );
+        }
         if self.room_count() >= self.config.limits.max_rooms.min(MAX_ROOMS) {
             return error(conn, ErrorCode::ServerBusy, "the server is full; try later");
         }

@@ -4,6 +4,7 @@
 
 #![warn(missing_docs, unreachable_pub)]
 
+pub mod admin;
 pub mod admission;
 pub mod conn;
 pub mod endings;
@@ -25,5 +26,5 @@ pub mod verify;
 pub mod work;
 
 pub use limits::Limits;
-pub use server::{run, Config, RoomHook, Server, ServerError};
+pub use server::{run, Config, RoomHook, Server, ServerError, DEFAULT_DRAIN_TIMEOUT};
 pub use stats::Stats;

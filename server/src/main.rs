@@ -8,7 +8,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 use breakshot_server::store::Location;
 use breakshot_server::verify::{verify_dir, verify_store};
-use breakshot_server::{Config, Limits, Server};
+use breakshot_server::{admin, Config, Limits, Server, DEFAULT_DRAIN_TIMEOUT};
 use breakshot_shared::protocol::ServerAddress;
 use clap::{Parser, Subcommand};
 use tokio::signal::unix::{signal, SignalKind};
@@ -56,6 +56,17 @@ struct Cli {
     /// server.
     #[arg(long)]
     load_test: bool,
+    /// Serve the operator's view over HTTP on this TCP address: /metrics (Prometheus),
+    /// /healthz, /readyz and POST /drain. Keep it private (loopback or an internal network).
+    #[arg(long, value_name = "ADDR")]
+    admin: Option<SocketAddr>,
+    /// On SIGTERM or POST /drain, how long to wait for the games in play to end before
+    /// stopping anyway (the games stay stored).
+    #[arg(long, value_name = "SECONDS", default_value_t = DEFAULT_DRAIN_TIMEOUT.as_secs())]
+    drain_timeout: u64,
+    /// Write the log as JSON lines (one object per event) instead of text.
+    #[arg(long)]
+    log_json: bool,
     #[command(subcommand)]
     command: Option<Command>,
 }
@@ -93,13 +104,16 @@ fn main() -> ExitCode {
 }
 
 fn serve(cli: &Cli) -> anyhow::Result<()> {
-    tracing_subscriber::fmt()
-        .with_env_filter(
-            tracing_subscriber::EnvFilter::try_from_default_env()
-                .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info")),
-        )
-        .with_writer(std::io::stderr)
-        .init();
+    let filter = tracing_subscriber::EnvFilter::try_from_default_env()
+        .unwrap_or_else(|_| tracing_subscriber::EnvFilter::new("info"));
+    let log = tracing_subscriber::fmt()
+        .with_env_filter(filter)
+        .with_writer(std::io::stderr);
+    if cli.log_json {
+        log.json().init();
+    } else {
+        log.init();
+    }
     let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
     runtime.block_on(async {
         // Listen for Ctrl-C (and SIGTERM from service managers) before announcing the
@@ -108,10 +122,23 @@ fn serve(cli: &Cli) -> anyhow::Result<()> {
         let mut terminate = signal(SignalKind::terminate()).context("listening for SIGTERM")?;
         let mut config = Config::new(cli.bind, cli.data.clone());
         config.limits = limits(cli);
+        config.drain_timeout = std::time::Duration::from_secs(cli.drain_timeout);
         if let Some(store) = &cli.store {
             config.store = store.clone();
         }
         let server = Server::bind(&config)?;
+        let stats = server.stats();
+        let admin = match cli.admin {
+            Some(addr) => {
+                let listener = tokio::net::TcpListener::bind(addr)
+                    .await
+                    .with_context(|| format!("admin address {addr}"))?;
+                let bound = listener.local_addr().context("admin address")?;
+                tracing::info!(addr = %bound, "admin: /metrics /healthz /readyz POST /drain");
+                Some(tokio::spawn(admin::serve(listener, stats.clone())))
+            }
+            None => None,
+        };
         let mut invite = server.invite();
         if let Some(host) = &cli.host {
             invite = invite.with_host(host);
@@ -122,14 +149,23 @@ fn serve(cli: &Cli) -> anyhow::Result<()> {
         out.flush()?;
         drop(out);
         tracing::info!(addr = %server.local_addr(), restored = server.restored(), "serving");
+        // Ctrl-C stops at once; SIGTERM (a service manager's stop) drains first, and a
+        // second SIGTERM stops at once.
         server
             .run(async {
                 tokio::select! {
                     _ = interrupt.recv() => {}
-                    _ = terminate.recv() => {}
+                    _ = async {
+                        terminate.recv().await;
+                        stats.start_drain();
+                        terminate.recv().await;
+                    } => {}
                 }
             })
             .await?;
+        if let Some(admin) = admin {
+            admin.abort();
+        }
         tracing::info!("stopped");
         Ok(())
     })

@@ -231,6 +231,11 @@ impl Room {
         &self.record
     }
 
+    /// Whether the room still waits for its second player.
+    pub fn is_waiting(&self) -> bool {
+        self.seats.iter().any(Option::is_none)
+    }
+
     /// Whether nobody is in the room and no seat awaits a reconnect; the hub then drops it.
     pub fn is_closed(&self) -> bool {
         self.closed

@@ -69,7 +69,14 @@ pub struct Config {
     /// Tests only: called on the worker thread before each message a room runs, so a test
     /// can make one room as slow as it likes and watch the others. `None` in service.
     pub before_room_work: Option<RoomHook>,
+    /// How long a drain ([`Stats::start_drain`]) waits for the games in play to end before
+    /// the server stops anyway (their games stay in the store, for this server's next start
+    /// or, on a shared PostgreSQL store, for another instance to take over at once).
+    pub drain_timeout: Duration,
 }
+
+/// The default [`Config::drain_timeout`]: long enough for most games to end.
+pub const DEFAULT_DRAIN_TIMEOUT: Duration = Duration::from_secs(15 * 60);
 
 /// See [`Config::before_room_work`].
 #[derive(Clone)]
@@ -93,6 +100,7 @@ impl Config {
             predictable_seed: None,
             room_threads: pool::default_threads(),
             before_room_work: None,
+            drain_timeout: DEFAULT_DRAIN_TIMEOUT,
         }
     }
 }
@@ -145,6 +153,7 @@ pub struct Server {
     limits: Limits,
     room_threads: usize,
     before_room_work: Option<RoomHook>,
+    drain_timeout: Duration,
     stats: Arc<Stats>,
 }
 
@@ -209,6 +218,7 @@ impl Server {
             limits: config.limits.clone(),
             room_threads: config.room_threads,
             before_room_work: config.before_room_work.clone(),
+            drain_timeout: config.drain_timeout,
             stats: Arc::new(Stats::default()),
         })
     }
@@ -256,6 +266,7 @@ impl Server {
             limits,
             room_threads,
             before_room_work,
+            drain_timeout,
             stats,
             ..
         } = self;
@@ -286,10 +297,34 @@ impl Server {
         let mut next_id: ConnId = 0;
         let mut connections = tokio::task::JoinSet::new();
         tokio::pin!(shutdown);
+        let mut drain_check = tokio::time::interval(DRAIN_CHECK);
+        let mut drain_started: Option<Instant> = None;
         let outcome = loop {
             tokio::select! {
                 _ = &mut shutdown => break Ok(()),
                 _ = failed.notified() => break Err(()),
+                // Always polled: a drain starts from another task (a signal, the admin
+                // address), and a disabled branch would not notice it until the next event.
+                _ = drain_check.tick() => {
+                    if !stats.is_draining() {
+                        continue;
+                    }
+                    let started = *drain_started.get_or_insert_with(|| {
+                        tracing::info!("draining: no new games; stopping when the games in play end");
+                        Instant::now()
+                    });
+                    // The census is taken after the drain began, so a game started just
+                    // before it is counted.
+                    let settled = started.elapsed() > CENSUS_PERIOD * 2;
+                    if settled && Stats::get(&stats.rooms_playing) == 0 {
+                        tracing::info!("drained: no game in play");
+                        break Ok(());
+                    }
+                    if started.elapsed() >= drain_timeout {
+                        tracing::warn!(playing = Stats::get(&stats.rooms_playing), "drain time is up; stopping with games in play (they stay stored)");
+                        break Ok(());
+                    }
+                }
                 incoming = endpoint.accept() => {
                     let Some(incoming) = incoming else { break Ok(()) };
                     // Finished tasks are reaped here so the set holds only live ones.
@@ -557,6 +592,12 @@ struct Workers {
     hook: Option<RoomHook>,
 }
 
+/// How often a draining server looks whether its games have ended.
+const DRAIN_CHECK: Duration = Duration::from_millis(250);
+
+/// How often the hub counts its rooms by state for the metrics (and so how stale they may be).
+const CENSUS_PERIOD: Duration = Duration::from_secs(1);
+
 fn spawn_hub(
     mut hub: Hub,
     events: Receiver<HubEvent>,
@@ -567,15 +608,31 @@ fn spawn_hub(
 ) -> JoinHandle<()> {
     // The pool moves into the thread: when the hub stops, dropping it finishes the rooms'
     // work already queued (so every accepted command is stored) before the writer stops.
+    let mut last_census: Option<Instant> = None;
     std::thread::spawn(move || loop {
         stats.rooms.store(hub.room_count(), Ordering::Relaxed);
+        if stats.is_draining() {
+            hub.drain();
+        }
+        if last_census.is_none_or(|t| t.elapsed() >= CENSUS_PERIOD) {
+            let census = hub.census();
+            stats.rooms_waiting.store(census.waiting, Ordering::Relaxed);
+            stats.rooms_playing.store(census.playing, Ordering::Relaxed);
+            stats.rooms_over.store(census.over, Ordering::Relaxed);
+            stats
+                .refused_draining
+                .store(hub.drain_refusals(), Ordering::Relaxed);
+            last_census = Some(Instant::now());
+        }
+        // The hub wakes at least once a census period, so the metrics stay current while
+        // nothing happens.
         let wait = hub
             .next_deadline()
-            .map(|d| d.saturating_duration_since(Instant::now()));
-        let event = match wait {
-            Some(w) => events.recv_timeout(w),
-            None => events.recv().map_err(|_| RecvTimeoutError::Disconnected),
-        };
+            .map_or(CENSUS_PERIOD, |d| {
+                d.saturating_duration_since(Instant::now())
+            })
+            .min(CENSUS_PERIOD);
+        let event = events.recv_timeout(wait);
         let now = Instant::now();
         if event.is_ok() {
             stats.hub_queue.fetch_sub(1, Ordering::Relaxed);
@@ -666,7 +723,10 @@ fn spawn_writer(
                 .flatten()
                 .collect();
             if !ops.is_empty() {
-                if let Err(e) = store.apply(&ops) {
+                let started = Instant::now();
+                let applied = store.apply(&ops);
+                stats.store_write_time.record(started.elapsed());
+                if let Err(e) = applied {
                     tracing::error!(error = %e, "storage write failed; stopping without showing the unstored results");
                     failed.notify_one();
                     return Err(e.to_string());

@@ -1,7 +1,7 @@
 //! Live counters of a running server, cheap enough to keep always: what an operator (or a
 //! test) reads to see that queues and connection counts stay bounded.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use crate::timing::Histogram;
 
@@ -31,11 +31,34 @@ pub struct Stats {
     /// The server's own time per applied command: from reading its frame to handing its
     /// (stored) result to the connections.
     pub command_time: Histogram,
+    /// Time per durable store write (one group commit of every operation waiting).
+    pub store_write_time: Histogram,
+    /// Rooms whose second seat nobody has taken yet (updated by the hub about once a second).
+    pub rooms_waiting: AtomicUsize,
+    /// Rooms with both players seated and the game not over (likewise).
+    pub rooms_playing: AtomicUsize,
+    /// Rooms whose game is over, kept for a rematch (likewise).
+    pub rooms_over: AtomicUsize,
+    /// Rooms refused because the server is draining.
+    pub refused_draining: AtomicUsize,
+    /// Set to drain: no new rooms; the server stops once the last game has ended.
+    draining: AtomicBool,
 }
 
 impl Stats {
     /// Reads one counter: a recent value, not synchronised with the others.
     pub fn get(counter: &AtomicUsize) -> usize {
         counter.load(Ordering::Relaxed)
+    }
+
+    /// Starts draining (idempotent): the hub opens no new room, readiness turns false, and
+    /// the server stops once no room is left (or its drain time is up).
+    pub fn start_drain(&self) {
+        self.draining.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether the server is draining.
+    pub fn is_draining(&self) -> bool {
+        self.draining.load(Ordering::Relaxed)
     }
 }

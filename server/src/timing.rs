@@ -17,12 +17,15 @@ const BUCKETS: usize = 200;
 #[derive(Debug)]
 pub struct Histogram {
     counts: [AtomicU64; BUCKETS],
+    /// The sum of the recorded durations, in nanoseconds (a Prometheus histogram's `_sum`).
+    sum_nanos: AtomicU64,
 }
 
 impl Default for Histogram {
     fn default() -> Histogram {
         Histogram {
             counts: std::array::from_fn(|_| AtomicU64::new(0)),
+            sum_nanos: AtomicU64::new(0),
         }
     }
 }
@@ -46,6 +49,29 @@ impl Histogram {
     /// Counts one duration (one relaxed atomic add); one over about 34 s lands in the last bucket.
     pub fn record(&self, d: Duration) {
         self.counts[bucket(d)].fetch_add(1, Ordering::Relaxed);
+        let nanos = u64::try_from(d.as_nanos()).unwrap_or(u64::MAX);
+        self.sum_nanos.fetch_add(nanos, Ordering::Relaxed);
+    }
+
+    /// The sum of the recorded durations.
+    pub fn sum(&self) -> Duration {
+        Duration::from_nanos(self.sum_nanos.load(Ordering::Relaxed))
+    }
+
+    /// Cumulative counts at every `step`-th bucket edge, `(upper edge, durations at most
+    /// that long)`, ending with the last bucket: the buckets of a Prometheus histogram
+    /// (`step` 4 gives edges 2^(1/2), about 41 %, apart).
+    pub fn cumulative(&self, step: usize) -> Vec<(Duration, u64)> {
+        let step = step.max(1);
+        let mut seen = 0;
+        let mut out = Vec::with_capacity(BUCKETS / step + 1);
+        for (i, c) in self.counts.iter().enumerate() {
+            seen += c.load(Ordering::Relaxed);
+            if i % step == step - 1 || i == BUCKETS - 1 {
+                out.push((edge(i), seen));
+            }
+        }
+        out
     }
 
     /// How many durations were recorded.
@@ -95,5 +121,28 @@ mod tests {
         assert!((99.0..=99.0 * 1.1).contains(&p99), "{p99}");
         h.record(Duration::from_secs(1_000));
         assert!(h.quantile(1.0).unwrap() >= Duration::from_secs(30));
+    }
+
+    #[test]
+    fn cumulative_buckets_grow_to_the_count_and_the_sum_adds_up() {
+        let h = Histogram::default();
+        for ms in [1u64, 2, 3, 50] {
+            h.record(Duration::from_millis(ms));
+        }
+        assert_eq!(h.sum(), Duration::from_millis(56));
+        let buckets = h.cumulative(4);
+        assert!(buckets
+            .windows(2)
+            .all(|w| w[0].0 < w[1].0 && w[0].1 <= w[1].1));
+        assert_eq!(buckets.last().map(|b| b.1), Some(4));
+        let under = |limit: Duration| {
+            buckets
+                .iter()
+                .rev()
+                .find(|(edge, _)| *edge <= limit)
+                .map_or(0, |b| b.1)
+        };
+        assert_eq!(under(Duration::from_micros(900)), 0);
+        assert_eq!(under(Duration::from_millis(40)), 3);
     }
 }

@@ -201,3 +201,92 @@ fn a_store_that_is_not_a_postgres_url_is_refused_and_an_unreachable_one_is_an_er
     assert_eq!(out.status.code(), Some(2), "{text}");
     assert!(text.contains("PostgreSQL"), "{text}");
 }
+
+/// `GET`/`POST` `path` on the admin address: (status, body). Bounded by socket timeouts.
+fn http(addr: &str, method: &str, path: &str) -> (u16, String) {
+    use std::io::{Read, Write};
+    let mut stream = std::net::TcpStream::connect(addr).expect("the admin address accepts");
+    stream
+        .set_read_timeout(Some(Duration::from_secs(30)))
+        .expect("a timeout");
+    write!(stream, "{method} {path} HTTP/1.1\r\nHost: admin\r\n\r\n").expect("request sent");
+    let mut answer = String::new();
+    stream.read_to_string(&mut answer).expect("an answer");
+    let status = answer
+        .split_whitespace()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no status line in {answer:?}"));
+    let body = answer.split_once("\r\n\r\n").map_or("", |(_, b)| b);
+    (status, body.to_owned())
+}
+
+#[test]
+fn the_admin_address_serves_metrics_and_sigterm_drains_an_idle_server_to_a_stop() {
+    let dir = breakshot_testkit::scratch("server-admin");
+    let mut server = Spawned::start(
+        Command::new(BIN)
+            .args([
+                "--bind",
+                "127.0.0.1:0",
+                "--admin",
+                "127.0.0.1:0",
+                "--log-json",
+            ])
+            .arg("--data")
+            .arg(dir.path())
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped()),
+    );
+    // The log says where the admin address is bound, as a JSON object per line.
+    let stderr = server.child().stderr.take().expect("piped");
+    let (lines_tx, lines) = std::sync::mpsc::channel::<String>();
+    std::thread::spawn(move || {
+        use std::io::BufRead;
+        for line in std::io::BufReader::new(stderr)
+            .lines()
+            .map_while(Result::ok)
+        {
+            if lines_tx.send(line).is_err() {
+                return;
+            }
+        }
+    });
+    let next_line = || {
+        lines
+            .recv_timeout(Duration::from_secs(60))
+            .expect("the server logs within a minute")
+    };
+    let addr = loop {
+        let line = next_line();
+        if line.contains("admin:") {
+            assert!(line.starts_with('{') && line.ends_with('}'), "{line}");
+            let after = line.split("\"addr\":\"").nth(1).expect("an addr field");
+            break after.split('"').next().expect("quoted").to_owned();
+        }
+    };
+    let (status, metrics) = http(&addr, "GET", "/metrics");
+    assert_eq!(status, 200);
+    assert!(
+        metrics.contains("# TYPE breakshot_connections gauge"),
+        "{metrics}"
+    );
+    assert!(
+        metrics.contains("breakshot_command_seconds_bucket{le=\"+Inf\"} 0"),
+        "{metrics}"
+    );
+    assert_eq!(http(&addr, "GET", "/readyz").0, 200);
+    assert_eq!(http(&addr, "GET", "/nothing/../../etc/passwd").0, 404);
+    // SIGTERM drains; with no game in play the server then stops by itself, cleanly.
+    server.terminate();
+    let status = server.wait(Duration::from_secs(30));
+    assert!(status.success(), "{status:?}");
+    let mut log = Vec::new();
+    while let Ok(line) = lines.recv_timeout(Duration::from_secs(5)) {
+        log.push(line);
+    }
+    assert!(
+        log.iter().any(|l| l.contains("drained")),
+        "the log says the drain ended: {log:?}"
+    );
+}

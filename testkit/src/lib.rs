@@ -113,6 +113,15 @@ impl Spawned {
         }
     }
 
+    /// Sends the program SIGTERM, as a service manager stopping it does.
+    #[cfg(unix)]
+    pub fn terminate(&self) {
+        if let Some(pid) = rustix::process::Pid::from_raw(self.child.id() as i32) {
+            rustix::process::kill_process(pid, rustix::process::Signal::TERM)
+                .expect("the program takes a signal");
+        }
+    }
+
     /// Waits up to `limit` for the program to end by itself and returns how it ended; fails
     /// the test, after killing it, if it has not.
     pub fn wait(&mut self, limit: Duration) -> std::process::ExitStatus {

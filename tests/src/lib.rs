@@ -121,6 +121,21 @@ impl TestServer {
         })
     }
 
+    /// Waits up to `patience` for the server to stop by itself (a drain that finished);
+    /// `Ok(false)` if it is still running then (it is stopped before returning).
+    pub async fn stopped_by_itself(mut self, patience: Duration) -> Result<bool> {
+        match tokio::time::timeout(patience, &mut self.task).await {
+            Ok(ran) => {
+                ran??;
+                Ok(true)
+            }
+            Err(_) => {
+                self.stop().await?;
+                Ok(false)
+            }
+        }
+    }
+
     /// Stops the server as Ctrl-C would and waits until it has finished.
     pub async fn stop(mut self) -> Result<()> {
         if let Some(s) = self.stop.take() {
