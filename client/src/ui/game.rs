@@ -8,14 +8,14 @@ use breakshot_client::play::{
     InputFrame, Intent, Key, Stage, Turn,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
-use breakshot_client::view::hud::{connection as connection_text, Connection};
+use breakshot_client::view::hud::{self, connection as connection_text, Connection};
 use breakshot_client::view::{palette, tray, Frame, Layout, Orientations, Playback, Rect};
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
 use breakshot_shared::protocol::limits::RECONNECT_WINDOW;
 use breakshot_shared::protocol::Invite;
 use breakshot_shared::rules::{
-    is_off_table, pocket_name, rack, Choice, Command, Game, Phase, Variant,
+    is_off_table, pocket_name, rack, Choice, Command, Game, Phase, Seat, Variant,
 };
 use macroquad::prelude::*;
 
@@ -39,6 +39,8 @@ pub struct GameScreen {
     turns: Orientations,
     /// The player pressed Esc in an online game and is asked whether to leave.
     leaving: bool,
+    /// The player asked for a rematch of the game that is over; the other has not yet.
+    rematch_asked: bool,
     /// Top-down or 3-D, and the 3-D camera.
     view: TableView,
 }
@@ -70,6 +72,13 @@ fn choice_at(layout: &Layout, options: &[Choice], mouse: [f32; 2]) -> Option<Cho
 }
 
 impl GameScreen {
+    /// The players' names by seat, for a game whose link does not say them (the server
+    /// does in an online game).
+    pub fn with_names(mut self, names: [Option<String>; 2]) -> GameScreen {
+        self.flow.names = names;
+        self
+    }
+
     pub fn new(link: Box<dyn GameLink>, connection: Connection) -> GameScreen {
         GameScreen {
             link,
@@ -84,6 +93,7 @@ impl GameScreen {
             copied: false,
             turns: Orientations::new(),
             leaving: false,
+            rematch_asked: false,
             view: TableView::new(),
         }
     }
@@ -256,6 +266,7 @@ impl GameScreen {
                 (Intent::Rerack, _)
                     if matches!(game.phase(), Phase::Over { .. }) && !self.link.watching() =>
                 {
+                    self.rematch_asked = true;
                     self.link.rematch()
                 }
                 // Leaving an online game in play keeps the seat only for a while: ask first.
@@ -502,18 +513,51 @@ impl GameScreen {
             );
         }
         if let Phase::Over { reason, .. } = game.phase() {
-            let text = format!("{reason}  -  R: rematch, Esc: menu");
-            let d = draw::text_width(&text, 30.0);
-            let x = layout.cloth.x + 0.5 * (layout.cloth.w - d);
-            let y = layout.cloth.y + 0.5 * layout.cloth.h;
-            draw_rectangle(
-                x - 12.0,
-                y - 34.0,
-                d + 24.0,
-                48.0,
-                Color::new(0.0, 0.0, 0.0, 0.7),
-            );
-            draw::label(&text, x, y, 30.0, YELLOW);
+            let names = &self.flow.names;
+            let banner = hud::game_over_banner(game, self.link.seat(), names).unwrap_or_default();
+            let next = if self.link.watching() {
+                "Esc: menu".to_owned()
+            } else if self.rematch_asked && self.flow.connection != Connection::Offline {
+                let other = self.link.seat().map(Seat::other).map_or_else(
+                    || "the other player".to_owned(),
+                    |s| hud::named(&s.to_string(), names),
+                );
+                format!("Rematch asked: waiting for {other} to accept  -  Esc: menu")
+            } else {
+                "R: rematch, Esc: menu".to_owned()
+            };
+            let lines = [
+                (banner, 40.0, YELLOW),
+                (hud::named(reason, names), 22.0, WHITE),
+                (next, 20.0, LIGHTGRAY),
+            ];
+            // The box fits the widest line, and every line is shrunk to fit the cloth.
+            let room = layout.cloth.w - 40.0;
+            let scale = lines
+                .iter()
+                .map(|(t, size, _)| room / draw::text_width(t, *size).max(1.0))
+                .fold(1.0f32, f32::min);
+            let widths: Vec<f32> = lines
+                .iter()
+                .map(|(t, size, _)| draw::text_width(t, size * scale))
+                .collect();
+            let w = widths.iter().copied().fold(0.0, f32::max) + 24.0;
+            let h: f32 = lines
+                .iter()
+                .map(|(_, size, _)| size * scale * 1.3)
+                .sum::<f32>()
+                + 12.0;
+            let x0 = layout.cloth.x + 0.5 * (layout.cloth.w - w);
+            let mut y = layout.cloth.y + 0.5 * (layout.cloth.h - h);
+            draw_rectangle(x0, y, w, h, Color::new(0.0, 0.0, 0.0, 0.75));
+            y += 6.0;
+            for ((text, size, c), d) in lines.iter().zip(&widths) {
+                let size = size * scale;
+                y += size * 1.3;
+                draw::label(text, x0 + 0.5 * (w - d), y - 0.3 * size, size, *c);
+            }
+        } else {
+            self.rematch_asked = false;
         }
         if self.link.thinking() {
             draw_thinking(&layout);

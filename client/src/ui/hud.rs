@@ -64,7 +64,7 @@ pub fn game_hud(layout: &Layout, info: &HudInfo) {
 
     // What the game waits for, over the table; the last verdict's reasons, one a line, in
     // the tray's free right-hand part.
-    let status = hud::status(info.game);
+    let status = hud::status(info.game, info.names);
     // Unscaled: it sits in the margin between the bar and the table.
     draw_text(&status, layout.outer.x, layout.outer.y - 4.0, 18.0, WHITE);
     if let Some(v) = info.verdict {
@@ -75,7 +75,7 @@ pub fn game_hud(layout: &Layout, info: &HudInfo) {
         };
         let tray = layout.tray;
         let size = (tray.h / 3.4).clamp(12.0, 20.0);
-        for (k, line) in hud::verdict_lines(v).iter().take(3).enumerate() {
+        for (k, line) in hud::verdict_lines(v, info.names).iter().take(3).enumerate() {
             let w = measure_text(line, None, size as u16, 1.0).width;
             let y = tray.y + size * (k as f32 + 1.0);
             draw_text(line, tray.x + tray.w - w - 8.0, y, size, c);

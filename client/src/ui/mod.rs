@@ -24,7 +24,7 @@ use breakshot_client::play::{ComputerLink, GameLink, InputFrame, LocalLink, Repl
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::{palette, Playback, ViewKind};
 use breakshot_shared::ai::Level;
-use breakshot_shared::rules::{Settings, Variant};
+use breakshot_shared::rules::{Seat, Settings, Variant};
 
 /// How long a screenshot waits for a network game's first answer from the server.
 const SCREENSHOT_PATIENCE: std::time::Duration = std::time::Duration::from_secs(20);
@@ -73,10 +73,19 @@ pub fn local_game(variant: Variant, seed: u64) -> Screen {
 /// One player against the computer at `level`: the rules run here.
 pub fn computer_game(variant: Variant, level: Level, computer_breaks: bool, seed: u64) -> Screen {
     let link = ComputerLink::new(variant, Settings::offline(), seed, level, computer_breaks);
-    Screen::Game(Box::new(game::GameScreen::new(
-        Box::new(link),
-        Connection::Offline,
-    )))
+    // The seats by name: the computer with its level, the player as online games name them.
+    let computer = link.computer().seat();
+    let player = data_dir()
+        .and_then(|d| memory::player_name(&d, None).ok())
+        .unwrap_or_else(|| "You".to_owned());
+    let mut names = [Some(player), None];
+    if computer == Seat::A {
+        names.reverse();
+    }
+    names[usize::from(computer == Seat::B)] = Some(format!("Computer (level {})", level.number()));
+    Screen::Game(Box::new(
+        game::GameScreen::new(Box::new(link), Connection::Offline).with_names(names),
+    ))
 }
 
 /// A game over the network: hosted here, or joined.

@@ -114,8 +114,42 @@ fn on_table(game: &Game, n: u8) -> bool {
         .is_some_and(|b| b.motion != MotionState::Pocketed && !is_off_table(b))
 }
 
-/// What the game waits for, in words; in 9-ball, with the ball on.
-pub fn status(game: &Game) -> String {
+/// `text` with each seat the rules name ("Player A", "Player B") called by the player's name
+/// where it is known (a name the player chose, or the computer's "Computer (level 3)").
+pub fn named(text: &str, names: &[Option<String>; 2]) -> String {
+    let mut out = text.to_owned();
+    for (seat, name) in [Seat::A, Seat::B].into_iter().zip(names) {
+        if let Some(name) = name {
+            out = out.replace(&seat.to_string(), name);
+        }
+    }
+    out
+}
+
+/// The banner of a game that is over, for the player in `me`'s seat: "You won" or "You
+/// lost"; for someone watching (or two players at one computer), who won, by name.
+pub fn game_over_banner(
+    game: &Game,
+    me: Option<Seat>,
+    names: &[Option<String>; 2],
+) -> Option<String> {
+    let Phase::Over { winner, .. } = game.phase() else {
+        return None;
+    };
+    Some(match (winner, me) {
+        (Some(w), Some(me)) if *w == me => "You won".to_owned(),
+        (Some(_), Some(_)) => "You lost".to_owned(),
+        (Some(w), None) => named(&format!("{w} won"), names),
+        (None, _) => "Game over".to_owned(),
+    })
+}
+
+/// What the game waits for, in words, the seats by name; in 9-ball, with the ball on.
+pub fn status(game: &Game, names: &[Option<String>; 2]) -> String {
+    named(&status_of_seats(game), names)
+}
+
+fn status_of_seats(game: &Game) -> String {
     let text = waiting_for(game);
     let legal = game.legal_first_balls();
     match (game.variant(), game.phase(), &legal[..]) {
@@ -152,15 +186,16 @@ fn choices(options: &[Choice]) -> String {
         .join(" or ")
 }
 
-/// The last verdict as lines: each reason, then the end of the game if it is not among them.
-pub fn verdict_lines(v: &Verdict) -> Vec<String> {
+/// The last verdict as lines: each reason, then the end of the game if it is not among them;
+/// the seats by name.
+pub fn verdict_lines(v: &Verdict, names: &[Option<String>; 2]) -> Vec<String> {
     let mut lines = v.reasons.clone();
     if let Some((_, reason)) = &v.over {
         if !lines.contains(reason) {
             lines.push(reason.clone());
         }
     }
-    lines
+    lines.iter().map(|l| named(l, names)).collect()
 }
 
 /// The shot clock: whole seconds left, or nothing when the game has none.
@@ -221,9 +256,9 @@ mod tests {
         assert_eq!(a.text, "Player A: open table");
         assert_eq!(b.text, "Player B (you): open table");
         assert!(
-            status(&g).starts_with("Player A to break"),
+            status(&g, &NO_NAMES).starts_with("Player A to break"),
             "{}",
-            status(&g)
+            status(&g, &NO_NAMES)
         );
     }
 
@@ -231,9 +266,10 @@ mod tests {
     fn a_nine_ball_game_names_the_ball_on_and_a_group_its_balls_left() {
         let g = Game::new(Variant::NineBall, Settings::offline(), 3);
         assert!(
-            status(&g).starts_with("Player A to break") && status(&g).ends_with(" - the 1 is on"),
+            status(&g, &NO_NAMES).starts_with("Player A to break")
+                && status(&g, &NO_NAMES).ends_with(" - the 1 is on"),
             "{}",
-            status(&g)
+            status(&g, &NO_NAMES)
         );
         assert_eq!(balls_left(7), ", 7 balls left");
         assert_eq!(balls_left(1), ", 1 ball left");
@@ -255,7 +291,7 @@ mod tests {
         let [a, b] = players(&g, Some(Seat::A), &[None, None]);
         assert_eq!(a.text, "Player A (you): white, 0 of 10");
         assert_eq!(b.text, "Player B: yellow, 0 of 10");
-        assert_eq!(status(&g), "Player A to shoot");
+        assert_eq!(status(&g, &NO_NAMES), "Player A to shoot");
         g.apply(Seat::A, &Command::TimeExpired)
             .expect_err("no shot clock offline");
         g.apply(Seat::A, &Command::Concede).expect("concede");
@@ -269,12 +305,56 @@ mod tests {
             .apply(Seat::A, &Command::Concede)
             .expect("concede is allowed");
         assert!(players(&g, None, &[None, None]).iter().all(|p| !p.to_move));
-        assert!(status(&g).starts_with("Game over: "));
-        let lines = verdict_lines(&v);
+        assert!(status(&g, &NO_NAMES).starts_with("Game over: "));
+        let lines = verdict_lines(&v, &NO_NAMES);
         assert_eq!(
             lines.iter().filter(|l| l.contains("Player B wins")).count(),
             1
         );
+    }
+
+    const NO_NAMES: [Option<String>; 2] = [None, None];
+
+    #[test]
+    fn seats_are_called_by_their_names_in_turn_lines_verdicts_and_the_end() {
+        let names = [
+            Some("ann".to_owned()),
+            Some("Computer (level 3)".to_owned()),
+        ];
+        let mut g = eight();
+        assert!(
+            status(&g, &names).starts_with("ann to break"),
+            "{}",
+            status(&g, &names)
+        );
+        assert_eq!(game_over_banner(&g, Some(Seat::A), &names), None);
+        let v = g.apply(Seat::A, &Command::Concede).expect("concede");
+        let lines = verdict_lines(&v, &names);
+        assert!(
+            lines.iter().any(|l| l.contains("Computer (level 3) wins")),
+            "{lines:?}"
+        );
+        assert!(lines.iter().all(|l| !l.contains("Player ")), "{lines:?}");
+        assert!(status(&g, &names).starts_with("Game over: "));
+        assert!(
+            !status(&g, &names).contains("Player "),
+            "{}",
+            status(&g, &names)
+        );
+        assert_eq!(
+            game_over_banner(&g, Some(Seat::A), &names).as_deref(),
+            Some("You lost")
+        );
+        assert_eq!(
+            game_over_banner(&g, Some(Seat::B), &names).as_deref(),
+            Some("You won")
+        );
+        assert_eq!(
+            game_over_banner(&g, None, &names).as_deref(),
+            Some("Computer (level 3) won")
+        );
+        // A name not known yet leaves the seat's own words.
+        assert!(named("Player A to shoot", &[None, Some("ben".into())]).starts_with("Player A"));
     }
 
     #[test]
