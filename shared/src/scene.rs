@@ -66,13 +66,7 @@ impl TryFrom<RawScene> for Scene {
     type Error = String;
 
     fn try_from(raw: RawScene) -> Result<Scene, String> {
-        let mut physics = match serde_json::to_value(Params::for_table(raw.table)) {
-            Ok(serde_json::Value::Object(map)) => map,
-            _ => return Err("physics: the table's defaults cannot be encoded".into()),
-        };
-        physics.extend(raw.physics);
-        let physics: Params = serde_json::from_value(serde_json::Value::Object(physics))
-            .map_err(|e| format!("physics: {e}"))?;
+        let physics = physics_over_defaults(raw.table, raw.physics)?;
         Ok(Scene {
             table: raw.table,
             physics,
@@ -83,6 +77,21 @@ impl TryFrom<RawScene> for Scene {
             strike: raw.strike,
         })
     }
+}
+
+/// The parameters of a scene's `physics` object: the table's defaults, with those the
+/// object names replaced. An unknown name or a value of the wrong type is refused, naming
+/// it (the values' ranges are checked with the shot, [`Params::validate`]).
+pub fn physics_over_defaults(
+    table: TableKind,
+    overrides: serde_json::Map<String, serde_json::Value>,
+) -> Result<Params, String> {
+    let mut physics = match serde_json::to_value(Params::for_table(table)) {
+        Ok(serde_json::Value::Object(map)) => map,
+        _ => return Err("physics: the table's defaults cannot be encoded".into()),
+    };
+    physics.extend(overrides);
+    serde_json::from_value(serde_json::Value::Object(physics)).map_err(|e| format!("physics: {e}"))
 }
 
 /// A ball of a scene at t = 0.

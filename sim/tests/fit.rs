@@ -85,3 +85,89 @@ fn fit_refuses_what_is_not_recordings() {
     );
     assert_eq!(o.status.code(), Some(2));
 }
+
+#[test]
+fn fit_starts_from_the_parameters_named_and_writes_its_own() {
+    let dir = breakshot_testkit::scratch("fit-start");
+    let rec = dir.path().join("rec.json");
+    std::fs::write(&rec, recording()).expect("recording written");
+    let rec_s = rec.to_string_lossy().into_owned();
+    let fit = |out: &str, extra: &[&str]| {
+        let out = dir.path().join(out);
+        let out_s = out.to_string_lossy().into_owned();
+        let mut args = vec!["fit", &rec_s, "--out", &out_s, "--units", "m"];
+        args.extend_from_slice(extra);
+        (sim(&args, Duration::from_secs(300)), out)
+    };
+    // `defaults` starts from the carom table's own parameters, and the fit writes the
+    // parameters it ends with as a physics file, which `--start` reads back.
+    let (o, out) = fit(
+        "defaults",
+        &["--strikes-only", "--iters", "10", "--start", "defaults"],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let md = std::fs::read_to_string(out.join("fit.md")).expect("fit.md");
+    assert!(md.contains("the carom table's defaults"), "{md}");
+    let physics = out.join("physics.json");
+    let written: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&physics).expect("physics.json"))
+            .expect("JSON");
+    assert_eq!(written["ball_radius"], 0.03075, "the carom ball: {written}");
+    let physics_s = physics.to_string_lossy().into_owned();
+    let (o, out) = fit(
+        "file",
+        &["--strikes-only", "--iters", "10", "--start", &physics_s],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let again: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("physics.json")).expect("read"))
+            .expect("JSON");
+    assert_eq!(again, written, "strikes only: the parameters are kept");
+    // A bad start is a usage error that says what is wrong, and nothing is written.
+    let bad = dir.path().join("bad.json");
+    std::fs::write(&bad, r#"{"mu_slide": "slow"}"#).expect("written");
+    let bad_s = bad.to_string_lossy().into_owned();
+    for arg in ["carom", bad_s.as_str()] {
+        let (o, out) = fit("bad", &["--strikes-only", "--start", arg]);
+        assert_eq!(o.status.code(), Some(2), "--start {arg}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            err.contains("--start") && !err.contains("panicked"),
+            "{err}"
+        );
+        assert!(!out.exists(), "nothing written");
+    }
+}
+
+#[test]
+fn folds_need_two_and_the_shared_fit() {
+    let dir = breakshot_testkit::scratch("fit-folds");
+    let rec = dir.path().join("rec.json");
+    std::fs::write(&rec, recording()).expect("recording written");
+    let out = dir.path().join("out");
+    let (rec_s, out_s) = (rec.to_string_lossy(), out.to_string_lossy());
+    for extra in [
+        &["--folds", "1"][..],
+        &["--folds", "2", "--strikes-only"][..],
+    ] {
+        let mut args = vec!["fit", &rec_s, "--out", &out_s, "--units", "m"];
+        args.extend_from_slice(extra);
+        let o = sim(&args, Duration::from_secs(60));
+        assert_eq!(o.status.code(), Some(2), "{extra:?}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains("--folds"));
+    }
+    // One shot cannot be dealt into two folds: a clear failure, not a panic.
+    let o = sim(
+        &[
+            "fit", &rec_s, "--out", &out_s, "--units", "m", "--folds", "2",
+        ],
+        Duration::from_secs(60),
+    );
+    assert_eq!(o.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--folds 2") && !err.contains("panicked"),
+        "{err}"
+    );
+    assert!(!out.exists(), "nothing written");
+}

@@ -2,7 +2,8 @@
 //!
 //! The cushion nose touches the ball above its equator, at height `h` above the cloth, at an
 //! angle θ with `sin θ = (h − R)/R`. Seen from above the ball then touches the nose when its
-//! centre is `R·cos θ` from the nose line (rails) or `R·cos θ + ρ` from a jaw's axis.
+//! centre is `R·cos θ` from the nose line (rails) or `R·cos θ + ρ` from a jaw's axis
+//! (`R` and `R + ρ` with the `stronge` model, which follows pooltool's geometry).
 
 use glam::{DVec2, DVec3};
 
@@ -22,6 +23,17 @@ pub fn nose_angle(params: &Params) -> (f64, f64) {
 /// Horizontal distance from a ball's centre to a cushion nose when they touch.
 pub fn contact_distance(params: &Params) -> f64 {
     params.ball_radius * nose_angle(params).1
+}
+
+/// Horizontal distance from a ball's centre to a cushion nose at which `model` meets it. The
+/// `stronge` model takes pooltool's geometry, in which a ball meets the nose line when its
+/// centre is `R` from it (see [`stronge::contact_normal`]); the others touch the nose itself,
+/// [`contact_distance`].
+pub fn model_contact_distance(params: &Params, model: CushionModel) -> f64 {
+    match model {
+        CushionModel::Stronge => params.ball_radius,
+        _ => contact_distance(params),
+    }
 }
 
 /// First time in (now, until] that the ball of `piece` reaches `rail` moving into it.

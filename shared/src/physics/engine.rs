@@ -333,7 +333,7 @@ impl Simulator {
             models: shot.models,
             effects: shot.effects,
             motion: MotionModel::new(&shot.params, &shot.effects),
-            contact: ball_cushion::contact_distance(&shot.params),
+            contact: ball_cushion::model_contact_distance(&shot.params, shot.models.cushion),
             limit: shot.horizon.unwrap_or(f64::INFINITY),
         };
         let n = shot.balls.len();
@@ -1437,7 +1437,7 @@ fn validate(shot: &Shot, table: &Table) -> Result<(), ShotError> {
         strike.validated()?;
     }
     let r = shot.params.ball_radius;
-    let contact = ball_cushion::contact_distance(&shot.params);
+    let contact = ball_cushion::model_contact_distance(&shot.params, shot.models.cushion);
     let on_table = |i: usize| !shot.balls[i].motion.is_gone();
     let n = shot.balls.len();
     for i in (0..n).filter(|&i| on_table(i)) {

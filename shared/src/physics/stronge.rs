@@ -1,15 +1,22 @@
 //! Stronge's compliant frictional impact (W. J. Stronge, *Impact Mechanics*, 2000, ch. 5;
 //! for spheres, Stronge's tangential-compliance analysis), applied to a cushion as pooltool
-//! 0.6.0 does: the contact is taken at the ball's equator, the contact's normal and
-//! tangential compliances are springs, the normal one stiffer in restitution so that it
-//! returns `e_cushion` of the approach speed, and Coulomb friction `f_cushion` bounds the
-//! tangential spring force.
+//! 0.6.0's default cushion does (its `stronge_compliant` resolver, `omega_ratio = 1.8`): the
+//! contact's normal and tangential compliances are springs, the normal one stiffer in
+//! restitution so that it returns `e_cushion` of the approach speed, and Coulomb friction
+//! `f_cushion` bounds the tangential spring force.
+//!
+//! The geometry is pooltool's: the ball meets a rail when its centre is `R` from the nose
+//! line (seen from above), and the contact normal runs from the nose, at `cushion_height`,
+//! to the ball's centre, so it points down at φ with `tan φ = (h − R)/R` (15.6° for a pool
+//! ball). The impact is solved along that normal and in the plane square to it, in 3-D; the
+//! cloth then takes the vertical part of the impulse. Only the tangential impulse turns the
+//! ball: the normal one passes through its centre.
 //!
 //! In time scaled so that the normal frequency is 1, compression lasts π/2 and the contact
-//! `(1 + e)·π/2`. The tangential spring vibrates at `ω_t = 1.7` (the ratio pooltool uses,
-//! which fixes the stiffness ratio `η² = β_t/ω_t²`). With `β_n = 1` and `β_t = 7/2` (the
-//! inverse effective masses of a sphere on a flat, normal and tangential) and the initial
-//! ratio `x = v_t0/v_n0 ≥ 0` of tangential to normal contact speed, three cases:
+//! `(1 + e)·π/2`. The tangential spring vibrates at `ω_t = 1.8` (which fixes the stiffness
+//! ratio `η² = β_t/ω_t²`). With `β_n = 1` and `β_t = 7/2` (the inverse effective masses of a
+//! sphere on a flat, normal and tangential) and the initial ratio `x = v_t0/v_n0 ≥ 0` of
+//! tangential to normal contact speed, three cases:
 //! - gross slip, `x > μ((1 + e)β_t − η²/e)`: sliding throughout, the rigid Coulomb result
 //!   `v_t = v_t0 − μ·β_t·(1 + e)·v_n0`;
 //! - initial stick, `x < μη²`: the contact sticks (the tangential spring oscillates) until
@@ -26,8 +33,9 @@ use glam::DVec3;
 
 use super::params::Params;
 
-/// Ratio of the tangential to the normal contact frequency (pooltool 0.6.0's value).
-pub const FREQUENCY_RATIO: f64 = 1.7;
+/// Ratio of the tangential to the normal contact frequency: pooltool 0.6.0's default
+/// resolver sets 1.8 (its class alone defaults to 1.7).
+pub const FREQUENCY_RATIO: f64 = 1.8;
 /// Inverse effective masses (in units of 1/m) of a sphere against a flat: normal, tangential.
 const BETA_N: f64 = 1.0;
 const BETA_T: f64 = 3.5;
@@ -36,11 +44,24 @@ const BISECTIONS: u32 = 50;
 /// Grid on which a switch time is first bracketed.
 const GRID: u32 = 64;
 
+/// Unit normal of the contact, from the cushion nose to the ball's centre, for a ball whose
+/// centre is `R` from the nose line (pooltool's contact distance) and the nose at
+/// `cushion_height`: `n` tilted down by φ with `tan φ = (h − R)/R`.
+pub fn contact_normal(n: DVec3, params: &Params) -> DVec3 {
+    let r = params.ball_radius;
+    let drop = r - params.cushion_height;
+    let reach = (r * r + drop * drop).sqrt();
+    n * (r / reach) + DVec3::Z * (drop / reach)
+}
+
 /// Bounce of a ball with velocity `vel` and spin `spin` off a cushion whose horizontal unit
 /// normal `n` points out of the cushion (`vel·n < 0`). Returns velocity (horizontal) and spin.
 pub fn bounce(vel: DVec3, spin: DVec3, n: DVec3, params: &Params) -> (DVec3, DVec3) {
     let r = params.ball_radius;
+    let n = contact_normal(n, params);
     // Velocity of the ball's surface at the contact point −R·n.
+    // Its normal part is the centre's, `vel·n`: negative for a ball on the cloth moving into
+    // the cushion, whatever its spin.
     let contact = vel + spin.cross(-n * r);
     let v_n0 = contact.dot(n);
     let tangential = contact - n * v_n0;
@@ -193,6 +214,37 @@ mod tests {
         let (v_t, _) = resolve(-0.1, -1.0, 1e6, e);
         let expected = -0.1 * libm::cos(FREQUENCY_RATIO * (1.0 + e) * FRAC_PI_2);
         assert!((v_t - expected).abs() < 1e-6, "{v_t} vs {expected}");
+    }
+
+    #[test]
+    fn the_contact_normal_points_from_the_nose_to_the_centre() {
+        // pooltool's geometry: the centre R from the nose line, the nose at h above the
+        // cloth, so the normal falls at tan φ = (h − R)/R.
+        let p = Params::default();
+        let n = contact_normal(DVec3::Y, &p);
+        let (r, h) = (p.ball_radius, p.cushion_height);
+        assert!((n.length() - 1.0).abs() < 1e-15);
+        assert_eq!(n.x, 0.0);
+        assert!((-n.z / n.y - (h - r) / r).abs() < 1e-15, "{n}");
+    }
+
+    #[test]
+    fn a_frictionless_square_hit_returns_e_along_the_tilted_normal() {
+        // Closed form: with μ = 0 only the normal impulse acts, (1 + e)·v·cos φ along the
+        // tilted normal; the cloth takes its vertical part, so the ball comes back at
+        // v·((1 + e)·cos²φ − 1), and it passes through the centre, so no spin.
+        let p = Params {
+            f_cushion: 0.0,
+            ..Params::default()
+        };
+        let (v, w) = bounce(DVec3::new(0.0, -1.0, 0.0), DVec3::ZERO, DVec3::Y, &p);
+        let cos = contact_normal(DVec3::Y, &p).y;
+        assert!(
+            (v.y - ((1.0 + p.e_cushion) * cos * cos - 1.0)).abs() < 1e-15,
+            "{v}"
+        );
+        assert_eq!((v.x, v.z), (0.0, 0.0));
+        assert_eq!(w, DVec3::ZERO);
     }
 
     #[test]

@@ -6,6 +6,7 @@
 
 pub mod cli;
 pub mod cloth;
+pub mod crossval;
 mod plot;
 pub mod recording;
 mod report;
@@ -28,11 +29,36 @@ use strike::StrikeFit;
 /// Nelder–Mead iterations of each shared-parameter fit.
 const CLOTH_ITERS: u64 = 100;
 
+/// Which parameters a fit starts from (`--start`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Start {
+    /// The pool cloth's constants on the carom table ([`pool_start`]).
+    Pool,
+    /// The carom table's own defaults (the constants fitted to the shared recordings).
+    Defaults,
+    /// A scene-style `physics` object read from a file.
+    File,
+}
+
+impl Start {
+    /// How the report names it.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Start::Pool => "pool cloth (pooltool 0.6.0's constants) on the carom table",
+            Start::Defaults => "the carom table's defaults",
+            Start::File => "the parameters file given",
+        }
+    }
+}
+
 /// How a fit is run.
 #[derive(Clone, Copy, Debug)]
 pub struct Options {
     pub units: Units,
     pub cushion: CushionModel,
+    /// Where the parameters start, and their values.
+    pub start_from: Start,
+    pub start: Params,
     /// Fit the shared parameters too (otherwise only the strikes, under the start values).
     pub fit_cloth: bool,
     /// Nelder–Mead iterations of each short strike search (the refinement takes twice).
@@ -46,6 +72,8 @@ impl Default for Options {
         Options {
             units: Units::Recording,
             cushion: CushionModel::default(),
+            start_from: Start::Pool,
+            start: pool_start(),
             fit_cloth: true,
             iters: 80,
             rounds: 2,
@@ -57,7 +85,7 @@ impl Default for Options {
 pub struct Fit {
     pub recordings: Vec<Recording>,
     pub options: Options,
-    /// The parameters the study starts from (the literature's cloth on the carom table).
+    /// The parameters the fit starts from (`Options::start`).
     pub start: Params,
     /// The fitted shared parameters (equal to `start` without the cloth fit).
     pub fitted: Params,
@@ -68,10 +96,9 @@ pub struct Fit {
     pub seconds: Vec<(String, f64)>,
 }
 
-/// The parameters the study starts from: the carom table's balls and cushion height, with
-/// the cloth, ball and cushion constants that the pool tables use (pooltool 0.6.0's, from
-/// the literature).
-pub fn start_params() -> Params {
+/// The `pool` start: the carom table's balls and cushion height, with the cloth, ball and
+/// cushion constants that the pool tables use (pooltool 0.6.0's, from the literature).
+pub fn pool_start() -> Params {
     let carom = Params::for_table(TableKind::Carom);
     Params {
         ball_radius: carom.ball_radius,
@@ -81,11 +108,33 @@ pub fn start_params() -> Params {
     }
 }
 
-/// Reads `path`, fits, and writes the report into `out`.
-pub fn run(path: &Path, out: &Path, options: Options) -> anyhow::Result<()> {
+fn read(path: &Path, units: Units) -> anyhow::Result<Vec<Recording>> {
     let text =
         std::fs::read_to_string(path).with_context(|| format!("reading {}", path.display()))?;
-    let recordings = recording::parse(&text, options.units)?;
+    recording::parse(&text, units)
+}
+
+/// Reads `path`, cross-validates the fit in `folds` folds, and writes the report into `out`.
+pub fn cross_validate(
+    path: &Path,
+    out: &Path,
+    options: Options,
+    folds: usize,
+) -> anyhow::Result<()> {
+    let cv = crossval::run(read(path, options.units)?, options, folds, true)?;
+    crossval::write(&cv, out)?;
+    eprintln!(
+        "held-out median RMSE {:.1} cm over {} shots in {folds} folds; wrote {}",
+        100.0 * report::quantile(&rmses(&cv.held_out), 0.5),
+        cv.held_out.len(),
+        out.join("fit.md").display()
+    );
+    Ok(())
+}
+
+/// Reads `path`, fits, and writes the report into `out`.
+pub fn run(path: &Path, out: &Path, options: Options) -> anyhow::Result<()> {
+    let recordings = read(path, options.units)?;
     let fit = fit(recordings, options, true)?;
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     report::write(&fit, out)?;
@@ -109,7 +158,7 @@ pub fn fit(recordings: Vec<Recording>, options: Options, show: bool) -> anyhow::
         cushion: options.cushion,
         ..Models::default()
     };
-    let start = start_params();
+    let start = options.start;
     // Every start position must be valid before the long work begins.
     for rec in &recordings {
         strike::base_shot(rec, &start, models)?;

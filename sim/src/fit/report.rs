@@ -4,6 +4,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use anyhow::Context;
+use breakshot_shared::physics::Params;
 
 use super::cloth::{values, RANGES};
 use super::{rmses, Fit};
@@ -46,7 +47,14 @@ pub fn summarize(v: &[f64]) -> Summary {
 pub fn write(fit: &Fit, out: &Path) -> anyhow::Result<()> {
     std::fs::write(out.join("fit.csv"), csv(fit)).context("writing fit.csv")?;
     std::fs::write(out.join("fit.md"), markdown(fit)).context("writing fit.md")?;
-    Ok(())
+    write_physics(&fit.fitted, &out.join("physics.json"))
+}
+
+/// Writes `params` as a scene's `physics` object, which `fit --start FILE.json` (and a
+/// scene) can read back.
+pub fn write_physics(params: &Params, path: &Path) -> anyhow::Result<()> {
+    let text = serde_json::to_string_pretty(params).context("encoding the parameters")?;
+    std::fs::write(path, text + "\n").with_context(|| format!("writing {}", path.display()))
 }
 
 fn csv(fit: &Fit) -> String {
@@ -81,8 +89,10 @@ fn markdown(fit: &Fit) -> String {
     let _ = writeln!(s, "# Fit of simulated strikes to {n} recorded shots\n");
     let _ = writeln!(
         s,
-        "Cushion model `{:?}`; RMSE over all balls at all recorded sample times (m).\n",
-        fit.options.cushion
+        "Cushion model `{:?}`; RMSE over all balls at all recorded sample times (m). Start \
+         parameters: {}; the fitted ones are in `physics.json`.\n",
+        fit.options.cushion,
+        fit.options.start_from.describe()
     );
     let _ = writeln!(
         s,

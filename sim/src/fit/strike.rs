@@ -101,7 +101,7 @@ pub fn base_shot(rec: &Recording, params: &Params, models: Models) -> anyhow::Re
     let Some((w, l)) = table.size() else {
         bail!("the carom table has no size");
     };
-    let contact = ball_cushion::contact_distance(params) + 1e-9;
+    let contact = ball_cushion::model_contact_distance(params, models.cushion) + 1e-9;
     let mut pos: Vec<DVec2> = rec
         .balls
         .iter()

@@ -13,7 +13,7 @@
 //! [`Table`]; a ball whose centre is inside a pocket's capture circle falls.
 
 use breakshot_shared::physics::ball_ball::{collide, Kinematics};
-use breakshot_shared::physics::ball_cushion::{bounce, contact_distance};
+use breakshot_shared::physics::ball_cushion::{bounce, model_contact_distance};
 use breakshot_shared::physics::engine::check;
 use breakshot_shared::physics::motion::MotionModel;
 use breakshot_shared::physics::{BallState, MotionState, Piece, Shot, ShotError, Table};
@@ -114,7 +114,7 @@ impl<'a> Stepper<'a> {
             shot,
             method,
             model: MotionModel::new(&shot.params, &shot.effects),
-            contact: contact_distance(&shot.params),
+            contact: model_contact_distance(&shot.params, shot.models.cushion),
             table,
             balls,
             run: StepRun::default(),
