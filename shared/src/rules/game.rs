@@ -7,9 +7,9 @@ use serde::{Deserialize, Serialize};
 use crate::physics::{simulate, BallState, MotionState, Params, Shot, Strike, Table, TableKind};
 
 use super::{
-    eight, facts, nine, practice, rack, three_cushion, Choice, Command, Group, InHand, Next,
-    Pending, Phase, RuleError, Ruling, Seat, Settings, ShotFacts, ShotReport, TurnId, Variant,
-    Verdict,
+    eight, facts, nine, practice, rack, snooker, three_cushion, Choice, Command, Group, InHand,
+    Next, Pending, Phase, RuleError, Ruling, Seat, Settings, ShotFacts, ShotReport, TurnId,
+    Variant, Verdict,
 };
 
 /// A game in progress.
@@ -36,6 +36,8 @@ pub struct Game {
     pub(super) stalemate: [bool; 2],
     /// Three-cushion: the match (its scores, innings and balls).
     pub(super) carom: Option<three_cushion::Match>,
+    /// Snooker: the match (its frames, scores and the state between strokes).
+    pub(super) snooker: Option<snooker::frame::Snooker>,
 }
 
 impl Game {
@@ -63,6 +65,7 @@ impl Game {
             pending: None,
             stalemate: [false; 2],
             carom: None,
+            snooker: None,
         };
         game.rack(Seat::A);
         game
@@ -148,6 +151,7 @@ impl Game {
             Variant::NineBall => nine::lowest_ball(&self.balls).into_iter().collect(),
             Variant::Practice => Vec::new(),
             Variant::ThreeCushion { .. } => self.carom_first_balls(),
+            Variant::Snooker { .. } => self.snooker_balls_on(),
         }
     }
 
@@ -200,6 +204,11 @@ impl Game {
         match area {
             InHand::Kitchen => (DVec2::ZERO, DVec2::new(w, rack::head_string(self.table()))),
             InHand::Anywhere => (DVec2::ZERO, DVec2::new(w, l)),
+            InHand::D => {
+                let c = snooker::table::d_centre();
+                let r = snooker::table::D_RADIUS;
+                (DVec2::new(c.x - r, c.y - r), DVec2::new(c.x + r, c.y))
+            }
         }
     }
 
@@ -232,7 +241,17 @@ impl Game {
                 "the cue ball must be behind the head string".into(),
             ));
         }
-        if !rack::is_free(&self.balls, 0, p, self.table()) {
+        if area == InHand::D && !snooker::table::in_d(p) {
+            return Err(RuleError::IllegalPlacement(
+                "the cue ball must be placed in the D".into(),
+            ));
+        }
+        let free = if self.snooker.is_some() {
+            snooker::table::is_free(&self.balls, 0, p)
+        } else {
+            rack::is_free(&self.balls, 0, p, self.table())
+        };
+        if !free {
             return Err(RuleError::IllegalPlacement(
                 "the cue ball must lie on the cloth, clear of the cushions, pockets and other balls"
                     .into(),
@@ -302,6 +321,9 @@ impl Game {
                     ));
                 }
                 self.check_seat(seat)?;
+                if self.snooker.is_some() {
+                    return self.check_snooker_choice(*choice);
+                }
                 let options = match &self.phase {
                     Phase::Deciding { options } | Phase::Shooting { options, .. } => options,
                     Phase::Over { .. } => return Err(RuleError::GameOver),
@@ -387,6 +409,7 @@ impl Game {
             }
             Command::Decide(choice) => self.decide(seat, *choice),
             Command::TimeExpired => self.time_expired(seat),
+            Command::Concede if self.snooker.is_some() => self.snooker_concede(seat),
             Command::Concede | Command::Forfeit => {
                 let how = match cmd {
                     Command::Forfeit => "left and forfeited",
@@ -448,6 +471,9 @@ impl Game {
         if self.carom.is_some() {
             return self.carom_shot(seat, strike);
         }
+        if self.snooker.is_some() {
+            return self.snooker_shot(seat, strike);
+        }
         let outcome =
             simulate(&self.shot_for(strike)).map_err(|e| RuleError::InvalidShot(e.to_string()))?;
         let facts = ShotFacts::from_outcome(&outcome, self.table());
@@ -484,7 +510,7 @@ impl Game {
             Variant::Practice => practice::judge(self, seat, facts),
             // Three-cushion shots are judged by the match (`carom_shot`), never here: the
             // turn stays as it is.
-            Variant::ThreeCushion { .. } => Ruling {
+            Variant::ThreeCushion { .. } | Variant::Snooker { .. } => Ruling {
                 reasons: Vec::new(),
                 foul: false,
                 next: Next::Shoot {
@@ -499,6 +525,9 @@ impl Game {
     }
 
     pub(super) fn decide(&mut self, seat: Seat, choice: Choice) -> Verdict {
+        if self.snooker.is_some() {
+            return self.snooker_decide(seat, choice);
+        }
         let mut reasons = vec![format!("{seat} chooses to {choice}")];
         if choice == Choice::SpotNearestBall {
             reasons.extend(self.spot_nearest_ball());
@@ -571,6 +600,9 @@ impl Game {
         if self.carom.is_some() {
             return self.carom_time_out(seat);
         }
+        if self.snooker.is_some() {
+            return self.snooker_time_out(seat);
+        }
         let mut reasons = vec![format!("Foul: {seat} ran out of time")];
         self.stalemate = [false; 2];
         let opponent = seat.other();
@@ -616,7 +648,11 @@ impl Game {
             } => {
                 let cue_off = self.balls.first().is_none_or(is_off_table);
                 if cue_off && in_hand.is_none() {
-                    in_hand = Some(InHand::Anywhere);
+                    in_hand = Some(if self.snooker.is_some() {
+                        InHand::D
+                    } else {
+                        InHand::Anywhere
+                    });
                 }
                 self.to_move = seat;
                 self.pending = None;
@@ -660,6 +696,13 @@ impl Game {
     pub(super) fn rack(&mut self, breaker: Seat) {
         let seed = rack::rack_seed(self.seed, self.racks);
         self.carom = Game::start_carom(self.variant);
+        self.snooker = match self.snooker.take() {
+            Some(mut m) => {
+                m.start_frame(breaker);
+                Some(m)
+            }
+            None => Game::start_snooker(self.variant),
+        };
         self.balls = match (self.variant, &self.carom) {
             (Variant::NineBall, _) => rack::nine_ball(self.table(), seed),
             (Variant::EightBall(_) | Variant::Practice, _) => rack::eight_ball(self.table(), seed),
@@ -667,6 +710,7 @@ impl Game {
             (Variant::ThreeCushion { .. }, m) => {
                 m.iter().flat_map(|m| m.balls()).copied().collect()
             }
+            (Variant::Snooker { reds, .. }, _) => snooker::table::rack(reds, seed),
         };
         self.breaker = breaker;
         self.to_move = breaker;
@@ -676,14 +720,16 @@ impl Game {
         self.stalemate = [false; 2];
         let practice = self.variant == Variant::Practice;
         let carom = self.carom.is_some();
-        self.breaking = !practice && !carom;
+        let snooker = self.snooker.is_some();
+        self.breaking = !practice && !carom && !snooker;
         // In practice the cue ball is always in hand: it can be put anywhere free. In
         // three-cushion no ball is ever in hand.
         self.phase = Phase::Shooting {
-            in_hand: match (practice, carom) {
-                (true, _) => Some(InHand::Anywhere),
-                (false, true) => None,
-                (false, false) => Some(InHand::Kitchen),
+            in_hand: match (practice, carom, snooker) {
+                (true, _, _) => Some(InHand::Anywhere),
+                (false, true, _) => None,
+                (false, false, true) => Some(InHand::D),
+                (false, false, false) => Some(InHand::Kitchen),
             },
             options: Vec::new(),
             push_out: false,

@@ -1,5 +1,5 @@
 //! The game rules: 8-ball (World Standardized Rules, or the `bar` variant), 9-ball,
-//! three-cushion billiards and practice.
+//! three-cushion billiards, snooker and practice.
 //!
 //! A [`Game`] takes [`Command`]s from the two seats. [`Game::check`] says whether a command
 //! is acceptable now without changing anything; [`Game::apply`] is the only place the game
@@ -10,6 +10,9 @@
 //! Three-cushion is judged by [`three_cushion::Match`] and played as a `Game` by `carom.rs`;
 //! its balls are 0 = white (seat A's), 1 = yellow (seat B's), 2 = red, and the ball struck is
 //! the shooter's ([`Game::cue_ball`]).
+//!
+//! Snooker is played by `snooker.rs` (its module documentation lists the rules it judges);
+//! its balls are 0 = cue ball, 1 to 15 = reds, 16 to 21 = yellow to black.
 //!
 //! Ball index = ball number (0 = cue ball, 1..=15, or 1..=9 in 9-ball); balls off the table
 //! stay in the list with `motion: Pocketed` (and `pocket: None` if they left the table other
@@ -81,6 +84,7 @@ mod kitchen;
 mod nine;
 mod practice;
 pub mod rack;
+pub mod snooker;
 #[cfg(test)]
 mod tests;
 pub mod three_cushion;

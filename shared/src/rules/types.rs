@@ -24,6 +24,15 @@ pub enum Variant {
         /// The points a player needs to win the match.
         race: u32,
     },
+    /// Snooker (WPBSA rules) on the snooker table: frames of `reds` reds (15, or 10 or 6 for
+    /// short games), a match of the best of `best_of` frames (1 to
+    /// [`crate::rules::snooker::MAX_BEST_OF`], odd).
+    Snooker {
+        /// Reds racked each frame: 15, 10 or 6.
+        reds: u8,
+        /// Frames in the match; the first to win more than half wins.
+        best_of: u8,
+    },
 }
 
 impl Variant {
@@ -34,11 +43,20 @@ impl Variant {
         }
     }
 
+    /// A single frame of snooker with 15 reds.
+    pub fn snooker() -> Variant {
+        Variant::Snooker {
+            reds: 15,
+            best_of: 1,
+        }
+    }
+
     /// The table this game is played on when the settings name `table`: three-cushion is
-    /// only ever played on the carom table.
+    /// only ever played on the carom table, snooker on the snooker table.
     pub fn table(self, table: TableKind) -> TableKind {
         match self {
             Variant::ThreeCushion { .. } => TableKind::Carom,
+            Variant::Snooker { .. } => TableKind::Snooker,
             _ => table,
         }
     }
@@ -191,6 +209,14 @@ pub enum Choice {
     /// Three-cushion, with the shooter's ball against another: have the balls set up as at
     /// the start (UMB art. 27).
     Respot,
+    /// Snooker, after a foul: have the offender play again from the table as it lies.
+    OffenderPlaysAgain,
+    /// Snooker, after a foul and a miss: have the balls put back where they were before the
+    /// stroke, and the offender play again.
+    ReplaceBalls,
+    /// Snooker: nominate this ball (its index) for the coming stroke: a colour after a red,
+    /// or any ball as the free ball.
+    Nominate(u8),
 }
 
 /// Where the cue ball may be put when it is in hand.
@@ -200,6 +226,8 @@ pub enum InHand {
     Kitchen,
     /// Anywhere on the cloth, clear of the cushions, pockets and other balls.
     Anywhere,
+    /// Snooker: in the D (on or behind the baulk line, within the D's radius of its centre).
+    D,
 }
 
 /// The 8-ball groups.
@@ -346,6 +374,8 @@ pub(super) enum Pending {
     JumpedOnBreak,
     /// 9-ball: `pusher` pushed out.
     PushOut { pusher: Seat },
+    /// Snooker: the choice after a foul (its details are the match's).
+    SnookerFoul,
 }
 
 /// What a judged shot leads to.

@@ -4,7 +4,7 @@ use std::fmt;
 
 use crate::physics::{Table, TableKind};
 
-use super::{facts, Choice, Seat};
+use super::{facts, snooker, Choice, Seat};
 
 impl fmt::Display for Seat {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -17,6 +17,9 @@ impl fmt::Display for Seat {
 
 impl fmt::Display for Choice {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Choice::Nominate(ball) = self {
+            return write!(f, "nominate {}", snooker::table::ball_name(*ball));
+        }
         f.write_str(match self {
             Choice::AcceptTable => "accept the table",
             Choice::Rerack => "re-rack and break",
@@ -27,6 +30,9 @@ impl fmt::Display for Choice {
             Choice::CueBallInKitchen => "take the cue ball in hand behind the head string",
             Choice::SpotNearestBall => "have the ball nearest the head string spotted",
             Choice::Respot => "have the balls set up as at the start",
+            Choice::OffenderPlaysAgain => "make the offender play again",
+            Choice::ReplaceBalls => "have the balls replaced and the offender play again",
+            Choice::Nominate(_) => "nominate a ball",
         })
     }
 }
