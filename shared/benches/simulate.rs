@@ -1,5 +1,6 @@
 //! Simulation time of typical shots: one ball, a draw shot, the 8-ball break of the reference
-//! comparison, a 9-ball break and a frozen cradle. The scenes are the files in `examples/`.
+//! comparison, a 9-ball break, a frozen cradle and a snooker break-off (22 balls). The scenes
+//! are the files in `examples/`.
 //!
 //! `cargo bench -p breakshot-shared --bench simulate`
 
@@ -30,6 +31,7 @@ fn simulate(c: &mut Criterion) {
         ("break_8ball_7ft", "break_8ball_7ft.json"),
         ("break_9ball_9ft", "break_9ft.json"),
         ("frozen_cradle", "frozen_cradle.json"),
+        ("break_snooker_22", "snooker_break.json"),
     ];
     let mut group = c.benchmark_group("simulate");
     for (name, file) in scenes {

@@ -144,6 +144,15 @@ fn never_makes_an_illegal_command() {
     }
     only_legal(Variant::Practice, Settings::offline(), 4, 8);
     only_legal(Variant::three_cushion(), Settings::offline(), 1, 6);
+    only_legal(
+        Variant::Snooker {
+            reds: 6,
+            best_of: 1,
+        },
+        Settings::offline(),
+        1,
+        8,
+    );
 }
 
 /// In three-cushion the computer looks for caroms: from the starting position it finds

@@ -31,6 +31,7 @@ fn shots() -> Vec<(String, Shot)> {
         "stun_shot_open",
         "half_ball_rolling_open",
         "break_8ball_7ft",
+        "snooker_break",
     ] {
         let text = std::fs::read_to_string(dir().join(format!("{name}.json"))).expect("scene file");
         let scene = Scene::from_json(&text).expect("valid scene");

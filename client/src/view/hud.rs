@@ -46,6 +46,7 @@ pub fn variant_name(v: Variant) -> &'static str {
         Variant::NineBall => "9-ball",
         Variant::Practice => "practice",
         Variant::ThreeCushion { .. } => "three-cushion",
+        Variant::Snooker { .. } => "snooker",
     }
 }
 
@@ -172,6 +173,7 @@ fn waiting_for(game: &Game) -> String {
                     format!("{who} to {act}, cue ball in hand behind the head string")
                 }
                 Some(InHand::Anywhere) => format!("{who} to {act}, cue ball in hand"),
+                Some(InHand::D) => format!("{who} to {act}, cue ball in hand in the D"),
                 None => format!("{who} to {act}"),
             }
         }

@@ -63,6 +63,9 @@ pub struct BallLook {
 pub fn ball_ids(game: &Game) -> Vec<String> {
     match game.variant() {
         Variant::ThreeCushion { .. } => ["white", "yellow", "red"].map(String::from).to_vec(),
+        Variant::Snooker { .. } => (0..game.balls().len())
+            .map(|n| breakshot_shared::rules::snooker::table::scene_id(n as u8))
+            .collect(),
         _ => (0..game.balls().len())
             .map(|n| if n == 0 { "cue".into() } else { n.to_string() })
             .collect(),

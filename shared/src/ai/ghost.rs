@@ -53,7 +53,7 @@ fn placement(game: &Game, area: InHand, rng: &mut Rng) -> Option<[f64; 2]> {
     let (lo, hi) = game.in_hand_area(area);
     let r = game.params().ball_radius;
     let max_y = match area {
-        InHand::Kitchen => hi.y - r,
+        InHand::Kitchen | InHand::D => hi.y - r,
         InHand::Anywhere => hi.y - 2.0 * r,
     };
     (0..200)

@@ -32,9 +32,11 @@ mod scene_judge;
 mod search;
 mod value;
 
+use crate::physics::simulate;
 use crate::physics::MotionState;
 use crate::physics::Strike;
-use crate::rules::{Command, Game, InHand, Phase, Variant};
+use crate::rules::snooker::{frame as snooker_frame, table as snooker_table};
+use crate::rules::{Choice, Command, Game, InHand, Phase, ShotFacts, Variant};
 
 pub use candidates::{Breadth, Kind};
 pub use ghost::ghost_move;
@@ -241,9 +243,33 @@ pub fn plan(game: &Game, player: &Player, seed: u64) -> Option<Decision> {
                     }
                 }
             }
-            Some(shoot(game, player, seed))
+            let decision = shoot(game, player, seed);
+            match snooker_nomination(game, &decision.command) {
+                Some(colour) => Some(Decision {
+                    command: Command::Decide(Choice::Nominate(colour)),
+                    ..decision
+                }),
+                None => Some(decision),
+            }
         }
     }
+}
+
+/// In snooker, on a colour with none nominated: the colour the chosen stroke hits first (the
+/// search then runs again for that colour alone), or the lowest colour if it hits none.
+fn snooker_nomination(game: &Game, command: &Command) -> Option<u8> {
+    let m = game.snooker()?;
+    if !m.on_colour || m.nominated.is_some() {
+        return None;
+    }
+    let Command::Shot { strike, .. } = command else {
+        return None;
+    };
+    let first = simulate(&game.shot_for(strike))
+        .ok()
+        .and_then(|o| ShotFacts::from_outcome(&o, game.table()).first_contact)
+        .filter(|&b| snooker_table::is_colour(b));
+    first.or_else(|| snooker_frame::lowest_colour(game.balls()))
 }
 
 /// The best strike from the table as it lies.

@@ -17,7 +17,7 @@ pub(super) fn shot_quality(game: &Game, aim_sigma: f64) -> f64 {
     };
     match in_hand {
         Some(InHand::Anywhere) => return IN_HAND_QUALITY,
-        Some(InHand::Kitchen) => return KITCHEN_QUALITY,
+        Some(InHand::Kitchen | InHand::D) => return KITCHEN_QUALITY,
         None => {}
     }
     let layout = Layout::new(game.table(), game.balls());

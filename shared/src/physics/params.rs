@@ -14,6 +14,19 @@ const CAROM_E_BALL: f64 = 0.962;
 const CAROM_E_CUSHION: f64 = 0.80;
 const CAROM_F_CUSHION: f64 = 0.292;
 
+// Snooker balls and cloth. Mathavan, Jackson and Parkin, "A theoretical analysis of billiard
+// ball dynamics under cushion impacts", Proc. IMechE C 224 (2010), measured on a snooker
+// table: ball 0.1406 kg, ball–cloth sliding friction 0.212, ball–cushion restitution 0.98
+// and sliding friction 0.14, the cushion nose at 7R/5. The ball's size is the WPBSA's
+// (52.5 mm). Rolling and spin friction of snooker cloth have no published measurement we
+// could use: the pool cloth's stand.
+const SNOOKER_BALL_RADIUS: f64 = 0.02625;
+const SNOOKER_BALL_MASS: f64 = 0.1406;
+const SNOOKER_MU_SLIDE: f64 = 0.212;
+const SNOOKER_E_CUSHION: f64 = 0.98;
+const SNOOKER_F_CUSHION: f64 = 0.14;
+const SNOOKER_CUSHION_HEIGHT: f64 = 1.4 * SNOOKER_BALL_RADIUS;
+
 /// Ball–ball friction: a constant, or Alciatore's fit μ(v) = a + b·exp(−c·v) of the
 /// relative surface speed at the contact.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -102,8 +115,9 @@ impl Default for Params {
 }
 
 impl Params {
-    /// The default parameters of a table: pool balls and cloth for the pocket tables and the
-    /// open cloth, carom balls on heated cloth for the carom table (docs/physics.md, "The
+    /// The default parameters of a table: pool balls and cloth for the pool tables and the
+    /// open cloth, snooker balls on snooker cloth for the snooker table (docs/physics.md,
+    /// "The snooker table"), carom balls on heated cloth for the carom table (docs/physics.md, "The
     /// carom table", gives the sources and how the cloth and cushion constants were fitted to
     /// recorded shots).
     pub fn for_table(kind: TableKind) -> Params {
@@ -120,6 +134,15 @@ impl Params {
                 e_ball: CAROM_E_BALL,
                 e_cushion: CAROM_E_CUSHION,
                 f_cushion: CAROM_F_CUSHION,
+                ..Params::default()
+            },
+            TableKind::Snooker => Params {
+                ball_radius: SNOOKER_BALL_RADIUS,
+                ball_mass: SNOOKER_BALL_MASS,
+                mu_slide: SNOOKER_MU_SLIDE,
+                e_cushion: SNOOKER_E_CUSHION,
+                f_cushion: SNOOKER_F_CUSHION,
+                cushion_height: SNOOKER_CUSHION_HEIGHT,
                 ..Params::default()
             },
             _ => Params::default(),

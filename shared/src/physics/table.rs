@@ -34,6 +34,81 @@ pub const SIDE_POCKET_RADIUS: f64 = 0.0645;
 /// How far a side pocket's capture circle lies behind the nose line (m).
 pub const SIDE_POCKET_OFFSET: f64 = 0.05;
 
+// The snooker table's pockets. The WPBSA's pocket templates are not published; these are
+// pooltool's tuned `SNOOKER_GENERIC` table (objects/table/collection.py, 2026), converted to
+// this model: pooltool gives each mouth as the narrowest gap between its two jaw circles,
+// and puts a jaw's rail end `r·(√2 − 1)` beyond the mouth's corner point at a corner pocket
+// (a 45° jaw) and `r` beyond it at a middle pocket (a square jaw).
+/// Snooker corner pocket: narrowest gap between the jaws (m).
+pub const SNOOKER_CORNER_MOUTH: f64 = 0.08014;
+/// Snooker corner pocket: radius of the rounded jaws (m).
+pub const SNOOKER_CORNER_JAW_RADIUS: f64 = 0.0889;
+/// Snooker corner pocket: radius of the capture circle (m).
+pub const SNOOKER_CORNER_POCKET_RADIUS: f64 = 0.0889;
+/// Snooker corner pocket: depth of the capture circle's centre along the diagonal (m).
+pub const SNOOKER_CORNER_POCKET_DEPTH: f64 = 0.06735;
+/// Snooker middle pocket: narrowest gap between the jaws (m).
+pub const SNOOKER_SIDE_MOUTH: f64 = 0.08457;
+/// Snooker middle pocket: radius of the rounded jaws (m).
+pub const SNOOKER_SIDE_JAW_RADIUS: f64 = 0.0669;
+/// Snooker middle pocket: radius of the capture circle (m).
+pub const SNOOKER_SIDE_POCKET_RADIUS: f64 = 0.05319;
+/// Snooker middle pocket: how far the capture circle lies behind the nose line (m).
+pub const SNOOKER_SIDE_POCKET_OFFSET: f64 = 0.05159;
+
+/// The shape of a pocket table's six pockets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PocketShape {
+    /// How far a rail ends from the corner (the meeting of the nose lines) it runs to (m).
+    pub corner_rail_end: f64,
+    /// How far a rail ends from the middle of its long side (m).
+    pub side_rail_end: f64,
+    /// Radius of a corner pocket's jaws (m).
+    pub corner_jaw_radius: f64,
+    /// Radius of a middle pocket's jaws (m).
+    pub side_jaw_radius: f64,
+    /// Radius of a corner pocket's capture circle (m).
+    pub corner_pocket_radius: f64,
+    /// How far a corner pocket's capture circle lies outside the corner along each axis (m).
+    pub corner_pocket_offset: f64,
+    /// Radius of a middle pocket's capture circle (m).
+    pub side_pocket_radius: f64,
+    /// How far a middle pocket's capture circle lies behind the nose line (m).
+    pub side_pocket_offset: f64,
+}
+
+impl PocketShape {
+    /// The pool tables' pockets (the constants above).
+    pub fn pool() -> PocketShape {
+        PocketShape {
+            corner_rail_end: CORNER_MOUTH / std::f64::consts::SQRT_2,
+            side_rail_end: 0.5 * SIDE_MOUTH,
+            corner_jaw_radius: CORNER_JAW_RADIUS,
+            side_jaw_radius: SIDE_JAW_RADIUS,
+            corner_pocket_radius: CORNER_POCKET_RADIUS,
+            corner_pocket_offset: CORNER_POCKET_OFFSET,
+            side_pocket_radius: SIDE_POCKET_RADIUS,
+            side_pocket_offset: SIDE_POCKET_OFFSET,
+        }
+    }
+
+    /// The snooker table's pockets (the `SNOOKER_` constants above).
+    pub fn snooker() -> PocketShape {
+        let sqrt2 = std::f64::consts::SQRT_2;
+        PocketShape {
+            corner_rail_end: SNOOKER_CORNER_MOUTH / sqrt2
+                + SNOOKER_CORNER_JAW_RADIUS * (sqrt2 - 1.0),
+            side_rail_end: 0.5 * SNOOKER_SIDE_MOUTH + SNOOKER_SIDE_JAW_RADIUS,
+            corner_jaw_radius: SNOOKER_CORNER_JAW_RADIUS,
+            side_jaw_radius: SNOOKER_SIDE_JAW_RADIUS,
+            corner_pocket_radius: SNOOKER_CORNER_POCKET_RADIUS,
+            corner_pocket_offset: SNOOKER_CORNER_POCKET_DEPTH / sqrt2,
+            side_pocket_radius: SNOOKER_SIDE_POCKET_RADIUS,
+            side_pocket_offset: SNOOKER_SIDE_POCKET_OFFSET,
+        }
+    }
+}
+
 /// The tables a scene can name.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum TableKind {
@@ -53,10 +128,13 @@ pub enum TableKind {
     /// A UMB match table for carom games: no pockets, cushions all round.
     #[serde(rename = "carom")]
     Carom,
+    /// A 12-foot snooker table: 3.569 × 1.778 m, six pockets shaped for snooker balls.
+    #[serde(rename = "snooker")]
+    Snooker,
 }
 
 impl TableKind {
-    /// The name scenes give the table: `open`, `7ft`, `8ft`, `9ft` or `carom`.
+    /// The name scenes give the table: `open`, `7ft`, `8ft`, `9ft`, `carom` or `snooker`.
     pub fn name(self) -> &'static str {
         match self {
             TableKind::Open => "open",
@@ -64,6 +142,7 @@ impl TableKind {
             TableKind::EightFoot => "8ft",
             TableKind::NineFoot => "9ft",
             TableKind::Carom => "carom",
+            TableKind::Snooker => "snooker",
         }
     }
 
@@ -76,12 +155,22 @@ impl TableKind {
             TableKind::NineFoot => Some((1.27, 2.54)),
             // UMB rules, art. 3: 2.84 m × 1.42 m between the cushion noses.
             TableKind::Carom => Some((1.42, 2.84)),
+            // WPBSA, section 1: 11 ft 8½ in × 5 ft 10 in between the cushion noses.
+            TableKind::Snooker => Some((1.778, 3.569)),
         }
     }
 
     /// Does this table have pockets?
     pub fn has_pockets(self) -> bool {
         !matches!(self, TableKind::Open | TableKind::Carom)
+    }
+
+    /// The shape of the pockets, on a table that has them.
+    pub fn pocket_shape(self) -> PocketShape {
+        match self {
+            TableKind::Snooker => PocketShape::snooker(),
+            _ => PocketShape::pool(),
+        }
     }
 }
 
@@ -101,7 +190,7 @@ pub struct Rail {
 pub struct Jaw {
     /// The cylinder's axis (engine coordinates, m), behind the nose line.
     pub center: DVec2,
-    /// The nose's radius (m): [`CORNER_JAW_RADIUS`] or [`SIDE_JAW_RADIUS`].
+    /// The nose's radius (m): the table's [`PocketShape`] corner or side jaw radius.
     pub radius: f64,
 }
 
@@ -157,8 +246,9 @@ impl Table {
         if !kind.has_pockets() {
             return Table::closed(kind, DVec2::new(hw, hl));
         }
-        let c = CORNER_MOUTH / std::f64::consts::SQRT_2;
-        let s = 0.5 * SIDE_MOUTH;
+        let shape = kind.pocket_shape();
+        let c = shape.corner_rail_end;
+        let s = shape.side_rail_end;
         let rail = |a: DVec2, b: DVec2, normal: DVec2| Rail { a, b, normal };
         let rails = vec![
             rail(DVec2::new(-hw + c, -hl), DVec2::new(hw - c, -hl), DVec2::Y),
@@ -173,9 +263,9 @@ impl Table {
             for end in [r.a, r.b] {
                 let at_side = end.y.abs() < 0.5 * hl;
                 let radius = if at_side && r.normal.y == 0.0 {
-                    SIDE_JAW_RADIUS
+                    shape.side_jaw_radius
                 } else {
-                    CORNER_JAW_RADIUS
+                    shape.corner_jaw_radius
                 };
                 jaws.push(Jaw {
                     center: end - r.normal * radius,
@@ -183,16 +273,16 @@ impl Table {
                 });
             }
         }
-        let k = CORNER_POCKET_OFFSET;
+        let k = shape.corner_pocket_offset;
         let corner = |name, x: f64, y: f64| Pocket {
             name,
             center: DVec2::new(x + k * x.signum(), y + k * y.signum()),
-            radius: CORNER_POCKET_RADIUS,
+            radius: shape.corner_pocket_radius,
         };
         let side = |name, x: f64| Pocket {
             name,
-            center: DVec2::new(x + SIDE_POCKET_OFFSET * x.signum(), 0.0),
-            radius: SIDE_POCKET_RADIUS,
+            center: DVec2::new(x + shape.side_pocket_offset * x.signum(), 0.0),
+            radius: shape.side_pocket_radius,
         };
         let pockets = vec![
             corner("lb", -hw, -hl),
@@ -333,6 +423,42 @@ mod tests {
         let contact = 0.03;
         assert!(t.fits(DVec2::new(0.71 - contact, 1.42 - contact), contact));
         assert!(!t.fits(DVec2::new(0.71 - 0.5 * contact, 0.0), contact));
+    }
+
+    #[test]
+    fn snooker_table_is_wpbsa_sized_with_pooltools_pockets() {
+        let t = Table::new(TableKind::Snooker);
+        assert_eq!(t.half, DVec2::new(0.889, 1.7845));
+        assert_eq!((t.rails.len(), t.jaws.len(), t.pockets.len()), (6, 12, 6));
+        // The narrowest gap between a pocket's two jaws is the mouth pooltool gives.
+        let gap = |a: &Jaw, b: &Jaw| (a.center - b.center).length() - a.radius - b.radius;
+        let nearest = |j: &Jaw| {
+            t.jaws
+                .iter()
+                .filter(|k| *k != j)
+                .map(|k| gap(j, k))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let corner = t
+            .jaws
+            .iter()
+            .find(|j| j.radius == SNOOKER_CORNER_JAW_RADIUS);
+        let side = t.jaws.iter().find(|j| j.radius == SNOOKER_SIDE_JAW_RADIUS);
+        let (Some(corner), Some(side)) = (corner, side) else {
+            panic!("both jaw sizes are present");
+        };
+        assert!((nearest(corner) - SNOOKER_CORNER_MOUTH).abs() < 1e-12);
+        assert!((nearest(side) - SNOOKER_SIDE_MOUTH).abs() < 1e-12);
+    }
+
+    #[test]
+    fn pool_pockets_are_unchanged() {
+        let shape = PocketShape::pool();
+        assert_eq!(
+            shape.corner_rail_end,
+            CORNER_MOUTH / std::f64::consts::SQRT_2
+        );
+        assert_eq!(shape.side_rail_end, 0.5 * SIDE_MOUTH);
     }
 
     #[test]

@@ -7,6 +7,7 @@ use thiserror::Error;
 use super::limits::{MAX_CHAT_CHARS, MAX_NAME_CHARS};
 use super::messages::{ClientMessage, ErrorCode};
 use crate::physics::{StrikeError, TableKind};
+use crate::rules::snooker::{MAX_BEST_OF, RED_COUNTS};
 use crate::rules::three_cushion::MAX_RACE;
 use crate::rules::{Settings, Variant};
 
@@ -36,7 +37,7 @@ pub enum InvalidMessage {
     #[error("malformed room code")]
     Room,
     /// A new room whose table, race or shot clock is out of range.
-    #[error("a room is played on a 7, 8 or 9-foot table (three-cushion: the carom table, a race of 1 to {MAX_RACE} points) with a shot clock of {MIN_SHOT_CLOCK} to {MAX_SHOT_CLOCK} s, if any")]
+    #[error("a room is played on a 7, 8 or 9-foot table (three-cushion: the carom table, a race of 1 to {MAX_RACE} points; snooker: the snooker table, 6, 10 or 15 reds, the best of an odd number of frames up to {MAX_BEST_OF}) with a shot clock of {MIN_SHOT_CLOCK} to {MAX_SHOT_CLOCK} s, if any")]
     Mode,
 }
 
@@ -109,7 +110,13 @@ fn playable(variant: Variant, mode: &Settings) -> bool {
         Variant::ThreeCushion { race } => {
             mode.table == TableKind::Carom && (1..=MAX_RACE).contains(&race)
         }
-        _ => mode.table.has_pockets(),
+        Variant::Snooker { reds, best_of } => {
+            mode.table == TableKind::Snooker
+                && RED_COUNTS.contains(&reds)
+                && best_of % 2 == 1
+                && best_of <= MAX_BEST_OF
+        }
+        _ => mode.table.has_pockets() && mode.table != TableKind::Snooker,
     };
     clock_ok && game_ok
 }
@@ -231,6 +238,22 @@ mod tests {
                 },
             ),
             room(Variant::three_cushion(), Settings::offline()),
+            room(Variant::snooker(), Settings::offline()),
+            room(Variant::NineBall, snooker_table()),
+            room(
+                Variant::Snooker {
+                    reds: 7,
+                    best_of: 1,
+                },
+                snooker_table(),
+            ),
+            room(
+                Variant::Snooker {
+                    reds: 15,
+                    best_of: 2,
+                },
+                snooker_table(),
+            ),
             room(
                 Variant::NineBall,
                 Settings {
@@ -240,6 +263,21 @@ mod tests {
             ),
         ] {
             assert!(validate(bad.clone()).is_err(), "accepted {bad:?}");
+        }
+    }
+
+    fn snooker_table() -> Settings {
+        Settings {
+            table: TableKind::Snooker,
+            ..Settings::online()
+        }
+    }
+
+    #[test]
+    fn snooker_rooms_of_6_10_and_15_reds_on_the_snooker_table_are_accepted() {
+        for (reds, best_of) in [(15, 1), (10, 3), (6, 35)] {
+            let msg = room(Variant::Snooker { reds, best_of }, snooker_table());
+            assert_eq!(validate(msg.clone()), Ok(msg));
         }
     }
 

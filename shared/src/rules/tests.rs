@@ -5,7 +5,7 @@
 use glam::DVec2;
 
 use super::*;
-use crate::physics::Strike;
+use crate::physics::{BallState, MotionState, Strike};
 
 const R: f64 = 0.028575;
 const S2: f64 = std::f64::consts::FRAC_1_SQRT_2;

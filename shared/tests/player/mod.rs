@@ -55,6 +55,8 @@ pub fn place(game: &Game, area: InHand, dice: &mut Dice) -> Option<[f64; 2]> {
     let top = match area {
         InHand::Kitchen => head_string(game.table()) - 0.001,
         InHand::Anywhere => l - margin,
+        // Snooker: the D's bounding box; points outside the D are refused below.
+        InHand::D => game.in_hand_area(area).1.y,
     };
     (0..100)
         .map(|_| [dice.range(margin, w - margin), dice.range(margin, top)])

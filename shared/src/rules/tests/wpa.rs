@@ -4,7 +4,7 @@
 //! physics will report them.
 
 use super::*;
-use crate::physics::{ball_cushion, simulate, Params};
+use crate::physics::{ball_cushion, simulate, BallState, Params, Shot, TableKind};
 use facts::Departure;
 
 fn contact() -> f64 {

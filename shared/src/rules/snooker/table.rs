@@ -1,0 +1,312 @@
+//! The snooker table's landmarks and geometry as the rules use them: the balls and their
+//! values, the baulk line, the D and the six spots (WPBSA rules, section 1), the rack,
+//! re-spotting a colour, and the two sight tests of the rules: "snookered" (for the free
+//! ball) and "a clear view of a ball on" (for the three-miss rule).
+//!
+//! Coordinates are the scene frame: `x` across the table (0..1.778 m), `y` along it from the
+//! baulk cushion (0) to the top cushion (3.569 m).
+
+use glam::DVec2;
+
+use crate::physics::{ball_cushion, BallState, MotionState, Params, Table, TableKind};
+
+use super::super::rack::SplitMix64;
+
+/// The cue ball's index.
+pub const CUE: u8 = 0;
+/// The highest red's index: reds are 1 to 15 (`r1` to `r15` in scenes).
+pub const LAST_RED: u8 = 15;
+/// The yellow's index; the colours follow in the order of their values.
+pub const YELLOW: u8 = 16;
+/// The green's index.
+pub const GREEN: u8 = 17;
+/// The brown's index.
+pub const BROWN: u8 = 18;
+/// The blue's index.
+pub const BLUE: u8 = 19;
+/// The pink's index.
+pub const PINK: u8 = 20;
+/// The black's index.
+pub const BLACK: u8 = 21;
+/// Balls in the list of a snooker game, whatever the number of reds (unused reds are off the
+/// table from the start).
+pub const BALL_COUNT: usize = 22;
+
+/// The six colours, lowest value first.
+pub const COLOURS: [u8; 6] = [YELLOW, GREEN, BROWN, BLUE, PINK, BLACK];
+
+/// Baulk line: 737 mm (29 in) from the face of the bottom cushion (WPBSA 1.3).
+pub const BAULK_LINE: f64 = 0.737;
+/// The D's radius: 292 mm (11½ in), centred on the middle of the baulk line.
+pub const D_RADIUS: f64 = 0.292;
+/// The black spot's distance from the top cushion: 324 mm (12¾ in).
+pub const BLACK_FROM_TOP: f64 = 0.324;
+/// The gap left between the reds of the triangle and between the apex and the pink (m): the
+/// rule says "as close as possible without touching".
+const RACK_GAP: f64 = 2e-4;
+/// How far a racked red may sit from its ideal place (m), as for the pool racks.
+const RACK_JITTER: f64 = 1e-4;
+/// The step (m) with which a colour searches along the long string when every spot is taken.
+const SPOT_STEP: f64 = 5e-4;
+
+/// Is `ball` a red?
+pub fn is_red(ball: u8) -> bool {
+    (1..=LAST_RED).contains(&ball)
+}
+
+/// Is `ball` one of the six colours?
+pub fn is_colour(ball: u8) -> bool {
+    (YELLOW..=BLACK).contains(&ball)
+}
+
+/// The ball's value: 1 for a red, 2 (yellow) to 7 (black) for the colours, 0 for the cue ball.
+pub fn value(ball: u8) -> u32 {
+    match ball {
+        1..=LAST_RED => 1,
+        YELLOW..=BLACK => u32::from(ball - YELLOW) + 2,
+        _ => 0,
+    }
+}
+
+/// "the blue", "a red", "the cue ball".
+pub fn ball_name(ball: u8) -> String {
+    match ball {
+        CUE => "the cue ball".into(),
+        1..=LAST_RED => "a red".into(),
+        YELLOW..=BLACK => format!("the {}", colour_name(ball)),
+        other => format!("ball {other}"),
+    }
+}
+
+/// "blue" for the blue.
+pub fn colour_name(ball: u8) -> &'static str {
+    match ball {
+        YELLOW => "yellow",
+        GREEN => "green",
+        BROWN => "brown",
+        BLUE => "blue",
+        PINK => "pink",
+        BLACK => "black",
+        _ => "red",
+    }
+}
+
+/// The ball's id in scenes: `cue`, `r1`..`r15`, `yellow`, ..., `black`.
+pub fn scene_id(ball: u8) -> String {
+    match ball {
+        CUE => "cue".into(),
+        1..=LAST_RED => format!("r{ball}"),
+        other => colour_name(other).into(),
+    }
+}
+
+fn size() -> (f64, f64) {
+    TableKind::Snooker.size().unwrap_or((1.778, 3.569))
+}
+
+/// The snooker ball's radius.
+pub fn radius() -> f64 {
+    Params::for_table(TableKind::Snooker).ball_radius
+}
+
+/// The middle of the baulk line: the brown's spot and the D's centre.
+pub fn d_centre() -> DVec2 {
+    DVec2::new(0.5 * size().0, BAULK_LINE)
+}
+
+/// A colour's own spot.
+pub fn spot(colour: u8) -> DVec2 {
+    let (w, l) = size();
+    let centre = d_centre();
+    match colour {
+        // Yellow on the right-hand corner of the D seen from the baulk end, green on the left.
+        YELLOW => DVec2::new(centre.x + D_RADIUS, BAULK_LINE),
+        GREEN => DVec2::new(centre.x - D_RADIUS, BAULK_LINE),
+        BLUE => DVec2::new(0.5 * w, 0.5 * l),
+        // Midway between the centre spot and the face of the top cushion.
+        PINK => DVec2::new(0.5 * w, 0.75 * l),
+        BLACK => DVec2::new(0.5 * w, l - BLACK_FROM_TOP),
+        _ => centre,
+    }
+}
+
+/// Is `p` in the D: on or behind the baulk line, within the D's radius of its centre?
+pub fn in_d(p: DVec2) -> bool {
+    p.y <= BAULK_LINE && (p - d_centre()).length() <= D_RADIUS
+}
+
+/// Can `ball` be put at `p` without touching another ball or a cushion?
+pub fn is_free(balls: &[BallState], ball: usize, p: DVec2) -> bool {
+    if !p.is_finite() {
+        return false;
+    }
+    let params = Params::for_table(TableKind::Snooker);
+    let table = Table::new(TableKind::Snooker);
+    let inside = table.fits(table.to_engine(p), ball_cushion::contact_distance(&params));
+    // "Occupied" means a ball cannot be placed without touching another (WPBSA 2.18).
+    inside
+        && balls.iter().enumerate().all(|(i, b)| {
+            i == ball
+                || b.motion == MotionState::Pocketed
+                || (b.pos - p).length() > 2.0 * params.ball_radius
+        })
+}
+
+/// The frame's start: `reds` reds in a triangle behind the pink (its apex as close to the pink
+/// as possible without touching), the colours on their spots, the cue ball in the D; reds
+/// beyond `reds` are off the table. `seed` moves each red but the apex by up to a tenth of a
+/// millimetre, as a real rack is never perfect.
+pub fn rack(reds: u8, seed: u64) -> Vec<BallState> {
+    let r = radius();
+    let d = 2.0 * r + RACK_GAP;
+    let mut rng = SplitMix64::new(seed);
+    let off = BallState {
+        motion: MotionState::Pocketed,
+        pocket: None,
+        ..BallState::at_rest(DVec2::ZERO)
+    };
+    let mut balls = vec![off; BALL_COUNT];
+    balls[usize::from(CUE)] =
+        BallState::at_rest(d_centre() + DVec2::new(0.5 * D_RADIUS, -0.5 * D_RADIUS));
+    let apex = spot(PINK) + DVec2::new(0.0, d);
+    let row_step = d * 0.866_025_403_784_438_6;
+    let mut placed = 0u8;
+    let mut row = 0u8;
+    while placed < reds.min(LAST_RED) {
+        for k in 0..=row {
+            if placed >= reds.min(LAST_RED) {
+                break;
+            }
+            let x = (f64::from(k) - 0.5 * f64::from(row)) * d;
+            let mut p = apex + DVec2::new(x, f64::from(row) * row_step);
+            if placed > 0 {
+                p += rng.offset(RACK_JITTER);
+            }
+            placed += 1;
+            balls[usize::from(placed)] = BallState::at_rest(p);
+        }
+        row += 1;
+    }
+    for c in COLOURS {
+        balls[usize::from(c)] = BallState::at_rest(spot(c));
+    }
+    balls
+}
+
+/// Where a re-spotted colour goes, and where it was put.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Respot {
+    /// On its own spot.
+    Own,
+    /// Its own spot was taken: on the highest-value spot free, this colour's.
+    Spot(u8),
+    /// Every spot was taken: as near its own spot as possible, towards the top cushion (or,
+    /// if there is no room that way, towards the baulk cushion), on the long string.
+    NearOwnSpot,
+}
+
+impl Respot {
+    /// "on its spot", "on the pink's spot", "as near its spot as possible".
+    pub fn describe(self) -> String {
+        match self {
+            Respot::Own => "on its spot".into(),
+            Respot::Spot(c) => format!("on the {}'s spot (its own is taken)", colour_name(c)),
+            Respot::NearOwnSpot => "as near its spot as possible (every spot is taken)".into(),
+        }
+    }
+}
+
+/// Puts `colour` back on the table (WPBSA 3.4): its own spot if free, else the highest-value
+/// spot free, else as near its own spot as possible towards the top cushion.
+pub fn respot(balls: &mut [BallState], colour: u8) -> Respot {
+    let i = usize::from(colour);
+    let own = spot(colour);
+    let (place, how) = if is_free(balls, i, own) {
+        (own, Respot::Own)
+    } else if let Some(c) = COLOURS
+        .iter()
+        .rev()
+        .copied()
+        .find(|&c| is_free(balls, i, spot(c)))
+    {
+        (spot(c), Respot::Spot(c))
+    } else {
+        (nearest_free(balls, i, own), Respot::NearOwnSpot)
+    };
+    if let Some(b) = balls.get_mut(i) {
+        *b = BallState::at_rest(place);
+    }
+    how
+}
+
+/// The free place on the long string nearest `own`, looking towards the top cushion first.
+fn nearest_free(balls: &[BallState], i: usize, own: DVec2) -> DVec2 {
+    let l = size().1;
+    let steps = (l / SPOT_STEP) as u32;
+    for dir in [1.0, -1.0] {
+        for k in 1..=steps {
+            let p = own + DVec2::new(0.0, dir * f64::from(k) * SPOT_STEP);
+            if p.y <= 0.0 || p.y >= l {
+                break;
+            }
+            if is_free(balls, i, p) {
+                return p;
+            }
+        }
+    }
+    own
+}
+
+/// Is the ball at `q` clear of the straight path of the cue ball's centre from `from` to
+/// `to`? Balls touching the path's end are not in the way (only overlap is).
+fn path_clear(from: DVec2, to: DVec2, q: DVec2, r: f64) -> bool {
+    let along = to - from;
+    let len2 = along.length_squared();
+    let k = if len2 > 0.0 {
+        (along.dot(q - from) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let nearest = from + along * k;
+    (q - nearest).length() >= 2.0 * r - 1e-9
+}
+
+/// Can the cue ball at `cue` hit the ball at `target` at both its extreme edges with straight
+/// strokes that no ball of `blockers` obstructs (WPBSA 2.16, "snookered": a ball on is in
+/// view when both its extreme edges can be hit)? The grazing strokes are the two tangent
+/// lines: the cue ball's centre ends `2R` from the target's, `√(D² − 4R²)` along.
+pub fn both_edges_in_view(cue: DVec2, target: DVec2, blockers: &[DVec2]) -> bool {
+    let r = radius();
+    let to = target - cue;
+    let dist = to.length();
+    if dist <= 2.0 * r {
+        return true;
+    }
+    let u = to / dist;
+    let n = DVec2::new(-u.y, u.x);
+    let along = (dist * dist - 4.0 * r * r).sqrt();
+    let (cos_a, sin_a) = (along / dist, 2.0 * r / dist);
+    [1.0, -1.0].into_iter().all(|side| {
+        let dir = u * cos_a + n * (side * sin_a);
+        let end = cue + dir * along;
+        blockers.iter().all(|&q| path_clear(cue, end, q, r))
+    })
+}
+
+/// Can the cue ball at `cue` hit the ball at `target` full in the face, by a straight stroke
+/// that no ball of `blockers` obstructs (the "clear view" of the three-miss rule)?
+pub fn full_ball_in_view(cue: DVec2, target: DVec2, blockers: &[DVec2]) -> bool {
+    let r = radius();
+    let to = target - cue;
+    let dist = to.length();
+    if dist <= 2.0 * r {
+        return true;
+    }
+    let end = cue + to * ((dist - 2.0 * r) / dist);
+    blockers.iter().all(|&q| path_clear(cue, end, q, r))
+}
+
+/// The seat that wins the drawing of lots for the re-spotted black, from the game's seed.
+pub fn draw_lots(seed: u64) -> bool {
+    SplitMix64::new(seed ^ 0xB1AC_B1AC_B1AC_B1AC).next_u64() & 1 == 0
+}

@@ -1,0 +1,636 @@
+//! One test per snooker rule: each lays out a real position, plays the stroke with the
+//! engine through `Game::apply`, and checks the verdict the rules give.
+
+use glam::DVec2;
+
+use super::frame::BallOn;
+use super::table::*;
+use super::*;
+use crate::physics::{BallState, MotionState};
+use crate::rules::{Command, Settings};
+
+const R: f64 = 0.02625;
+
+fn game() -> Game {
+    Game::new(Variant::snooker(), Settings::offline(), 3)
+}
+
+/// A game with only `balls` on the table (the rest off), seat A to play on a red.
+fn position(balls: &[(u8, [f64; 2])]) -> Game {
+    let mut g = game();
+    for b in g.balls.iter_mut() {
+        *b = off_table();
+    }
+    for &(i, p) in balls {
+        g.balls[usize::from(i)] = BallState::at_rest(DVec2::from_array(p));
+    }
+    g.phase = Phase::Shooting {
+        in_hand: None,
+        options: Vec::new(),
+        push_out: false,
+    };
+    g
+}
+
+fn strike_at(g: &Game, target: [f64; 2], speed: f64) -> Command {
+    let from = g.balls[0].pos;
+    let dir = (DVec2::from_array(target) - from).normalize();
+    Command::Shot {
+        strike: Strike {
+            speed,
+            dir,
+            tip: DVec2::ZERO,
+            elevation_deg: 0.0,
+        },
+        call: None,
+    }
+}
+
+fn shot_dir(dir: [f64; 2], speed: f64, tip: [f64; 2]) -> Command {
+    Command::Shot {
+        strike: Strike {
+            speed,
+            dir: DVec2::from_array(dir).normalize(),
+            tip: DVec2::from_array(tip),
+            elevation_deg: 0.0,
+        },
+        call: None,
+    }
+}
+
+fn scores(g: &Game) -> [u32; 2] {
+    g.snooker().map_or([0, 0], |m| m.scores)
+}
+
+fn off(g: &Game, b: u8) -> bool {
+    g.balls[usize::from(b)].motion == MotionState::Pocketed
+}
+
+/// A red straight into the top-left corner pocket from the cue ball, hit with stun.
+const POT_FROM: [f64; 2] = [0.5, 3.069];
+const POT_RED: [f64; 2] = [0.3, 3.269];
+
+fn pot_red_game() -> Game {
+    position(&[
+        (CUE, POT_FROM),
+        (1, POT_RED),
+        (2, [1.2, 1.0]),
+        (BLACK, spot(BLACK).to_array()),
+    ])
+}
+
+fn pot_red() -> Command {
+    shot_dir([-1.0, 1.0], 1.6, [0.0, -0.3])
+}
+
+#[test]
+fn the_frame_is_racked_with_the_colours_on_their_spots_and_the_cue_ball_in_hand_in_the_d() {
+    let g = game();
+    assert_eq!(g.table(), crate::physics::TableKind::Snooker);
+    assert_eq!(g.balls().len(), BALL_COUNT);
+    for c in COLOURS {
+        assert_eq!(g.balls()[usize::from(c)].pos, spot(c));
+    }
+    assert_eq!(frame::reds_left(g.balls()), 15);
+    assert!(matches!(
+        g.phase(),
+        Phase::Shooting {
+            in_hand: Some(InHand::D),
+            ..
+        }
+    ));
+    assert!(in_d(g.balls()[0].pos));
+    let six = Game::new(
+        Variant::Snooker {
+            reds: 6,
+            best_of: 1,
+        },
+        Settings::offline(),
+        3,
+    );
+    assert_eq!(frame::reds_left(six.balls()), 6);
+    // The racked balls touch nothing.
+    for (i, b) in g
+        .balls()
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| b.motion != MotionState::Pocketed)
+    {
+        assert!(is_free(g.balls(), i, b.pos), "ball {i} overlaps");
+    }
+}
+
+#[test]
+fn the_cue_ball_placed_outside_the_d_is_refused_and_nothing_changes() {
+    let mut g = game();
+    let before = g.clone();
+    let outside = [0.889, 0.8];
+    let err = g.apply(Seat::A, &Command::PlaceCueBall { pos: outside });
+    assert_eq!(
+        err,
+        Err(RuleError::IllegalPlacement(
+            "the cue ball must be placed in the D".into()
+        ))
+    );
+    assert_eq!(g, before);
+    let inside = [0.889 + 0.1, 0.7];
+    assert!(g
+        .apply(Seat::A, &Command::PlaceCueBall { pos: inside })
+        .is_ok());
+}
+
+#[test]
+fn a_red_potted_scores_one_and_the_striker_is_on_a_colour() {
+    let mut g = pot_red_game();
+    let v = g.apply(Seat::A, &pot_red()).expect("shot");
+    assert!(off(&g, 1), "{:?}", v.reasons);
+    assert_eq!(v.reasons[0], "Player A pots a red: 1 (break 1)");
+    assert_eq!(scores(&g), [1, 0]);
+    assert_eq!(g.to_move(), Seat::A);
+    assert!(matches!(
+        g.snooker().map(|m| m.ball_on(g.balls())),
+        Some(BallOn::Colour(None))
+    ));
+    let Phase::Shooting { options, .. } = g.phase() else {
+        panic!("shooting")
+    };
+    assert!(options.contains(&Choice::Nominate(BLACK)));
+}
+
+#[test]
+fn nominating_a_ball_that_is_not_a_colour_is_refused_and_nothing_changes() {
+    let mut g = pot_red_game();
+    g.apply(Seat::A, &pot_red()).expect("shot");
+    g.balls[3] = BallState::at_rest(DVec2::new(1.0, 2.0));
+    let before = g.clone();
+    let err = g.apply(Seat::A, &Command::Decide(Choice::Nominate(3)));
+    assert_eq!(
+        err,
+        Err(RuleError::InvalidChoice(
+            "a red is not a colour: nominate a colour".into()
+        ))
+    );
+    assert_eq!(g, before);
+    let err = g.apply(Seat::A, &Command::Decide(Choice::Nominate(40)));
+    assert_eq!(
+        err,
+        Err(RuleError::InvalidChoice(
+            "there is no ball 40 to nominate".into()
+        ))
+    );
+}
+
+#[test]
+fn the_nominated_colour_potted_scores_its_value_and_is_re_spotted_while_reds_remain() {
+    let mut g = position(&[(CUE, POT_FROM), (PINK, POT_RED), (2, [1.2, 1.0])]);
+    g.snooker.as_mut().expect("snooker").on_colour = true;
+    let v = g
+        .apply(Seat::A, &Command::Decide(Choice::Nominate(PINK)))
+        .expect("nominates");
+    assert_eq!(v.reasons, vec!["Player A nominates the pink".to_string()]);
+    let v = g.apply(Seat::A, &pot_red()).expect("shot");
+    assert_eq!(v.reasons[0], "Player A pots the pink: 6 (break 6)");
+    assert_eq!(v.reasons[1], "The pink is re-spotted on its spot");
+    assert_eq!(g.balls()[usize::from(PINK)].pos, spot(PINK));
+    assert_eq!(scores(&g), [6, 0]);
+    assert!(matches!(
+        g.snooker().map(|m| m.ball_on(g.balls())),
+        Some(BallOn::Red)
+    ));
+}
+
+#[test]
+fn a_colour_goes_to_the_highest_free_spot_when_its_own_is_taken() {
+    let mut g = position(&[(CUE, POT_FROM), (PINK, POT_RED), (2, spot(PINK).to_array())]);
+    g.snooker.as_mut().expect("snooker").on_colour = true;
+    g.apply(Seat::A, &Command::Decide(Choice::Nominate(PINK)))
+        .expect("nominates");
+    let v = g.apply(Seat::A, &pot_red()).expect("shot");
+    assert_eq!(
+        v.reasons[1],
+        "The pink is re-spotted on the black's spot (its own is taken)"
+    );
+    assert_eq!(g.balls()[usize::from(PINK)].pos, spot(BLACK));
+}
+
+#[test]
+fn with_every_spot_taken_a_colour_goes_as_near_its_own_spot_as_possible_towards_the_top() {
+    let mut balls: Vec<BallState> = (0..BALL_COUNT).map(|_| off_table()).collect();
+    for (k, c) in COLOURS.into_iter().enumerate() {
+        balls[usize::from(1 + k as u8)] = BallState::at_rest(spot(c));
+    }
+    let how = respot(&mut balls, BLUE);
+    assert_eq!(how, Respot::NearOwnSpot);
+    let p = balls[usize::from(BLUE)].pos;
+    assert_eq!(p.x, spot(BLUE).x);
+    assert!(p.y > spot(BLUE).y && p.y - spot(BLUE).y < 2.0 * R + 1e-3);
+}
+
+#[test]
+fn hitting_the_blue_first_when_on_a_red_is_a_foul_of_five() {
+    let mut g = position(&[(CUE, [0.889, 1.0]), (BLUE, [0.889, 1.6]), (1, [0.3, 3.0])]);
+    let v = g
+        .apply(Seat::A, &strike_at(&g, [0.889, 1.6], 1.5))
+        .expect("shot");
+    assert_eq!(
+        v.reasons[0],
+        "Foul and a miss: the blue was hit first, 5 to Player B"
+    );
+    assert!(v.foul);
+    assert_eq!(scores(&g), [0, 5]);
+    assert_eq!(
+        g.phase(),
+        &Phase::Deciding {
+            options: vec![
+                Choice::AcceptTable,
+                Choice::OffenderPlaysAgain,
+                Choice::ReplaceBalls
+            ]
+        }
+    );
+}
+
+#[test]
+fn a_foul_when_the_striker_needs_snookers_is_no_miss() {
+    let mut g = position(&[(CUE, [0.889, 1.0]), (BLUE, [0.889, 1.6]), (1, [0.3, 3.0])]);
+    g.snooker.as_mut().expect("snooker").scores = [0, 60];
+    let v = g
+        .apply(Seat::A, &strike_at(&g, [0.889, 1.6], 1.5))
+        .expect("shot");
+    assert_eq!(v.reasons[0], "Foul: the blue was hit first, 5 to Player B");
+    assert_eq!(
+        g.phase(),
+        &Phase::Deciding {
+            options: vec![Choice::AcceptTable, Choice::OffenderPlaysAgain]
+        }
+    );
+}
+
+#[test]
+fn hitting_no_ball_is_a_foul_of_four_and_the_offender_may_be_made_to_play_again() {
+    let mut g = position(&[(CUE, [0.889, 1.0]), (1, [0.3, 3.0])]);
+    let v = g
+        .apply(Seat::A, &shot_dir([1.0, 0.0], 0.3, [0.0, 0.0]))
+        .expect("shot");
+    assert_eq!(
+        v.reasons[0],
+        "Foul and a miss: the cue ball hit no ball, 4 to Player B"
+    );
+    assert_eq!(g.to_move(), Seat::B);
+    let v = g
+        .apply(Seat::B, &Command::Decide(Choice::OffenderPlaysAgain))
+        .expect("choice");
+    assert_eq!(v.reasons[1], "Player A plays again");
+    assert_eq!(g.to_move(), Seat::A);
+    assert!(matches!(g.phase(), Phase::Shooting { .. }));
+}
+
+#[test]
+fn an_in_off_is_a_foul_and_the_next_player_has_the_cue_ball_in_hand_in_the_d() {
+    // The cue ball straight into the top-left corner, missing everything.
+    let mut g = position(&[(CUE, POT_FROM), (1, [1.4, 1.0])]);
+    let v = g
+        .apply(Seat::A, &shot_dir([-1.0, 1.0], 1.2, [0.0, 0.0]))
+        .expect("shot");
+    assert!(off(&g, CUE));
+    assert_eq!(
+        v.reasons[0],
+        "Foul and a miss: the cue ball hit no ball, 4 to Player B"
+    );
+    assert_eq!(v.reasons[1], "Also: in-off: the cue ball was potted");
+    g.apply(Seat::B, &Command::Decide(Choice::AcceptTable))
+        .expect("plays on");
+    assert!(matches!(
+        g.phase(),
+        Phase::Shooting {
+            in_hand: Some(InHand::D),
+            ..
+        }
+    ));
+}
+
+#[test]
+fn potting_a_ball_not_on_is_a_foul_of_its_value() {
+    let mut g = position(&[(CUE, POT_FROM), (PINK, POT_RED), (1, [1.2, 1.0])]);
+    let v = g.apply(Seat::A, &pot_red()).expect("shot");
+    assert!(
+        v.reasons.contains(&"Also: the pink was potted".to_string()),
+        "{:?}",
+        v.reasons
+    );
+    assert!(v.reasons[0].ends_with("6 to Player B"));
+    assert_eq!(g.balls()[usize::from(PINK)].pos, spot(PINK));
+}
+
+#[test]
+fn a_foul_after_a_red_before_nominating_costs_seven() {
+    let mut g = position(&[(CUE, [0.889, 1.0]), (YELLOW, [0.889, 1.6]), (1, [0.3, 3.0])]);
+    g.snooker.as_mut().expect("snooker").on_colour = true;
+    // Hits no ball: a foul of the ball on's value, 7 as nothing was nominated.
+    let v = g
+        .apply(Seat::A, &shot_dir([1.0, 0.0], 0.3, [0.0, 0.0]))
+        .expect("shot");
+    assert_eq!(
+        v.reasons[0],
+        "Foul and a miss: the cue ball hit no ball before a colour was nominated, 7 to Player B"
+    );
+}
+
+#[test]
+fn two_reds_hit_at_once_are_fair_but_a_red_and_the_blue_at_once_are_a_foul_of_five() {
+    let d = 0.03125;
+    let place = |b: u8| {
+        position(&[
+            (CUE, [0.889, 1.0]),
+            (1, [0.889 - d, 1.5]),
+            (b, [0.889 + d, 1.5]),
+        ])
+    };
+    let straight = shot_dir([0.0, 1.0], 1.0, [0.0, 0.0]);
+    let mut g = place(2);
+    let v = g.apply(Seat::A, &straight).expect("shot");
+    assert!(!v.foul, "{:?}", v.reasons);
+    let mut g = place(BLUE);
+    let v = g.apply(Seat::A, &straight).expect("shot");
+    assert_eq!(
+        v.reasons[0],
+        "Foul and a miss: a red and the blue were hit at once, 5 to Player B"
+    );
+}
+
+#[test]
+fn several_reds_potted_in_one_stroke_all_score() {
+    // Two reds either side of the cue ball's line, hit at once (exactly: the table's frame
+    // is centred, so the layout is an exact mirror image) and sent to the two top corners.
+    // The search over the reds' distance finds where the engine pots both; the rules must
+    // then count both.
+    let d = 0.03125;
+    let straight = shot_dir([0.0, 1.0], 3.0, [0.0, 0.0]);
+    let mut found = false;
+    for k in 0..40 {
+        let y = 2.2 + 0.01 * f64::from(k);
+        let mut g = position(&[
+            (CUE, [0.889, y - 0.3]),
+            (1, [0.889 - d, y]),
+            (2, [0.889 + d, y]),
+            (YELLOW, [1.5, 0.5]),
+        ]);
+        let v = g.apply(Seat::A, &straight).expect("shot");
+        if !v.foul && off(&g, 1) && off(&g, 2) {
+            assert_eq!(v.reasons[0], "Player A pots a red and a red: 2 (break 2)");
+            assert_eq!(scores(&g), [2, 0]);
+            found = true;
+            break;
+        }
+    }
+    assert!(found, "no layout had both reds potted");
+}
+
+#[test]
+fn a_free_ball_is_given_when_snookered_after_a_foul() {
+    // Player A taps the cue ball into nothing; it lies behind the pink, the one red beyond.
+    let mut g = position(&[(CUE, [0.889, 2.5]), (PINK, [0.889, 2.6]), (1, [0.889, 3.2])]);
+    let v = g
+        .apply(Seat::A, &shot_dir([1.0, 0.0], 0.05, [0.0, 0.0]))
+        .expect("shot");
+    assert!(v.foul);
+    let v = g
+        .apply(Seat::B, &Command::Decide(Choice::AcceptTable))
+        .expect("plays on");
+    assert_eq!(
+        v.reasons[1],
+        "Free ball: Player B is snookered and may nominate any ball as the ball on"
+    );
+    let v = g
+        .apply(Seat::B, &Command::Decide(Choice::Nominate(PINK)))
+        .expect("nominates");
+    assert_eq!(
+        v.reasons,
+        vec!["Free ball: the pink is nominated".to_string()]
+    );
+    // Hitting the free ball first is fair.
+    let v = g
+        .apply(Seat::B, &strike_at(&g, [0.889, 2.6], 0.8))
+        .expect("shot");
+    assert!(!v.foul, "{:?}", v.reasons);
+}
+
+#[test]
+fn a_free_ball_nomination_when_not_snookered_is_refused_and_nothing_changes() {
+    let mut g = position(&[(CUE, [0.889, 1.0]), (PINK, [0.3, 2.6]), (1, [0.889, 3.2])]);
+    g.apply(Seat::A, &shot_dir([1.0, 0.0], 0.05, [0.0, 0.0]))
+        .expect("shot");
+    g.apply(Seat::B, &Command::Decide(Choice::AcceptTable))
+        .expect("plays on");
+    let before = g.clone();
+    let err = g.apply(Seat::B, &Command::Decide(Choice::Nominate(PINK)));
+    assert_eq!(
+        err,
+        Err(RuleError::InvalidChoice(
+            "no free ball: the cue ball is not snookered after a foul, and the pink cannot be nominated"
+                .into()
+        ))
+    );
+    assert_eq!(g, before);
+}
+
+#[test]
+fn snookered_means_no_ball_on_can_be_hit_at_both_extreme_edges() {
+    let cue = DVec2::new(0.889, 1.0);
+    let target = DVec2::new(0.889, 2.0);
+    // A blocker half across the line hides one edge: snookered.
+    assert!(!both_edges_in_view(
+        cue,
+        target,
+        &[DVec2::new(0.889 + 1.5 * R, 1.5)]
+    ));
+    // Far enough aside, both edges are in view.
+    assert!(both_edges_in_view(
+        cue,
+        target,
+        &[DVec2::new(0.889 + 4.1 * R, 1.5)]
+    ));
+    // The same in a game: the red is on, the blue hides it.
+    let g = position(&[(CUE, [0.889, 1.0]), (BLUE, [0.889, 1.5]), (1, [0.889, 2.0])]);
+    assert!(frame::snookered(g.balls(), &[1]));
+    let g = position(&[(CUE, [0.889, 1.0]), (BLUE, [0.3, 1.5]), (1, [0.889, 2.0])]);
+    assert!(!frame::snookered(g.balls(), &[1]));
+}
+
+#[test]
+fn after_a_foul_and_a_miss_the_balls_are_replaced_on_request() {
+    let mut g = position(&[(CUE, [0.889, 1.0]), (BLUE, [0.889, 1.6]), (1, [0.3, 3.0])]);
+    let start = g.balls.clone();
+    g.apply(Seat::A, &strike_at(&g, [0.889, 1.6], 1.5))
+        .expect("shot");
+    assert_ne!(g.balls, start);
+    let v = g
+        .apply(Seat::B, &Command::Decide(Choice::ReplaceBalls))
+        .expect("replace");
+    assert_eq!(v.reasons[1], "The balls are replaced; Player A plays again");
+    assert_eq!(g.balls, start);
+    assert_eq!(g.to_move(), Seat::A);
+}
+
+#[test]
+fn replacing_the_balls_when_no_miss_was_called_is_refused_and_nothing_changes() {
+    let mut g = position(&[(CUE, [0.889, 1.0]), (BLUE, [0.889, 1.6]), (1, [0.3, 3.0])]);
+    g.snooker.as_mut().expect("snooker").scores = [0, 60];
+    g.apply(Seat::A, &strike_at(&g, [0.889, 1.6], 1.5))
+        .expect("shot");
+    let before = g.clone();
+    let err = g.apply(Seat::B, &Command::Decide(Choice::ReplaceBalls));
+    assert_eq!(
+        err,
+        Err(RuleError::InvalidChoice(
+            "the balls are replaced only after a foul and a miss".into()
+        ))
+    );
+    assert_eq!(g, before);
+}
+
+#[test]
+fn a_third_miss_from_a_clear_view_forfeits_the_frame_after_a_warning() {
+    let mut g = position(&[(CUE, [0.889, 1.0]), (BLUE, [0.3, 1.6]), (1, [0.889, 2.0])]);
+    // Each time Player A plays at the blue instead of the red in full view.
+    let at_blue = strike_at(&g, [0.3, 1.6], 1.5);
+    let v = g.apply(Seat::A, &at_blue).expect("first");
+    assert!(v.reasons[0].starts_with("Foul and a miss"));
+    g.apply(Seat::B, &Command::Decide(Choice::ReplaceBalls))
+        .expect("replace");
+    let v = g.apply(Seat::A, &at_blue).expect("second");
+    assert_eq!(
+        v.reasons.last().map(String::as_str),
+        Some("Warning: another miss from here forfeits the frame for Player A")
+    );
+    g.apply(Seat::B, &Command::Decide(Choice::ReplaceBalls))
+        .expect("replace");
+    let v = g.apply(Seat::A, &at_blue).expect("third");
+    assert!(v.reasons.contains(
+        &"Player A missed a ball on 3 times in a row from a clear view: the frame goes to Player B"
+            .to_string()
+    ));
+    assert_eq!(v.over, Some((Some(Seat::B), "Player B wins".to_string())));
+}
+
+#[test]
+fn playing_away_from_a_touching_ball_on_is_no_foul_but_pushing_it_is() {
+    let red = [0.889, 1.5];
+    let touching = [0.889, 1.5 - 2.0 * R];
+    let mut g = position(&[(CUE, touching), (1, red), (BLUE, [0.3, 3.0])]);
+    let v = g
+        .apply(Seat::A, &shot_dir([0.0, -1.0], 0.5, [0.0, 0.0]))
+        .expect("away");
+    assert!(!v.foul, "{:?}", v.reasons);
+    let mut g = position(&[(CUE, touching), (1, red), (BLUE, [0.3, 3.0])]);
+    let v = g
+        .apply(Seat::A, &shot_dir([0.0, 1.0], 0.5, [0.0, 0.0]))
+        .expect("push");
+    assert!(v.foul);
+    assert!(
+        v.reasons
+            .iter()
+            .any(|r| r.contains("push stroke: the cue ball was touching a red")),
+        "{:?}",
+        v.reasons
+    );
+}
+
+/// The last black in front of the top-left pocket.
+fn last_black(scores: [u32; 2]) -> Game {
+    let mut g = position(&[(CUE, POT_FROM), (BLACK, POT_RED)]);
+    g.snooker.as_mut().expect("snooker").scores = scores;
+    g
+}
+
+#[test]
+fn the_last_black_potted_ends_the_frame_for_the_higher_score() {
+    let mut g = last_black([30, 33]);
+    let v = g.apply(Seat::A, &pot_red()).expect("shot");
+    assert_eq!(v.reasons[0], "Player A pots the black: 7 (break 7)");
+    assert!(v
+        .reasons
+        .contains(&"Player A wins the frame 37-33".to_string()));
+    assert_eq!(v.over, Some((Some(Seat::A), "Player A wins".to_string())));
+}
+
+#[test]
+fn scores_tied_after_the_last_black_re_spot_the_black_and_the_next_score_decides() {
+    let mut g = last_black([30, 37]);
+    let v = g.apply(Seat::A, &pot_red()).expect("shot");
+    assert!(v.over.is_none());
+    assert!(v
+        .reasons
+        .iter()
+        .any(|r| r.starts_with("Scores level at 37: the black is re-spotted")));
+    assert_eq!(g.balls()[usize::from(BLACK)].pos, spot(BLACK));
+    assert!(matches!(
+        g.phase(),
+        Phase::Shooting {
+            in_hand: Some(InHand::D),
+            ..
+        }
+    ));
+    // The player drawn misses everything: the foul decides the frame.
+    let seat = g.to_move();
+    g.apply(seat, &Command::PlaceCueBall { pos: [0.889, 0.6] })
+        .expect("placed");
+    let v = g
+        .apply(seat, &shot_dir([1.0, 0.0], 0.2, [0.0, 0.0]))
+        .expect("shot");
+    assert!(v.foul);
+    assert_eq!(v.over.map(|(w, _)| w), Some(Some(seat.other())));
+}
+
+#[test]
+fn a_foul_with_only_the_black_left_ends_the_frame_when_the_scores_differ() {
+    let mut g = last_black([30, 20]);
+    let v = g
+        .apply(Seat::A, &shot_dir([1.0, 0.0], 0.2, [0.0, 0.0]))
+        .expect("shot");
+    assert!(v.foul);
+    assert_eq!(v.over, Some((Some(Seat::A), "Player A wins".to_string())));
+    assert!(v
+        .reasons
+        .contains(&"Player A wins the frame 30-27".to_string()));
+}
+
+#[test]
+fn a_conceded_frame_goes_to_the_opponent_and_the_match_goes_on_to_its_frames() {
+    let mut g = Game::new(
+        Variant::Snooker {
+            reds: 6,
+            best_of: 3,
+        },
+        Settings::offline(),
+        9,
+    );
+    let v = g.apply(Seat::A, &Command::Concede).expect("concede");
+    assert_eq!(v.reasons[0], "Player A concedes the frame");
+    assert!(v.over.is_none());
+    assert_eq!(g.snooker().map(|m| m.frames), Some([0, 1]));
+    // The other player breaks off the next frame, from the D, with the reds racked again.
+    assert_eq!(g.to_move(), Seat::B);
+    assert_eq!(frame::reds_left(g.balls()), 6);
+    let v = g.apply(Seat::B, &Command::Concede).expect("concede");
+    assert!(v.over.is_none());
+    let v = g.apply(Seat::A, &Command::Concede).expect("concede");
+    assert_eq!(
+        v.over,
+        Some((Some(Seat::B), "Player B wins the match 2-1".to_string()))
+    );
+}
+
+#[test]
+fn a_snooker_record_replays_and_verifies() {
+    let mut g = game();
+    let mut record = crate::replay::GameRecord::of(&g);
+    let place = Command::PlaceCueBall { pos: [1.05, 0.70] };
+    let v = g.apply(Seat::A, &place).expect("placed");
+    record.push(Seat::A, place, v.shot.map(|s| s.hash));
+    let break_off = strike_at(&g, [0.9944 + 1.5 * R, 2.912], 4.5);
+    let v = g.apply(Seat::A, &break_off).expect("break-off");
+    record.push(Seat::A, break_off, v.shot.map(|s| s.hash));
+    let decoded = crate::replay::GameRecord::decode(&record.encode()).expect("decodes");
+    assert_eq!(decoded.replay().expect("replays"), g);
+}
