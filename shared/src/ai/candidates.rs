@@ -114,7 +114,7 @@ fn cue_speed(d1: f64, cos_cut: f64, v_ob: f64) -> f64 {
 }
 
 /// The spread of speeds and spins tried for one aimed shot.
-fn variants(base: f64, breadth: &Breadth) -> Vec<(f64, DVec2)> {
+pub(super) fn variants(base: f64, breadth: &Breadth) -> Vec<(f64, DVec2)> {
     let speeds: &[f64] = match breadth.speeds {
         0 | 1 => &[1.4],
         2 => &[1.1, 2.0],
@@ -137,7 +137,7 @@ fn variants(base: f64, breadth: &Breadth) -> Vec<(f64, DVec2)> {
 
 /// The window of directions in which `ball` rolled alone drops into `pocket`, searched in a
 /// fan of `half_width` radians either side of `toward`: its middle direction and its width.
-fn window(
+async fn window(
     lab: &mut Lab,
     ball: u8,
     toward: DVec2,
@@ -147,12 +147,14 @@ fn window(
 ) -> Option<(DVec2, f64)> {
     let n = probes.max(3) | 1;
     let step = 2.0 * half_width / (n - 1) as f64;
-    let drops: Vec<bool> = (0..n)
-        .map(|k| {
-            let a = -half_width + step * k as f64;
+    let mut drops = Vec::with_capacity(n);
+    for k in 0..n {
+        let a = -half_width + step * k as f64;
+        drops.push(
             lab.rolls_in(usize::from(ball), rotate(toward, a), speed)
-        })
-        .collect();
+                .await,
+        );
+    }
     // The widest run of directions that drop.
     let (mut best, mut start) = ((0usize, 0usize), None);
     for (k, &d) in drops.iter().chain(std::iter::once(&false)).enumerate() {
@@ -176,7 +178,7 @@ fn window(
 
 /// The cue aim that sends ball `first` off along `want` (a ghost-ball aim, corrected by trial
 /// shots): `None` if the cue ball cannot reach it first.
-fn aim_at(
+async fn aim_at(
     lab: &mut Lab,
     cue: DVec2,
     first: u8,
@@ -201,7 +203,7 @@ fn aim_at(
             tip,
             elevation_deg: 0.0,
         };
-        let out = lab.strike(0, strike)?;
+        let out = lab.strike(0, strike).await?;
         let (hit, leaves) = first_hit(out, 0)?;
         if hit != usize::from(first) || leaves == DVec2::ZERO {
             return None;
@@ -267,18 +269,18 @@ struct Route {
 }
 
 /// Every shot worth simulating from this table.
-pub(super) fn generate(lab: &mut Lab, view: &View, breadth: &Breadth) -> Vec<Candidate> {
+pub(super) async fn generate(lab: &mut Lab, view: &View<'_>, breadth: &Breadth) -> Vec<Candidate> {
     let layout = view.layout;
     let Some(cue) = layout.cue() else {
         return Vec::new();
     };
     let r = layout.radius;
-    let mut routes = direct_routes(lab, view, cue, 2 * breadth.pots);
+    let mut routes = direct_routes(lab, view, cue, 2 * breadth.pots).await;
     if breadth.banks {
-        routes.extend(bank_routes(lab, view, cue));
+        routes.extend(bank_routes(lab, view, cue).await);
     }
     if breadth.combinations {
-        routes.extend(combination_routes(lab, view, cue));
+        routes.extend(combination_routes(lab, view, cue).await);
     }
     routes.sort_by(|a, b| b.prior.total_cmp(&a.prior));
     routes.truncate(breadth.pots);
@@ -294,7 +296,9 @@ pub(super) fn generate(lab: &mut Lab, view: &View, breadth: &Breadth) -> Vec<Can
                 speed,
                 tip,
                 breadth.corrections,
-            ) {
+            )
+            .await
+            {
                 out.push(Candidate {
                     strike: Strike {
                         speed,
@@ -318,7 +322,7 @@ pub(super) fn generate(lab: &mut Lab, view: &View, breadth: &Breadth) -> Vec<Can
     out
 }
 
-fn direct_routes(lab: &mut Lab, view: &View, cue: DVec2, limit: usize) -> Vec<Route> {
+async fn direct_routes(lab: &mut Lab, view: &View<'_>, cue: DVec2, limit: usize) -> Vec<Route> {
     let layout = view.layout;
     // Rank every (ball, pocket) by geometry first; only the best few are worth probing.
     let mut open = Vec::new();
@@ -343,7 +347,7 @@ fn direct_routes(lab: &mut Lab, view: &View, cue: DVec2, limit: usize) -> Vec<Ro
         let d1 = (ghost - cue).length();
         let cos_cut = (ghost - cue).normalize_or_zero().dot(toward);
         let spread = libm::atan(0.1 / d2.max(0.1)).min(0.14);
-        let Some((want, width)) = window(lab, ball, toward, spread, 13, 1.5) else {
+        let Some((want, width)) = window(lab, ball, toward, spread, 13, 1.5).await else {
             continue;
         };
         routes.push(Route {
@@ -361,7 +365,7 @@ fn direct_routes(lab: &mut Lab, view: &View, cue: DVec2, limit: usize) -> Vec<Ro
     routes
 }
 
-fn bank_routes(lab: &mut Lab, view: &View, cue: DVec2) -> Vec<Route> {
+async fn bank_routes(lab: &mut Lab, view: &View<'_>, cue: DVec2) -> Vec<Route> {
     let layout = view.layout;
     let mut routes = Vec::new();
     for (ball, ob) in view.first_balls() {
@@ -380,7 +384,7 @@ fn bank_routes(lab: &mut Lab, view: &View, cue: DVec2) -> Vec<Route> {
                 // The bank must meet its rail away from the pockets: the ball has to come
                 // off a rail, not fall short of it.
                 let d2 = (image - ob).length();
-                let Some((want, _)) = window(lab, ball, toward, 0.09, 11, 2.2) else {
+                let Some((want, _)) = window(lab, ball, toward, 0.09, 11, 2.2).await else {
                     continue;
                 };
                 routes.push(Route {
@@ -399,7 +403,7 @@ fn bank_routes(lab: &mut Lab, view: &View, cue: DVec2) -> Vec<Route> {
     routes
 }
 
-fn combination_routes(lab: &mut Lab, view: &View, cue: DVec2) -> Vec<Route> {
+async fn combination_routes(lab: &mut Lab, view: &View<'_>, cue: DVec2) -> Vec<Route> {
     let layout = view.layout;
     let mut routes = Vec::new();
     for (first, fp) in view.first_balls() {
@@ -425,7 +429,7 @@ fn combination_routes(lab: &mut Lab, view: &View, cue: DVec2) -> Vec<Route> {
                 {
                     continue;
                 }
-                let Some((want2, _)) = window(lab, second, toward, 0.06, 9, 1.5) else {
+                let Some((want2, _)) = window(lab, second, toward, 0.06, 9, 1.5).await else {
                     continue;
                 };
                 let ghost2 = sp - want2 * (2.0 * layout.radius);

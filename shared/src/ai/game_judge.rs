@@ -5,6 +5,7 @@ use super::geometry::Layout;
 use super::lab::Lab;
 use super::noise::{Noise, Rng};
 use super::search::{Judge, Played};
+use super::thinking::Meter;
 use super::value;
 use super::Player;
 use crate::physics::{MotionState, Strike};
@@ -23,31 +24,30 @@ const LOOK_AHEAD: Breadth = Breadth {
 };
 /// Trials per look-ahead shot.
 const LOOK_AHEAD_TRIALS: u64 = 2;
+/// Simulations a look-ahead on a pool table typically costs (its candidates, then their
+/// trials): only for the progress estimate.
+const LOOK_AHEAD_GUESS: usize = 70;
 
 pub(super) struct GameJudge<'a> {
     game: &'a Game,
     me: Seat,
     noise: Noise,
-    runs: usize,
+    meter: &'a Meter,
 }
 
 impl<'a> GameJudge<'a> {
-    pub(super) fn new(game: &'a Game, player: &Player) -> GameJudge<'a> {
+    pub(super) fn new(game: &'a Game, player: &Player, meter: &'a Meter) -> GameJudge<'a> {
         GameJudge {
             game,
             me: game.to_move(),
             noise: player.noise,
-            runs: 0,
+            meter,
         }
-    }
-
-    pub(super) fn runs_total(&self) -> usize {
-        self.runs
     }
 
     /// The shooter keeps the table after `g` with the cue ball where it lies: the best of a
     /// few pots from there, each tried a couple of times.
-    fn look_ahead(&mut self, g: &Game) -> f64 {
+    async fn look_ahead(&mut self, g: &Game) -> f64 {
         let sigma = self.noise.aim_sigma();
         let layout = Layout::new(g.table(), g.balls());
         let targets = g.legal_first_balls();
@@ -67,12 +67,12 @@ impl<'a> GameJudge<'a> {
             tip: glam::DVec2::ZERO,
             elevation_deg: 0.0,
         };
-        let mut lab = Lab::new(g.shot_for(&probe));
+        let mut lab = Lab::new(g.shot_for(&probe), self.meter);
         let candidates: Vec<_> = generate(&mut lab, &view, &LOOK_AHEAD)
+            .await
             .into_iter()
             .filter(|c| c.kind == super::Kind::Pot)
             .collect();
-        self.runs += lab.runs;
         let stay = value::value(g, self.me, sigma);
         let mut best = f64::NEG_INFINITY;
         let seed = crate::hash::state_hash(g.balls()) ^ u64::from(cue.pos.x.to_bits() as u32);
@@ -81,7 +81,7 @@ impl<'a> GameJudge<'a> {
             for k in 0..LOOK_AHEAD_TRIALS {
                 let mut rng = Rng::new(super::noise::mix(seed, k + 1));
                 let strike = self.noise.perturb(&c.strike, &mut rng);
-                sum += self.play_once(g, &strike, c.call).value;
+                sum += self.play_once(g, &strike, c.call).await.value;
             }
             best = best.max(sum / LOOK_AHEAD_TRIALS as f64);
         }
@@ -95,14 +95,14 @@ impl<'a> GameJudge<'a> {
 
     /// `strike` played by `seat` on a copy of `game`, counted as a run: the game after it and
     /// the verdict, or None if the rules refuse it.
-    fn trial(
+    async fn trial(
         &mut self,
         game: &Game,
         seat: Seat,
         strike: &Strike,
         call: Option<u8>,
     ) -> Option<(Game, Verdict)> {
-        self.runs += 1;
+        self.meter.simulation().await;
         let mut g = game.clone();
         let shot = Command::Shot {
             strike: *strike,
@@ -112,9 +112,9 @@ impl<'a> GameJudge<'a> {
         Some((g, verdict))
     }
 
-    fn play_once(&mut self, game: &Game, strike: &Strike, call: Option<u8>) -> Played {
+    async fn play_once(&mut self, game: &Game, strike: &Strike, call: Option<u8>) -> Played {
         let shooter = game.to_move();
-        let Some((g, verdict)) = self.trial(game, shooter, strike, call) else {
+        let Some((g, verdict)) = self.trial(game, shooter, strike, call).await else {
             return Played::REFUSED;
         };
         let sigma = self.noise.aim_sigma();
@@ -151,12 +151,12 @@ fn succeeded(verdict: &Verdict, seat: Seat) -> bool {
 }
 
 impl Judge for GameJudge<'_> {
-    fn play(&mut self, strike: &Strike, call: Option<u8>, deep: bool) -> Played {
+    async fn play(&mut self, strike: &Strike, call: Option<u8>, deep: bool) -> Played {
         let game = self.game;
         if !deep || game.variant() == Variant::Practice {
-            return self.play_once(game, strike, call);
+            return self.play_once(game, strike, call).await;
         }
-        let Some((g, verdict)) = self.trial(game, self.me, strike, call) else {
+        let Some((g, verdict)) = self.trial(game, self.me, strike, call).await else {
             return Played::REFUSED;
         };
         let keeps = verdict.over.is_none()
@@ -168,14 +168,22 @@ impl Judge for GameJudge<'_> {
                 .is_some_and(|b| b.motion != MotionState::Pocketed);
         let success = succeeded(&verdict, self.me);
         let value = if keeps {
-            self.look_ahead(&g)
+            self.look_ahead(&g).await
         } else {
             value::value(&g, self.me, self.noise.aim_sigma())
         };
         Played { value, success }
     }
 
-    fn runs(&self) -> usize {
-        self.runs
+    fn meter(&self) -> &Meter {
+        self.meter
+    }
+
+    fn look_ahead_guess(&self) -> usize {
+        match self.game.variant() {
+            // Practice has no look-ahead, and a carom table no pot to look ahead to.
+            Variant::Practice | Variant::ThreeCushion { .. } => 0,
+            _ => LOOK_AHEAD_GUESS,
+        }
     }
 }

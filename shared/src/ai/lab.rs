@@ -1,30 +1,31 @@
 //! Trial shots on a private copy of the table, counted: the search's budget is a number of
-//! simulations, never a time, so that a decision is the same on every machine.
+//! simulations, never a time, so that a decision is the same on every machine. Each one
+//! waits for its turn on the search's [`Meter`], which is what lets a search run in steps.
 
 use glam::{DVec2, DVec3};
 
+use super::thinking::Meter;
 use crate::physics::{
     BallState, EventKind, MotionState, Outcome, Shot, Simulator, Strike, TableKind,
 };
 
-/// A simulator for trial shots from one table, counting what it runs.
+/// A simulator for trial shots from one table, counting what it runs on `meter`.
 pub(super) struct Lab {
     sim: Simulator,
     shot: Shot,
-    /// Simulations run so far.
-    pub runs: usize,
+    meter: Meter,
 }
 
 impl Lab {
     /// `shot` is the table as it lies (its strike, if any, is ignored).
-    pub(super) fn new(shot: Shot) -> Lab {
+    pub(super) fn new(shot: Shot, meter: &Meter) -> Lab {
         Lab {
             sim: Simulator::new(),
             shot: Shot {
                 strike: None,
                 ..shot
             },
-            runs: 0,
+            meter: meter.clone(),
         }
     }
 
@@ -37,8 +38,8 @@ impl Lab {
     }
 
     /// The outcome of striking ball `cue` with `strike`, `None` if the engine refuses it.
-    pub(super) fn strike(&mut self, cue: usize, strike: Strike) -> Option<&Outcome> {
-        self.runs += 1;
+    pub(super) async fn strike(&mut self, cue: usize, strike: Strike) -> Option<&Outcome> {
+        self.meter.simulation().await;
         self.shot.strike = Some((cue, strike));
         let out = self.sim.run(&self.shot).ok();
         self.shot.strike = None;
@@ -47,11 +48,11 @@ impl Lab {
 
     /// Does ball `ball`, sent off sliding at `speed` along `dir` with the rest at rest, end up
     /// in a pocket? The probe the search uses to find a pocket's window.
-    pub(super) fn rolls_in(&mut self, ball: usize, dir: DVec2, speed: f64) -> bool {
+    pub(super) async fn rolls_in(&mut self, ball: usize, dir: DVec2, speed: f64) -> bool {
         let Some(start) = self.shot.balls.get(ball).copied() else {
             return false;
         };
-        self.runs += 1;
+        self.meter.simulation().await;
         let r = self.shot.params.ball_radius;
         let v = dir * speed;
         // Already rolling: an object ball leaves a collision sliding and rolls within a few

@@ -10,18 +10,31 @@
 //! simulations the search may spend, so a decision is pure and deterministic: the same
 //! game, level and seed give the same command on every machine, with no clock involved.
 //!
-//! [`decide`] is the whole interface a caller needs:
+//! [`decide`] is the whole interface a caller needs; [`Thinking::decide`] is the same search
+//! in steps of a bounded number of simulations, for a front end that cannot wait for it:
 //! ```
 //! use breakshot_shared::ai::{decide, Level};
 //! use breakshot_shared::rules::{Game, Settings, Variant};
 //! let mut game = Game::new(Variant::NineBall, Settings::offline(), 7);
 //! let seat = game.to_move();
 //! let command = decide(&game, Level::new(1), 42).expect("the game is not over");
+//!
+//! // The same decision, a few simulations per frame.
+//! use breakshot_shared::ai::Thinking;
+//! let mut thinking = Thinking::decide(&game, Level::new(1), 42);
+//! let stepped = loop {
+//!     if let std::task::Poll::Ready(answer) = thinking.step(50) {
+//!         break answer.clone();
+//!     }
+//!     let _bar = thinking.fraction(); // shown while the computer thinks
+//! };
+//! assert_eq!(stepped, Some(command.clone()));
 //! game.apply(seat, &command).expect("the computer only makes legal moves");
 //! ```
 
 mod candidates;
 mod caroms;
+mod estimate;
 mod game_judge;
 mod geometry;
 mod ghost;
@@ -30,6 +43,7 @@ mod noise;
 mod placement;
 mod scene_judge;
 mod search;
+mod thinking;
 mod value;
 
 use crate::physics::simulate;
@@ -43,12 +57,15 @@ pub use ghost::ghost_move;
 pub use noise::{Noise, Rng, AIM_SIGMA_DEG, ELEVATION_SIGMA_DEG, SPEED_SIGMA, TIP_SIGMA_M};
 pub use scene_judge::{suggest, Suggestion};
 pub use search::Schedule;
+pub use thinking::{Progress, Thinking};
 
 use candidates::{Candidate, View};
 use game_judge::GameJudge;
 use geometry::Layout;
 use lab::Lab;
 use noise::mix;
+use search::Judge;
+use thinking::Meter;
 
 /// How strong the computer plays: 1 (beginner) to 5 (strong).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -172,11 +189,33 @@ pub struct Decision {
 }
 
 /// The command the computer makes at `level` for the seat to move, execution noise included:
-/// what it would actually play. `None` when the game is over.
+/// what it would actually play. `None` when the game is over. [`Thinking::decide`] in one
+/// call.
 pub fn decide(game: &Game, level: Level, seed: u64) -> Option<Command> {
-    let player = Player::from(level);
-    let decision = plan(game, &player, seed)?;
-    Some(execute(decision.command, player.noise, seed))
+    Thinking::decide(game, level, seed).finish()
+}
+
+impl Thinking<Option<Command>> {
+    /// [`decide`] in steps: its answer is exactly the command [`decide`] returns for the same
+    /// game, level and seed, however it is stepped.
+    pub fn decide(game: &Game, level: Level, seed: u64) -> Thinking<Option<Command>> {
+        let game = game.clone();
+        let player = Player::from(level);
+        Thinking::start(move |meter| async move {
+            let decision = planned(&game, &player, seed, &meter).await?;
+            Some(execute(decision.command, player.noise, seed))
+        })
+    }
+}
+
+impl Thinking<Option<Decision>> {
+    /// [`plan`] in steps: its answer is exactly the decision [`plan`] returns for the same
+    /// game, player and seed, however it is stepped.
+    pub fn plan(game: &Game, player: &Player, seed: u64) -> Thinking<Option<Decision>> {
+        let game = game.clone();
+        let player = *player;
+        Thinking::start(move |meter| async move { planned(&game, &player, seed, &meter).await })
+    }
 }
 
 /// The command as the player's cue delivers it: a shot gets its execution noise.
@@ -191,8 +230,13 @@ pub fn execute(command: Command, noise: Noise, seed: u64) -> Command {
 }
 
 /// The command `player` means to make for the seat to move (no execution noise), with what
-/// the search found. `None` when the game is over.
+/// the search found. `None` when the game is over. [`Thinking::plan`] in one call.
 pub fn plan(game: &Game, player: &Player, seed: u64) -> Option<Decision> {
+    Thinking::plan(game, player, seed).finish()
+}
+
+/// What [`plan`] returns, its simulations counted on `meter`.
+async fn planned(game: &Game, player: &Player, seed: u64, meter: &Meter) -> Option<Decision> {
     match game.phase() {
         Phase::Over { .. } => None,
         Phase::Deciding { options } => {
@@ -230,7 +274,9 @@ pub fn plan(game: &Game, player: &Player, seed: u64) -> Option<Decision> {
                 None => false,
             };
             if placing {
-                let (spot, sims) = placement::best_spot(game, player, *in_hand);
+                let start = meter.done();
+                let spot = placement::best_spot(game, player, *in_hand, meter).await;
+                let sims = meter.done() - start;
                 if let Some(spot) = spot {
                     let here = game.balls().first().map(|b| b.pos.to_array());
                     if cue_off || here != Some(spot) {
@@ -243,7 +289,7 @@ pub fn plan(game: &Game, player: &Player, seed: u64) -> Option<Decision> {
                     }
                 }
             }
-            let decision = shoot(game, player, seed);
+            let decision = shoot(game, player, seed, meter).await;
             match snooker_nomination(game, &decision.command) {
                 Some(colour) => Some(Decision {
                     command: Command::Decide(Choice::Nominate(colour)),
@@ -273,11 +319,11 @@ fn snooker_nomination(game: &Game, command: &Command) -> Option<u8> {
 }
 
 /// The best strike from the table as it lies.
-fn shoot(game: &Game, player: &Player, seed: u64) -> Decision {
-    let mut judge = GameJudge::new(game, player);
-    let found = search_shot(game, player, &mut judge, seed);
-    let sims = found.1 + judge.runs_total();
-    match found.0 {
+async fn shoot(game: &Game, player: &Player, seed: u64, meter: &Meter) -> Decision {
+    let start = meter.done();
+    let found = search_shot(game, player, seed, meter).await;
+    let sims = meter.done() - start;
+    match found {
         Some(choice) => Decision {
             command: Command::Shot {
                 strike: choice.candidate.strike,
@@ -299,42 +345,47 @@ fn shoot(game: &Game, player: &Player, seed: u64) -> Decision {
     }
 }
 
-/// Candidates for the table as it lies, and the search among them; also returns the
-/// simulations spent generating them.
-fn search_shot(
+/// Candidates for the table as it lies, and the search among them.
+async fn search_shot(
     game: &Game,
     player: &Player,
-    judge: &mut GameJudge,
     seed: u64,
-) -> (Option<search::Choice>, usize) {
+    meter: &Meter,
+) -> Option<search::Choice> {
     let layout = Layout::new(game.table(), game.balls());
     let targets = game.legal_first_balls();
     let pottable = value::pottable(game);
+    let mut judge = GameJudge::new(game, player, meter);
     let candidates: Vec<Candidate>;
-    let mut generated = 0;
     if matches!(game.variant(), Variant::ThreeCushion { .. }) {
-        (candidates, generated) = caroms::caroms(game, &player.breadth);
+        meter.expect(estimate::caroms(&player.breadth, &player.schedule));
+        candidates = caroms::caroms(game, &player.breadth, meter).await;
     } else if game.is_break() {
         candidates = candidates::breaks(&layout, &targets);
     } else {
-        let mut lab = Lab::new(game.shot_for(&fallback(game)));
+        let look_ahead = judge.look_ahead_guess();
+        meter.expect(estimate::shot(
+            &player.breadth,
+            &player.schedule,
+            look_ahead,
+        ));
+        let mut lab = Lab::new(game.shot_for(&fallback(game)), meter);
         let view = View {
             layout: &layout,
             targets: &targets,
             pottable: &pottable,
             aim_sigma: player.noise.aim_sigma(),
         };
-        candidates = candidates::generate(&mut lab, &view, &player.breadth);
-        generated = lab.runs;
+        candidates = candidates::generate(&mut lab, &view, &player.breadth).await;
     }
-    let choice = search::choose(
-        judge,
+    search::choose(
+        &mut judge,
         &candidates,
         player.noise,
         &player.schedule,
         mix(seed, 0x5EA7),
-    );
-    (choice, generated)
+    )
+    .await
 }
 
 /// A plain strike at the nearest ball: used only when no candidate could be made.

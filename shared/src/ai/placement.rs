@@ -13,16 +13,18 @@ use super::game_judge::GameJudge;
 use super::geometry::{rotate, Layout};
 use super::lab::Lab;
 use super::noise::mix;
+use super::thinking::Meter;
 use super::{candidates, search, value, Player};
 use crate::physics::{BallState, Strike};
 use crate::rules::{rack, Command, Game, InHand};
 
-/// The best spot for the cue ball and the simulations spent finding it.
-pub(super) fn best_spot(
+/// The best spot for the cue ball.
+pub(super) async fn best_spot(
     game: &Game,
     player: &Player,
     area: Option<InHand>,
-) -> (Option<[f64; 2]>, usize) {
+    meter: &Meter,
+) -> Option<[f64; 2]> {
     let me = game.to_move();
     let layout = Layout::new(game.table(), game.balls());
     let pottable = value::pottable(game);
@@ -73,15 +75,25 @@ pub(super) fn best_spot(
         .collect();
     ranked.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.2.cmp(&b.2)));
     if ranked.is_empty() {
-        return (None, 0);
+        return None;
     }
     // Seeded by the object balls only: the cue ball's own position must not matter.
     let objects: Vec<BallState> = game.balls().iter().skip(1).copied().collect();
     let seed = crate::hash::state_hash(&objects);
-    let mut sims = 0;
     let mut best: Option<(f64, [f64; 2])> = None;
-    let searched = player.placements.max(1);
-    for &(_, spot, _) in ranked.iter().take(searched) {
+    let searched = player.placements.max(1).min(ranked.len());
+    let mut breadth = player.breadth;
+    breadth.pots = breadth.pots.min(4);
+    breadth.banks = false;
+    breadth.kicks = false;
+    let schedule = search::Schedule {
+        samples: [2, 6, player.schedule.samples[1]],
+        keep: [6, 2],
+        look_ahead: false,
+    };
+    let per_spot = super::estimate::shot(&breadth, &schedule, 0);
+    for (k, &(_, spot, _)) in ranked.iter().take(searched).enumerate() {
+        meter.expect_afterwards(per_spot * (searched - k - 1));
         let mut g = game.clone();
         if g.apply(me, &Command::PlaceCueBall { pos: spot }).is_err() {
             continue;
@@ -100,30 +112,23 @@ pub(super) fn best_spot(
             tip: DVec2::ZERO,
             elevation_deg: 0.0,
         };
-        let mut lab = Lab::new(g.shot_for(&probe));
-        let mut breadth = player.breadth;
-        breadth.pots = breadth.pots.min(4);
-        breadth.banks = false;
-        breadth.kicks = false;
-        let cands = candidates::generate(&mut lab, &view, &breadth);
-        let mut judge = GameJudge::new(&g, player);
-        let schedule = search::Schedule {
-            samples: [2, 6, player.schedule.samples[1]],
-            keep: [6, 2],
-            look_ahead: false,
-        };
+        meter.expect(per_spot);
+        let mut lab = Lab::new(g.shot_for(&probe), meter);
+        let cands = candidates::generate(&mut lab, &view, &breadth).await;
+        let mut judge = GameJudge::new(&g, player, meter);
         let choice = search::choose(
             &mut judge,
             &cands,
             player.noise,
             &schedule,
             mix(seed, 0x91A),
-        );
-        sims += lab.runs + search::Judge::runs(&judge);
+        )
+        .await;
         let v = choice.map_or(0.0, |c| c.value);
         if best.is_none_or(|(bv, _)| v > bv) {
             best = Some((v, spot));
         }
     }
-    (best.map(|(_, s)| s).or(Some(ranked[0].1)), sims)
+    meter.expect_afterwards(0);
+    best.map(|(_, s)| s).or(Some(ranked[0].1))
 }

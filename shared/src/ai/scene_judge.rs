@@ -7,7 +7,8 @@ use super::geometry::Layout;
 use super::lab::Lab;
 use super::noise::mix;
 use super::search::{choose, Judge, Played};
-use super::{Level, Player};
+use super::thinking::{Meter, Thinking};
+use super::{estimate, Level, Player};
 use crate::physics::{BallState, MotionState, Shot, Strike};
 use crate::rules::facts::ShotFacts;
 
@@ -24,12 +25,43 @@ pub struct Suggestion {
 
 /// The best strike on ball `cue` of `shot` that first hits one of `targets` and pockets one
 /// of them (ball indices into `shot.balls`). Errors name what is wrong with the request.
+/// [`Thinking::suggest`] in one call.
 pub fn suggest(
     shot: &Shot,
     cue: usize,
     targets: &[usize],
     level: Level,
     seed: u64,
+) -> Result<Suggestion, String> {
+    Thinking::suggest(shot, cue, targets, level, seed).finish()
+}
+
+impl Thinking<Result<Suggestion, String>> {
+    /// [`suggest`] in steps: its answer is exactly what [`suggest`] returns for the same
+    /// request, however it is stepped.
+    pub fn suggest(
+        shot: &Shot,
+        cue: usize,
+        targets: &[usize],
+        level: Level,
+        seed: u64,
+    ) -> Thinking<Result<Suggestion, String>> {
+        let shot = shot.clone();
+        let targets = targets.to_vec();
+        Thinking::start(move |meter| async move {
+            suggested(&shot, cue, &targets, level, seed, &meter).await
+        })
+    }
+}
+
+/// What [`suggest`] returns, its simulations counted on `meter`.
+async fn suggested(
+    shot: &Shot,
+    cue: usize,
+    targets: &[usize],
+    level: Level,
+    seed: u64,
+    meter: &Meter,
 ) -> Result<Suggestion, String> {
     let n = shot.balls.len();
     if cue >= n {
@@ -64,12 +96,14 @@ pub fn suggest(
         pottable: &targets,
         aim_sigma: player.noise.aim_sigma(),
     };
-    let mut lab = Lab::new(renumbered.clone());
-    let candidates = generate(&mut lab, &view, &player.breadth);
+    meter.expect(estimate::shot(&player.breadth, &player.schedule, 0));
+    let mut lab = Lab::new(renumbered.clone(), meter);
+    let candidates = generate(&mut lab, &view, &player.breadth).await;
     let mut judge = SceneJudge {
-        lab: Lab::new(renumbered),
+        lab: Lab::new(renumbered, meter),
         targets: &targets,
         aim_sigma: player.noise.aim_sigma(),
+        meter,
     };
     let choice = choose(
         &mut judge,
@@ -78,6 +112,7 @@ pub fn suggest(
         &player.schedule,
         mix(seed, 0x5CE0),
     )
+    .await
     .ok_or("no strike could be found for this scene")?;
     Ok(Suggestion {
         strike: choice.candidate.strike,
@@ -90,12 +125,13 @@ struct SceneJudge<'a> {
     lab: Lab,
     targets: &'a [u8],
     aim_sigma: f64,
+    meter: &'a Meter,
 }
 
 impl Judge for SceneJudge<'_> {
-    fn play(&mut self, strike: &Strike, _call: Option<u8>, _deep: bool) -> Played {
+    async fn play(&mut self, strike: &Strike, _call: Option<u8>, _deep: bool) -> Played {
         let kind = self.lab_kind();
-        let Some(out) = self.lab.strike(0, *strike) else {
+        let Some(out) = self.lab.strike(0, *strike).await else {
             return Played::REFUSED;
         };
         let facts = ShotFacts::from_outcome(out, kind);
@@ -130,8 +166,12 @@ impl Judge for SceneJudge<'_> {
         Played { value, success }
     }
 
-    fn runs(&self) -> usize {
-        self.lab.runs
+    fn meter(&self) -> &Meter {
+        self.meter
+    }
+
+    fn look_ahead_guess(&self) -> usize {
+        0
     }
 }
 

@@ -3,6 +3,7 @@
 
 use super::candidates::Candidate;
 use super::noise::{mix, Noise, Rng};
+use super::thinking::Meter;
 use crate::physics::Strike;
 
 /// What one trial of a candidate led to.
@@ -25,9 +26,12 @@ impl Played {
 /// Plays a strike as delivered and judges the result.
 pub(super) trait Judge {
     /// `deep`: look one shot further where the shooter keeps the table.
-    fn play(&mut self, strike: &Strike, call: Option<u8>, deep: bool) -> Played;
-    /// Simulations run so far.
-    fn runs(&self) -> usize;
+    async fn play(&mut self, strike: &Strike, call: Option<u8>, deep: bool) -> Played;
+    /// What the judge's simulations are counted on.
+    fn meter(&self) -> &Meter;
+    /// Simulations a look-ahead is expected to cost before any has been played: only for the
+    /// progress estimate.
+    fn look_ahead_guess(&self) -> usize;
 }
 
 /// How many trials each round gives its candidates, and how many go on to the next.
@@ -70,9 +74,33 @@ impl Tally {
     }
 }
 
+/// Trials left from the start of `round` with `alive` candidates in it, and how many of them
+/// look one shot further.
+pub(super) fn trials_left(schedule: &Schedule, round: usize, mut alive: usize) -> (usize, usize) {
+    let (mut plain, mut deep) = (0, 0);
+    for r in round..3 {
+        let is_deep = r == 2 && schedule.look_ahead;
+        let before = if r == 0 || is_deep {
+            0
+        } else {
+            schedule.samples[r - 1]
+        };
+        let trials = alive * schedule.samples[r].saturating_sub(before);
+        if is_deep {
+            deep += trials;
+        } else {
+            plain += trials;
+        }
+        if r < 2 {
+            alive = alive.min(schedule.keep[r].max(1));
+        }
+    }
+    (plain, deep)
+}
+
 /// The best of `candidates` for a player with `noise`. Trial `k` of every candidate uses the
 /// same noise draws (common random numbers), so candidates are compared on equal luck.
-pub(super) fn choose<J: Judge>(
+pub(super) async fn choose<J: Judge>(
     judge: &mut J,
     candidates: &[Candidate],
     noise: Noise,
@@ -87,6 +115,8 @@ pub(super) fn choose<J: Judge>(
             n: 0,
         })
         .collect();
+    // What a trial with the look-ahead costs, as measured so far: (trials, simulations).
+    let mut deep_cost = (0usize, 0usize);
     for round in 0..3 {
         let deep = round == 2 && schedule.look_ahead;
         if deep {
@@ -101,15 +131,29 @@ pub(super) fn choose<J: Judge>(
             }
         }
         let target = schedule.samples[round];
+        let (mut plain, mut deeper) = trials_left(schedule, round, alive.len());
         for t in alive.iter_mut() {
             let c = &candidates[t.index];
             while t.n < target {
+                let per_deep = match deep_cost {
+                    (0, _) => 1 + judge.look_ahead_guess(),
+                    (n, sims) => sims.div_ceil(n),
+                };
+                judge.meter().expect(plain + deeper * per_deep);
+                let before = judge.meter().done();
                 let mut rng = Rng::new(mix(seed, t.n as u64 + 1));
                 let strike = noise.perturb(&c.strike, &mut rng);
-                let played = judge.play(&strike, c.call, deep);
+                let played = judge.play(&strike, c.call, deep).await;
                 t.sum += played.value;
                 t.successes += usize::from(played.success);
                 t.n += 1;
+                if deep {
+                    deeper = deeper.saturating_sub(1);
+                    deep_cost.0 += 1;
+                    deep_cost.1 += judge.meter().done() - before;
+                } else {
+                    plain = plain.saturating_sub(1);
+                }
             }
         }
         // Stable order: best mean first, then the earlier candidate.
