@@ -8,7 +8,7 @@ use breakshot_client::play::{
     InputFrame, Intent, Key, Stage, Turn,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
-use breakshot_client::view::hud::{connection as connection_text, Connection};
+use breakshot_client::view::hud::{call_prompt, connection as connection_text, Connection};
 use breakshot_client::view::{palette, tray, Frame, Layout, Orientations, Playback, Rect};
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
@@ -20,8 +20,8 @@ use breakshot_shared::rules::{
 use macroquad::prelude::*;
 
 use super::hud::{game_hud, HudInfo};
-use super::view::TableView;
-use super::{draw, invite, menu, Screen, Step};
+use super::table_view::TableView;
+use super::{draw, invite, panel, trays, Start, Step};
 
 pub struct GameScreen {
     link: Box<dyn GameLink>,
@@ -168,7 +168,7 @@ impl GameScreen {
                 || (self.flow.ended_away.is_some()
                     && (input.pressed.contains(&Key::Shoot) || input.left_pressed));
             return if done {
-                Step::Go(Screen::Menu(menu::MenuScreen::new()))
+                Step::Open(Start::Menu)
             } else {
                 Step::Stay
             };
@@ -267,7 +267,7 @@ impl GameScreen {
                     self.leaving = true;
                     return Step::Stay;
                 }
-                (Intent::Back, _) => return Step::Go(Screen::Menu(menu::MenuScreen::new())),
+                (Intent::Back, _) => return Step::Open(Start::Menu),
                 _ => {}
             }
         }
@@ -303,7 +303,7 @@ impl GameScreen {
         };
         self.leaving = false;
         match (answer, self.link.seat()) {
-            (LeaveAnswer::Leave, _) => return Step::Go(Screen::Menu(menu::MenuScreen::new())),
+            (LeaveAnswer::Leave, _) => return Step::Open(Start::Menu),
             (LeaveAnswer::Concede, Some(seat)) => self.link.send(game, seat, Command::Concede),
             _ => {}
         }
@@ -349,6 +349,11 @@ impl GameScreen {
     /// The shot being shown, if any.
     pub fn shot(&self) -> Option<&Playback> {
         self.flow.shot()
+    }
+
+    /// True while a chat line is being typed: it takes the keys.
+    pub fn typing(&self) -> bool {
+        self.flow.chat.typing().is_some()
     }
 
     /// True while the server has not answered our entry yet: no game, no result, no
@@ -397,7 +402,7 @@ impl GameScreen {
         let balls = self.flow.balls();
         let names = palette::ball_ids(game);
         let turn = self.turn();
-        let pen = self.view.pen(&layout, r, self.flow.shot(), game.table(), 0);
+        let pen = self.view.pen(&layout, r, self.flow.shot(), game.table());
         draw::table(&pen, game.table());
 
         let dragging = match self.controls.drag {
@@ -461,8 +466,8 @@ impl GameScreen {
         }
         let (pocketed, seats) = (self.flow.tray(), tray::seat_names(&self.flow.names));
         let trays = tray::trays(game, &pocketed);
-        draw::player_trays(&layout, &names, trays, &pocketed, seats, r);
-        draw::panel(&layout, &self.controls.aim, Some(self.controls.keep_spin));
+        trays::player_trays(&layout, &names, trays, &pocketed, seats, r);
+        panel::panel(&layout, &self.controls.aim, Some(self.controls.keep_spin));
         game_hud(
             &layout,
             &HudInfo {
@@ -566,7 +571,7 @@ impl GameScreen {
         }
         if self.flow.call.is_none() {
             draw::label(
-                "Click a pocket to call the 8",
+                call_prompt(game),
                 layout.cloth.x + 8.0,
                 layout.cloth.y + layout.cloth.h - 10.0,
                 22.0,
