@@ -686,3 +686,47 @@ fn draw_thinking(layout: &Layout) {
     );
     draw::label(&text, x, y, size, WHITE);
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn layout() -> Layout {
+        let game = Game::new(
+            breakshot_shared::rules::Variant::NineBall,
+            breakshot_shared::rules::Settings::offline(),
+            1,
+        );
+        Layout::new(1280.0, 720.0, Frame::new(game.table(), game.balls()))
+    }
+
+    #[test]
+    fn each_choice_is_a_button_in_a_row_on_the_cloth_and_a_click_picks_it() {
+        let layout = layout();
+        let options = [Choice::PushOut, Choice::AcceptTable];
+        let buttons = choice_buttons(&layout, &options);
+        assert_eq!(buttons.len(), 2);
+        let cloth = layout.cloth;
+        for (_, r) in &buttons {
+            assert!(
+                r.x >= cloth.x && r.x + r.w <= cloth.x + cloth.w,
+                "{r:?} off the cloth"
+            );
+            assert_eq!(r.y, buttons[0].1.y, "not in one row");
+        }
+        assert!(
+            buttons[0].1.x + buttons[0].1.w < buttons[1].1.x,
+            "they overlap"
+        );
+        let middle = |r: &Rect| [r.x + 0.5 * r.w, r.y + 0.5 * r.h];
+        for (choice, r) in &buttons {
+            assert_eq!(choice_at(&layout, &options, middle(r)), Some(*choice));
+        }
+        let below = [
+            middle(&buttons[0].1)[0],
+            buttons[0].1.y + 2.0 * buttons[0].1.h,
+        ];
+        assert_eq!(choice_at(&layout, &options, below), None);
+        assert_eq!(choice_at(&layout, &[], middle(&buttons[0].1)), None);
+    }
+}
