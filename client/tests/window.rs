@@ -1352,3 +1352,65 @@ fn the_cue_is_seen_going_through_the_cue_ball_as_a_shot_starts() {
     };
     assert_eq!(wood(&later), 0, "the cue is still shown half a second on");
 }
+
+#[test]
+fn a_three_cushion_shot_struck_with_the_yellow_leaves_its_trail_on_the_yellow() {
+    let start = Game::new(Variant::three_cushion(), Settings::offline(), 1);
+    let mut game = start.clone();
+    let mut record = GameRecord::of(&game);
+    let strike = |dir: DVec2, speed: f64| Strike {
+        speed,
+        dir: dir.normalize(),
+        tip: DVec2::ZERO,
+        elevation_deg: 0.0,
+    };
+    // The white rolls a little way from the yellow and scores nothing: the yellow is to move.
+    let mut outcome = None;
+    for (dir, speed) in [(DVec2::new(1.0, 0.0), 0.3), (DVec2::new(0.25, 1.0), 2.5)] {
+        let seat = game.to_move();
+        let command = Command::Shot {
+            strike: strike(dir, speed),
+            call: None,
+        };
+        let verdict = game.apply(seat, &command).expect("accepted");
+        record.push(seat, command, verdict.shot.map(|s| s.hash));
+        outcome = verdict.outcome;
+        if record.entries.len() == 1 {
+            assert_eq!(game.cue_ball(), 1, "the yellow is to shoot next");
+        }
+    }
+    let outcome = outcome.expect("the yellow's shot was simulated");
+    // The frame 0.6 s into the yellow's shot, as the window steps a replay.
+    let mut viewer = ReplayViewer::new(record.clone()).expect("a record of this version");
+    let started = (1..=2000u32)
+        .find(|_| {
+            viewer.tick(1.0 / 60.0);
+            // The white's shot is committed once shown: the yellow's is the one under way.
+            viewer.position().0 == 1 && viewer.shot().is_some()
+        })
+        .expect("the yellow's shot starts");
+    let dir = breakshot_testkit::scratch("window-yellow-trail");
+    let (file, out) = (dir.path().join("carom.rec"), dir.path().join("out.png"));
+    std::fs::write(&file, record.encode()).expect("record written");
+    let args = [OsStr::new("replay"), file.as_os_str()];
+    let Some(run) = played(&args, &out, started + 36, &["key --window \"$wid\" l"]) else {
+        return;
+    };
+    assert_ran(&run);
+    let pic = picture(&out);
+    let layout = Layout::new(1280.0, 720.0, Frame::new(start.table(), start.balls()));
+    // Where the yellow went in its shot's first 0.3 s, long gone from there: the trail's
+    // warm colour over the cloth.
+    let warm = [0.1, 0.2, 0.3]
+        .iter()
+        .filter(|&&t| {
+            let [x, y] = layout.to_screen(outcome.state_at(1, t).pos);
+            let c = pic.at(x, y);
+            c[0] >= CLOTH[0] + 25 && c[1] >= c[2] + 35
+        })
+        .count();
+    assert!(
+        warm >= 2,
+        "the trail is at {warm} of 3 points the yellow passed"
+    );
+}

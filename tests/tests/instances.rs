@@ -14,8 +14,8 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
-use breakshot_client::bot::Chooser;
 use breakshot_client::net::{fetch_record, Reconnect};
+use breakshot_client::play::Chooser;
 use breakshot_server::output::StoreOp;
 use breakshot_server::store::{Location, Store, StoreError};
 use breakshot_server::tls;

@@ -3,7 +3,8 @@
 
 use std::time::Duration;
 
-use breakshot_client::bot::{run, BotConfig, Chooser};
+use breakshot_client::bot::{run, BotConfig};
+use breakshot_client::play::Chooser;
 use breakshot_server::store::Store;
 use breakshot_shared::protocol::{ClientMessage, Role, ServerMessage};
 use breakshot_shared::replay::GameRecord;

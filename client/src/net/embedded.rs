@@ -14,12 +14,13 @@ use breakshot_shared::protocol::{ClientMessage, Invite};
 use breakshot_shared::rules::{Command, Game, Seat, Settings, TurnId};
 use tokio::sync::oneshot;
 
-use super::computer::SeatedComputer;
 use super::host::{
     host_text, interface_addresses, invite_host, lan_address, loopback_for, names_wildcard,
     HostError, HostOptions,
 };
-use super::link::NetLink;
+use super::net_link::NetLink;
+use super::player::Entry;
+use super::seated_computer::SeatedComputer;
 use super::seats::SeatStore;
 use super::session::Session;
 use crate::play::{GameEvent, GameLink};
@@ -163,10 +164,10 @@ impl Host {
         }
         let seats = SeatStore::new(&options.data);
         // The computer's seat is not kept when the host closes: its game cannot go on.
-        let mut resuming = (options.resume && options.computer.is_none())
+        let resuming = (options.resume && options.computer.is_none())
             .then(|| seats.on_server(&addressed.fingerprint))
             .flatten();
-        let create = ClientMessage::CreateRoom {
+        let create = Entry::Create(ClientMessage::CreateRoom {
             variant: options.variant,
             mode: Settings {
                 table: options.variant.table(options.settings.table),
@@ -174,43 +175,40 @@ impl Host {
             },
             aim_aid: options.aim_aid,
             name: options.name.clone(),
-        };
+        });
         let session = Session::connect(server.loopback_invite());
-        session.send(match &resuming {
-            Some(seat) => ClientMessage::Rejoin { token: seat.token },
+        // The remembered game may be over (or was never stored): then a new room.
+        session.enter(match &resuming {
+            Some(seat) => Entry::Rejoin {
+                token: seat.token,
+                otherwise: Some(Box::new(create.clone())),
+            },
             None => create.clone(),
         });
         let mut link = NetLink::new(session);
         if options.computer.is_none() {
-            link.remember(seats.clone(), addressed.clone());
+            // Under the remembered seat's own invite, so a stale one is forgotten.
+            let under = resuming.as_ref().map_or(&addressed, |r| &r.invite);
+            link.remember(seats.clone(), under.clone());
         }
+        let deadline = Instant::now() + SEATING;
         let mut pending = VecDeque::new();
-        let since = Instant::now();
-        let room = loop {
-            while let Some(event) = link.poll() {
-                match &event {
-                    GameEvent::Connection(Connection::Closed(why)) => {
-                        return Err(HostError::Room(why.clone()))
-                    }
-                    // The remembered game is over (or was never stored): open a new room.
-                    GameEvent::Refused(_) if resuming.is_some() => {
-                        if let Some(seat) = resuming.take() {
-                            seats.forget(&seat.invite);
-                        }
-                        link.session().send(create.clone());
-                    }
-                    GameEvent::Refused(why) => return Err(HostError::Room(why.clone())),
-                    _ => pending.push_back(event),
-                }
-            }
-            if let Some(room) = link.session().room().cloned() {
-                break room;
-            }
-            if since.elapsed() > SEATING {
-                return Err(HostError::Room("the server did not answer".into()));
-            }
-            std::thread::sleep(Duration::from_millis(5));
+        let seated = |link: &NetLink, event: Option<&GameEvent>| match event {
+            Some(GameEvent::EndedAway(_)) => Some(None),
+            _ => link.session().room().cloned().map(Some),
         };
+        let room = match wait_for(&mut link, &mut pending, deadline, seated)? {
+            Some(room) => room,
+            None => {
+                // The remembered game ended while this host was away: a new room.
+                pending.clear();
+                link.session().enter(create);
+                wait_for(&mut link, &mut pending, deadline, |link, _| {
+                    link.session().room().cloned()
+                })?
+            }
+        };
+        let resumed = resuming.is_some_and(|r| link.session().seating().token == Some(r.token));
         let computer = match options.computer {
             Some(level) => {
                 // Each room's computer decides differently, the same way every time.
@@ -222,7 +220,9 @@ impl Host {
                 let computer = SeatedComputer::join(invite, level, seed, true)?;
                 // Seated before anyone else is told the invite, so a friend who opens it
                 // finds the room full and watches.
-                wait_for_opponent(&mut link, &mut pending, since)?;
+                wait_for(&mut link, &mut pending, deadline, |_, event| {
+                    (event == Some(&GameEvent::Connection(Connection::Connected))).then_some(())
+                })?;
                 Some(computer)
             }
             None => None,
@@ -231,7 +231,7 @@ impl Host {
             link,
             pending,
             invite: addressed.with_room(room),
-            resumed: resuming.is_some(),
+            resumed,
             data: options.data.clone(),
             computer,
             server,
@@ -274,27 +274,37 @@ impl Host {
     }
 }
 
-/// Polls `link` (keeping its events for the screen) until the other seat is taken.
-fn wait_for_opponent(
+/// Waits on `link` (keeping its events for the screen) until `done` says what was waited
+/// for has come, given the link and each event; fails on a refusal, a closed connection or
+/// `deadline`.
+fn wait_for<T>(
     link: &mut NetLink,
     pending: &mut VecDeque<GameEvent>,
-    since: Instant,
-) -> Result<(), HostError> {
+    deadline: Instant,
+    done: impl Fn(&NetLink, Option<&GameEvent>) -> Option<T>,
+) -> Result<T, HostError> {
     loop {
-        while let Some(event) = link.poll() {
-            let seated = event == GameEvent::Connection(Connection::Connected);
-            if let GameEvent::Connection(Connection::Closed(why)) = &event {
-                return Err(HostError::Room(why.clone()));
-            }
-            pending.push_back(event);
-            if seated {
-                return Ok(());
-            }
+        if let Some(found) = done(link, None) {
+            return Ok(found);
         }
-        if since.elapsed() > SEATING {
-            return Err(HostError::Room("the computer did not take its seat".into()));
+        let left = deadline.saturating_duration_since(Instant::now());
+        if left.is_zero() {
+            return Err(HostError::Room("the server did not answer in time".into()));
         }
-        std::thread::sleep(Duration::from_millis(5));
+        let Some(event) = link.wait(left) else {
+            continue;
+        };
+        match &event {
+            GameEvent::Connection(Connection::Closed(why)) | GameEvent::Refused(why) => {
+                return Err(HostError::Room(why.clone()))
+            }
+            _ => {}
+        }
+        let found = done(link, Some(&event));
+        pending.push_back(event);
+        if let Some(found) = found {
+            return Ok(found);
+        }
     }
 }
 

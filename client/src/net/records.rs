@@ -6,7 +6,9 @@ use std::time::Duration;
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, Invite, RoomCode, ServerMessage};
 use thiserror::Error;
 
-use super::channel::{endpoint, Channel, NetError};
+use super::client::{Client, ClientEvent};
+use super::error::NetError;
+use super::player::Reconnect;
 
 /// How long connecting and fetching may take before the server counts as unreachable.
 pub const FETCH_TIMEOUT: Duration = Duration::from_secs(15);
@@ -58,9 +60,7 @@ pub struct FetchedRecord {
 /// Fetches the record of `room`'s latest game from the server `server` names (its room, if
 /// any, is ignored). Gives up after [`FETCH_TIMEOUT`].
 pub async fn fetch_record(server: &Invite, room: &RoomCode) -> Result<FetchedRecord, FetchError> {
-    let ep = endpoint()?;
-    let fetched = tokio::time::timeout(FETCH_TIMEOUT, fetch_on(&ep, server, room)).await;
-    ep.close(0u32.into(), b"done");
+    let fetched = tokio::time::timeout(FETCH_TIMEOUT, fetch_on(server, room)).await;
     fetched.map_err(|_| FetchError::Timeout {
         authority: server.authority(),
     })?
@@ -78,16 +78,17 @@ pub fn fetch_record_blocking(
     runtime.block_on(fetch_record(server, room))
 }
 
-async fn fetch_on(
-    ep: &quinn::Endpoint,
-    server: &Invite,
-    room: &RoomCode,
-) -> Result<FetchedRecord, FetchError> {
-    let mut conn = Channel::open(ep, server).await?;
-    conn.send(&ClientMessage::FetchRecord { room: room.clone() })
+async fn fetch_on(server: &Invite, room: &RoomCode) -> Result<FetchedRecord, FetchError> {
+    let mut client = Client::connect(server.clone(), Reconnect::never()).await?;
+    client
+        .send(&ClientMessage::FetchRecord { room: room.clone() })
         .await?;
-    let answer = conn.recv().await?;
-    conn.quic().close(0u32.into(), b"done");
+    let answer = loop {
+        if let ClientEvent::Message(msg) = client.recv().await? {
+            break msg;
+        }
+    };
+    client.close(Duration::ZERO).await;
     interpret(room, answer)
 }
 

@@ -1,5 +1,7 @@
 //! The [`Client`] for a frame loop: the client runs on its own thread (with its own tokio
-//! runtime); the game polls [`Session::try_recv`] once a frame and never blocks.
+//! runtime); the game polls [`Session::try_recv`] once a frame and never blocks. Each event
+//! comes with the core's [`Seating`] as it stood, so the seat is known here without being
+//! worked out again.
 
 use std::sync::mpsc::{self, Receiver};
 use std::thread::JoinHandle;
@@ -10,7 +12,8 @@ use breakshot_shared::rules::Seat;
 use tokio::sync::mpsc::{unbounded_channel, UnboundedSender};
 use tokio::sync::oneshot;
 
-use super::client::{Client, ClientEvent, Reconnect};
+use super::client::{Client, ClientEvent};
+use super::player::{Entry, Reconnect, Seating};
 
 /// What a session hears.
 #[derive(Clone, Debug, PartialEq)]
@@ -19,6 +22,8 @@ pub enum SessionEvent {
     Connected,
     /// A message from the server.
     Message(ServerMessage),
+    /// The seat remembered is gone (its token is stale, or its game ended while away).
+    SeatGone,
     /// The connection of a seated player dropped; the session is connecting again to take
     /// the seat back (for as long as the server holds it).
     Reconnecting,
@@ -31,10 +36,10 @@ const CLOSE_GRACE: Duration = Duration::from_millis(500);
 
 /// A polling adapter around a [`Client`] running on a thread of its own.
 pub struct Session {
-    requests: UnboundedSender<ClientMessage>,
-    events: Receiver<SessionEvent>,
-    /// The role and room of the last `Joined` polled.
-    joined: Option<(Role, RoomCode)>,
+    requests: UnboundedSender<Request>,
+    events: Receiver<(SessionEvent, Seating)>,
+    /// The seat as it stood at the last event polled.
+    seating: Seating,
     stop: Option<oneshot::Sender<()>>,
     thread: Option<JoinHandle<()>>,
 }
@@ -43,7 +48,7 @@ impl Session {
     /// Starts connecting to the server of `invite`; [`SessionEvent::Connected`] or
     /// [`SessionEvent::Closed`] follows.
     pub fn connect(invite: Invite) -> Session {
-        let (requests, outgoing) = unbounded_channel::<ClientMessage>();
+        let (requests, outgoing) = unbounded_channel::<Request>();
         let (events_tx, events) = mpsc::channel();
         let (stop, stopped) = oneshot::channel::<()>();
         let thread = std::thread::spawn(move || {
@@ -53,17 +58,18 @@ impl Session {
             {
                 Ok(r) => r,
                 Err(e) => {
-                    let _ = events_tx.send(SessionEvent::Closed(e.to_string()));
+                    let _ =
+                        events_tx.send((SessionEvent::Closed(e.to_string()), Seating::default()));
                     return;
                 }
             };
-            let why = runtime.block_on(drive(invite, outgoing, &events_tx, stopped));
-            let _ = events_tx.send(SessionEvent::Closed(why));
+            let (why, seating) = runtime.block_on(drive(invite, outgoing, &events_tx, stopped));
+            let _ = events_tx.send((SessionEvent::Closed(why), seating));
         });
         Session {
             requests,
             events,
-            joined: None,
+            seating: Seating::default(),
             stop: Some(stop),
             thread: Some(thread),
         }
@@ -71,90 +77,99 @@ impl Session {
 
     /// Queues a message for the server. Returns false if the session has ended.
     pub fn send(&self, msg: ClientMessage) -> bool {
-        self.requests.send(msg).is_ok()
+        self.requests.send(Request::Send(msg)).is_ok()
+    }
+
+    /// Enters a room as `entry` says (the core carries out its fallbacks). Returns false if
+    /// the session has ended.
+    pub fn enter(&self, entry: Entry) -> bool {
+        self.requests.send(Request::Enter(entry)).is_ok()
     }
 
     /// The next event, if one is waiting. Never blocks.
     pub fn try_recv(&mut self) -> Option<SessionEvent> {
-        let event = self.events.try_recv().ok()?;
-        self.note(&event);
+        let (event, seating) = self.events.try_recv().ok()?;
+        self.seating = seating;
         Some(event)
     }
 
-    /// The next event, waiting at most `timeout` (for tools and tests, not frame loops).
+    /// The next event, waiting at most `timeout` (for tools and tests, and for a caller that
+    /// has nothing to do until the server answers).
     pub fn recv_timeout(&mut self, timeout: Duration) -> Option<SessionEvent> {
-        let event = self.events.recv_timeout(timeout).ok()?;
-        self.note(&event);
+        let (event, seating) = self.events.recv_timeout(timeout).ok()?;
+        self.seating = seating;
         Some(event)
     }
 
-    fn note(&mut self, event: &SessionEvent) {
-        if let SessionEvent::Message(ServerMessage::Joined { role, snapshot, .. }) = event {
-            self.joined = Some((*role, snapshot.room.clone()));
-        }
+    /// The seat, as it stood at the last event polled.
+    pub fn seating(&self) -> &Seating {
+        &self.seating
     }
 
     /// Our role, once a room was joined.
     pub fn role(&self) -> Option<Role> {
-        self.joined.as_ref().map(|j| j.0)
+        self.seating.role
     }
 
     /// Our seat, if we play.
     pub fn seat(&self) -> Option<Seat> {
-        match self.role() {
-            Some(Role::Player(seat)) => Some(seat),
-            _ => None,
-        }
+        self.seating.seat()
     }
 
     /// The room joined, once joined.
     pub fn room(&self) -> Option<&RoomCode> {
-        self.joined.as_ref().map(|j| &j.1)
+        self.seating.room.as_ref()
     }
+}
+
+/// What the frame loop asks of the network thread.
+enum Request {
+    Send(ClientMessage),
+    Enter(Entry),
 }
 
 /// Runs the client until the session is dropped or the connection ends for good; returns
 /// why it ended.
 async fn drive(
     invite: Invite,
-    mut outgoing: tokio::sync::mpsc::UnboundedReceiver<ClientMessage>,
-    events: &mpsc::Sender<SessionEvent>,
+    mut outgoing: tokio::sync::mpsc::UnboundedReceiver<Request>,
+    events: &mpsc::Sender<(SessionEvent, Seating)>,
     mut stopped: oneshot::Receiver<()>,
-) -> String {
+) -> (String, Seating) {
     // Dropping the session while it connects must not wait for a timeout.
     let mut client = tokio::select! {
         c = Client::connect(invite, Reconnect::default()) => match c {
             Ok(c) => c,
-            Err(e) => return e.to_string(),
+            Err(e) => return (e.to_string(), Seating::default()),
         },
-        _ = &mut stopped => return "session closed".into(),
+        _ = &mut stopped => return ("session closed".into(), Seating::default()),
     };
-    let _ = events.send(SessionEvent::Connected);
+    let _ = events.send((SessionEvent::Connected, client.seating().clone()));
     loop {
         tokio::select! {
-            event = client.recv() => match event {
-                Ok(ClientEvent::Message(msg)) => {
-                    let _ = events.send(SessionEvent::Message(msg));
-                }
-                Ok(ClientEvent::Reconnecting(_)) => {
-                    let _ = events.send(SessionEvent::Reconnecting);
-                }
-                Ok(ClientEvent::Reconnected) => {
-                    let _ = events.send(SessionEvent::Connected);
-                }
-                Err(e) => return e.to_string(),
-            },
-            msg = outgoing.recv() => match msg {
+            event = client.recv() => {
+                let event = match event {
+                    Ok(ClientEvent::Message(msg)) => SessionEvent::Message(msg),
+                    Ok(ClientEvent::SeatGone) => SessionEvent::SeatGone,
+                    Ok(ClientEvent::Reconnecting(_)) => SessionEvent::Reconnecting,
+                    Ok(ClientEvent::Reconnected) => SessionEvent::Connected,
+                    Err(e) => return (e.to_string(), client.seating().clone()),
+                };
+                let _ = events.send((event, client.seating().clone()));
+            }
+            request = outgoing.recv() => match request {
                 // A message that cannot be sent was lost with the connection; the next
                 // `recv` finds out and reconnects.
-                Some(msg) => { let _ = client.send(&msg).await; }
+                Some(Request::Send(msg)) => { let _ = client.send(&msg).await; }
+                Some(Request::Enter(entry)) => client.enter(entry).await,
                 None => break,
             },
             _ = &mut stopped => break,
         }
     }
+    let seating = client.seating().clone();
     client.close(CLOSE_GRACE).await;
-    "session closed".into()
+    ("session closed".into(), seating)
 }
 
 impl Drop for Session {

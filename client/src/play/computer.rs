@@ -8,8 +8,8 @@ use std::sync::mpsc::{self, Receiver, TryRecvError};
 use breakshot_shared::ai::{self, Level};
 use breakshot_shared::rules::{Command, Game, Seat, Settings, Variant};
 
-use super::game_flow::{GameFlow, Turn};
-use super::link::{GameEvent, GameLink, LocalLink};
+use super::event::GameEvent;
+use super::link::{GameLink, LocalLink, Shown};
 
 /// The least time (of frames, in seconds) the computer is shown thinking, so the player
 /// sees it take its turn even when it decides at once.
@@ -91,12 +91,9 @@ impl Computer {
     /// for the computer's seat (no shot playing), and returns its command once decided and
     /// shown thinking for [`SHOWN_THINKING`]. The command is one the rules accept on that
     /// table; a computer that cannot move concedes.
-    pub fn update(&mut self, flow: &GameFlow, dt: f64) -> Option<Command> {
-        let waits = matches!(
-            flow.turn(Some(self.seat)),
-            Turn::Shoot { .. } | Turn::Decide { .. }
-        );
-        let game = flow.game().filter(|_| waits);
+    pub fn update(&mut self, shown: &dyn Shown, dt: f64) -> Option<Command> {
+        let waits = shown.waits_for(self.seat);
+        let game = shown.shown_game().filter(|_| waits);
         let Some(game) = game else {
             self.thinking = None;
             return None;
@@ -184,8 +181,8 @@ impl GameLink for ComputerLink {
         self.local.rematch()
     }
 
-    fn update(&mut self, flow: &GameFlow, dt: f64) {
-        if let (Some(command), Some(game)) = (self.computer.update(flow, dt), flow.game()) {
+    fn update(&mut self, shown: &dyn Shown, dt: f64) {
+        if let (Some(command), Some(game)) = (self.computer.update(shown, dt), shown.shown_game()) {
             self.local.send(game, self.computer.seat, command);
         }
     }
@@ -198,6 +195,7 @@ impl GameLink for ComputerLink {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::play::{GameFlow, Turn};
     use crate::view::hud::Connection;
     use breakshot_shared::rules::EightBallRules;
     use std::time::{Duration, Instant};

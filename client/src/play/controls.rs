@@ -72,6 +72,20 @@ pub enum Key {
     View,
     /// Show or hide the cue ball's trail after a shot.
     Trail,
+    /// Sound off or on again.
+    Mute,
+    /// Sound quieter.
+    VolumeDown,
+    /// Sound louder.
+    VolumeUp,
+}
+
+impl Key {
+    /// True for the keys a line being typed uses itself (every other key types a character
+    /// into it, or nothing).
+    pub fn edits_text(self) -> bool {
+        matches!(self, Key::Erase | Key::Send | Key::Back)
+    }
 }
 
 /// One frame of input, read from the devices by the window.
@@ -112,6 +126,15 @@ pub struct InputFrame {
     pub typed: Vec<char>,
     /// Seconds since the last frame.
     pub dt: f64,
+}
+
+impl InputFrame {
+    /// The frame as the window hands it on while a line of text is being typed: the line
+    /// takes the keys, so only the characters and the line's own keys are left.
+    pub fn while_typing(mut self) -> InputFrame {
+        self.pressed.retain(|k| k.edits_text());
+        self
+    }
 }
 
 /// What the player may do now.
@@ -242,7 +265,10 @@ impl Controls {
                 | Key::PowerUp
                 | Key::PowerDown
                 | Key::View
-                | Key::Trail => {}
+                | Key::Trail
+                | Key::Mute
+                | Key::VolumeDown
+                | Key::VolumeUp => {}
             }
         }
         if ctx.stage == Stage::Watching {
@@ -399,6 +425,24 @@ fn dist(a: [f32; 2], b: [f32; 2]) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_line_being_typed_takes_the_keys_and_leaves_the_characters() {
+        let typed = InputFrame {
+            pressed: vec![
+                Key::Mute,
+                Key::VolumeDown,
+                Key::VolumeUp,
+                Key::Erase,
+                Key::Send,
+            ],
+            typed: vec!['m', '[', ']'],
+            ..InputFrame::default()
+        }
+        .while_typing();
+        assert_eq!(typed.pressed, [Key::Erase, Key::Send]);
+        assert_eq!(typed.typed, ['m', '[', ']']);
+    }
     use crate::view::Frame;
     use breakshot_shared::physics::TableKind;
 

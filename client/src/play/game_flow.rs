@@ -1,14 +1,16 @@
-//! A game as a screen shows it. Events from a [`GameLink`](super::link::GameLink) are applied
-//! to a local copy of the game; a shot is simulated here with the same engine and shown as it
-//! plays, its hash checked against the verdict's, and the table the rules leave (balls
-//! spotted, re-racks) appears when it ends.
+//! A game as a screen shows it: the events a [`GameLink`](super::link::GameLink) gives go to
+//! the [`Replica`] (the one copy of the game, which applies each accepted command once and
+//! plays its shot back), and around it this keeps what the screen shows besides the table:
+//! the message line, the pocket called, the shot clock, the players' names, the
+//! opponent's live aim, the chat and how a game that ended while away came out.
 
 use breakshot_shared::physics::{BallState, Strike};
 use breakshot_shared::protocol::AimAid;
 use breakshot_shared::rules::{Choice, Command, Game, InHand, Phase, Seat, TurnId, Verdict};
 
 use super::chat::Chat;
-use super::link::{AwayResult, GameEvent};
+use super::event::{AwayResult, GameEvent};
+use super::link::Shown;
 use super::replica::Replica;
 use crate::view::hud::Connection;
 use crate::view::Playback;
@@ -65,6 +67,19 @@ pub struct GameFlow {
     pub chat: Chat,
     /// The last aim the shooter showed: (turn, seat, strike).
     opponent_aim: Option<(TurnId, Seat, Strike)>,
+}
+
+impl Shown for GameFlow {
+    fn shown_game(&self) -> Option<&Game> {
+        self.game()
+    }
+
+    fn waits_for(&self, seat: Seat) -> bool {
+        matches!(
+            self.turn(Some(seat)),
+            Turn::Shoot { .. } | Turn::Decide { .. }
+        )
+    }
 }
 
 impl GameFlow {

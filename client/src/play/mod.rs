@@ -1,10 +1,16 @@
-//! Playing without a window: the shot being set up, the mapping from mouse and keys to
-//! commands, and the offline practice table.
+//! Playing without a window: the shot being set up and the mapping from mouse and keys to
+//! commands ([`Controls`]), what a screen hears ([`GameEvent`]) and where the game is
+//! decided ([`GameLink`]: at this computer, or over the network in `net`), the copy of the
+//! game ([`Replica`]) and a screen's state around it ([`GameFlow`]), who chooses a seat's
+//! moves when no person does ([`ComputerLink`] at one computer, [`Chooser`] online), replays,
+//! and the offline practice table.
 
 mod aim;
 mod chat;
+mod chooser;
 mod computer;
 mod controls;
+mod event;
 mod game_flow;
 pub mod leave;
 mod link;
@@ -14,12 +20,14 @@ mod replica;
 
 pub use aim::{Aim, AimShare};
 pub use chat::{Chat, ChatKey, ChatLine};
+pub use chooser::Chooser;
 pub use computer::ComputerLink;
 pub use controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
+pub use event::{AwayResult, GameEvent};
 pub use game_flow::{GameFlow, Turn};
-pub use link::{AwayResult, GameEvent, GameLink, LocalLink};
+pub use link::{GameLink, LocalLink, Shown};
 pub use practice::{rack_scene, Practice, PracticeError};
 pub use replay::{ReplayOpenError, ReplayViewer};
 pub use replica::{Check, Replica};
 
-pub(crate) use link::game_events;
+pub(crate) use event::game_events;

@@ -171,7 +171,7 @@ impl Practice {
         let outcome = simulate(&self.shot(strike))?;
         self.last_hash = Some(outcome.hash());
         self.in_hand = false;
-        self.playback = Some(Playback::new(outcome));
+        self.playback = Some(Playback::new(outcome, self.cue));
         Ok(())
     }
 

@@ -10,7 +10,7 @@ use breakshot_shared::rules::{
     is_off_table, Command, Game, Phase, RuleError, Seat, TurnId, Verdict,
 };
 
-use super::link::{game_events, GameEvent};
+use super::event::{game_events, GameEvent};
 use crate::view::Playback;
 
 /// What the replica learned from an event.
@@ -152,12 +152,14 @@ impl Replica {
         if shot {
             self.shots += 1;
         }
+        // The ball struck, asked before the shot changes who is to move.
+        let cue = game.cue_ball();
         match game.apply(seat, command) {
             Ok(mut verdict) => {
                 if shot {
                     self.predicted = Some((turn, verdict.shot.as_ref().map(|s| s.hash)));
                 }
-                self.playback = verdict.outcome.take().map(Playback::new);
+                self.playback = verdict.outcome.take().map(|o| Playback::new(o, cue));
                 Ok(Some(verdict))
             }
             Err(e) => {

@@ -1,22 +1,20 @@
-//! Drawing the table, the balls and the panel. Positions come from the library's
-//! [`Layout`]; physics values become f32 only here, at the last moment. What lies on the
-//! table is drawn through a [`Pen`]: flat from above, or in 3-D through its camera
-//! (`table3d`).
+//! Drawing the table and the balls. Positions come from the library's [`Layout`]; physics
+//! values become f32 only here, at the last moment. What lies on the table is drawn through
+//! one interface, [`Surface`]: flat from above here ([`TopDown`]), or in 3-D through the
+//! view's camera (`table3d.rs`). A [`Pen`] picks which, once ([`Pen::surface`]). The panel
+//! and the trays are in `panel.rs` and `trays.rs`.
 
 use ::glam::{DQuat, DVec2};
 use breakshot_client::play::Aim;
 use breakshot_client::view::aids::{self, AidToggles, PathPoint, Prediction};
 use breakshot_client::view::palette::{self, ball_look, Rgb};
 use breakshot_client::view::sphere::{self, ScreenAxes};
-use breakshot_client::view::tray::Trays;
 use breakshot_client::view::{
     flight, Camera, Flight, Layout, Orientations, PocketDrop, Rect, Stroke, TrailPoint, RAIL_WIDTH,
 };
 use breakshot_shared::physics::{BallState, Table, TableKind};
 use macroquad::models::Vertex;
 use macroquad::prelude::*;
-
-use super::table3d;
 
 /// How the table and what lies on it are drawn this frame.
 pub struct Pen<'a> {
@@ -31,6 +29,51 @@ pub struct Pen<'a> {
     /// The cue going through the cue ball as a shot starts.
     pub stroke: Option<Stroke>,
 }
+
+impl Pen<'_> {
+    /// How what lies on the table is drawn this frame: through the 3-D view's camera when
+    /// it is shown, else from above.
+    pub fn surface(&self) -> &dyn Surface {
+        match &self.camera {
+            Some(camera) => camera,
+            None => &TopDown,
+        }
+    }
+}
+
+/// What lies on the table, drawn one way or another: the one interface of the top-down and
+/// the 3-D views.
+pub trait Surface {
+    /// The cloth, rails, cushions, diamonds and pockets, and the cue ball's trail.
+    fn table(&self, pen: &Pen, kind: TableKind);
+    /// The balls still on the table (and, in 3-D, those falling into pockets).
+    fn balls(
+        &self,
+        pen: &Pen,
+        ids: &[String],
+        states: &[BallState],
+        radius: f64,
+        skip: Option<usize>,
+        turns: &Orientations,
+    );
+    /// Aim line, ghost ball and predicted paths, as toggled.
+    fn aids(&self, pen: &Pen, p: &Prediction, toggles: AidToggles, radius: f64, object_id: &str);
+    /// A ball at `pos`, unturned.
+    fn ball_at(&self, pen: &Pen, id: &str, pos: DVec2, radius: f64);
+    /// A circle just outside `radius` metres about `centre` (a pocket to call).
+    fn mark(&self, pen: &Pen, centre: DVec2, radius: f64, width: f32, c: Color);
+    /// A ring around the ball at `pos`.
+    fn ring(&self, pen: &Pen, pos: DVec2, radius: f64, c: Color);
+    /// A straight line on the table.
+    fn segment(&self, pen: &Pen, a: DVec2, b: DVec2, width: f32, c: Color);
+    /// The cue set up as `aim` says, its tip `back` metres behind the ball at `cue`.
+    fn cue_at(&self, pen: &Pen, cue: DVec2, aim: &Aim, back: f64, radius: f64);
+    /// The area where the cue ball may be put (pixels of the layout), and the ball dragged.
+    fn in_hand(&self, pen: &Pen, area: Rect, dragged: Option<(DVec2, bool)>, radius: f64);
+}
+
+/// The table seen from straight above, as the layout maps it.
+pub struct TopDown;
 
 /// How far the cue's tip goes past where it met the ball at the end of its stroke (m).
 const FOLLOW_THROUGH: f64 = 0.08;
@@ -64,26 +107,13 @@ fn v(p: [f32; 2]) -> Vec2 {
     vec2(p[0], p[1])
 }
 
-fn fill_rect(r: Rect, c: Color) {
+pub fn fill_rect(r: Rect, c: Color) {
     draw_rectangle(r.x, r.y, r.w, r.h, c);
 }
 
 /// The cloth, rails, cushions, diamonds and pockets, and the cue ball's trail on the cloth.
 pub fn table(pen: &Pen, kind: TableKind) {
-    let layout = pen.layout;
-    if let Some(camera) = &pen.camera {
-        table3d::table(camera, layout, kind);
-        return table3d::trail(camera, &pen.trail);
-    }
-    if layout.frame.rails {
-        rails(layout, kind);
-    } else {
-        fill_rect(layout.cloth, color(palette::CLOTH));
-    }
-    for w in pen.trail.windows(2) {
-        let (a, b) = (layout.to_screen(w[0].pos), layout.to_screen(w[1].pos));
-        draw_line(a[0], a[1], b[0], b[1], 2.5, trail_colour(w[1].strength));
-    }
+    pen.surface().table(pen, kind);
 }
 
 /// The colour of a stretch of the cue ball's trail drawn with `strength`.
@@ -259,29 +289,7 @@ pub fn balls(
     skip: Option<usize>,
     turns: &Orientations,
 ) {
-    let layout = pen.layout;
-    if let Some(camera) = &pen.camera {
-        let mut shown = table3d::on_table(ids, states, radius, skip, turns);
-        shown.extend(pen.drops.iter().filter_map(|d| {
-            Some(table3d::Ball {
-                id: ids.get(d.ball)?,
-                centre: d.centre,
-                turn: turns.get(d.ball),
-            })
-        }));
-        table3d::balls(camera, &shown, radius);
-        return stroke(pen, radius);
-    }
-    let r = layout.px(radius);
-    for in_air in [false, true] {
-        for (i, (id, s)) in ids.iter().zip(states).enumerate() {
-            if s.motion.is_gone() || Some(i) == skip || (s.lift > 0.0) != in_air {
-                continue;
-            }
-            let air = flight(s.lift, radius);
-            ball_turned(id, layout.to_screen(s.pos), r, turns.get(i), air);
-        }
-    }
+    pen.surface().balls(pen, ids, states, radius, skip, turns);
     stroke(pen, radius);
 }
 
@@ -295,150 +303,29 @@ fn stroke(pen: &Pen, radius: f64) {
     }
 }
 
-/// Pocketed balls in the tray, in the order they fell.
-pub fn tray(layout: &Layout, ids: &[String], pocketed: &[usize], radius: f64) {
-    fill_rect(layout.tray, Color::new(0.0, 0.0, 0.0, 0.35));
-    let r = layout.px(radius).max(3.0);
-    for (k, &b) in pocketed.iter().enumerate() {
-        if let Some(id) = ids.get(b) {
-            ball(id, layout.tray_slot(k, radius), r);
-        }
-    }
-}
-
-/// The pocketed balls of an 8-ball game in a tray per player, each named, the 8 and balls
-/// down on an open table between them; a game without groups has the one tray of [`tray`].
-pub fn player_trays(
-    layout: &Layout,
-    ids: &[String],
-    trays: Option<Trays>,
-    pocketed: &[usize],
-    names: [String; 2],
-    radius: f64,
-) {
-    let Some(t) = trays else {
-        return tray(layout, ids, pocketed, radius);
-    };
-    let area = layout.tray;
-    fill_rect(area, Color::new(0.0, 0.0, 0.0, 0.35));
-    let r = layout.px(radius).max(3.0);
-    let pitch = 2.6 * r;
-    let y = area.y + 0.5 * area.h;
-    let row = |balls: &[usize], x0: f32| {
-        for (k, &b) in balls.iter().enumerate() {
-            if let Some(id) = ids.get(b) {
-                ball(id, [x0 + 1.5 * r + k as f32 * pitch, y], r);
-            }
-        }
-    };
-    let width = |n: usize| n as f32 * pitch + 0.5 * r;
-    let [a, b] = names;
-    // Seat A from the left, seat B ending at the right, what is shared in the middle.
-    label(&a, area.x + 8.0, y + 6.0, 18.0, LIGHTGRAY);
-    row(&t.seats[0], area.x + 16.0 + text_width(&a, 18.0));
-    let b_x = area.x + area.w - width(t.seats[1].len()) - 8.0;
-    label(
-        &b,
-        b_x - text_width(&b, 18.0) - 8.0,
-        y + 6.0,
-        18.0,
-        LIGHTGRAY,
-    );
-    row(&t.seats[1], b_x);
-    row(&t.between, area.x + 0.5 * (area.w - width(t.between.len())));
-}
-
 /// Aim line, ghost ball and predicted paths, as toggled.
 pub fn aids(pen: &Pen, p: &Prediction, toggles: AidToggles, radius: f64, object_id: &str) {
-    let layout = pen.layout;
-    if let Some(camera) = &pen.camera {
-        return table3d::aids(camera, p, toggles, radius, object_id);
-    }
-    let line = |pts: &[PathPoint], width: f32, c: Color| {
-        for (p, q) in aids::drawn_pieces(pts) {
-            let (a, b) = (layout.to_screen(p.pos), layout.to_screen(q.pos));
-            draw_line(a[0], a[1], b[0], b[1], width, c);
-        }
-    };
-    let mark_landings = |pts: &[PathPoint], c: Color| {
-        for at in aids::landings(pts) {
-            let q = layout.to_screen(at);
-            draw_poly_lines(q[0], q[1], 16, layout.px(0.4 * radius), 0.0, 1.5, c);
-        }
-    };
-    if toggles.paths {
-        line(&p.cue_path, 1.5, Color::new(1.0, 1.0, 1.0, 0.5));
-        mark_landings(&p.cue_path, Color::new(1.0, 1.0, 1.0, 0.7));
-        // The object ball's path in its own colour, on a pale halo so dark balls show too.
-        line(&p.object_path, 4.0, Color::new(1.0, 1.0, 1.0, 0.35));
-        line(
-            &p.object_path,
-            2.0,
-            with_alpha(ball_look(object_id).color, 1.0),
-        );
-    }
-    if toggles.aim_line {
-        line(&p.aim_path, 1.5, Color::new(1.0, 1.0, 1.0, 0.85));
-        mark_landings(&p.aim_path, Color::new(1.0, 1.0, 1.0, 0.85));
-    }
-    if toggles.ghost_ball {
-        if let Some(g) = p.ghost {
-            let c = layout.to_screen(g);
-            draw_poly_lines(
-                c[0],
-                c[1],
-                BALL_SIDES,
-                layout.px(radius),
-                0.0,
-                1.5,
-                Color::new(1.0, 1.0, 1.0, 0.8),
-            );
-        }
-    }
+    pen.surface().aids(pen, p, toggles, radius, object_id);
 }
 
 /// A ball on the table at `pos` (scene coordinates), unturned.
 pub fn ball_at(pen: &Pen, id: &str, pos: DVec2, radius: f64) {
-    let layout = pen.layout;
-    if let Some(camera) = &pen.camera {
-        let ball = table3d::Ball {
-            id,
-            centre: pos.extend(radius),
-            turn: DQuat::IDENTITY,
-        };
-        return table3d::balls(camera, &[ball], radius);
-    }
-    ball(id, layout.to_screen(pos), layout.px(radius));
+    pen.surface().ball_at(pen, id, pos, radius);
 }
 
 /// A circle just outside `radius` metres about `centre` on the table (a pocket to call).
 pub fn mark(pen: &Pen, centre: DVec2, radius: f64, width: f32, c: Color) {
-    let layout = pen.layout;
-    if let Some(camera) = &pen.camera {
-        return table3d::mark(camera, centre, 1.1 * radius, c);
-    }
-    let p = layout.to_screen(centre);
-    draw_poly_lines(p[0], p[1], 32, layout.px(radius) + 3.0, 0.0, width, c);
+    pen.surface().mark(pen, centre, radius, width, c);
 }
 
 /// A ring around the ball at `pos`, to mark it.
 pub fn ring(pen: &Pen, pos: DVec2, radius: f64, c: Color) {
-    let layout = pen.layout;
-    if let Some(camera) = &pen.camera {
-        return table3d::ring(camera, pos, radius, c);
-    }
-    let p = layout.to_screen(pos);
-    draw_poly_lines(p[0], p[1], BALL_SIDES, layout.px(radius) + 4.0, 0.0, 2.5, c);
+    pen.surface().ring(pen, pos, radius, c);
 }
 
 /// A straight line on the table, from `a` to `b` (scene coordinates).
 pub fn segment(pen: &Pen, a: DVec2, b: DVec2, width: f32, c: Color) {
-    let layout = pen.layout;
-    if let Some(camera) = &pen.camera {
-        return table3d::segment(camera, a, b, c);
-    }
-    let (a, b) = (layout.to_screen(a), layout.to_screen(b));
-    draw_line(a[0], a[1], b[0], b[1], width, c);
+    pen.surface().segment(pen, a, b, width, c);
 }
 
 /// The cue stick behind the cue ball, drawn back further the harder the shot. Seen from
@@ -450,167 +337,13 @@ pub fn cue_stick(pen: &Pen, cue: DVec2, aim: &Aim, radius: f64) {
 /// The cue set up as `aim` says with its tip `back` metres behind the spot it strikes on the
 /// ball at `cue` (negative: through it).
 fn cue_at(pen: &Pen, cue: DVec2, aim: &Aim, back: f64, radius: f64) {
-    let layout = pen.layout;
-    if let Some(camera) = &pen.camera {
-        return table3d::cue_stick(camera, cue, aim, back, radius);
-    }
-    let dir = aim.dir();
-    let slant = aim.elevation_deg.to_radians().cos().max(0.05);
-    let gap = (radius + back) * slant;
-    let tip = cue - dir * gap;
-    let butt = tip - dir * (1.3 * slant);
-    let w = layout.px(0.012).max(3.0);
-    // Only the part over the table is drawn: the cue never covers the panel beside it.
-    let over_table = |from: DVec2, to: DVec2, c: Rgb| {
-        let (a, b) = (layout.to_screen(from), layout.to_screen(to));
-        if let Some((a, b)) = layout.outer.clip_segment(a, b) {
-            draw_line(a[0], a[1], b[0], b[1], w, color(c));
-        }
-    };
-    over_table(tip, butt, palette::CUE_WOOD);
-    over_table(tip, tip - dir * 0.02, palette::CUE_FERRULE);
-}
-
-/// The cue-ball face (tip offset) and the power bar, on the background (the 3-D view may
-/// reach under the panel); `keep_spin`, when the player sets up shots here, says whether
-/// the tip stays put after a shot (K).
-pub fn panel(layout: &Layout, aim: &Aim, keep_spin: Option<bool>) {
-    let left = layout.elevation_view.x - 4.0;
-    draw_rectangle(
-        left,
-        layout.hud.h,
-        layout.screen[0] - left,
-        layout.screen[1],
-        color(palette::BACKGROUND),
-    );
-    let [cx, cy] = layout.tip_center;
-    let r = layout.tip_radius;
-    let title = match keep_spin {
-        Some(true) => "Tip (kept, K)",
-        Some(false) => "Tip (resets, K)",
-        None => "Tip",
-    };
-    label(title, cx - r, cy - r - 6.0, 20.0, LIGHTGRAY);
-    draw_poly(cx, cy, 64, r, 0.0, color(palette::CUE_BALL));
-    // The miscue limit: the tip stays inside this ring.
-    draw_poly_lines(
-        cx,
-        cy,
-        64,
-        0.5 * r,
-        0.0,
-        1.0,
-        Color::new(0.8, 0.2, 0.2, 0.6),
-    );
-    draw_line(cx - r, cy, cx + r, cy, 1.0, Color::new(0.0, 0.0, 0.0, 0.2));
-    draw_line(cx, cy - r, cx, cy + r, 1.0, Color::new(0.0, 0.0, 0.0, 0.2));
-    let tx = cx + aim.tip.x as f32 * r;
-    let ty = cy - aim.tip.y as f32 * r;
-    draw_poly(
-        tx,
-        ty,
-        24,
-        (0.12 * r).max(3.0),
-        0.0,
-        Color::from_rgba(30, 90, 200, 255),
-    );
-
-    elevation_view(layout, aim.elevation_deg);
-
-    let bar = layout.power_bar;
-    draw_text(
-        format!("Power {:.1} m/s", aim.speed()),
-        bar.x - 30.0,
-        bar.y - 8.0,
-        18.0,
-        LIGHTGRAY,
-    );
-    fill_rect(bar, Color::new(0.0, 0.0, 0.0, 0.5));
-    let filled = bar.h * aim.power as f32;
-    let hot = aim.power as f32;
-    draw_rectangle(
-        bar.x,
-        bar.y + bar.h - filled,
-        bar.w,
-        filled,
-        Color::new(0.3 + 0.7 * hot, 0.8 - 0.6 * hot, 0.2, 1.0),
-    );
-    draw_rectangle_lines(bar.x, bar.y, bar.w, bar.h, 1.0, LIGHTGRAY);
-}
-
-/// The side view: the cue ball on the cloth and the cue over it at its elevation.
-fn elevation_view(layout: &Layout, elevation_deg: f64) {
-    let v = layout.elevation_view;
-    label(
-        &format!("Elevation {elevation_deg:.0} deg (W/S)"),
-        v.x,
-        v.y - 6.0,
-        18.0,
-        LIGHTGRAY,
-    );
-    fill_rect(v, Color::new(0.0, 0.0, 0.0, 0.35));
-    let [bx, by] = layout.elevation_ball;
-    let r = layout.elevation_ball_radius;
-    let cloth = by + r;
-    draw_line(v.x, cloth, v.x + v.w, cloth, 2.0, color(palette::CLOTH));
-    draw_poly(bx, by, 40, r, 0.0, color(palette::CUE_BALL));
-    let (tip, butt) = layout.elevation_cue(elevation_deg);
-    let w = (0.22 * r).max(3.0);
-    draw_line(
-        tip[0],
-        tip[1],
-        butt[0],
-        butt[1],
-        w,
-        color(palette::CUE_WOOD),
-    );
-    // The white ferrule at the tip end.
-    let ferrule = [
-        tip[0] + 0.15 * (butt[0] - tip[0]),
-        tip[1] + 0.15 * (butt[1] - tip[1]),
-    ];
-    draw_line(
-        tip[0],
-        tip[1],
-        ferrule[0],
-        ferrule[1],
-        w,
-        color(palette::CUE_FERRULE),
-    );
-    draw_rectangle_lines(v.x, v.y, v.w, v.h, 1.0, LIGHTGRAY);
+    pen.surface().cue_at(pen, cue, aim, back, radius);
 }
 
 /// The shaded area where the cue ball may be put (pixels of the layout), and the ball being
 /// dragged.
 pub fn in_hand(pen: &Pen, area: Rect, dragged: Option<(DVec2, bool)>, radius: f64) {
-    let layout = pen.layout;
-    if let Some(camera) = &pen.camera {
-        let corners = (
-            layout.to_scene([area.x, area.y]),
-            layout.to_scene([area.x + area.w, area.y + area.h]),
-        );
-        return table3d::in_hand(camera, corners, dragged, radius);
-    }
-    fill_rect(area, Color::new(1.0, 1.0, 1.0, 0.08));
-    draw_rectangle_lines(
-        area.x,
-        area.y,
-        area.w,
-        area.h,
-        2.0,
-        Color::new(1.0, 1.0, 1.0, 0.5),
-    );
-    if let Some((at, legal)) = dragged {
-        let p = layout.to_screen(at);
-        let r = layout.px(radius);
-        ball("cue", p, r);
-        let ring = if legal {
-            Color::new(0.2, 0.9, 0.3, 1.0)
-        } else {
-            Color::new(0.95, 0.15, 0.15, 1.0)
-        };
-        draw_poly_lines(p[0], p[1], BALL_SIDES, r + 2.0, 0.0, 2.0, ring);
-    }
+    pen.surface().in_hand(pen, area, dragged, radius);
 }
 
 /// How much text grows with the window, so it stays readable on large screens.
@@ -652,4 +385,152 @@ pub fn label(text: &str, x: f32, y: f32, size: f32, c: Color) {
 /// Width of a [`label`].
 pub fn text_width(text: &str, size: f32) -> f32 {
     measure_text(text, None, (size * text_scale()) as u16, 1.0).width
+}
+
+impl Surface for TopDown {
+    fn table(&self, pen: &Pen, kind: TableKind) {
+        let layout = pen.layout;
+        if layout.frame.rails {
+            rails(layout, kind);
+        } else {
+            fill_rect(layout.cloth, color(palette::CLOTH));
+        }
+        for w in pen.trail.windows(2) {
+            let (a, b) = (layout.to_screen(w[0].pos), layout.to_screen(w[1].pos));
+            draw_line(a[0], a[1], b[0], b[1], 2.5, trail_colour(w[1].strength));
+        }
+    }
+
+    fn balls(
+        &self,
+        pen: &Pen,
+        ids: &[String],
+        states: &[BallState],
+        radius: f64,
+        skip: Option<usize>,
+        turns: &Orientations,
+    ) {
+        let layout = pen.layout;
+        let r = layout.px(radius);
+        for in_air in [false, true] {
+            for (i, (id, s)) in ids.iter().zip(states).enumerate() {
+                if s.motion.is_gone() || Some(i) == skip || (s.lift > 0.0) != in_air {
+                    continue;
+                }
+                let air = flight(s.lift, radius);
+                ball_turned(id, layout.to_screen(s.pos), r, turns.get(i), air);
+            }
+        }
+    }
+
+    fn aids(&self, pen: &Pen, p: &Prediction, toggles: AidToggles, radius: f64, object_id: &str) {
+        let layout = pen.layout;
+        let line = |pts: &[PathPoint], width: f32, c: Color| {
+            for (p, q) in aids::drawn_pieces(pts) {
+                let (a, b) = (layout.to_screen(p.pos), layout.to_screen(q.pos));
+                draw_line(a[0], a[1], b[0], b[1], width, c);
+            }
+        };
+        let mark_landings = |pts: &[PathPoint], c: Color| {
+            for at in aids::landings(pts) {
+                let q = layout.to_screen(at);
+                draw_poly_lines(q[0], q[1], 16, layout.px(0.4 * radius), 0.0, 1.5, c);
+            }
+        };
+        if toggles.paths {
+            line(&p.cue_path, 1.5, Color::new(1.0, 1.0, 1.0, 0.5));
+            mark_landings(&p.cue_path, Color::new(1.0, 1.0, 1.0, 0.7));
+            // The object ball's path in its own colour, on a pale halo so dark balls show too.
+            line(&p.object_path, 4.0, Color::new(1.0, 1.0, 1.0, 0.35));
+            line(
+                &p.object_path,
+                2.0,
+                with_alpha(ball_look(object_id).color, 1.0),
+            );
+        }
+        if toggles.aim_line {
+            line(&p.aim_path, 1.5, Color::new(1.0, 1.0, 1.0, 0.85));
+            mark_landings(&p.aim_path, Color::new(1.0, 1.0, 1.0, 0.85));
+        }
+        if toggles.ghost_ball {
+            if let Some(g) = p.ghost {
+                let c = layout.to_screen(g);
+                draw_poly_lines(
+                    c[0],
+                    c[1],
+                    BALL_SIDES,
+                    layout.px(radius),
+                    0.0,
+                    1.5,
+                    Color::new(1.0, 1.0, 1.0, 0.8),
+                );
+            }
+        }
+    }
+
+    fn ball_at(&self, pen: &Pen, id: &str, pos: DVec2, radius: f64) {
+        let layout = pen.layout;
+        ball(id, layout.to_screen(pos), layout.px(radius));
+    }
+
+    fn mark(&self, pen: &Pen, centre: DVec2, radius: f64, width: f32, c: Color) {
+        let layout = pen.layout;
+        let p = layout.to_screen(centre);
+        draw_poly_lines(p[0], p[1], 32, layout.px(radius) + 3.0, 0.0, width, c);
+    }
+
+    fn ring(&self, pen: &Pen, pos: DVec2, radius: f64, c: Color) {
+        let layout = pen.layout;
+        let p = layout.to_screen(pos);
+        draw_poly_lines(p[0], p[1], BALL_SIDES, layout.px(radius) + 4.0, 0.0, 2.5, c);
+    }
+
+    fn segment(&self, pen: &Pen, a: DVec2, b: DVec2, width: f32, c: Color) {
+        let layout = pen.layout;
+        let (a, b) = (layout.to_screen(a), layout.to_screen(b));
+        draw_line(a[0], a[1], b[0], b[1], width, c);
+    }
+
+    fn cue_at(&self, pen: &Pen, cue: DVec2, aim: &Aim, back: f64, radius: f64) {
+        let layout = pen.layout;
+        let dir = aim.dir();
+        let slant = aim.elevation_deg.to_radians().cos().max(0.05);
+        let gap = (radius + back) * slant;
+        let tip = cue - dir * gap;
+        let butt = tip - dir * (1.3 * slant);
+        let w = layout.px(0.012).max(3.0);
+        // Only the part over the table is drawn: the cue never covers the panel beside it.
+        let over_table = |from: DVec2, to: DVec2, c: Rgb| {
+            let (a, b) = (layout.to_screen(from), layout.to_screen(to));
+            if let Some((a, b)) = layout.outer.clip_segment(a, b) {
+                draw_line(a[0], a[1], b[0], b[1], w, color(c));
+            }
+        };
+        over_table(tip, butt, palette::CUE_WOOD);
+        over_table(tip, tip - dir * 0.02, palette::CUE_FERRULE);
+    }
+
+    fn in_hand(&self, pen: &Pen, area: Rect, dragged: Option<(DVec2, bool)>, radius: f64) {
+        let layout = pen.layout;
+        fill_rect(area, Color::new(1.0, 1.0, 1.0, 0.08));
+        draw_rectangle_lines(
+            area.x,
+            area.y,
+            area.w,
+            area.h,
+            2.0,
+            Color::new(1.0, 1.0, 1.0, 0.5),
+        );
+        if let Some((at, legal)) = dragged {
+            let p = layout.to_screen(at);
+            let r = layout.px(radius);
+            ball("cue", p, r);
+            let ring = if legal {
+                Color::new(0.2, 0.9, 0.3, 1.0)
+            } else {
+                Color::new(0.95, 0.15, 0.15, 1.0)
+            };
+            draw_poly_lines(p[0], p[1], BALL_SIDES, r + 2.0, 0.0, 2.0, ring);
+        }
+    }
 }

@@ -8,7 +8,7 @@ use breakshot_client::play::{
     InputFrame, Intent, Key, Stage, Turn,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
-use breakshot_client::view::hud::{self, connection as connection_text, Connection};
+use breakshot_client::view::hud::{self, call_prompt, connection as connection_text, Connection};
 use breakshot_client::view::{palette, tray, Frame, Layout, Orientations, Playback, Rect};
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
@@ -20,8 +20,8 @@ use breakshot_shared::rules::{
 use macroquad::prelude::*;
 
 use super::hud::{game_hud, HudInfo};
-use super::view::TableView;
-use super::{draw, invite, menu, Screen, Step};
+use super::table_view::TableView;
+use super::{draw, invite, panel, trays, Start, Step};
 
 pub struct GameScreen {
     link: Box<dyn GameLink>,
@@ -178,7 +178,7 @@ impl GameScreen {
                 || (self.flow.ended_away.is_some()
                     && (input.pressed.contains(&Key::Shoot) || input.left_pressed));
             return if done {
-                Step::Go(Screen::Menu(menu::MenuScreen::new()))
+                Step::Open(Start::Menu)
             } else {
                 Step::Stay
             };
@@ -278,7 +278,7 @@ impl GameScreen {
                     self.leaving = true;
                     return Step::Stay;
                 }
-                (Intent::Back, _) => return Step::Go(Screen::Menu(menu::MenuScreen::new())),
+                (Intent::Back, _) => return Step::Open(Start::Menu),
                 _ => {}
             }
         }
@@ -314,7 +314,7 @@ impl GameScreen {
         };
         self.leaving = false;
         match (answer, self.link.seat()) {
-            (LeaveAnswer::Leave, _) => return Step::Go(Screen::Menu(menu::MenuScreen::new())),
+            (LeaveAnswer::Leave, _) => return Step::Open(Start::Menu),
             (LeaveAnswer::Concede, Some(seat)) => self.link.send(game, seat, Command::Concede),
             _ => {}
         }
@@ -360,6 +360,11 @@ impl GameScreen {
     /// The shot being shown, if any.
     pub fn shot(&self) -> Option<&Playback> {
         self.flow.shot()
+    }
+
+    /// True while a chat line is being typed: it takes the keys.
+    pub fn typing(&self) -> bool {
+        self.flow.chat.typing().is_some()
     }
 
     /// True while the server has not answered our entry yet: no game, no result, no
@@ -408,7 +413,7 @@ impl GameScreen {
         let balls = self.flow.balls();
         let names = palette::ball_ids(game);
         let turn = self.turn();
-        let pen = self.view.pen(&layout, r, self.flow.shot(), game.table(), 0);
+        let pen = self.view.pen(&layout, r, self.flow.shot(), game.table());
         draw::table(&pen, game.table());
 
         let dragging = match self.controls.drag {
@@ -472,8 +477,8 @@ impl GameScreen {
         }
         let (pocketed, seats) = (self.flow.tray(), tray::seat_names(&self.flow.names));
         let trays = tray::trays(game, &pocketed);
-        draw::player_trays(&layout, &names, trays, &pocketed, seats, r);
-        draw::panel(&layout, &self.controls.aim, Some(self.controls.keep_spin));
+        trays::player_trays(&layout, &names, trays, &pocketed, seats, r);
+        panel::panel(&layout, &self.controls.aim, Some(self.controls.keep_spin));
         game_hud(
             &layout,
             &HudInfo {
@@ -610,7 +615,7 @@ impl GameScreen {
         }
         if self.flow.call.is_none() {
             draw::label(
-                "Click a pocket to call the 8",
+                call_prompt(game),
                 layout.cloth.x + 8.0,
                 layout.cloth.y + layout.cloth.h - 10.0,
                 22.0,
@@ -724,4 +729,48 @@ fn draw_thinking(layout: &Layout) {
         Color::new(0.0, 0.0, 0.0, 0.75),
     );
     draw::label(&text, x, y, size, WHITE);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn layout() -> Layout {
+        let game = Game::new(
+            breakshot_shared::rules::Variant::NineBall,
+            breakshot_shared::rules::Settings::offline(),
+            1,
+        );
+        Layout::new(1280.0, 720.0, Frame::new(game.table(), game.balls()))
+    }
+
+    #[test]
+    fn each_choice_is_a_button_in_a_row_on_the_cloth_and_a_click_picks_it() {
+        let layout = layout();
+        let options = [Choice::PushOut, Choice::AcceptTable];
+        let buttons = choice_buttons(&layout, &options);
+        assert_eq!(buttons.len(), 2);
+        let cloth = layout.cloth;
+        for (_, r) in &buttons {
+            assert!(
+                r.x >= cloth.x && r.x + r.w <= cloth.x + cloth.w,
+                "{r:?} off the cloth"
+            );
+            assert_eq!(r.y, buttons[0].1.y, "not in one row");
+        }
+        assert!(
+            buttons[0].1.x + buttons[0].1.w < buttons[1].1.x,
+            "they overlap"
+        );
+        let middle = |r: &Rect| [r.x + 0.5 * r.w, r.y + 0.5 * r.h];
+        for (choice, r) in &buttons {
+            assert_eq!(choice_at(&layout, &options, middle(r)), Some(*choice));
+        }
+        let below = [
+            middle(&buttons[0].1)[0],
+            buttons[0].1.y + 2.0 * buttons[0].1.h,
+        ];
+        assert_eq!(choice_at(&layout, &options, below), None);
+        assert_eq!(choice_at(&layout, &[], middle(&buttons[0].1)), None);
+    }
 }

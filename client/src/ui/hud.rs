@@ -1,5 +1,6 @@
-//! The heads-up display of a rules game (replays now, network games later): both players,
-//! whose turn, groups, what the game waits for, the last verdict and the connection.
+//! Drawing the heads-up display of a rules game (replays, games at one computer and online):
+//! both players, whose turn, groups, what the game waits for, the last verdict and the
+//! connection, in the words `view::hud` chooses.
 
 use breakshot_client::view::hud::{self, Connection};
 use breakshot_client::view::Layout;

@@ -7,7 +7,7 @@ use macroquad::prelude::{
 
 use breakshot_client::play::{InputFrame, Key};
 
-const KEYS: [(KeyCode, Key); 25] = [
+const KEYS: [(KeyCode, Key); 28] = [
     (KeyCode::Space, Key::Shoot),
     (KeyCode::A, Key::AimLine),
     (KeyCode::G, Key::GhostBall),
@@ -33,6 +33,9 @@ const KEYS: [(KeyCode, Key); 25] = [
     (KeyCode::K, Key::KeepSpin),
     (KeyCode::V, Key::View),
     (KeyCode::L, Key::Trail),
+    (KeyCode::M, Key::Mute),
+    (KeyCode::LeftBracket, Key::VolumeDown),
+    (KeyCode::RightBracket, Key::VolumeUp),
 ];
 
 /// −1, 0 or 1 as one key or the other is held.
@@ -40,10 +43,11 @@ fn axis(minus: KeyCode, plus: KeyCode) -> f32 {
     is_key_down(plus) as i32 as f32 - is_key_down(minus) as i32 as f32
 }
 
-pub fn read(dt: f64) -> InputFrame {
+/// This frame's input; `typing`: a line of text is being typed, and takes the keys.
+pub fn read(dt: f64, typing: bool) -> InputFrame {
     let (mx, my) = mouse_position();
     let (_, wheel) = mouse_wheel();
-    InputFrame {
+    let frame = InputFrame {
         mouse: [mx, my],
         left_pressed: is_mouse_button_pressed(MouseButton::Left),
         left_down: is_mouse_button_down(MouseButton::Left),
@@ -76,5 +80,10 @@ pub fn read(dt: f64) -> InputFrame {
             .filter(|c| !c.is_control())
             .collect(),
         dt,
+    };
+    if typing {
+        frame.while_typing()
+    } else {
+        frame
     }
 }

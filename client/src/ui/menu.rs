@@ -9,7 +9,7 @@ use breakshot_shared::protocol::Invite;
 use breakshot_shared::rules::{EightBallRules, Variant};
 use macroquad::prelude::*;
 
-use super::{draw, practice::PracticeScreen, Screen, Step};
+use super::{draw, Start, Step};
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Item {
@@ -90,12 +90,20 @@ fn join_from_clipboard() -> Result<NetLink, String> {
 
 pub struct MenuScreen {
     message: String,
+    /// Where the mouse was at the last update (input is read in `ui/input.rs` only).
+    mouse: [f32; 2],
 }
 
 impl MenuScreen {
     pub fn new() -> MenuScreen {
+        MenuScreen::with_message(String::new())
+    }
+
+    /// The menu saying `message` (why the screen asked for could not be opened).
+    pub fn with_message(message: String) -> MenuScreen {
         MenuScreen {
-            message: String::new(),
+            message,
+            mouse: [-1.0, -1.0],
         }
     }
 
@@ -109,6 +117,7 @@ impl MenuScreen {
     }
 
     pub fn update(&mut self, input: &InputFrame) -> Step {
+        self.mouse = input.mouse;
         if input.pressed.contains(&Key::Back) {
             return Step::Quit;
         }
@@ -122,34 +131,27 @@ impl MenuScreen {
             return Step::Stay;
         };
         match item {
-            Item::Practice => match PracticeScreen::new(None, super::fresh_seed()) {
-                Ok(s) => return Step::Go(Screen::Practice(Box::new(s))),
-                Err(e) => self.message = e.to_string(),
-            },
+            Item::Practice => return Step::Open(Start::Practice(None)),
             Item::Local => {
-                return Step::Go(super::local_game(
-                    Variant::EightBall(EightBallRules::Wpa),
-                    super::fresh_seed(),
-                ))
+                return Step::Open(Start::Local(Variant::EightBall(EightBallRules::Wpa)))
             }
             Item::Computer => {
-                return Step::Go(super::computer_game(
-                    Variant::EightBall(EightBallRules::Wpa),
-                    Level::new(3),
-                    false,
-                    super::fresh_seed(),
-                ))
+                return Step::Open(Start::VsComputer {
+                    variant: Variant::EightBall(EightBallRules::Wpa),
+                    level: Level::new(3),
+                    computer_breaks: false,
+                })
             }
             Item::Resume => match resume() {
-                Ok(link) => return Step::Go(super::network_game(link)),
+                Ok(link) => return Step::Open(Start::Network(link)),
                 Err(e) => self.message = e,
             },
             Item::Host => match host_default() {
-                Ok(host) => return Step::Go(super::network_game(host)),
+                Ok(host) => return Step::Open(Start::Network(host)),
                 Err(e) => self.message = e,
             },
             Item::Join => match join_from_clipboard() {
-                Ok(link) => return Step::Go(super::network_game(Box::new(link))),
+                Ok(link) => return Step::Open(Start::Network(Box::new(link))),
                 Err(e) => self.message = e,
             },
             Item::Replay => {
@@ -168,7 +170,6 @@ impl MenuScreen {
         let title_size = 72.0f32.min(0.12 * h);
         let tw = draw::text_width(title, title_size);
         draw::label(title, 0.5 * (w - tw), 0.18 * h, title_size, WHITE);
-        let (mx, my) = mouse_position();
         let buttons = Self::buttons();
         // One size for every label, the largest at which the longest fits its button.
         let fits = |size: f32| {
@@ -184,7 +185,7 @@ impl MenuScreen {
             size -= 1.0;
         }
         for (_, name, r) in buttons {
-            let hot = r.contains([mx, my]);
+            let hot = r.contains(self.mouse);
             let fill = if hot {
                 Color::from_rgba(40, 130, 90, 255)
             } else {

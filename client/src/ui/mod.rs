@@ -8,11 +8,13 @@ mod hud;
 mod input;
 mod invite;
 mod menu;
+mod panel;
 mod practice;
 mod replay;
 mod speaker;
 mod table3d;
-mod view;
+mod table_view;
+mod trays;
 
 use std::path::PathBuf;
 
@@ -61,41 +63,6 @@ pub struct Options {
     pub data: Option<PathBuf>,
 }
 
-/// Two players at this computer: the rules run here.
-pub fn local_game(variant: Variant, seed: u64) -> Screen {
-    let link = LocalLink::new(variant, Settings::offline(), seed);
-    Screen::Game(Box::new(game::GameScreen::new(
-        Box::new(link),
-        Connection::Offline,
-    )))
-}
-
-/// One player against the computer at `level`: the rules run here.
-pub fn computer_game(variant: Variant, level: Level, computer_breaks: bool, seed: u64) -> Screen {
-    let link = ComputerLink::new(variant, Settings::offline(), seed, level, computer_breaks);
-    // The seats by name: the computer with its level, the player as online games name them.
-    let computer = link.computer().seat();
-    let player = data_dir()
-        .and_then(|d| memory::player_name(&d, None).ok())
-        .unwrap_or_else(|| "You".to_owned());
-    let mut names = [Some(player), None];
-    if computer == Seat::A {
-        names.reverse();
-    }
-    names[usize::from(computer == Seat::B)] = Some(format!("Computer (level {})", level.number()));
-    Screen::Game(Box::new(
-        game::GameScreen::new(Box::new(link), Connection::Offline).with_names(names),
-    ))
-}
-
-/// A game over the network: hosted here, or joined.
-pub fn network_game(link: Box<dyn GameLink>) -> Screen {
-    Screen::Game(Box::new(game::GameScreen::new(
-        link,
-        Connection::Connecting,
-    )))
-}
-
 /// The data directory `--data` named, for the menu's host, join and resume.
 static DATA_DIR: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
 
@@ -123,7 +90,53 @@ pub fn fresh_seed() -> u64 {
 pub enum Step {
     Stay,
     Quit,
-    Go(Screen),
+    /// Another screen: screens never make each other, they name the one to open.
+    Open(Start),
+}
+
+/// The seats of a game against the computer by name: the computer with its level, the
+/// player as online games name them (the name remembered, else the login name).
+fn computer_game_names(computer: Seat, level: Level) -> [Option<String>; 2] {
+    let player = data_dir()
+        .and_then(|d| memory::player_name(&d, None).ok())
+        .unwrap_or_else(|| "You".to_owned());
+    let computer_name = format!("Computer (level {})", level.number());
+    match computer {
+        Seat::A => [Some(computer_name), Some(player)],
+        Seat::B => [Some(player), Some(computer_name)],
+    }
+}
+
+/// The screen `start` names; `seed` shuffles a new rack (from the clock if not given).
+fn open(start: Start, seed: Option<u64>) -> anyhow::Result<Screen> {
+    let seed = seed.unwrap_or_else(fresh_seed);
+    let game = |link: Box<dyn GameLink>, connection| {
+        Screen::Game(Box::new(game::GameScreen::new(link, connection)))
+    };
+    Ok(match start {
+        Start::Menu => Screen::Menu(menu::MenuScreen::new()),
+        Start::Network(link) => game(link, Connection::Connecting),
+        Start::Local(variant) => game(
+            Box::new(LocalLink::new(variant, Settings::offline(), seed)),
+            Connection::Offline,
+        ),
+        Start::VsComputer {
+            variant,
+            level,
+            computer_breaks,
+        } => {
+            let link = ComputerLink::new(variant, Settings::offline(), seed, level, computer_breaks);
+            let names = computer_game_names(link.computer().seat(), level);
+            Screen::Game(Box::new(
+                game::GameScreen::new(Box::new(link), Connection::Offline).with_names(names),
+            ))
+        }
+        Start::Replay(viewer) => Screen::Replay(Box::new(replay::ReplayScreen::new(*viewer))),
+        Start::Practice(scene) => Screen::Practice(Box::new(practice::PracticeScreen::new(
+            scene.map(|s| *s),
+            seed,
+        )?)),
+    })
 }
 
 pub enum Screen {
@@ -154,6 +167,11 @@ impl Screen {
     }
 
     /// True while the screen waits for the server's first answer.
+    /// True while a line of text is being typed (the chat): it takes the keys.
+    fn typing(&self) -> bool {
+        matches!(self, Screen::Game(s) if s.typing())
+    }
+
     fn awaiting_server(&self) -> bool {
         matches!(self, Screen::Game(s) if s.awaiting_server())
     }
@@ -194,30 +212,12 @@ fn frame_times(work: &[(f64, bool)]) -> Option<String> {
 /// Runs the screens until the player quits or the screenshot is taken.
 pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
     let remembered = options.data.as_deref().and_then(memory::remembered_view);
-    view::start(
+    table_view::start(
         options.view.or(remembered).unwrap_or_default(),
         options.data.clone(),
     );
-    let mut screen = match start {
-        Start::Menu => Screen::Menu(menu::MenuScreen::new()),
-        Start::Network(link) => network_game(link),
-        Start::Local(variant) => local_game(variant, options.seed.unwrap_or_else(fresh_seed)),
-        Start::VsComputer {
-            variant,
-            level,
-            computer_breaks,
-        } => computer_game(
-            variant,
-            level,
-            computer_breaks,
-            options.seed.unwrap_or_else(fresh_seed),
-        ),
-        Start::Replay(viewer) => Screen::Replay(Box::new(replay::ReplayScreen::new(*viewer))),
-        Start::Practice(scene) => Screen::Practice(Box::new(practice::PracticeScreen::new(
-            scene.map(|s| *s),
-            options.seed.unwrap_or_else(fresh_seed),
-        )?)),
-    };
+    let seed = options.seed;
+    let mut screen = open(start, seed)?;
     let mut clock = clock::FrameClock::new(FPS);
     let mut frames = 0u32;
     let started = std::time::Instant::now();
@@ -237,9 +237,9 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
         } else {
             real_dt
         };
-        let input = input::read(dt);
+        let input = input::read(dt, screen.typing());
         let next = screen.update(&input);
-        speaker.keys();
+        speaker.keys(&input);
         speaker.hear(screen.shot());
         clear_background(draw::color(palette::BACKGROUND));
         screen.draw();
@@ -261,7 +261,10 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
         match next {
             Step::Stay => {}
             Step::Quit => return Ok(()),
-            Step::Go(s) => screen = s,
+            Step::Open(start) => {
+                screen = open(start, None)
+                    .unwrap_or_else(|e| Screen::Menu(menu::MenuScreen::with_message(e.to_string())))
+            }
         }
         clock.pace();
         next_frame().await;

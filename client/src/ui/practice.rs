@@ -8,8 +8,8 @@ use breakshot_shared::physics::{Shot, Simulator, TableKind};
 use breakshot_shared::scene::Scene;
 use macroquad::prelude::*;
 
-use super::view::TableView;
-use super::{draw, menu, Screen, Step};
+use super::table_view::TableView;
+use super::{draw, panel, trays, Start, Step};
 
 pub struct PracticeScreen {
     practice: Practice,
@@ -114,7 +114,7 @@ impl PracticeScreen {
                     self.practice = self.initial.clone();
                     self.message = "Table reset".into();
                 }
-                Intent::Back => return Step::Go(Screen::Menu(menu::MenuScreen::new())),
+                Intent::Back => return Step::Open(Start::Menu),
             }
         }
         self.practice.tick(input.dt, 1.0);
@@ -146,9 +146,7 @@ impl PracticeScreen {
         let layout = self.layout();
         let p = &self.practice;
         let r = p.params.ball_radius;
-        let pen = self
-            .view
-            .pen(&layout, r, p.playback.as_ref(), p.table, p.cue);
+        let pen = self.view.pen(&layout, r, p.playback.as_ref(), p.table);
         draw::table(&pen, p.table);
         let shown = p.shown_balls();
         let cue = shown[p.cue].pos;
@@ -179,8 +177,8 @@ impl PracticeScreen {
         if !p.busy() && dragging.is_none() {
             draw::cue_stick(&pen, cue, &self.controls.aim, r);
         }
-        draw::tray(&layout, &p.ids, &p.shown_pocketed(), r);
-        draw::panel(&layout, &self.controls.aim, Some(self.controls.keep_spin));
+        trays::tray(&layout, &p.ids, &p.shown_pocketed(), r);
+        panel::panel(&layout, &self.controls.aim, Some(self.controls.keep_spin));
         self.hud(&layout);
         if self.debug {
             self.debug_overlay(&layout);

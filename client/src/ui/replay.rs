@@ -7,8 +7,8 @@ use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
 
 use super::hud::{game_hud, HudInfo};
-use super::view::TableView;
-use super::{draw, menu, Screen, Step};
+use super::table_view::TableView;
+use super::{draw, panel, trays, Start, Step};
 
 pub struct ReplayScreen {
     viewer: ReplayViewer,
@@ -37,7 +37,7 @@ impl ReplayScreen {
                 Key::Previous => self.viewer.step_back(),
                 Key::Faster => self.viewer.faster(),
                 Key::Slower => self.viewer.slower(),
-                Key::Back => return Step::Go(Screen::Menu(menu::MenuScreen::new())),
+                Key::Back => return Step::Open(Start::Menu),
                 _ => {}
             }
         }
@@ -49,7 +49,12 @@ impl ReplayScreen {
             Some(Command::Shot { strike, .. }) => Aim::from_strike(strike).dir(),
             _ => ::glam::DVec2::Y,
         };
-        let cue = game.balls().first().map_or(::glam::DVec2::ZERO, |b| b.pos);
+        // The ball struck: the shot's while one is shown, else the next shooter's.
+        let struck = self.viewer.shot().map_or(game.cue_ball(), Playback::cue);
+        let cue = game
+            .balls()
+            .get(struck)
+            .map_or(::glam::DVec2::ZERO, |b| b.pos);
         self.view
             .update(input, cue, aim, self.viewer.shot().is_none());
         Step::Stay
@@ -66,17 +71,17 @@ impl ReplayScreen {
         let v = &self.viewer;
         let r = v.game().params().ball_radius;
         let ids = palette::ball_ids(v.game());
-        let pen = self.view.pen(&layout, r, v.shot(), v.game().table(), 0);
+        let pen = self.view.pen(&layout, r, v.shot(), v.game().table());
         draw::table(&pen, v.game().table());
         draw::balls(&pen, &ids, &v.balls(), r, None, &self.turns);
         let (pocketed, seats) = (v.tray(), tray::seat_names(&[None, None]));
         let trays = tray::trays(v.game(), &pocketed);
-        draw::player_trays(&layout, &ids, trays, &pocketed, seats, r);
+        trays::player_trays(&layout, &ids, trays, &pocketed, seats, r);
         // The panel shows the strike of the shot being played (or the next one).
         let (done, total) = v.position();
         if let Some(Command::Shot { strike, .. }) = v.record().entries.get(done).map(|e| &e.command)
         {
-            draw::panel(&layout, &Aim::from_strike(strike), None);
+            panel::panel(&layout, &Aim::from_strike(strike), None);
         }
 
         game_hud(

@@ -1,10 +1,10 @@
 //! Playing a shot's sounds: the cues `view::sound` finds for each frame, through macroquad's
 //! audio when the client is built with the `sound` feature, silently otherwise. M mutes,
-//! `[` and `]` turn the volume down and up.
+//! `[` and `]` turn the volume down and up (read, like every key, by `ui/input.rs`).
 
+use breakshot_client::play::{InputFrame, Key};
 use breakshot_client::view::sound::{Mixer, SoundTrack};
 use breakshot_client::view::Playback;
-use macroquad::prelude::{is_key_pressed, KeyCode};
 
 /// Volume change per key press.
 const VOLUME_STEP: f32 = 0.1;
@@ -42,17 +42,9 @@ impl Speaker {
         }
     }
 
-    /// The mute and volume keys.
-    pub fn keys(&mut self) {
-        if is_key_pressed(KeyCode::M) {
-            self.mixer.muted = !self.mixer.muted;
-        }
-        if is_key_pressed(KeyCode::LeftBracket) {
-            self.mixer.nudge(-VOLUME_STEP);
-        }
-        if is_key_pressed(KeyCode::RightBracket) {
-            self.mixer.nudge(VOLUME_STEP);
-        }
+    /// The mute and volume keys of this frame.
+    pub fn keys(&mut self, input: &InputFrame) {
+        turn(&mut self.mixer, input);
     }
 
     /// Plays the sounds of `shot` that became due since the last frame.
@@ -75,5 +67,41 @@ impl Speaker {
         }
         #[cfg(not(feature = "sound"))]
         let _ = due;
+    }
+}
+
+/// What the frame's mute and volume keys do to `mixer`.
+fn turn(mixer: &mut Mixer, input: &InputFrame) {
+    for key in &input.pressed {
+        match key {
+            Key::Mute => mixer.muted = !mixer.muted,
+            Key::VolumeDown => mixer.nudge(-VOLUME_STEP),
+            Key::VolumeUp => mixer.nudge(VOLUME_STEP),
+            _ => {}
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn m_and_the_brackets_turn_the_sound_unless_a_line_is_being_typed() {
+        let keys = InputFrame {
+            pressed: vec![Key::Mute, Key::VolumeDown],
+            typed: vec!['m', '['],
+            ..InputFrame::default()
+        };
+        let mut mixer = Mixer::default();
+        turn(&mut mixer, &keys.clone().while_typing());
+        assert_eq!(
+            mixer,
+            Mixer::default(),
+            "typed into the chat, not the sound"
+        );
+        turn(&mut mixer, &keys);
+        assert!(mixer.muted);
+        assert_ne!(mixer, Mixer::default());
     }
 }

@@ -12,7 +12,7 @@ use breakshot_shared::physics::{BallState, Params, Table, TableKind};
 use macroquad::models::Vertex;
 use macroquad::prelude::*;
 
-use super::draw::{self, CUSHION_WIDTH};
+use super::draw::{self, Pen, Surface, CUSHION_WIDTH};
 
 /// Where the light comes from (towards it): above the table, a little towards its foot.
 const LIGHT: [f64; 3] = [-0.25, -0.35, 1.0];
@@ -517,5 +517,77 @@ pub fn in_hand(camera: &Camera, area: (DVec2, DVec2), dragged: Option<(DVec2, bo
             Color::new(0.95, 0.15, 0.15, 1.0)
         };
         ring(camera, at, radius, c);
+    }
+}
+
+/// The 3-D view: what lies on the table, seen through the view's camera.
+impl Surface for Camera {
+    fn table(&self, pen: &Pen, kind: TableKind) {
+        table(self, pen.layout, kind);
+        trail(self, &pen.trail);
+    }
+
+    fn balls(
+        &self,
+        pen: &Pen,
+        ids: &[String],
+        states: &[BallState],
+        radius: f64,
+        skip: Option<usize>,
+        turns: &Orientations,
+    ) {
+        let mut shown = on_table(ids, states, radius, skip, turns);
+        shown.extend(pen.drops.iter().filter_map(|d| {
+            Some(Ball {
+                id: ids.get(d.ball)?,
+                centre: d.centre,
+                turn: turns.get(d.ball),
+            })
+        }));
+        balls(self, &shown, radius);
+    }
+
+    fn aids(&self, _pen: &Pen, p: &Prediction, toggles: AidToggles, radius: f64, object_id: &str) {
+        aids(self, p, toggles, radius, object_id);
+    }
+
+    fn ball_at(&self, _pen: &Pen, id: &str, pos: DVec2, radius: f64) {
+        let ball = Ball {
+            id,
+            centre: pos.extend(radius),
+            turn: DQuat::IDENTITY,
+        };
+        balls(self, &[ball], radius);
+    }
+
+    fn mark(&self, _pen: &Pen, centre: DVec2, radius: f64, _width: f32, c: Color) {
+        mark(self, centre, 1.1 * radius, c);
+    }
+
+    fn ring(&self, _pen: &Pen, pos: DVec2, radius: f64, c: Color) {
+        ring(self, pos, radius, c);
+    }
+
+    fn segment(&self, _pen: &Pen, a: DVec2, b: DVec2, _width: f32, c: Color) {
+        segment(self, a, b, c);
+    }
+
+    fn cue_at(&self, _pen: &Pen, cue: DVec2, aim: &Aim, back: f64, radius: f64) {
+        cue_stick(self, cue, aim, back, radius);
+    }
+
+    fn in_hand(
+        &self,
+        pen: &Pen,
+        area: breakshot_client::view::Rect,
+        dragged: Option<(DVec2, bool)>,
+        radius: f64,
+    ) {
+        let layout = pen.layout;
+        let corners = (
+            layout.to_scene([area.x, area.y]),
+            layout.to_scene([area.x + area.w, area.y + area.h]),
+        );
+        in_hand(self, corners, dragged, radius);
     }
 }

@@ -219,6 +219,18 @@ pub fn clock_running_out(seconds_left: f64) -> bool {
     seconds_left <= CLOCK_WARNING_SECS
 }
 
+/// What to tell the shooter who must call a pocket: the 8 when the rules say it is the
+/// only ball on in 8-ball, else the shot.
+pub fn call_prompt(game: &Game) -> &'static str {
+    let on_the_eight =
+        matches!(game.variant(), Variant::EightBall(_)) && game.legal_first_balls() == [8];
+    if on_the_eight {
+        "Click a pocket to call the 8"
+    } else {
+        "Click a pocket to call your shot"
+    }
+}
+
 /// The words for a connection state.
 pub fn connection(c: &Connection) -> String {
     match c {
@@ -357,6 +369,18 @@ mod tests {
         );
         // A name not known yet leaves the seat's own words.
         assert!(named("Player A to shoot", &[None, Some("ben".into())]).starts_with("Player A"));
+    }
+
+    #[test]
+    fn the_call_prompt_names_the_8_only_when_the_rules_say_it_is_on() {
+        let called = Settings {
+            call_every_shot: true,
+            ..Settings::offline()
+        };
+        let nine = Game::new(Variant::NineBall, called, 3);
+        assert_eq!(call_prompt(&nine), "Click a pocket to call your shot");
+        let eight = Game::new(Variant::EightBall(EightBallRules::Wpa), called, 3);
+        assert_eq!(call_prompt(&eight), "Click a pocket to call your shot");
     }
 
     #[test]

@@ -213,7 +213,7 @@ mod tests {
     fn following_a_playback_frame_by_frame_equals_one_jump() {
         let o = shot(DVec2::new(0.2, 0.3), 2.0);
         let mut smooth = Orientations::new();
-        let mut p = Playback::new(o.clone());
+        let mut p = Playback::new(o.clone(), 0);
         for _ in 0..40 {
             p.advance(1.0 / 60.0, 1.0);
             smooth.follow(Some(&p));

@@ -44,14 +44,26 @@ pub(crate) const MAX_SPEED: f64 = 8.0;
 #[derive(Clone, Debug)]
 pub struct Playback {
     outcome: Outcome,
+    /// The ball the cue struck.
+    cue: usize,
     /// Shot time shown now (s).
     time: f64,
 }
 
 impl Playback {
-    /// Shows `outcome` from its start.
-    pub fn new(outcome: Outcome) -> Playback {
-        Playback { outcome, time: 0.0 }
+    /// Shows `outcome`, a shot struck on ball `cue`, from its start.
+    pub fn new(outcome: Outcome, cue: usize) -> Playback {
+        Playback {
+            outcome,
+            cue,
+            time: 0.0,
+        }
+    }
+
+    /// The ball the cue struck (in three-cushion the shooter's own: the white or the
+    /// yellow).
+    pub fn cue(&self) -> usize {
+        self.cue
     }
 
     /// The shot shown.
@@ -174,8 +186,8 @@ mod tests {
     #[test]
     fn frames_show_the_exact_state_whatever_the_frame_rate() {
         let outcome = straight_in();
-        let mut smooth = Playback::new(outcome.clone());
-        let mut jerky = Playback::new(outcome.clone());
+        let mut smooth = Playback::new(outcome.clone(), 0);
+        let mut jerky = Playback::new(outcome.clone(), 0);
         for _ in 0..30 {
             smooth.advance(1.0 / 60.0, 1.0);
         }
@@ -190,7 +202,7 @@ mod tests {
     #[test]
     fn ends_on_the_final_table_and_reports_pocketed_balls_in_order() {
         let outcome = straight_in();
-        let mut p = Playback::new(outcome.clone());
+        let mut p = Playback::new(outcome.clone(), 0);
         assert!(p.pocketed_so_far().is_empty());
         p.advance(1e9, 2.0);
         assert!(p.finished());
@@ -211,7 +223,7 @@ mod tests {
                 _ => None,
             })
             .expect("ball 1 falls");
-        let mut p = Playback::new(outcome.clone());
+        let mut p = Playback::new(outcome.clone(), 0);
         p.advance(fell - 0.01, 1.0);
         assert!(p.dropping(&table, r).is_empty());
         p.advance(0.01 + 0.5 * DROP_TIME, 1.0);
@@ -237,7 +249,7 @@ mod tests {
     #[test]
     fn the_cue_is_seen_going_through_the_ball_at_the_start_only() {
         let outcome = straight_in();
-        let mut p = Playback::new(outcome.clone());
+        let mut p = Playback::new(outcome.clone(), 0);
         let s = p.stroke(0).expect("at the strike");
         assert_eq!(s.at, outcome.state_at(0, 0.0).pos);
         let want = DVec2::new(-1.0, -1.0).normalize();
@@ -253,7 +265,7 @@ mod tests {
 
     #[test]
     fn bad_frame_times_do_not_move_the_clock() {
-        let mut p = Playback::new(straight_in());
+        let mut p = Playback::new(straight_in(), 0);
         p.advance(f64::NAN, 1.0);
         p.advance(-1.0, 1.0);
         assert_eq!(p.time(), 0.0);

@@ -97,7 +97,7 @@ mod tests {
         let balls = vec![BallState::at_rest(DVec2::new(0.6, 0.5))];
         let shot = Shot::new(TableKind::NineFoot, balls)
             .struck(0, Strike::at_angle(1.5, 90.0, DVec2::ZERO));
-        Playback::new(simulate(&shot).expect("valid shot"))
+        Playback::new(simulate(&shot).expect("valid shot"), 0)
     }
 
     #[test]

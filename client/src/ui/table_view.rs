@@ -115,15 +115,15 @@ impl TableView {
     }
 
     /// How to draw the table this frame: `shot` is the shot shown, if any, on a table of
-    /// `kind`, and `cue` the cue ball, whose trail is kept.
+    /// `kind`; the trail kept is the ball it struck.
     pub fn pen<'a>(
         &mut self,
         layout: &'a Layout,
         radius: f64,
         shot: Option<&Playback>,
         kind: TableKind,
-        cue: usize,
     ) -> Pen<'a> {
+        let cue = shot.map_or(0, Playback::cue);
         self.trail.follow(shot, cue);
         Pen {
             layout,

@@ -1,4 +1,4 @@
-//! The computer seated in an online room: the bot's player with the computer player's
+//! The computer seated in an online room: a [`SeatPlayer`] with the computer player's
 //! chooser, on a thread of its own with its own runtime, taking the room's free seat through
 //! the server like any other player. The server needs nothing new, and the search never runs
 //! on the server's threads.
@@ -11,7 +11,8 @@ use breakshot_shared::protocol::Invite;
 use tokio::sync::oneshot;
 
 use super::host::HostError;
-use crate::bot::{Bot, Chooser, Start, RETRY_FOR};
+use super::seat_player::{Entrance, SeatPlayer, RETRY_FOR};
+use crate::play::Chooser;
 
 /// How long a stopped computer waits for a decision in progress before its thread ends.
 const STOP_GRACE: Duration = Duration::from_secs(2);
@@ -57,12 +58,12 @@ impl SeatedComputer {
                     let _ = tx.send(room);
                     let chooser = Chooser::computer(level, seed);
                     let mut bot =
-                        Bot::seated(invite, "computer".into(), chooser, RETRY_FOR).staying();
+                        SeatPlayer::seated(invite, "computer".into(), chooser, RETRY_FOR).staying();
                     if paced {
                         bot = bot.pacing();
                     }
                     tokio::select! {
-                        result = bot.play(Start::Join(rx)) => {
+                        result = bot.play(Entrance::Join(rx)) => {
                             if let Some(e) = result.error {
                                 tracing::warn!(error = %e, "the computer left its seat");
                             }

@@ -1,0 +1,184 @@
+//! A game screen's [`GameLink`] over the network: commands go to the server, and what the
+//! server announces comes back as the same [`GameEvent`]s a local game produces.
+
+use std::collections::VecDeque;
+
+use breakshot_shared::physics::Strike;
+use breakshot_shared::protocol::{ClientMessage, Invite, Role, RoomCode, SeatToken, ServerMessage};
+use breakshot_shared::rules::{Command, Game, Seat, TurnId};
+
+use super::player::Entry;
+use super::seats::SeatStore;
+use super::session::{Session, SessionEvent};
+use crate::play::{game_events, GameEvent, GameLink};
+use crate::view::hud::Connection;
+
+/// A [`GameLink`] over a [`Session`].
+pub struct NetLink {
+    session: Session,
+    events: VecDeque<GameEvent>,
+    /// Where the seat taken is remembered, and the invite it is remembered under.
+    memory: Option<(SeatStore, Invite)>,
+}
+
+/// An invite that cannot be joined.
+#[derive(Debug, thiserror::Error)]
+#[error("{0} names a server but no room: ask the host for the game's invite")]
+pub struct NoRoom(pub String);
+
+impl NetLink {
+    /// Connects to the server an invite names and asks for the free seat of its room
+    /// (watching it when both seats are taken), or, when `seats` remembers a seat in that
+    /// room, takes that seat back, falling back to the free seat when the server no longer
+    /// knows it. The seat taken is remembered in `seats`.
+    pub fn join(invite: Invite, name: &str, seats: Option<SeatStore>) -> Result<NetLink, NoRoom> {
+        let Some(room) = invite.room.clone() else {
+            return Err(NoRoom(invite.to_string()));
+        };
+        let join = Entry::Join {
+            room,
+            name: name.into(),
+            watch_if_full: true,
+        };
+        let entry = match seats.as_ref().and_then(|s| s.load(&invite)) {
+            Some(token) => Entry::Rejoin {
+                token,
+                otherwise: Some(Box::new(join)),
+            },
+            None => join,
+        };
+        let session = Session::connect(invite.clone());
+        session.enter(entry);
+        let mut link = NetLink::new(session);
+        link.memory = seats.map(|s| (s, invite));
+        Ok(link)
+    }
+
+    /// A link over a session that has joined (or will join) a room.
+    pub fn new(session: Session) -> NetLink {
+        NetLink {
+            session,
+            events: VecDeque::new(),
+            memory: None,
+        }
+    }
+
+    /// Remembers the seat this link takes (or has taken back with `Rejoin`) in `seats`,
+    /// under `invite` (with the room joined).
+    pub fn remember(&mut self, seats: SeatStore, invite: Invite) {
+        self.memory = Some((seats, invite));
+    }
+
+    /// The session under the link.
+    pub fn session(&self) -> &Session {
+        &self.session
+    }
+
+    /// The next event, waiting at most `timeout` for one: for a caller with nothing to do
+    /// until the server answers (opening a hosted room), not for frame loops.
+    pub fn wait(&mut self, timeout: std::time::Duration) -> Option<GameEvent> {
+        if self.events.is_empty() {
+            if let Some(event) = self.session.recv_timeout(timeout) {
+                self.translate(event);
+            }
+        }
+        self.poll()
+    }
+
+    fn translate(&mut self, event: SessionEvent) {
+        let connection = match event {
+            SessionEvent::Connected => Connection::Connected,
+            SessionEvent::Closed(why) => Connection::Closed(why),
+            SessionEvent::Reconnecting => Connection::Reconnecting,
+            SessionEvent::SeatGone => {
+                if let Some((store, invite)) = &self.memory {
+                    store.forget(invite);
+                }
+                return;
+            }
+            SessionEvent::Message(msg) => {
+                if let ServerMessage::Joined {
+                    role: Role::Player(_),
+                    token: Some(token),
+                    snapshot,
+                } = &msg
+                {
+                    self.save_seat(snapshot.room.clone(), *token);
+                }
+                self.events.extend(game_events(&msg, self.session.seat()));
+                return;
+            }
+        };
+        self.events.push_back(GameEvent::Connection(connection));
+    }
+
+    /// Remembers the seat the server gave in `room`.
+    fn save_seat(&self, room: RoomCode, token: SeatToken) {
+        if let Some((store, invite)) = &self.memory {
+            // A host remembers its server's invite before the room is opened.
+            let invite = invite.with_room(room);
+            if let Err(e) = store.save(&invite, token) {
+                tracing::warn!(error = %e, "cannot remember the seat");
+            }
+        }
+    }
+}
+
+/// The message a player sends for `command` on `turn`; None for a command only the rules
+/// themselves make (the shot clock, a forfeit) or only practice allows.
+pub(crate) fn command_message(turn: TurnId, command: Command) -> Option<ClientMessage> {
+    Some(match command {
+        Command::Shot { strike, call } => ClientMessage::Shot { turn, strike, call },
+        Command::PlaceCueBall { pos } => ClientMessage::PlaceCueBall { turn, pos },
+        Command::Decide(choice) => ClientMessage::Decide { turn, choice },
+        Command::Concede => ClientMessage::Concede,
+        _ => return None,
+    })
+}
+
+impl GameLink for NetLink {
+    fn seat(&self) -> Option<Seat> {
+        self.session.seat()
+    }
+
+    fn watching(&self) -> bool {
+        self.session.role() == Some(Role::Spectator)
+    }
+
+    fn send(&mut self, game: &Game, _seat: Seat, command: Command) {
+        let Some(msg) = command_message(game.turn(), command) else {
+            self.events
+                .push_back(GameEvent::Refused("not available in an online game".into()));
+            return;
+        };
+        if !self.session.send(msg) {
+            self.events
+                .push_back(GameEvent::Connection(Connection::Closed(
+                    "connection lost".into(),
+                )));
+        }
+    }
+
+    fn poll(&mut self) -> Option<GameEvent> {
+        while let Some(event) = self.session.try_recv() {
+            self.translate(event);
+        }
+        self.events.pop_front()
+    }
+
+    fn rematch(&mut self) {
+        self.session.send(ClientMessage::Rematch);
+    }
+
+    fn chats(&self) -> bool {
+        true
+    }
+
+    fn chat(&mut self, text: String) {
+        self.session.send(ClientMessage::Chat { text });
+    }
+
+    fn aim(&mut self, turn: TurnId, strike: Strike) {
+        self.session.send(ClientMessage::Aim { turn, strike });
+    }
+}

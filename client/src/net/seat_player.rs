@@ -1,0 +1,348 @@
+//! A seat in an online room played by a [`Chooser`]: the async driver ([`Client`]) and its
+//! core enter the room and keep the seat, a [`Replica`] follows the game, and the chooser
+//! picks each move. The load bot plays two of these per game; [`SeatedComputer`] is one
+//! with the computer player's chooser.
+//!
+//! [`SeatedComputer`]: super::SeatedComputer
+
+use std::time::{Duration, Instant};
+
+use breakshot_shared::ai::Rng;
+use breakshot_shared::protocol::{ClientMessage, ErrorCode, Invite, RoomCode, ServerMessage};
+use breakshot_shared::rules::{Phase, Seat, TurnId};
+use tokio::sync::oneshot;
+
+use super::client::{Client, ClientEvent};
+use super::error::NetError;
+use super::player::{Entry, Reconnect};
+use crate::play::{Chooser, Replica};
+
+/// How long a seat player keeps trying to reach a server that went away.
+pub const RETRY_FOR: Duration = Duration::from_secs(120);
+/// A player refused this many times in a row concedes (its aim logic is stuck).
+const MAX_REFUSALS: u32 = 30;
+/// A player that has shot this many times in one game concedes (keeps tests bounded).
+const MAX_SHOTS: u32 = 300;
+
+/// How a seat player enters its room.
+pub(crate) enum Entrance {
+    /// Opens it (a `CreateRoom`), and tells another player its code.
+    Create(ClientMessage, oneshot::Sender<RoomCode>),
+    /// Joins the room whose code arrives.
+    Join(oneshot::Receiver<RoomCode>),
+}
+
+/// What one bot saw and did.
+#[derive(Debug, Default)]
+pub(crate) struct PlayerResult {
+    pub(crate) room: Option<RoomCode>,
+    /// When both seats were taken, and when the game ended.
+    pub(crate) began: Option<Instant>,
+    pub(crate) ended: Option<Instant>,
+    pub(crate) over: Option<String>,
+    pub(crate) shots: u32,
+    pub(crate) confirmed: u32,
+    pub(crate) desyncs: u32,
+    pub(crate) rejoins: u32,
+    pub(crate) round_trips_ms: Vec<f64>,
+    pub(crate) resolved: Vec<(TurnId, u64)>,
+    /// Commands the server refused.
+    pub(crate) refused: u32,
+    pub(crate) error: Option<String>,
+}
+
+impl PlayerResult {
+    pub(crate) fn failed(e: String) -> PlayerResult {
+        PlayerResult {
+            error: Some(e),
+            ..PlayerResult::default()
+        }
+    }
+}
+
+/// One player's connection and its copy of the game.
+pub(crate) struct SeatPlayer {
+    server: Invite,
+    name: String,
+    chooser: Chooser,
+    policy: Reconnect,
+    think: Duration,
+    pause_rng: Rng,
+    replica: Replica,
+    result: PlayerResult,
+    /// The turn this bot last answered, while its answer is pending.
+    acted: Option<TurnId>,
+    sent_shot: Option<(TurnId, Instant)>,
+    refusals: u32,
+    /// Shots taken in the game being played.
+    game_shots: u32,
+    /// Plays on after a game ends: asks for a rematch and plays it (a seat kept in a room
+    /// rather than one game).
+    stays: bool,
+    /// Moves only once the last shot has finished playing on the players' screens, and
+    /// [`LOOK`] later, as a player at the table would: a move that arrived sooner would cut
+    /// the shot's animation short. None: moves as soon as it has chosen.
+    paced: Option<Instant>,
+    /// Whether this bot paces its moves.
+    pacing: bool,
+}
+
+/// How long a pacing player looks at the table after the balls stop, before its move.
+pub(crate) const LOOK: Duration = Duration::from_millis(800);
+
+impl SeatPlayer {
+    /// A bot that plays in `server`'s rooms with `chooser`, without pauses, keeping its seat
+    /// through drops for `retry_for`.
+    pub(crate) fn seated(
+        server: Invite,
+        name: String,
+        chooser: Chooser,
+        retry_for: Duration,
+    ) -> SeatPlayer {
+        SeatPlayer {
+            server,
+            name,
+            chooser,
+            policy: Reconnect {
+                rejoin_for: retry_for,
+                ..Reconnect::default()
+            },
+            think: Duration::ZERO,
+            pause_rng: Rng::new(0),
+            replica: Replica::default(),
+            result: PlayerResult::default(),
+            acted: None,
+            sent_shot: None,
+            refusals: 0,
+            game_shots: 0,
+            stays: false,
+            paced: None,
+            pacing: false,
+        }
+    }
+
+    /// The bot moves only when the last shot has finished playing for the players (and
+    /// [`LOOK`] more).
+    pub(crate) fn pacing(mut self) -> SeatPlayer {
+        self.pacing = true;
+        self
+    }
+
+    /// The player plays on after each game: asks for a rematch and plays it, until dropped.
+    pub(crate) fn staying(mut self) -> SeatPlayer {
+        self.stays = true;
+        self
+    }
+
+    /// Before each move the player thinks for about `think` (between half and one and a
+    /// half times it, drawn from `seed`).
+    pub(crate) fn thinking(mut self, think: Duration, seed: u64) -> SeatPlayer {
+        self.think = think;
+        self.pause_rng = Rng::new(seed);
+        self
+    }
+
+    /// The player's name.
+    pub(crate) fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Enters the room as `start` says and plays until the game ends (or, for a bot that
+    /// stays, until the connection is lost for good).
+    pub(crate) async fn play(mut self, entrance: Entrance) -> PlayerResult {
+        let (entry, mut room_tx) = match entrance {
+            Entrance::Create(msg, tx) => (Entry::Create(msg), Some(tx)),
+            Entrance::Join(rx) => match rx.await {
+                Ok(room) => (
+                    Entry::Join {
+                        room,
+                        name: self.name.clone(),
+                        watch_if_full: false,
+                    },
+                    None,
+                ),
+                Err(_) => return PlayerResult::failed("the host never created a room".into()),
+            },
+        };
+        let mut client = match Client::connect(self.server.clone(), self.policy).await {
+            Ok(c) => c,
+            Err(e) => return PlayerResult::failed(e.to_string()),
+        };
+        if let Err(e) = self.run(&mut client, entry, &mut room_tx).await {
+            self.result.error = Some(e.to_string());
+        }
+        client.close(Duration::ZERO).await;
+        self.result.confirmed = self.replica.confirmed();
+        self.result.desyncs = self.replica.desyncs();
+        self.result
+    }
+
+    /// Plays until the game ends (`Ok`) or the connection is lost for good.
+    async fn run(
+        &mut self,
+        client: &mut Client,
+        entry: Entry,
+        room_tx: &mut Option<oneshot::Sender<RoomCode>>,
+    ) -> Result<(), NetError> {
+        client.enter(entry).await;
+        loop {
+            let msg = match client.recv().await? {
+                ClientEvent::Message(msg) => msg,
+                ClientEvent::SeatGone => continue,
+                ClientEvent::Reconnecting(why) => {
+                    tracing::debug!(player = %self.name, %why, "reconnecting");
+                    continue;
+                }
+                ClientEvent::Reconnected => {
+                    self.result.rejoins += 1;
+                    self.acted = None;
+                    self.sent_shot = None;
+                    continue;
+                }
+            };
+            let me = client.seating().seat();
+            self.replica.observe(&msg, me);
+            match &msg {
+                ServerMessage::Joined { snapshot, .. } => {
+                    self.result.room = Some(snapshot.room.clone());
+                    if let Some(tx) = room_tx.take() {
+                        let _ = tx.send(snapshot.room.clone());
+                    }
+                    self.game_shots = 0;
+                    if let Phase::Over { reason, .. } = snapshot.game.phase() {
+                        self.result.over = Some(reason.clone());
+                        self.result.ended.get_or_insert_with(Instant::now);
+                        if !self.stays {
+                            return Ok(());
+                        }
+                        client.send(&ClientMessage::Rematch).await?;
+                    }
+                }
+                ServerMessage::ShotAccepted { seat, .. } => {
+                    if Some(*seat) == me {
+                        self.result.shots += 1;
+                        self.game_shots += 1;
+                    }
+                    if self.pacing {
+                        let shown = self
+                            .replica
+                            .playback()
+                            .map_or(0.0, |p| p.outcome().duration);
+                        let shown = Duration::try_from_secs_f64(shown).unwrap_or_default();
+                        self.paced = Some(Instant::now() + shown + LOOK);
+                    }
+                }
+                ServerMessage::PlayerJoined { .. } => {
+                    self.result.began.get_or_insert_with(Instant::now);
+                }
+                ServerMessage::GameStarted { .. } => {
+                    self.acted = None;
+                    self.game_shots = 0;
+                }
+                ServerMessage::ShotResolved { turn, hash, .. } => {
+                    self.result.resolved.push((*turn, *hash));
+                    if let Some((t, at)) = self.sent_shot {
+                        if t == *turn {
+                            self.result
+                                .round_trips_ms
+                                .push(at.elapsed().as_secs_f64() * 1000.0);
+                            self.sent_shot = None;
+                        }
+                    }
+                }
+                ServerMessage::GameOver { reason, .. } if self.stays => {
+                    self.result.over = Some(reason.clone());
+                    self.result.ended.get_or_insert_with(Instant::now);
+                    client.send(&ClientMessage::Rematch).await?;
+                }
+                ServerMessage::GameOver { reason, .. }
+                | ServerMessage::GameFinished { reason, .. } => {
+                    // `GameFinished`: the game ended while this bot was away.
+                    self.result.over = Some(reason.clone());
+                    self.result.ended.get_or_insert_with(Instant::now);
+                    return Ok(());
+                }
+                ServerMessage::Error {
+                    code: ErrorCode::BadToken,
+                    message,
+                } => {
+                    // The seat is gone (a server that no longer knows the game): waiting
+                    // would wait forever.
+                    self.result.error = Some(format!("rejoin refused: {message}"));
+                    return Ok(());
+                }
+                ServerMessage::Error {
+                    code: ErrorCode::RoomFull | ErrorCode::NoSuchRoom,
+                    message,
+                } if me.is_none() => {
+                    self.result.error = Some(format!("no seat: {message}"));
+                    return Ok(());
+                }
+                ServerMessage::Error { code, message } => {
+                    self.refusals += 1;
+                    self.result.refused += 1;
+                    self.acted = None;
+                    if self.refusals > MAX_REFUSALS {
+                        client.send(&ClientMessage::Concede).await?;
+                    }
+                    tracing::debug!(player = %self.name, ?code, %message, "refused");
+                }
+                ServerMessage::TurnChanged { .. } | ServerMessage::Applied { .. } => {
+                    self.refusals = 0;
+                }
+                _ => {}
+            }
+            if let Some(cmd) = self.next_move(me).await {
+                if !self.think.is_zero() {
+                    // Players do not all shoot in step: think between half and one and a
+                    // half times the configured time.
+                    let factor = self.pause_rng.range(0.5, 1.5);
+                    tokio::time::sleep(self.think.mul_f64(factor)).await;
+                }
+                if let Some(at) = self.paced.take() {
+                    tokio::time::sleep_until(at.into()).await;
+                }
+                if matches!(cmd, ClientMessage::Shot { .. }) {
+                    self.sent_shot = self.acted.map(|t| (t, Instant::now()));
+                }
+                // A message lost with the connection is answered again after the rejoin.
+                if client.send(&cmd).await.is_err() {
+                    self.acted = None;
+                }
+            }
+        }
+    }
+
+    /// What to send now, if it is this bot's move and it has not answered it yet. The
+    /// computer player thinks on the runtime's blocking threads: a decision can take a
+    /// second, and the connection must be kept alive meanwhile.
+    async fn next_move(&mut self, seat: Option<Seat>) -> Option<ClientMessage> {
+        if !seat.is_some_and(|s| self.replica.waits_for(s)) {
+            return None;
+        }
+        let game = self.replica.game()?;
+        let turn = game.turn();
+        if self.acted == Some(turn) {
+            return None;
+        }
+        self.acted = Some(turn);
+        if self.game_shots >= MAX_SHOTS {
+            return Some(ClientMessage::Concede);
+        }
+        if self.chooser.level().is_none() {
+            return self.chooser.choose(game);
+        }
+        let (game, mut chooser) = (game.clone(), self.chooser.clone());
+        let thought = tokio::task::spawn_blocking(move || (chooser.choose(&game), chooser)).await;
+        match thought {
+            Ok((msg, chooser)) => {
+                self.chooser = chooser;
+                msg
+            }
+            Err(e) => {
+                tracing::error!(player = %self.name, error = %e, "the computer player failed");
+                Some(ClientMessage::Concede)
+            }
+        }
+    }
+}
