@@ -634,3 +634,18 @@ fn a_snooker_record_replays_and_verifies() {
     let decoded = crate::replay::GameRecord::decode(&record.encode()).expect("decodes");
     assert_eq!(decoded.replay().expect("replays"), g);
 }
+
+#[test]
+fn the_computer_nominates_a_colour_before_playing_at_it() {
+    let mut g = pot_red_game();
+    g.apply(Seat::A, &pot_red()).expect("shot");
+    assert!(g.snooker().is_some_and(|m| m.on_colour));
+    let cmd = crate::ai::decide(&g, crate::ai::Level::new(1), 5).expect("a move");
+    assert!(
+        matches!(cmd, Command::Decide(Choice::Nominate(c)) if is_colour(c)),
+        "{cmd:?}"
+    );
+    g.apply(Seat::A, &cmd).expect("the nomination is legal");
+    let cmd = crate::ai::decide(&g, crate::ai::Level::new(1), 5).expect("a move");
+    assert!(matches!(cmd, Command::Shot { .. }), "{cmd:?}");
+}
