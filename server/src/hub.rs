@@ -24,7 +24,7 @@ use crate::endings::{Ending, Endings};
 use crate::limits::Limits;
 use crate::output::{ConnId, Output, RoomMeta, StoreOp};
 use crate::ratelimit::Bucket;
-use crate::room::{Entry, Room, RoomRules, Who};
+use crate::room::{ClockLeft, Entry, Room, RoomRules, Who};
 use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
 use crate::source::source_key;
 use crate::work::{Returned, RoomWork};
@@ -73,6 +73,8 @@ pub struct Restored {
     pub record: GameRecord,
     /// The game as the replay left it: where play resumes.
     pub game: Game,
+    /// The shot clock of the current turn as last stored, if the room has one.
+    pub clock: Option<ClockLeft>,
 }
 
 struct Conn {
@@ -99,7 +101,7 @@ enum Held {
     Message(Who, ClientMessage, Instant),
     /// A create, join, rejoin or spectate, routed again once the room is back.
     Enter(ConnId, ClientMessage),
-    Disconnect(ConnId),
+    Disconnect(ConnId, Instant),
 }
 
 /// Every connection, room and seat token of one server; run on one thread, which passes `now`
@@ -201,9 +203,9 @@ impl Hub {
                         self.refund_entry(conn);
                     }
                 }
-                Held::Disconnect(conn) => {
+                Held::Disconnect(conn, last_heard) => {
                     if let Some(room) = self.rooms.get_mut(&code) {
-                        out.extend(room.disconnect(now, conn));
+                        out.extend(room.disconnect(now, last_heard, conn));
                     }
                 }
             }
@@ -277,14 +279,14 @@ impl Hub {
     }
 
     /// Brings back a room from the store (after its record was replayed and checked).
-    pub fn restore(
-        &mut self,
-        now: Instant,
-        meta: RoomMeta,
-        number: u32,
-        record: GameRecord,
-        game: Game,
-    ) {
+    pub fn restore(&mut self, now: Instant, restored: Restored) {
+        let Restored {
+            meta,
+            number,
+            record,
+            game,
+            clock,
+        } = restored;
         let rules = RoomRules {
             variant: meta.variant,
             settings: meta.settings,
@@ -292,7 +294,7 @@ impl Hub {
             reconnect_window: self.config.limits.reconnect_window,
             max_commands: self.config.limits.max_commands(meta.variant),
         };
-        let room = Room::restore(now, meta, rules, number, record, game);
+        let room = Room::restore(now, meta, rules, number, record, game, clock);
         self.index_tokens(&room);
         self.rooms.insert(room.code().clone(), room);
     }
@@ -308,13 +310,7 @@ impl Hub {
     ) -> Vec<Output> {
         let elsewhere = matches!(claimed, Claimed::Elsewhere);
         if let Claimed::Taken(r) = claimed {
-            let Restored {
-                meta,
-                number,
-                record,
-                game,
-            } = *r;
-            self.restore(now, meta, number, record, game);
+            self.restore(now, *r);
         } else if let Claimed::Ended { meta, ending, age } = claimed {
             self.restore_ending(now, &meta, ending, age);
         }
@@ -382,9 +378,10 @@ impl Hub {
         source.conns += 1;
     }
 
-    /// A connection ended: a seated player's seat is held for the reconnect window (after the
+    /// A connection ended, its peer last heard from at `last_heard`: a seated player's seat is
+    /// held for the reconnect window and the shot clock stops as it stood then (after the
     /// room's held events, if it is out).
-    pub fn disconnected(&mut self, now: Instant, conn: ConnId) -> Vec<Output> {
+    pub fn disconnected(&mut self, now: Instant, last_heard: Instant, conn: ConnId) -> Vec<Output> {
         let Some(state) = self.conns.remove(&conn) else {
             return Vec::new();
         };
@@ -395,11 +392,11 @@ impl Hub {
             return Vec::new();
         };
         if let Some(held) = self.away.get_mut(&code) {
-            held.push_back(Held::Disconnect(conn));
+            held.push_back(Held::Disconnect(conn, last_heard));
             return Vec::new();
         }
         match self.rooms.get_mut(&code) {
-            Some(room) => room.disconnect(now, conn),
+            Some(room) => room.disconnect(now, last_heard, conn),
             None => Vec::new(),
         }
     }

@@ -96,6 +96,21 @@ pub enum StoreOp {
         /// The readable reason, as `GameOver` gave it ("abandoned" when nobody could win).
         reason: String,
     },
+    /// The shot clock of a game's current turn: what it has left and whether it runs. The
+    /// store keeps the latest only, stamped with its own clock, so a restarted server can
+    /// give the player to move what they had left (a running clock less the time since).
+    Clock {
+        /// The game's room.
+        room: RoomCode,
+        /// The game's number in the room.
+        number: u32,
+        /// The turn the clock belongs to.
+        turn: u32,
+        /// Milliseconds left when this was written.
+        left_ms: u64,
+        /// Whether the clock was running (both players here) or stopped (one away).
+        running: bool,
+    },
     /// The room closed on this server: a store shared with other instances lets go of it.
     Released(RoomCode),
 }

@@ -6,6 +6,7 @@ use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
 
 use breakshot_shared::physics::Strike;
+use breakshot_shared::protocol::limits::MIN_CLOCK_ON_RETURN;
 use breakshot_shared::protocol::{
     command_of, AimAid, ClientMessage, ErrorCode, Role, RoomCode, Ruling, SeatToken, SeatView,
     ServerMessage, Snapshot,
@@ -52,11 +53,24 @@ struct SeatState {
     deadline: Option<Instant>,
 }
 
+/// The shot clock of the turn being played. It stops at the moment a seated player drops
+/// (for a silent drop, when they were last heard from) and runs again with what was left,
+/// never less than [`MIN_CLOCK_ON_RETURN`], once everyone seated is back.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Clock {
     Off,
     Running { deadline: Instant },
     Paused { left: Duration },
+}
+
+/// The shot clock as the store keeps it, so a restarted server gives the player to move
+/// what they had left rather than a full clock.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ClockLeft {
+    /// The turn the time belongs to; a clock of another turn is not used.
+    pub turn: u32,
+    /// The time left on it.
+    pub left: Duration,
 }
 
 /// A room's fixed choices.
@@ -176,7 +190,8 @@ impl Room {
     }
 
     /// A room brought back from the store after a restart: every seat is away, with a fresh
-    /// reconnect window from `now`, and the shot clock paused.
+    /// reconnect window from `now`, and the shot clock paused with the time `clock` says was
+    /// left on the current turn (a full clock if the store has none for it).
     pub fn restore(
         now: Instant,
         meta: RoomMeta,
@@ -184,6 +199,7 @@ impl Room {
         game_number: u32,
         record: GameRecord,
         game: Game,
+        clock: Option<ClockLeft>,
     ) -> Room {
         let seats = meta.seats.map(|s| {
             s.map(|s| SeatState {
@@ -207,6 +223,11 @@ impl Room {
             closed: false,
         };
         room.restart_clock(now, Duration::ZERO);
+        if let (Clock::Paused { .. }, Some(stored)) = (room.clock, clock) {
+            if stored.turn == room.game.turn() {
+                room.clock = Clock::Paused { left: stored.left };
+            }
+        }
         room
     }
 
@@ -296,6 +317,7 @@ impl Room {
         });
         self.restart_clock(now, Duration::ZERO);
         let mut out = vec![Output::Store(StoreOp::Room(self.meta()))];
+        out.extend(self.store_clock(now));
         out.extend(self.broadcast_except(
             conn,
             ServerMessage::PlayerJoined {
@@ -341,6 +363,7 @@ impl Room {
         let was_away = state.deadline.take().is_some();
         if was_away {
             self.resume_clock(now);
+            out.extend(self.store_clock(now));
         }
         out.extend(self.broadcast_except(conn, ServerMessage::PlayerBack { seat }));
         if was_away {
@@ -411,8 +434,9 @@ impl Room {
         result.unwrap_or_else(|r| error_to(who.conn, r))
     }
 
-    /// A connection went away.
-    pub fn disconnect(&mut self, now: Instant, conn: ConnId) -> Vec<Output> {
+    /// A connection went away; its peer was last heard from at `last_heard` (at most `now`),
+    /// which is when a seated player's shot clock stops.
+    pub fn disconnect(&mut self, now: Instant, last_heard: Instant, conn: ConnId) -> Vec<Output> {
         self.spectators.remove(&conn);
         let Some(seat) = SEATS.into_iter().find(|s| {
             self.seats[index(*s)]
@@ -426,11 +450,13 @@ impl Room {
             state.conn = None;
             state.deadline = Some(now + window);
         }
-        self.pause_clock(now);
-        self.broadcast(ServerMessage::PlayerLeft {
+        self.pause_clock(last_heard.min(now));
+        let mut out: Vec<Output> = self.store_clock(now).into_iter().collect();
+        out.extend(self.broadcast(ServerMessage::PlayerLeft {
             seat,
             reconnect_ms: millis(window),
-        })
+        }));
+        out
     }
 
     /// The earliest instant at which [`Room::tick`] has something to do.
@@ -588,6 +614,8 @@ impl Room {
         } else {
             let animation = Duration::try_from_secs_f64(duration).unwrap_or(Duration::ZERO);
             self.restart_clock(now, animation);
+            // Stored with the command, before anyone hears of the new turn.
+            out.splice(1..1, self.store_clock(now));
             let msg = ServerMessage::TurnChanged {
                 turn: self.game.turn(),
                 to_move: self.game.to_move(),
@@ -664,6 +692,7 @@ impl Room {
         self.called = None;
         self.restart_clock(now, Duration::ZERO);
         let mut out = vec![self.store_start()];
+        out.extend(self.store_clock(now));
         out.extend(self.broadcast(ServerMessage::GameStarted {
             snapshot: Box::new(self.snapshot(now)),
         }));
@@ -751,22 +780,42 @@ impl Room {
         };
     }
 
-    fn pause_clock(&mut self, now: Instant) {
+    /// Stops the clock with the time it had left at `at`.
+    fn pause_clock(&mut self, at: Instant) {
         if let Clock::Running { deadline } = self.clock {
             self.clock = Clock::Paused {
-                left: deadline.saturating_duration_since(now),
+                left: deadline.saturating_duration_since(at),
             };
         }
     }
 
+    /// Runs a paused clock again once everyone seated is here, with what it had left but
+    /// never less than [`MIN_CLOCK_ON_RETURN`].
     fn resume_clock(&mut self, now: Instant) {
         if let Clock::Paused { left } = self.clock {
             if self.everyone_seated_is_here() {
                 self.clock = Clock::Running {
-                    deadline: now + left,
+                    deadline: now + left.max(MIN_CLOCK_ON_RETURN),
                 };
             }
         }
+    }
+
+    /// The shot clock as it stands, to store (nothing when the room has none running or
+    /// paused).
+    fn store_clock(&self, now: Instant) -> Option<Output> {
+        let (left, running) = match self.clock {
+            Clock::Off => return None,
+            Clock::Running { deadline } => (deadline.saturating_duration_since(now), true),
+            Clock::Paused { left } => (left, false),
+        };
+        Some(Output::Store(StoreOp::Clock {
+            room: self.code.clone(),
+            number: self.game_number,
+            turn: self.game.turn(),
+            left_ms: millis(left),
+            running,
+        }))
     }
 
     /// Tells everyone but `conn` how the shot clock stands, when the room has one running:

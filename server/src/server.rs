@@ -469,7 +469,7 @@ fn restore(store: &Store, hub: &mut Hub) -> Result<usize, ServerError> {
     let mut restored = 0;
     for stored in store.unfinished()? {
         if let Some(r) = replayed(stored) {
-            hub.restore(now, r.meta, r.number, r.record, r.game);
+            hub.restore(now, r);
             restored += 1;
         }
     }
@@ -513,6 +513,7 @@ fn replayed(stored: StoredGame) -> Option<Restored> {
                 number: stored.number,
                 record,
                 game,
+                clock: stored.clock.map(|c| c.left_at(crate::store::unix_millis())),
             })
         }
         Err(e) => {
@@ -590,7 +591,7 @@ fn spawn_hub(
                 Vec::new()
             }
             Ok(HubEvent::Message(id, msg, read)) => hub.handle_read(now, read, id, msg),
-            Ok(HubEvent::Disconnected(id)) => hub.disconnected(now, id),
+            Ok(HubEvent::Disconnected(id, last_heard)) => hub.disconnected(now, last_heard, id),
             Ok(HubEvent::Returned(room)) => hub.returned(now, room),
             Ok(HubEvent::Failed(code)) => hub.failed(&code),
             Ok(HubEvent::Claimed(id, token, claimed)) => hub.claimed(now, id, token, claimed),

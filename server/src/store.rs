@@ -12,7 +12,7 @@
 //! async worker.
 
 use std::path::Path;
-use std::time::{SystemTime, UNIX_EPOCH};
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use bincode::config;
 use breakshot_shared::protocol::limits::MAX_RECORD;
@@ -22,6 +22,7 @@ use breakshot_shared::rules::Seat;
 use thiserror::Error;
 
 use crate::output::{RoomMeta, StoreOp};
+use crate::room::ClockLeft;
 use crate::secret::TokenDigest;
 
 mod postgres;
@@ -120,6 +121,40 @@ pub struct StoredGame {
     pub record: Result<GameRecord, RecordError>,
     /// Whether the game's end is stored (a result, or abandoned).
     pub finished: bool,
+    /// The shot clock of its current turn as last stored, if it has one.
+    pub clock: Option<StoredClock>,
+}
+
+/// A game's shot clock as the store last wrote it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StoredClock {
+    /// The turn it belongs to.
+    pub turn: u32,
+    /// Milliseconds left when it was written.
+    pub left_ms: u64,
+    /// Whether it was running then.
+    pub running: bool,
+    /// When it was written (Unix milliseconds, the store's clock).
+    pub at_ms: u64,
+}
+
+impl StoredClock {
+    /// What is left at `now_ms` (Unix milliseconds): a stopped clock keeps its time; a
+    /// running one has lost the time since it was written. A server that was stopped in an
+    /// orderly way stopped every clock first (its players' connections closed); one that
+    /// crashed cannot say when it stopped, so the time it was down counts as played, and the
+    /// returning player still finds at least the room's minimum.
+    pub fn left_at(&self, now_ms: u64) -> ClockLeft {
+        let ran = if self.running {
+            now_ms.saturating_sub(self.at_ms)
+        } else {
+            0
+        };
+        ClockLeft {
+            turn: self.turn,
+            left: Duration::from_millis(self.left_ms.saturating_sub(ran)),
+        }
+    }
 }
 
 /// A stored game that is over, with its room.
@@ -142,6 +177,13 @@ pub fn unix_now() -> u64 {
     SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .map_or(0, |d| d.as_secs())
+}
+
+/// Milliseconds since the Unix epoch, the store's clock for shot clocks.
+pub fn unix_millis() -> u64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| u64::try_from(d.as_millis()).unwrap_or(u64::MAX))
 }
 
 /// The game store on one of its backends. Every call blocks: the server uses it from its

@@ -15,6 +15,7 @@ use glam::DVec2;
 use super::{Claimed, Hub, HubConfig, Restored};
 use crate::limits::Limits;
 use crate::output::{ConnId, Output, StoreOp};
+use crate::room::ClockLeft;
 use crate::secret::TestEntropy;
 
 const WINDOW: Duration = Duration::from_secs(120);
@@ -328,7 +329,7 @@ fn refused_commands_store_nothing_and_change_nothing() {
 fn a_dropped_player_forfeits_only_when_the_window_runs_out() {
     let mut w = World::new();
     let (_, _, token_b) = w.pair(Settings::offline());
-    let out = w.hub.disconnected(w.now, 2);
+    let out = w.hub.disconnected(w.now, w.now, 2);
     assert!(matches!(
         sent_to(&out, 1)[..],
         [ServerMessage::PlayerLeft {
@@ -355,7 +356,7 @@ fn a_dropped_player_forfeits_only_when_the_window_runs_out() {
     assert!(w.advance(WINDOW).is_empty());
 
     // Gone for good this time.
-    w.hub.disconnected(w.now, 3);
+    w.hub.disconnected(w.now, w.now, 3);
     assert!(w.advance(WINDOW - Duration::from_millis(1)).is_empty());
     let out = w.advance(Duration::from_millis(1));
     assert!(sent_to(&out, 1).iter().any(|m| matches!(
@@ -396,17 +397,17 @@ fn the_shot_clock_runs_out_but_pauses_while_a_player_is_away() {
         ..Settings::offline()
     };
     let (room, _, token_b) = w.pair(settings);
-    assert!(w.advance(Duration::from_secs(20)).is_empty());
+    assert!(w.advance(Duration::from_secs(10)).is_empty());
 
-    // B drops with 10 s left on A's clock: the clock stops.
-    w.hub.disconnected(w.now, 2);
+    // B drops with 20 s left on A's clock: the clock stops.
+    w.hub.disconnected(w.now, w.now, 2);
     assert!(w.advance(Duration::from_secs(60)).is_empty());
     assert_eq!(w.game(&room).turn(), 0);
 
-    // B is back: the clock goes on from 10 s.
+    // B is back: the clock goes on from 20 s.
     w.greet(3);
     w.send(3, ClientMessage::Rejoin { token: token_b });
-    assert!(w.advance(Duration::from_secs(9)).is_empty());
+    assert!(w.advance(Duration::from_secs(19)).is_empty());
     let out = w.advance(Duration::from_secs(1));
     assert!(sent_to(&out, 1).iter().any(|m| matches!(
         m,
@@ -416,7 +417,8 @@ fn the_shot_clock_runs_out_but_pauses_while_a_player_is_away() {
             ..
         }
     )));
-    assert_eq!(stores(&out), 1);
+    // The command, and the next turn's clock.
+    assert_eq!(stores(&out), 2);
     assert_eq!(w.game(&room).turn(), 1);
 }
 
@@ -431,12 +433,6 @@ fn every_seat_sees_the_shot_clock_from_the_opening_break_and_after_a_return() {
     w.greet(2);
     let out = w.send(1, create_room(settings, "ann"));
     let (room, _) = joined(&out, 1);
-    let clock_told = |out: &[Output], conn| {
-        sent_to(out, conn).iter().find_map(|m| match m {
-            ServerMessage::TurnChanged { shot_clock_ms, .. } => *shot_clock_ms,
-            _ => None,
-        })
-    };
     // The clock starts when B sits down: the host is told so, B reads it in the snapshot.
     let out = w.send(
         2,
@@ -453,13 +449,152 @@ fn every_seat_sees_the_shot_clock_from_the_opening_break_and_after_a_return() {
     });
     assert_eq!(snapshot_clock, Some(30_000));
 
-    // B drops with 10 s left and comes back: the host learns the clock runs again from 10 s.
-    w.advance(Duration::from_secs(20));
-    w.hub.disconnected(w.now, 2);
+    // B drops with 20 s left and comes back: the host learns the clock runs again from 20 s.
+    w.advance(Duration::from_secs(10));
+    w.hub.disconnected(w.now, w.now, 2);
     w.advance(Duration::from_secs(60));
     w.greet(3);
     let out = w.send(3, ClientMessage::Rejoin { token: token_b });
-    assert_eq!(clock_told(&out, 1), Some(10_000));
+    assert_eq!(clock_told(&out, 1), Some(20_000));
+}
+
+/// The clock of a room with a 30 s shot clock, as `out` tells `conn` (a `TurnChanged`).
+fn clock_told(out: &[Output], conn: ConnId) -> Option<u64> {
+    sent_to(out, conn).iter().find_map(|m| match m {
+        ServerMessage::TurnChanged { shot_clock_ms, .. } => *shot_clock_ms,
+        _ => None,
+    })
+}
+
+/// The last shot clock `out` stores: (turn, ms left, running).
+fn clock_stored(out: &[Output]) -> Option<(u32, u64, bool)> {
+    out.iter().rev().find_map(|o| match o {
+        Output::Store(StoreOp::Clock {
+            turn,
+            left_ms,
+            running,
+            ..
+        }) => Some((*turn, *left_ms, *running)),
+        _ => None,
+    })
+}
+
+fn clocked() -> Settings {
+    Settings {
+        shot_clock: Some(30),
+        ..Settings::offline()
+    }
+}
+
+#[test]
+fn the_clock_stops_when_a_silent_player_was_last_heard_and_the_opponent_is_told_at_once() {
+    let mut w = World::new();
+    let (room, token_a, _) = w.pair(clocked());
+    // A, to move, falls silent after 12 s; the server finds out 5 s later (the idle
+    // timeout). The clock stopped at 12 s, with 18 s left, and B hears of it at once.
+    w.advance(Duration::from_secs(12));
+    let last_heard = w.now;
+    w.now += Duration::from_secs(5);
+    let out = w.hub.disconnected(w.now, last_heard, 1);
+    assert!(matches!(
+        sent_to(&out, 2)[..],
+        [ServerMessage::PlayerLeft { seat: Seat::A, .. }]
+    ));
+    assert_eq!(clock_stored(&out), Some((0, 18_000, false)));
+    // However long A is away, nothing runs out.
+    assert!(w.advance(Duration::from_secs(100)).is_empty());
+
+    // A is back with the 18 s they had.
+    w.greet(3);
+    let out = w.send(3, ClientMessage::Rejoin { token: token_a });
+    let snapshot_clock = sent_to(&out, 3).iter().find_map(|m| match m {
+        ServerMessage::Joined { snapshot, .. } => snapshot.shot_clock_ms,
+        _ => None,
+    });
+    assert_eq!(snapshot_clock, Some(18_000));
+    assert_eq!(clock_told(&out, 2), Some(18_000));
+    assert_eq!(clock_stored(&out), Some((0, 18_000, true)));
+    assert!(w
+        .advance(Duration::from_millis(17_999))
+        .iter()
+        .all(|o| !matches!(o, Output::Send { .. })));
+    let out = w.advance(Duration::from_millis(1));
+    assert!(sent_to(&out, 2).iter().any(|m| matches!(
+        m,
+        ServerMessage::Applied {
+            command: Command::TimeExpired,
+            ..
+        }
+    )));
+    assert_eq!(w.game(&room).turn(), 1);
+}
+
+#[test]
+fn a_player_who_dropped_with_seconds_left_comes_back_to_the_fair_minimum() {
+    let mut w = World::new();
+    let (_, token_a, _) = w.pair(clocked());
+    w.advance(Duration::from_secs(27));
+    w.hub.disconnected(w.now, w.now, 1);
+    w.advance(Duration::from_secs(30));
+    w.greet(3);
+    let out = w.send(3, ClientMessage::Rejoin { token: token_a });
+    let minimum = breakshot_shared::protocol::limits::MIN_CLOCK_ON_RETURN;
+    assert_eq!(
+        clock_told(&out, 2),
+        Some(u64::try_from(minimum.as_millis()).unwrap())
+    );
+}
+
+#[test]
+fn a_restored_room_gives_the_player_to_move_the_time_stored_not_a_full_clock() {
+    let mut first = World::new();
+    let (room, token_a, token_b) = first.pair(clocked());
+    first.advance(Duration::from_secs(8));
+    // The server stops: both connections close, and each stop of the clock is stored.
+    first.hub.disconnected(first.now, first.now, 2);
+    let out = first.hub.disconnected(first.now, first.now, 1);
+    assert_eq!(clock_stored(&out), Some((0, 22_000, false)));
+    let left = first.hub.room(&room).unwrap();
+    let restored = Restored {
+        meta: left.meta(),
+        number: left.game_number(),
+        record: left.record().clone(),
+        game: left.game().clone(),
+        clock: Some(ClockLeft {
+            turn: 0,
+            left: Duration::from_secs(22),
+        }),
+    };
+
+    let mut second = World::new();
+    second.hub.restore(second.now, restored);
+    second.greet(1);
+    second.greet(2);
+    second.send(1, ClientMessage::Rejoin { token: token_a });
+    let out = second.send(2, ClientMessage::Rejoin { token: token_b });
+    assert_eq!(clock_told(&out, 1), Some(22_000));
+
+    // A clock stored for another turn is not used: the turn gets a full clock.
+    let mut third = World::new();
+    let left = first.hub.room(&room).unwrap();
+    third.hub.restore(
+        third.now,
+        Restored {
+            meta: left.meta(),
+            number: left.game_number(),
+            record: left.record().clone(),
+            game: left.game().clone(),
+            clock: Some(ClockLeft {
+                turn: 7,
+                left: Duration::from_secs(22),
+            }),
+        },
+    );
+    third.greet(1);
+    third.greet(2);
+    third.send(1, ClientMessage::Rejoin { token: token_a });
+    let out = third.send(2, ClientMessage::Rejoin { token: token_b });
+    assert_eq!(clock_told(&out, 1), Some(30_000));
 }
 
 #[test]
@@ -692,7 +827,7 @@ fn an_address_may_hold_only_so_many_open_rooms() {
     let out = w.send(99, create.clone());
     assert_eq!(error_code(&out, 99), Some(ErrorCode::ServerBusy));
     // A room that closes (its creator left and nobody joined) frees a place.
-    w.hub.disconnected(w.now, 100);
+    w.hub.disconnected(w.now, w.now, 100);
     w.advance(WINDOW + Duration::from_secs(1));
     let out = w.send(99, create);
     joined(&out, 99);
@@ -799,12 +934,12 @@ fn a_player_away_when_the_game_ended_is_told_the_result_after_the_room_is_gone()
     let mut w = World::new();
     let (room, _, token_b) = w.pair(Settings::offline());
     // B drops; A takes the last shot (concedes here), then leaves too.
-    w.hub.disconnected(w.now, 2);
+    w.hub.disconnected(w.now, w.now, 2);
     let out = w.send(1, ClientMessage::Concede);
     assert!(sent_to(&out, 1)
         .iter()
         .any(|m| matches!(m, ServerMessage::GameOver { .. })));
-    w.hub.disconnected(w.now, 1);
+    w.hub.disconnected(w.now, w.now, 1);
     w.advance(WINDOW + Duration::from_secs(1));
     assert!(w.hub.room(&room).is_none(), "the room is still open");
 
@@ -958,7 +1093,7 @@ fn a_player_who_leaves_while_the_room_is_out_is_seen_leaving_after_its_results()
     let Some(Output::Run(work)) = out.pop() else {
         panic!("the shot is not lent out with its room");
     };
-    assert!(w.hub.disconnected(w.now, 2).is_empty());
+    assert!(w.hub.disconnected(w.now, w.now, 2).is_empty());
     let (worked, back) = work.run(w.now);
     assert!(sent_to(&worked, 2)
         .iter()
@@ -1001,6 +1136,7 @@ fn with_a_shared_store_an_unknown_seat_is_claimed_and_its_room_rebuilt_or_refuse
         number,
         record,
         game: game.clone(),
+        clock: None,
     };
     let out = other
         .hub

@@ -8,8 +8,8 @@ use breakshot_shared::replay::{self, GameRecord, RecordEntry, RECORD_VERSION};
 use rusqlite::{params, Connection, OptionalExtension};
 
 use super::{
-    assemble, decode_meta, encode_meta, seat_number, seat_of, unix_now, EndedGame, StoreError,
-    StoredGame,
+    assemble, decode_meta, encode_meta, seat_number, seat_of, unix_millis, unix_now, EndedGame,
+    StoreError, StoredClock, StoredGame,
 };
 use crate::output::StoreOp;
 
@@ -76,7 +76,16 @@ impl SqliteStore {
                  entry BLOB NOT NULL,
                  PRIMARY KEY (room, number, idx)
              ) WITHOUT ROWID;
-             CREATE INDEX IF NOT EXISTS games_finished ON games (finished, finished_at);",
+             CREATE INDEX IF NOT EXISTS games_finished ON games (finished, finished_at);
+             CREATE TABLE IF NOT EXISTS clocks (
+                 room TEXT NOT NULL,
+                 number INTEGER NOT NULL,
+                 turn INTEGER NOT NULL,
+                 left_ms INTEGER NOT NULL,
+                 running INTEGER NOT NULL,
+                 at_ms INTEGER NOT NULL,
+                 PRIMARY KEY (room, number)
+             ) WITHOUT ROWID;",
         )?;
         if version < 3 {
             rewrite_old_records(&tx)?;
@@ -142,6 +151,29 @@ impl SqliteStore {
                         winner.map(seat_number),
                         reason,
                         i64::try_from(at).unwrap_or(i64::MAX)
+                    ])?;
+                }
+                StoreOp::Clock {
+                    room,
+                    number,
+                    turn,
+                    left_ms,
+                    running,
+                } => {
+                    tx.prepare_cached(
+                        "INSERT INTO clocks (room, number, turn, left_ms, running, at_ms)
+                         VALUES (?1, ?2, ?3, ?4, ?5, ?6)
+                         ON CONFLICT(room, number) DO UPDATE
+                         SET turn = excluded.turn, left_ms = excluded.left_ms,
+                             running = excluded.running, at_ms = excluded.at_ms",
+                    )?
+                    .execute(params![
+                        room.as_str(),
+                        number,
+                        turn,
+                        i64::try_from(*left_ms).unwrap_or(i64::MAX),
+                        running,
+                        i64::try_from(unix_millis()).unwrap_or(i64::MAX)
                     ])?;
                 }
                 // One server owns every room of its own SQLite file.
@@ -254,8 +286,10 @@ impl SqliteStore {
 
     fn games(&self, filter: &str) -> Result<Vec<StoredGame>, StoreError> {
         let sql = format!(
-            "SELECT r.code, r.meta, g.number, g.header, g.finished
-             FROM games g JOIN rooms r ON r.code = g.room {filter}
+            "SELECT r.code, r.meta, g.number, g.header, g.finished,
+                    c.turn, c.left_ms, c.running, c.at_ms
+             FROM games g JOIN rooms r ON r.code = g.room
+             LEFT JOIN clocks c ON c.room = g.room AND c.number = g.number {filter}
              ORDER BY g.room, g.number"
         );
         let mut stmt = self.db.prepare(&sql)?;
@@ -266,11 +300,17 @@ impl SqliteStore {
                 r.get::<_, u32>(2)?,
                 r.get::<_, Vec<u8>>(3)?,
                 r.get::<_, bool>(4)?,
+                clock_of(
+                    r.get::<_, Option<u32>>(5)?,
+                    r.get::<_, Option<i64>>(6)?,
+                    r.get::<_, Option<bool>>(7)?,
+                    r.get::<_, Option<i64>>(8)?,
+                ),
             ))
         })?;
         let mut out = Vec::new();
         for row in rows {
-            let (code, meta, number, header, finished) = row?;
+            let (code, meta, number, header, finished, clock) = row?;
             let record = assemble(&header, self.entries(&code, number)?);
             let meta = decode_meta(&meta).map_err(|why| StoreError::Meta { room: code, why })?;
             out.push(StoredGame {
@@ -278,10 +318,26 @@ impl SqliteStore {
                 number,
                 record,
                 finished,
+                clock,
             });
         }
         Ok(out)
     }
+}
+
+/// A stored clock row, if the game has one.
+fn clock_of(
+    turn: Option<u32>,
+    left_ms: Option<i64>,
+    running: Option<bool>,
+    at_ms: Option<i64>,
+) -> Option<StoredClock> {
+    Some(StoredClock {
+        turn: turn?,
+        left_ms: u64::try_from(left_ms?).unwrap_or(0),
+        running: running?,
+        at_ms: u64::try_from(at_ms?).unwrap_or(0),
+    })
 }
 
 /// Rewrites every game stored in an older record format, its header and its command rows, in
