@@ -498,7 +498,13 @@ impl Hub {
                 error(conn, ErrorCode::Unexpected, "already greeted")
             }
             // Only the store knows every game (a room that ended is no longer here).
-            (ClientMessage::FetchRecord { room }, _) => vec![Output::SendRecord { to: conn, room }],
+            (ClientMessage::FetchRecord { room, game }, _) => {
+                vec![Output::SendRecord {
+                    to: conn,
+                    room,
+                    game,
+                }]
+            }
             (
                 ClientMessage::CreateRoom { .. }
                 | ClientMessage::Join { .. }

@@ -32,14 +32,16 @@ pub enum Output {
     /// Store durably. Every `Send` after a `Store` in the same list must wait until the
     /// store is done: that is how nothing is shown before it is safe on disk.
     Store(StoreOp),
-    /// Send `to` the stored record of `room`'s latest game (or an error). The writer reads
+    /// Send `to` the stored record of one of `room`'s games (or an error). The writer reads
     /// it after committing every earlier store operation, so it holds every result already
     /// sent.
     SendRecord {
         /// The connection that sent `FetchRecord`.
         to: ConnId,
-        /// The room whose latest game is sent, finished or not.
+        /// The room whose game is sent, finished or not.
         room: RoomCode,
+        /// The game's number in the room; `None` for the latest.
+        game: Option<u32>,
     },
     /// Ask the store for the room of an unknown seat token, in a store shared with other
     /// server instances: the room may have been left by an instance that stopped. The answer

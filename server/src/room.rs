@@ -173,6 +173,7 @@ impl Room {
             rematch: [false; 2],
             closed: false,
         };
+        room.record = room.start_record(seed);
         room.restart_clock(now, Duration::ZERO);
         let out = vec![
             Output::Store(StoreOp::Room(room.meta())),
@@ -317,6 +318,12 @@ impl Room {
         });
         self.restart_clock(now, Duration::ZERO);
         let mut out = vec![Output::Store(StoreOp::Room(self.meta()))];
+        // The record names both players. Only a practice room can have played before its
+        // second seat is taken; its record keeps the one name it started with.
+        if self.record.entries.is_empty() {
+            self.record.name_player(Seat::B, &name);
+            out.push(self.store_start());
+        }
         out.extend(self.store_clock(now));
         out.extend(self.broadcast_except(
             conn,
@@ -686,7 +693,7 @@ impl Room {
             .wrapping_mul(0x9e37_79b9_7f4a_7c15)
             .wrapping_add(u64::from(self.game_number));
         self.game = Game::new(self.rules.variant, self.rules.settings, seed);
-        self.record = GameRecord::new(self.rules.variant, self.rules.settings, seed);
+        self.record = self.start_record(seed);
         self.game_number += 1;
         self.rematch = [false; 2];
         self.called = None;
@@ -704,6 +711,17 @@ impl Room {
             .as_ref()
             .map_or_else(String::new, |s| s.name.clone());
         self.broadcast(ServerMessage::Chat { from, text })
+    }
+
+    /// The record of a new game of this room from `seed`, naming the players seated.
+    fn start_record(&self, seed: u64) -> GameRecord {
+        let mut record = GameRecord::new(self.rules.variant, self.rules.settings, seed);
+        for seat in SEATS {
+            if let Some(s) = &self.seats[seat.index()] {
+                record.name_player(seat, &s.name);
+            }
+        }
+        record
     }
 
     /// Stores the start of the current game (its record's header).

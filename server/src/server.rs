@@ -183,8 +183,8 @@ impl Server {
         // where it is used from then on, is one too).
         let (store, restored) = std::thread::scope(|s| {
             s.spawn(|| -> Result<_, ServerError> {
-                let store = Store::at(&config.store)?;
-                let restored = restore(&store, &mut hub)?;
+                let mut store = Store::at(&config.store)?;
+                let restored = restore(&mut store, &mut hub)?;
                 Ok((store, restored))
             })
             .join()
@@ -463,11 +463,13 @@ pub async fn run(config: Config, shutdown: impl Future<Output = ()>) -> Result<(
     Server::bind(&config)?.run(shutdown).await
 }
 
-/// Replays every unfinished game, checking each stored hash, and hands it to the hub.
-fn restore(store: &Store, hub: &mut Hub) -> Result<usize, ServerError> {
+/// Replays every unfinished game, checking each stored hash, and hands it to the hub (a
+/// game stored in an older record format is written again in the current one first).
+fn restore(store: &mut Store, hub: &mut Hub) -> Result<usize, ServerError> {
     let now = Instant::now();
     let mut restored = 0;
     for stored in store.unfinished()? {
+        store.upgrade(&stored)?;
         if let Some(r) = replayed(stored) {
             hub.restore(now, r);
             restored += 1;
@@ -526,9 +528,9 @@ fn replayed(stored: StoredGame) -> Option<Restored> {
 /// Asks the store for the room of a seat no room here knows (see [`Store::claim`]). A room
 /// taken over is replayed here, on the writer thread, holding up other writes for that long:
 /// a takeover is rare, and a game's replay is bounded by its length limit.
-fn claim(store: &Store, token: &SeatToken) -> Claimed {
+fn claim(store: &mut Store, token: &SeatToken) -> Claimed {
     match store.claim(&TokenDigest::of(token)) {
-        Ok(Claim::Taken(stored)) => match replayed(*stored) {
+        Ok(Claim::Taken(stored)) => match store.upgrade(&stored).ok().and(replayed(*stored)) {
             Some(r) => {
                 tracing::info!(room = %r.meta.code, "room taken over from a stopped instance");
                 Claimed::Taken(Box::new(r))
@@ -693,12 +695,12 @@ fn spawn_writer(
                                 Output::Store(_) | Output::Run(_) => continue,
                                 // Read after every earlier write is committed, as records are.
                                 Output::Claim { conn, token } => {
-                                    let claimed = claim(&store, &token);
+                                    let claimed = claim(&mut store, &token);
                                     let _ = hub.send(HubEvent::Claimed(conn, token, claimed));
                                     continue;
                                 }
-                                Output::SendRecord { to, room } => {
-                                    (to, Outbound::Message(records::answer(&store, &room)))
+                                Output::SendRecord { to, room, game } => {
+                                    (to, Outbound::Message(records::answer(&store, &room, game)))
                                 }
                             };
                             let Some(outlet) = conns.get(&to) else {

@@ -35,6 +35,7 @@ fn place(i: u32) -> RecordEntry {
             pos: [0.5, f64::from(i)],
         },
         hash: Some(u64::from(i)),
+        chain: u64::from(i),
     }
 }
 

@@ -27,7 +27,10 @@ pub use host::{
 };
 pub use link::{NetLink, NoRoom};
 pub use pinned::client_config;
-pub use records::{fetch_record, fetch_record_blocking, FetchError, FetchedRecord, FETCH_TIMEOUT};
+pub use records::{
+    fetch_game, fetch_game_blocking, fetch_record, fetch_record_blocking, FetchError,
+    FetchedRecord, FETCH_TIMEOUT,
+};
 pub use seats::{hosted_from, Remembered, SeatStore};
 pub use session::{Session, SessionEvent};
 

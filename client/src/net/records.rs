@@ -42,7 +42,7 @@ pub enum FetchError {
     Runtime(String),
 }
 
-/// A room's latest game as the server stores it.
+/// One of a room's games as the server stores it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FetchedRecord {
     /// The room the game was played in.
@@ -58,8 +58,19 @@ pub struct FetchedRecord {
 /// Fetches the record of `room`'s latest game from the server `server` names (its room, if
 /// any, is ignored). Gives up after [`FETCH_TIMEOUT`].
 pub async fn fetch_record(server: &Invite, room: &RoomCode) -> Result<FetchedRecord, FetchError> {
+    fetch_game(server, room, None).await
+}
+
+/// Fetches the record of game `game` of `room` (numbered from 1; `None`: the latest), as
+/// [`fetch_record`] does. A number the room has not reached is refused with
+/// [`ErrorCode::NoSuchGame`], whose message says how many games it has.
+pub async fn fetch_game(
+    server: &Invite,
+    room: &RoomCode,
+    game: Option<u32>,
+) -> Result<FetchedRecord, FetchError> {
     let ep = endpoint()?;
-    let fetched = tokio::time::timeout(FETCH_TIMEOUT, fetch_on(&ep, server, room)).await;
+    let fetched = tokio::time::timeout(FETCH_TIMEOUT, fetch_on(&ep, server, room, game)).await;
     ep.close(0u32.into(), b"done");
     fetched.map_err(|_| FetchError::Timeout {
         authority: server.authority(),
@@ -71,21 +82,34 @@ pub fn fetch_record_blocking(
     server: &Invite,
     room: &RoomCode,
 ) -> Result<FetchedRecord, FetchError> {
+    fetch_game_blocking(server, room, None)
+}
+
+/// [`fetch_game`] for code outside an async runtime (it makes a small one).
+pub fn fetch_game_blocking(
+    server: &Invite,
+    room: &RoomCode,
+    game: Option<u32>,
+) -> Result<FetchedRecord, FetchError> {
     let runtime = tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()
         .map_err(|e| FetchError::Runtime(e.to_string()))?;
-    runtime.block_on(fetch_record(server, room))
+    runtime.block_on(fetch_game(server, room, game))
 }
 
 async fn fetch_on(
     ep: &quinn::Endpoint,
     server: &Invite,
     room: &RoomCode,
+    game: Option<u32>,
 ) -> Result<FetchedRecord, FetchError> {
     let mut conn = Channel::open(ep, server).await?;
-    conn.send(&ClientMessage::FetchRecord { room: room.clone() })
-        .await?;
+    conn.send(&ClientMessage::FetchRecord {
+        room: room.clone(),
+        game,
+    })
+    .await?;
     let answer = conn.recv().await?;
     conn.quic().close(0u32.into(), b"done");
     interpret(room, answer)

@@ -770,14 +770,26 @@ fn a_record_is_fetched_without_a_seat_but_only_after_hello() {
     let mut w = World::new();
     let room = RoomCode::parse("K7QX2M4B").unwrap();
     w.hub.connected(w.now, 5, PEER);
-    let out = w.send(5, ClientMessage::FetchRecord { room: room.clone() });
+    let out = w.send(
+        5,
+        ClientMessage::FetchRecord {
+            room: room.clone(),
+            game: None,
+        },
+    );
     assert!(matches!(out.last(), Some(Output::Close { conn: 5, .. })));
     assert!(!out.iter().any(|o| matches!(o, Output::SendRecord { .. })));
 
     w.greet(6);
-    let out = w.send(6, ClientMessage::FetchRecord { room: room.clone() });
+    let out = w.send(
+        6,
+        ClientMessage::FetchRecord {
+            room: room.clone(),
+            game: Some(1),
+        },
+    );
     assert!(
-        matches!(&out[..], [Output::SendRecord { to: 6, room: r }] if *r == room),
+        matches!(&out[..], [Output::SendRecord { to: 6, room: r, game: Some(1) }] if *r == room),
         "{out:?}"
     );
 }

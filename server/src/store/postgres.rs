@@ -20,8 +20,8 @@ use breakshot_shared::protocol::RoomCode;
 use postgres::{Client, NoTls, Statement};
 
 use super::{
-    assemble, decode_meta, encode_meta, seat_number, seat_of, unix_millis, unix_now, Claim,
-    EndedGame, StoreError, StoredClock, StoredGame,
+    assemble, decode_meta, encode_meta, seat_number, seat_of, stored_format, unix_millis, unix_now,
+    Claim, EndedGame, StoreError, StoredClock, StoredGame,
 };
 use crate::output::StoreOp;
 use crate::secret::TokenDigest;
@@ -327,6 +327,7 @@ impl PgStore {
                 number,
                 record,
                 finished: row.get(4),
+                format: stored_format(&header),
                 clock,
             });
         }
@@ -375,6 +376,15 @@ impl PgStore {
     }
 
     /// The latest game of `room`: (number, finished).
+    /// Whether game `number` of `room` is over, if it is stored.
+    pub(super) fn finished(&self, room: &str, number: u32) -> Result<Option<bool>, StoreError> {
+        let row = self.db.borrow_mut().query_opt(
+            "SELECT finished FROM games WHERE room = $1 AND number = $2",
+            &[&room, &int(number)],
+        )?;
+        Ok(row.map(|r| r.get(0)))
+    }
+
     pub(super) fn latest_game(&self, room: &str) -> Result<Option<(u32, bool)>, StoreError> {
         let latest = self.db.borrow_mut().query_opt(
             "SELECT number, finished FROM games WHERE room = $1 ORDER BY number DESC LIMIT 1",

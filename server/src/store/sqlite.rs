@@ -8,8 +8,8 @@ use breakshot_shared::replay::{self, GameRecord, RecordEntry, RECORD_VERSION};
 use rusqlite::{params, Connection, OptionalExtension};
 
 use super::{
-    assemble, decode_meta, encode_meta, seat_number, seat_of, unix_millis, unix_now, EndedGame,
-    StoreError, StoredClock, StoredGame,
+    assemble, decode_meta, encode_meta, seat_number, seat_of, stored_format, unix_millis, unix_now,
+    EndedGame, StoreError, StoredClock, StoredGame,
 };
 use crate::output::StoreOp;
 
@@ -262,6 +262,18 @@ impl SqliteStore {
             .optional()?)
     }
 
+    /// Whether game `number` of `room` is over, if it is stored.
+    pub(super) fn finished(&self, room: &str, number: u32) -> Result<Option<bool>, StoreError> {
+        Ok(self
+            .db
+            .query_row(
+                "SELECT finished FROM games WHERE room = ?1 AND number = ?2",
+                params![room, number],
+                |r| r.get(0),
+            )
+            .optional()?)
+    }
+
     /// The latest game of `room`: (number, finished).
     pub(super) fn latest_game(&self, room: &str) -> Result<Option<(u32, bool)>, StoreError> {
         Ok(self
@@ -318,6 +330,7 @@ impl SqliteStore {
                 number,
                 record,
                 finished,
+                format: stored_format(&header),
                 clock,
             });
         }
@@ -363,16 +376,22 @@ fn rewrite_old_records(tx: &Connection) -> Result<(), StoreError> {
             .collect::<Result<_, _>>()?;
         let Ok(entries) = rows
             .iter()
-            .map(|(idx, bytes)| RecordEntry::decode_version(bytes, version).map(|e| (idx, e)))
+            .map(|(_, bytes)| RecordEntry::decode_version(bytes, version))
             .collect::<Result<Vec<_>, _>>()
         else {
             continue;
         };
+        // The whole record, to write its chain of hashes in the current format.
+        let mut whole = GameRecord {
+            entries,
+            ..record.clone()
+        };
+        whole.rechain();
         tx.execute(
             "UPDATE games SET header = ?3 WHERE room = ?1 AND number = ?2",
             params![room, number, record.encode()],
         )?;
-        for (idx, entry) in entries {
+        for ((idx, _), entry) in rows.iter().zip(&whole.entries) {
             tx.execute(
                 "UPDATE commands SET entry = ?4 WHERE room = ?1 AND number = ?2 AND idx = ?3",
                 params![room, number, idx, entry.encode()],
@@ -410,6 +429,7 @@ mod tests {
                 pos: [0.5, f64::from(i)],
             },
             hash: None,
+            chain: 0,
         }
     }
 
@@ -450,9 +470,18 @@ mod tests {
         let tmp = breakshot_testkit::scratch("format");
         let dir = tmp.path().to_path_buf();
         let code = RoomCode::parse("EEEEEEEE").unwrap();
-        let mut header = GameRecord::new(Variant::Practice, Settings::offline(), 5).encode();
-        // A header with no entries is laid out alike in both formats but for its version.
-        header[0] = 1;
+        // A format-1 header: version, variant, settings, seed and no entries.
+        let header = bincode::serde::encode_to_vec(
+            (
+                1u32,
+                Variant::Practice,
+                Settings::offline(),
+                5u64,
+                Vec::<u8>::new(),
+            ),
+            config::standard(),
+        )
+        .unwrap();
         // One format-1 command row: seat A, a level shot (speed 1.5 along +y, tip 0.25 high,
         // no elevation field), pocket 2 called, a hash; the bytes of the pinned format-1
         // record in shared/tests/rules_record.rs.
@@ -492,9 +521,13 @@ mod tests {
                 call: Some(2),
             },
             hash: Some(0x0123_4567_89ab_cdef),
+            chain: 0,
         };
+        // A record of format 1 names no physics; read back, its chain is written.
         let mut record = GameRecord::new(Variant::Practice, Settings::offline(), 5);
+        record.physics = None;
         record.entries.push(shot);
+        record.rechain();
         assert_eq!(store.unfinished().unwrap()[0].record, Ok(record.clone()));
         // The game goes on with rows of the current format only.
         let op = StoreOp::Command {

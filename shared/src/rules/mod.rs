@@ -201,7 +201,8 @@ impl Seat {
         }
     }
 
-    fn index(self) -> usize {
+    /// Where the seat sits in two-seat arrays (`[A, B]`): 0 for A, 1 for B.
+    pub fn index(self) -> usize {
         match self {
             Seat::A => 0,
             Seat::B => 1,
