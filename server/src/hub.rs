@@ -22,7 +22,7 @@ use breakshot_shared::rules::{Game, Phase, Seat};
 
 use crate::endings::{Ending, Endings};
 use crate::limits::Limits;
-use crate::output::{ConnId, Output, RoomMeta, StoreOp};
+use crate::output::{ConnId, RoomMeta, RoomOutput, StoreOp};
 use crate::ratelimit::Bucket;
 use crate::room::{ClockLeft, Entry, Room, RoomRules, Who};
 use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
@@ -121,8 +121,51 @@ pub struct Hub {
     rng: Box<dyn Entropy>,
 }
 
+/// What the hub asks its driver to do, in order: what its rooms ask, and what only the hub
+/// does (lend a room out, read the store for a seat or a record).
+#[derive(Debug)]
+pub enum Output {
+    /// A send, close or store, as a room asks them (the hub's own sends and closes too).
+    Room(RoomOutput),
+    /// Send `to` the stored record of one of `room`'s games (or an error). The writer reads
+    /// it after committing every earlier store operation, so it holds every result already
+    /// sent.
+    SendRecord {
+        /// The connection that sent `FetchRecord`.
+        to: ConnId,
+        /// The room whose game is sent, finished or not.
+        room: RoomCode,
+        /// The game's number in the room; `None` for the latest.
+        game: Option<u32>,
+    },
+    /// Ask the store for the room of an unknown seat token, in a store shared with other
+    /// server instances: the room may have been left by an instance that stopped. The answer
+    /// goes back to [`Hub::claimed`]. Everything before it in the list comes first.
+    Claim {
+        /// The connection rejoining; its entry waits for the answer.
+        conn: ConnId,
+        /// The seat token it sent; the store is asked only for its digest.
+        token: SeatToken,
+    },
+    /// Run a message through its room away from the hub (see [`crate::work`]): carry out
+    /// the outputs the work returns, then give the room back with [`Hub::returned`].
+    /// Everything before it in the list comes first.
+    Run(RoomWork),
+}
+
+impl From<RoomOutput> for Output {
+    fn from(o: RoomOutput) -> Output {
+        Output::Room(o)
+    }
+}
+
+/// A room's outputs as the hub's.
+fn lift(out: Vec<RoomOutput>) -> Vec<Output> {
+    out.into_iter().map(Output::Room).collect()
+}
+
 fn send(to: ConnId, msg: ServerMessage) -> Output {
-    Output::Send { to, msg }
+    Output::Room(RoomOutput::Send { to, msg })
 }
 
 fn error(to: ConnId, code: ErrorCode, message: impl Into<String>) -> Vec<Output> {
@@ -205,7 +248,7 @@ impl Hub {
                 }
                 Held::Disconnect(conn, last_heard) => {
                     if let Some(room) = self.rooms.get_mut(&code) {
-                        out.extend(room.disconnect(now, last_heard, conn));
+                        out.extend(lift(room.disconnect(now, last_heard, conn)));
                     }
                 }
             }
@@ -242,7 +285,9 @@ impl Hub {
             }
         }
         if self.config.shared_store {
-            out.push(Output::Store(StoreOp::Released(code.clone())));
+            out.push(Output::Room(RoomOutput::Store(StoreOp::Released(
+                code.clone(),
+            ))));
         }
         out
     }
@@ -396,7 +441,7 @@ impl Hub {
             return Vec::new();
         }
         match self.rooms.get_mut(&code) {
-            Some(room) => room.disconnect(now, last_heard, conn),
+            Some(room) => lift(room.disconnect(now, last_heard, conn)),
             None => Vec::new(),
         }
     }
@@ -419,10 +464,10 @@ impl Hub {
             return Vec::new();
         };
         if !state.messages.take(now) {
-            return vec![Output::Close {
+            return vec![Output::Room(RoomOutput::Close {
                 conn,
                 reason: "too many messages".into(),
-            }];
+            })];
         }
         if !state.greeted {
             return self.hello(conn, msg);
@@ -536,7 +581,7 @@ impl Hub {
                 Some(r) => {
                     let entry = r.spectate(now, conn, MAX_SPECTATORS);
                     self.entered(conn, room, &entry);
-                    entry.out
+                    lift(entry.out)
                 }
                 None => error(conn, ErrorCode::NoSuchRoom, format!("no room {room}")),
             },
@@ -556,7 +601,7 @@ impl Hub {
         let mut out = Vec::new();
         for room in self.rooms.values_mut() {
             if room.next_deadline().is_some_and(|d| d <= now) || room.is_closed() {
-                out.extend(room.tick(now));
+                out.extend(lift(room.tick(now)));
             }
         }
         let closed: Vec<RoomCode> = self
@@ -568,7 +613,9 @@ impl Hub {
         self.endings.expire(now);
         for code in closed {
             if self.config.shared_store {
-                out.push(Output::Store(StoreOp::Released(code.clone())));
+                out.push(Output::Room(RoomOutput::Store(StoreOp::Released(
+                    code.clone(),
+                ))));
             }
             self.tokens.retain(|_, (c, _)| *c != code);
             if let Some(room) = self.rooms.remove(&code) {
@@ -667,7 +714,7 @@ impl Hub {
                     reason: reason.clone(),
                 },
             ),
-            Output::Close { conn, reason },
+            Output::Room(RoomOutput::Close { conn, reason }),
         ]
     }
 
@@ -711,7 +758,7 @@ impl Hub {
             }
         }
         self.set_room(conn, code, Role::Player(Seat::A));
-        out
+        lift(out)
     }
 
     fn join(&mut self, now: Instant, conn: ConnId, code: RoomCode, name: String) -> Vec<Output> {
@@ -725,7 +772,7 @@ impl Hub {
                 .insert(TokenDigest::of(&token), (code.clone(), Seat::B));
         }
         self.entered(conn, code, &entry);
-        entry.out
+        lift(entry.out)
     }
 
     /// A seat token's player comes back; with `claim`, a token no room here knows is looked
@@ -753,7 +800,7 @@ impl Hub {
         };
         let entry = room.rejoin(now, conn, seat, token);
         self.entered(conn, code, &entry);
-        entry.out
+        lift(entry.out)
     }
 
     /// Indexes what an entry point did: `conn` is in room `code` with its role, and the
@@ -798,7 +845,7 @@ impl Hub {
 /// Whether the outputs tell `conn` how its game ended (a valid token of a finished game).
 fn told_result(out: &[Output], conn: ConnId) -> bool {
     out.iter().any(
-        |o| matches!(o, Output::Send { to, msg: ServerMessage::GameFinished { .. } } if *to == conn),
+        |o| matches!(o, Output::Room(RoomOutput::Send { to, msg: ServerMessage::GameFinished { .. } }) if *to == conn),
     )
 }
 

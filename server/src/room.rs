@@ -1,6 +1,6 @@
 //! One room as a pure state machine: two seats, spectators, the game, its record, the shot
 //! clock and the reconnect windows. It never touches a socket or a clock: the caller passes
-//! `now` and carries out the [`Output`]s it returns, in order.
+//! `now` and carries out the [`RoomOutput`]s it returns, in order.
 
 use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
@@ -14,24 +14,8 @@ use breakshot_shared::protocol::{
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Command, Game, Phase, RuleError, Seat, Settings, Variant};
 
-use crate::output::{ConnId, Output, RoomMeta, StoreOp, StoredSeat};
+use crate::output::{ConnId, RoomMeta, RoomOutput, StoreOp, StoredSeat};
 use crate::secret::TokenDigest;
-
-/// Where `seat` sits in a room's two-seat arrays (`[A, B]`, as in [`RoomMeta::seats`]).
-pub fn index(seat: Seat) -> usize {
-    match seat {
-        Seat::A => 0,
-        Seat::B => 1,
-    }
-}
-
-/// The opponent of `seat`.
-pub fn other(seat: Seat) -> Seat {
-    match seat {
-        Seat::A => Seat::B,
-        Seat::B => Seat::A,
-    }
-}
 
 const SEATS: [Seat; 2] = [Seat::A, Seat::B];
 
@@ -113,8 +97,8 @@ fn refuse(code: ErrorCode, message: impl Into<String>) -> Refusal {
     (code, message.into())
 }
 
-fn error_to(conn: ConnId, (code, message): Refusal) -> Vec<Output> {
-    vec![Output::Send {
+fn error_to(conn: ConnId, (code, message): Refusal) -> Vec<RoomOutput> {
+    vec![RoomOutput::Send {
         to: conn,
         msg: ServerMessage::Error { code, message },
     }]
@@ -129,7 +113,7 @@ pub struct Entry {
     /// The older connection that held the seat and is closed by `out`.
     pub replaced: Option<ConnId>,
     /// What to send and store.
-    pub out: Vec<Output>,
+    pub out: Vec<RoomOutput>,
 }
 
 impl Entry {
@@ -153,7 +137,7 @@ impl Room {
         creator: ConnId,
         name: String,
         token: SeatToken,
-    ) -> (Room, Vec<Output>) {
+    ) -> (Room, Vec<RoomOutput>) {
         let seat = SeatState {
             name,
             digest: TokenDigest::of(&token),
@@ -176,9 +160,9 @@ impl Room {
         room.record = room.start_record(seed);
         room.restart_clock(now, Duration::ZERO);
         let out = vec![
-            Output::Store(StoreOp::Room(room.meta())),
+            RoomOutput::Store(StoreOp::Room(room.meta())),
             room.store_start(),
-            Output::Send {
+            RoomOutput::Send {
                 to: creator,
                 msg: ServerMessage::Joined {
                     role: Role::Player(Seat::A),
@@ -262,7 +246,7 @@ impl Room {
     pub fn seat_digests(&self) -> impl Iterator<Item = (Seat, TokenDigest)> + '_ {
         SEATS
             .into_iter()
-            .filter_map(|s| self.seats[index(s)].as_ref().map(|st| (s, st.digest)))
+            .filter_map(|s| self.seats[s.index()].as_ref().map(|st| (s, st.digest)))
     }
 
     /// The room's lasting facts as the store keeps them: settings, and seats by token digest.
@@ -317,7 +301,7 @@ impl Room {
             deadline: None,
         });
         self.restart_clock(now, Duration::ZERO);
-        let mut out = vec![Output::Store(StoreOp::Room(self.meta()))];
+        let mut out = vec![RoomOutput::Store(StoreOp::Room(self.meta()))];
         // The record names both players. Only a practice room can have played before its
         // second seat is taken; its record keeps the one name it started with.
         if self.record.entries.is_empty() {
@@ -335,7 +319,7 @@ impl Room {
         // The game starts now: the others learn that its clock runs (the joiner reads it in
         // the snapshot).
         out.extend(self.clock_to_others(now, conn));
-        out.push(Output::Send {
+        out.push(RoomOutput::Send {
             to: conn,
             msg: ServerMessage::Joined {
                 role: Role::Player(Seat::B),
@@ -354,7 +338,7 @@ impl Room {
     /// holding the seat is closed.
     pub fn rejoin(&mut self, now: Instant, conn: ConnId, seat: Seat, token: SeatToken) -> Entry {
         let mut out = Vec::new();
-        let Some(state) = self.seats[index(seat)].as_mut() else {
+        let Some(state) = self.seats[seat.index()].as_mut() else {
             return Entry::refused(conn, refuse(ErrorCode::BadToken, "no such seat"));
         };
         if !state.digest.matches(&TokenDigest::of(&token)) {
@@ -362,7 +346,7 @@ impl Room {
         }
         let replaced = state.conn.replace(conn);
         if let Some(old) = replaced {
-            out.push(Output::Close {
+            out.push(RoomOutput::Close {
                 conn: old,
                 reason: "replaced by a newer connection".into(),
             });
@@ -376,7 +360,7 @@ impl Room {
         if was_away {
             out.extend(self.clock_to_others(now, conn));
         }
-        out.push(Output::Send {
+        out.push(RoomOutput::Send {
             to: conn,
             msg: ServerMessage::Joined {
                 role: Role::Player(seat),
@@ -400,7 +384,7 @@ impl Room {
         Entry {
             role: Some(Role::Spectator),
             replaced: None,
-            out: vec![Output::Send {
+            out: vec![RoomOutput::Send {
                 to: conn,
                 msg: ServerMessage::Joined {
                     role: Role::Spectator,
@@ -412,7 +396,7 @@ impl Room {
     }
 
     /// A message from someone in the room. Chat is rate-limited by the caller.
-    pub fn handle(&mut self, now: Instant, who: Who, msg: ClientMessage) -> Vec<Output> {
+    pub fn handle(&mut self, now: Instant, who: Who, msg: ClientMessage) -> Vec<RoomOutput> {
         let seat = match who.role {
             Role::Player(seat) => seat,
             Role::Spectator => {
@@ -443,22 +427,27 @@ impl Room {
 
     /// A connection went away; its peer was last heard from at `last_heard` (at most `now`),
     /// which is when a seated player's shot clock stops.
-    pub fn disconnect(&mut self, now: Instant, last_heard: Instant, conn: ConnId) -> Vec<Output> {
+    pub fn disconnect(
+        &mut self,
+        now: Instant,
+        last_heard: Instant,
+        conn: ConnId,
+    ) -> Vec<RoomOutput> {
         self.spectators.remove(&conn);
         let Some(seat) = SEATS.into_iter().find(|s| {
-            self.seats[index(*s)]
+            self.seats[s.index()]
                 .as_ref()
                 .is_some_and(|st| st.conn == Some(conn))
         }) else {
             return Vec::new();
         };
         let window = self.rules.reconnect_window;
-        if let Some(state) = self.seats[index(seat)].as_mut() {
+        if let Some(state) = self.seats[seat.index()].as_mut() {
             state.conn = None;
             state.deadline = Some(now + window);
         }
         self.pause_clock(last_heard.min(now));
-        let mut out: Vec<Output> = self.store_clock(now).into_iter().collect();
+        let mut out: Vec<RoomOutput> = self.store_clock(now).into_iter().collect();
         out.extend(self.broadcast(ServerMessage::PlayerLeft {
             seat,
             reconnect_ms: millis(window),
@@ -477,20 +466,20 @@ impl Room {
     }
 
     /// Forfeits seats whose window ran out and runs out the shot clock.
-    pub fn tick(&mut self, now: Instant) -> Vec<Output> {
+    pub fn tick(&mut self, now: Instant) -> Vec<RoomOutput> {
         let mut out = Vec::new();
         for seat in SEATS {
-            let expired = self.seats[index(seat)]
+            let expired = self.seats[seat.index()]
                 .as_ref()
                 .and_then(|s| s.deadline)
                 .is_some_and(|d| d <= now);
             if !expired {
                 continue;
             }
-            if let Some(s) = self.seats[index(seat)].as_mut() {
+            if let Some(s) = self.seats[seat.index()].as_mut() {
                 s.deadline = None;
             }
-            let opponent_present = self.seats[index(other(seat))].is_some();
+            let opponent_present = self.seats[seat.other().index()].is_some();
             if !self.is_over() && opponent_present {
                 out.extend(
                     self.play(now, seat, None, Command::Forfeit)
@@ -514,7 +503,7 @@ impl Room {
             self.closed = true;
             if !self.is_over() {
                 // Abandoned before anyone could forfeit (no opponent ever came).
-                out.push(Output::Store(StoreOp::GameEnded {
+                out.push(RoomOutput::Store(StoreOp::GameEnded {
                     room: self.code.clone(),
                     number: self.game_number,
                     winner: None,
@@ -540,7 +529,7 @@ impl Room {
         seat: Seat,
         turn: Option<u32>,
         command: Command,
-    ) -> Result<Vec<Output>, Refusal> {
+    ) -> Result<Vec<RoomOutput>, Refusal> {
         if self.is_over() {
             return Err(refuse(ErrorCode::GameOver, "the game is over"));
         }
@@ -583,7 +572,7 @@ impl Room {
         };
         let mut out = vec![stored];
         if let Phase::Over { winner, reason } = self.game.phase() {
-            out.push(Output::Store(StoreOp::GameEnded {
+            out.push(RoomOutput::Store(StoreOp::GameEnded {
                 room: self.code.clone(),
                 number: self.game_number,
                 winner: *winner,
@@ -638,7 +627,7 @@ impl Room {
 
     /// Ends a game that has one place left in its record: the player to move concedes
     /// (in practice, the session ends), so the record never grows past the limit.
-    fn end_at_length_limit(&mut self, now: Instant) -> Vec<Output> {
+    fn end_at_length_limit(&mut self, now: Instant) -> Vec<RoomOutput> {
         let mut out = self.broadcast(ServerMessage::Chat {
             from: String::new(),
             text: format!(
@@ -656,14 +645,19 @@ impl Room {
 
     /// Shows the shooter's aim to everyone else in the room. An aim out of turn is dropped
     /// without an answer: it is a picture of a moment, and a late one is simply old.
-    fn relay_aim(&self, from: ConnId, seat: Seat, turn: u32, strike: Strike) -> Vec<Output> {
+    fn relay_aim(&self, from: ConnId, seat: Seat, turn: u32, strike: Strike) -> Vec<RoomOutput> {
         if self.is_over() || turn != self.game.turn() || seat != self.game.to_move() {
             return Vec::new();
         }
         self.broadcast_except(from, ServerMessage::Aim { turn, seat, strike })
     }
 
-    fn call_pocket(&mut self, seat: Seat, turn: u32, pocket: u8) -> Result<Vec<Output>, Refusal> {
+    fn call_pocket(
+        &mut self,
+        seat: Seat,
+        turn: u32,
+        pocket: u8,
+    ) -> Result<Vec<RoomOutput>, Refusal> {
         if self.is_over() {
             return Err(refuse(ErrorCode::GameOver, "the game is over"));
         }
@@ -677,11 +671,11 @@ impl Room {
         Ok(self.broadcast(ServerMessage::PocketCalled { turn, seat, pocket }))
     }
 
-    fn rematch(&mut self, now: Instant, seat: Seat) -> Result<Vec<Output>, Refusal> {
+    fn rematch(&mut self, now: Instant, seat: Seat) -> Result<Vec<RoomOutput>, Refusal> {
         if !self.is_over() {
             return Err(refuse(ErrorCode::Unexpected, "the game is still on"));
         }
-        self.rematch[index(seat)] = true;
+        self.rematch[seat.index()] = true;
         if !self.rematch.iter().all(|r| *r) {
             return Ok(self.broadcast(ServerMessage::RematchOffered { seat }));
         }
@@ -706,8 +700,8 @@ impl Room {
         Ok(out)
     }
 
-    fn chat(&self, seat: Seat, text: String) -> Vec<Output> {
-        let from = self.seats[index(seat)]
+    fn chat(&self, seat: Seat, text: String) -> Vec<RoomOutput> {
+        let from = self.seats[seat.index()]
             .as_ref()
             .map_or_else(String::new, |s| s.name.clone());
         self.broadcast(ServerMessage::Chat { from, text })
@@ -725,8 +719,8 @@ impl Room {
     }
 
     /// Stores the start of the current game (its record's header).
-    fn store_start(&self) -> Output {
-        Output::Store(StoreOp::GameStarted {
+    fn store_start(&self) -> RoomOutput {
+        RoomOutput::Store(StoreOp::GameStarted {
             room: self.code.clone(),
             number: self.game_number,
             header: self.record.encode(),
@@ -734,9 +728,9 @@ impl Room {
     }
 
     /// Stores the record's last entry.
-    fn store_command(&self) -> Output {
+    fn store_command(&self) -> RoomOutput {
         let index = self.record.entries.len().saturating_sub(1);
-        Output::Store(StoreOp::Command {
+        RoomOutput::Store(StoreOp::Command {
             room: self.code.clone(),
             number: self.game_number,
             index: u32::try_from(index).unwrap_or(u32::MAX),
@@ -757,19 +751,19 @@ impl Room {
             .chain(self.spectators.iter().copied())
     }
 
-    fn broadcast(&self, msg: ServerMessage) -> Vec<Output> {
+    fn broadcast(&self, msg: ServerMessage) -> Vec<RoomOutput> {
         self.connections()
-            .map(|to| Output::Send {
+            .map(|to| RoomOutput::Send {
                 to,
                 msg: msg.clone(),
             })
             .collect()
     }
 
-    fn broadcast_except(&self, except: ConnId, msg: ServerMessage) -> Vec<Output> {
+    fn broadcast_except(&self, except: ConnId, msg: ServerMessage) -> Vec<RoomOutput> {
         self.connections()
             .filter(|c| *c != except)
-            .map(|to| Output::Send {
+            .map(|to| RoomOutput::Send {
                 to,
                 msg: msg.clone(),
             })
@@ -821,13 +815,13 @@ impl Room {
 
     /// The shot clock as it stands, to store (nothing when the room has none running or
     /// paused).
-    fn store_clock(&self, now: Instant) -> Option<Output> {
+    fn store_clock(&self, now: Instant) -> Option<RoomOutput> {
         let (left, running) = match self.clock {
             Clock::Off => return None,
             Clock::Running { deadline } => (deadline.saturating_duration_since(now), true),
             Clock::Paused { left } => (left, false),
         };
-        Some(Output::Store(StoreOp::Clock {
+        Some(RoomOutput::Store(StoreOp::Clock {
             room: self.code.clone(),
             number: self.game_number,
             turn: self.game.turn(),
@@ -838,7 +832,7 @@ impl Room {
 
     /// Tells everyone but `conn` how the shot clock stands, when the room has one running:
     /// after a join or a return it starts or runs again, and every screen shows the same.
-    fn clock_to_others(&self, now: Instant, conn: ConnId) -> Vec<Output> {
+    fn clock_to_others(&self, now: Instant, conn: ConnId) -> Vec<RoomOutput> {
         if !matches!(self.clock, Clock::Running { .. }) {
             return Vec::new();
         }

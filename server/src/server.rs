@@ -6,7 +6,7 @@
 //! connections --HubEvent--> hub thread --Vec<Output>-------------------> writer thread --Outbound--> connections
 //!                              |   ^                                     (stores, then sends)
 //!                    Run(room) v   | Returned(room)                        ^
-//!                            room workers --Vec<Output> (the room's)------+
+//!                            room workers --Vec<RoomOutput>---------------+
 //! ```
 //!
 //! The hub thread only routes, checks and counts; a message for a room goes out with the
@@ -37,9 +37,9 @@ use tokio::sync::Notify;
 use crate::admission::{Entry, Gate, Refusal, Ticket};
 use crate::conn::{self, HubEvent, Outbound, Outlet};
 use crate::endings::Ending;
-use crate::hub::{Claimed, Hub, HubConfig, Restored};
+use crate::hub::{Claimed, Hub, HubConfig, Output, Restored};
 use crate::limits::Limits;
-use crate::output::{ConnId, Output, RoomMeta, StoreOp};
+use crate::output::{ConnId, RoomMeta, RoomOutput, StoreOp};
 use crate::pool::{self, Pool};
 use crate::records;
 use crate::secret::{Entropy, OsEntropy, TestEntropy, TokenDigest};
@@ -631,6 +631,7 @@ fn spawn_hub(
                     Ok((out, room)) => {
                         // The room's results reach the writer before the room is back at
                         // the hub, so its next results always come after these.
+                        let out = out.into_iter().map(Output::Room).collect();
                         let _ = writer.send(WriterMsg::Batch(out, Some(read)));
                         let _ = back.send(HubEvent::Returned(room));
                     }
@@ -661,7 +662,7 @@ fn spawn_writer(
                 .iter()
                 .filter_map(|m| match m {
                     WriterMsg::Batch(out, _) => Some(out.iter().filter_map(|o| match o {
-                        Output::Store(op) => Some(op),
+                        Output::Room(RoomOutput::Store(op)) => Some(op),
                         _ => None,
                     })),
                     _ => None,
@@ -684,15 +685,19 @@ fn spawn_writer(
                         conns.remove(&id);
                     }
                     WriterMsg::Batch(out, read) => {
-                        let command = out
-                            .iter()
-                            .any(|o| matches!(o, Output::Store(StoreOp::Command { .. })));
+                        let command = out.iter().any(|o| {
+                            matches!(o, Output::Room(RoomOutput::Store(StoreOp::Command { .. })))
+                        });
                         for o in out {
                             let (to, what) = match o {
-                                Output::Send { to, msg } => (to, Outbound::Message(msg)),
-                                Output::Close { conn, reason } => (conn, Outbound::Close(reason)),
+                                Output::Room(RoomOutput::Send { to, msg }) => {
+                                    (to, Outbound::Message(msg))
+                                }
+                                Output::Room(RoomOutput::Close { conn, reason }) => {
+                                    (conn, Outbound::Close(reason))
+                                }
                                 // The hub thread hands every `Run` to the workers.
-                                Output::Store(_) | Output::Run(_) => continue,
+                                Output::Room(RoomOutput::Store(_)) | Output::Run(_) => continue,
                                 // Read after every earlier write is committed, as records are.
                                 Output::Claim { conn, token } => {
                                     let claimed = claim(&mut store, &token);

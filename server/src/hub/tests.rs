@@ -12,9 +12,10 @@ use breakshot_shared::replay::{GameRecord, RecordEntry};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Seat, Settings, Variant};
 use glam::DVec2;
 
+use super::Output;
 use super::{Claimed, Hub, HubConfig, Restored};
 use crate::limits::Limits;
-use crate::output::{ConnId, Output, StoreOp};
+use crate::output::{ConnId, RoomOutput, StoreOp};
 use crate::room::ClockLeft;
 use crate::secret::TestEntropy;
 
@@ -29,7 +30,7 @@ struct World {
 fn sent_to(out: &[Output], conn: ConnId) -> Vec<&ServerMessage> {
     out.iter()
         .filter_map(|o| match o {
-            Output::Send { to, msg } if *to == conn => Some(msg),
+            Output::Room(RoomOutput::Send { to, msg }) if *to == conn => Some(msg),
             _ => None,
         })
         .collect()
@@ -53,7 +54,9 @@ fn create_room(mode: Settings, name: &str) -> ClientMessage {
 }
 
 fn stores(out: &[Output]) -> usize {
-    out.iter().filter(|o| matches!(o, Output::Store(_))).count()
+    out.iter()
+        .filter(|o| matches!(o, Output::Room(RoomOutput::Store(_))))
+        .count()
 }
 
 impl World {
@@ -92,7 +95,7 @@ impl World {
             match o {
                 Output::Run(work) => {
                     let (worked, back) = work.run(self.now);
-                    done.extend(self.settle(worked));
+                    done.extend(self.settle(super::lift(worked)));
                     let after = self.hub.returned(self.now, back);
                     done.extend(self.settle(after));
                 }
@@ -217,7 +220,9 @@ fn the_handshake_refuses_other_versions_other_physics_and_silence() {
             [ServerMessage::Reject { reason }] => assert!(reason.contains(why), "{reason}"),
             ref other => panic!("{other:?}"),
         }
-        assert!(matches!(out.last(), Some(Output::Close { conn: c, .. }) if *c == conn));
+        assert!(
+            matches!(out.last(), Some(Output::Room(RoomOutput::Close { conn: c, .. })) if *c == conn)
+        );
     }
 }
 
@@ -232,11 +237,11 @@ fn an_accepted_shot_is_stored_before_anyone_hears_of_it_and_matches_a_replay() {
     // The store comes first; then both players get the same accepted command and result.
     assert!(matches!(
         out[0],
-        Output::Store(StoreOp::Command {
+        Output::Room(RoomOutput::Store(StoreOp::Command {
             number: 1,
             index: 0,
             ..
-        })
+        }))
     ));
     for conn in [1, 2] {
         let msgs = sent_to(&out, conn);
@@ -273,7 +278,7 @@ fn an_accepted_shot_is_stored_before_anyone_hears_of_it_and_matches_a_replay() {
     assert_eq!(verdict.shot.unwrap().hash, *hash);
     assert_eq!(copy.balls(), &balls[..]);
     // And the stored header and command replay to the room's game.
-    let Output::Store(StoreOp::Command { entry, .. }) = &out[0] else {
+    let Output::Room(RoomOutput::Store(StoreOp::Command { entry, .. })) = &out[0] else {
         unreachable!()
     };
     let mut record = GameRecord::of(&before);
@@ -368,10 +373,10 @@ fn a_dropped_player_forfeits_only_when_the_window_runs_out() {
     )));
     assert!(out.iter().any(|o| matches!(
         o,
-        Output::Store(StoreOp::GameEnded {
+        Output::Room(RoomOutput::Store(StoreOp::GameEnded {
             winner: Some(Seat::A),
             ..
-        })
+        }))
     )));
 }
 
@@ -469,12 +474,12 @@ fn clock_told(out: &[Output], conn: ConnId) -> Option<u64> {
 /// The last shot clock `out` stores: (turn, ms left, running).
 fn clock_stored(out: &[Output]) -> Option<(u32, u64, bool)> {
     out.iter().rev().find_map(|o| match o {
-        Output::Store(StoreOp::Clock {
+        Output::Room(RoomOutput::Store(StoreOp::Clock {
             turn,
             left_ms,
             running,
             ..
-        }) => Some((*turn, *left_ms, *running)),
+        })) => Some((*turn, *left_ms, *running)),
         _ => None,
     })
 }
@@ -517,7 +522,7 @@ fn the_clock_stops_when_a_silent_player_was_last_heard_and_the_opponent_is_told_
     assert!(w
         .advance(Duration::from_millis(17_999))
         .iter()
-        .all(|o| !matches!(o, Output::Send { .. })));
+        .all(|o| !matches!(o, Output::Room(RoomOutput::Send { .. }))));
     let out = w.advance(Duration::from_millis(1));
     assert!(sent_to(&out, 2).iter().any(|m| matches!(
         m,
@@ -623,7 +628,7 @@ fn chat_is_rate_limited_and_floods_close_the_connection() {
         let out = w.send(2, ClientMessage::Rematch);
         closed |= out
             .iter()
-            .any(|o| matches!(o, Output::Close { conn: 2, .. }));
+            .any(|o| matches!(o, Output::Room(RoomOutput::Close { conn: 2, .. })));
     }
     assert!(closed);
 }
@@ -751,7 +756,7 @@ fn a_rematch_starts_when_both_players_ask() {
     let out = w.send(2, ClientMessage::Rematch);
     assert!(matches!(
         out[0],
-        Output::Store(StoreOp::GameStarted { number: 2, .. })
+        Output::Room(RoomOutput::Store(StoreOp::GameStarted { number: 2, .. }))
     ));
     for conn in [1, 2] {
         match sent_to(&out, conn)[..] {
@@ -777,7 +782,10 @@ fn a_record_is_fetched_without_a_seat_but_only_after_hello() {
             game: None,
         },
     );
-    assert!(matches!(out.last(), Some(Output::Close { conn: 5, .. })));
+    assert!(matches!(
+        out.last(),
+        Some(Output::Room(RoomOutput::Close { conn: 5, .. }))
+    ));
     assert!(!out.iter().any(|o| matches!(o, Output::SendRecord { .. })));
 
     w.greet(6);
@@ -1075,7 +1083,11 @@ fn a_room_out_on_a_long_shot_holds_only_its_own_events_and_keeps_their_order() {
 
     // The slow shot finishes: its results first, then the held events in the order they came.
     let (worked, back) = slow_work.run(w.now);
-    assert!(matches!(worked[0], Output::Store(StoreOp::Command { .. })));
+    assert!(matches!(
+        worked[0],
+        RoomOutput::Store(StoreOp::Command { .. })
+    ));
+    let worked = super::lift(worked);
     assert!(sent_to(&worked, 2)
         .iter()
         .any(|m| matches!(m, ServerMessage::ShotResolved { turn: 0, .. })));
@@ -1107,6 +1119,7 @@ fn a_player_who_leaves_while_the_room_is_out_is_seen_leaving_after_its_results()
     };
     assert!(w.hub.disconnected(w.now, w.now, 2).is_empty());
     let (worked, back) = work.run(w.now);
+    let worked = super::lift(worked);
     assert!(sent_to(&worked, 2)
         .iter()
         .any(|m| matches!(m, ServerMessage::ShotResolved { .. })));
