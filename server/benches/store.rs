@@ -34,6 +34,7 @@ fn entry(i: usize) -> RecordEntry {
             call: None,
         },
         hash: Some(0x9e37_79b9_7f4a_7c15 ^ i as u64),
+        chain: i as u64,
     }
 }
 

@@ -21,6 +21,7 @@ use crate::limits::Limits;
 use crate::output::ConnId;
 use crate::ratelimit::Bucket;
 use crate::stats::Stats;
+use crate::tls::IDLE_TIMEOUT;
 use crate::work::Returned;
 
 /// What the writer thread hands a connection.
@@ -40,8 +41,10 @@ pub enum HubEvent {
     Connected(ConnId, IpAddr),
     /// A message and when its frame was read (the start of the server's time for it).
     Message(ConnId, ClientMessage, Instant),
-    /// A connection ended, however it ended; nothing more comes from it.
-    Disconnected(ConnId),
+    /// A connection ended, however it ended; nothing more comes from it. The instant is when
+    /// its peer was last heard from: the end itself for an orderly close, the idle timeout
+    /// earlier for a peer that fell silent (a killed process, a vanished network).
+    Disconnected(ConnId, Instant),
     /// A room back from running a message on a worker thread.
     Returned(Returned),
     /// A room whose work on a worker thread failed (panicked): it does not come back.
@@ -202,8 +205,19 @@ pub async fn serve(
             conn.close(CLOSE_PROTOCOL.into(), b"not reading: outgoing queue full");
         }
     }
+    let last_heard = last_heard(&conn, Instant::now());
     conn.close(CLOSE_NORMAL.into(), b"bye");
-    let _ = hub.send(HubEvent::Disconnected(id));
+    let _ = hub.send(HubEvent::Disconnected(id, last_heard));
+}
+
+/// When the peer of a connection that ended at `now` was last heard from: a connection that
+/// timed out had heard nothing for the idle timeout (its peer's keep-alives stopped then);
+/// any other end is seen as it happens.
+fn last_heard(conn: &quinn::Connection, now: Instant) -> Instant {
+    match conn.close_reason() {
+        Some(quinn::ConnectionError::TimedOut) => now.checked_sub(IDLE_TIMEOUT).unwrap_or(now),
+        _ => now,
+    }
 }
 
 enum ReadEnd {

@@ -22,9 +22,9 @@ use breakshot_shared::rules::{Game, Phase, Seat};
 
 use crate::endings::{Ending, Endings};
 use crate::limits::Limits;
-use crate::output::{ConnId, Output, RoomMeta, StoreOp};
+use crate::output::{ConnId, RoomMeta, RoomOutput, StoreOp};
 use crate::ratelimit::Bucket;
-use crate::room::{Entry, Room, RoomRules, Who};
+use crate::room::{ClockLeft, Entry, Room, RoomRules, Who};
 use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
 use crate::source::source_key;
 use crate::work::{Returned, RoomWork};
@@ -73,6 +73,8 @@ pub struct Restored {
     pub record: GameRecord,
     /// The game as the replay left it: where play resumes.
     pub game: Game,
+    /// The shot clock of the current turn as last stored, if the room has one.
+    pub clock: Option<ClockLeft>,
 }
 
 struct Conn {
@@ -99,7 +101,7 @@ enum Held {
     Message(Who, ClientMessage, Instant),
     /// A create, join, rejoin or spectate, routed again once the room is back.
     Enter(ConnId, ClientMessage),
-    Disconnect(ConnId),
+    Disconnect(ConnId, Instant),
 }
 
 /// Every connection, room and seat token of one server; run on one thread, which passes `now`
@@ -134,8 +136,51 @@ pub struct Census {
     pub over: usize,
 }
 
+/// What the hub asks its driver to do, in order: what its rooms ask, and what only the hub
+/// does (lend a room out, read the store for a seat or a record).
+#[derive(Debug)]
+pub enum Output {
+    /// A send, close or store, as a room asks them (the hub's own sends and closes too).
+    Room(RoomOutput),
+    /// Send `to` the stored record of one of `room`'s games (or an error). The writer reads
+    /// it after committing every earlier store operation, so it holds every result already
+    /// sent.
+    SendRecord {
+        /// The connection that sent `FetchRecord`.
+        to: ConnId,
+        /// The room whose game is sent, finished or not.
+        room: RoomCode,
+        /// The game's number in the room; `None` for the latest.
+        game: Option<u32>,
+    },
+    /// Ask the store for the room of an unknown seat token, in a store shared with other
+    /// server instances: the room may have been left by an instance that stopped. The answer
+    /// goes back to [`Hub::claimed`]. Everything before it in the list comes first.
+    Claim {
+        /// The connection rejoining; its entry waits for the answer.
+        conn: ConnId,
+        /// The seat token it sent; the store is asked only for its digest.
+        token: SeatToken,
+    },
+    /// Run a message through its room away from the hub (see [`crate::work`]): carry out
+    /// the outputs the work returns, then give the room back with [`Hub::returned`].
+    /// Everything before it in the list comes first.
+    Run(RoomWork),
+}
+
+impl From<RoomOutput> for Output {
+    fn from(o: RoomOutput) -> Output {
+        Output::Room(o)
+    }
+}
+
+/// A room's outputs as the hub's.
+fn lift(out: Vec<RoomOutput>) -> Vec<Output> {
+    out.into_iter().map(Output::Room).collect()
+}
+
 fn send(to: ConnId, msg: ServerMessage) -> Output {
-    Output::Send { to, msg }
+    Output::Room(RoomOutput::Send { to, msg })
 }
 
 fn error(to: ConnId, code: ErrorCode, message: impl Into<String>) -> Vec<Output> {
@@ -246,9 +291,9 @@ impl Hub {
                         self.refund_entry(conn);
                     }
                 }
-                Held::Disconnect(conn) => {
+                Held::Disconnect(conn, last_heard) => {
                     if let Some(room) = self.rooms.get_mut(&code) {
-                        out.extend(room.disconnect(now, conn));
+                        out.extend(lift(room.disconnect(now, last_heard, conn)));
                     }
                 }
             }
@@ -285,7 +330,9 @@ impl Hub {
             }
         }
         if self.config.shared_store {
-            out.push(Output::Store(StoreOp::Released(code.clone())));
+            out.push(Output::Room(RoomOutput::Store(StoreOp::Released(
+                code.clone(),
+            ))));
         }
         out
     }
@@ -322,14 +369,14 @@ impl Hub {
     }
 
     /// Brings back a room from the store (after its record was replayed and checked).
-    pub fn restore(
-        &mut self,
-        now: Instant,
-        meta: RoomMeta,
-        number: u32,
-        record: GameRecord,
-        game: Game,
-    ) {
+    pub fn restore(&mut self, now: Instant, restored: Restored) {
+        let Restored {
+            meta,
+            number,
+            record,
+            game,
+            clock,
+        } = restored;
         let rules = RoomRules {
             variant: meta.variant,
             settings: meta.settings,
@@ -337,7 +384,7 @@ impl Hub {
             reconnect_window: self.config.limits.reconnect_window,
             max_commands: self.config.limits.max_commands(meta.variant),
         };
-        let room = Room::restore(now, meta, rules, number, record, game);
+        let room = Room::restore(now, meta, rules, number, record, game, clock);
         self.index_tokens(&room);
         self.rooms.insert(room.code().clone(), room);
     }
@@ -353,13 +400,7 @@ impl Hub {
     ) -> Vec<Output> {
         let elsewhere = matches!(claimed, Claimed::Elsewhere);
         if let Claimed::Taken(r) = claimed {
-            let Restored {
-                meta,
-                number,
-                record,
-                game,
-            } = *r;
-            self.restore(now, meta, number, record, game);
+            self.restore(now, *r);
         } else if let Claimed::Ended { meta, ending, age } = claimed {
             self.restore_ending(now, &meta, ending, age);
         }
@@ -427,9 +468,10 @@ impl Hub {
         source.conns += 1;
     }
 
-    /// A connection ended: a seated player's seat is held for the reconnect window (after the
+    /// A connection ended, its peer last heard from at `last_heard`: a seated player's seat is
+    /// held for the reconnect window and the shot clock stops as it stood then (after the
     /// room's held events, if it is out).
-    pub fn disconnected(&mut self, now: Instant, conn: ConnId) -> Vec<Output> {
+    pub fn disconnected(&mut self, now: Instant, last_heard: Instant, conn: ConnId) -> Vec<Output> {
         let Some(state) = self.conns.remove(&conn) else {
             return Vec::new();
         };
@@ -440,11 +482,11 @@ impl Hub {
             return Vec::new();
         };
         if let Some(held) = self.away.get_mut(&code) {
-            held.push_back(Held::Disconnect(conn));
+            held.push_back(Held::Disconnect(conn, last_heard));
             return Vec::new();
         }
         match self.rooms.get_mut(&code) {
-            Some(room) => room.disconnect(now, conn),
+            Some(room) => lift(room.disconnect(now, last_heard, conn)),
             None => Vec::new(),
         }
     }
@@ -467,10 +509,10 @@ impl Hub {
             return Vec::new();
         };
         if !state.messages.take(now) {
-            return vec![Output::Close {
+            return vec![Output::Room(RoomOutput::Close {
                 conn,
                 reason: "too many messages".into(),
-            }];
+            })];
         }
         if !state.greeted {
             return self.hello(conn, msg);
@@ -546,7 +588,13 @@ impl Hub {
                 error(conn, ErrorCode::Unexpected, "already greeted")
             }
             // Only the store knows every game (a room that ended is no longer here).
-            (ClientMessage::FetchRecord { room }, _) => vec![Output::SendRecord { to: conn, room }],
+            (ClientMessage::FetchRecord { room, game }, _) => {
+                vec![Output::SendRecord {
+                    to: conn,
+                    room,
+                    game,
+                }]
+            }
             (
                 ClientMessage::CreateRoom { .. }
                 | ClientMessage::Join { .. }
@@ -578,7 +626,7 @@ impl Hub {
                 Some(r) => {
                     let entry = r.spectate(now, conn, MAX_SPECTATORS);
                     self.entered(conn, room, &entry);
-                    entry.out
+                    lift(entry.out)
                 }
                 None => error(conn, ErrorCode::NoSuchRoom, format!("no room {room}")),
             },
@@ -598,7 +646,7 @@ impl Hub {
         let mut out = Vec::new();
         for room in self.rooms.values_mut() {
             if room.next_deadline().is_some_and(|d| d <= now) || room.is_closed() {
-                out.extend(room.tick(now));
+                out.extend(lift(room.tick(now)));
             }
         }
         let closed: Vec<RoomCode> = self
@@ -610,7 +658,9 @@ impl Hub {
         self.endings.expire(now);
         for code in closed {
             if self.config.shared_store {
-                out.push(Output::Store(StoreOp::Released(code.clone())));
+                out.push(Output::Room(RoomOutput::Store(StoreOp::Released(
+                    code.clone(),
+                ))));
             }
             self.tokens.retain(|_, (c, _)| *c != code);
             if let Some(room) = self.rooms.remove(&code) {
@@ -709,7 +759,7 @@ impl Hub {
                     reason: reason.clone(),
                 },
             ),
-            Output::Close { conn, reason },
+            Output::Room(RoomOutput::Close { conn, reason }),
         ]
     }
 
@@ -761,7 +811,7 @@ impl Hub {
             }
         }
         self.set_room(conn, code, Role::Player(Seat::A));
-        out
+        lift(out)
     }
 
     fn join(&mut self, now: Instant, conn: ConnId, code: RoomCode, name: String) -> Vec<Output> {
@@ -775,7 +825,7 @@ impl Hub {
                 .insert(TokenDigest::of(&token), (code.clone(), Seat::B));
         }
         self.entered(conn, code, &entry);
-        entry.out
+        lift(entry.out)
     }
 
     /// A seat token's player comes back; with `claim`, a token no room here knows is looked
@@ -803,7 +853,7 @@ impl Hub {
         };
         let entry = room.rejoin(now, conn, seat, token);
         self.entered(conn, code, &entry);
-        entry.out
+        lift(entry.out)
     }
 
     /// Indexes what an entry point did: `conn` is in room `code` with its role, and the
@@ -848,7 +898,7 @@ impl Hub {
 /// Whether the outputs tell `conn` how its game ended (a valid token of a finished game).
 fn told_result(out: &[Output], conn: ConnId) -> bool {
     out.iter().any(
-        |o| matches!(o, Output::Send { to, msg: ServerMessage::GameFinished { .. } } if *to == conn),
+        |o| matches!(o, Output::Room(RoomOutput::Send { to, msg: ServerMessage::GameFinished { .. } }) if *to == conn),
     )
 }
 

@@ -78,7 +78,7 @@ impl Default for Limits {
             entry_burst: 20,
             entry_refill: Duration::from_secs(1),
             reconnect_window: protocol::RECONNECT_WINDOW,
-            max_game_commands: 1_000,
+            max_game_commands: 900,
             max_practice_commands: 500,
             finished_retention: Duration::from_secs(3_600),
         }
@@ -147,6 +147,7 @@ mod tests {
                 call: Some(u8::MAX),
             },
             hash: Some(u64::MAX),
+            chain: u64::MAX,
         }
     }
 

@@ -206,10 +206,15 @@ fn verify(data: &std::path::Path, store: Option<&Location>) -> anyhow::Result<bo
     for c in &checks {
         let state = if c.finished { "finished" } else { "unfinished" };
         match &c.result {
-            Ok(()) => println!(
-                "verified {} game {} ({} commands, {state})",
-                c.room, c.number, c.commands
-            ),
+            Ok(()) => {
+                println!(
+                    "verified {} game {} ({} commands, {state})",
+                    c.room, c.number, c.commands
+                );
+                if let Some(note) = &c.note {
+                    println!("         {note}");
+                }
+            }
             Err(e) => {
                 failed += 1;
                 println!(

@@ -1,20 +1,20 @@
-//! What the sans-IO core asks its driver to do, in order.
+//! What a room asks its driver to do, in order, and what the store keeps: the lowest layer
+//! of the server's outputs (the hub's own, [`crate::hub::Output`], wrap these).
 
-use breakshot_shared::protocol::{AimAid, RoomCode, SeatToken, ServerMessage};
+use breakshot_shared::protocol::{AimAid, RoomCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Seat, Settings, Variant};
 use serde::{Deserialize, Serialize};
 
 use crate::secret::TokenDigest;
-use crate::work::RoomWork;
 
 /// A connection, numbered by the driver.
 pub type ConnId = u64;
 
-/// One thing for the driver to do. The hub and rooms return them in lists, carried out in
-/// order.
+/// One thing a room asks its driver to do. A room returns them in lists, carried out in
+/// order; the hub adds what only it asks for ([`crate::hub::Output`]).
 #[derive(Debug)]
-pub enum Output {
+pub enum RoomOutput {
     /// Send one message on one connection.
     Send {
         /// The connection; one that is gone already is skipped.
@@ -32,28 +32,6 @@ pub enum Output {
     /// Store durably. Every `Send` after a `Store` in the same list must wait until the
     /// store is done: that is how nothing is shown before it is safe on disk.
     Store(StoreOp),
-    /// Send `to` the stored record of `room`'s latest game (or an error). The writer reads
-    /// it after committing every earlier store operation, so it holds every result already
-    /// sent.
-    SendRecord {
-        /// The connection that sent `FetchRecord`.
-        to: ConnId,
-        /// The room whose latest game is sent, finished or not.
-        room: RoomCode,
-    },
-    /// Ask the store for the room of an unknown seat token, in a store shared with other
-    /// server instances: the room may have been left by an instance that stopped. The answer
-    /// goes back to [`crate::hub::Hub::claimed`]. Everything before it in the list comes first.
-    Claim {
-        /// The connection rejoining; its entry waits for the answer.
-        conn: ConnId,
-        /// The seat token it sent; the store is asked only for its digest.
-        token: SeatToken,
-    },
-    /// Run a message through its room away from the hub (see [`crate::work`]): carry out
-    /// the outputs the work returns, then give the room back with
-    /// [`crate::hub::Hub::returned`]. Everything before it in the list comes first.
-    Run(RoomWork),
 }
 
 /// One durable write. The writer commits every operation of a batch in one transaction before
@@ -95,6 +73,21 @@ pub enum StoreOp {
         winner: Option<Seat>,
         /// The readable reason, as `GameOver` gave it ("abandoned" when nobody could win).
         reason: String,
+    },
+    /// The shot clock of a game's current turn: what it has left and whether it runs. The
+    /// store keeps the latest only, stamped with its own clock, so a restarted server can
+    /// give the player to move what they had left (a running clock less the time since).
+    Clock {
+        /// The game's room.
+        room: RoomCode,
+        /// The game's number in the room.
+        number: u32,
+        /// The turn the clock belongs to.
+        turn: u32,
+        /// Milliseconds left when this was written.
+        left_ms: u64,
+        /// Whether the clock was running (both players here) or stopped (one away).
+        running: bool,
     },
     /// The room closed on this server: a store shared with other instances lets go of it.
     Released(RoomCode),

@@ -1,11 +1,12 @@
 //! One room as a pure state machine: two seats, spectators, the game, its record, the shot
 //! clock and the reconnect windows. It never touches a socket or a clock: the caller passes
-//! `now` and carries out the [`Output`]s it returns, in order.
+//! `now` and carries out the [`RoomOutput`]s it returns, in order.
 
 use std::collections::BTreeSet;
 use std::time::{Duration, Instant};
 
 use breakshot_shared::physics::Strike;
+use breakshot_shared::protocol::limits::MIN_CLOCK_ON_RETURN;
 use breakshot_shared::protocol::{
     command_of, AimAid, ClientMessage, ErrorCode, Role, RoomCode, Ruling, SeatToken, SeatView,
     ServerMessage, Snapshot,
@@ -13,24 +14,8 @@ use breakshot_shared::protocol::{
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Command, Game, Phase, RuleError, Seat, Settings, Variant};
 
-use crate::output::{ConnId, Output, RoomMeta, StoreOp, StoredSeat};
+use crate::output::{ConnId, RoomMeta, RoomOutput, StoreOp, StoredSeat};
 use crate::secret::TokenDigest;
-
-/// Where `seat` sits in a room's two-seat arrays (`[A, B]`, as in [`RoomMeta::seats`]).
-pub fn index(seat: Seat) -> usize {
-    match seat {
-        Seat::A => 0,
-        Seat::B => 1,
-    }
-}
-
-/// The opponent of `seat`.
-pub fn other(seat: Seat) -> Seat {
-    match seat {
-        Seat::A => Seat::B,
-        Seat::B => Seat::A,
-    }
-}
 
 const SEATS: [Seat; 2] = [Seat::A, Seat::B];
 
@@ -52,11 +37,24 @@ struct SeatState {
     deadline: Option<Instant>,
 }
 
+/// The shot clock of the turn being played. It stops at the moment a seated player drops
+/// (for a silent drop, when they were last heard from) and runs again with what was left,
+/// never less than [`MIN_CLOCK_ON_RETURN`], once everyone seated is back.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Clock {
     Off,
     Running { deadline: Instant },
     Paused { left: Duration },
+}
+
+/// The shot clock as the store keeps it, so a restarted server gives the player to move
+/// what they had left rather than a full clock.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ClockLeft {
+    /// The turn the time belongs to; a clock of another turn is not used.
+    pub turn: u32,
+    /// The time left on it.
+    pub left: Duration,
 }
 
 /// A room's fixed choices.
@@ -99,8 +97,8 @@ fn refuse(code: ErrorCode, message: impl Into<String>) -> Refusal {
     (code, message.into())
 }
 
-fn error_to(conn: ConnId, (code, message): Refusal) -> Vec<Output> {
-    vec![Output::Send {
+fn error_to(conn: ConnId, (code, message): Refusal) -> Vec<RoomOutput> {
+    vec![RoomOutput::Send {
         to: conn,
         msg: ServerMessage::Error { code, message },
     }]
@@ -115,7 +113,7 @@ pub struct Entry {
     /// The older connection that held the seat and is closed by `out`.
     pub replaced: Option<ConnId>,
     /// What to send and store.
-    pub out: Vec<Output>,
+    pub out: Vec<RoomOutput>,
 }
 
 impl Entry {
@@ -139,7 +137,7 @@ impl Room {
         creator: ConnId,
         name: String,
         token: SeatToken,
-    ) -> (Room, Vec<Output>) {
+    ) -> (Room, Vec<RoomOutput>) {
         let seat = SeatState {
             name,
             digest: TokenDigest::of(&token),
@@ -159,11 +157,12 @@ impl Room {
             rematch: [false; 2],
             closed: false,
         };
+        room.record = room.start_record(seed);
         room.restart_clock(now, Duration::ZERO);
         let out = vec![
-            Output::Store(StoreOp::Room(room.meta())),
+            RoomOutput::Store(StoreOp::Room(room.meta())),
             room.store_start(),
-            Output::Send {
+            RoomOutput::Send {
                 to: creator,
                 msg: ServerMessage::Joined {
                     role: Role::Player(Seat::A),
@@ -176,7 +175,8 @@ impl Room {
     }
 
     /// A room brought back from the store after a restart: every seat is away, with a fresh
-    /// reconnect window from `now`, and the shot clock paused.
+    /// reconnect window from `now`, and the shot clock paused with the time `clock` says was
+    /// left on the current turn (a full clock if the store has none for it).
     pub fn restore(
         now: Instant,
         meta: RoomMeta,
@@ -184,6 +184,7 @@ impl Room {
         game_number: u32,
         record: GameRecord,
         game: Game,
+        clock: Option<ClockLeft>,
     ) -> Room {
         let seats = meta.seats.map(|s| {
             s.map(|s| SeatState {
@@ -207,6 +208,11 @@ impl Room {
             closed: false,
         };
         room.restart_clock(now, Duration::ZERO);
+        if let (Clock::Paused { .. }, Some(stored)) = (room.clock, clock) {
+            if stored.turn == room.game.turn() {
+                room.clock = Clock::Paused { left: stored.left };
+            }
+        }
         room
     }
 
@@ -245,7 +251,7 @@ impl Room {
     pub fn seat_digests(&self) -> impl Iterator<Item = (Seat, TokenDigest)> + '_ {
         SEATS
             .into_iter()
-            .filter_map(|s| self.seats[index(s)].as_ref().map(|st| (s, st.digest)))
+            .filter_map(|s| self.seats[s.index()].as_ref().map(|st| (s, st.digest)))
     }
 
     /// The room's lasting facts as the store keeps them: settings, and seats by token digest.
@@ -300,7 +306,14 @@ impl Room {
             deadline: None,
         });
         self.restart_clock(now, Duration::ZERO);
-        let mut out = vec![Output::Store(StoreOp::Room(self.meta()))];
+        let mut out = vec![RoomOutput::Store(StoreOp::Room(self.meta()))];
+        // The record names both players. Only a practice room can have played before its
+        // second seat is taken; its record keeps the one name it started with.
+        if self.record.entries.is_empty() {
+            self.record.name_player(Seat::B, &name);
+            out.push(self.store_start());
+        }
+        out.extend(self.store_clock(now));
         out.extend(self.broadcast_except(
             conn,
             ServerMessage::PlayerJoined {
@@ -311,7 +324,7 @@ impl Room {
         // The game starts now: the others learn that its clock runs (the joiner reads it in
         // the snapshot).
         out.extend(self.clock_to_others(now, conn));
-        out.push(Output::Send {
+        out.push(RoomOutput::Send {
             to: conn,
             msg: ServerMessage::Joined {
                 role: Role::Player(Seat::B),
@@ -330,7 +343,7 @@ impl Room {
     /// holding the seat is closed.
     pub fn rejoin(&mut self, now: Instant, conn: ConnId, seat: Seat, token: SeatToken) -> Entry {
         let mut out = Vec::new();
-        let Some(state) = self.seats[index(seat)].as_mut() else {
+        let Some(state) = self.seats[seat.index()].as_mut() else {
             return Entry::refused(conn, refuse(ErrorCode::BadToken, "no such seat"));
         };
         if !state.digest.matches(&TokenDigest::of(&token)) {
@@ -338,7 +351,7 @@ impl Room {
         }
         let replaced = state.conn.replace(conn);
         if let Some(old) = replaced {
-            out.push(Output::Close {
+            out.push(RoomOutput::Close {
                 conn: old,
                 reason: "replaced by a newer connection".into(),
             });
@@ -346,12 +359,13 @@ impl Room {
         let was_away = state.deadline.take().is_some();
         if was_away {
             self.resume_clock(now);
+            out.extend(self.store_clock(now));
         }
         out.extend(self.broadcast_except(conn, ServerMessage::PlayerBack { seat }));
         if was_away {
             out.extend(self.clock_to_others(now, conn));
         }
-        out.push(Output::Send {
+        out.push(RoomOutput::Send {
             to: conn,
             msg: ServerMessage::Joined {
                 role: Role::Player(seat),
@@ -375,7 +389,7 @@ impl Room {
         Entry {
             role: Some(Role::Spectator),
             replaced: None,
-            out: vec![Output::Send {
+            out: vec![RoomOutput::Send {
                 to: conn,
                 msg: ServerMessage::Joined {
                     role: Role::Spectator,
@@ -387,7 +401,7 @@ impl Room {
     }
 
     /// A message from someone in the room. Chat is rate-limited by the caller.
-    pub fn handle(&mut self, now: Instant, who: Who, msg: ClientMessage) -> Vec<Output> {
+    pub fn handle(&mut self, now: Instant, who: Who, msg: ClientMessage) -> Vec<RoomOutput> {
         let seat = match who.role {
             Role::Player(seat) => seat,
             Role::Spectator => {
@@ -416,26 +430,34 @@ impl Room {
         result.unwrap_or_else(|r| error_to(who.conn, r))
     }
 
-    /// A connection went away.
-    pub fn disconnect(&mut self, now: Instant, conn: ConnId) -> Vec<Output> {
+    /// A connection went away; its peer was last heard from at `last_heard` (at most `now`),
+    /// which is when a seated player's shot clock stops.
+    pub fn disconnect(
+        &mut self,
+        now: Instant,
+        last_heard: Instant,
+        conn: ConnId,
+    ) -> Vec<RoomOutput> {
         self.spectators.remove(&conn);
         let Some(seat) = SEATS.into_iter().find(|s| {
-            self.seats[index(*s)]
+            self.seats[s.index()]
                 .as_ref()
                 .is_some_and(|st| st.conn == Some(conn))
         }) else {
             return Vec::new();
         };
         let window = self.rules.reconnect_window;
-        if let Some(state) = self.seats[index(seat)].as_mut() {
+        if let Some(state) = self.seats[seat.index()].as_mut() {
             state.conn = None;
             state.deadline = Some(now + window);
         }
-        self.pause_clock(now);
-        self.broadcast(ServerMessage::PlayerLeft {
+        self.pause_clock(last_heard.min(now));
+        let mut out: Vec<RoomOutput> = self.store_clock(now).into_iter().collect();
+        out.extend(self.broadcast(ServerMessage::PlayerLeft {
             seat,
             reconnect_ms: millis(window),
-        })
+        }));
+        out
     }
 
     /// The earliest instant at which [`Room::tick`] has something to do.
@@ -449,20 +471,20 @@ impl Room {
     }
 
     /// Forfeits seats whose window ran out and runs out the shot clock.
-    pub fn tick(&mut self, now: Instant) -> Vec<Output> {
+    pub fn tick(&mut self, now: Instant) -> Vec<RoomOutput> {
         let mut out = Vec::new();
         for seat in SEATS {
-            let expired = self.seats[index(seat)]
+            let expired = self.seats[seat.index()]
                 .as_ref()
                 .and_then(|s| s.deadline)
                 .is_some_and(|d| d <= now);
             if !expired {
                 continue;
             }
-            if let Some(s) = self.seats[index(seat)].as_mut() {
+            if let Some(s) = self.seats[seat.index()].as_mut() {
                 s.deadline = None;
             }
-            let opponent_present = self.seats[index(other(seat))].is_some();
+            let opponent_present = self.seats[seat.other().index()].is_some();
             if !self.is_over() && opponent_present {
                 out.extend(
                     self.play(now, seat, None, Command::Forfeit)
@@ -486,7 +508,7 @@ impl Room {
             self.closed = true;
             if !self.is_over() {
                 // Abandoned before anyone could forfeit (no opponent ever came).
-                out.push(Output::Store(StoreOp::GameEnded {
+                out.push(RoomOutput::Store(StoreOp::GameEnded {
                     room: self.code.clone(),
                     number: self.game_number,
                     winner: None,
@@ -512,7 +534,7 @@ impl Room {
         seat: Seat,
         turn: Option<u32>,
         command: Command,
-    ) -> Result<Vec<Output>, Refusal> {
+    ) -> Result<Vec<RoomOutput>, Refusal> {
         if self.is_over() {
             return Err(refuse(ErrorCode::GameOver, "the game is over"));
         }
@@ -555,7 +577,7 @@ impl Room {
         };
         let mut out = vec![stored];
         if let Phase::Over { winner, reason } = self.game.phase() {
-            out.push(Output::Store(StoreOp::GameEnded {
+            out.push(RoomOutput::Store(StoreOp::GameEnded {
                 room: self.code.clone(),
                 number: self.game_number,
                 winner: *winner,
@@ -593,6 +615,8 @@ impl Room {
         } else {
             let animation = Duration::try_from_secs_f64(duration).unwrap_or(Duration::ZERO);
             self.restart_clock(now, animation);
+            // Stored with the command, before anyone hears of the new turn.
+            out.splice(1..1, self.store_clock(now));
             let msg = ServerMessage::TurnChanged {
                 turn: self.game.turn(),
                 to_move: self.game.to_move(),
@@ -608,7 +632,7 @@ impl Room {
 
     /// Ends a game that has one place left in its record: the player to move concedes
     /// (in practice, the session ends), so the record never grows past the limit.
-    fn end_at_length_limit(&mut self, now: Instant) -> Vec<Output> {
+    fn end_at_length_limit(&mut self, now: Instant) -> Vec<RoomOutput> {
         let mut out = self.broadcast(ServerMessage::Chat {
             from: String::new(),
             text: format!(
@@ -626,14 +650,19 @@ impl Room {
 
     /// Shows the shooter's aim to everyone else in the room. An aim out of turn is dropped
     /// without an answer: it is a picture of a moment, and a late one is simply old.
-    fn relay_aim(&self, from: ConnId, seat: Seat, turn: u32, strike: Strike) -> Vec<Output> {
+    fn relay_aim(&self, from: ConnId, seat: Seat, turn: u32, strike: Strike) -> Vec<RoomOutput> {
         if self.is_over() || turn != self.game.turn() || seat != self.game.to_move() {
             return Vec::new();
         }
         self.broadcast_except(from, ServerMessage::Aim { turn, seat, strike })
     }
 
-    fn call_pocket(&mut self, seat: Seat, turn: u32, pocket: u8) -> Result<Vec<Output>, Refusal> {
+    fn call_pocket(
+        &mut self,
+        seat: Seat,
+        turn: u32,
+        pocket: u8,
+    ) -> Result<Vec<RoomOutput>, Refusal> {
         if self.is_over() {
             return Err(refuse(ErrorCode::GameOver, "the game is over"));
         }
@@ -647,11 +676,11 @@ impl Room {
         Ok(self.broadcast(ServerMessage::PocketCalled { turn, seat, pocket }))
     }
 
-    fn rematch(&mut self, now: Instant, seat: Seat) -> Result<Vec<Output>, Refusal> {
+    fn rematch(&mut self, now: Instant, seat: Seat) -> Result<Vec<RoomOutput>, Refusal> {
         if !self.is_over() {
             return Err(refuse(ErrorCode::Unexpected, "the game is still on"));
         }
-        self.rematch[index(seat)] = true;
+        self.rematch[seat.index()] = true;
         if !self.rematch.iter().all(|r| *r) {
             return Ok(self.broadcast(ServerMessage::RematchOffered { seat }));
         }
@@ -663,28 +692,40 @@ impl Room {
             .wrapping_mul(0x9e37_79b9_7f4a_7c15)
             .wrapping_add(u64::from(self.game_number));
         self.game = Game::new(self.rules.variant, self.rules.settings, seed);
-        self.record = GameRecord::new(self.rules.variant, self.rules.settings, seed);
+        self.record = self.start_record(seed);
         self.game_number += 1;
         self.rematch = [false; 2];
         self.called = None;
         self.restart_clock(now, Duration::ZERO);
         let mut out = vec![self.store_start()];
+        out.extend(self.store_clock(now));
         out.extend(self.broadcast(ServerMessage::GameStarted {
             snapshot: Box::new(self.snapshot(now)),
         }));
         Ok(out)
     }
 
-    fn chat(&self, seat: Seat, text: String) -> Vec<Output> {
-        let from = self.seats[index(seat)]
+    fn chat(&self, seat: Seat, text: String) -> Vec<RoomOutput> {
+        let from = self.seats[seat.index()]
             .as_ref()
             .map_or_else(String::new, |s| s.name.clone());
         self.broadcast(ServerMessage::Chat { from, text })
     }
 
+    /// The record of a new game of this room from `seed`, naming the players seated.
+    fn start_record(&self, seed: u64) -> GameRecord {
+        let mut record = GameRecord::new(self.rules.variant, self.rules.settings, seed);
+        for seat in SEATS {
+            if let Some(s) = &self.seats[seat.index()] {
+                record.name_player(seat, &s.name);
+            }
+        }
+        record
+    }
+
     /// Stores the start of the current game (its record's header).
-    fn store_start(&self) -> Output {
-        Output::Store(StoreOp::GameStarted {
+    fn store_start(&self) -> RoomOutput {
+        RoomOutput::Store(StoreOp::GameStarted {
             room: self.code.clone(),
             number: self.game_number,
             header: self.record.encode(),
@@ -692,9 +733,9 @@ impl Room {
     }
 
     /// Stores the record's last entry.
-    fn store_command(&self) -> Output {
+    fn store_command(&self) -> RoomOutput {
         let index = self.record.entries.len().saturating_sub(1);
-        Output::Store(StoreOp::Command {
+        RoomOutput::Store(StoreOp::Command {
             room: self.code.clone(),
             number: self.game_number,
             index: u32::try_from(index).unwrap_or(u32::MAX),
@@ -715,19 +756,19 @@ impl Room {
             .chain(self.spectators.iter().copied())
     }
 
-    fn broadcast(&self, msg: ServerMessage) -> Vec<Output> {
+    fn broadcast(&self, msg: ServerMessage) -> Vec<RoomOutput> {
         self.connections()
-            .map(|to| Output::Send {
+            .map(|to| RoomOutput::Send {
                 to,
                 msg: msg.clone(),
             })
             .collect()
     }
 
-    fn broadcast_except(&self, except: ConnId, msg: ServerMessage) -> Vec<Output> {
+    fn broadcast_except(&self, except: ConnId, msg: ServerMessage) -> Vec<RoomOutput> {
         self.connections()
             .filter(|c| *c != except)
-            .map(|to| Output::Send {
+            .map(|to| RoomOutput::Send {
                 to,
                 msg: msg.clone(),
             })
@@ -756,27 +797,47 @@ impl Room {
         };
     }
 
-    fn pause_clock(&mut self, now: Instant) {
+    /// Stops the clock with the time it had left at `at`.
+    fn pause_clock(&mut self, at: Instant) {
         if let Clock::Running { deadline } = self.clock {
             self.clock = Clock::Paused {
-                left: deadline.saturating_duration_since(now),
+                left: deadline.saturating_duration_since(at),
             };
         }
     }
 
+    /// Runs a paused clock again once everyone seated is here, with what it had left but
+    /// never less than [`MIN_CLOCK_ON_RETURN`].
     fn resume_clock(&mut self, now: Instant) {
         if let Clock::Paused { left } = self.clock {
             if self.everyone_seated_is_here() {
                 self.clock = Clock::Running {
-                    deadline: now + left,
+                    deadline: now + left.max(MIN_CLOCK_ON_RETURN),
                 };
             }
         }
     }
 
+    /// The shot clock as it stands, to store (nothing when the room has none running or
+    /// paused).
+    fn store_clock(&self, now: Instant) -> Option<RoomOutput> {
+        let (left, running) = match self.clock {
+            Clock::Off => return None,
+            Clock::Running { deadline } => (deadline.saturating_duration_since(now), true),
+            Clock::Paused { left } => (left, false),
+        };
+        Some(RoomOutput::Store(StoreOp::Clock {
+            room: self.code.clone(),
+            number: self.game_number,
+            turn: self.game.turn(),
+            left_ms: millis(left),
+            running,
+        }))
+    }
+
     /// Tells everyone but `conn` how the shot clock stands, when the room has one running:
     /// after a join or a return it starts or runs again, and every screen shows the same.
-    fn clock_to_others(&self, now: Instant, conn: ConnId) -> Vec<Output> {
+    fn clock_to_others(&self, now: Instant, conn: ConnId) -> Vec<RoomOutput> {
         if !matches!(self.clock, Clock::Running { .. }) {
             return Vec::new();
         }

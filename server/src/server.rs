@@ -6,7 +6,7 @@
 //! connections --HubEvent--> hub thread --Vec<Output>-------------------> writer thread --Outbound--> connections
 //!                              |   ^                                     (stores, then sends)
 //!                    Run(room) v   | Returned(room)                        ^
-//!                            room workers --Vec<Output> (the room's)------+
+//!                            room workers --Vec<RoomOutput>---------------+
 //! ```
 //!
 //! The hub thread only routes, checks and counts; a message for a room goes out with the
@@ -37,9 +37,9 @@ use tokio::sync::Notify;
 use crate::admission::{Entry, Gate, Refusal, Ticket};
 use crate::conn::{self, HubEvent, Outbound, Outlet};
 use crate::endings::Ending;
-use crate::hub::{Claimed, Hub, HubConfig, Restored};
+use crate::hub::{Claimed, Hub, HubConfig, Output, Restored};
 use crate::limits::Limits;
-use crate::output::{ConnId, Output, RoomMeta, StoreOp};
+use crate::output::{ConnId, RoomMeta, RoomOutput, StoreOp};
 use crate::pool::{self, Pool};
 use crate::records;
 use crate::secret::{Entropy, OsEntropy, TestEntropy, TokenDigest};
@@ -192,8 +192,8 @@ impl Server {
         // where it is used from then on, is one too).
         let (store, restored) = std::thread::scope(|s| {
             s.spawn(|| -> Result<_, ServerError> {
-                let store = Store::at(&config.store)?;
-                let restored = restore(&store, &mut hub)?;
+                let mut store = Store::at(&config.store)?;
+                let restored = restore(&mut store, &mut hub)?;
                 Ok((store, restored))
             })
             .join()
@@ -498,13 +498,15 @@ pub async fn run(config: Config, shutdown: impl Future<Output = ()>) -> Result<(
     Server::bind(&config)?.run(shutdown).await
 }
 
-/// Replays every unfinished game, checking each stored hash, and hands it to the hub.
-fn restore(store: &Store, hub: &mut Hub) -> Result<usize, ServerError> {
+/// Replays every unfinished game, checking each stored hash, and hands it to the hub (a
+/// game stored in an older record format is written again in the current one first).
+fn restore(store: &mut Store, hub: &mut Hub) -> Result<usize, ServerError> {
     let now = Instant::now();
     let mut restored = 0;
     for stored in store.unfinished()? {
+        store.upgrade(&stored)?;
         if let Some(r) = replayed(stored) {
-            hub.restore(now, r.meta, r.number, r.record, r.game);
+            hub.restore(now, r);
             restored += 1;
         }
     }
@@ -548,6 +550,7 @@ fn replayed(stored: StoredGame) -> Option<Restored> {
                 number: stored.number,
                 record,
                 game,
+                clock: stored.clock.map(|c| c.left_at(crate::store::unix_millis())),
             })
         }
         Err(e) => {
@@ -560,9 +563,9 @@ fn replayed(stored: StoredGame) -> Option<Restored> {
 /// Asks the store for the room of a seat no room here knows (see [`Store::claim`]). A room
 /// taken over is replayed here, on the writer thread, holding up other writes for that long:
 /// a takeover is rare, and a game's replay is bounded by its length limit.
-fn claim(store: &Store, token: &SeatToken) -> Claimed {
+fn claim(store: &mut Store, token: &SeatToken) -> Claimed {
     match store.claim(&TokenDigest::of(token)) {
-        Ok(Claim::Taken(stored)) => match replayed(*stored) {
+        Ok(Claim::Taken(stored)) => match store.upgrade(&stored).ok().and(replayed(*stored)) {
             Some(r) => {
                 tracing::info!(room = %r.meta.code, "room taken over from a stopped instance");
                 Claimed::Taken(Box::new(r))
@@ -647,7 +650,7 @@ fn spawn_hub(
                 Vec::new()
             }
             Ok(HubEvent::Message(id, msg, read)) => hub.handle_read(now, read, id, msg),
-            Ok(HubEvent::Disconnected(id)) => hub.disconnected(now, id),
+            Ok(HubEvent::Disconnected(id, last_heard)) => hub.disconnected(now, last_heard, id),
             Ok(HubEvent::Returned(room)) => hub.returned(now, room),
             Ok(HubEvent::Failed(code)) => hub.failed(&code),
             Ok(HubEvent::Claimed(id, token, claimed)) => hub.claimed(now, id, token, claimed),
@@ -685,6 +688,7 @@ fn spawn_hub(
                     Ok((out, room)) => {
                         // The room's results reach the writer before the room is back at
                         // the hub, so its next results always come after these.
+                        let out = out.into_iter().map(Output::Room).collect();
                         let _ = writer.send(WriterMsg::Batch(out, Some(read)));
                         let _ = back.send(HubEvent::Returned(room));
                     }
@@ -715,7 +719,7 @@ fn spawn_writer(
                 .iter()
                 .filter_map(|m| match m {
                     WriterMsg::Batch(out, _) => Some(out.iter().filter_map(|o| match o {
-                        Output::Store(op) => Some(op),
+                        Output::Room(RoomOutput::Store(op)) => Some(op),
                         _ => None,
                     })),
                     _ => None,
@@ -741,23 +745,27 @@ fn spawn_writer(
                         conns.remove(&id);
                     }
                     WriterMsg::Batch(out, read) => {
-                        let command = out
-                            .iter()
-                            .any(|o| matches!(o, Output::Store(StoreOp::Command { .. })));
+                        let command = out.iter().any(|o| {
+                            matches!(o, Output::Room(RoomOutput::Store(StoreOp::Command { .. })))
+                        });
                         for o in out {
                             let (to, what) = match o {
-                                Output::Send { to, msg } => (to, Outbound::Message(msg)),
-                                Output::Close { conn, reason } => (conn, Outbound::Close(reason)),
+                                Output::Room(RoomOutput::Send { to, msg }) => {
+                                    (to, Outbound::Message(msg))
+                                }
+                                Output::Room(RoomOutput::Close { conn, reason }) => {
+                                    (conn, Outbound::Close(reason))
+                                }
                                 // The hub thread hands every `Run` to the workers.
-                                Output::Store(_) | Output::Run(_) => continue,
+                                Output::Room(RoomOutput::Store(_)) | Output::Run(_) => continue,
                                 // Read after every earlier write is committed, as records are.
                                 Output::Claim { conn, token } => {
-                                    let claimed = claim(&store, &token);
+                                    let claimed = claim(&mut store, &token);
                                     let _ = hub.send(HubEvent::Claimed(conn, token, claimed));
                                     continue;
                                 }
-                                Output::SendRecord { to, room } => {
-                                    (to, Outbound::Message(records::answer(&store, &room)))
+                                Output::SendRecord { to, room, game } => {
+                                    (to, Outbound::Message(records::answer(&store, &room, game)))
                                 }
                             };
                             let Some(outlet) = conns.get(&to) else {

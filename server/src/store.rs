@@ -12,16 +12,17 @@
 //! async worker.
 
 use std::path::Path;
-use std::time::{SystemTime, UNIX_EPOCH};
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use bincode::config;
 use breakshot_shared::protocol::limits::MAX_RECORD;
 use breakshot_shared::protocol::RoomCode;
-use breakshot_shared::replay::{GameRecord, RecordEntry, RecordError};
+use breakshot_shared::replay::{self, GameRecord, RecordEntry, RecordError, RECORD_VERSION};
 use breakshot_shared::rules::Seat;
 use thiserror::Error;
 
 use crate::output::{RoomMeta, StoreOp};
+use crate::room::ClockLeft;
 use crate::secret::TokenDigest;
 
 mod postgres;
@@ -120,6 +121,43 @@ pub struct StoredGame {
     pub record: Result<GameRecord, RecordError>,
     /// Whether the game's end is stored (a result, or abandoned).
     pub finished: bool,
+    /// The record format its rows are stored in (0 if unreadable): a game of an older
+    /// format is written again in the current one before play goes on ([`Store::upgrade`]).
+    pub format: u32,
+    /// The shot clock of its current turn as last stored, if it has one.
+    pub clock: Option<StoredClock>,
+}
+
+/// A game's shot clock as the store last wrote it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StoredClock {
+    /// The turn it belongs to.
+    pub turn: u32,
+    /// Milliseconds left when it was written.
+    pub left_ms: u64,
+    /// Whether it was running then.
+    pub running: bool,
+    /// When it was written (Unix milliseconds, the store's clock).
+    pub at_ms: u64,
+}
+
+impl StoredClock {
+    /// What is left at `now_ms` (Unix milliseconds): a stopped clock keeps its time; a
+    /// running one has lost the time since it was written. A server that was stopped in an
+    /// orderly way stopped every clock first (its players' connections closed); one that
+    /// crashed cannot say when it stopped, so the time it was down counts as played, and the
+    /// returning player still finds at least the room's minimum.
+    pub fn left_at(&self, now_ms: u64) -> ClockLeft {
+        let ran = if self.running {
+            now_ms.saturating_sub(self.at_ms)
+        } else {
+            0
+        };
+        ClockLeft {
+            turn: self.turn,
+            left: Duration::from_millis(self.left_ms.saturating_sub(ran)),
+        }
+    }
 }
 
 /// A stored game that is over, with its room.
@@ -142,6 +180,13 @@ pub fn unix_now() -> u64 {
     SystemTime::now()
         .duration_since(UNIX_EPOCH)
         .map_or(0, |d| d.as_secs())
+}
+
+/// Milliseconds since the Unix epoch, the store's clock for shot clocks.
+pub fn unix_millis() -> u64 {
+    SystemTime::now()
+        .duration_since(UNIX_EPOCH)
+        .map_or(0, |d| u64::try_from(d.as_millis()).unwrap_or(u64::MAX))
 }
 
 /// The game store on one of its backends. Every call blocks: the server uses it from its
@@ -256,6 +301,47 @@ impl Store {
             .map(|record| (number, record, finished)))
     }
 
+    /// Game `number` of a room: (number, encoded record, finished), if the room has it.
+    pub fn game(
+        &self,
+        room: &RoomCode,
+        number: u32,
+    ) -> Result<Option<(u32, Vec<u8>, bool)>, StoreError> {
+        let finished = match &self.0 {
+            Backend::Sqlite(s) => s.finished(room.as_str(), number)?,
+            Backend::Postgres(s) => s.finished(room.as_str(), number)?,
+        };
+        let Some(finished) = finished else {
+            return Ok(None);
+        };
+        Ok(self
+            .record(room, number)?
+            .map(|record| (number, record, finished)))
+    }
+
+    /// How many games a room has played (the number of its latest), if it has any.
+    pub fn games_played(&self, room: &RoomCode) -> Result<Option<u32>, StoreError> {
+        let latest = match &self.0 {
+            Backend::Sqlite(s) => s.latest_game(room.as_str())?,
+            Backend::Postgres(s) => s.latest_game(room.as_str())?,
+        };
+        Ok(latest.map(|(number, _)| number))
+    }
+
+    /// Writes a game stored in an older record format again, whole, in the current one, so
+    /// the commands appended to it from now on are in the format of its header. Does
+    /// nothing for a game already in the current format (or one that does not read).
+    pub fn upgrade(&mut self, game: &StoredGame) -> Result<(), StoreError> {
+        let Ok(record) = &game.record else {
+            return Ok(());
+        };
+        if game.format == RECORD_VERSION {
+            return Ok(());
+        }
+        let ops = StoreOp::whole_game(&game.meta.code, game.number, record);
+        self.apply(&ops.iter().collect::<Vec<_>>())
+    }
+
     /// Replaces one game's record whole (for tests of tamper detection).
     pub fn overwrite_record(
         &self,
@@ -270,13 +356,25 @@ impl Store {
     }
 }
 
-/// A game's record: its header followed by its command rows, in order.
+/// A game's record: its header followed by its command rows, in order, each row read in
+/// its header's format; a game stored in an older format comes back in the current one.
 fn assemble(header: &[u8], entries: Vec<Vec<u8>>) -> Result<GameRecord, RecordError> {
+    let version = replay::format_version(header)?;
     let mut record = GameRecord::decode(header)?;
     for bytes in entries {
-        record.entries.push(RecordEntry::decode(&bytes)?);
+        record
+            .entries
+            .push(RecordEntry::decode_version(&bytes, version)?);
+    }
+    if version != RECORD_VERSION {
+        record.rechain();
     }
     Ok(record)
+}
+
+/// The format a stored game's header is written in (0 if it is unreadable).
+fn stored_format(header: &[u8]) -> u32 {
+    replay::format_version(header).unwrap_or(0)
 }
 
 /// Room `room`'s game `number`, assembled and encoded whole, as `record` answers: a record

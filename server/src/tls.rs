@@ -8,7 +8,7 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Duration;
 
-use breakshot_shared::protocol::{Fingerprint, ALPN};
+use breakshot_shared::protocol::{limits, Fingerprint, ALPN};
 use rustls::pki_types::{CertificateDer, PrivateKeyDer, PrivatePkcs8KeyDer};
 use sha2::{Digest, Sha256};
 use thiserror::Error;
@@ -24,10 +24,10 @@ pub const KEY_FILE: &str = "key.der";
 /// them to wait for the idle timeout).
 pub const RESET_KEY_FILE: &str = "reset.key";
 
-/// Keep-alive so a thinking player's connection never idles out.
-pub const KEEP_ALIVE: Duration = Duration::from_secs(5);
-/// A peer silent this long is gone.
-pub const IDLE_TIMEOUT: Duration = Duration::from_secs(30);
+/// Keep-alive so a thinking player's connection never idles out (the protocol's value).
+pub const KEEP_ALIVE: Duration = limits::KEEP_ALIVE;
+/// A peer silent this long is gone (the protocol's value).
+pub const IDLE_TIMEOUT: Duration = limits::IDLE_TIMEOUT;
 
 /// Why the server's identity could not be loaded, made or used.
 #[derive(Debug, Error)]

@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use breakshot_shared::protocol::RoomCode;
+use breakshot_shared::replay::Verified;
 
 use crate::store::{Location, Store, StoreError, DB_FILE};
 
@@ -19,6 +20,12 @@ pub struct GameCheck {
     pub finished: bool,
     /// `Err` names the first command whose replay differs (or why the record is unreadable).
     pub result: Result<(), String>,
+    /// What was checked, when it was not a replay of every shot: for a game recorded with
+    /// other physics, "recorded with physics N; this build plays M" and that its chain of
+    /// hashes was checked as stored.
+    pub note: Option<String>,
+    /// The players' names as the record keeps them (seats A and B).
+    pub players: [Option<String>; 2],
 }
 
 /// Checks every game stored in `dir`.
@@ -38,19 +45,26 @@ pub fn verify_store(location: &Location) -> Result<Vec<GameCheck>, StoreError> {
         .all()?
         .into_iter()
         .map(|g| {
-            let (commands, result) = match g.record {
+            let (commands, players, verified) = match g.record {
                 Ok(record) => (
                     record.entries.len(),
-                    record.replay().map(|_| ()).map_err(|e| e.to_string()),
+                    record.players.clone(),
+                    record.verify().map_err(|e| e.to_string()),
                 ),
-                Err(e) => (0, Err(format!("unreadable record: {e}"))),
+                Err(e) => (0, [None, None], Err(format!("unreadable record: {e}"))),
+            };
+            let note = match &verified {
+                Ok(v @ Verified::OtherPhysics { .. }) => Some(v.describe()),
+                _ => None,
             };
             GameCheck {
                 room: g.meta.code,
                 number: g.number,
                 commands,
                 finished: g.finished,
-                result,
+                result: verified.map(|_| ()),
+                note,
+                players,
             }
         })
         .collect())

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use breakshot_shared::protocol::{ClientMessage, RoomCode};
 
-use crate::output::Output;
+use crate::output::RoomOutput;
 use crate::room::{Room, Who};
 
 /// One message for one room, with the room itself.
@@ -41,7 +41,7 @@ impl RoomWork {
     /// Runs the message through the room (pure; may take as long as a shot's simulation).
     /// The outputs go to the store and the connections before the room goes back to the
     /// hub, so the room's next outputs always follow these.
-    pub fn run(self, now: Instant) -> (Vec<Output>, Returned) {
+    pub fn run(self, now: Instant) -> (Vec<RoomOutput>, Returned) {
         let mut room = self.room;
         let out = room.handle(now, self.who, self.msg);
         (out, Returned(room))

@@ -35,6 +35,15 @@ pub fn state_hash(balls: &[BallState]) -> u64 {
     h.finish()
 }
 
+/// One link of a chain of hashes: FNV-1a (64-bit) over the previous link and `bytes`, so
+/// each link depends on everything before it (a game record's entries are chained so).
+pub fn chain_hash(prev: u64, bytes: &[u8]) -> u64 {
+    let mut h = Fnv::new();
+    h.write(&prev.to_le_bytes());
+    h.write(bytes);
+    h.finish()
+}
+
 /// Formats a hash the way results and records show it: 16 hex digits.
 pub fn hash_hex(h: u64) -> String {
     format!("{h:016x}")

@@ -8,21 +8,32 @@
 //! a record from another version is refused by name rather than misread, and is limited to
 //! [`MAX_RECORD_BYTES`] so a hostile length prefix cannot make it allocate without bound.
 //!
-//! Versions: 1 had level strikes only; 2 adds the cue elevation to every strike. Records of
-//! version 1 still decode (see `replay/v1.rs`), as current records with θ = 0, and replay and verify
-//! as they did.
+//! Versions: 1 had level strikes only; 2 adds the cue elevation to every strike; 3 adds the
+//! players' names, the physics the game was played with (the build's physics fingerprint,
+//! [`crate::protocol::reference_hash`]) and a chain of hashes over the entries. Records of
+//! versions 1 and 2 still decode (see `replay/v1.rs`, `replay/v2.rs`), as current records
+//! with no names and no physics named, and replay and verify as they did.
+//!
+//! A record played with other physics than this build's (an older build, before a change
+//! that moved a bit) cannot be re-simulated to its hashes. [`GameRecord::verify`] then says
+//! so ("recorded with physics N; this build plays M") and checks instead that the record is
+//! whole as stored: each entry's `chain` is the hash of the previous one's (or of the header,
+//! for the first) and of the entry itself, so a changed, dropped or reordered entry, header
+//! or name is found without the physics.
 
 mod v1;
+mod v2;
 
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::hash::hash_hex;
+use crate::hash::{chain_hash, hash_hex};
+use crate::protocol::reference_hash;
 use crate::rules::{Command, Game, RuleError, Seat, Settings, Variant};
 
 /// Version of the record format this build writes.
-pub const RECORD_VERSION: u32 = 2;
+pub const RECORD_VERSION: u32 = 3;
 /// The oldest version this build still reads.
 pub const OLDEST_RECORD_VERSION: u32 = v1::VERSION;
 /// Largest encoded record accepted (4 MiB). A command takes well under 100 bytes, so this
@@ -39,6 +50,10 @@ pub struct RecordEntry {
     /// The state hash of the shot the command played (`ShotReport::hash`), `None` for
     /// commands that play no shot.
     pub hash: Option<u64>,
+    /// The chain of hashes up to this entry: [`chain_hash`] of the previous entry's chain
+    /// (the header's digest for the first) and of this entry's seat, command and hash.
+    /// Written by [`GameRecord::push`]; checked by [`GameRecord::check_chain`].
+    pub chain: u64,
 }
 
 /// A whole game.
@@ -52,8 +67,51 @@ pub struct GameRecord {
     pub settings: Settings,
     /// The rack seed the game started from ([`Game::seed`]).
     pub seed: u64,
+    /// The players' names, seats A and B, as they gave them; `None` for a seat nobody took
+    /// (and in records of formats before 3, which kept no names).
+    pub players: [Option<String>; 2],
+    /// The physics the game was played with: the recording build's physics fingerprint
+    /// ([`reference_hash`]); `None` in records of formats before 3.
+    pub physics: Option<u64>,
     /// Every applied command, in order.
     pub entries: Vec<RecordEntry>,
+}
+
+/// What [`GameRecord::verify`] found.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Verified {
+    /// Every command replayed to its recorded hash; the game as it ends.
+    Replayed(Box<Game>),
+    /// Recorded with other physics than this build's, and not reproduced by it: the record
+    /// was checked whole as stored (its chain of hashes), not re-simulated.
+    OtherPhysics {
+        /// The physics fingerprint the record names.
+        recorded: u64,
+        /// This build's.
+        this_build: u64,
+        /// The first entry this build's physics replays differently.
+        differs_at: usize,
+    },
+}
+
+impl Verified {
+    /// A line for a person: what was checked.
+    pub fn describe(&self) -> String {
+        match self {
+            Verified::Replayed(_) => "every shot replayed to its recorded hash".into(),
+            Verified::OtherPhysics {
+                recorded,
+                this_build,
+                differs_at,
+            } => format!(
+                "recorded with physics {}; this build plays {}: from entry {differs_at} its \
+                 shots play differently here, so the record's chain of hashes was checked as \
+                 stored instead of re-simulated",
+                hash_hex(*recorded),
+                hash_hex(*this_build)
+            ),
+        }
+    }
 }
 
 /// Why bytes are not a record.
@@ -90,6 +148,25 @@ pub enum ReplayError {
         /// Why the rules refused it.
         error: RuleError,
     },
+    /// An entry's chain of hashes is not what its header and entries give: the record was
+    /// changed, cut or reordered after it was written.
+    #[error("entry {entry}: the chain of hashes is broken (the record was changed after it was written)")]
+    ChainBroken {
+        /// The first entry whose chain differs, from 0.
+        entry: usize,
+    },
+    /// The record names other physics than this build's, and a shot replays differently:
+    /// the game cannot be played again here (see [`GameRecord::verify`]).
+    #[error("recorded with physics {}; this build plays {}: entry {entry} replays differently",
+        hash_hex(*.recorded), hash_hex(*.this_build))]
+    OtherPhysics {
+        /// The first entry that replays differently, from 0.
+        entry: usize,
+        /// The physics fingerprint the record names.
+        recorded: u64,
+        /// This build's.
+        this_build: u64,
+    },
     /// A command replayed to a different shot hash than recorded (or played a shot where
     /// none was recorded, or none where one was): the physics or the rules differ.
     #[error("entry {entry}: the state hash differs (recorded {}, replayed {})",
@@ -109,15 +186,26 @@ impl ReplayError {
     pub fn entry(&self) -> Option<usize> {
         match self {
             ReplayError::Version(_) => None,
-            ReplayError::Rejected { entry, .. } | ReplayError::HashMismatch { entry, .. } => {
-                Some(*entry)
-            }
+            ReplayError::Rejected { entry, .. }
+            | ReplayError::HashMismatch { entry, .. }
+            | ReplayError::ChainBroken { entry }
+            | ReplayError::OtherPhysics { entry, .. } => Some(*entry),
         }
     }
 }
 
 fn show(hash: Option<u64>) -> String {
     hash.map_or_else(|| "none".into(), hash_hex)
+}
+
+/// The bytes of an entry the chain covers: its seat, command and hash.
+fn entry_body(seat: Seat, command: &Command, hash: Option<u64>) -> Vec<u8> {
+    encode_any(&(seat, command, hash))
+}
+
+/// bincode's standard encoding of `value` (these types always encode).
+fn encode_any<T: Serialize>(value: &T) -> Vec<u8> {
+    bincode::serde::encode_to_vec(value, bincode::config::standard()).unwrap_or_default()
 }
 
 fn config() -> impl bincode::config::Config {
@@ -169,6 +257,7 @@ impl RecordEntry {
     pub fn decode_version(bytes: &[u8], version: u32) -> Result<RecordEntry, RecordError> {
         match version {
             RECORD_VERSION => decode_whole(bytes),
+            v2::VERSION => decode_whole::<v2::EntryV2>(bytes).map(RecordEntry::from),
             v1::VERSION => decode_whole::<v1::EntryV1>(bytes).map(RecordEntry::from),
             other => Err(RecordError::Version(other)),
         }
@@ -176,14 +265,83 @@ impl RecordEntry {
 }
 
 impl GameRecord {
-    /// An empty record of a game about to start.
+    /// An empty record of a game about to start with this build's physics, its players not
+    /// named yet ([`GameRecord::name_player`]).
     pub fn new(variant: Variant, settings: Settings, seed: u64) -> GameRecord {
         GameRecord {
             version: RECORD_VERSION,
             variant,
             settings,
             seed,
+            players: [None, None],
+            physics: reference_hash().ok(),
             entries: Vec::new(),
+        }
+    }
+
+    /// Names the player of `seat`. The names are part of the header the chain of hashes
+    /// starts from, so a record with entries has its chain written again.
+    pub fn name_player(&mut self, seat: Seat, name: &str) {
+        self.players[seat.index()] = Some(name.to_string());
+        self.rechain();
+    }
+
+    /// The header's digest, where the chain of hashes starts: every field but the entries.
+    fn header_digest(&self) -> u64 {
+        let header = (
+            self.version,
+            self.variant,
+            self.settings,
+            self.seed,
+            &self.players,
+            self.physics,
+        );
+        chain_hash(0, &encode_any(&header))
+    }
+
+    /// Writes every entry's chain from the header on (after a change to the header, or for a
+    /// record converted from an older format).
+    pub fn rechain(&mut self) {
+        let mut prev = self.header_digest();
+        for e in &mut self.entries {
+            e.chain = chain_hash(prev, &entry_body(e.seat, &e.command, e.hash));
+            prev = e.chain;
+        }
+    }
+
+    /// Checks the chain of hashes: every entry's chain follows from the header and the
+    /// entries before it. Needs no physics.
+    pub fn check_chain(&self) -> Result<(), ReplayError> {
+        let mut prev = self.header_digest();
+        for (entry, e) in self.entries.iter().enumerate() {
+            let chain = chain_hash(prev, &entry_body(e.seat, &e.command, e.hash));
+            if chain != e.chain {
+                return Err(ReplayError::ChainBroken { entry });
+            }
+            prev = chain;
+        }
+        Ok(())
+    }
+
+    /// Checks the record as far as this build can: replays it with every hash checked; if it
+    /// was recorded with other physics and a shot plays differently here, checks its chain of
+    /// hashes instead and says so ([`Verified::OtherPhysics`]).
+    pub fn verify(&self) -> Result<Verified, ReplayError> {
+        match self.replay() {
+            Ok(game) => Ok(Verified::Replayed(Box::new(game))),
+            Err(ReplayError::OtherPhysics {
+                entry,
+                recorded,
+                this_build,
+            }) => {
+                self.check_chain()?;
+                Ok(Verified::OtherPhysics {
+                    recorded,
+                    this_build,
+                    differs_at: entry,
+                })
+            }
+            Err(e) => Err(e),
         }
     }
 
@@ -192,12 +350,19 @@ impl GameRecord {
         GameRecord::new(game.variant(), game.settings(), game.seed())
     }
 
-    /// Appends an applied command and the hash of the shot it played.
+    /// Appends an applied command and the hash of the shot it played, chained to the entry
+    /// before it.
     pub fn push(&mut self, seat: Seat, command: Command, hash: Option<u64>) {
+        let prev = self
+            .entries
+            .last()
+            .map_or_else(|| self.header_digest(), |e| e.chain);
+        let chain = chain_hash(prev, &entry_body(seat, &command, hash));
         self.entries.push(RecordEntry {
             seat,
             command,
             hash,
+            chain,
         });
     }
 
@@ -213,6 +378,7 @@ impl GameRecord {
     pub fn decode(bytes: &[u8]) -> Result<GameRecord, RecordError> {
         match format_version(bytes)? {
             v1::VERSION => decode_whole::<v1::RecordV1>(bytes).map(GameRecord::from),
+            v2::VERSION => decode_whole::<v2::RecordV2>(bytes).map(GameRecord::from),
             _ => decode_whole(bytes),
         }
     }
@@ -235,6 +401,16 @@ impl GameRecord {
                     })?;
             let replayed = verdict.shot.map(|s| s.hash);
             if replayed != e.hash {
+                let this_build = reference_hash().ok();
+                if let (Some(recorded), Some(this_build)) = (self.physics, this_build) {
+                    if recorded != this_build {
+                        return Err(ReplayError::OtherPhysics {
+                            entry: i,
+                            recorded,
+                            this_build,
+                        });
+                    }
+                }
                 return Err(ReplayError::HashMismatch {
                     entry: i,
                     recorded: e.hash,

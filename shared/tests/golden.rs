@@ -2,6 +2,9 @@
 //! `tests/golden/hashes.txt`. Any change of a single bit in any result fails this test, in
 //! debug and in release builds alike.
 //!
+//! The handshake's reference shots (one per mechanism) and the physics fingerprint made of
+//! them are among the entries, so a physics change that moves the fingerprint shows here.
+//!
 //! After a deliberate change to the physics, regenerate the file and review what changed:
 //!
 //! ```sh
@@ -15,6 +18,7 @@ use std::path::PathBuf;
 
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{simulate, Shot, Strike, TableKind};
+use breakshot_shared::protocol::{reference_hash, reference_shots};
 use breakshot_shared::scene::Scene;
 use common::*;
 use glam::DVec2;
@@ -69,6 +73,11 @@ fn shots() -> Vec<(String, Shot)> {
     jump.table = TableKind::NineFoot;
     let strike = Strike::at_angle(4.0, 90.0, DVec2::new(0.0, -0.1)).elevated(45.0);
     shots.push(("jump_9ft".into(), jump.struck(0, strike)));
+    // The handshake's reference shots, one per mechanism (see protocol::reference): the
+    // physics fingerprint is made of exactly these.
+    for reference in reference_shots() {
+        shots.push((format!("reference_{}", reference.name), reference.shot));
+    }
     shots
 }
 
@@ -89,13 +98,16 @@ fn read_expected() -> BTreeMap<String, (usize, String)> {
 
 #[test]
 fn golden_hashes_hold() {
-    let actual: BTreeMap<String, (usize, String)> = shots()
+    let mut actual: BTreeMap<String, (usize, String)> = shots()
         .into_iter()
         .map(|(name, shot)| {
             let out = simulate(&shot).expect("simulates");
             (name, (out.events.len(), hash_hex(out.hash())))
         })
         .collect();
+    // The fingerprint itself (no events of its own), so a change of it is reviewed here too.
+    let fingerprint = reference_hash().expect("the reference shots simulate");
+    actual.insert("physics_fingerprint".into(), (0, hash_hex(fingerprint)));
     let expected = read_expected();
     let mut changes = Vec::new();
     for (name, got) in &actual {

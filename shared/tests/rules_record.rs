@@ -103,6 +103,10 @@ fn a_command_the_rules_refuse_fails_replay_at_that_entry() {
 
 fn small_record() -> GameRecord {
     let mut r = GameRecord::new(Variant::NineBall, Settings::online(), 7);
+    // Pinned here, not this build's fingerprint, so the encoding below stays put when the
+    // physics moves.
+    r.physics = Some(0x0000_5eed_0000_0001);
+    r.name_player(Seat::A, "ann");
     r.push(
         Seat::A,
         Command::Shot {
@@ -133,10 +137,23 @@ fn record_encoding_is_pinned() {
     assert_eq!(hex, GOLDEN);
 }
 
-/// Version 2, NineBall, online settings (no calls, 60 s clock, 9ft), seed 7, then three
-/// entries, all in bincode's standard configuration. The strike is speed, aim, tip and, new
-/// in version 2, the elevation (0.0: eight zero bytes after the tip).
-const GOLDEN: &str = "020100013c0307030000000000000000f83f0000000000000000000000000000f03f0000000000000000000000000000d03f0000000000000000010201fdefcdab8967452301010205000101000000000000e03f000000000000d03f00";
+/// [`small_record`] as a record of format 1 or 2 reads back: no names, no physics, its chain
+/// written on reading.
+fn as_old_format(mut r: GameRecord) -> GameRecord {
+    r.players = [None, None];
+    r.physics = None;
+    r.rechain();
+    r
+}
+
+/// Version 3, NineBall, online settings (no calls, 60 s clock, 9ft), seed 7, the players
+/// (ann in seat A, nobody in seat B), the physics, then three entries each with its link of
+/// the chain, all in bincode's standard configuration.
+const GOLDEN: &str = "030100013c03070103616e6e0001fd01000000ed5e0000030000000000000000f83f0000000000000000000000000000f03f0000000000000000000000000000d03f0000000000000000010201fdefcdab8967452301fdd8a58d99d39d3ffd01020500fd22cfc5b318f5e54f0101000000000000e03f000000000000d03f00fd95c2ee7d2d9c4d6d";
+
+/// Version 2: the same record with no names, no physics and no chain. The strike is speed,
+/// aim, tip and, new in version 2, the elevation (0.0: eight zero bytes after the tip).
+const GOLDEN_V2: &str = "020100013c0307030000000000000000f83f0000000000000000000000000000f03f0000000000000000000000000000d03f0000000000000000010201fdefcdab8967452301010205000101000000000000e03f000000000000d03f00";
 
 /// The same record as version 1 wrote it: level strikes, no elevation field.
 const GOLDEN_V1: &str = "010100013c0307030000000000000000f83f0000000000000000000000000000f03f0000000000000000000000000000d03f010201fdefcdab8967452301010205000101000000000000e03f000000000000d03f00";
@@ -150,7 +167,17 @@ fn unhex(hex: &str) -> Vec<u8> {
 
 #[test]
 fn a_record_of_version_1_decodes_with_level_strikes() {
-    assert_eq!(GameRecord::decode(&unhex(GOLDEN_V1)), Ok(small_record()));
+    assert_eq!(
+        GameRecord::decode(&unhex(GOLDEN_V1)),
+        Ok(as_old_format(small_record()))
+    );
+}
+
+#[test]
+fn a_record_of_version_2_decodes_with_no_names_and_no_physics() {
+    let old = GameRecord::decode(&unhex(GOLDEN_V2)).unwrap();
+    assert_eq!(old, as_old_format(small_record()));
+    assert_eq!(old.check_chain(), Ok(()));
 }
 
 /// A 9-ball game of random legal play (40 commands: shots, fouls, ball in hand), encoded by

@@ -3,7 +3,7 @@
 
 use anyhow::{bail, Result};
 use breakshot_client::bot::{run, BotConfig};
-use breakshot_client::net::{fetch_record, FetchError};
+use breakshot_client::net::{fetch_game, fetch_record, FetchError};
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, RoomCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::Phase;
@@ -97,6 +97,7 @@ async fn fetching_an_unknown_room_is_no_such_room_and_changes_nothing() -> Resul
     let mut p = Player::connect(&server.invite).await?;
     p.send(ClientMessage::FetchRecord {
         room: unknown.clone(),
+        game: None,
     })
     .await?;
     match p.recv().await? {
@@ -124,6 +125,98 @@ async fn fetching_an_unknown_room_is_no_such_room_and_changes_nothing() -> Resul
         matches!(&fetched, Err(FetchError::NoSuchGame(r)) if *r == unknown),
         "{fetched:?}"
     );
+    server.stop().await?;
+    Ok(())
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn after_a_rematch_the_first_game_is_fetched_by_its_number_and_replays() -> Result<()> {
+    let data = scratch("fetch-by-number");
+    let server = TestServer::start(data.path()).await?;
+    let (mut a, mut b, room) = seated_pair(&server.invite).await?;
+
+    // Game 1: a break, then whoever is to move concedes.
+    let Some(game) = a.game() else {
+        bail!("no game after joining");
+    };
+    a.send(break_shot(game)).await?;
+    let first_hash = match a
+        .until("ShotResolved", |m| {
+            matches!(m, ServerMessage::ShotResolved { .. })
+        })
+        .await?
+    {
+        ServerMessage::ShotResolved { hash, .. } => hash,
+        other => bail!("expected ShotResolved, got {other:?}"),
+    };
+    a.until("TurnChanged", |m| {
+        matches!(m, ServerMessage::TurnChanged { .. })
+    })
+    .await?;
+    b.until("TurnChanged", |m| {
+        matches!(m, ServerMessage::TurnChanged { .. })
+    })
+    .await?;
+    let to_move = a.game().map(|g| g.to_move());
+    let conceder = if to_move == Some(breakshot_shared::rules::Seat::A) {
+        &mut a
+    } else {
+        &mut b
+    };
+    conceder.send(ClientMessage::Concede).await?;
+    for p in [&mut a, &mut b] {
+        p.until("GameOver", |m| matches!(m, ServerMessage::GameOver { .. }))
+            .await?;
+    }
+    // The rematch: game 2 starts and gets a shot of its own.
+    a.send(ClientMessage::Rematch).await?;
+    b.send(ClientMessage::Rematch).await?;
+    for p in [&mut a, &mut b] {
+        p.until("GameStarted", |m| {
+            matches!(m, ServerMessage::GameStarted { .. })
+        })
+        .await?;
+    }
+    let Some(game) = a.game() else {
+        bail!("no game after the rematch");
+    };
+    a.send(break_shot(game)).await?;
+    a.until("ShotResolved", |m| {
+        matches!(m, ServerMessage::ShotResolved { .. })
+    })
+    .await?;
+
+    // Game 1, by its number: finished, and it replays to its end.
+    let first = fetch_game(&server.invite, &room, Some(1)).await?;
+    assert_eq!(
+        (first.room.clone(), first.game, first.finished),
+        (room.clone(), 1, true)
+    );
+    let record = GameRecord::decode(&first.bytes)?;
+    assert_eq!(record.entries.len(), 2);
+    assert_eq!(record.entries[0].hash, Some(first_hash));
+    assert!(matches!(record.replay()?.phase(), Phase::Over { .. }));
+    // The record keeps the players' names, for a replay to show.
+    assert_eq!(
+        record.players,
+        [Some("alice".to_string()), Some("bob".to_string())]
+    );
+
+    // Without a number, and with 2: the game being played.
+    let latest = fetch_record(&server.invite, &room).await?;
+    let second = fetch_game(&server.invite, &room, Some(2)).await?;
+    assert_eq!((latest.game, latest.finished), (2, false));
+    assert_eq!(latest, second);
+    assert_ne!(GameRecord::decode(&second.bytes)?.seed, record.seed);
+
+    // A number the room has not reached is refused, saying how many games there are.
+    match fetch_game(&server.invite, &room, Some(3)).await {
+        Err(FetchError::Refused {
+            code: ErrorCode::NoSuchGame,
+            message,
+        }) => assert!(message.contains("numbered 1 to 2"), "{message}"),
+        other => bail!("expected NoSuchGame, got {other:?}"),
+    }
     server.stop().await?;
     Ok(())
 }

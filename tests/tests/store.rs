@@ -35,6 +35,7 @@ fn place(i: u32) -> RecordEntry {
             pos: [0.5, f64::from(i)],
         },
         hash: Some(u64::from(i)),
+        chain: u64::from(i),
     }
 }
 
@@ -180,6 +181,67 @@ fn a_rematch_starts_a_new_game_and_an_overwritten_record_is_what_is_read(open: &
     assert!(!store
         .overwrite_record(&code, 9, &tampered.encode())
         .unwrap());
+}
+
+fn the_latest_shot_clock_of_a_game_is_kept_and_a_running_one_loses_the_time_since(
+    open: &dyn Fn() -> Store,
+) {
+    let code = RoomCode::parse("DDDDDDDD").unwrap();
+    let record = GameRecord::new(Variant::Practice, Settings::offline(), 5);
+    let clock = |turn, left_ms, running| StoreOp::Clock {
+        room: code.clone(),
+        number: 1,
+        turn,
+        left_ms,
+        running,
+    };
+    {
+        let mut store = open();
+        let mut ops = vec![StoreOp::Room(meta("DDDDDDDD"))];
+        ops.extend(StoreOp::whole_game(&code, 1, &record));
+        ops.push(clock(0, 30_000, true));
+        store.apply(&ops.iter().collect::<Vec<_>>()).unwrap();
+        store.apply(&[&clock(1, 40_000, true)]).unwrap();
+        store.apply(&[&clock(1, 12_500, false)]).unwrap();
+    }
+    let store = open();
+    let games = store.unfinished().unwrap();
+    let stored = games[0].clock.expect("a stored clock");
+    assert_eq!(
+        (stored.turn, stored.left_ms, stored.running),
+        (1, 12_500, false)
+    );
+    // A stopped clock keeps its time however late it is read; a running one does not.
+    let later = stored.at_ms + 3_000;
+    assert_eq!(
+        stored.left_at(later).left,
+        std::time::Duration::from_millis(12_500)
+    );
+    let running = breakshot_server::store::StoredClock {
+        running: true,
+        ..stored
+    };
+    assert_eq!(
+        running.left_at(later).left,
+        std::time::Duration::from_millis(9_500)
+    );
+    assert_eq!(
+        running.left_at(later + 60_000).left,
+        std::time::Duration::ZERO
+    );
+}
+
+#[test]
+fn sqlite_shot_clocks() {
+    on_sqlite(the_latest_shot_clock_of_a_game_is_kept_and_a_running_one_loses_the_time_since);
+}
+
+#[test]
+fn postgres_shot_clocks() {
+    on_postgres(
+        "postgres_shot_clocks",
+        the_latest_shot_clock_of_a_game_is_kept_and_a_running_one_loses_the_time_since,
+    );
 }
 
 #[test]

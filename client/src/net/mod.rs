@@ -36,7 +36,10 @@ pub use net_link::{NetLink, NoRoom};
 pub use pinned::client_config;
 pub use player::{Action, Entry, PlayerCore, PlayerEvent, Reconnect, Seating, ATTEMPT_LIMIT};
 pub use polled::{MemoryServer, MemoryTransport, Polled, Transport, TransportEvent};
-pub use records::{fetch_record, fetch_record_blocking, FetchError, FetchedRecord, FETCH_TIMEOUT};
+pub use records::{
+    fetch_game, fetch_game_blocking, fetch_record, fetch_record_blocking, FetchError,
+    FetchedRecord, FETCH_TIMEOUT,
+};
 pub use seat_player::RETRY_FOR;
 pub(crate) use seat_player::{Entrance, PlayerResult, SeatPlayer};
 pub use seated_computer::SeatedComputer;

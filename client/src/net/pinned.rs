@@ -8,17 +8,18 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use breakshot_shared::protocol::{Fingerprint, ALPN};
+use breakshot_shared::protocol::{limits, Fingerprint, ALPN};
 use rustls::client::danger::{HandshakeSignatureValid, ServerCertVerified, ServerCertVerifier};
 use rustls::crypto::{verify_tls12_signature, verify_tls13_signature, CryptoProvider};
 use rustls::pki_types::{CertificateDer, ServerName, UnixTime};
 use rustls::{CertificateError, DigitallySignedStruct, SignatureScheme};
 use sha2::{Digest, Sha256};
 
-/// Keep-alive so a thinking player's connection never idles out.
-pub(crate) const KEEP_ALIVE: Duration = Duration::from_secs(5);
-/// How long a silent connection lives (keep-alive keeps a thinking player's alive).
-pub(crate) const IDLE_TIMEOUT: Duration = Duration::from_secs(30);
+/// Keep-alive so a thinking player's connection never idles out (the protocol's value).
+pub(crate) const KEEP_ALIVE: Duration = limits::KEEP_ALIVE;
+/// How long a silent connection lives (the protocol's value; keep-alive keeps a thinking
+/// player's alive).
+pub(crate) const IDLE_TIMEOUT: Duration = limits::IDLE_TIMEOUT;
 
 #[derive(Debug)]
 /// A certificate verifier that trusts one SHA-256 fingerprint and nothing else.

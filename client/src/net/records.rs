@@ -44,7 +44,7 @@ pub enum FetchError {
     Runtime(String),
 }
 
-/// A room's latest game as the server stores it.
+/// One of a room's games as the server stores it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FetchedRecord {
     /// The room the game was played in.
@@ -60,7 +60,18 @@ pub struct FetchedRecord {
 /// Fetches the record of `room`'s latest game from the server `server` names (its room, if
 /// any, is ignored). Gives up after [`FETCH_TIMEOUT`].
 pub async fn fetch_record(server: &Invite, room: &RoomCode) -> Result<FetchedRecord, FetchError> {
-    let fetched = tokio::time::timeout(FETCH_TIMEOUT, fetch_on(server, room)).await;
+    fetch_game(server, room, None).await
+}
+
+/// Fetches the record of game `game` of `room` (numbered from 1; `None`: the latest), as
+/// [`fetch_record`] does. A number the room has not reached is refused with
+/// [`ErrorCode::NoSuchGame`], whose message says how many games it has.
+pub async fn fetch_game(
+    server: &Invite,
+    room: &RoomCode,
+    game: Option<u32>,
+) -> Result<FetchedRecord, FetchError> {
+    let fetched = tokio::time::timeout(FETCH_TIMEOUT, fetch_on(server, room, game)).await;
     fetched.map_err(|_| FetchError::Timeout {
         authority: server.authority(),
     })?
@@ -71,17 +82,33 @@ pub fn fetch_record_blocking(
     server: &Invite,
     room: &RoomCode,
 ) -> Result<FetchedRecord, FetchError> {
+    fetch_game_blocking(server, room, None)
+}
+
+/// [`fetch_game`] for code outside an async runtime (it makes a small one).
+pub fn fetch_game_blocking(
+    server: &Invite,
+    room: &RoomCode,
+    game: Option<u32>,
+) -> Result<FetchedRecord, FetchError> {
     let runtime = tokio::runtime::Builder::new_current_thread()
         .enable_all()
         .build()
         .map_err(|e| FetchError::Runtime(e.to_string()))?;
-    runtime.block_on(fetch_record(server, room))
+    runtime.block_on(fetch_game(server, room, game))
 }
 
-async fn fetch_on(server: &Invite, room: &RoomCode) -> Result<FetchedRecord, FetchError> {
+async fn fetch_on(
+    server: &Invite,
+    room: &RoomCode,
+    game: Option<u32>,
+) -> Result<FetchedRecord, FetchError> {
     let mut client = Client::connect(server.clone(), Reconnect::never()).await?;
     client
-        .send(&ClientMessage::FetchRecord { room: room.clone() })
+        .send(&ClientMessage::FetchRecord {
+            room: room.clone(),
+            game,
+        })
         .await?;
     let answer = loop {
         if let ClientEvent::Message(msg) = client.recv().await? {

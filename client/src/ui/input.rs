@@ -5,6 +5,8 @@ use macroquad::prelude::{
     is_mouse_button_released, mouse_position, mouse_wheel, KeyCode, MouseButton,
 };
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use breakshot_client::play::{InputFrame, Key};
 
 const KEYS: [(KeyCode, Key); 28] = [
@@ -41,6 +43,52 @@ const KEYS: [(KeyCode, Key); 28] = [
 /// −1, 0 or 1 as one key or the other is held.
 fn axis(minus: KeyCode, plus: KeyCode) -> f32 {
     is_key_down(plus) as i32 as f32 - is_key_down(minus) as i32 as f32
+}
+
+/// Set when the process is asked to stop (SIGINT, SIGTERM).
+static SIGNALLED: AtomicBool = AtomicBool::new(false);
+
+/// Takes over closing the window and SIGINT/SIGTERM, so both end the frame loop instead of
+/// the process: the screens are then dropped in order, which closes the network connection
+/// (the opponent hears at once that we left) and stops a hosted server cleanly.
+pub fn catch_quit() {
+    macroquad::prelude::prevent_quit();
+    let watcher = std::thread::Builder::new()
+        .name("signals".into())
+        .spawn(|| {
+            let Ok(runtime) = tokio::runtime::Builder::new_current_thread()
+                .enable_all()
+                .build()
+            else {
+                return;
+            };
+            runtime.block_on(async {
+                use tokio::signal::unix::{signal, SignalKind};
+                let (Ok(mut term), Ok(mut int)) = (
+                    signal(SignalKind::terminate()),
+                    signal(SignalKind::interrupt()),
+                ) else {
+                    return;
+                };
+                for _ in 0..2 {
+                    tokio::select! {
+                        _ = term.recv() => {}
+                        _ = int.recv() => {}
+                    }
+                    if SIGNALLED.swap(true, Ordering::Relaxed) {
+                        // A second signal while closing: stop at once, as without the watcher.
+                        std::process::exit(130);
+                    }
+                }
+            });
+        });
+    // Without the watcher a signal ends the process as before.
+    drop(watcher);
+}
+
+/// Whether the window was closed or the process asked to stop.
+pub fn quit_requested() -> bool {
+    macroquad::prelude::is_quit_requested() || SIGNALLED.load(Ordering::Relaxed)
 }
 
 /// This frame's input; `typing`: a line of text is being typed, and takes the keys.

@@ -225,7 +225,12 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
     // Each frame's work (not its pacing), for the figure a screenshot run prints.
     let mut work = Vec::new();
     let mut moving = false;
+    input::catch_quit();
     loop {
+        if input::quit_requested() {
+            // Returning drops the screen: its connection closes and a hosted server stops.
+            return Ok(());
+        }
         let real_dt = clock.frame_time();
         if frames > 0 {
             work.push((clock.work_ms(), moving));

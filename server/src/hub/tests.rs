@@ -12,9 +12,11 @@ use breakshot_shared::replay::{GameRecord, RecordEntry};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Seat, Settings, Variant};
 use glam::DVec2;
 
+use super::Output;
 use super::{Claimed, Hub, HubConfig, Restored};
 use crate::limits::Limits;
-use crate::output::{ConnId, Output, StoreOp};
+use crate::output::{ConnId, RoomOutput, StoreOp};
+use crate::room::ClockLeft;
 use crate::secret::TestEntropy;
 
 const WINDOW: Duration = Duration::from_secs(120);
@@ -28,7 +30,7 @@ struct World {
 fn sent_to(out: &[Output], conn: ConnId) -> Vec<&ServerMessage> {
     out.iter()
         .filter_map(|o| match o {
-            Output::Send { to, msg } if *to == conn => Some(msg),
+            Output::Room(RoomOutput::Send { to, msg }) if *to == conn => Some(msg),
             _ => None,
         })
         .collect()
@@ -52,7 +54,9 @@ fn create_room(mode: Settings, name: &str) -> ClientMessage {
 }
 
 fn stores(out: &[Output]) -> usize {
-    out.iter().filter(|o| matches!(o, Output::Store(_))).count()
+    out.iter()
+        .filter(|o| matches!(o, Output::Room(RoomOutput::Store(_))))
+        .count()
 }
 
 impl World {
@@ -91,7 +95,7 @@ impl World {
             match o {
                 Output::Run(work) => {
                     let (worked, back) = work.run(self.now);
-                    done.extend(self.settle(worked));
+                    done.extend(self.settle(super::lift(worked)));
                     let after = self.hub.returned(self.now, back);
                     done.extend(self.settle(after));
                 }
@@ -216,7 +220,9 @@ fn the_handshake_refuses_other_versions_other_physics_and_silence() {
             [ServerMessage::Reject { reason }] => assert!(reason.contains(why), "{reason}"),
             ref other => panic!("{other:?}"),
         }
-        assert!(matches!(out.last(), Some(Output::Close { conn: c, .. }) if *c == conn));
+        assert!(
+            matches!(out.last(), Some(Output::Room(RoomOutput::Close { conn: c, .. })) if *c == conn)
+        );
     }
 }
 
@@ -231,11 +237,11 @@ fn an_accepted_shot_is_stored_before_anyone_hears_of_it_and_matches_a_replay() {
     // The store comes first; then both players get the same accepted command and result.
     assert!(matches!(
         out[0],
-        Output::Store(StoreOp::Command {
+        Output::Room(RoomOutput::Store(StoreOp::Command {
             number: 1,
             index: 0,
             ..
-        })
+        }))
     ));
     for conn in [1, 2] {
         let msgs = sent_to(&out, conn);
@@ -272,7 +278,7 @@ fn an_accepted_shot_is_stored_before_anyone_hears_of_it_and_matches_a_replay() {
     assert_eq!(verdict.shot.unwrap().hash, *hash);
     assert_eq!(copy.balls(), &balls[..]);
     // And the stored header and command replay to the room's game.
-    let Output::Store(StoreOp::Command { entry, .. }) = &out[0] else {
+    let Output::Room(RoomOutput::Store(StoreOp::Command { entry, .. })) = &out[0] else {
         unreachable!()
     };
     let mut record = GameRecord::of(&before);
@@ -328,7 +334,7 @@ fn refused_commands_store_nothing_and_change_nothing() {
 fn a_dropped_player_forfeits_only_when_the_window_runs_out() {
     let mut w = World::new();
     let (_, _, token_b) = w.pair(Settings::offline());
-    let out = w.hub.disconnected(w.now, 2);
+    let out = w.hub.disconnected(w.now, w.now, 2);
     assert!(matches!(
         sent_to(&out, 1)[..],
         [ServerMessage::PlayerLeft {
@@ -355,7 +361,7 @@ fn a_dropped_player_forfeits_only_when_the_window_runs_out() {
     assert!(w.advance(WINDOW).is_empty());
 
     // Gone for good this time.
-    w.hub.disconnected(w.now, 3);
+    w.hub.disconnected(w.now, w.now, 3);
     assert!(w.advance(WINDOW - Duration::from_millis(1)).is_empty());
     let out = w.advance(Duration::from_millis(1));
     assert!(sent_to(&out, 1).iter().any(|m| matches!(
@@ -367,10 +373,10 @@ fn a_dropped_player_forfeits_only_when_the_window_runs_out() {
     )));
     assert!(out.iter().any(|o| matches!(
         o,
-        Output::Store(StoreOp::GameEnded {
+        Output::Room(RoomOutput::Store(StoreOp::GameEnded {
             winner: Some(Seat::A),
             ..
-        })
+        }))
     )));
 }
 
@@ -396,17 +402,17 @@ fn the_shot_clock_runs_out_but_pauses_while_a_player_is_away() {
         ..Settings::offline()
     };
     let (room, _, token_b) = w.pair(settings);
-    assert!(w.advance(Duration::from_secs(20)).is_empty());
+    assert!(w.advance(Duration::from_secs(10)).is_empty());
 
-    // B drops with 10 s left on A's clock: the clock stops.
-    w.hub.disconnected(w.now, 2);
+    // B drops with 20 s left on A's clock: the clock stops.
+    w.hub.disconnected(w.now, w.now, 2);
     assert!(w.advance(Duration::from_secs(60)).is_empty());
     assert_eq!(w.game(&room).turn(), 0);
 
-    // B is back: the clock goes on from 10 s.
+    // B is back: the clock goes on from 20 s.
     w.greet(3);
     w.send(3, ClientMessage::Rejoin { token: token_b });
-    assert!(w.advance(Duration::from_secs(9)).is_empty());
+    assert!(w.advance(Duration::from_secs(19)).is_empty());
     let out = w.advance(Duration::from_secs(1));
     assert!(sent_to(&out, 1).iter().any(|m| matches!(
         m,
@@ -416,7 +422,8 @@ fn the_shot_clock_runs_out_but_pauses_while_a_player_is_away() {
             ..
         }
     )));
-    assert_eq!(stores(&out), 1);
+    // The command, and the next turn's clock.
+    assert_eq!(stores(&out), 2);
     assert_eq!(w.game(&room).turn(), 1);
 }
 
@@ -431,12 +438,6 @@ fn every_seat_sees_the_shot_clock_from_the_opening_break_and_after_a_return() {
     w.greet(2);
     let out = w.send(1, create_room(settings, "ann"));
     let (room, _) = joined(&out, 1);
-    let clock_told = |out: &[Output], conn| {
-        sent_to(out, conn).iter().find_map(|m| match m {
-            ServerMessage::TurnChanged { shot_clock_ms, .. } => *shot_clock_ms,
-            _ => None,
-        })
-    };
     // The clock starts when B sits down: the host is told so, B reads it in the snapshot.
     let out = w.send(
         2,
@@ -453,13 +454,152 @@ fn every_seat_sees_the_shot_clock_from_the_opening_break_and_after_a_return() {
     });
     assert_eq!(snapshot_clock, Some(30_000));
 
-    // B drops with 10 s left and comes back: the host learns the clock runs again from 10 s.
-    w.advance(Duration::from_secs(20));
-    w.hub.disconnected(w.now, 2);
+    // B drops with 20 s left and comes back: the host learns the clock runs again from 20 s.
+    w.advance(Duration::from_secs(10));
+    w.hub.disconnected(w.now, w.now, 2);
     w.advance(Duration::from_secs(60));
     w.greet(3);
     let out = w.send(3, ClientMessage::Rejoin { token: token_b });
-    assert_eq!(clock_told(&out, 1), Some(10_000));
+    assert_eq!(clock_told(&out, 1), Some(20_000));
+}
+
+/// The clock of a room with a 30 s shot clock, as `out` tells `conn` (a `TurnChanged`).
+fn clock_told(out: &[Output], conn: ConnId) -> Option<u64> {
+    sent_to(out, conn).iter().find_map(|m| match m {
+        ServerMessage::TurnChanged { shot_clock_ms, .. } => *shot_clock_ms,
+        _ => None,
+    })
+}
+
+/// The last shot clock `out` stores: (turn, ms left, running).
+fn clock_stored(out: &[Output]) -> Option<(u32, u64, bool)> {
+    out.iter().rev().find_map(|o| match o {
+        Output::Room(RoomOutput::Store(StoreOp::Clock {
+            turn,
+            left_ms,
+            running,
+            ..
+        })) => Some((*turn, *left_ms, *running)),
+        _ => None,
+    })
+}
+
+fn clocked() -> Settings {
+    Settings {
+        shot_clock: Some(30),
+        ..Settings::offline()
+    }
+}
+
+#[test]
+fn the_clock_stops_when_a_silent_player_was_last_heard_and_the_opponent_is_told_at_once() {
+    let mut w = World::new();
+    let (room, token_a, _) = w.pair(clocked());
+    // A, to move, falls silent after 12 s; the server finds out 5 s later (the idle
+    // timeout). The clock stopped at 12 s, with 18 s left, and B hears of it at once.
+    w.advance(Duration::from_secs(12));
+    let last_heard = w.now;
+    w.now += Duration::from_secs(5);
+    let out = w.hub.disconnected(w.now, last_heard, 1);
+    assert!(matches!(
+        sent_to(&out, 2)[..],
+        [ServerMessage::PlayerLeft { seat: Seat::A, .. }]
+    ));
+    assert_eq!(clock_stored(&out), Some((0, 18_000, false)));
+    // However long A is away, nothing runs out.
+    assert!(w.advance(Duration::from_secs(100)).is_empty());
+
+    // A is back with the 18 s they had.
+    w.greet(3);
+    let out = w.send(3, ClientMessage::Rejoin { token: token_a });
+    let snapshot_clock = sent_to(&out, 3).iter().find_map(|m| match m {
+        ServerMessage::Joined { snapshot, .. } => snapshot.shot_clock_ms,
+        _ => None,
+    });
+    assert_eq!(snapshot_clock, Some(18_000));
+    assert_eq!(clock_told(&out, 2), Some(18_000));
+    assert_eq!(clock_stored(&out), Some((0, 18_000, true)));
+    assert!(w
+        .advance(Duration::from_millis(17_999))
+        .iter()
+        .all(|o| !matches!(o, Output::Room(RoomOutput::Send { .. }))));
+    let out = w.advance(Duration::from_millis(1));
+    assert!(sent_to(&out, 2).iter().any(|m| matches!(
+        m,
+        ServerMessage::Applied {
+            command: Command::TimeExpired,
+            ..
+        }
+    )));
+    assert_eq!(w.game(&room).turn(), 1);
+}
+
+#[test]
+fn a_player_who_dropped_with_seconds_left_comes_back_to_the_fair_minimum() {
+    let mut w = World::new();
+    let (_, token_a, _) = w.pair(clocked());
+    w.advance(Duration::from_secs(27));
+    w.hub.disconnected(w.now, w.now, 1);
+    w.advance(Duration::from_secs(30));
+    w.greet(3);
+    let out = w.send(3, ClientMessage::Rejoin { token: token_a });
+    let minimum = breakshot_shared::protocol::limits::MIN_CLOCK_ON_RETURN;
+    assert_eq!(
+        clock_told(&out, 2),
+        Some(u64::try_from(minimum.as_millis()).unwrap())
+    );
+}
+
+#[test]
+fn a_restored_room_gives_the_player_to_move_the_time_stored_not_a_full_clock() {
+    let mut first = World::new();
+    let (room, token_a, token_b) = first.pair(clocked());
+    first.advance(Duration::from_secs(8));
+    // The server stops: both connections close, and each stop of the clock is stored.
+    first.hub.disconnected(first.now, first.now, 2);
+    let out = first.hub.disconnected(first.now, first.now, 1);
+    assert_eq!(clock_stored(&out), Some((0, 22_000, false)));
+    let left = first.hub.room(&room).unwrap();
+    let restored = Restored {
+        meta: left.meta(),
+        number: left.game_number(),
+        record: left.record().clone(),
+        game: left.game().clone(),
+        clock: Some(ClockLeft {
+            turn: 0,
+            left: Duration::from_secs(22),
+        }),
+    };
+
+    let mut second = World::new();
+    second.hub.restore(second.now, restored);
+    second.greet(1);
+    second.greet(2);
+    second.send(1, ClientMessage::Rejoin { token: token_a });
+    let out = second.send(2, ClientMessage::Rejoin { token: token_b });
+    assert_eq!(clock_told(&out, 1), Some(22_000));
+
+    // A clock stored for another turn is not used: the turn gets a full clock.
+    let mut third = World::new();
+    let left = first.hub.room(&room).unwrap();
+    third.hub.restore(
+        third.now,
+        Restored {
+            meta: left.meta(),
+            number: left.game_number(),
+            record: left.record().clone(),
+            game: left.game().clone(),
+            clock: Some(ClockLeft {
+                turn: 7,
+                left: Duration::from_secs(22),
+            }),
+        },
+    );
+    third.greet(1);
+    third.greet(2);
+    third.send(1, ClientMessage::Rejoin { token: token_a });
+    let out = third.send(2, ClientMessage::Rejoin { token: token_b });
+    assert_eq!(clock_told(&out, 1), Some(30_000));
 }
 
 #[test]
@@ -488,7 +628,7 @@ fn chat_is_rate_limited_and_floods_close_the_connection() {
         let out = w.send(2, ClientMessage::Rematch);
         closed |= out
             .iter()
-            .any(|o| matches!(o, Output::Close { conn: 2, .. }));
+            .any(|o| matches!(o, Output::Room(RoomOutput::Close { conn: 2, .. })));
     }
     assert!(closed);
 }
@@ -616,7 +756,7 @@ fn a_rematch_starts_when_both_players_ask() {
     let out = w.send(2, ClientMessage::Rematch);
     assert!(matches!(
         out[0],
-        Output::Store(StoreOp::GameStarted { number: 2, .. })
+        Output::Room(RoomOutput::Store(StoreOp::GameStarted { number: 2, .. }))
     ));
     for conn in [1, 2] {
         match sent_to(&out, conn)[..] {
@@ -635,14 +775,29 @@ fn a_record_is_fetched_without_a_seat_but_only_after_hello() {
     let mut w = World::new();
     let room = RoomCode::parse("K7QX2M4B").unwrap();
     w.hub.connected(w.now, 5, PEER);
-    let out = w.send(5, ClientMessage::FetchRecord { room: room.clone() });
-    assert!(matches!(out.last(), Some(Output::Close { conn: 5, .. })));
+    let out = w.send(
+        5,
+        ClientMessage::FetchRecord {
+            room: room.clone(),
+            game: None,
+        },
+    );
+    assert!(matches!(
+        out.last(),
+        Some(Output::Room(RoomOutput::Close { conn: 5, .. }))
+    ));
     assert!(!out.iter().any(|o| matches!(o, Output::SendRecord { .. })));
 
     w.greet(6);
-    let out = w.send(6, ClientMessage::FetchRecord { room: room.clone() });
+    let out = w.send(
+        6,
+        ClientMessage::FetchRecord {
+            room: room.clone(),
+            game: Some(1),
+        },
+    );
     assert!(
-        matches!(&out[..], [Output::SendRecord { to: 6, room: r }] if *r == room),
+        matches!(&out[..], [Output::SendRecord { to: 6, room: r, game: Some(1) }] if *r == room),
         "{out:?}"
     );
 }
@@ -692,7 +847,7 @@ fn an_address_may_hold_only_so_many_open_rooms() {
     let out = w.send(99, create.clone());
     assert_eq!(error_code(&out, 99), Some(ErrorCode::ServerBusy));
     // A room that closes (its creator left and nobody joined) frees a place.
-    w.hub.disconnected(w.now, 100);
+    w.hub.disconnected(w.now, w.now, 100);
     w.advance(WINDOW + Duration::from_secs(1));
     let out = w.send(99, create);
     joined(&out, 99);
@@ -799,12 +954,12 @@ fn a_player_away_when_the_game_ended_is_told_the_result_after_the_room_is_gone()
     let mut w = World::new();
     let (room, _, token_b) = w.pair(Settings::offline());
     // B drops; A takes the last shot (concedes here), then leaves too.
-    w.hub.disconnected(w.now, 2);
+    w.hub.disconnected(w.now, w.now, 2);
     let out = w.send(1, ClientMessage::Concede);
     assert!(sent_to(&out, 1)
         .iter()
         .any(|m| matches!(m, ServerMessage::GameOver { .. })));
-    w.hub.disconnected(w.now, 1);
+    w.hub.disconnected(w.now, w.now, 1);
     w.advance(WINDOW + Duration::from_secs(1));
     assert!(w.hub.room(&room).is_none(), "the room is still open");
 
@@ -928,7 +1083,11 @@ fn a_room_out_on_a_long_shot_holds_only_its_own_events_and_keeps_their_order() {
 
     // The slow shot finishes: its results first, then the held events in the order they came.
     let (worked, back) = slow_work.run(w.now);
-    assert!(matches!(worked[0], Output::Store(StoreOp::Command { .. })));
+    assert!(matches!(
+        worked[0],
+        RoomOutput::Store(StoreOp::Command { .. })
+    ));
+    let worked = super::lift(worked);
     assert!(sent_to(&worked, 2)
         .iter()
         .any(|m| matches!(m, ServerMessage::ShotResolved { turn: 0, .. })));
@@ -958,8 +1117,9 @@ fn a_player_who_leaves_while_the_room_is_out_is_seen_leaving_after_its_results()
     let Some(Output::Run(work)) = out.pop() else {
         panic!("the shot is not lent out with its room");
     };
-    assert!(w.hub.disconnected(w.now, 2).is_empty());
+    assert!(w.hub.disconnected(w.now, w.now, 2).is_empty());
     let (worked, back) = work.run(w.now);
+    let worked = super::lift(worked);
     assert!(sent_to(&worked, 2)
         .iter()
         .any(|m| matches!(m, ServerMessage::ShotResolved { .. })));
@@ -1001,6 +1161,7 @@ fn with_a_shared_store_an_unknown_seat_is_claimed_and_its_room_rebuilt_or_refuse
         number,
         record,
         game: game.clone(),
+        clock: None,
     };
     let out = other
         .hub

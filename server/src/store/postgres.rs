@@ -20,8 +20,8 @@ use breakshot_shared::protocol::RoomCode;
 use postgres::{Client, NoTls, Statement};
 
 use super::{
-    assemble, decode_meta, encode_meta, seat_number, seat_of, unix_now, Claim, EndedGame,
-    StoreError, StoredGame,
+    assemble, decode_meta, encode_meta, seat_number, seat_of, stored_format, unix_millis, unix_now,
+    Claim, EndedGame, StoreError, StoredClock, StoredGame,
 };
 use crate::output::StoreOp;
 use crate::secret::TokenDigest;
@@ -30,6 +30,7 @@ use crate::secret::TokenDigest;
 const MIGRATIONS: &[&str] = &[
     include_str!("../../migrations/postgres/0001_games.sql"),
     include_str!("../../migrations/postgres/0002_seats.sql"),
+    include_str!("../../migrations/postgres/0003_clocks.sql"),
 ];
 
 /// The advisory lock key under which the schema is migrated ("BRKSHOT" in ASCII).
@@ -43,6 +44,7 @@ struct Writes {
     command: Statement,
     ended: Statement,
     seat: Statement,
+    clock: Statement,
 }
 
 pub(super) struct PgStore {
@@ -66,6 +68,10 @@ fn room_key(code: &str) -> i64 {
 
 fn int(n: u32) -> i64 {
     i64::from(n)
+}
+
+fn millis_int(ms: u64) -> i64 {
+    i64::try_from(ms).unwrap_or(i64::MAX)
 }
 
 impl PgStore {
@@ -102,6 +108,13 @@ impl PgStore {
             )?,
             seat: db.prepare(
                 "INSERT INTO seats (digest, room) VALUES ($1, $2) ON CONFLICT (digest) DO NOTHING",
+            )?,
+            clock: db.prepare(
+                "INSERT INTO clocks (room, number, turn, left_ms, running, at_ms)
+                 VALUES ($1, $2, $3, $4, $5, $6)
+                 ON CONFLICT (room, number) DO UPDATE
+                 SET turn = excluded.turn, left_ms = excluded.left_ms,
+                     running = excluded.running, at_ms = excluded.at_ms",
             )?,
         };
         Ok(PgStore {
@@ -145,7 +158,8 @@ impl PgStore {
                 StoreOp::Room(meta) => &meta.code,
                 StoreOp::GameStarted { room, .. }
                 | StoreOp::Command { room, .. }
-                | StoreOp::GameEnded { room, .. } => room,
+                | StoreOp::GameEnded { room, .. }
+                | StoreOp::Clock { room, .. } => room,
                 StoreOp::Released(_) => continue,
             };
             if !self.own(room.as_str())? {
@@ -196,6 +210,25 @@ impl PgStore {
                             &winner.map(seat_number),
                             reason,
                             &at,
+                        ],
+                    )?;
+                }
+                StoreOp::Clock {
+                    room,
+                    number,
+                    turn,
+                    left_ms,
+                    running,
+                } => {
+                    tx.execute(
+                        &w.clock,
+                        &[
+                            &room.as_str(),
+                            &int(*number),
+                            &int(*turn),
+                            &millis_int(*left_ms),
+                            running,
+                            &millis_int(unix_millis()),
                         ],
                     )?;
                 }
@@ -259,8 +292,10 @@ impl PgStore {
         room: Option<&str>,
     ) -> Result<Vec<StoredGame>, StoreError> {
         let rows = self.db.borrow_mut().query(
-            "SELECT r.code, r.meta, g.number, g.header, g.finished
+            "SELECT r.code, r.meta, g.number, g.header, g.finished,
+                    c.turn, c.left_ms, c.running, c.at_ms
              FROM games g JOIN rooms r ON r.code = g.room
+             LEFT JOIN clocks c ON c.room = g.room AND c.number = g.number
              WHERE ($1 OR NOT g.finished) AND ($2::TEXT IS NULL OR g.room = $2)
              ORDER BY g.room COLLATE \"C\", g.number",
             &[&all, &room],
@@ -273,11 +308,27 @@ impl PgStore {
             let record = assemble(&header, self.entries(&code, number)?);
             let meta =
                 decode_meta(row.get(1)).map_err(|why| StoreError::Meta { room: code, why })?;
+            let clock = match (
+                row.get::<_, Option<i64>>(5),
+                row.get::<_, Option<i64>>(6),
+                row.get::<_, Option<bool>>(7),
+                row.get::<_, Option<i64>>(8),
+            ) {
+                (Some(turn), Some(left_ms), Some(running), Some(at_ms)) => Some(StoredClock {
+                    turn: u32::try_from(turn).unwrap_or(u32::MAX),
+                    left_ms: u64::try_from(left_ms).unwrap_or(0),
+                    running,
+                    at_ms: u64::try_from(at_ms).unwrap_or(0),
+                }),
+                _ => None,
+            };
             out.push(StoredGame {
                 meta,
                 number,
                 record,
                 finished: row.get(4),
+                format: stored_format(&header),
+                clock,
             });
         }
         Ok(out)
@@ -325,6 +376,15 @@ impl PgStore {
     }
 
     /// The latest game of `room`: (number, finished).
+    /// Whether game `number` of `room` is over, if it is stored.
+    pub(super) fn finished(&self, room: &str, number: u32) -> Result<Option<bool>, StoreError> {
+        let row = self.db.borrow_mut().query_opt(
+            "SELECT finished FROM games WHERE room = $1 AND number = $2",
+            &[&room, &int(number)],
+        )?;
+        Ok(row.map(|r| r.get(0)))
+    }
+
     pub(super) fn latest_game(&self, room: &str) -> Result<Option<(u32, bool)>, StoreError> {
         let latest = self.db.borrow_mut().query_opt(
             "SELECT number, finished FROM games WHERE room = $1 ORDER BY number DESC LIMIT 1",

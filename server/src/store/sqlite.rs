@@ -8,8 +8,8 @@ use breakshot_shared::replay::{self, GameRecord, RecordEntry, RECORD_VERSION};
 use rusqlite::{params, Connection, OptionalExtension};
 
 use super::{
-    assemble, decode_meta, encode_meta, seat_number, seat_of, unix_now, EndedGame, StoreError,
-    StoredGame,
+    assemble, decode_meta, encode_meta, seat_number, seat_of, stored_format, unix_millis, unix_now,
+    EndedGame, StoreError, StoredClock, StoredGame,
 };
 use crate::output::StoreOp;
 
@@ -76,7 +76,16 @@ impl SqliteStore {
                  entry BLOB NOT NULL,
                  PRIMARY KEY (room, number, idx)
              ) WITHOUT ROWID;
-             CREATE INDEX IF NOT EXISTS games_finished ON games (finished, finished_at);",
+             CREATE INDEX IF NOT EXISTS games_finished ON games (finished, finished_at);
+             CREATE TABLE IF NOT EXISTS clocks (
+                 room TEXT NOT NULL,
+                 number INTEGER NOT NULL,
+                 turn INTEGER NOT NULL,
+                 left_ms INTEGER NOT NULL,
+                 running INTEGER NOT NULL,
+                 at_ms INTEGER NOT NULL,
+                 PRIMARY KEY (room, number)
+             ) WITHOUT ROWID;",
         )?;
         if version < 3 {
             rewrite_old_records(&tx)?;
@@ -142,6 +151,29 @@ impl SqliteStore {
                         winner.map(seat_number),
                         reason,
                         i64::try_from(at).unwrap_or(i64::MAX)
+                    ])?;
+                }
+                StoreOp::Clock {
+                    room,
+                    number,
+                    turn,
+                    left_ms,
+                    running,
+                } => {
+                    tx.prepare_cached(
+                        "INSERT INTO clocks (room, number, turn, left_ms, running, at_ms)
+                         VALUES (?1, ?2, ?3, ?4, ?5, ?6)
+                         ON CONFLICT(room, number) DO UPDATE
+                         SET turn = excluded.turn, left_ms = excluded.left_ms,
+                             running = excluded.running, at_ms = excluded.at_ms",
+                    )?
+                    .execute(params![
+                        room.as_str(),
+                        number,
+                        turn,
+                        i64::try_from(*left_ms).unwrap_or(i64::MAX),
+                        running,
+                        i64::try_from(unix_millis()).unwrap_or(i64::MAX)
                     ])?;
                 }
                 // One server owns every room of its own SQLite file.
@@ -230,6 +262,18 @@ impl SqliteStore {
             .optional()?)
     }
 
+    /// Whether game `number` of `room` is over, if it is stored.
+    pub(super) fn finished(&self, room: &str, number: u32) -> Result<Option<bool>, StoreError> {
+        Ok(self
+            .db
+            .query_row(
+                "SELECT finished FROM games WHERE room = ?1 AND number = ?2",
+                params![room, number],
+                |r| r.get(0),
+            )
+            .optional()?)
+    }
+
     /// The latest game of `room`: (number, finished).
     pub(super) fn latest_game(&self, room: &str) -> Result<Option<(u32, bool)>, StoreError> {
         Ok(self
@@ -254,8 +298,10 @@ impl SqliteStore {
 
     fn games(&self, filter: &str) -> Result<Vec<StoredGame>, StoreError> {
         let sql = format!(
-            "SELECT r.code, r.meta, g.number, g.header, g.finished
-             FROM games g JOIN rooms r ON r.code = g.room {filter}
+            "SELECT r.code, r.meta, g.number, g.header, g.finished,
+                    c.turn, c.left_ms, c.running, c.at_ms
+             FROM games g JOIN rooms r ON r.code = g.room
+             LEFT JOIN clocks c ON c.room = g.room AND c.number = g.number {filter}
              ORDER BY g.room, g.number"
         );
         let mut stmt = self.db.prepare(&sql)?;
@@ -266,11 +312,17 @@ impl SqliteStore {
                 r.get::<_, u32>(2)?,
                 r.get::<_, Vec<u8>>(3)?,
                 r.get::<_, bool>(4)?,
+                clock_of(
+                    r.get::<_, Option<u32>>(5)?,
+                    r.get::<_, Option<i64>>(6)?,
+                    r.get::<_, Option<bool>>(7)?,
+                    r.get::<_, Option<i64>>(8)?,
+                ),
             ))
         })?;
         let mut out = Vec::new();
         for row in rows {
-            let (code, meta, number, header, finished) = row?;
+            let (code, meta, number, header, finished, clock) = row?;
             let record = assemble(&header, self.entries(&code, number)?);
             let meta = decode_meta(&meta).map_err(|why| StoreError::Meta { room: code, why })?;
             out.push(StoredGame {
@@ -278,10 +330,27 @@ impl SqliteStore {
                 number,
                 record,
                 finished,
+                format: stored_format(&header),
+                clock,
             });
         }
         Ok(out)
     }
+}
+
+/// A stored clock row, if the game has one.
+fn clock_of(
+    turn: Option<u32>,
+    left_ms: Option<i64>,
+    running: Option<bool>,
+    at_ms: Option<i64>,
+) -> Option<StoredClock> {
+    Some(StoredClock {
+        turn: turn?,
+        left_ms: u64::try_from(left_ms?).unwrap_or(0),
+        running: running?,
+        at_ms: u64::try_from(at_ms?).unwrap_or(0),
+    })
 }
 
 /// Rewrites every game stored in an older record format, its header and its command rows, in
@@ -307,16 +376,22 @@ fn rewrite_old_records(tx: &Connection) -> Result<(), StoreError> {
             .collect::<Result<_, _>>()?;
         let Ok(entries) = rows
             .iter()
-            .map(|(idx, bytes)| RecordEntry::decode_version(bytes, version).map(|e| (idx, e)))
+            .map(|(_, bytes)| RecordEntry::decode_version(bytes, version))
             .collect::<Result<Vec<_>, _>>()
         else {
             continue;
         };
+        // The whole record, to write its chain of hashes in the current format.
+        let mut whole = GameRecord {
+            entries,
+            ..record.clone()
+        };
+        whole.rechain();
         tx.execute(
             "UPDATE games SET header = ?3 WHERE room = ?1 AND number = ?2",
             params![room, number, record.encode()],
         )?;
-        for (idx, entry) in entries {
+        for ((idx, _), entry) in rows.iter().zip(&whole.entries) {
             tx.execute(
                 "UPDATE commands SET entry = ?4 WHERE room = ?1 AND number = ?2 AND idx = ?3",
                 params![room, number, idx, entry.encode()],
@@ -354,6 +429,7 @@ mod tests {
                 pos: [0.5, f64::from(i)],
             },
             hash: None,
+            chain: 0,
         }
     }
 
@@ -394,9 +470,18 @@ mod tests {
         let tmp = breakshot_testkit::scratch("format");
         let dir = tmp.path().to_path_buf();
         let code = RoomCode::parse("EEEEEEEE").unwrap();
-        let mut header = GameRecord::new(Variant::Practice, Settings::offline(), 5).encode();
-        // A header with no entries is laid out alike in both formats but for its version.
-        header[0] = 1;
+        // A format-1 header: version, variant, settings, seed and no entries.
+        let header = bincode::serde::encode_to_vec(
+            (
+                1u32,
+                Variant::Practice,
+                Settings::offline(),
+                5u64,
+                Vec::<u8>::new(),
+            ),
+            config::standard(),
+        )
+        .unwrap();
         // One format-1 command row: seat A, a level shot (speed 1.5 along +y, tip 0.25 high,
         // no elevation field), pocket 2 called, a hash; the bytes of the pinned format-1
         // record in shared/tests/rules_record.rs.
@@ -436,9 +521,13 @@ mod tests {
                 call: Some(2),
             },
             hash: Some(0x0123_4567_89ab_cdef),
+            chain: 0,
         };
+        // A record of format 1 names no physics; read back, its chain is written.
         let mut record = GameRecord::new(Variant::Practice, Settings::offline(), 5);
+        record.physics = None;
         record.entries.push(shot);
+        record.rechain();
         assert_eq!(store.unfinished().unwrap()[0].record, Ok(record.clone()));
         // The game goes on with rows of the current format only.
         let op = StoreOp::Command {

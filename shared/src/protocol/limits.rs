@@ -30,3 +30,17 @@ pub const MAX_RECORD: usize = 4 * 1024 * 1024;
 /// Largest record (bytes) the server sends in one `Record` message: the rest of a frame is
 /// room for the message's other fields (a few bytes). A game's record is about 2 KB.
 pub const MAX_SENT_RECORD: usize = MAX_FRAME - 1024;
+/// How often each side of a connection sends a QUIC keep-alive when it has nothing else to
+/// send. With [`IDLE_TIMEOUT`] five times as long, four keep-alives in a row (and QUIC's own
+/// retransmissions of them) must be lost before a live connection is taken for dead; each
+/// costs a few dozen bytes, so a second is cheap.
+pub const KEEP_ALIVE: Duration = Duration::from_secs(1);
+/// A connection that hears nothing from its peer for this long is gone: a player whose
+/// process was killed or whose network vanished is seen as away within this time (an orderly
+/// close is seen at once). A false alarm from a longer network outage costs a reconnect, not
+/// the game: the seat is held for [`RECONNECT_WINDOW`].
+pub const IDLE_TIMEOUT: Duration = Duration::from_secs(5);
+/// The least a returning player finds on the shot clock: the time left when they dropped
+/// (or when the server stopped), but never less than this, enough to look at the table
+/// again and play.
+pub const MIN_CLOCK_ON_RETURN: Duration = Duration::from_secs(15);

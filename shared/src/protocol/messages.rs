@@ -99,12 +99,14 @@ pub enum ClientMessage {
         /// The line: 1 to 200 printable characters.
         text: String,
     },
-    /// Asks for the record of the room's latest game, finished or not, to watch it again.
+    /// Asks for the record of one of the room's games, finished or not, to watch it again.
     /// Needs no seat and may be sent at any time after `Welcome`: like spectating, a record
     /// is open to whoever knows the room code. Answered by [`ServerMessage::Record`].
     FetchRecord {
-        /// The room whose latest game is wanted.
+        /// The room whose game is wanted.
         room: RoomCode,
+        /// The game's number in the room, from 1; `None` for the latest.
+        game: Option<u32>,
     },
     /// Where the shooter is aiming now, shown live to the others in the room. Sent at most
     /// a few times a second; the server relays it and keeps nothing.
@@ -199,6 +201,9 @@ pub enum ErrorCode {
     /// The answer would not fit in one frame (a stored record beyond
     /// [`super::limits::MAX_SENT_RECORD`]).
     TooLarge,
+    /// The room has no game of the number asked for (`FetchRecord`); the message says how
+    /// many it has.
+    NoSuchGame,
 }
 
 /// Server to client.
@@ -326,8 +331,8 @@ pub enum ServerMessage {
         /// Why, readable by a person (the rules' reason for `Illegal`).
         message: String,
     },
-    /// The answer to [`ClientMessage::FetchRecord`]: the room's latest game (numbered from 1)
-    /// as it is stored, an encoded [`crate::replay::GameRecord`] holding every command
+    /// The answer to [`ClientMessage::FetchRecord`]: the game asked for (numbered from 1; the
+    /// latest if no number was given) as it is stored, an encoded [`crate::replay::GameRecord`] holding every command
     /// applied so far.
     Record {
         /// The room asked about.

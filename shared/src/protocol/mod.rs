@@ -16,13 +16,14 @@ pub use invite::{Invite, InviteError, ServerAddress};
 pub use messages::{
     command_of, AimAid, ClientMessage, ErrorCode, Role, Ruling, SeatView, ServerMessage, Snapshot,
 };
-pub use reference::{reference_hash, reference_shot};
+pub use reference::{reference_hash, reference_shot, reference_shots, Mechanism, ReferenceShot};
 pub use validate::{is_valid_name, validate, InvalidMessage};
 
 /// Bumped whenever a message changes shape or meaning. A client with another version is
 /// refused in the handshake with a reason. Version 2: a strike carries its cue elevation
-/// (`Strike::elevation_deg`).
-pub const PROTOCOL_VERSION: u32 = 2;
+/// (`Strike::elevation_deg`). Version 3: `FetchRecord` names the game wanted, so any game
+/// of a room can be fetched, and records name their players and their physics.
+pub const PROTOCOL_VERSION: u32 = 3;
 
 /// The QUIC application protocol (ALPN) name.
 pub const ALPN: &[u8] = b"breakshot/1";

@@ -1,10 +1,93 @@
-//! The reference shot: a fixed, built-in break whose state hash both sides compute at
-//! start. A client whose physics differs from the server's by a single bit gets a different
-//! hash and is refused in the handshake, before it could desynchronise a game.
+//! The reference shots: a fixed set of built-in shots whose results both sides compute at
+//! start. Together they meet every mechanism of the physics (a rack broken into clusters,
+//! balls frozen together, each cushion model, the jaws of a pocket, a ball in flight, the
+//! carom table), and their combined hash is the build's **physics fingerprint**: a client
+//! whose physics differs from the server's by a single bit in any of them is refused in the
+//! handshake, before it could desynchronise a game, and every game record names the
+//! fingerprint it was played with.
+//!
+//! The fingerprint is computed, never written down: a deliberate physics change moves it by
+//! itself. The golden test (`shared/tests/golden.rs`) pins each shot's hash and the
+//! fingerprint, so such a change is seen and reviewed there.
+
+use std::sync::OnceLock;
 
 use glam::DVec2;
 
-use crate::physics::{simulate, BallState, Params, Shot, ShotError, Strike, TableKind};
+use crate::physics::{
+    simulate, BallState, CushionModel, EventKind, Outcome, Params, Shot, ShotError, Strike,
+    TableKind,
+};
+
+/// Which mechanism a reference shot is there for; [`ReferenceShot::meets`] checks that its
+/// outcome really shows it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mechanism {
+    /// A rack broken hard: many balls at once, cushions, every motion state.
+    Break,
+    /// Balls frozen together, struck as a group.
+    FrozenGroup,
+    /// A ball off the rails under one cushion model.
+    Cushion(CushionModel),
+    /// A ball into the rounded nose of a pocket's jaw.
+    Jaw,
+    /// An elevated strike that lifts the ball off the cloth.
+    Flight,
+    /// Carom balls on the heated cloth of the carom table.
+    Carom,
+}
+
+/// One shot of the set, by name.
+#[derive(Clone, Debug)]
+pub struct ReferenceShot {
+    /// A stable name (the golden file lists the shots by it).
+    pub name: &'static str,
+    /// What the shot is there to exercise.
+    pub mechanism: Mechanism,
+    /// The shot.
+    pub shot: Shot,
+}
+
+impl ReferenceShot {
+    /// Whether `outcome` (this shot's) shows the mechanism the shot is there for.
+    pub fn meets(&self, outcome: &Outcome) -> bool {
+        let kinds = || outcome.events.iter().map(|e| &e.kind);
+        match self.mechanism {
+            Mechanism::Break => {
+                kinds().any(|k| matches!(k, EventKind::BallCushion { .. }))
+                    && kinds()
+                        .filter(|k| matches!(k, EventKind::BallBall { .. }))
+                        .count()
+                        >= 8
+            }
+            Mechanism::FrozenGroup => {
+                let last = u16::try_from(self.shot.balls.len() - 1).unwrap_or(u16::MAX);
+                kinds()
+                    .any(|k| matches!(k, EventKind::BallBall { a, b } if *a == last || *b == last))
+            }
+            Mechanism::Cushion(_) | Mechanism::Carom => kinds().any(|k| {
+                matches!(
+                    k,
+                    EventKind::BallCushion {
+                        cushion: crate::physics::Cushion::Rail(_),
+                        ..
+                    }
+                )
+            }),
+            Mechanism::Jaw => kinds().any(|k| {
+                matches!(
+                    k,
+                    EventKind::BallCushion {
+                        cushion: crate::physics::Cushion::Jaw(_),
+                        ..
+                    }
+                )
+            }),
+            // The ball leaves the cloth at the strike and lands on the slate.
+            Mechanism::Flight => kinds().any(|k| matches!(k, EventKind::BallTable { .. })),
+        }
+    }
+}
 
 /// A six-ball triangle on a 9-foot table, broken hard with a little side and follow, so the
 /// shot exercises ball–ball and cushion collisions, pockets and every motion state.
@@ -37,9 +120,129 @@ pub fn reference_shot() -> Shot {
     Shot::new(table, balls).struck(0, strike)
 }
 
-/// The state hash of [`reference_shot`] as this build computes it.
+/// Three balls frozen in a line in front of the cue ball on a 9-foot table: the cue ball
+/// drives into the group, resolved as a group impact.
+fn frozen_group() -> Shot {
+    let r = Params::default().ball_radius;
+    let x = 0.635;
+    let mut balls = vec![BallState::at_rest(DVec2::new(x, 0.6))];
+    for k in 0..3 {
+        balls.push(BallState::at_rest(DVec2::new(
+            x,
+            1.2 + f64::from(k) * 2.0 * r,
+        )));
+    }
+    Shot::new(TableKind::NineFoot, balls).struck(0, Strike::at_angle(2.0, 90.0, DVec2::ZERO))
+}
+
+/// One ball with running english, two rails on an 8-foot table, under `model`.
+fn off_the_rails(model: CushionModel) -> Shot {
+    let mut shot = Shot::new(
+        TableKind::EightFoot,
+        vec![BallState::at_rest(DVec2::new(0.3, 0.4))],
+    );
+    shot.models.cushion = model;
+    shot.struck(0, Strike::at_angle(3.0, 63.0, DVec2::new(-0.3, 0.2)))
+}
+
+/// A ball sent along the bottom rail into the corner pocket's far jaw.
+fn into_the_jaw() -> Shot {
+    let r = Params::default().ball_radius;
+    Shot::new(
+        TableKind::NineFoot,
+        vec![BallState::at_rest(DVec2::new(0.6, r + 0.012))],
+    )
+    .struck(0, Strike::at_angle(1.5, 180.0, DVec2::ZERO))
+}
+
+/// A jump over a blocker on a 9-foot table: 4 m/s at 45° of cue elevation.
+fn jump() -> Shot {
+    let blocker = BallState::at_rest(DVec2::new(0.635, 1.09));
+    Shot::new(
+        TableKind::NineFoot,
+        vec![BallState::at_rest(DVec2::new(0.635, 0.4)), blocker],
+    )
+    .struck(
+        0,
+        Strike::at_angle(4.0, 90.0, DVec2::new(0.0, -0.1)).elevated(45.0),
+    )
+}
+
+/// Three carom balls, a three-cushion style shot with side spin.
+fn carom() -> Shot {
+    Shot::new(
+        TableKind::Carom,
+        vec![
+            BallState::at_rest(DVec2::new(0.4, 0.5)),
+            BallState::at_rest(DVec2::new(0.9, 1.2)),
+            BallState::at_rest(DVec2::new(0.3, 2.2)),
+        ],
+    )
+    .struck(0, Strike::at_angle(4.0, 55.0, DVec2::new(0.3, 0.1)))
+}
+
+/// Every reference shot, in the order the fingerprint folds them.
+pub fn reference_shots() -> Vec<ReferenceShot> {
+    let shot = |name, mechanism, shot| ReferenceShot {
+        name,
+        mechanism,
+        shot,
+    };
+    vec![
+        shot("break_9ft", Mechanism::Break, reference_shot()),
+        shot("frozen_group", Mechanism::FrozenGroup, frozen_group()),
+        shot(
+            "cushion_han2005",
+            Mechanism::Cushion(CushionModel::Han2005),
+            off_the_rails(CushionModel::Han2005),
+        ),
+        shot(
+            "cushion_mathavan2010",
+            Mechanism::Cushion(CushionModel::Mathavan2010),
+            off_the_rails(CushionModel::Mathavan2010),
+        ),
+        shot(
+            "cushion_stronge",
+            Mechanism::Cushion(CushionModel::Stronge),
+            off_the_rails(CushionModel::Stronge),
+        ),
+        shot(
+            "cushion_simple",
+            Mechanism::Cushion(CushionModel::Simple),
+            off_the_rails(CushionModel::Simple),
+        ),
+        shot("jaw", Mechanism::Jaw, into_the_jaw()),
+        shot("jump", Mechanism::Flight, jump()),
+        shot("carom", Mechanism::Carom, carom()),
+    ]
+}
+
+/// FNV-1a (64-bit) step over `bytes`, from `h`.
+fn fold(mut h: u64, bytes: &[u8]) -> u64 {
+    for &b in bytes {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// The physics fingerprint as this build computes it: every reference shot's name, event
+/// count and state hash, folded in order. Computed once per process (it takes about a
+/// millisecond), then remembered.
 pub fn reference_hash() -> Result<u64, ShotError> {
-    simulate(&reference_shot()).map(|o| o.hash())
+    static FINGERPRINT: OnceLock<Result<u64, ShotError>> = OnceLock::new();
+    FINGERPRINT
+        .get_or_init(|| {
+            let mut h = 0xcbf2_9ce4_8422_2325;
+            for reference in reference_shots() {
+                let outcome = simulate(&reference.shot)?;
+                h = fold(h, reference.name.as_bytes());
+                h = fold(h, &(outcome.events.len() as u64).to_le_bytes());
+                h = fold(h, &outcome.hash().to_le_bytes());
+            }
+            Ok(h)
+        })
+        .clone()
 }
 
 #[cfg(test)]
@@ -47,9 +250,72 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_reference_shot_is_valid_busy_and_repeatable() {
-        let outcome = simulate(&reference_shot()).unwrap();
-        assert!(outcome.events.len() > 10, "{} events", outcome.events.len());
-        assert_eq!(reference_hash().unwrap(), outcome.hash());
+    fn every_reference_shot_is_valid_and_meets_its_mechanism() {
+        let shots = reference_shots();
+        let missed: Vec<String> = shots
+            .iter()
+            .filter_map(|reference| {
+                let outcome = simulate(&reference.shot).unwrap();
+                (!reference.meets(&outcome)).then(|| {
+                    format!(
+                        "{} does not show {:?}: {:?}",
+                        reference.name,
+                        reference.mechanism,
+                        outcome.events.iter().map(|e| &e.kind).collect::<Vec<_>>()
+                    )
+                })
+            })
+            .collect();
+        assert!(missed.is_empty(), "{}", missed.join("\n"));
+        for reference in &shots {
+            let outcome = simulate(&reference.shot).unwrap();
+            assert!(
+                reference.meets(&outcome),
+                "{} does not show {:?}: {:?}",
+                reference.name,
+                reference.mechanism,
+                outcome.events.iter().map(|e| &e.kind).collect::<Vec<_>>()
+            );
+        }
+        // Every cushion model has its shot.
+        for model in [
+            CushionModel::Han2005,
+            CushionModel::Mathavan2010,
+            CushionModel::Stronge,
+            CushionModel::Simple,
+        ] {
+            assert!(shots
+                .iter()
+                .any(|s| s.mechanism == Mechanism::Cushion(model)));
+        }
+    }
+
+    #[test]
+    fn the_fingerprint_is_repeatable_and_moves_with_any_one_shot() {
+        assert_eq!(reference_hash().unwrap(), reference_hash().unwrap());
+        // Each shot's hash goes into it: a different result of any one shot gives another
+        // fingerprint (checked by folding a changed hash in its place).
+        let outcomes: Vec<(usize, u64)> = reference_shots()
+            .iter()
+            .map(|r| {
+                let o = simulate(&r.shot).unwrap();
+                (o.events.len(), o.hash())
+            })
+            .collect();
+        let names: Vec<&str> = reference_shots().iter().map(|r| r.name).collect();
+        let folded = |moved: Option<usize>| {
+            let mut h = 0xcbf2_9ce4_8422_2325;
+            for (i, (name, (events, hash))) in names.iter().zip(&outcomes).enumerate() {
+                let hash = if moved == Some(i) { hash ^ 1 } else { *hash };
+                h = fold(h, name.as_bytes());
+                h = fold(h, &(*events as u64).to_le_bytes());
+                h = fold(h, &hash.to_le_bytes());
+            }
+            h
+        };
+        assert_eq!(folded(None), reference_hash().unwrap());
+        for (i, name) in names.iter().enumerate() {
+            assert_ne!(folded(Some(i)), folded(None), "{name}");
+        }
     }
 }

@@ -39,6 +39,9 @@ pub enum InvalidMessage {
     /// A new room whose table, race or shot clock is out of range.
     #[error("a room is played on a 7, 8 or 9-foot table (three-cushion: the carom table, a race of 1 to {MAX_RACE} points; snooker: the snooker table, 6, 10 or 15 reds, the best of an odd number of frames up to {MAX_BEST_OF}) with a shot clock of {MIN_SHOT_CLOCK} to {MAX_SHOT_CLOCK} s, if any")]
     Mode,
+    /// A game number of 0 (a room's games are numbered from 1).
+    #[error("a room's games are numbered from 1")]
+    GameNumber,
 }
 
 /// Shortest shot clock a room may have (seconds).
@@ -81,7 +84,7 @@ pub fn validate(msg: ClientMessage) -> Result<ClientMessage, InvalidMessage> {
         }
         ClientMessage::Join { ref room, .. }
         | ClientMessage::Spectate { ref room }
-        | ClientMessage::FetchRecord { ref room }
+        | ClientMessage::FetchRecord { ref room, .. }
             if !room.is_valid() =>
         {
             Err(InvalidMessage::Room)
@@ -89,6 +92,7 @@ pub fn validate(msg: ClientMessage) -> Result<ClientMessage, InvalidMessage> {
         ClientMessage::Chat { ref text } if !printable(text, MAX_CHAT_CHARS) => {
             Err(InvalidMessage::Chat)
         }
+        ClientMessage::FetchRecord { game: Some(0), .. } => Err(InvalidMessage::GameNumber),
         other => Ok(other),
     }
 }

@@ -94,18 +94,24 @@ impl From<EntryV1> for RecordEntry {
             seat: e.seat,
             command: e.command.into(),
             hash: e.hash,
+            // Written by `rechain` once the whole record is converted.
+            chain: 0,
         }
     }
 }
 
 impl From<RecordV1> for GameRecord {
     fn from(r: RecordV1) -> GameRecord {
-        GameRecord {
+        let mut record = GameRecord {
             version: RECORD_VERSION,
             variant: r.variant,
             settings: r.settings,
             seed: r.seed,
+            players: [None, None],
+            physics: None,
             entries: r.entries.into_iter().map(RecordEntry::from).collect(),
-        }
+        };
+        record.rechain();
+        record
     }
 }

@@ -131,7 +131,8 @@ impl Seat {
         }
     }
 
-    pub(super) fn index(self) -> usize {
+    /// Where the seat sits in two-seat arrays (`[A, B]`): 0 for A, 1 for B.
+    pub fn index(self) -> usize {
         match self {
             Seat::A => 0,
             Seat::B => 1,
