@@ -72,8 +72,8 @@ pub struct Simulator {
     held: Vec<bool>,
     /// For each pair `i < j`, the fastest it approached in the last impact that bounced it.
     blow: Vec<f64>,
-    /// For each ball, a box holding its current piece's whole path.
-    boxes: Vec<(DVec2, DVec2)>,
+    /// For each ball, how its current piece moves and the box holding its whole path.
+    extents: Vec<Extent>,
     scratch: Scratch,
     outcome: Outcome,
 }
@@ -173,9 +173,9 @@ impl Simulator {
             let at_rest = s.motion == MotionState::Stationary || s.motion.is_gone();
             out.rest_time.push(at_rest.then_some(0.0));
         }
-        self.boxes.clear();
+        self.extents.clear();
         for p in &self.pieces {
-            self.boxes.push(piece_box(p, ctx.limit));
+            self.extents.push(Extent::of(p, &ctx));
         }
         self.own.clear();
         self.own.resize(n, NO_OWN);
@@ -291,7 +291,7 @@ impl Simulator {
             };
             let work = &mut self.outcome.work;
             // The box holding the ball's whole path rules out most cushions and pockets.
-            let (lo, hi) = self.boxes[i];
+            let Extent { lo, hi, .. } = self.extents[i];
             let near = |center: DVec2, radius: f64| {
                 (center.clamp(lo, hi) - center).length_squared() <= radius * radius
             };
@@ -336,38 +336,47 @@ impl Simulator {
     }
 
     /// Sets the next collision of balls `i < j` from `now`.
+    #[inline]
     fn predict_pair(&mut self, i: usize, j: usize, now: f64, ctx: &Ctx) {
-        let (a, b) = (&self.pieces[i], &self.pieces[j]);
-        let n = self.own.len();
-        let pocketed = |p: &Piece| p.start.motion.is_gone();
-        let moving = |p: &Piece| p.start.motion.is_translating();
-        let t = if pocketed(a) || pocketed(b) || !(moving(a) || moving(b)) {
-            None
+        let (a, b) = (&self.extents[i], &self.extents[j]);
+        let t = if !a.may_meet(b) {
+            f64::INFINITY
         } else {
             self.outcome.work.pair_checks += 1;
-            let ((a_lo, a_hi), (b_lo, b_hi)) = (self.boxes[i], self.boxes[j]);
-            let d = 2.0 * ctx.params.ball_radius;
-            let apart = a_lo.x - d > b_hi.x
-                || b_lo.x - d > a_hi.x
-                || a_lo.y - d > b_hi.y
-                || b_lo.y - d > a_hi.y;
-            if apart {
-                None
+            if a.apart(b) {
+                f64::INFINITY
             } else {
-                // Either ball's own next event re-predicts this pair anyway: look no further.
-                let until = self.own[i].t.min(self.own[j].t).min(ctx.limit);
-                let flying = |p: &Piece| p.start.motion == MotionState::Airborne;
-                if flying(a) || flying(b) {
-                    self.outcome.work.flight_checks += 1;
-                    airborne::collision_time(a, b, now, until, ctx.params.ball_radius)
-                } else {
-                    ball_ball::collision_time(a, b, now, until, ctx.params.ball_radius)
-                }
+                self.collision_time(i, j, now, ctx)
             }
         };
-        let t = t.unwrap_or(f64::INFINITY);
+        self.set_pair(i, j, t);
+    }
+
+    /// The next collision of balls `i < j` after `now`, whose boxes are within reach.
+    #[inline(never)]
+    fn collision_time(&mut self, i: usize, j: usize, now: f64, ctx: &Ctx) -> f64 {
+        let (a, b) = (&self.pieces[i], &self.pieces[j]);
+        // Either ball's own next event re-predicts this pair anyway: look no further.
+        let until = self.own[i].t.min(self.own[j].t).min(ctx.limit);
+        let flying = Mobility::Flying;
+        let t = if self.extents[i].mobility == flying || self.extents[j].mobility == flying {
+            self.outcome.work.flight_checks += 1;
+            airborne::collision_time(a, b, now, until, ctx.params.ball_radius)
+        } else {
+            ball_ball::collision_time(a, b, now, until, ctx.params.ball_radius)
+        };
+        t.unwrap_or(f64::INFINITY)
+    }
+
+    /// Records `t` as the next collision of balls `i < j`, keeping `row[i]` the earliest of
+    /// its row.
+    #[inline(always)]
+    fn set_pair(&mut self, i: usize, j: usize, t: f64) {
+        let n = self.row.len();
         let old = std::mem::replace(&mut self.pair[i * n + j], t);
-        if t <= self.row[i] {
+        if t == old {
+            // Most pairs stay out of reach: nothing to update.
+        } else if t <= self.row[i] {
             self.row[i] = t;
         } else if old == self.row[i] {
             let pairs = &self.pair[i * n + i + 1..(i + 1) * n];
@@ -386,7 +395,7 @@ impl Simulator {
     fn start_piece(&mut self, i: usize, t: f64, s: BallState, ctx: &Ctx) {
         let piece = Piece::new(t, s, &ctx.motion);
         self.pieces[i] = piece;
-        self.boxes[i] = piece_box(&piece, ctx.limit);
+        self.extents[i] = Extent::of(&piece, ctx);
         self.outcome.history[i].push(piece);
         self.outcome.rest_time[i] = match s.motion {
             MotionState::Stationary | MotionState::Pocketed | MotionState::OffTable => Some(t),
@@ -396,9 +405,28 @@ impl Simulator {
 
     /// Re-predicts every pair of ball `i` from `t`, except with the balls `done` names.
     fn predict_pairs_of(&mut self, i: usize, t: f64, done: impl Fn(usize) -> bool, ctx: &Ctx) {
-        for j in (0..self.own.len()).filter(|&j| j != i && !done(j)) {
-            self.predict_pair(i.min(j), i.max(j), t, ctx);
+        // The pass over every other ball: most are dismissed by their boxes alone.
+        let a = self.extents[i];
+        let mut checks = 0;
+        for j in 0..self.extents.len() {
+            if j == i || done(j) {
+                continue;
+            }
+            let b = &self.extents[j];
+            let (lo, hi) = (i.min(j), i.max(j));
+            let time = if !a.may_meet(b) {
+                f64::INFINITY
+            } else {
+                checks += 1;
+                if a.apart(b) {
+                    f64::INFINITY
+                } else {
+                    self.collision_time(lo, hi, t, ctx)
+                }
+            };
+            self.set_pair(lo, hi, time);
         }
+        self.outcome.work.pair_checks += checks;
     }
 
     fn resolve_own(&mut self, i: usize, t: f64, ctx: &Ctx) {
@@ -515,7 +543,7 @@ impl Simulator {
             let b = g.balls[k];
             let p = g.positions[b];
             for j in 0..n {
-                let (lo, hi) = self.boxes[j];
+                let Extent { lo, hi, .. } = self.extents[j];
                 let near = p.x >= lo.x - reach
                     && p.x <= hi.x + reach
                     && p.y >= lo.y - reach
@@ -635,13 +663,74 @@ impl Simulator {
     }
 }
 
-/// A box holding the whole path of a piece (up to the horizon `limit`).
-fn piece_box(p: &Piece, limit: f64) -> (DVec2, DVec2) {
-    let end = p.t_end.min(limit);
-    if end.is_finite() || !p.start.motion.is_translating() {
-        p.path_box(p.t0, end.max(p.t0))
-    } else {
-        (DVec2::NEG_INFINITY, DVec2::INFINITY)
+/// How a ball's current piece moves, as far as pair predictions care.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Mobility {
+    /// Pocketed or off the table: it meets nothing.
+    Gone,
+    /// At rest or spinning on the spot: it meets only balls that move.
+    Still,
+    /// Sliding or rolling on the cloth.
+    Cloth,
+    /// In flight.
+    Flying,
+}
+
+/// What the pair predictions read first of a ball's current piece, kept together and apart
+/// from the piece so that a pass over every other ball stays quick.
+#[derive(Clone, Copy, Debug)]
+struct Extent {
+    mobility: Mobility,
+    /// A box holding the piece's whole path (up to the horizon), and its low corner less a
+    /// ball's diameter.
+    lo: DVec2,
+    hi: DVec2,
+    lo_reach: DVec2,
+}
+
+impl Extent {
+    fn of(p: &Piece, ctx: &Ctx) -> Extent {
+        let motion = p.start.motion;
+        let mobility = if motion.is_gone() {
+            Mobility::Gone
+        } else if motion == MotionState::Airborne {
+            Mobility::Flying
+        } else if motion.is_translating() {
+            Mobility::Cloth
+        } else {
+            Mobility::Still
+        };
+        let end = p.t_end.min(ctx.limit);
+        let (lo, hi) = if end.is_finite() || !motion.is_translating() {
+            p.path_box(p.t0, end.max(p.t0))
+        } else {
+            (DVec2::NEG_INFINITY, DVec2::INFINITY)
+        };
+        let d = 2.0 * ctx.params.ball_radius;
+        Extent {
+            mobility,
+            lo,
+            hi,
+            lo_reach: lo - DVec2::splat(d),
+        }
+    }
+
+    /// False when the balls cannot meet whatever their paths: one is gone, or neither moves.
+    #[inline]
+    fn may_meet(&self, other: &Extent) -> bool {
+        let (a, b) = (self.mobility, other.mobility);
+        !(a == Mobility::Gone
+            || b == Mobility::Gone
+            || (a == Mobility::Still && b == Mobility::Still))
+    }
+
+    /// True when the two boxes are more than a diameter apart, so the balls cannot meet.
+    #[inline]
+    fn apart(&self, other: &Extent) -> bool {
+        self.lo_reach.x > other.hi.x
+            || other.lo_reach.x > self.hi.x
+            || self.lo_reach.y > other.hi.y
+            || other.lo_reach.y > self.hi.y
     }
 }
 
