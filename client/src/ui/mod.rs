@@ -125,7 +125,8 @@ fn open(start: Start, seed: Option<u64>) -> anyhow::Result<Screen> {
             level,
             computer_breaks,
         } => {
-            let link = ComputerLink::new(variant, Settings::offline(), seed, level, computer_breaks);
+            let link =
+                ComputerLink::new(variant, Settings::offline(), seed, level, computer_breaks);
             let names = computer_game_names(link.computer().seat(), level);
             Screen::Game(Box::new(
                 game::GameScreen::new(Box::new(link), Connection::Offline).with_names(names),

@@ -4,7 +4,7 @@ use glam::{DVec2, DVec3};
 
 use super::motion::Piece;
 use super::params::{BallBallModel, Params};
-use super::roots::{first_contact, stays_apart, Poly, Touch};
+use super::roots::{first_contact, hull_stays_apart, stays_apart, Poly, Touch};
 
 /// The squared-distance polynomial of two pieces from absolute time `now`:
 /// `f(τ) = |d(τ)|² − (2R)²` with `d = r_b − r_a`.
@@ -36,17 +36,13 @@ pub fn collision_time(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -
         // Their paths never come within a diameter of each other.
         return None;
     }
-    let (a_lo, a_hi) = a.path_box(now, until);
-    let (b_lo, b_hi) = b.path_box(now, until);
-    let d = 2.0 * radius;
-    if a_lo.x - d > b_hi.x || b_lo.x - d > a_hi.x || a_lo.y - d > b_hi.y || b_lo.y - d > a_hi.y {
-        // Their paths never come within a diameter of each other.
-        return None;
-    }
     let dr = b.pos_at(now) - a.pos_at(now);
     let dv = b.vel_at(now) - a.vel_at(now);
     let da = b.acc - a.acc;
-    if stays_apart(dr, dv, da, until - now, 2.0 * radius) {
+    let reach = until - now;
+    if stays_apart(dr, dv, da, reach, 2.0 * radius)
+        || hull_stays_apart(dr, dv, da, reach, 2.0 * radius)
+    {
         // They cannot meet before one of them changes state.
         return None;
     }

@@ -10,7 +10,7 @@ use glam::{DVec2, DVec3};
 use super::mathavan;
 use super::motion::Piece;
 use super::params::{CushionModel, Params};
-use super::roots::{first_contact, stays_apart, Poly, Touch};
+use super::roots::{first_contact, hull_stays_apart, stays_apart, Poly, Touch};
 use super::stronge;
 use super::table::{Jaw, Rail};
 
@@ -78,7 +78,7 @@ pub fn circle_time(piece: &Piece, center: DVec2, radius: f64, now: f64, until: f
     let d = piece.pos_at(now) - center;
     let v = piece.vel_at(now);
     let a = piece.acc;
-    if stays_apart(d, v, a, until - now, radius) {
+    if stays_apart(d, v, a, until - now, radius) || hull_stays_apart(d, v, a, until - now, radius) {
         return None;
     }
     let dist = d.length();

@@ -7,10 +7,12 @@ pub mod ball_cushion;
 pub mod cue;
 pub mod engine;
 pub mod event;
+mod group_impact;
 pub mod mathavan;
 pub mod motion;
 pub mod params;
 pub mod roots;
+mod shot;
 pub mod stronge;
 pub mod table;
 

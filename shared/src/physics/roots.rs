@@ -100,6 +100,52 @@ pub fn stays_apart(dr: DVec2, dv: DVec2, da: DVec2, t_max: f64, distance: f64) -
     closest - bend > distance
 }
 
+/// True when `d(τ) = dr + dv·τ + ½·da·τ²` provably stays longer than `distance` for τ in
+/// `[0, t_max]`, by a margin far above any rounding of the contact polynomial, so that the
+/// root solver could not find a contact either. The path is a quadratic Bézier curve: it lies
+/// in the triangle of its control points `dr`, `dr + dv·t_max/2` and `d(t_max)`, and the
+/// test is whether that triangle keeps clear of the origin. For a straight path (a rolling
+/// ball against a fixed point, or two balls on parallel courses) the triangle is the path
+/// itself, so the test is exact where [`stays_apart`] must allow for the whole bend.
+pub fn hull_stays_apart(dr: DVec2, dv: DVec2, da: DVec2, t_max: f64, distance: f64) -> bool {
+    if !t_max.is_finite() {
+        return false;
+    }
+    let p0 = dr;
+    let p1 = dr + dv * (0.5 * t_max);
+    let p2 = dr + dv * t_max + da * (0.5 * t_max * t_max);
+    // The polynomial's terms are products of lengths up to |dr| + |dv|·t + ½|da|·t²; its
+    // rounding is some 1e-16 of their squares. A margin of 1e-9 of them is far above it,
+    // and far below any distance that matters (1e-8 m on a table).
+    let t2 = t_max * t_max;
+    let scale = 3.0 * (dr.length_squared() + dv.length_squared() * t2)
+        + 0.75 * da.length_squared() * t2 * t2
+        + distance * distance;
+    let reach2 = distance * distance + 1e-9 * scale;
+    // The squared distance from the origin to the segment from `a` to `b`.
+    let to_segment = |a: DVec2, b: DVec2| {
+        let e = b - a;
+        let len2 = e.length_squared();
+        let s = if len2 > 0.0 {
+            (-a.dot(e) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (a + e * s).length_squared()
+    };
+    if to_segment(p0, p1) <= reach2 || to_segment(p1, p2) <= reach2 || to_segment(p2, p0) <= reach2
+    {
+        return false;
+    }
+    // The edges are all out of reach: the triangle is clear unless it holds the origin. Held
+    // that far inside, the origin is on the same side of every edge by a wide margin (a flat
+    // triangle, a straight path, holds nothing).
+    let side = |a: DVec2, b: DVec2| a.perp_dot(b);
+    let (s0, s1, s2) = (side(p0, p1), side(p1, p2), side(p2, p0));
+    let inside = (s0 > 0.0 && s1 > 0.0 && s2 > 0.0) || (s0 < 0.0 && s1 < 0.0 && s2 < 0.0);
+    !inside
+}
+
 /// Times closer than this (s) are not told apart: a ball at 50 m/s moves 5 pm in it.
 pub const TIME_TOLERANCE: f64 = 1e-13;
 
@@ -146,42 +192,72 @@ fn bracketed_root(
     0.5 * (lo + hi)
 }
 
-/// Critical points of `c` (roots of its derivative) inside (lo, hi), sorted.
-fn critical_points(c: &Poly, lo: f64, hi: f64, out: &mut [f64; 4]) -> usize {
-    // Roots of f'' split [lo, hi] into pieces on which f' is monotone.
-    let mut inflections = [0.0; 4];
-    let ni = quadratic_roots_in(
-        12.0 * c[4],
-        6.0 * c[3],
-        2.0 * c[2],
-        lo,
-        hi,
-        &mut inflections,
-    );
-    if c[4] == 0.0 && c[3] == 0.0 {
-        // f' is linear (or constant): at most one root.
-        return quadratic_roots_in(0.0, 2.0 * c[2], c[1], lo, hi, out);
-    }
-    let mut n = 0;
-    let mut a = lo;
-    let mut da = eval_d(c, a);
-    for (k, &b) in inflections[..ni]
-        .iter()
-        .chain(std::iter::once(&hi))
-        .enumerate()
-    {
-        let db = eval_d(c, b);
-        if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
-            out[n] = bracketed_root(|t| eval_d(c, t), |t| eval_dd(c, t), a, b);
-            n += 1;
-        } else if db == 0.0 && k < ni {
-            out[n] = b;
-            n += 1;
+/// The critical points of `c` (roots of its derivative) inside (lo, hi), in increasing
+/// order, each found only when it is asked for: a search that stops at the first contact
+/// never solves for the critical points after it.
+struct CriticalPoints<'a> {
+    c: &'a Poly,
+    /// Where `f'` may change its monotony (the roots of `f''`), then `hi`; or, when `f'` is
+    /// linear, its root itself.
+    stops: [f64; 4],
+    count: usize,
+    /// Whether the stops are the critical points themselves (`f'` linear).
+    solved: bool,
+    /// The next stop, the start of its stretch and `f'` there.
+    next: usize,
+    a: f64,
+    da: f64,
+}
+
+impl<'a> CriticalPoints<'a> {
+    fn new(c: &'a Poly, lo: f64, hi: f64) -> Self {
+        let mut stops = [0.0; 4];
+        let solved = c[4] == 0.0 && c[3] == 0.0;
+        let count = if solved {
+            // f' is linear (or constant): at most one root.
+            quadratic_roots_in(0.0, 2.0 * c[2], c[1], lo, hi, &mut stops)
+        } else {
+            // Roots of f'' split [lo, hi] into stretches on which f' is monotone.
+            let ni = quadratic_roots_in(12.0 * c[4], 6.0 * c[3], 2.0 * c[2], lo, hi, &mut stops);
+            stops[ni] = hi;
+            ni + 1
+        };
+        CriticalPoints {
+            c,
+            stops,
+            count,
+            solved,
+            next: 0,
+            a: lo,
+            da: if solved { 0.0 } else { eval_d(c, lo) },
         }
-        a = b;
-        da = db;
     }
-    n
+}
+
+impl Iterator for CriticalPoints<'_> {
+    type Item = f64;
+
+    fn next(&mut self) -> Option<f64> {
+        let c = self.c;
+        while self.next < self.count {
+            let k = self.next;
+            let b = self.stops[k];
+            self.next += 1;
+            if self.solved {
+                return Some(b);
+            }
+            let (a, da) = (self.a, self.da);
+            let db = eval_d(c, b);
+            self.a = b;
+            self.da = db;
+            if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
+                return Some(bracketed_root(|t| eval_d(c, t), |t| eval_dd(c, t), a, b));
+            } else if db == 0.0 && k + 1 < self.count {
+                return Some(b);
+            }
+        }
+        None
+    }
 }
 
 /// How fast `f` must fall at τ = 0 for objects already touching to count as approaching:
@@ -232,11 +308,9 @@ pub fn first_contact(c: &Poly, t_max: f64, touch: Touch) -> Option<f64> {
             return Some(0.0);
         }
     }
-    let mut crit = [0.0; 4];
-    let n = critical_points(c, 0.0, t_max, &mut crit);
     let mut a = 0.0;
     let mut fa = c[0];
-    for &b in crit[..n].iter().chain(std::iter::once(&t_max)) {
+    for b in CriticalPoints::new(c, 0.0, t_max).chain(std::iter::once(t_max)) {
         let fb = eval(c, b);
         // On [a, b] f is monotone; it decreases when f' < 0 inside.
         let decreasing = eval_d(c, 0.5 * (a + b)) < 0.0 || (fb < fa);
@@ -343,5 +417,67 @@ mod tests {
         let c = from_roots(&[1.5, 2.5], 1.0);
         assert_eq!(first_contact(&c, 1.0), None);
         assert!(first_contact(&c, 2.0).is_some());
+    }
+
+    /// `f(τ) = |d(τ)|² − distance²` for `d(τ) = dr + dv·τ + ½·da·τ²`.
+    fn squared_distance_poly(dr: DVec2, dv: DVec2, da: DVec2, distance: f64) -> Poly {
+        [
+            dr.length_squared() - distance * distance,
+            2.0 * dr.dot(dv),
+            dv.dot(dv) + dr.dot(da),
+            dv.dot(da),
+            0.25 * da.dot(da),
+        ]
+    }
+
+    #[test]
+    fn hull_is_exact_for_a_straight_path() {
+        // A straight pass at 1 µm more and 1 µm less than the distance.
+        let (dv, t) = (DVec2::new(-2.0, 0.0), 1.0);
+        for (gap, apart) in [(1e-6, true), (-1e-6, false)] {
+            let dr = DVec2::new(1.0, 0.05 + gap);
+            assert_eq!(hull_stays_apart(dr, dv, DVec2::ZERO, t, 0.05), apart);
+        }
+        // Stopping short of the point, or not yet there at the end of the interval.
+        let dr = DVec2::new(1.0, 0.0);
+        assert!(hull_stays_apart(dr, dv, DVec2::ZERO, 0.4, 0.05));
+        assert!(!hull_stays_apart(dr, dv, DVec2::ZERO, 0.5, 0.05));
+        assert!(!hull_stays_apart(dr, dv, DVec2::ZERO, f64::INFINITY, 0.05));
+    }
+
+    #[test]
+    fn hull_never_dismisses_a_contact_the_solver_finds() {
+        // Random curved paths around a disc: whenever the hull test says apart, the solver
+        // must find no contact and no sample of the path may come within reach.
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut unit = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let distance = 0.05715;
+        let mut dismissed = 0;
+        for _ in 0..20_000 {
+            let mut v = || DVec2::new(unit() - 0.5, unit() - 0.5);
+            let (dr, dv, da) = (v() * 0.6, v() * 6.0, v() * 8.0);
+            let t = 0.01 + unit();
+            if !hull_stays_apart(dr, dv, da, t, distance) {
+                continue;
+            }
+            dismissed += 1;
+            let c = squared_distance_poly(dr, dv, da, distance);
+            assert_eq!(
+                super::first_contact(&c, t, Touch::squared(distance)),
+                None,
+                "{dr} {dv} {da} {t}"
+            );
+            for k in 0..=100 {
+                let tau = t * k as f64 / 100.0;
+                let d = dr + dv * tau + da * (0.5 * tau * tau);
+                assert!(d.length() > distance, "{dr} {dv} {da} {t} at {tau}");
+            }
+        }
+        assert!(dismissed > 1_000, "{dismissed}");
     }
 }
