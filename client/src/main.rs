@@ -12,7 +12,7 @@ use std::rc::Rc;
 use anyhow::{bail, Context as _};
 use breakshot_client::memory::player_name;
 use breakshot_client::net::{
-    default_data_dir, fetch_record_blocking, HostOptions, NetLink, SeatStore, DEFAULT_PORT,
+    default_data_dir, fetch_game_blocking, HostOptions, NetLink, SeatStore, DEFAULT_PORT,
 };
 use breakshot_client::play::{rack_scene, ReplayViewer};
 use breakshot_client::view::ViewKind;
@@ -201,9 +201,13 @@ enum Command {
         /// breakshot-server prints it (a room invite works too).
         #[arg(long, value_name = "URL", requires = "game")]
         server: Option<String>,
-        /// The room code of the game (its latest game is shown).
+        /// The room code of the game (its latest game is shown unless --number says).
         #[arg(long, value_name = "ID", requires = "server")]
         game: Option<String>,
+        /// Which of the room's games: 1 for its first, 2 for the one after its first rematch
+        /// (default: the latest).
+        #[arg(long, value_name = "N", requires = "game", value_parser = clap::value_parser!(u32).range(1..))]
+        number: Option<u32>,
         /// Save the fetched game's record to FILE instead of showing it (watch it later
         /// with `breakshot replay FILE`).
         #[arg(long, value_name = "FILE", requires = "server")]
@@ -219,11 +223,12 @@ fn main() -> ExitCode {
     if let Some(Command::Replay {
         server: Some(server),
         game: Some(game),
+        number,
         save: Some(path),
         ..
     }) = &cli.command
     {
-        return match save_record(server, game, path) {
+        return match save_record(server, game, *number, path) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
                 eprintln!("breakshot: {e:#}");
@@ -326,8 +331,9 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
         Some(Command::Replay {
             server: Some(server),
             game: Some(game),
+            number,
             ..
-        }) => ui::Start::Replay(Box::new(fetch_replay(server, game)?)),
+        }) => ui::Start::Replay(Box::new(fetch_replay(server, game, *number)?)),
         Some(Command::Replay { .. }) => bail!("give a record FILE, or --server URL --game ID"),
     })
 }
@@ -358,15 +364,20 @@ fn data_dir(cli: &Cli) -> anyhow::Result<PathBuf> {
 }
 
 /// Fetches a game's record from the server `url` names and opens it.
-fn fetch_replay(url: &str, game: &str) -> anyhow::Result<ReplayViewer> {
-    let (room, bytes) = fetch(url, game)?;
+fn fetch_replay(url: &str, game: &str, number: Option<u32>) -> anyhow::Result<ReplayViewer> {
+    let (room, bytes) = fetch(url, game, number)?;
     ReplayViewer::decode(&bytes)
         .with_context(|| format!("the server sent game {room} as an unreadable record"))
 }
 
 /// Fetches a game's record from a server and saves it to `path`, checked as a record first.
-fn save_record(url: &str, game: &str, path: &std::path::Path) -> anyhow::Result<()> {
-    let (room, bytes) = fetch(url, game)?;
+fn save_record(
+    url: &str,
+    game: &str,
+    number: Option<u32>,
+    path: &std::path::Path,
+) -> anyhow::Result<()> {
+    let (room, bytes) = fetch(url, game, number)?;
     ReplayViewer::decode(&bytes)
         .with_context(|| format!("the server sent game {room} as an unreadable record"))?;
     std::fs::write(path, &bytes).with_context(|| format!("cannot write {}", path.display()))?;
@@ -378,13 +389,13 @@ fn save_record(url: &str, game: &str, path: &std::path::Path) -> anyhow::Result<
     Ok(())
 }
 
-/// The latest game's record of room `game` on the server at `url`.
-fn fetch(url: &str, game: &str) -> anyhow::Result<(RoomCode, Vec<u8>)> {
+/// The record of room `game`'s game `number` (the latest if `None`) on the server at `url`.
+fn fetch(url: &str, game: &str, number: Option<u32>) -> anyhow::Result<(RoomCode, Vec<u8>)> {
     let server: Invite = url.parse().with_context(|| {
         format!("{url:?} is not a server address (breakshot://HOST:PORT#FINGERPRINT)")
     })?;
     let room = RoomCode::parse(game).with_context(|| format!("{game:?} is not a room code"))?;
-    let fetched = fetch_record_blocking(&server, &room)
+    let fetched = fetch_game_blocking(&server, &room, number)
         .with_context(|| format!("cannot fetch game {room} from {}", server.authority()))?;
     eprintln!(
         "breakshot: game {} of room {room} ({})",

@@ -224,10 +224,27 @@ fn a_game_on_a_server_is_saved_to_a_record_file_that_replays() {
         &invite.to_string(),
         "--game",
         room.as_str(),
+        "--number",
+        "1",
         "--save",
         file.to_str().expect("utf-8 path"),
     ]);
+    // A game the room has not reached is refused, and says how many it has.
+    let beyond = breakshot(&[
+        "replay",
+        "--server",
+        &invite.to_string(),
+        "--game",
+        room.as_str(),
+        "--number",
+        "7",
+        "--save",
+        dir.path().join("none.rec").to_str().expect("utf-8 path"),
+    ]);
     drop(server);
+    assert_eq!(beyond.status.code(), Some(2), "{}", stderr(&beyond));
+    assert!(stderr(&beyond).contains("no game 7"), "{}", stderr(&beyond));
+    assert!(!dir.path().join("none.rec").exists());
     let bytes = std::fs::read(&file);
     assert_eq!(out.status.code(), Some(0), "{}", stderr(&out));
     let record = GameRecord::decode(&bytes.expect("the saved file")).expect("a game record");
@@ -310,7 +327,7 @@ fn every_subcommand_lists_only_its_own_options_each_with_help() {
             ],
         ),
         ("practice", &["--mode", "--seed"]),
-        ("replay", &["--server", "--game", "--save"]),
+        ("replay", &["--server", "--game", "--number", "--save"]),
     ];
     let all = [
         "--mode",

@@ -973,6 +973,44 @@ fn a_wrong_fingerprint_is_said_in_words_that_fit_the_window() {
     );
 }
 
+#[test]
+fn a_join_to_a_port_with_no_game_gives_up_within_seconds_naming_the_address_and_what_to_check() {
+    let dir = breakshot_testkit::scratch("window-unreachable");
+    // A port nothing listens on: bound by this test, then let go.
+    let port = std::net::UdpSocket::bind("127.0.0.1:0")
+        .and_then(|s| s.local_addr())
+        .expect("a free port")
+        .port();
+    let text = format!("breakshot://127.0.0.1:{port}/ABCDEFGH#{}", "ab".repeat(32));
+    let out = dir.path().join("out.png");
+    let data = dir.path().join("client");
+    let args = [
+        OsStr::new("join"),
+        OsStr::new(&text),
+        OsStr::new("--data"),
+        data.as_os_str(),
+    ];
+    let started = std::time::Instant::now();
+    // The screenshot waits for the connection's outcome, so the run ends when it gives up.
+    let Some(run) = window_sized(&args, &out, 3, (640, 480)) else {
+        return;
+    };
+    let waited = started.elapsed();
+    assert_ran(&run);
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        err.contains(&format!("cannot reach the game at 127.0.0.1:{port}")),
+        "the terminal names the address: {err}"
+    );
+    assert!(err.contains("UDP port is open"), "and what to check: {err}");
+    // About 5 s of trying, plus starting a window on a loaded machine; it used to take
+    // minutes.
+    assert!(
+        waited < Duration::from_secs(30),
+        "gave up only after {waited:?}"
+    );
+}
+
 /// Whether `got` is `want` lit, allowing for the 3-D view's glints: the same colour scaled by
 /// one factor up to 1.4, within 30 per channel.
 fn glinting(got: Rgb, want: Rgb) -> bool {

@@ -30,6 +30,18 @@ pub enum NetError {
     #[error("the server sent {0} before Welcome")]
     /// The server's first answer was not `Welcome`.
     Handshake(String),
+    #[error(
+        "cannot reach the game at {tried} ({why}): check the address and the port, that the \
+         host's game is running, and that its UDP port is open in the host's firewall (and \
+         forwarded on its router when playing over the internet)"
+    )]
+    /// The first connection found no server at any address the invite names.
+    Unreachable {
+        /// The addresses tried, as the invite names them.
+        tried: String,
+        /// What the last attempt met.
+        why: String,
+    },
 }
 
 impl NetError {

@@ -52,6 +52,12 @@ pub struct ReplayViewer {
 }
 
 impl ReplayViewer {
+    /// The players' names by seat, as the record keeps them (records before format 3 have
+    /// none).
+    pub fn players(&self) -> &[Option<String>; 2] {
+        &self.record.players
+    }
+
     /// Opens an encoded record.
     pub fn decode(bytes: &[u8]) -> Result<ReplayViewer, ReplayOpenError> {
         let record = GameRecord::decode(bytes)?;

@@ -41,6 +41,8 @@ pub struct GameScreen {
     leaving: bool,
     /// The player asked for a rematch of the game that is over; the other has not yet.
     rematch_asked: bool,
+    /// Why the connection closed has been written to the terminal.
+    told_terminal: bool,
     /// Top-down or 3-D, and the 3-D camera.
     view: TableView,
 }
@@ -94,6 +96,7 @@ impl GameScreen {
             turns: Orientations::new(),
             leaving: false,
             rematch_asked: false,
+            told_terminal: false,
             view: TableView::new(),
         }
     }
@@ -142,6 +145,12 @@ impl GameScreen {
         self.frame_ms = 0.9 * self.frame_ms + 0.1 * input.dt * 1000.0;
         while let Some(event) = self.link.poll() {
             self.flow.handle(event);
+        }
+        // Why a connection ended goes to the terminal too: a player who started the game
+        // from a command line reads it there.
+        if let (Connection::Closed(reason), false) = (&self.flow.connection, self.told_terminal) {
+            eprintln!("breakshot: {reason}");
+            self.told_terminal = true;
         }
         let mut input = input.clone();
         if let Some(invite) = self.waiting_invite() {

@@ -74,7 +74,7 @@ impl ReplayScreen {
         let pen = self.view.pen(&layout, r, v.shot(), v.game().table());
         draw::table(&pen, v.game().table());
         draw::balls(&pen, &ids, &v.balls(), r, None, &self.turns);
-        let (pocketed, seats) = (v.tray(), tray::seat_names(&[None, None]));
+        let (pocketed, seats) = (v.tray(), tray::seat_names(v.players()));
         let trays = tray::trays(v.game(), &pocketed);
         trays::player_trays(&layout, &ids, trays, &pocketed, seats, r);
         // The panel shows the strike of the shot being played (or the next one).
@@ -92,7 +92,7 @@ impl ReplayScreen {
                 verdict: v.last_verdict.as_ref(),
                 shot_clock: None,
                 connection: &Connection::Offline,
-                names: &[None, None],
+                names: v.players(),
             },
         );
         let state = if v.at_end() && v.shot().is_none() {

@@ -385,7 +385,13 @@ impl PlayerCore {
             Then::Next | Then::Wait => self.next_attempt(now),
             Then::GiveUp(failure) => {
                 let failure = match opening.purpose() {
-                    Purpose::First => failure,
+                    Purpose::First => match failure {
+                        NetError::Connect(why) | NetError::Resolve(why) => NetError::Unreachable {
+                            tried: addresses(&self.invite),
+                            why,
+                        },
+                        other => other,
+                    },
                     Purpose::Rejoin(why) => {
                         NetError::Lost(format!("{why}; reconnecting failed: {failure}"))
                     }
@@ -588,4 +594,10 @@ fn played_elsewhere(msg: &ServerMessage) -> bool {
             ..
         }
     )
+}
+
+/// The invite's addresses as a person reads them: `HOST:PORT`, joined by "then".
+fn addresses(invite: &Invite) -> String {
+    let all: Vec<String> = invite.servers.iter().map(|s| s.to_string()).collect();
+    all.join(", then ")
 }

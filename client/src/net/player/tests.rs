@@ -174,11 +174,23 @@ fn the_first_connection_is_retried_with_growing_pauses_then_given_up() {
     assert_eq!(s.server.opened().len(), 2, "then 200 ms");
     s.wait(ms(1));
     assert_eq!(s.server.opened().len(), 3);
-    // Past `first_for` the core gives up with the last reason.
+    // Past `first_for` the core gives up with the last reason, the address tried and what
+    // to check.
     s.wait(Duration::from_secs(5));
     s.server.fail(down());
     s.wait(ms(1));
-    assert_eq!(s.events(), [PlayerEvent::Closed(down())]);
+    let events = s.events();
+    let [PlayerEvent::Closed(error)] = events.as_slice() else {
+        panic!("{events:?}");
+    };
+    assert!(
+        matches!(error, NetError::Unreachable { why, .. } if why == "refused by the network"),
+        "{error:?}"
+    );
+    let words = error.to_string();
+    let address = s.driver.core().invite().servers[0].to_string();
+    assert!(words.contains(&address), "{words}");
+    assert!(words.contains("UDP port is open"), "{words}");
 }
 
 #[test]
