@@ -441,6 +441,74 @@ async fn left_by_bob(
     (hosting, snapshot.room, token)
 }
 
+/// A window that ends (here after its screenshot, through the same path as a window closed
+/// or a Ctrl-C: the frame loop stops and the screens are dropped) closes its connection, so
+/// the other player is told at once that it left, not after the idle timeout.
+#[test]
+#[cfg(feature = "host")]
+fn a_window_that_ends_is_seen_gone_at_once_not_after_the_idle_timeout() {
+    use breakshot_client::net::{Client, Reconnect};
+    use breakshot_shared::protocol::limits::IDLE_TIMEOUT;
+    use breakshot_shared::protocol::{AimAid, ClientMessage};
+    use std::time::Instant;
+
+    if xvfb_run().is_none() {
+        return;
+    }
+    let dir = breakshot_testkit::scratch("window-ends");
+    let server = common::loopback_server(dir.path().join("server"));
+    let mut invite = server.loopback_invite();
+    let runtime = tokio::runtime::Runtime::new().expect("a runtime");
+    let (mut alice, room) = within(&runtime, "the room", async {
+        let mut alice = Client::connect(invite.clone(), Reconnect::never())
+            .await
+            .expect("connected");
+        alice
+            .send(&ClientMessage::CreateRoom {
+                variant: Variant::EightBall(EightBallRules::Wpa),
+                mode: Settings::online(),
+                aim_aid: AimAid::Full,
+                name: "alice".into(),
+            })
+            .await
+            .expect("sent");
+        let ServerMessage::Joined { snapshot, .. } =
+            next(&mut alice, |m| matches!(m, ServerMessage::Joined { .. })).await
+        else {
+            unreachable!("matched above")
+        };
+        (alice, snapshot.room)
+    });
+    invite.room = Some(room);
+    let text = invite.to_string();
+    let out = dir.path().join("out.png");
+    let data = dir.path().join("client");
+    let window = std::thread::spawn(move || {
+        let args = [
+            OsStr::new("join"),
+            OsStr::new(&text),
+            OsStr::new("--data"),
+            data.as_os_str(),
+        ];
+        let run = window_sized(&args, &out, 30, (640, 480));
+        (run, Instant::now())
+    });
+    let left_at = within(&runtime, "the window's join, then its leaving", async {
+        next(&mut alice, |m| matches!(m, ServerMessage::PlayerJoined { .. })).await;
+        next(&mut alice, |m| matches!(m, ServerMessage::PlayerLeft { .. })).await;
+        Instant::now()
+    });
+    let (run, ended_at) = window.join().expect("the window's thread");
+    assert_ran(&run.expect("xvfb-run is installed"));
+    // Told before the window's process had been gone for the idle timeout: its connection
+    // was closed, not left to time out.
+    assert!(
+        left_at < ended_at + IDLE_TIMEOUT / 2,
+        "told {:?} after the window ended",
+        left_at.saturating_duration_since(ended_at)
+    );
+}
+
 /// A player whose opponent ended the game while they were away, with the server restarted
 /// since, runs the same `join` again (through an invite whose first address is down): the
 /// window shows how the game came out for them, and the remembered seat is forgotten.
