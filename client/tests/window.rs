@@ -494,8 +494,14 @@ fn a_window_that_ends_is_seen_gone_at_once_not_after_the_idle_timeout() {
         (run, Instant::now())
     });
     let left_at = within(&runtime, "the window's join, then its leaving", async {
-        next(&mut alice, |m| matches!(m, ServerMessage::PlayerJoined { .. })).await;
-        next(&mut alice, |m| matches!(m, ServerMessage::PlayerLeft { .. })).await;
+        next(&mut alice, |m| {
+            matches!(m, ServerMessage::PlayerJoined { .. })
+        })
+        .await;
+        next(&mut alice, |m| {
+            matches!(m, ServerMessage::PlayerLeft { .. })
+        })
+        .await;
         Instant::now()
     });
     let (run, ended_at) = window.join().expect("the window's thread");
