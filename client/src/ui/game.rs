@@ -485,7 +485,9 @@ impl GameScreen {
             draw::cue_stick(&pen, cue, &Aim::from_strike(&strike), r);
         }
         let (pocketed, seats) = (self.flow.tray(), tray::seat_names(&self.flow.names));
-        let trays = tray::trays(game, &pocketed);
+        // While a shot plays, its balls fall into the trays of the groups as they were when
+        // it was struck: a group the shot decides takes its balls once the shot is over.
+        let trays = tray::trays(self.flow.shown_game().unwrap_or(game), &pocketed);
         trays::player_trays(&layout, &names, trays, &pocketed, seats, r);
         panel::panel(&layout, &self.controls.aim, Some(self.controls.keep_spin));
         game_hud(
