@@ -590,13 +590,7 @@ impl GameScreen {
             (false, true) => keys.to_string(),
             (false, false) => message.to_string(),
         };
-        draw::label(
-            &footer,
-            layout.tray.x,
-            layout.screen[1] - 6.0,
-            18.0,
-            LIGHTGRAY,
-        );
+        draw::label_in(&footer, layout.footer, 18.0, draw::Align::Left, LIGHTGRAY);
         if self.debug {
             self.debug_overlay(&layout, game);
         }

@@ -212,11 +212,11 @@ impl PracticeScreen {
         let hint = "W/S elevation  |  A G P aids  |  V view  |  L trail  |  H in hand  |  R reset  |  Esc menu";
         let dims = draw::text_width(hint, 16.0);
         draw::label(hint, layout.hud.w - dims - 10.0, y, 16.0, LIGHTGRAY);
-        draw::label(
+        draw::label_in(
             &self.message,
-            layout.tray.x,
-            layout.screen[1] - 6.0,
+            layout.footer,
             18.0,
+            draw::Align::Left,
             LIGHTGRAY,
         );
     }
