@@ -323,7 +323,8 @@ fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
     let above = pic.at(c.x + 0.45 * c.w, c.y + 0.1 * c.h);
     assert!(close(above, CLOTH, 6), "cloth {above:?}");
     // ... and the panel in the middle: dark, with the invite in yellow across it.
-    let mid = (0.5 * width as f32, 0.5 * height as f32);
+    let [mx, my] = layout.outer.center();
+    let mid = (mx, my);
     let dark = pic.at(mid.0, mid.1 - 90.0);
     assert!(dark.iter().all(|&v| v < 60), "panel background {dark:?}");
     // The invite's line, in the upper half of the panel (the HUD's yellow is far above).

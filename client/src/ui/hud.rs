@@ -22,31 +22,30 @@ pub struct HudInfo<'a> {
 pub fn game_hud(layout: &Layout, info: &HudInfo) {
     let bar = layout.hud;
     draw_rectangle(bar.x, bar.y, bar.w, bar.h, Color::new(0.0, 0.0, 0.0, 0.5));
-    // Right to left in its box: the connection, the shot clock (red as it runs out), the
-    // game, all at the one size that fits them.
-    let mut pieces = vec![(hud::variant_name(info.game.variant()).to_owned(), LIGHTGRAY)];
+    // In its box, right-aligned: the game over the shot clock (red as it runs out) and the
+    // connection when the bar has room for two rows, all on one row otherwise.
+    let mut pieces = Vec::new();
     if let Some(clock) = hud::shot_clock(info.shot_clock) {
         let warn = info.shot_clock.is_some_and(hud::clock_running_out);
-        pieces.push(("  |  ".into(), LIGHTGRAY));
         pieces.push((clock, if warn { RED } else { LIGHTGRAY }));
+        pieces.push(("  |  ".into(), LIGHTGRAY));
     }
-    pieces.push(("  |  ".into(), LIGHTGRAY));
     pieces.push((hud::connection(info.connection), LIGHTGRAY));
+    let variant = (hud::variant_name(info.game.variant()).to_owned(), LIGHTGRAY);
     let info_box = layout.game_info;
-    let all: String = pieces.iter().map(|(t, _)| t.as_str()).collect();
-    let size = draw::fitted_size(&all, info_box.w, info_box.h, 18.0);
-    let mut right = info_box.x + info_box.w;
-    for (text, c) in pieces.iter().rev() {
-        let w = draw::text_width(text, size);
-        right -= w;
-        draw::label_in(
-            text,
-            Rect::new(right, info_box.y, w + 1.0, info_box.h),
-            size,
-            Align::Left,
-            *c,
+    let rows = if info_box.h >= 36.0 {
+        let half = 0.5 * info_box.h;
+        right_aligned(
+            &[variant],
+            Rect::new(info_box.x, info_box.y, info_box.w, half),
         );
-    }
+        Rect::new(info_box.x, info_box.y + half, info_box.w, half)
+    } else {
+        pieces.insert(0, ("  |  ".into(), LIGHTGRAY));
+        pieces.insert(0, variant);
+        info_box
+    };
+    right_aligned(&pieces, rows);
 
     // The players' lines, each in its own box.
     for (p, r) in hud::players(info.game, info.me, info.names)
@@ -79,5 +78,24 @@ pub fn game_hud(layout: &Layout, info: &HudInfo) {
             let r = Rect::new(area.x, area.y + k as f32 * row, area.w, row);
             draw::label_in(line, r, 20.0, Align::Left, c);
         }
+    }
+}
+
+/// Coloured pieces of one line, at the one size that fits them all in `r`, ending at its
+/// right edge.
+fn right_aligned(pieces: &[(String, Color)], r: Rect) {
+    let all: String = pieces.iter().map(|(t, _)| t.as_str()).collect();
+    let size = draw::fitted_size(&all, r.w, r.h, 18.0);
+    let mut right = r.x + r.w;
+    for (text, c) in pieces.iter().rev() {
+        let w = draw::text_width(text, size);
+        right -= w;
+        draw::label_in(
+            text,
+            Rect::new(right, r.y, w + 1.0, r.h),
+            size,
+            Align::Left,
+            *c,
+        );
     }
 }
