@@ -54,7 +54,7 @@ fn choice_buttons(layout: &Layout, options: &[Choice]) -> Vec<(Choice, Rect)> {
     let area = layout.tray;
     let gap = 8.0;
     let w = ((area.w - (n + 1.0) * gap) / n).min(300.0);
-    let h = (area.h - 2.0 * gap).max(18.0).min(44.0);
+    let h = (area.h - 2.0 * gap).clamp(18.0, 44.0);
     let x0 = area.x + 0.5 * (area.w - n * w - (n - 1.0) * gap);
     let y = area.y + 0.5 * (area.h - h);
     options
