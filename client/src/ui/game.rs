@@ -462,7 +462,10 @@ impl GameScreen {
                     if let Some(end) = pred.aim_end.filter(|_| self.shown_aids().aim_line) {
                         draw::segment(&pen, cue, end, 2.5, RED);
                     }
-                    draw::label(&warning, layout.cloth.x, layout.cloth.y + 22.0, 20.0, RED);
+                    // Along the top of the cloth, shrunk to stay on it.
+                    let c = layout.cloth;
+                    let line = Rect::new(c.x + 6.0, c.y + 4.0, c.w - 12.0, 28.0);
+                    draw::label_in(&warning, line, 20.0, draw::Align::Left, RED);
                 }
             }
         }
