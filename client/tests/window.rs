@@ -323,7 +323,8 @@ fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
     let above = pic.at(c.x + 0.45 * c.w, c.y + 0.1 * c.h);
     assert!(close(above, CLOTH, 6), "cloth {above:?}");
     // ... and the panel in the middle: dark, with the invite in yellow across it.
-    let mid = (0.5 * width as f32, 0.5 * height as f32);
+    let [mx, my] = layout.outer.center();
+    let mid = (mx, my);
     let dark = pic.at(mid.0, mid.1 - 90.0);
     assert!(dark.iter().all(|&v| v < 60), "panel background {dark:?}");
     // The invite's line, in the upper half of the panel (the HUD's yellow is far above).
@@ -1524,5 +1525,90 @@ fn a_three_cushion_shot_struck_with_the_yellow_leaves_its_trail_on_the_yellow() 
     assert!(
         warm >= 2,
         "the trail is at {warm} of 3 points the yellow passed"
+    );
+}
+
+/// Whether a pixel is the white of the status line (the panel's titles are light grey).
+fn white_text(p: Rgb) -> bool {
+    p.iter().all(|&v| v > 240)
+}
+
+/// Whether a pixel is lit text of any shade over the dark background.
+fn lit(p: Rgb) -> bool {
+    p.iter().all(|&v| v > 150)
+}
+
+/// The columns of `pic` in `xs` with a pixel passing `is_text` in the rows of `r`.
+fn text_columns(
+    pic: &Picture,
+    r: breakshot_client::view::Rect,
+    xs: std::ops::Range<u32>,
+    is_text: fn(Rgb) -> bool,
+) -> Vec<u32> {
+    let rows = r.y.max(0.0) as u32..((r.y + r.h) as u32).min(pic.height);
+    xs.filter(|&x| rows.clone().any(|y| is_text(pic.at(x as f32, y as f32))))
+        .collect()
+}
+
+#[test]
+fn in_a_small_window_the_panel_title_fits_and_the_status_line_stays_out_of_the_panel() {
+    let dir = breakshot_testkit::scratch("window-small");
+    let out = dir.path().join("out.png");
+    let data = dir.path().join("data");
+    let args = [
+        "vs-computer",
+        "--level",
+        "1",
+        "--break",
+        "computer",
+        "--seed",
+        "4",
+        "--data",
+    ]
+    .map(OsStr::new);
+    let size = (640, 480);
+    let Some(run) = window_sized(&[&args[..], &[data.as_os_str()]].concat(), &out, 4, size) else {
+        return;
+    };
+    assert_ran(&run);
+    let pic = picture_sized(&out, size);
+    let racked = Game::new(
+        Variant::EightBall(EightBallRules::Wpa),
+        Settings::offline(),
+        0,
+    );
+    let layout = Layout::new(640.0, 480.0, Frame::new(racked.table(), racked.balls()));
+
+    // The status line ("Computer (level 1) to break, cue ball in hand ...") is written in
+    // its box, and none of its white reaches the panel beside the table.
+    let status = layout.status;
+    let inside = text_columns(&pic, status, 0..(status.x + status.w) as u32, white_text);
+    assert!(
+        inside.len() > 40,
+        "no status line: {} columns",
+        inside.len()
+    );
+    let panel_from = (layout.panel.x - 4.0) as u32;
+    let over_panel = text_columns(&pic, status, panel_from..pic.width, white_text);
+    assert!(
+        over_panel.is_empty(),
+        "the status line runs over the panel at x = {over_panel:?}"
+    );
+
+    // The panel's title ("Tip (resets, K)") is drawn whole: inside its box, clear of the
+    // window's right edge.
+    let title = layout.tip_title;
+    let lit_columns = text_columns(&pic, title, panel_from..pic.width, lit);
+    let (Some(&first), Some(&last)) = (lit_columns.first(), lit_columns.last()) else {
+        panic!("no panel title drawn");
+    };
+    assert!(lit_columns.len() > 40, "title too small: {lit_columns:?}");
+    assert!(
+        first as f32 >= title.x && last as f32 <= title.x + title.w,
+        "title from x = {first} to {last}, its box {title:?}"
+    );
+    assert!(
+        last + 3 < pic.width,
+        "the title reaches the window's edge at {last}"
     );
 }

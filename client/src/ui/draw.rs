@@ -387,6 +387,56 @@ pub fn text_width(text: &str, size: f32) -> f32 {
     measure_text(text, None, (size * text_scale()) as u16, 1.0).width
 }
 
+/// Where a line of text sits across its box.
+#[derive(Clone, Copy)]
+pub enum Align {
+    Left,
+    Centre,
+}
+
+/// The smallest size a fitted line is drawn at; a line still too wide there is cut short.
+const SMALLEST_TEXT: f32 = 9.0;
+
+/// The size (as for [`label`]) at which `text` fits `w` × `h` pixels, `max` at most.
+pub fn fitted_size(text: &str, w: f32, h: f32, max: f32) -> f32 {
+    let mut size = max.min(h / text_scale());
+    // Font sizes are whole pixels, so the width is not quite proportional: shrink until it fits.
+    for _ in 0..4 {
+        let width = text_width(text, size);
+        if width <= w {
+            break;
+        }
+        size *= 0.98 * w / width.max(1.0);
+    }
+    size.max(SMALLEST_TEXT)
+}
+
+/// `text` cut, with "...", to fit `w` pixels at `size`.
+fn cut_to_fit(text: &str, w: f32, size: f32) -> String {
+    if text_width(text, size) <= w {
+        return text.to_owned();
+    }
+    let chars: Vec<char> = text.chars().collect();
+    (0..chars.len())
+        .rev()
+        .map(|n| format!("{}...", chars[..n].iter().collect::<String>()))
+        .find(|t| text_width(t, size) <= w)
+        .unwrap_or_default()
+}
+
+/// A line of text in the box `r`, shrunk (and if need be cut) to fit it, centred upright.
+pub fn label_in(text: &str, r: Rect, max: f32, align: Align, c: Color) {
+    let size = fitted_size(text, r.w, r.h, max);
+    let text = cut_to_fit(text, r.w, size);
+    let dims = measure_text(&text, None, (size * text_scale()) as u16, 1.0);
+    let x = match align {
+        Align::Left => r.x,
+        Align::Centre => r.x + 0.5 * (r.w - dims.width),
+    };
+    let y = r.y + 0.5 * (r.h - dims.height) + dims.offset_y;
+    label(&text, x, y, size, c);
+}
+
 impl Surface for TopDown {
     fn table(&self, pen: &Pen, kind: TableKind) {
         let layout = pen.layout;

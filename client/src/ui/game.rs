@@ -47,20 +47,22 @@ pub struct GameScreen {
     view: TableView,
 }
 
-/// The buttons of the choices offered, in a row along the top of the cloth so the table
-/// stays in view.
+/// The buttons of the choices offered, in a row over the trays: off the cloth, so they
+/// cover no ball and no warning written on it.
 fn choice_buttons(layout: &Layout, options: &[Choice]) -> Vec<(Choice, Rect)> {
     let n = options.len().max(1) as f32;
-    let gap = 10.0;
-    let w = ((layout.cloth.w - (n + 1.0) * gap) / n).min(300.0);
-    let h = 36.0;
-    let x0 = layout.cloth.x + 0.5 * (layout.cloth.w - n * w - (n - 1.0) * gap);
+    let area = layout.tray;
+    let gap = 8.0;
+    let w = ((area.w - (n + 1.0) * gap) / n).min(300.0);
+    let h = (area.h - 2.0 * gap).clamp(18.0, 44.0);
+    let x0 = area.x + 0.5 * (area.w - n * w - (n - 1.0) * gap);
+    let y = area.y + 0.5 * (area.h - h);
     options
         .iter()
         .enumerate()
         .map(|(k, &c)| {
             let x = x0 + k as f32 * (w + gap);
-            (c, Rect::new(x, layout.cloth.y + gap, w, h))
+            (c, Rect::new(x, y, w, h))
         })
         .collect()
 }
@@ -154,7 +156,13 @@ impl GameScreen {
         }
         let mut input = input.clone();
         if let Some(invite) = self.waiting_invite() {
-            if input.left_pressed && invite::copy_clicked(input.mouse) {
+            let area = self
+                .flow
+                .game()
+                .map_or(Rect::new(0.0, 0.0, screen_width(), screen_height()), |g| {
+                    Self::layout(g).outer
+                });
+            if input.left_pressed && invite::copy_clicked(area, input.mouse) {
                 invite::copy(invite);
                 self.copied = true;
                 input.left_pressed = false;
@@ -454,7 +462,10 @@ impl GameScreen {
                     if let Some(end) = pred.aim_end.filter(|_| self.shown_aids().aim_line) {
                         draw::segment(&pen, cue, end, 2.5, RED);
                     }
-                    draw::label(&warning, layout.cloth.x, layout.cloth.y + 22.0, 20.0, RED);
+                    // Along the top of the cloth, shrunk to stay on it.
+                    let c = layout.cloth;
+                    let line = Rect::new(c.x + 6.0, c.y + 4.0, c.w - 12.0, 28.0);
+                    draw::label_in(&warning, line, 20.0, draw::Align::Left, RED);
                 }
             }
         }
@@ -518,13 +529,12 @@ impl GameScreen {
                 Color::from_rgba(30, 60, 120, 220),
             );
             draw_rectangle_lines(rect.x, rect.y, rect.w, rect.h, 2.0, WHITE);
-            let text = choice.to_string();
-            let d = draw::text_width(&text, 22.0);
-            draw::label(
-                &text,
-                rect.x + 0.5 * (rect.w - d),
-                rect.y + 0.5 * rect.h + 7.0,
+            let inside = Rect::new(rect.x + 6.0, rect.y + 2.0, rect.w - 12.0, rect.h - 4.0);
+            draw::label_in(
+                &choice.to_string(),
+                inside,
                 22.0,
+                draw::Align::Centre,
                 WHITE,
             );
         }
@@ -592,18 +602,12 @@ impl GameScreen {
             (false, true) => keys.to_string(),
             (false, false) => message.to_string(),
         };
-        draw::label(
-            &footer,
-            layout.tray.x,
-            layout.screen[1] - 6.0,
-            18.0,
-            LIGHTGRAY,
-        );
+        draw::label_in(&footer, layout.footer, 18.0, draw::Align::Left, LIGHTGRAY);
         if self.debug {
             self.debug_overlay(&layout, game);
         }
         if let Some(invite) = self.waiting_invite() {
-            invite::draw_panel(invite, self.copied);
+            invite::draw_panel(layout.outer, invite, self.copied);
         }
         if self.leaving {
             self.draw_leave_question();
@@ -756,17 +760,14 @@ mod tests {
     }
 
     #[test]
-    fn each_choice_is_a_button_in_a_row_on_the_cloth_and_a_click_picks_it() {
+    fn each_choice_is_a_button_in_a_row_over_the_trays_and_a_click_picks_it() {
         let layout = layout();
         let options = [Choice::PushOut, Choice::AcceptTable];
         let buttons = choice_buttons(&layout, &options);
         assert_eq!(buttons.len(), 2);
-        let cloth = layout.cloth;
         for (_, r) in &buttons {
-            assert!(
-                r.x >= cloth.x && r.x + r.w <= cloth.x + cloth.w,
-                "{r:?} off the cloth"
-            );
+            assert!(layout.tray.holds(r), "{r:?} not over the trays");
+            assert!(!r.overlaps(&layout.outer), "{r:?} over the table");
             assert_eq!(r.y, buttons[0].1.y, "not in one row");
         }
         assert!(

@@ -3,11 +3,11 @@
 //! connection, in the words `view::hud` chooses.
 
 use breakshot_client::view::hud::{self, Connection};
-use breakshot_client::view::Layout;
+use breakshot_client::view::{Layout, Rect};
 use breakshot_shared::rules::{Game, Seat, Verdict};
 use macroquad::prelude::*;
 
-use super::draw;
+use super::draw::{self, Align};
 
 pub struct HudInfo<'a> {
     pub game: &'a Game,
@@ -22,64 +22,80 @@ pub struct HudInfo<'a> {
 pub fn game_hud(layout: &Layout, info: &HudInfo) {
     let bar = layout.hud;
     draw_rectangle(bar.x, bar.y, bar.w, bar.h, Color::new(0.0, 0.0, 0.0, 0.5));
-    let y = 0.5 * bar.h + 6.0;
-    // Right to left: the connection, the shot clock (red as it runs out), the game.
-    let mut at = bar.w - 10.0;
-    let mut right = |text: &str, c: Color| {
-        at -= draw::text_width(text, 18.0);
-        draw::label(text, at, y, 18.0, c);
-    };
-    right(&hud::connection(info.connection), LIGHTGRAY);
+    // In its box, right-aligned: the game over the shot clock (red as it runs out) and the
+    // connection when the bar has room for two rows, all on one row otherwise.
+    let mut pieces = Vec::new();
     if let Some(clock) = hud::shot_clock(info.shot_clock) {
-        right("  |  ", LIGHTGRAY);
         let warn = info.shot_clock.is_some_and(hud::clock_running_out);
-        right(&clock, if warn { RED } else { LIGHTGRAY });
+        pieces.push((clock, if warn { RED } else { LIGHTGRAY }));
+        pieces.push(("  |  ".into(), LIGHTGRAY));
     }
-    right("  |  ", LIGHTGRAY);
-    right(hud::variant_name(info.game.variant()), LIGHTGRAY);
-    let right_w = bar.w - 10.0 - at;
+    pieces.push((hud::connection(info.connection), LIGHTGRAY));
+    let variant = (hud::variant_name(info.game.variant()).to_owned(), LIGHTGRAY);
+    let info_box = layout.game_info;
+    let rows = if info_box.h >= 36.0 {
+        let half = 0.5 * info_box.h;
+        right_aligned(
+            &[variant],
+            Rect::new(info_box.x, info_box.y, info_box.w, half),
+        );
+        Rect::new(info_box.x, info_box.y + half, info_box.w, half)
+    } else {
+        pieces.insert(0, ("  |  ".into(), LIGHTGRAY));
+        pieces.insert(0, variant);
+        info_box
+    };
+    right_aligned(&pieces, rows);
 
-    let lines: Vec<(String, Color)> = hud::players(info.game, info.me, info.names)
+    // The players' lines, each in its own box.
+    for (p, r) in hud::players(info.game, info.me, info.names)
         .into_iter()
-        .map(|p| {
-            let (marker, c) = if p.to_move {
-                ("> ", YELLOW)
-            } else {
-                ("  ", LIGHTGRAY)
-            };
-            (format!("{marker}{}", p.text), c)
-        })
-        .collect();
-    // The players' lines shrink, if they must, to stay clear of the right-hand words.
-    let room = bar.w - right_w - 40.0;
-    let wide: f32 = lines
-        .iter()
-        .map(|(t, _)| draw::text_width(t, 20.0) + 30.0)
-        .sum();
-    let size = (20.0 * (room / wide).min(1.0)).max(11.0);
-    let mut x = 10.0;
-    for (text, c) in &lines {
-        draw::label(text, x, y, size, *c);
-        x += draw::text_width(text, size) + 30.0 * size / 20.0;
+        .zip(layout.players)
+    {
+        let (marker, c) = if p.to_move {
+            ("> ", YELLOW)
+        } else {
+            ("  ", LIGHTGRAY)
+        };
+        draw::label_in(&format!("{marker}{}", p.text), r, 20.0, Align::Left, c);
     }
 
-    // What the game waits for, over the table; the last verdict's reasons, one a line, in
-    // the tray's free right-hand part.
+    // What the game waits for, in the line over the table; the last verdict's reasons, one a
+    // line, under the trays.
     let status = hud::status(info.game, info.names);
-    // Unscaled: it sits in the margin between the bar and the table.
-    draw_text(&status, layout.outer.x, layout.outer.y - 4.0, 18.0, WHITE);
+    draw::label_in(&status, layout.status, 18.0, Align::Left, WHITE);
     if let Some(v) = info.verdict {
         let c = if v.foul {
             Color::from_rgba(255, 120, 100, 255)
         } else {
             WHITE
         };
-        let tray = layout.tray;
-        let size = (tray.h / 3.4).clamp(12.0, 20.0);
-        for (k, line) in hud::verdict_lines(v, info.names).iter().take(3).enumerate() {
-            let w = measure_text(line, None, size as u16, 1.0).width;
-            let y = tray.y + size * (k as f32 + 1.0);
-            draw_text(line, tray.x + tray.w - w - 8.0, y, size, c);
+        let lines = hud::verdict_lines(v, info.names);
+        let shown = &lines[..lines.len().min(3)];
+        let area = layout.verdict;
+        let row = area.h / shown.len().max(1) as f32;
+        for (k, line) in shown.iter().enumerate() {
+            let r = Rect::new(area.x, area.y + k as f32 * row, area.w, row);
+            draw::label_in(line, r, 20.0, Align::Left, c);
         }
+    }
+}
+
+/// Coloured pieces of one line, at the one size that fits them all in `r`, ending at its
+/// right edge.
+fn right_aligned(pieces: &[(String, Color)], r: Rect) {
+    let all: String = pieces.iter().map(|(t, _)| t.as_str()).collect();
+    let size = draw::fitted_size(&all, r.w, r.h, 18.0);
+    let mut right = r.x + r.w;
+    for (text, c) in pieces.iter().rev() {
+        let w = draw::text_width(text, size);
+        right -= w;
+        draw::label_in(
+            text,
+            Rect::new(right, r.y, w + 1.0, r.h),
+            size,
+            Align::Left,
+            *c,
+        );
     }
 }

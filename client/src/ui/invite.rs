@@ -11,19 +11,25 @@ use super::draw;
 const TEXT: f32 = 20.0;
 const NOTE: f32 = 17.0;
 
-/// Where the panel and its button go in a window of this size.
-fn panel(screen: (f32, f32)) -> (Rect, Rect) {
-    let (w, h) = screen;
-    let pw = (0.9 * w).min(1000.0);
-    let ph = 200.0f32.min(0.8 * h);
-    let p = Rect::new(0.5 * (w - pw), 0.5 * (h - ph), pw, ph);
-    let button = Rect::new(p.x + 0.5 * (pw - 220.0), p.y + 96.0, 220.0, 38.0);
+/// Where the panel and its button go: over the middle of `area` (the table), so that it
+/// stays clear of the panel beside the table and of the bar at the top.
+fn panel(area: Rect) -> (Rect, Rect) {
+    let pw = (0.96 * area.w).min(1000.0);
+    let ph = 200.0f32.min(0.9 * area.h);
+    let p = Rect::new(
+        area.x + 0.5 * (area.w - pw),
+        area.y + 0.5 * (area.h - ph),
+        pw,
+        ph,
+    );
+    let bw = 220.0f32.min(pw - 24.0);
+    let button = Rect::new(p.x + 0.5 * (pw - bw), p.y + 96.0, bw, 38.0);
     (p, button)
 }
 
-/// Whether a click at `mouse` hits the copy button.
-pub fn copy_clicked(mouse: [f32; 2]) -> bool {
-    panel((screen_width(), screen_height())).1.contains(mouse)
+/// Whether a click at `mouse` hits the copy button of the panel over `area`.
+pub fn copy_clicked(area: Rect, mouse: [f32; 2]) -> bool {
+    panel(area).1.contains(mouse)
 }
 
 /// Puts the invite on the system clipboard.
@@ -50,8 +56,9 @@ pub fn wrap(text: &str, width: f32, size: f32) -> Vec<String> {
     lines
 }
 
-pub fn draw_panel(invite: &Invite, copied: bool) {
-    let (p, button) = panel((screen_width(), screen_height()));
+/// The panel over `area` (the table), every line shrunk to fit it.
+pub fn draw_panel(area: Rect, invite: &Invite, copied: bool) {
+    let (p, button) = panel(area);
     let wildcard = names_wildcard(invite);
     let note = if wildcard {
         wrap(&format!("Note: {ADDRESS_NOTE}."), p.w - 32.0, NOTE)
@@ -66,6 +73,7 @@ pub fn draw_panel(invite: &Invite, copied: bool) {
     draw_rectangle(p.x, p.y, p.w, height, Color::new(0.0, 0.0, 0.0, 0.82));
     draw_rectangle_lines(p.x, p.y, p.w, height, 2.0, WHITE);
     let centred = |text: &str, y: f32, size: f32, c: Color| {
+        let size = draw::fitted_size(text, p.w - 24.0, size * draw::text_scale(), size);
         let w = draw::text_width(text, size);
         draw::label(text, p.x + 0.5 * (p.w - w), y, size, c);
     };
@@ -91,14 +99,7 @@ pub fn draw_panel(invite: &Invite, copied: bool) {
     } else {
         "Copy to clipboard"
     };
-    let w = draw::text_width(label, TEXT);
-    draw::label(
-        label,
-        button.x + 0.5 * (button.w - w),
-        button.y + 0.5 * button.h + 7.0,
-        TEXT,
-        WHITE,
-    );
+    draw::label_in(label, button, TEXT, draw::Align::Centre, WHITE);
     centred(
         "They run:  breakshot join '<invite>'",
         p.y + 170.0,

@@ -11,12 +11,12 @@ use super::draw::*;
 /// reach under the panel); `keep_spin`, when the player sets up shots here, says whether
 /// the tip stays put after a shot (K).
 pub fn panel(layout: &Layout, aim: &Aim, keep_spin: Option<bool>) {
-    let left = layout.elevation_view.x - 4.0;
+    let p = layout.panel;
     draw_rectangle(
-        left,
-        layout.hud.h,
-        layout.screen[0] - left,
-        layout.screen[1],
+        p.x - 4.0,
+        p.y,
+        layout.screen[0] - p.x + 4.0,
+        p.h,
         color(palette::BACKGROUND),
     );
     let [cx, cy] = layout.tip_center;
@@ -26,7 +26,7 @@ pub fn panel(layout: &Layout, aim: &Aim, keep_spin: Option<bool>) {
         Some(false) => "Tip (resets, K)",
         None => "Tip",
     };
-    label(title, cx - r, cy - r - 6.0, 20.0, LIGHTGRAY);
+    label_in(title, layout.tip_title, 20.0, Align::Centre, LIGHTGRAY);
     draw_poly(cx, cy, 64, r, 0.0, color(palette::CUE_BALL));
     // The miscue limit: the tip stays inside this ring.
     draw_poly_lines(
@@ -54,11 +54,11 @@ pub fn panel(layout: &Layout, aim: &Aim, keep_spin: Option<bool>) {
     elevation_view(layout, aim.elevation_deg);
 
     let bar = layout.power_bar;
-    draw_text(
-        format!("Power {:.1} m/s", aim.speed()),
-        bar.x - 30.0,
-        bar.y - 8.0,
+    label_in(
+        &format!("Power {:.1} m/s", aim.speed()),
+        layout.power_title,
         18.0,
+        Align::Centre,
         LIGHTGRAY,
     );
     fill_rect(bar, Color::new(0.0, 0.0, 0.0, 0.5));
@@ -77,11 +77,11 @@ pub fn panel(layout: &Layout, aim: &Aim, keep_spin: Option<bool>) {
 /// The side view: the cue ball on the cloth and the cue over it at its elevation.
 fn elevation_view(layout: &Layout, elevation_deg: f64) {
     let v = layout.elevation_view;
-    label(
+    label_in(
         &format!("Elevation {elevation_deg:.0} deg (W/S)"),
-        v.x,
-        v.y - 6.0,
+        layout.elevation_title,
         18.0,
+        Align::Centre,
         LIGHTGRAY,
     );
     fill_rect(v, Color::new(0.0, 0.0, 0.0, 0.35));

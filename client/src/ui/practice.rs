@@ -2,7 +2,7 @@
 
 use breakshot_client::play::{Context, Controls, Drag, InputFrame, Intent, Key, Practice, Stage};
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
-use breakshot_client::view::{Frame, Layout, Orientations, Playback};
+use breakshot_client::view::{Frame, Layout, Orientations, Playback, Rect};
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, TableKind};
 use breakshot_shared::scene::Scene;
@@ -201,22 +201,29 @@ impl PracticeScreen {
         } else {
             "your shot"
         };
-        let y = 0.5 * layout.hud.h + 6.0;
-        draw::label(
+        // The state across the bar, the keys in the line over the table (a practice has
+        // no status of its own to say there).
+        let bar = layout.hud;
+        let across = Rect::new(
+            layout.players[0].x,
+            bar.y,
+            bar.w - 2.0 * layout.players[0].x,
+            bar.h,
+        );
+        draw::label_in(
             &format!("Practice  |  {} table  |  {}", p.table.name(), state),
-            10.0,
-            y,
+            across,
             20.0,
+            draw::Align::Left,
             WHITE,
         );
         let hint = "W/S elevation  |  A G P aids  |  V view  |  L trail  |  H in hand  |  R reset  |  Esc menu";
-        let dims = draw::text_width(hint, 16.0);
-        draw::label(hint, layout.hud.w - dims - 10.0, y, 16.0, LIGHTGRAY);
-        draw::label(
+        draw::label_in(hint, layout.status, 16.0, draw::Align::Left, LIGHTGRAY);
+        draw::label_in(
             &self.message,
-            layout.tray.x,
-            layout.screen[1] - 6.0,
+            layout.footer,
             18.0,
+            draw::Align::Left,
             LIGHTGRAY,
         );
     }

@@ -106,13 +106,7 @@ impl ReplayScreen {
             "Replay: entry {done} of {total}  |  {state}  |  speed x{}  |  Space pause  |  Left/Right shot by shot  |  +/- speed  |  V 3-D view  |  Esc menu",
             v.speed
         );
-        draw::label(
-            &line,
-            layout.tray.x,
-            layout.screen[1] - 6.0,
-            18.0,
-            LIGHTGRAY,
-        );
+        draw::label_in(&line, layout.footer, 18.0, draw::Align::Left, LIGHTGRAY);
         let mut warnings = Vec::new();
         if !v.mismatches.is_empty() {
             warnings.push(format!(

@@ -68,6 +68,22 @@ impl Rect {
         })
     }
 
+    /// Whether the two rectangles share any area (touching edges do not count).
+    pub fn overlaps(&self, other: &Rect) -> bool {
+        self.x < other.x + other.w
+            && other.x < self.x + self.w
+            && self.y < other.y + other.h
+            && other.y < self.y + self.h
+    }
+
+    /// Whether `inner` lies wholly inside.
+    pub fn holds(&self, inner: &Rect) -> bool {
+        inner.x >= self.x
+            && inner.y >= self.y
+            && inner.x + inner.w <= self.x + self.w
+            && inner.y + inner.h <= self.y + self.h
+    }
+
     /// The centre.
     pub fn center(&self) -> [f32; 2] {
         [self.x + 0.5 * self.w, self.y + 0.5 * self.h]
@@ -152,24 +168,82 @@ pub struct Layout {
     pub elevation_ball_radius: f32,
     /// The power bar (power grows upwards).
     pub power_bar: Rect,
+    /// The players' lines in the bar at the top: one each, side by side in a wide window and
+    /// one over the other in a narrow one.
+    pub players: [Rect; 2],
+    /// The right-hand part of the bar at the top: the game, the shot clock, the connection.
+    pub game_info: Rect,
+    /// The line saying what the game waits for, between the bar and the table.
+    pub status: Rect,
+    /// The column beside the table with the tip face, the side view and the power bar.
+    pub panel: Rect,
+    /// The tip face's title.
+    pub tip_title: Rect,
+    /// The side view's title (the elevation).
+    pub elevation_title: Rect,
+    /// The power bar's title (the speed).
+    pub power_title: Rect,
+    /// The last verdict's lines, under the trays.
+    pub verdict: Rect,
+    /// The hint bar along the bottom of the window (keys, or the latest message).
+    pub footer: Rect,
 }
 
 impl Layout {
-    /// Fits the table into a window of `width` × `height` pixels.
+    /// Fits the table into a window of `width` × `height` pixels, with every box of text
+    /// beside it: the bar at the top, the status line, the panel, the trays, the verdict and
+    /// the hint bar, none over another.
     pub fn new(width: f32, height: f32, frame: Frame) -> Layout {
         let (w, h) = (width.max(64.0), height.max(64.0));
         let margin = (0.015 * w.min(h)).max(6.0);
-        let hud_h = (0.05 * h).clamp(28.0, 48.0);
+        // A narrow window puts the players' lines one over the other, so they stay readable.
+        let stacked = w < 1000.0;
+        let hud_h = if stacked {
+            (0.09 * h).clamp(36.0, 56.0)
+        } else {
+            (0.05 * h).clamp(28.0, 48.0)
+        };
+        let status_h = (0.04 * h).clamp(18.0, 30.0);
         let panel_w = (0.14 * w).clamp(110.0, 260.0);
         let tray_h = (0.09 * h).clamp(34.0, 90.0);
+        let verdict_h = (0.08 * h).clamp(48.0, 90.0);
+        let footer_h = (0.035 * h).clamp(18.0, 28.0);
         let rail = if frame.rails { RAIL_WIDTH } else { 0.0 };
 
-        // The area left for the table and its rails.
+        let hud = Rect::new(0.0, 0.0, w, hud_h);
+        let info_w = 0.38 * w;
+        let players_w = w - info_w - 2.0 * margin;
+        let players = if stacked {
+            let row = 0.5 * hud_h;
+            [
+                Rect::new(margin, 0.0, players_w, row),
+                Rect::new(margin, row, players_w, row),
+            ]
+        } else {
+            let half = 0.5 * (players_w - margin);
+            [
+                Rect::new(margin, 0.0, half, hud_h),
+                Rect::new(2.0 * margin + half, 0.0, half, hud_h),
+            ]
+        };
+        let game_info = Rect::new(w - info_w, 0.0, info_w - margin, hud_h);
+        let footer = Rect::new(margin, h - footer_h, w - 2.0 * margin, footer_h);
+
+        let panel_x = w - panel_w - margin;
+        let status = Rect::new(
+            margin,
+            hud_h + 0.5 * margin,
+            (panel_x - 2.0 * margin).max(10.0),
+            status_h,
+        );
+        // The area left for the table and its rails, between the status line and the trays.
+        let top = status.y + status_h + 0.5 * margin;
+        let below = tray_h + verdict_h + footer_h + 2.5 * margin;
         let area = Rect::new(
             margin,
-            hud_h + margin,
-            (w - panel_w - 3.0 * margin).max(10.0),
-            (h - hud_h - tray_h - 3.0 * margin).max(10.0),
+            top,
+            (panel_x - 2.0 * margin).max(10.0),
+            (h - top - below).max(10.0),
         );
         let outer_m = DVec2::new(frame.size.y + 2.0 * rail, frame.size.x + 2.0 * rail);
         let scale = (area.w as f64 / outer_m.x).min(area.h as f64 / outer_m.y);
@@ -189,38 +263,65 @@ impl Layout {
         );
         let origin = DVec2::new(cloth.x as f64, cloth.y as f64);
         let tray = Rect::new(outer.x, outer.y + outer.h + margin, outer.w, tray_h);
+        let verdict = Rect::new(
+            area.x,
+            tray.y + tray_h + 0.5 * margin,
+            area.w,
+            (footer.y - 0.5 * margin - (tray.y + tray_h + 0.5 * margin)).max(10.0),
+        );
 
-        let panel_x = w - panel_w - margin;
-        let tip_radius = 0.38 * panel_w;
+        // The panel, top to bottom: a title over each of the tip face, the side view and
+        // the power bar.
+        let panel = Rect::new(
+            panel_x,
+            hud_h + 0.5 * margin,
+            panel_w,
+            footer.y - 0.5 * margin - (hud_h + 0.5 * margin),
+        );
+        let title_h = (0.035 * h).clamp(16.0, 26.0);
+        let tip_title = Rect::new(panel_x, panel.y, panel_w, title_h);
+        let tip_radius = (0.38 * panel_w).min(0.12 * panel.h);
         let tip_center = [
             panel_x + 0.5 * panel_w,
-            hud_h + 3.0 * margin + tip_radius + 16.0,
+            tip_title.y + title_h + margin + tip_radius,
         ];
+        let elevation_title = Rect::new(
+            panel_x,
+            tip_center[1] + tip_radius + margin,
+            panel_w,
+            title_h,
+        );
         let elevation_view = Rect::new(
             panel_x,
-            tip_center[1] + tip_radius + 2.0 * margin + 16.0,
+            elevation_title.y + title_h + 0.5 * margin,
             panel_w,
-            0.55 * panel_w,
+            (0.55 * panel_w).min(0.15 * panel.h),
         );
-        let elevation_ball_radius = 0.15 * panel_w;
+        let elevation_ball_radius = (0.15 * panel_w).min(0.3 * elevation_view.h);
         let elevation_ball = [
             elevation_view.x + elevation_view.w - 1.6 * elevation_ball_radius,
             elevation_view.y + elevation_view.h - elevation_ball_radius - 3.0,
         ];
-        let bar_top = elevation_view.y + elevation_view.h + 3.0 * margin + 16.0;
+        let power_title = Rect::new(
+            panel_x,
+            elevation_view.y + elevation_view.h + margin,
+            panel_w,
+            title_h,
+        );
+        let bar_top = power_title.y + title_h + 0.5 * margin;
         let bar_w = (0.25 * panel_w).max(18.0);
         let power_bar = Rect::new(
             panel_x + 0.5 * (panel_w - bar_w),
             bar_top,
             bar_w,
-            (h - bar_top - 2.0 * margin - 20.0).max(20.0),
+            (panel.y + panel.h - bar_top).max(20.0),
         );
         Layout {
             screen: [w, h],
             frame,
             scale,
             origin,
-            hud: Rect::new(0.0, 0.0, w, hud_h),
+            hud,
             cloth,
             outer,
             tray,
@@ -230,7 +331,32 @@ impl Layout {
             elevation_ball,
             elevation_ball_radius,
             power_bar,
+            players,
+            game_info,
+            status,
+            panel,
+            tip_title,
+            elevation_title,
+            power_title,
+            verdict,
+            footer,
         }
+    }
+
+    /// Every box the window writes text in, named, for checking that none overlaps another.
+    pub fn text_boxes(&self) -> [(&'static str, Rect); 10] {
+        [
+            ("first player", self.players[0]),
+            ("second player", self.players[1]),
+            ("game info", self.game_info),
+            ("status", self.status),
+            ("tip title", self.tip_title),
+            ("elevation title", self.elevation_title),
+            ("power title", self.power_title),
+            ("tray", self.tray),
+            ("verdict", self.verdict),
+            ("hint bar", self.footer),
+        ]
     }
 
     /// The cue elevation (degrees) the side view shows for a mouse at `px`: the angle of the
@@ -361,6 +487,8 @@ mod tests {
             (800.0, 600.0),
             (700.0, 900.0),
             (2560.0, 700.0),
+            (640.0, 480.0),
+            (720.0, 1280.0),
         ];
         for (kind, (w, h)) in [TableKind::NineFoot, TableKind::Carom]
             .into_iter()
@@ -390,6 +518,74 @@ mod tests {
             assert!(l.tray.y > l.outer.y + l.outer.h);
             assert!(l.outer.y > l.hud.h);
         }
+    }
+
+    /// The window sizes the text boxes are checked at: small, common, tall.
+    const TEXT_SIZES: [(f32, f32); 5] = [
+        (640.0, 480.0),
+        (1280.0, 720.0),
+        (720.0, 1280.0),
+        (1920.0, 1080.0),
+        (800.0, 600.0),
+    ];
+
+    #[test]
+    fn no_box_of_text_overlaps_another_or_leaves_the_window() {
+        for kind in [TableKind::NineFoot, TableKind::Carom] {
+            for (w, h) in TEXT_SIZES {
+                let l = Layout::new(w, h, Frame::new(kind, &[]));
+                let screen = Rect::new(0.0, 0.0, w, h);
+                let boxes = l.text_boxes();
+                for (i, (name, r)) in boxes.iter().enumerate() {
+                    assert!(screen.holds(r), "{w}x{h}: {name} {r:?} leaves the window");
+                    assert!(
+                        r.w >= 10.0 && r.h >= 14.0,
+                        "{w}x{h}: {name} {r:?} too small"
+                    );
+                    for (other, q) in &boxes[i + 1..] {
+                        assert!(
+                            !r.overlaps(q),
+                            "{w}x{h}: {name} {r:?} overlaps {other} {q:?}"
+                        );
+                    }
+                    // No text over the table, the panel's widgets or (but the panel's
+                    // titles) the panel.
+                    assert!(!r.overlaps(&l.outer), "{w}x{h}: {name} over the table");
+                    assert!(
+                        !r.overlaps(&l.power_bar),
+                        "{w}x{h}: {name} over the power bar"
+                    );
+                    assert!(
+                        !r.overlaps(&l.elevation_view),
+                        "{w}x{h}: {name} over the side view"
+                    );
+                    let tip = l.tip_radius;
+                    let [cx, cy] = l.tip_center;
+                    let face = Rect::new(cx - tip, cy - tip, 2.0 * tip, 2.0 * tip);
+                    assert!(!r.overlaps(&face), "{w}x{h}: {name} over the tip face");
+                    if !name.ends_with("title") {
+                        assert!(!r.overlaps(&l.panel), "{w}x{h}: {name} over the panel");
+                    }
+                }
+                for title in [l.tip_title, l.elevation_title, l.power_title] {
+                    assert!(
+                        l.panel.holds(&title),
+                        "{w}x{h}: {title:?} outside the panel"
+                    );
+                }
+                assert!(l.panel.holds(&l.power_bar) && l.panel.holds(&l.elevation_view));
+                assert!(l.hud.holds(&l.players[0]) && l.hud.holds(&l.game_info));
+            }
+        }
+    }
+
+    #[test]
+    fn a_narrow_window_puts_the_players_one_over_the_other_and_a_wide_one_side_by_side() {
+        let narrow = nine_foot(640.0, 480.0);
+        assert!(narrow.players[1].y >= narrow.players[0].y + narrow.players[0].h);
+        let wide = nine_foot(1280.0, 720.0);
+        assert_eq!(wide.players[0].y, wide.players[1].y);
+        assert!(wide.players[1].x >= wide.players[0].x + wide.players[0].w);
     }
 
     #[test]
