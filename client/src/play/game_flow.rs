@@ -163,11 +163,17 @@ impl GameFlow {
     /// Applies one event from the link.
     pub fn handle(&mut self, event: GameEvent) {
         match &event {
-            GameEvent::Started(_) => {
+            GameEvent::Started(game) => {
                 self.last_verdict = None;
                 self.pending_verdict = None;
                 self.call = None;
-                self.message = "New game".into();
+                // A game that already has commands is one coming back (a rejoin, a restarted
+                // host); a new one needs no words: the hint bar shows what to do.
+                self.message = if game.turn() > 0 {
+                    "Game resumed".into()
+                } else {
+                    String::new()
+                };
             }
             GameEvent::Accepted {
                 turn,
@@ -529,6 +535,34 @@ mod tests {
         link.rematch();
         drain(&mut link, &mut flow);
         assert!(matches!(flow.turn(None), Turn::Shoot { .. }));
+    }
+
+    #[test]
+    fn a_new_game_leaves_the_hint_bar_and_a_game_coming_back_says_it_is_resumed() {
+        let (mut link, mut flow) = local();
+        assert_eq!(
+            flow.message, "",
+            "a new game says nothing over the hint bar"
+        );
+        let game = flow.game().expect("a game").clone();
+        let cue = game.balls()[0].pos;
+        let strike = breakshot_shared::physics::Strike {
+            speed: 3.0,
+            dir: game.balls()[1].pos - cue,
+            tip: DVec2::ZERO,
+            elevation_deg: 0.0,
+        };
+        send(
+            &mut link,
+            &mut flow,
+            Seat::A,
+            Command::Shot { strike, call: None },
+        );
+        let played = flow.game().expect("a game").clone();
+        assert!(played.turn() > 0);
+        let mut back = GameFlow::new(Connection::Connecting);
+        back.handle(GameEvent::Started(Box::new(played)));
+        assert_eq!(back.message, "Game resumed");
     }
 
     #[test]
