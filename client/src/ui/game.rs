@@ -148,6 +148,14 @@ impl GameScreen {
         while let Some(event) = self.link.poll() {
             self.flow.handle(event);
         }
+        // A rematch asked for is answered by the next game.
+        if !self
+            .flow
+            .game()
+            .is_some_and(|g| matches!(g.phase(), Phase::Over { .. }))
+        {
+            self.rematch_asked = false;
+        }
         // Why a connection ended goes to the terminal too: a player who started the game
         // from a command line reads it there.
         if let (Connection::Closed(reason), false) = (&self.flow.connection, self.told_terminal) {
@@ -582,8 +590,6 @@ impl GameScreen {
                 y += size * 1.3;
                 draw::label(text, x0 + 0.5 * (w - d), y - 0.3 * size, size, *c);
             }
-        } else {
-            self.rematch_asked = false;
         }
         if self.link.thinking() {
             draw_thinking(&layout);

@@ -118,12 +118,21 @@ fn on_table(game: &Game, n: u8) -> bool {
 /// `text` with each seat the rules name ("Player A", "Player B") called by the player's name
 /// where it is known (a name the player chose, or the computer's "Computer (level 3)").
 pub fn named(text: &str, names: &[Option<String>; 2]) -> String {
-    let mut out = text.to_owned();
-    for (seat, name) in [Seat::A, Seat::B].into_iter().zip(names) {
-        if let Some(name) = name {
-            out = out.replace(&seat.to_string(), name);
-        }
+    let seats = [Seat::A, Seat::B].map(|s| s.to_string());
+    // One pass over the text, so a name that reads like a seat is not named again.
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some((at, k)) = seats
+        .iter()
+        .enumerate()
+        .filter_map(|(k, seat)| rest.find(seat.as_str()).map(|at| (at, k)))
+        .min()
+    {
+        out.push_str(&rest[..at]);
+        out.push_str(names[k].as_deref().unwrap_or(&seats[k]));
+        rest = &rest[at + seats[k].len()..];
     }
+    out.push_str(rest);
     out
 }
 
@@ -367,6 +376,9 @@ mod tests {
             game_over_banner(&g, None, &names).as_deref(),
             Some("Computer (level 3) won")
         );
+        // A name that reads like a seat is not named again.
+        let odd = [Some("Player B".to_owned()), Some("ben".to_owned())];
+        assert_eq!(named("Player A beat Player B", &odd), "Player B beat ben");
         // A name not known yet leaves the seat's own words.
         assert!(named("Player A to shoot", &[None, Some("ben".into())]).starts_with("Player A"));
     }

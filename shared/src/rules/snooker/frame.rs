@@ -474,13 +474,17 @@ pub fn touching(balls: &[BallState]) -> Option<u8> {
     })
 }
 
+/// The cue ball, unless it is pocketed.
+fn cue_on_table(balls: &[BallState]) -> Option<&BallState> {
+    balls
+        .get(usize::from(CUE))
+        .filter(|b| b.motion != MotionState::Pocketed)
+}
+
 /// Is the cue ball snookered on every ball of `on`: can no ball on be hit at both extreme
 /// edges without a ball not on in the way?
 pub fn snookered(balls: &[BallState], on: &[u8]) -> bool {
-    let Some(cue) = balls
-        .get(usize::from(CUE))
-        .filter(|b| b.motion != MotionState::Pocketed)
-    else {
+    let Some(cue) = cue_on_table(balls) else {
         return false;
     };
     let blockers = blockers(balls, on);
@@ -493,10 +497,7 @@ pub fn snookered(balls: &[BallState], on: &[u8]) -> bool {
 
 /// Has the cue ball a clear view of some ball on: a full-ball contact no ball not on blocks?
 pub fn clear_view(balls: &[BallState], on: &[u8]) -> bool {
-    let Some(cue) = balls
-        .get(usize::from(CUE))
-        .filter(|b| b.motion != MotionState::Pocketed)
-    else {
+    let Some(cue) = cue_on_table(balls) else {
         return false;
     };
     let blockers = blockers(balls, on);
