@@ -342,7 +342,7 @@ fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
 #[test]
 #[cfg(feature = "host")]
 fn replay_from_a_server_shows_the_fetched_games_table() {
-    use breakshot_client::net::fetch_record_blocking;
+    use breakshot_client::net::fetch_game_blocking;
 
     if xvfb_run().is_none() {
         return;
@@ -352,7 +352,7 @@ fn replay_from_a_server_shows_the_fetched_games_table() {
     let invite = server.loopback_invite();
     // Two bots play a game on the server; its rack depends on the room's random seed.
     let room = common::bots_game(&server);
-    let fetched = fetch_record_blocking(&invite, &room).expect("the record");
+    let fetched = fetch_game_blocking(&invite, &room, None).expect("the record");
     let record = GameRecord::decode(&fetched.bytes).expect("a record");
 
     let out = dir.path().join("out.png");

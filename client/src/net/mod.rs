@@ -37,8 +37,7 @@ pub use pinned::client_config;
 pub use player::{Action, Entry, PlayerCore, PlayerEvent, Reconnect, Seating, ATTEMPT_LIMIT};
 pub use polled::{MemoryServer, MemoryTransport, Polled, Transport, TransportEvent};
 pub use records::{
-    fetch_game, fetch_game_blocking, fetch_record, fetch_record_blocking, FetchError,
-    FetchedRecord, FETCH_TIMEOUT,
+    fetch_game, fetch_game_blocking, fetch_record, FetchError, FetchedRecord, FETCH_TIMEOUT,
 };
 pub use seat_player::RETRY_FOR;
 pub(crate) use seat_player::{Entrance, PlayerResult, SeatPlayer};

@@ -77,14 +77,6 @@ pub async fn fetch_game(
     })?
 }
 
-/// [`fetch_record`] for code outside an async runtime (it makes a small one).
-pub fn fetch_record_blocking(
-    server: &Invite,
-    room: &RoomCode,
-) -> Result<FetchedRecord, FetchError> {
-    fetch_game_blocking(server, room, None)
-}
-
 /// [`fetch_game`] for code outside an async runtime (it makes a small one).
 pub fn fetch_game_blocking(
     server: &Invite,
