@@ -21,7 +21,7 @@ mod replica;
 pub use aim::{Aim, AimShare};
 pub use chat::{Chat, ChatKey, ChatLine};
 pub use chooser::Chooser;
-pub use computer::ComputerLink;
+pub use computer::{ComputerLink, PlayedByComputer};
 pub use controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
 pub use event::{AwayResult, GameEvent};
 pub use game_flow::{GameFlow, Turn};

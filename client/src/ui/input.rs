@@ -53,6 +53,8 @@ static SIGNALLED: AtomicBool = AtomicBool::new(false);
 /// (the opponent hears at once that we left) and stops a hosted server cleanly.
 pub fn catch_quit() {
     macroquad::prelude::prevent_quit();
+    // A page has no signals: closing its tab ends everything at once.
+    #[cfg(not(target_arch = "wasm32"))]
     let watcher = std::thread::Builder::new()
         .name("signals".into())
         .spawn(|| {
@@ -83,6 +85,7 @@ pub fn catch_quit() {
             });
         });
     // Without the watcher a signal ends the process as before.
+    #[cfg(not(target_arch = "wasm32"))]
     drop(watcher);
 }
 
