@@ -3,6 +3,10 @@
 //! bytes are encrypted and the server is the one whose key the link names. Without I/O: it
 //! is tested natively against a responder in memory.
 
+use breakshot_shared::protocol::web::{
+    MAX_NOISE_MESSAGE as MAX_MESSAGE, MAX_NOISE_PAYLOAD, NOISE_KEY_LEN, NOISE_PATTERN as PATTERN,
+    NOISE_PROLOGUE as PROLOGUE,
+};
 use breakshot_shared::protocol::{Fingerprint, ServerAddress};
 use snow::params::{CipherChoice, DHChoice, HashChoice, NoiseParams};
 use snow::resolvers::{CryptoResolver, DefaultResolver};
@@ -11,15 +15,6 @@ use snow::{HandshakeState, TransportState};
 
 use super::error::NetError;
 use super::polled::{Transport, TransportEvent};
-
-/// The Noise protocol of the WebSocket way in.
-pub const PATTERN: &str = "Noise_NK_25519_ChaChaPoly_BLAKE2s";
-/// Bound into the handshake, so that no other protocol's handshake can be replayed into it.
-pub const PROLOGUE: &[u8] = b"breakshot-ws/1";
-/// The largest Noise message (and so the largest WebSocket message) either side sends.
-pub const MAX_MESSAGE: usize = 65_535;
-/// What a Noise transport message adds to its payload (the AEAD tag).
-const TAG: usize = 16;
 
 /// Fills `dest` with random bytes from the system, or in a browser from the page's
 /// `crypto.getRandomValues`.
@@ -39,14 +34,14 @@ enum State {
 /// whose static key is `server_key`.
 pub struct Noised<T: Transport> {
     inner: T,
-    server_key: [u8; 32],
+    server_key: [u8; NOISE_KEY_LEN],
     random: FillRandom,
     state: State,
 }
 
 impl<T: Transport> Noised<T> {
     /// `inner` encrypted to the server with the static public key `server_key`.
-    pub fn new(inner: T, server_key: [u8; 32], random: FillRandom) -> Noised<T> {
+    pub fn new(inner: T, server_key: [u8; NOISE_KEY_LEN], random: FillRandom) -> Noised<T> {
         Noised {
             inner,
             server_key,
@@ -101,7 +96,7 @@ impl<T: Transport> Transport for Noised<T> {
             return;
         };
         let mut msg = vec![0u8; MAX_MESSAGE];
-        for piece in bytes.chunks(MAX_MESSAGE - TAG) {
+        for piece in bytes.chunks(MAX_NOISE_PAYLOAD) {
             match session.write_message(piece, &mut msg) {
                 Ok(n) => self.inner.send(&msg[..n]),
                 Err(e) => {
