@@ -106,6 +106,8 @@ pub struct InputFrame {
     pub camera: [f32; 3],
     /// Wheel notches this frame (up is positive).
     pub wheel: f32,
+    /// Two fingers on a touch screen this frame, if any: they turn and pinch the 3-D camera.
+    pub fingers: Option<super::Gesture>,
     /// Shift is held (fine aim).
     pub shift: bool,
     /// The left arrow is held.

@@ -17,6 +17,7 @@ mod link;
 mod practice;
 mod replay;
 mod replica;
+mod touch;
 
 pub use aim::{Aim, AimShare};
 pub use chat::{Chat, ChatKey, ChatLine};
@@ -29,5 +30,6 @@ pub use link::{GameLink, LocalLink, Shown};
 pub use practice::{rack_scene, Practice, PracticeError};
 pub use replay::{ReplayOpenError, ReplayViewer};
 pub use replica::{Check, Replica};
+pub use touch::{Gesture, TwoFingers};
 
 pub(crate) use event::game_events;

@@ -96,6 +96,11 @@ impl TableView {
             self.orbit
                 .turn(-DRAG_TURN * dx as f64, DRAG_TURN * dy as f64);
         }
+        if let Some(g) = input.fingers {
+            self.orbit
+                .turn(-DRAG_TURN * g.moved[0] as f64, DRAG_TURN * g.moved[1] as f64);
+            self.orbit.zoom(f64::from(-g.spread).exp());
+        }
         self.last_mouse = Some(input.mouse);
         self.followed = match self.followed {
             None => Some((cue, aim)),
