@@ -397,7 +397,7 @@ impl Controls {
         if input.shift {
             let before = ctx.layout.to_scene(last) - ctx.cue;
             let now = at - ctx.cue;
-            let turned = before.perp_dot(now).atan2(before.dot(now));
+            let turned = libm::atan2(before.perp_dot(now), before.dot(now));
             if turned.is_finite() {
                 self.aim.rotate(FINE_FACTOR * turned);
             }

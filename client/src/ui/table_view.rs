@@ -90,7 +90,7 @@ impl TableView {
         let [turn, rise, near] = input.camera.map(f64::from);
         self.orbit
             .turn(turn * TURN_RATE * dt, rise * RISE_RATE * dt);
-        self.orbit.zoom(ZOOM_RATE.powf(-near * dt));
+        self.orbit.zoom(libm::pow(ZOOM_RATE, -near * dt));
         if let (true, Some(last)) = (input.right_down, self.last_mouse) {
             let (dx, dy) = (input.mouse[0] - last[0], input.mouse[1] - last[1]);
             self.orbit
@@ -105,7 +105,7 @@ impl TableView {
         self.followed = match self.followed {
             None => Some((cue, aim)),
             Some((c, a)) if aiming => {
-                let k = 1.0 - (-dt / FOLLOW_TIME).exp();
+                let k = 1.0 - libm::exp(-dt / FOLLOW_TIME);
                 let a = a.lerp(aim, k);
                 Some((c.lerp(cue, k), if a.length() > 1e-6 { a } else { aim }))
             }
