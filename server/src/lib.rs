@@ -12,6 +12,7 @@ pub mod hub;
 pub mod limits;
 pub mod output;
 pub mod pool;
+pub mod quic;
 pub mod ratelimit;
 pub mod records;
 pub mod room;
@@ -23,6 +24,7 @@ pub mod store;
 pub mod timing;
 pub mod tls;
 pub mod verify;
+pub mod web;
 pub mod work;
 
 pub use limits::Limits;
