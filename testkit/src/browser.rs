@@ -61,6 +61,9 @@ pub const FLAGS: &[&str] = &[
 /// How a browser is started.
 #[derive(Debug, Clone)]
 pub struct LaunchOptions {
+    /// The Chromium program to run; when `None`, the one named by `BREAKSHOT_CHROMIUM`, else
+    /// `/usr/bin/chromium`, else `chromium` or `chromium-browser` on the `PATH`.
+    pub program: Option<PathBuf>,
     /// Flags after [`FLAGS`], such as `--origin-to-force-quic-on=127.0.0.1:4433` or
     /// `--ignore-certificate-errors-spki-list=HASH`.
     pub args: Vec<String>,
@@ -74,6 +77,7 @@ pub struct LaunchOptions {
 impl Default for LaunchOptions {
     fn default() -> Self {
         LaunchOptions {
+            program: None,
             args: Vec::new(),
             // A first start on a busy machine with two cores takes a few seconds.
             launch_timeout: Duration::from_secs(30),
@@ -142,11 +146,16 @@ pub struct Browser {
 }
 
 impl Browser {
-    /// Starts Chromium: the program named by `BREAKSHOT_CHROMIUM`, else `/usr/bin/chromium`,
-    /// else `chromium` or `chromium-browser` on the `PATH`.
+    /// Starts Chromium (see [`LaunchOptions::program`]) and connects to it.
     pub fn launch(options: LaunchOptions) -> Result<Browser, Unavailable> {
         let started = Instant::now();
-        let program = find_chromium()?;
+        let program = match &options.program {
+            Some(program) if program.is_file() => program.clone(),
+            Some(program) => {
+                return Err(Unavailable(format!("{} is not a file", program.display())))
+            }
+            None => find_chromium()?,
+        };
         let dir = crate::scratch("chromium");
         let profile = dir.path().join("profile");
         let home = dir.path().join("home");
@@ -293,18 +302,24 @@ pub fn browser_or_skip(options: LaunchOptions) -> Option<Browser> {
     match Browser::launch(options) {
         Ok(browser) => Some(browser),
         Err(Unavailable(why)) => {
-            let test = std::thread::current()
-                .name()
-                .unwrap_or("a browser test")
-                .to_string();
-            let message = format!("SKIPPED {test}: {why}");
-            if std::env::var("BREAKSHOT_REQUIRE_BROWSER").is_ok_and(|v| v == "1") {
-                panic!("{message} (BREAKSHOT_REQUIRE_BROWSER=1)");
-            }
-            eprintln!("{message}");
+            let required = std::env::var("BREAKSHOT_REQUIRE_BROWSER").is_ok_and(|v| v == "1");
+            skip(&why, required);
             None
         }
     }
+}
+
+/// Says that the running test is skipped because of `why`, or fails it if a browser is
+/// `required`.
+fn skip(why: &str, required: bool) {
+    let test = std::thread::current()
+        .name()
+        .unwrap_or("a browser test")
+        .to_string();
+    if required {
+        panic!("{test} needs a browser, and BREAKSHOT_REQUIRE_BROWSER=1: {why}");
+    }
+    eprintln!("SKIPPED {test}: {why}");
 }
 
 /// The Chromium program to run, or why there is none.
@@ -335,4 +350,31 @@ fn find_chromium() -> Result<PathBuf, Unavailable> {
                     .into(),
             )
         })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_missing_browser_skips_unless_one_is_required() {
+        skip("no Chromium here", false);
+        let failed = std::panic::catch_unwind(|| skip("no Chromium here", true));
+        let message = failed.expect_err("a required browser fails the test");
+        let message = message.downcast_ref::<String>().expect("a message");
+        assert!(message.contains("no Chromium here"), "{message}");
+        assert!(message.contains("BREAKSHOT_REQUIRE_BROWSER=1"), "{message}");
+    }
+
+    #[test]
+    fn a_program_that_is_not_there_is_unavailable() {
+        let options = LaunchOptions {
+            program: Some("/nonexistent/chromium".into()),
+            ..LaunchOptions::default()
+        };
+        let Err(Unavailable(why)) = Browser::launch(options) else {
+            panic!("no browser can start");
+        };
+        assert!(why.contains("/nonexistent/chromium"), "{why}");
+    }
 }

@@ -483,3 +483,53 @@ fn in_group(group: u32) -> Vec<u32> {
         })
         .collect()
 }
+
+/// A stand-in for Chromium: a shell script in a scratch folder.
+fn fake_browser(script: &str) -> (breakshot_testkit::TempDir, std::path::PathBuf) {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = breakshot_testkit::scratch("fake-chromium");
+    let program = dir.path().join("chromium");
+    std::fs::write(&program, format!("#!/bin/sh\n{script}\n")).expect("the script");
+    std::fs::set_permissions(&program, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+    (dir, program)
+}
+
+#[test]
+fn a_browser_that_fails_to_start_is_unavailable_with_its_errors() {
+    let (_dir, program) = fake_browser("echo 'no display, no luck' >&2; exit 3");
+    let options = LaunchOptions {
+        program: Some(program),
+        ..LaunchOptions::default()
+    };
+    let Err(why) = Browser::launch(options) else {
+        panic!("the stand-in cannot start");
+    };
+    assert!(why.0.contains("it ended"), "{why}");
+    assert!(why.0.contains("no display, no luck"), "{why}");
+}
+
+#[test]
+fn a_browser_that_never_listens_is_unavailable_in_time_and_stopped() {
+    let (dir, program) = fake_browser(r#"echo $$ > "$(dirname "$0")/pid"; exec sleep 60"#);
+    let options = LaunchOptions {
+        program: Some(program),
+        launch_timeout: Duration::from_millis(700),
+        ..LaunchOptions::default()
+    };
+    let started = Instant::now();
+    let Err(why) = Browser::launch(options) else {
+        panic!("the stand-in never listens");
+    };
+    assert!(
+        started.elapsed() < Duration::from_secs(10),
+        "{:?}",
+        started.elapsed()
+    );
+    assert!(why.0.contains("did not open its DevTools socket"), "{why}");
+    let pid = std::fs::read_to_string(dir.path().join("pid")).expect("the stand-in's pid");
+    let pid = pid.trim();
+    assert!(
+        !std::path::Path::new(&format!("/proc/{pid}")).exists(),
+        "the stand-in (pid {pid}) still runs"
+    );
+}
