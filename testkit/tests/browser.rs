@@ -6,6 +6,7 @@
 
 use std::io::{BufRead, BufReader, Write};
 use std::net::{TcpListener, TcpStream};
+use std::process::Command;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::thread::{self, JoinHandle};
@@ -486,11 +487,20 @@ fn in_group(group: u32) -> Vec<u32> {
 
 /// A stand-in for Chromium: a shell script in a scratch folder.
 fn fake_browser(script: &str) -> (breakshot_testkit::TempDir, std::path::PathBuf) {
-    use std::os::unix::fs::PermissionsExt;
     let dir = breakshot_testkit::scratch("fake-chromium");
     let program = dir.path().join("chromium");
-    std::fs::write(&program, format!("#!/bin/sh\n{script}\n")).expect("the script");
-    std::fs::set_permissions(&program, std::fs::Permissions::from_mode(0o755)).expect("chmod");
+    // Written by a child process: a file this process had open for writing could be
+    // inherited by a program another test thread is starting at that moment, and running
+    // it would then fail with "text file busy".
+    let made = breakshot_testkit::run(
+        Command::new("sh")
+            .arg("-c")
+            .arg(r#"cat > "$0" && chmod 755 "$0""#)
+            .arg(&program),
+        Some(format!("#!/bin/sh\n{script}\n").as_bytes()),
+        Duration::from_secs(30),
+    );
+    assert!(made.status.success(), "writing {}", program.display());
     (dir, program)
 }
 
