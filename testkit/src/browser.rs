@@ -46,6 +46,9 @@ pub const FLAGS: &[&str] = &[
     "--disable-sync",
     "--disable-default-apps",
     "--password-store=basic",
+    // Shared memory in the scratch folder's temporary files, not /dev/shm, which containers
+    // often make too small for a few canvases (Chromium then crashes).
+    "--disable-dev-shm-usage",
     "--mute-audio",
     // WebGL without a GPU: ANGLE on SwiftShader, which Chromium allows only when asked.
     "--use-angle=swiftshader",

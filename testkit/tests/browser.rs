@@ -405,6 +405,22 @@ fn two_pages_both_keep_animating() {
 }
 
 #[test]
+fn an_init_script_runs_before_the_page_s_own() {
+    let Some(browser) = launch() else { return };
+    let server = Server::start();
+    let mut page = browser
+        .open("about:blank", Viewport::desktop(400, 300))
+        .expect("a blank page opens");
+    page.add_init_script("window.early = typeof window.seen;")
+        .expect("the script is added");
+    page.navigate(&server.url).expect("the page loads");
+    assert_eq!(
+        page.eval("[early, typeof seen]").expect("eval"),
+        json!(["undefined", "object"])
+    );
+}
+
+#[test]
 fn a_refused_page_is_an_error() {
     let Some(browser) = launch() else { return };
     // A port that was free a moment ago and now has no listener.

@@ -166,6 +166,17 @@ impl<'b> Page<'b> {
         }
     }
 
+    /// Runs `js` in every document this page loads from now on, before the document's own
+    /// scripts (to record what the page does from its first moment: open `about:blank`, add
+    /// the script, then [`Page::navigate`]).
+    pub fn add_init_script(&mut self, js: &str) -> Result<(), Error> {
+        self.call(
+            "Page.addScriptToEvaluateOnNewDocument",
+            json!({ "source": js }),
+        )
+        .map(drop)
+    }
+
     /// Evaluates the JavaScript expression `js` in the page and returns its value as JSON
     /// (`null` for `undefined`); a promise is awaited. A thrown exception or a rejected
     /// promise is [`Error::Js`] with its message.
