@@ -284,7 +284,7 @@ impl Browser {
 
 impl Drop for Browser {
     fn drop(&mut self) {
-        // Asked to close, Chromium ends its helpers and removes its lock files itself; the
+        // Asked to close, Chromium ends its child processes and removes its lock files itself; the
         // process guard then makes sure, with signals if it must.
         let asked = self
             .cdp

@@ -149,7 +149,7 @@ fn processes() -> impl Iterator<Item = u32> {
 
 /// Asks the group to end (SIGTERM), kills what is left after three seconds (SIGKILL), reaps
 /// the main process and waits a moment for the rest to go. Once the main process has `ended`
-/// by itself, what is left of the group are helpers on their way out: they are killed at once.
+/// by itself, what is left of the group are child processes on their way out: they are killed at once.
 fn stop_group(child: &mut Child, ended: bool) {
     #[cfg(unix)]
     if let Some(pid) = rustix::process::Pid::from_raw(child.id() as i32) {
