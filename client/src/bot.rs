@@ -186,6 +186,37 @@ pub async fn run(config: &BotConfig) -> Report {
     report
 }
 
+/// Opens one room as the bot that opens rooms (`config.levels[0]`), tells `opened` its code,
+/// and plays one game against whoever joins it: a person at a window, a page. The report is
+/// this bot's side only (`games_completed` is 1 when it saw the game end).
+pub async fn open_room(config: &BotConfig, opened: oneshot::Sender<RoomCode>) -> Report {
+    let host = player(config, 0, "Bot".to_owned(), config.seed);
+    let create = ClientMessage::CreateRoom {
+        variant: config.variant,
+        mode: config.settings,
+        aim_aid: AimAid::Full,
+        name: host.name().to_owned(),
+    };
+    let result = host.play(Entrance::Create(create, opened)).await;
+    let mut report = Report::default();
+    if let Some(e) = &result.error {
+        report.errors.push(e.clone());
+    }
+    if result.over.is_some() {
+        report.games_completed = 1;
+    }
+    report.games.push(GameSummary {
+        room: result.room.clone(),
+        completed: result.over.is_some(),
+        reason: result.over.clone().unwrap_or_default(),
+        resolved: result.resolved.clone(),
+        refused: [result.refused, 0],
+        played: result.began.zip(result.ended),
+    });
+    report.add(result);
+    report
+}
+
 async fn play_game(config: &BotConfig, g: u64) -> (GameSummary, PlayerResult, PlayerResult) {
     let (room_tx, room_rx) = oneshot::channel();
     let host = player(config, 0, format!("bot{g}a"), config.seed ^ (g * 2 + 1));

@@ -11,7 +11,9 @@ use breakshot_client::net::{Client, ClientEvent, Reconnect, Session, SessionEven
 use breakshot_client::play::{GameEvent, GameFlow, GameLink, Replica};
 use breakshot_server::{Config, Server, ServerError, Stats};
 use breakshot_shared::physics::Strike;
-use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, Role, RoomCode, ServerMessage};
+use breakshot_shared::protocol::{
+    AimAid, ClientMessage, Invite, Role, RoomCode, ServerMessage, WebLink,
+};
 use breakshot_shared::rules::Game;
 use breakshot_shared::rules::{EightBallRules, Settings, Variant};
 use tokio::sync::oneshot;
@@ -27,6 +29,7 @@ pub const SEED: u64 = 2026;
 pub use breakshot_testkit::scratch;
 
 pub mod postgres;
+pub mod web;
 
 /// The body of a test binary run again as a server process: prints the invite, then serves
 /// `config` until the process is killed.
@@ -65,6 +68,8 @@ pub struct TestServer {
     pub restored: usize,
     /// The running server's live counters.
     pub stats: Arc<Stats>,
+    /// The page's link to the server, when it serves the web client (`Config::web_dir`).
+    pub web_link: Option<WebLink>,
     stop: Option<oneshot::Sender<()>>,
     task: JoinHandle<Result<(), ServerError>>,
 }
@@ -107,6 +112,7 @@ impl TestServer {
         let addr = server.local_addr();
         let restored = server.restored();
         let stats = server.stats();
+        let web_link = server.web_link(None);
         let (stop, stopped) = oneshot::channel::<()>();
         let task = tokio::spawn(server.run(async {
             let _ = stopped.await;
@@ -116,6 +122,7 @@ impl TestServer {
             addr,
             restored,
             stats,
+            web_link,
             stop: Some(stop),
             task,
         })

@@ -182,7 +182,7 @@ fn a_host_plays_the_seated_computer_while_a_friend_with_the_invite_watches() -> 
 }
 
 /// Polls a watcher until every shot it saw is confirmed by the server's hash.
-fn settle(link: &mut NetLink, flow: &mut GameFlow) {
+fn settle(link: &mut NetLink<Session>, flow: &mut GameFlow) {
     let start = Instant::now();
     while flow.replica().confirmed() < flow.replica().shots() {
         assert!(start.elapsed() < PATIENCE, "a shot's result never came");

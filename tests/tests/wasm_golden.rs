@@ -10,25 +10,22 @@
 
 use std::collections::BTreeMap;
 use std::ffi::OsString;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::Command;
 use std::time::Duration;
 
 use breakshot_testkit::run;
+use breakshot_tests::web::{has_wasm_target, skip_web, workspace, WASM_TARGET as TARGET};
 
-const TARGET: &str = "wasm32-unknown-unknown";
+/// Skips the test with `why`, or fails it when CI requires the browser check.
+fn skip(why: &str) {
+    skip_web("wasm_golden", why)
+}
+
 /// A release build of the physics from nothing, on a slow machine.
 const BUILD_LIMIT: Duration = Duration::from_secs(20 * 60);
 /// Node simulating the golden shots (well under a second in practice).
 const RUN_LIMIT: Duration = Duration::from_secs(120);
-const QUICK: Duration = Duration::from_secs(60);
-
-fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("the tests crate sits in the workspace")
-        .to_path_buf()
-}
 
 /// Name → `events hash` of each line of a hash list; comment lines are skipped, and a name
 /// listed twice is an error.
@@ -63,39 +60,12 @@ fn differences(want: &BTreeMap<String, String>, got: &BTreeMap<String, String>) 
     out
 }
 
-/// Skips the test with `why`, or fails it when CI requires the browser check.
-fn skip(why: &str) {
-    let why = format!("SKIPPED wasm_golden: {why}");
-    if std::env::var("BREAKSHOT_REQUIRE_WEB").is_ok_and(|v| v == "1") {
-        panic!("{why} (BREAKSHOT_REQUIRE_WEB=1)");
-    }
-    eprintln!("{why}");
-}
-
 /// The `node` program on the `PATH`, if there is one.
 fn node() -> Option<PathBuf> {
     let path = std::env::var_os("PATH")?;
     std::env::split_paths(&path)
         .map(|d| d.join("node"))
         .find(|p| p.is_file())
-}
-
-/// Whether the compiler has the standard library for wasm32 (rustup's
-/// `rustup target add wasm32-unknown-unknown`).
-fn has_wasm_target() -> bool {
-    let rustc = std::env::var_os("RUSTC").unwrap_or_else(|| OsString::from("rustc"));
-    let out = run(
-        Command::new(rustc)
-            .args(["--print", "target-libdir", "--target", TARGET])
-            .current_dir(workspace()),
-        None,
-        QUICK,
-    );
-    let dir = String::from_utf8_lossy(&out.stdout).trim().to_string();
-    out.status.success()
-        && std::fs::read_dir(&dir).is_ok_and(|mut files| {
-            files.any(|f| f.is_ok_and(|f| f.file_name().to_string_lossy().starts_with("libstd-")))
-        })
 }
 
 #[test]

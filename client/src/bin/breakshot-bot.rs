@@ -1,11 +1,12 @@
 //! `breakshot-bot --server URL --games N [--level L [--vs-ghost]] [--json]`: plays N complete
 //! games against a server (two bot connections per game) and reports shots, desyncs and shot
 //! round trips. The bots aim ghost-ball pots, or play as the computer player at level L.
+//! With `--open-room` one bot opens a room, prints `room CODE` and plays whoever joins it.
 
 use std::process::ExitCode;
 
 use anyhow::Context;
-use breakshot_client::bot::{run, BotConfig};
+use breakshot_client::bot::{open_room, run, BotConfig};
 use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::Invite;
 use clap::Parser;
@@ -39,6 +40,10 @@ struct Cli {
     /// computer player against the ghost-ball bot.
     #[arg(long, requires = "level")]
     vs_ghost: bool,
+    /// Open one room, print `room CODE` on a line of its own, and play one game against
+    /// whoever joins it (a person, a page) instead of playing --games games bot against bot.
+    #[arg(long, conflicts_with_all = ["games", "vs_ghost", "ramp_ms"])]
+    open_room: bool,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -65,7 +70,24 @@ fn main_inner() -> anyhow::Result<bool> {
     let level = cli.level.map(Level::new);
     config.levels = [level, level.filter(|_| !cli.vs_ghost)];
     let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
-    let report = runtime.block_on(run(&config));
+    let report = if cli.open_room {
+        config.games = 1;
+        runtime.block_on(async {
+            let (opened, code) = tokio::sync::oneshot::channel();
+            let printer = tokio::spawn(async move {
+                if let Ok(room) = code.await {
+                    use std::io::Write as _;
+                    println!("room {room}");
+                    let _ = std::io::stdout().flush();
+                }
+            });
+            let report = open_room(&config, opened).await;
+            let _ = printer.await;
+            report
+        })
+    } else {
+        runtime.block_on(run(&config))
+    };
     for e in &report.errors {
         eprintln!("breakshot-bot: {e}");
     }
@@ -74,7 +96,7 @@ fn main_inner() -> anyhow::Result<bool> {
     } else {
         println!(
             "games completed: {} of {}",
-            report.games_completed, cli.games
+            report.games_completed, config.games
         );
         println!("peak games:      {}", report.peak_games());
         println!("shots:           {}", report.shots);
@@ -86,5 +108,5 @@ fn main_inner() -> anyhow::Result<bool> {
             report.percentile_ms(0.99)
         );
     }
-    Ok(report.games_completed as usize == cli.games && report.desyncs == 0)
+    Ok(report.games_completed as usize == config.games && report.desyncs == 0)
 }

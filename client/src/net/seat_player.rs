@@ -85,6 +85,9 @@ pub(crate) struct SeatPlayer {
     paced: Option<Instant>,
     /// Whether this bot paces its moves.
     pacing: bool,
+    /// Both seats are taken: a room still waiting for its opponent refuses every move, and a
+    /// bot that opened a room for a person (or a page) waits for them to arrive.
+    full: bool,
 }
 
 /// How long a pacing player looks at the table after the balls stop, before its move.
@@ -118,6 +121,7 @@ impl SeatPlayer {
             stays: false,
             paced: None,
             pacing: false,
+            full: false,
         }
     }
 
@@ -204,6 +208,7 @@ impl SeatPlayer {
             self.replica.observe(&msg, me);
             match &msg {
                 ServerMessage::Joined { snapshot, .. } => {
+                    self.full = snapshot.seats.iter().all(Option::is_some);
                     self.result.room = Some(snapshot.room.clone());
                     if let Some(tx) = room_tx.take() {
                         let _ = tx.send(snapshot.room.clone());
@@ -233,6 +238,7 @@ impl SeatPlayer {
                     }
                 }
                 ServerMessage::PlayerJoined { .. } => {
+                    self.full = true;
                     self.result.began.get_or_insert_with(Instant::now);
                 }
                 ServerMessage::GameStarted { .. } => {
@@ -317,7 +323,7 @@ impl SeatPlayer {
     /// computer player thinks on the runtime's blocking threads: a decision can take a
     /// second, and the connection must be kept alive meanwhile.
     async fn next_move(&mut self, seat: Option<Seat>) -> Option<ClientMessage> {
-        if !seat.is_some_and(|s| self.replica.waits_for(s)) {
+        if !self.full || !seat.is_some_and(|s| self.replica.waits_for(s)) {
             return None;
         }
         let game = self.replica.game()?;

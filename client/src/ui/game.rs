@@ -33,6 +33,8 @@ pub struct GameScreen {
     predicted: Option<(Shot, Prediction)>,
     debug: bool,
     frame_ms: f64,
+    /// The last state told to whoever watches a page ([`super::report`]).
+    reported: String,
     /// The invite was copied to the clipboard.
     copied: bool,
     /// How each ball is turned, for drawing.
@@ -94,6 +96,7 @@ impl GameScreen {
             predicted: None,
             debug: false,
             frame_ms: 0.0,
+            reported: String::new(),
             copied: false,
             turns: Orientations::new(),
             leaving: false,
@@ -148,6 +151,7 @@ impl GameScreen {
         while let Some(event) = self.link.poll() {
             self.flow.handle(event);
         }
+        self.report();
         // A rematch asked for is answered by the next game.
         if !self
             .flow
@@ -642,6 +646,34 @@ impl GameScreen {
                 22.0,
                 YELLOW,
             );
+        }
+    }
+
+    /// Tells whoever watches the page (its tests) how the game stands, when that changed: the
+    /// seat, the shots confirmed by the server's hash and the desyncs, and the end.
+    fn report(&mut self) {
+        let replica = self.flow.replica();
+        let over = match self.flow.game().map(Game::phase) {
+            Some(Phase::Over { .. }) => "over",
+            Some(_) => "playing",
+            None => "waiting",
+        };
+        let line = format!(
+            "game {over} seat={} confirmed={} desyncs={} connection={}",
+            self.link
+                .seat()
+                .map_or("-".to_owned(), |s| format!("{s:?}")),
+            replica.confirmed(),
+            replica.desyncs(),
+            // The kind only: a countdown in it would make a new line every frame.
+            format!("{:?}", self.flow.connection)
+                .split([' ', '(', '{'])
+                .next()
+                .unwrap_or_default(),
+        );
+        if line != self.reported {
+            super::report(&line);
+            self.reported = line;
         }
     }
 

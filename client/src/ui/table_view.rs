@@ -97,9 +97,11 @@ impl TableView {
                 .turn(-DRAG_TURN * dx as f64, DRAG_TURN * dy as f64);
         }
         if let Some(g) = input.fingers {
-            self.orbit
-                .turn(-DRAG_TURN * g.moved[0] as f64, DRAG_TURN * g.moved[1] as f64);
-            self.orbit.zoom(f64::from(-g.spread).exp());
+            self.orbit.turn(
+                -DRAG_TURN * g.moved[0] as f64,
+                DRAG_TURN * g.moved[1] as f64,
+            );
+            self.orbit.zoom(libm::exp(f64::from(-g.spread)));
         }
         self.last_mouse = Some(input.mouse);
         self.followed = match self.followed {

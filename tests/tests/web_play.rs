@@ -1,0 +1,133 @@
+//! A whole 8-ball game between a page in headless Chromium and a native bot, through a real
+//! server on loopback: the page is the web client built by `web/build.sh`, served by the
+//! server itself (`Config::web_dir`), opened on the server's own link with its computer
+//! player at level 1 in the seat the link joins (`computer=1`). Every shot's hash is confirmed
+//! by both sides, nobody desyncs, and the stored record verifies. Once over the Noise
+//! WebSocket, once over WebTransport.
+//!
+//! Where the wasm32 target or Chromium is missing the tests say why and pass; CI
+//! (`BREAKSHOT_REQUIRE_WEB=1`, `BREAKSHOT_REQUIRE_BROWSER=1`) requires them.
+
+use std::net::SocketAddr;
+use std::time::Duration;
+
+use anyhow::{bail, Context, Result};
+use breakshot_client::bot::{open_room, BotConfig};
+use breakshot_client::net::fetch_record;
+use breakshot_shared::ai::Level;
+use breakshot_shared::protocol::WebTransportChoice;
+use breakshot_shared::replay::GameRecord;
+use breakshot_testkit::browser::{browser_or_skip, LaunchOptions, Viewport};
+use breakshot_tests::web::{bundle, skip_web};
+use breakshot_tests::{scratch, TestServer};
+
+/// A whole game: the page's computer thinks a few simulations a frame.
+const GAME_LIMIT: Duration = Duration::from_secs(600);
+
+/// The page's last report of the game (`game over seat=B confirmed=N desyncs=M …`).
+fn last_game_line(events: &serde_json::Value) -> String {
+    events
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter_map(|e| e.as_str())
+        .filter(|e| e.starts_with("game "))
+        .next_back()
+        .unwrap_or_default()
+        .to_owned()
+}
+
+/// The number after `name=` in a page report.
+fn count(line: &str, name: &str) -> Option<u32> {
+    line.split_whitespace()
+        .find_map(|w| w.strip_prefix(&format!("{name}=")))
+        .and_then(|n| n.parse().ok())
+}
+
+fn whole_game(test: &str, transport: WebTransportChoice) -> Result<()> {
+    let bundle = match bundle() {
+        Ok(b) => b,
+        Err(why) => {
+            skip_web(test, &why);
+            return Ok(());
+        }
+    };
+    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
+        return Ok(());
+    };
+    let runtime = tokio::runtime::Runtime::new()?;
+    let data = scratch(test);
+    let mut config = TestServer::config(SocketAddr::from(([127, 0, 0, 1], 0)), data.path());
+    config.web_dir = Some(bundle.to_path_buf());
+    let server = runtime.block_on(TestServer::start_with(config))?;
+
+    // The native bot opens the room and breaks; the page joins it from the link.
+    let (opened, code) = tokio::sync::oneshot::channel();
+    let bot_config = BotConfig::new(server.invite.clone(), 1);
+    let bot = runtime.spawn(async move { open_room(&bot_config, opened).await });
+    let room = runtime
+        .block_on(async { tokio::time::timeout(Duration::from_secs(30), code).await })
+        .context("the bot opened no room in 30 s")??;
+    let Some(link) = &server.web_link else {
+        bail!("a server serving the web client has no link");
+    };
+    let mut link = link.with_room(room.clone());
+    link.computer = Some(Level::new(1));
+    link.transport = transport;
+    let url = link.to_string();
+
+    let mut page = browser.open(&url, Viewport::desktop(1280, 720))?;
+    let finished = page.wait_until(
+        "(window.breakshotEvents || []).some(e => e.startsWith('game over'))",
+        GAME_LIMIT,
+    );
+    let events = page.eval("window.breakshotEvents || []")?;
+    if let Err(e) = finished {
+        bail!(
+            "the page never saw the game end: {e}\npage events: {events}\nbrowser: {}",
+            browser.log()
+        );
+    }
+    let report = runtime
+        .block_on(async { tokio::time::timeout(Duration::from_secs(60), bot).await })
+        .context("the bot did not finish after the game ended")??;
+    assert!(report.errors.is_empty(), "the bot: {:?}", report.errors);
+    assert_eq!(report.games_completed, 1, "the bot saw the game end");
+    assert_eq!(report.desyncs, 0, "the bot desynced");
+    let line = last_game_line(&events);
+    let resolved = report.games[0].resolved.clone();
+    assert_eq!(
+        count(&line, "desyncs"),
+        Some(0),
+        "the page desynced: {line}"
+    );
+    assert_eq!(
+        count(&line, "confirmed"),
+        Some(resolved.len() as u32),
+        "the page confirmed every shot the server resolved: {line}"
+    );
+    assert!(resolved.len() >= 2, "both sides shot: {resolved:?}");
+
+    // The server's record of the game replays to the same hashes.
+    let fetched = runtime.block_on(fetch_record(&server.invite, &room))?;
+    assert!(fetched.finished);
+    let record = GameRecord::decode(&fetched.bytes)?;
+    record
+        .replay()
+        .context("the stored record does not verify")?;
+    let recorded: Vec<u64> = record.entries.iter().filter_map(|e| e.hash).collect();
+    let announced: Vec<u64> = resolved.iter().map(|(_, h)| *h).collect();
+    assert_eq!(recorded, announced);
+    println!(
+        "{test}: {} shots, all confirmed by the page and the bot",
+        resolved.len()
+    );
+    drop(page);
+    runtime.block_on(server.stop())?;
+    Ok(())
+}
+
+#[test]
+fn a_page_plays_a_whole_game_against_a_native_bot_over_the_web_socket() -> Result<()> {
+    whole_game("web_play_ws", WebTransportChoice::WebSocket)
+}
