@@ -27,6 +27,7 @@ pub const SEED: u64 = 2026;
 pub use breakshot_testkit::scratch;
 
 pub mod postgres;
+pub mod web;
 
 /// The body of a test binary run again as a server process: prints the invite, then serves
 /// `config` until the process is killed.
@@ -63,6 +64,10 @@ pub struct TestServer {
     pub invite: Invite,
     pub addr: SocketAddr,
     pub restored: usize,
+    /// The Noise public key of its WebSocket ([`Server::web_key`]).
+    pub web_key: [u8; 32],
+    /// Its web listener's TCP address, when `Config::web_dir` was set.
+    pub web_addr: Option<SocketAddr>,
     /// The running server's live counters.
     pub stats: Arc<Stats>,
     stop: Option<oneshot::Sender<()>>,
@@ -106,6 +111,8 @@ impl TestServer {
         let invite = server.invite();
         let addr = server.local_addr();
         let restored = server.restored();
+        let web_key = server.web_key();
+        let web_addr = server.web_addr();
         let stats = server.stats();
         let (stop, stopped) = oneshot::channel::<()>();
         let task = tokio::spawn(server.run(async {
@@ -115,6 +122,8 @@ impl TestServer {
             invite,
             addr,
             restored,
+            web_key,
+            web_addr,
             stats,
             stop: Some(stop),
             task,
