@@ -395,3 +395,29 @@ async fn a_server_without_web_has_no_tcp_listener() -> Result<()> {
     assert!(tried.is_err(), "something listens on TCP {}", server.addr);
     server.stop().await
 }
+
+#[tokio::test]
+async fn a_quiet_page_stays_and_a_vanished_one_is_dropped_after_the_idle_timeout() -> Result<()> {
+    use breakshot_shared::protocol::limits::IDLE_TIMEOUT;
+    let data = scratch("web-idle");
+    let server = start(data.path()).await?;
+    let addr = server.web_addr.expect("serving the web");
+    let mut page = WebPlayer::hello(addr, &server.web_key).await?;
+    // A page that says nothing but whose browser answers the server's pings stays.
+    let quiet = tokio::time::timeout(IDLE_TIMEOUT + Duration::from_secs(2), page.recv()).await;
+    assert!(quiet.is_err(), "the quiet page got {quiet:?}");
+    assert_eq!(count(&server.stats.connections), 1);
+    // One that answers nothing any more (a closed laptop) is taken for gone.
+    let started = tokio::time::Instant::now();
+    eventually("the silent page dropped", || {
+        count(&server.stats.connections) == 0
+    })
+    .await;
+    assert!(
+        started.elapsed() >= IDLE_TIMEOUT / 2,
+        "{:?}",
+        started.elapsed()
+    );
+    drop(page);
+    server.stop().await
+}
