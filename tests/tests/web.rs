@@ -421,3 +421,36 @@ async fn a_quiet_page_stays_and_a_vanished_one_is_dropped_after_the_idle_timeout
     drop(page);
     server.stop().await
 }
+
+#[tokio::test]
+async fn the_web_link_names_the_listener_the_key_and_the_room() -> Result<()> {
+    use breakshot_server::Server;
+    use breakshot_shared::protocol::{RoomCode, WebLink};
+    let data = scratch("web-link");
+    let mut config = TestServer::config(
+        SocketAddr::from(([127, 0, 0, 1], 0)),
+        &data.path().join("data"),
+    );
+    assert!(Server::bind(&config)?.web_link(None).is_none());
+    config.web_dir = Some(web_dir(data.path()));
+    let server = Server::bind(&config)?;
+    let port = server.local_addr().port();
+    assert_eq!(server.web_addr().map(|a| a.port()), Some(port));
+    let room = RoomCode::parse("K7QX2M4B")?;
+    let link = server
+        .web_link(Some(room.clone()))
+        .expect("serving the web");
+    let text = link.to_string();
+    let key: String = server
+        .web_key()
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect();
+    assert_eq!(
+        text,
+        format!("http://127.0.0.1:{port}/?room=K7QX2M4B&key={key}")
+    );
+    let back: WebLink = text.parse()?;
+    assert_eq!((back.room, back.key), (Some(room), server.web_key()));
+    Ok(())
+}
