@@ -3,6 +3,7 @@
 
 #![warn(missing_docs, unreachable_pub)]
 
+#[cfg(not(target_arch = "wasm32"))]
 pub mod bot;
 pub mod memory;
 pub mod net;

@@ -35,14 +35,15 @@ fn bucket(d: Duration) -> usize {
     if micros <= 1.0 {
         return 0;
     }
-    // Timing is not physics: std's log2 is fine here.
-    let i = (micros.log2() * PER_OCTAVE).ceil();
+    // libm rather than std: the bucket edges (shown in the metrics) are then the same on
+    // every machine.
+    let i = (libm::log2(micros) * PER_OCTAVE).ceil();
     (i as usize).min(BUCKETS - 1)
 }
 
 /// The upper edge of bucket `i`.
 fn edge(i: usize) -> Duration {
-    Duration::from_secs_f64((i as f64 / PER_OCTAVE).exp2() * 1e-6)
+    Duration::from_secs_f64(libm::exp2(i as f64 / PER_OCTAVE) * 1e-6)
 }
 
 impl Histogram {

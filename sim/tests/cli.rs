@@ -49,7 +49,8 @@ fn ball<'a>(result: &'a Value, id: &str) -> &'a Value {
 }
 
 fn dist(a: (f64, f64), b: (f64, f64)) -> f64 {
-    ((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt()
+    let (dx, dy) = (a.0 - b.0, a.1 - b.1);
+    (dx * dx + dy * dy).sqrt()
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! What the project's tests share: running a program with a deadline, so that a test that
 //! cannot finish fails with a message instead of hanging, and scratch folders that are removed
-//! when dropped, also when the test fails.
+//! when dropped, also when the test fails; and a headless browser for the web client's tests
+//! ([`browser`]).
 
 #![warn(missing_docs, unreachable_pub)]
 
@@ -9,6 +10,8 @@ use std::process::{Child, Command, Output, Stdio};
 use std::sync::mpsc;
 use std::thread;
 use std::time::{Duration, Instant};
+
+pub mod browser;
 
 pub use tempfile::TempDir;
 

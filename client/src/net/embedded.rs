@@ -129,7 +129,7 @@ impl Drop for EmbeddedServer {
 /// A hosted game: the embedded server, and this computer's seat (A) in a new room on it,
 /// played through a [`NetLink`] like any other network game.
 pub struct Host {
-    link: NetLink,
+    link: NetLink<Session>,
     /// Events the link gave while the room was being opened, handed to the screen first.
     pending: VecDeque<GameEvent>,
     invite: Invite,
@@ -193,7 +193,7 @@ impl Host {
         }
         let deadline = Instant::now() + SEATING;
         let mut pending = VecDeque::new();
-        let seated = |link: &NetLink, event: Option<&GameEvent>| match event {
+        let seated = |link: &NetLink<Session>, event: Option<&GameEvent>| match event {
             Some(GameEvent::EndedAway(_)) => Some(None),
             _ => link.session().room().cloned().map(Some),
         };
@@ -269,7 +269,7 @@ impl Host {
     }
 
     /// The link this computer plays through.
-    pub fn link(&self) -> &NetLink {
+    pub fn link(&self) -> &NetLink<Session> {
         &self.link
     }
 }
@@ -278,10 +278,10 @@ impl Host {
 /// for has come, given the link and each event; fails on a refusal, a closed connection or
 /// `deadline`.
 fn wait_for<T>(
-    link: &mut NetLink,
+    link: &mut NetLink<Session>,
     pending: &mut VecDeque<GameEvent>,
     deadline: Instant,
-    done: impl Fn(&NetLink, Option<&GameEvent>) -> Option<T>,
+    done: impl Fn(&NetLink<Session>, Option<&GameEvent>) -> Option<T>,
 ) -> Result<T, HostError> {
     loop {
         if let Some(found) = done(link, None) {

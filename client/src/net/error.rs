@@ -18,6 +18,9 @@ pub enum NetError {
     )]
     /// The server's certificate is not the one the invite names.
     WrongFingerprint,
+    #[error("this link's key does not match the server: ask the host for a fresh link")]
+    /// The server of a page's WebSocket does not hold the key the link names.
+    WrongKey,
     #[error("connection lost: {0}")]
     /// The connection dropped.
     Lost(String),
@@ -48,7 +51,10 @@ impl NetError {
     /// The server answered and will not have us (or is not the server the invite names):
     /// asking again cannot change the answer.
     pub fn is_refusal(&self) -> bool {
-        matches!(self, NetError::Rejected(_) | NetError::WrongFingerprint)
+        matches!(
+            self,
+            NetError::Rejected(_) | NetError::WrongFingerprint | NetError::WrongKey
+        )
     }
 }
 

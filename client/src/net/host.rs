@@ -126,7 +126,7 @@ pub(crate) fn lan_address(candidates: &[IpAddr]) -> Option<IpAddr> {
 }
 
 /// This computer's addresses on the interfaces that are up.
-#[cfg(feature = "host")]
+#[cfg(all(feature = "host", not(target_arch = "wasm32")))]
 pub(super) fn interface_addresses() -> Vec<IpAddr> {
     match if_addrs::get_if_addrs() {
         Ok(interfaces) => interfaces.iter().map(|i| i.ip()).collect(),

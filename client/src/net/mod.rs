@@ -5,27 +5,41 @@
 //! polled once a frame). Above them: the game screen's [`NetLink`], the remembered seats,
 //! hosting, the computer seated in an online room, and fetching a stored game's record.
 
+#[cfg(not(target_arch = "wasm32"))]
 mod channel;
+#[cfg(not(target_arch = "wasm32"))]
 mod client;
-#[cfg(feature = "host")]
+#[cfg(all(feature = "host", not(target_arch = "wasm32")))]
 mod embedded;
 mod error;
 mod player;
+#[cfg(not(target_arch = "wasm32"))]
 mod seated_computer;
 // Without the embedded server, the helpers it shares with this module have no caller.
-#[cfg_attr(not(feature = "host"), allow(dead_code))]
+#[cfg_attr(any(not(feature = "host"), target_arch = "wasm32"), allow(dead_code))]
 mod host;
 mod net_link;
+pub mod noise;
+#[cfg(target_arch = "wasm32")]
+pub mod page;
+#[cfg(not(target_arch = "wasm32"))]
 mod pinned;
 mod polled;
+mod port;
+#[cfg(not(target_arch = "wasm32"))]
 mod records;
+#[cfg(not(target_arch = "wasm32"))]
 mod seat_player;
 mod seats;
+#[cfg(not(target_arch = "wasm32"))]
 mod session;
+mod web_way;
 
+#[cfg(not(target_arch = "wasm32"))]
 pub use channel::{endpoint, Channel};
+#[cfg(not(target_arch = "wasm32"))]
 pub use client::{Client, ClientEvent};
-#[cfg(feature = "host")]
+#[cfg(all(feature = "host", not(target_arch = "wasm32")))]
 pub use embedded::{EmbeddedServer, Host};
 pub use error::NetError;
 pub use host::{
@@ -33,16 +47,24 @@ pub use host::{
     DEFAULT_PORT,
 };
 pub use net_link::{NetLink, NoRoom};
+#[cfg(not(target_arch = "wasm32"))]
 pub use pinned::client_config;
 pub use player::{Action, Entry, PlayerCore, PlayerEvent, Reconnect, Seating, ATTEMPT_LIMIT};
 pub use polled::{MemoryServer, MemoryTransport, Polled, Transport, TransportEvent};
+pub use port::{PolledSession, Port, SessionEvent};
+#[cfg(not(target_arch = "wasm32"))]
 pub use records::{
     fetch_game, fetch_game_blocking, fetch_record, FetchError, FetchedRecord, FETCH_TIMEOUT,
 };
+#[cfg(not(target_arch = "wasm32"))]
 pub use seat_player::RETRY_FOR;
+#[cfg(not(target_arch = "wasm32"))]
 pub(crate) use seat_player::{Entrance, PlayerResult, SeatPlayer};
+#[cfg(not(target_arch = "wasm32"))]
 pub use seated_computer::SeatedComputer;
 pub use seats::{hosted_from, Remembered, SeatStore};
-pub use session::{Session, SessionEvent};
+#[cfg(not(target_arch = "wasm32"))]
+pub use session::Session;
+pub use web_way::{Using, WebWay};
 
 pub(crate) use net_link::command_message;

@@ -8,14 +8,17 @@ use breakshot_shared::protocol::{ClientMessage, Invite, Role, RoomCode, SeatToke
 use breakshot_shared::rules::{Command, Game, Seat, TurnId};
 
 use super::player::Entry;
+use super::port::{Port, SessionEvent};
 use super::seats::SeatStore;
-use super::session::{Session, SessionEvent};
+#[cfg(not(target_arch = "wasm32"))]
+use super::session::Session;
 use crate::play::{game_events, GameEvent, GameLink};
 use crate::view::hud::Connection;
 
-/// A [`GameLink`] over a [`Session`].
-pub struct NetLink {
-    session: Session,
+/// A [`GameLink`] over a [`Port`]: natively a `Session`, the client on a thread of its own;
+/// in the browser a [`PolledSession`](super::PolledSession).
+pub struct NetLink<P: Port> {
+    session: P,
     events: VecDeque<GameEvent>,
     /// Where the seat taken is remembered, and the invite it is remembered under.
     memory: Option<(SeatStore, Invite)>,
@@ -26,12 +29,40 @@ pub struct NetLink {
 #[error("{0} names a server but no room: ask the host for the game's invite")]
 pub struct NoRoom(pub String);
 
-impl NetLink {
-    /// Connects to the server an invite names and asks for the free seat of its room
-    /// (watching it when both seats are taken), or, when `seats` remembers a seat in that
-    /// room, takes that seat back, falling back to the free seat when the server no longer
-    /// knows it. The seat taken is remembered in `seats`.
-    pub fn join(invite: Invite, name: &str, seats: Option<SeatStore>) -> Result<NetLink, NoRoom> {
+#[cfg(not(target_arch = "wasm32"))]
+impl NetLink<Session> {
+    /// Connects to the server an invite names and joins its room (see [`NetLink::joining`]).
+    pub fn join(
+        invite: Invite,
+        name: &str,
+        seats: Option<SeatStore>,
+    ) -> Result<NetLink<Session>, NoRoom> {
+        NetLink::joining(Session::connect(invite.clone()), invite, name, seats)
+    }
+
+    /// The next event, waiting at most `timeout` for one: for a caller with nothing to do
+    /// until the server answers (opening a hosted room), not for frame loops.
+    pub fn wait(&mut self, timeout: std::time::Duration) -> Option<GameEvent> {
+        if self.events.is_empty() {
+            if let Some(event) = self.session.recv_timeout(timeout) {
+                self.translate(event);
+            }
+        }
+        self.poll()
+    }
+}
+
+impl<P: Port> NetLink<P> {
+    /// Asks, through `session` (connecting to the server of `invite`), for the free seat of
+    /// the invite's room (watching it when both seats are taken), or, when `seats` remembers
+    /// a seat in that room, takes that seat back, falling back to the free seat when the
+    /// server no longer knows it. The seat taken is remembered in `seats`.
+    pub fn joining(
+        mut session: P,
+        invite: Invite,
+        name: &str,
+        seats: Option<SeatStore>,
+    ) -> Result<NetLink<P>, NoRoom> {
         let Some(room) = invite.room.clone() else {
             return Err(NoRoom(invite.to_string()));
         };
@@ -47,7 +78,6 @@ impl NetLink {
             },
             None => join,
         };
-        let session = Session::connect(invite.clone());
         session.enter(entry);
         let mut link = NetLink::new(session);
         link.memory = seats.map(|s| (s, invite));
@@ -55,7 +85,7 @@ impl NetLink {
     }
 
     /// A link over a session that has joined (or will join) a room.
-    pub fn new(session: Session) -> NetLink {
+    pub fn new(session: P) -> NetLink<P> {
         NetLink {
             session,
             events: VecDeque::new(),
@@ -70,19 +100,13 @@ impl NetLink {
     }
 
     /// The session under the link.
-    pub fn session(&self) -> &Session {
+    pub fn session(&self) -> &P {
         &self.session
     }
 
-    /// The next event, waiting at most `timeout` for one: for a caller with nothing to do
-    /// until the server answers (opening a hosted room), not for frame loops.
-    pub fn wait(&mut self, timeout: std::time::Duration) -> Option<GameEvent> {
-        if self.events.is_empty() {
-            if let Some(event) = self.session.recv_timeout(timeout) {
-                self.translate(event);
-            }
-        }
-        self.poll()
+    /// The session under the link, to enter a room through it.
+    pub fn session_mut(&mut self) -> &mut P {
+        &mut self.session
     }
 
     fn translate(&mut self, event: SessionEvent) {
@@ -105,7 +129,8 @@ impl NetLink {
                 {
                     self.save_seat(snapshot.room.clone(), *token);
                 }
-                self.events.extend(game_events(&msg, self.session.seat()));
+                self.events
+                    .extend(game_events(&msg, self.session.seating().seat()));
                 return;
             }
         };
@@ -136,13 +161,13 @@ pub(crate) fn command_message(turn: TurnId, command: Command) -> Option<ClientMe
     })
 }
 
-impl GameLink for NetLink {
+impl<P: Port> GameLink for NetLink<P> {
     fn seat(&self) -> Option<Seat> {
-        self.session.seat()
+        self.session.seating().seat()
     }
 
     fn watching(&self) -> bool {
-        self.session.role() == Some(Role::Spectator)
+        self.session.seating().role == Some(Role::Spectator)
     }
 
     fn send(&mut self, game: &Game, _seat: Seat, command: Command) {

@@ -125,6 +125,8 @@ struct Wire {
     closes: usize,
     /// Bytes the client wrote, not read by the server yet.
     written: Vec<u8>,
+    /// The same bytes as the client's writes, one per write (for a transport of messages).
+    messages: Vec<Vec<u8>>,
     /// Reports waiting for the client.
     reports: VecDeque<TransportEvent>,
 }
@@ -156,10 +158,13 @@ impl Transport for MemoryTransport {
         let mut wire = self.wire.borrow_mut();
         wire.opened.push(server.clone());
         wire.written.clear();
+        wire.messages.clear();
     }
 
     fn send(&mut self, bytes: &[u8]) {
-        self.wire.borrow_mut().written.extend_from_slice(bytes);
+        let mut wire = self.wire.borrow_mut();
+        wire.written.extend_from_slice(bytes);
+        wire.messages.push(bytes.to_vec());
     }
 
     fn close(&mut self) {
@@ -200,6 +205,24 @@ impl MemoryServer {
         self.report(TransportEvent::Received(frame));
     }
 
+    /// Hands the client `bytes` as they are (a message of a message transport, or any
+    /// piece of the byte stream).
+    pub fn deliver(&self, bytes: Vec<u8>) {
+        self.report(TransportEvent::Received(bytes));
+    }
+
+    /// The client's writes since the last call, one per write, taken from the wire.
+    pub fn take_messages(&self) -> Vec<Vec<u8>> {
+        let mut wire = self.wire.borrow_mut();
+        wire.written.clear();
+        std::mem::take(&mut wire.messages)
+    }
+
+    /// The bytes the client wrote since the last call, taken from the wire.
+    pub fn take_written(&self) -> Vec<u8> {
+        self.take_messages().concat()
+    }
+
     /// The messages the client wrote since the last call.
     pub fn heard(&self) -> Vec<ClientMessage> {
         let mut wire = self.wire.borrow_mut();
@@ -212,6 +235,7 @@ impl MemoryServer {
             used += n;
         }
         wire.written.drain(..used);
+        wire.messages.clear();
         heard
     }
 

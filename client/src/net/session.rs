@@ -7,29 +7,14 @@ use std::sync::mpsc::{self, Receiver};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
-use breakshot_shared::protocol::{ClientMessage, Invite, Role, RoomCode, ServerMessage};
+use breakshot_shared::protocol::{ClientMessage, Invite, Role, RoomCode};
 use breakshot_shared::rules::Seat;
 use tokio::sync::mpsc::{unbounded_channel, UnboundedSender};
 use tokio::sync::oneshot;
 
 use super::client::{Client, ClientEvent};
 use super::player::{Entry, Reconnect, Seating};
-
-/// What a session hears.
-#[derive(Clone, Debug, PartialEq)]
-pub enum SessionEvent {
-    /// The handshake succeeded.
-    Connected,
-    /// A message from the server.
-    Message(ServerMessage),
-    /// The seat remembered is gone (its token is stale, or its game ended while away).
-    SeatGone,
-    /// The connection of a seated player dropped; the session is connecting again to take
-    /// the seat back (for as long as the server holds it).
-    Reconnecting,
-    /// The connection ended (or never started, or could not be restored), with the reason.
-    Closed(String),
-}
+use super::port::{Port, SessionEvent};
 
 /// How long a closing session waits for its close to be sent.
 const CLOSE_GRACE: Duration = Duration::from_millis(500);
@@ -119,6 +104,24 @@ impl Session {
     /// The room joined, once joined.
     pub fn room(&self) -> Option<&RoomCode> {
         self.seating.room.as_ref()
+    }
+}
+
+impl Port for Session {
+    fn send(&mut self, msg: ClientMessage) -> bool {
+        Session::send(self, msg)
+    }
+
+    fn enter(&mut self, entry: Entry) -> bool {
+        Session::enter(self, entry)
+    }
+
+    fn try_recv(&mut self) -> Option<SessionEvent> {
+        Session::try_recv(self)
+    }
+
+    fn seating(&self) -> &Seating {
+        Session::seating(self)
     }
 }
 

@@ -39,7 +39,7 @@ impl Default for Aim {
 impl Aim {
     /// The unit direction of the shot.
     pub fn dir(&self) -> DVec2 {
-        DVec2::new(self.angle.cos(), self.angle.sin())
+        DVec2::new(libm::cos(self.angle), libm::sin(self.angle))
     }
 
     /// Cue stick speed for the current power (m/s).
@@ -77,7 +77,7 @@ impl Aim {
     /// Points the cue along `dir` (ignored if it has no direction).
     pub fn point_along(&mut self, dir: DVec2) {
         if dir.is_finite() && dir.length_squared() > 1e-18 {
-            self.angle = dir.y.atan2(dir.x);
+            self.angle = libm::atan2(dir.y, dir.x);
         }
     }
 

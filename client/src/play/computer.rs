@@ -1,8 +1,10 @@
 //! One player against the computer at this computer. The rules here decide, as for two
 //! players taking turns ([`LocalLink`]); the computer's seat asks [`ai::decide`] when the game
-//! waits for it, on a thread of its own so the window keeps drawing, and its command goes
-//! through the same link a player's does.
+//! waits for it, on a thread of its own so the window keeps drawing (in a browser, which has
+//! no threads, the same search advances a few simulations each frame: [`ai::Thinking`]), and
+//! its command goes through the same link a player's does.
 
+#[cfg(not(target_arch = "wasm32"))]
 use std::sync::mpsc::{self, Receiver, TryRecvError};
 
 use breakshot_shared::ai::{self, Level};
@@ -29,15 +31,65 @@ struct Thinking {
     game: Game,
     /// Frame time the thinking has been shown.
     shown: f64,
-    answer: Receiver<Option<Command>>,
+    answer: Answer,
     /// The command decided, once the thread has answered.
     decided: Option<Command>,
     /// The command was handed over.
     sent: bool,
 }
 
+/// Where the computer's answer comes from.
+enum Answer {
+    /// A thread running [`ai::decide`].
+    #[cfg(not(target_arch = "wasm32"))]
+    Thread(Receiver<Option<Command>>),
+    /// The search itself, stepped once a frame.
+    #[cfg(target_arch = "wasm32")]
+    Steps(ai::Thinking<Option<Command>>),
+}
+
+/// Simulations the stepped search runs per frame: a few milliseconds of a frame's budget
+/// (a shot of the break's kind takes well under a millisecond to simulate).
+#[cfg(target_arch = "wasm32")]
+const SIMULATIONS_PER_FRAME: usize = 6;
+
+impl Answer {
+    /// The answer, once there is one: `Err` when the search ended without one.
+    fn try_take(&mut self) -> Option<Result<Option<Command>, &'static str>> {
+        match self {
+            #[cfg(not(target_arch = "wasm32"))]
+            Answer::Thread(rx) => match rx.try_recv() {
+                Ok(answer) => Some(Ok(answer)),
+                Err(TryRecvError::Empty) => None,
+                Err(TryRecvError::Disconnected) => {
+                    Some(Err("the computer's thread ended without an answer"))
+                }
+            },
+            #[cfg(target_arch = "wasm32")]
+            Answer::Steps(search) => match search.step(SIMULATIONS_PER_FRAME) {
+                std::task::Poll::Ready(answer) => Some(Ok(answer.clone())),
+                std::task::Poll::Pending => None,
+            },
+        }
+    }
+}
+
 impl Thinking {
+    /// Starts deciding `game`: on a thread of its own, or stepped in a browser.
+    #[cfg(target_arch = "wasm32")]
+    fn start(game: Game, level: Level, seed: u64) -> Thinking {
+        let answer = Answer::Steps(ai::Thinking::decide(&game, level, seed));
+        Thinking {
+            game,
+            shown: 0.0,
+            answer,
+            decided: None,
+            sent: false,
+        }
+    }
+
     /// Starts deciding `game` on a thread of its own.
+    #[cfg(not(target_arch = "wasm32"))]
     fn start(game: Game, level: Level, seed: u64) -> Thinking {
         let (tx, answer) = mpsc::channel();
         let table = game.clone();
@@ -54,7 +106,7 @@ impl Thinking {
         Thinking {
             game,
             shown: 0.0,
-            answer,
+            answer: Answer::Thread(answer),
             decided: None,
             sent: false,
         }
@@ -110,15 +162,15 @@ impl Computer {
             t.shown += dt.max(0.0);
         }
         if t.decided.is_none() {
-            t.decided = match t.answer.try_recv() {
-                Ok(Some(command)) if game.check(self.seat, &command).is_ok() => Some(command),
-                Ok(command) => {
+            t.decided = match t.answer.try_take() {
+                Some(Ok(Some(command))) if game.check(self.seat, &command).is_ok() => Some(command),
+                Some(Ok(command)) => {
                     tracing::error!(?command, "the computer chose no legal move");
                     Some(Command::Concede)
                 }
-                Err(TryRecvError::Empty) => None,
-                Err(TryRecvError::Disconnected) => {
-                    tracing::error!("the computer's thread ended without an answer");
+                None => None,
+                Some(Err(why)) => {
+                    tracing::error!("{why}");
                     Some(Command::Concede)
                 }
             };
@@ -189,6 +241,79 @@ impl GameLink for ComputerLink {
 
     fn thinking(&self) -> bool {
         self.computer.thinking()
+    }
+}
+
+/// Any link whose own seat the computer plays (a page opened with `computer=LEVEL`: the
+/// page's computer takes the seat the server gives it and plays it through the link, as a
+/// player would).
+pub struct PlayedByComputer<L: GameLink> {
+    inner: L,
+    level: Level,
+    seed: u64,
+    computer: Option<Computer>,
+}
+
+impl<L: GameLink> PlayedByComputer<L> {
+    /// `inner`'s seat, played by the computer at `level`.
+    pub fn new(inner: L, level: Level, seed: u64) -> PlayedByComputer<L> {
+        PlayedByComputer {
+            inner,
+            level,
+            seed,
+            computer: None,
+        }
+    }
+}
+
+impl<L: GameLink> GameLink for PlayedByComputer<L> {
+    fn seat(&self) -> Option<Seat> {
+        self.inner.seat()
+    }
+
+    fn send(&mut self, game: &Game, seat: Seat, command: Command) {
+        self.inner.send(game, seat, command)
+    }
+
+    fn poll(&mut self) -> Option<GameEvent> {
+        self.inner.poll()
+    }
+
+    fn rematch(&mut self) {
+        self.inner.rematch()
+    }
+
+    fn chats(&self) -> bool {
+        self.inner.chats()
+    }
+
+    fn chat(&mut self, text: String) {
+        self.inner.chat(text)
+    }
+
+    fn watching(&self) -> bool {
+        self.inner.watching()
+    }
+
+    fn update(&mut self, shown: &dyn Shown, dt: f64) {
+        self.inner.update(shown, dt);
+        let Some(seat) = self.inner.seat() else {
+            return;
+        };
+        let (level, seed) = (self.level, self.seed);
+        let computer = self
+            .computer
+            .get_or_insert_with(|| Computer::new(seat, level, seed));
+        if computer.seat != seat {
+            *computer = Computer::new(seat, level, seed);
+        }
+        if let (Some(command), Some(game)) = (computer.update(shown, dt), shown.shown_game()) {
+            self.inner.send(game, seat, command);
+        }
+    }
+
+    fn thinking(&self) -> bool {
+        self.computer.as_ref().is_some_and(Computer::thinking)
     }
 }
 

@@ -106,6 +106,8 @@ pub struct InputFrame {
     pub camera: [f32; 3],
     /// Wheel notches this frame (up is positive).
     pub wheel: f32,
+    /// Two fingers on a touch screen this frame, if any: they turn and pinch the 3-D camera.
+    pub fingers: Option<super::Gesture>,
     /// Shift is held (fine aim).
     pub shift: bool,
     /// The left arrow is held.
@@ -395,7 +397,7 @@ impl Controls {
         if input.shift {
             let before = ctx.layout.to_scene(last) - ctx.cue;
             let now = at - ctx.cue;
-            let turned = before.perp_dot(now).atan2(before.dot(now));
+            let turned = libm::atan2(before.perp_dot(now), before.dot(now));
             if turned.is_finite() {
                 self.aim.rotate(FINE_FACTOR * turned);
             }

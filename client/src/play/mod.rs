@@ -17,11 +17,12 @@ mod link;
 mod practice;
 mod replay;
 mod replica;
+mod touch;
 
 pub use aim::{Aim, AimShare};
 pub use chat::{Chat, ChatKey, ChatLine};
 pub use chooser::Chooser;
-pub use computer::ComputerLink;
+pub use computer::{ComputerLink, PlayedByComputer};
 pub use controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
 pub use event::{AwayResult, GameEvent};
 pub use game_flow::{GameFlow, Turn};
@@ -29,5 +30,6 @@ pub use link::{GameLink, LocalLink, Shown};
 pub use practice::{rack_scene, Practice, PracticeError};
 pub use replay::{ReplayOpenError, ReplayViewer};
 pub use replica::{Check, Replica};
+pub use touch::{Gesture, TwoFingers};
 
 pub(crate) use event::game_events;

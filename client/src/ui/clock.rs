@@ -1,11 +1,29 @@
-//! Frame pacing by wall-clock time.
+//! Frame pacing by wall-clock time, and the window's one clock.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+/// Time since the window's clock started. Natively a monotonic [`std::time::Instant`]; in the
+/// browser, where `Instant` does not exist, the page's clock.
+pub fn now() -> Duration {
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        static START: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();
+        START.get_or_init(std::time::Instant::now).elapsed()
+    }
+    #[cfg(target_arch = "wasm32")]
+    {
+        static START: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+        let now = macroquad::miniquad::date::now();
+        Duration::from_secs_f64((now - *START.get_or_init(|| now)).max(0.0))
+    }
+}
 
 pub struct FrameClock {
+    // The page paces its own frames.
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     period: Duration,
-    frame_start: Instant,
-    last: Instant,
+    frame_start: Duration,
+    last: Duration,
     /// How long the last frame slept to keep the pace.
     slept: Duration,
     /// How long the frame before this one worked: its time less its sleep.
@@ -14,7 +32,7 @@ pub struct FrameClock {
 
 impl FrameClock {
     pub fn new(fps: f64) -> FrameClock {
-        let now = Instant::now();
+        let now = now();
         FrameClock {
             period: Duration::from_secs_f64(1.0 / fps),
             frame_start: now,
@@ -26,23 +44,26 @@ impl FrameClock {
 
     /// Seconds since the previous frame began; marks the start of this one.
     pub fn frame_time(&mut self) -> f64 {
-        let now = Instant::now();
-        let dt = now.duration_since(self.last);
+        let now = now();
+        let dt = now.saturating_sub(self.last);
         self.work = dt.saturating_sub(self.slept);
         self.slept = Duration::ZERO;
-        let dt = dt.as_secs_f64();
         self.last = now;
         self.frame_start = now;
-        dt
+        dt.as_secs_f64()
     }
 
-    /// Sleeps out the rest of the frame's period.
+    /// Sleeps out the rest of the frame's period. In the browser the page paces the frames
+    /// (and nothing may sleep there).
     pub fn pace(&mut self) {
-        let spent = self.frame_start.elapsed();
-        if spent < self.period {
-            let start = Instant::now();
-            std::thread::sleep(self.period - spent);
-            self.slept = start.elapsed();
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let spent = now().saturating_sub(self.frame_start);
+            if spent < self.period {
+                let start = now();
+                std::thread::sleep(self.period - spent);
+                self.slept = now().saturating_sub(start);
+            }
         }
     }
 

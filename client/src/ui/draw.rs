@@ -298,7 +298,8 @@ fn stroke(pen: &Pen, radius: f64) {
     if let Some(s) = pen.stroke {
         let mut aim = Aim::default();
         aim.point_along(s.dir);
-        let eased = 1.0 - (1.0 - s.done).powi(2);
+        let left = 1.0 - s.done;
+        let eased = 1.0 - left * left;
         cue_at(pen, s.at, &aim, -FOLLOW_THROUGH * eased, radius);
     }
 }
@@ -544,7 +545,7 @@ impl Surface for TopDown {
     fn cue_at(&self, pen: &Pen, cue: DVec2, aim: &Aim, back: f64, radius: f64) {
         let layout = pen.layout;
         let dir = aim.dir();
-        let slant = aim.elevation_deg.to_radians().cos().max(0.05);
+        let slant = libm::cos(aim.elevation_deg.to_radians()).max(0.05);
         let gap = (radius + back) * slant;
         let tip = cue - dir * gap;
         let butt = tip - dir * (1.3 * slant);

@@ -1,13 +1,15 @@
-//! The only place that reads the mouse and the keyboard: one [`InputFrame`] per frame.
+//! The only place that reads the mouse, the keyboard and the touch screen: one [`InputFrame`]
+//! per frame.
 
 use macroquad::prelude::{
     get_char_pressed, is_key_down, is_key_pressed, is_mouse_button_down, is_mouse_button_pressed,
-    is_mouse_button_released, mouse_position, mouse_wheel, KeyCode, MouseButton,
+    is_mouse_button_released, mouse_position, mouse_wheel, touches, KeyCode, MouseButton,
+    TouchPhase,
 };
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use breakshot_client::play::{InputFrame, Key};
+use breakshot_client::play::{InputFrame, Key, TwoFingers};
 
 const KEYS: [(KeyCode, Key); 28] = [
     (KeyCode::Space, Key::Shoot),
@@ -53,6 +55,8 @@ static SIGNALLED: AtomicBool = AtomicBool::new(false);
 /// (the opponent hears at once that we left) and stops a hosted server cleanly.
 pub fn catch_quit() {
     macroquad::prelude::prevent_quit();
+    // A page has no signals: closing its tab ends everything at once.
+    #[cfg(not(target_arch = "wasm32"))]
     let watcher = std::thread::Builder::new()
         .name("signals".into())
         .spawn(|| {
@@ -83,6 +87,7 @@ pub fn catch_quit() {
             });
         });
     // Without the watcher a signal ends the process as before.
+    #[cfg(not(target_arch = "wasm32"))]
     drop(watcher);
 }
 
@@ -93,13 +98,23 @@ pub fn quit_requested() -> bool {
 
 /// This frame's input; `typing`: a line of text is being typed, and takes the keys.
 pub fn read(dt: f64, typing: bool) -> InputFrame {
+    thread_local! {
+        static FINGERS: std::cell::RefCell<TwoFingers> = Default::default();
+    }
+    let down: Vec<[f32; 2]> = touches()
+        .iter()
+        .filter(|t| !matches!(t.phase, TouchPhase::Ended | TouchPhase::Cancelled))
+        .map(|t| [t.position.x, t.position.y])
+        .collect();
+    let (fingers, two_down) = FINGERS.with_borrow_mut(|f| (f.update(&down), f.active()));
     let (mx, my) = mouse_position();
     let (_, wheel) = mouse_wheel();
     let frame = InputFrame {
         mouse: [mx, my],
-        left_pressed: is_mouse_button_pressed(MouseButton::Left),
-        left_down: is_mouse_button_down(MouseButton::Left),
-        left_released: is_mouse_button_released(MouseButton::Left),
+        // While two fingers look at the table, the first of them does not also aim.
+        left_pressed: is_mouse_button_pressed(MouseButton::Left) && !two_down,
+        left_down: is_mouse_button_down(MouseButton::Left) && !two_down,
+        left_released: is_mouse_button_released(MouseButton::Left) && !two_down,
         right_down: is_mouse_button_down(MouseButton::Right),
         camera: [
             axis(KeyCode::Q, KeyCode::E),
@@ -127,6 +142,7 @@ pub fn read(dt: f64, typing: bool) -> InputFrame {
         typed: std::iter::from_fn(get_char_pressed)
             .filter(|c| !c.is_control())
             .collect(),
+        fingers,
         dt,
     };
     if typing {

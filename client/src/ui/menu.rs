@@ -1,17 +1,16 @@
 //! The menu the window opens on when no command is given.
 
-use breakshot_client::memory::player_name;
-use breakshot_client::net::{hosted_from, HostOptions, NetLink, SeatStore};
-use breakshot_client::play::{GameLink, InputFrame, Key};
+use breakshot_client::play::{InputFrame, Key};
 use breakshot_client::view::{menu_buttons, Rect};
 use breakshot_shared::ai::Level;
-use breakshot_shared::protocol::Invite;
 use breakshot_shared::rules::{EightBallRules, Variant};
 use macroquad::prelude::*;
 
 use super::{draw, Start, Step};
 
 #[derive(Clone, Copy, PartialEq, Eq)]
+// A page offers only what a browser can do: no hosting, files or quitting.
+#[cfg_attr(target_arch = "wasm32", allow(dead_code))]
 enum Item {
     Resume,
     Practice,
@@ -23,6 +22,7 @@ enum Item {
     Quit,
 }
 
+#[cfg(not(target_arch = "wasm32"))]
 const ITEMS: [(Item, &str); 8] = [
     (Item::Resume, "Resume game"),
     (Item::Practice, "Practice"),
@@ -34,58 +34,96 @@ const ITEMS: [(Item, &str); 8] = [
     (Item::Quit, "Quit"),
 ];
 
-/// Hosts an 8-ball game with the defaults of `breakshot host`.
+#[cfg(target_arch = "wasm32")]
+const ITEMS: [(Item, &str); 4] = [
+    (Item::Join, "Join the game of the link"),
+    (Item::Practice, "Practice"),
+    (Item::Computer, "Play the computer"),
+    (Item::Local, "Two players, one device"),
+];
+
+#[cfg(target_arch = "wasm32")]
+use crate::web::join_link as join;
+#[cfg(not(target_arch = "wasm32"))]
+use native::{host_default, join_from_clipboard as join, resume};
+
+#[cfg(target_arch = "wasm32")]
 fn host_default() -> Result<Box<dyn GameLink>, String> {
-    let data = super::data_dir()
-        .ok_or("No user data directory (HOME is not set): run breakshot host --data DIR")?;
-    let name = player_name(&data, None)?;
-    let options = HostOptions {
-        name,
-        ..HostOptions::new(data)
-    };
-    #[cfg(feature = "host")]
-    let hosted = breakshot_client::net::Host::start(&options)
-        .map(|h| Box::new(h) as Box<dyn GameLink>)
-        // With its causes: the error alone says only that the server could not start.
-        .map_err(|e| format!("{:#}", anyhow::Error::new(e)));
-    #[cfg(not(feature = "host"))]
-    let hosted = {
-        let _ = options;
-        Err(breakshot_client::net::HostError::NotBuilt.to_string())
-    };
-    hosted
+    Err("A page cannot host a game: run breakshot host on a computer".into())
 }
 
-/// Goes back to the game whose seat this computer remembered last: hosts again when it was
-/// hosted here, else joins its invite with the remembered seat token.
+#[cfg(target_arch = "wasm32")]
 fn resume() -> Result<Box<dyn GameLink>, String> {
-    let data = super::data_dir().ok_or("No user data directory (HOME is not set)")?;
-    let seats = SeatStore::new(&data);
-    let Some(last) = seats.all().into_iter().next() else {
-        return Err("No game to resume: host or join one first".into());
-    };
-    if hosted_from(&data, &last.invite.fingerprint) {
-        return host_default();
-    }
-    let name = player_name(&data, None)?;
-    let link = NetLink::join(last.invite, &name, Some(seats)).map_err(|e| e.to_string())?;
-    Ok(Box::new(link))
+    join()
 }
 
-/// Joins the game whose invite is on the clipboard.
-fn join_from_clipboard() -> Result<NetLink, String> {
-    const HOW: &str = "copy the invite first, or run: breakshot join INVITE";
-    let text = macroquad::miniquad::window::clipboard_get().unwrap_or_default();
-    let invite: Invite = text
-        .parse()
-        .map_err(|e| format!("The clipboard holds no invite ({e}): {HOW}"))?;
-    let data = super::data_dir();
-    let name = match &data {
-        Some(d) => player_name(d, None)?,
-        None => "player".to_owned(),
-    };
-    let seats = data.map(|d| SeatStore::new(&d));
-    NetLink::join(invite, &name, seats).map_err(|e| e.to_string())
+#[cfg(target_arch = "wasm32")]
+use breakshot_client::play::GameLink;
+
+/// What only the native window offers: hosting, resuming from the remembered seats and
+/// joining from the clipboard.
+#[cfg(not(target_arch = "wasm32"))]
+mod native {
+    use breakshot_client::memory::player_name;
+    use breakshot_client::net::{hosted_from, HostOptions, NetLink, SeatStore};
+    use breakshot_client::play::GameLink;
+    use breakshot_shared::protocol::Invite;
+
+    /// Hosts an 8-ball game with the defaults of `breakshot host`.
+    pub(super) fn host_default() -> Result<Box<dyn GameLink>, String> {
+        let data = crate::ui::data_dir()
+            .ok_or("No user data directory (HOME is not set): run breakshot host --data DIR")?;
+        let name = player_name(&data, None)?;
+        let options = HostOptions {
+            name,
+            ..HostOptions::new(data)
+        };
+        #[cfg(feature = "host")]
+        let hosted = breakshot_client::net::Host::start(&options)
+            .map(|h| Box::new(h) as Box<dyn GameLink>)
+            // With its causes: the error alone says only that the server could not start.
+            .map_err(|e| format!("{:#}", anyhow::Error::new(e)));
+        #[cfg(not(feature = "host"))]
+        let hosted = {
+            let _ = options;
+            Err(breakshot_client::net::HostError::NotBuilt.to_string())
+        };
+        hosted
+    }
+
+    /// Goes back to the game whose seat this computer remembered last: hosts again when it was
+    /// hosted here, else joins its invite with the remembered seat token.
+    pub(super) fn resume() -> Result<Box<dyn GameLink>, String> {
+        let data = crate::ui::data_dir().ok_or("No user data directory (HOME is not set)")?;
+        let seats = SeatStore::new(&data);
+        let Some(last) = seats.all().into_iter().next() else {
+            return Err("No game to resume: host or join one first".into());
+        };
+        if hosted_from(&data, &last.invite.fingerprint) {
+            return host_default();
+        }
+        let name = player_name(&data, None)?;
+        let link = NetLink::join(last.invite, &name, Some(seats)).map_err(|e| e.to_string())?;
+        Ok(Box::new(link))
+    }
+
+    /// Joins the game whose invite is on the clipboard.
+    pub(super) fn join_from_clipboard() -> Result<Box<dyn GameLink>, String> {
+        const HOW: &str = "copy the invite first, or run: breakshot join INVITE";
+        let text = macroquad::miniquad::window::clipboard_get().unwrap_or_default();
+        let invite: Invite = text
+            .parse()
+            .map_err(|e| format!("The clipboard holds no invite ({e}): {HOW}"))?;
+        let data = crate::ui::data_dir();
+        let name = match &data {
+            Some(d) => player_name(d, None)?,
+            None => "player".to_owned(),
+        };
+        let seats = data.map(|d| SeatStore::new(&d));
+        NetLink::join(invite, &name, seats)
+            .map(|link| Box::new(link) as Box<dyn GameLink>)
+            .map_err(|e| e.to_string())
+    }
 }
 
 pub struct MenuScreen {
@@ -108,9 +146,15 @@ impl MenuScreen {
     }
 
     fn buttons() -> Vec<(Item, &'static str, Rect)> {
-        let rects = menu_buttons(screen_width(), screen_height(), ITEMS.len());
-        ITEMS
-            .iter()
+        // A page without a game in its link has nothing to join.
+        #[cfg(target_arch = "wasm32")]
+        let offered = |item: &&(Item, &str)| item.0 != Item::Join || crate::web::link_has_room();
+        #[cfg(not(target_arch = "wasm32"))]
+        let offered = |_: &&(Item, &str)| true;
+        let items: Vec<&(Item, &str)> = ITEMS.iter().filter(offered).collect();
+        let rects = menu_buttons(screen_width(), screen_height(), items.len());
+        items
+            .into_iter()
             .zip(rects)
             .map(|(&(item, name), r)| (item, name, r))
             .collect()
@@ -150,8 +194,8 @@ impl MenuScreen {
                 Ok(host) => return Step::Open(Start::Network(host)),
                 Err(e) => self.message = e,
             },
-            Item::Join => match join_from_clipboard() {
-                Ok(link) => return Step::Open(Start::Network(Box::new(link))),
+            Item::Join => match join() {
+                Ok(link) => return Step::Open(Start::Network(link)),
                 Err(e) => self.message = e,
             },
             Item::Replay => {

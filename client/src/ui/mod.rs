@@ -1,7 +1,7 @@
 //! The window: screens that read input, update and draw, once per frame.
 
 mod capture;
-mod clock;
+pub mod clock;
 mod draw;
 mod game;
 mod hud;
@@ -38,6 +38,8 @@ const FPS: f64 = 60.0;
 pub enum Start {
     Menu,
     Practice(Option<Box<Scene>>),
+    // A page has no replay to open yet (docs/web.md says what it lacks).
+    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     Replay(Box<ReplayViewer>),
     /// Two players at this computer.
     Local(Variant),
@@ -67,23 +69,24 @@ pub struct Options {
 static DATA_DIR: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
 
 /// Makes the menu use `dir` as its data directory (what `--data` gives).
+#[cfg(not(target_arch = "wasm32"))]
 pub fn use_data_dir(dir: std::path::PathBuf) {
     let _ = DATA_DIR.set(dir);
 }
 
 /// The data directory for the menu: `--data`, else the default one.
 pub fn data_dir() -> Option<std::path::PathBuf> {
-    DATA_DIR
-        .get()
-        .cloned()
-        .or_else(breakshot_client::net::default_data_dir)
+    let dir = DATA_DIR.get().cloned();
+    // A page has no files: nothing is remembered between visits.
+    #[cfg(not(target_arch = "wasm32"))]
+    let dir = dir.or_else(breakshot_client::net::default_data_dir);
+    dir
 }
 
 /// A seed for a new rack from the clock: every rack is different.
 pub fn fresh_seed() -> u64 {
-    std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_nanos() as u64)
+    // Seconds since 1970 from the system (or the page), in nanoseconds' worth of bits.
+    (macroquad::miniquad::date::now() * 1e9) as u64
 }
 
 /// What a screen asks for after a frame.
@@ -221,7 +224,7 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
     let mut screen = open(start, seed)?;
     let mut clock = clock::FrameClock::new(FPS);
     let mut frames = 0u32;
-    let started = std::time::Instant::now();
+    let started = clock::now();
     let mut speaker = speaker::Speaker::new().await;
     // Each frame's work (not its pacing), for the figure a screenshot run prints.
     let mut work = Vec::new();
@@ -254,7 +257,8 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
         if let Some(path) = &options.screenshot {
             // A screenshot of a network game shows the server's first answer, if it comes
             // within SCREENSHOT_PATIENCE.
-            let answered = !screen.awaiting_server() || started.elapsed() > SCREENSHOT_PATIENCE;
+            let answered = !screen.awaiting_server()
+                || clock::now().saturating_sub(started) > SCREENSHOT_PATIENCE;
             if frames >= options.frames && answered {
                 // Read the frame back now: after next_frame() the buffer is gone.
                 capture::save_screen(path)?;

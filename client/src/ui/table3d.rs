@@ -117,7 +117,7 @@ impl Meshes {
         let ring: Vec<DVec3> = (0..32)
             .map(|k| {
                 let a = k as f64 / 32.0 * std::f64::consts::TAU;
-                centre + DVec3::new(r * a.cos(), r * a.sin(), 0.0)
+                centre + DVec3::new(r * libm::cos(a), r * libm::sin(a), 0.0)
             })
             .collect();
         self.polygon(&ring, c, alpha);
@@ -216,7 +216,7 @@ pub fn table(camera: &Camera, layout: &Layout, kind: TableKind) {
             let c = t.to_scene(jaw.center);
             let ring = |k: usize| {
                 let a = k as f64 / 16.0 * std::f64::consts::TAU;
-                c + jaw.radius * DVec2::new(a.cos(), a.sin())
+                c + jaw.radius * DVec2::new(libm::cos(a), libm::sin(a))
             };
             for k in 0..16 {
                 let (p, q) = (ring(k), ring(k + 1));
@@ -262,10 +262,14 @@ fn sphere_mesh(m: &mut Meshes, id: &str, centre: DVec3, r: f64, turn: DQuat, eye
         let polar = i as f64 / STACKS as f64 * std::f64::consts::PI;
         for j in 0..=SLICES {
             let a = j as f64 / SLICES as f64 * std::f64::consts::TAU;
-            let n = DVec3::new(polar.sin() * a.cos(), polar.sin() * a.sin(), polar.cos());
+            let n = DVec3::new(
+                libm::sin(polar) * libm::cos(a),
+                libm::sin(polar) * libm::sin(a),
+                libm::cos(polar),
+            );
             let p = centre + r * n;
             let half = (light + (eye - p).normalize_or_zero()).normalize_or_zero();
-            let glint = n.dot(half).max(0.0).powi(48) * 0.7;
+            let glint = libm::pow(n.dot(half).max(0.0), 48.0) * 0.7;
             let c = sphere::surface(&look, back * n);
             let k = AMBIENT + (1.0 - AMBIENT) * n.dot(light).max(0.0);
             let s = |x: u8| (x as f64 * k + 255.0 * glint).round().clamp(0.0, 255.0) as u8;
@@ -386,7 +390,7 @@ pub fn trail(camera: &Camera, points: &[TrailPoint]) {
 fn circle(centre: DVec3, r: f64, c: Color) {
     let at = |k: usize| {
         let a = k as f64 / 40.0 * std::f64::consts::TAU;
-        centre + DVec3::new(r * a.cos(), r * a.sin(), 0.0)
+        centre + DVec3::new(r * libm::cos(a), r * libm::sin(a), 0.0)
     };
     for k in 0..40 {
         line_on_cloth(at(k), at(k + 1), c);
@@ -437,7 +441,8 @@ pub fn segment(camera: &Camera, a: DVec2, b: DVec2, c: Color) {
 /// The cue stick behind the cue ball along the aim, raised by its elevation, its tip `back`
 /// metres behind the spot it strikes (negative: through it).
 pub fn cue_stick(camera: &Camera, cue: DVec2, aim: &Aim, back: f64, radius: f64) {
-    let (s, c) = aim.elevation_deg.to_radians().sin_cos();
+    let elevation = aim.elevation_deg.to_radians();
+    let (s, c) = (libm::sin(elevation), libm::cos(elevation));
     let d = aim.dir();
     // The way the cue moves: along the aim and down by its elevation.
     let along = DVec3::new(d.x * c, d.y * c, -s);
@@ -464,7 +469,7 @@ fn rod(m: &mut Meshes, a: DVec3, b: DVec3, ra: f64, rb: f64, c: Rgb) {
     let base = m.room(2 * SIDES, 6 * SIDES);
     for k in 0..SIDES {
         let ang = k as f64 / SIDES as f64 * std::f64::consts::TAU;
-        let n = u * ang.cos() + w * ang.sin();
+        let n = u * libm::cos(ang) + w * libm::sin(ang);
         let colour = shade(c, lit(n), 255);
         m.vertex(a + n * ra, colour);
         m.vertex(b + n * rb, colour);

@@ -90,17 +90,22 @@ impl TableView {
         let [turn, rise, near] = input.camera.map(f64::from);
         self.orbit
             .turn(turn * TURN_RATE * dt, rise * RISE_RATE * dt);
-        self.orbit.zoom(ZOOM_RATE.powf(-near * dt));
+        self.orbit.zoom(libm::pow(ZOOM_RATE, -near * dt));
         if let (true, Some(last)) = (input.right_down, self.last_mouse) {
             let (dx, dy) = (input.mouse[0] - last[0], input.mouse[1] - last[1]);
             self.orbit
                 .turn(-DRAG_TURN * dx as f64, DRAG_TURN * dy as f64);
         }
+        if let Some(g) = input.fingers {
+            self.orbit
+                .turn(-DRAG_TURN * g.moved[0] as f64, DRAG_TURN * g.moved[1] as f64);
+            self.orbit.zoom(f64::from(-g.spread).exp());
+        }
         self.last_mouse = Some(input.mouse);
         self.followed = match self.followed {
             None => Some((cue, aim)),
             Some((c, a)) if aiming => {
-                let k = 1.0 - (-dt / FOLLOW_TIME).exp();
+                let k = 1.0 - libm::exp(-dt / FOLLOW_TIME);
                 let a = a.lerp(aim, k);
                 Some((c.lerp(cue, k), if a.length() > 1e-6 { a } else { aim }))
             }

@@ -109,7 +109,7 @@ impl Camera {
     /// How many pixels a length of `metres` at `p`, square to the view, is drawn as.
     pub fn pixels_at(&self, p: DVec3, metres: f64) -> f32 {
         let depth = (self.view_proj * p.extend(1.0)).w.max(NEAR);
-        let f = 0.5 * self.screen[1] as f64 / (0.5 * FOV_Y).tan();
+        let f = 0.5 * self.screen[1] as f64 / libm::tan(0.5 * FOV_Y);
         (f * metres / depth) as f32
     }
 
@@ -144,7 +144,7 @@ impl Camera {
 /// pixel the look-at point is drawn at.
 fn top_down_frame(layout: &Layout) -> (DVec2, f64, [f32; 2]) {
     let centre = layout.frame.min + 0.5 * layout.frame.size;
-    let f = 0.5 * layout.screen[1] as f64 / (0.5 * FOV_Y).tan();
+    let f = 0.5 * layout.screen[1] as f64 / libm::tan(0.5 * FOV_Y);
     (centre, f / layout.scale, layout.to_screen(centre))
 }
 
@@ -222,7 +222,7 @@ impl Orbit {
         } else {
             DVec2::Y
         };
-        let low_heading = aim.y.atan2(aim.x) + self.around;
+        let low_heading = libm::atan2(aim.y, aim.x) + self.around;
         // The top-down view looks along −x (up the screen).
         let top_heading = std::f64::consts::PI;
         let heading = low_heading + s * wrap(top_heading - low_heading);
@@ -232,8 +232,8 @@ impl Orbit {
             low_centre[0] + s as f32 * (top_centre[0] - low_centre[0]),
             low_centre[1] + s as f32 * (top_centre[1] - low_centre[1]),
         ];
-        let ahead = DVec3::new(heading.cos(), heading.sin(), 0.0);
-        let (sp, cp) = self.pitch.sin_cos();
+        let ahead = DVec3::new(libm::cos(heading), libm::sin(heading), 0.0);
+        let (sp, cp) = (libm::sin(self.pitch), libm::cos(self.pitch));
         let eye = target + distance * (DVec3::Z * sp - ahead * cp);
         let up = ahead * sp + DVec3::Z * cp;
         Camera::look(eye, target, up, FOV_Y, layout.screen, centre)

@@ -366,7 +366,7 @@ impl Layout {
         let [bx, by] = self.elevation_ball;
         let back = (bx - px[0]) as f64;
         let up = (by - px[1]) as f64;
-        let degrees = up.atan2(back).to_degrees();
+        let degrees = libm::atan2(up, back).to_degrees();
         if degrees < -90.0 {
             // Below and in front: nearer to straight down than to level.
             90.0
@@ -379,7 +379,7 @@ impl Layout {
     /// butt at the view's edge (pixels).
     pub fn elevation_cue(&self, elevation_deg: f64) -> ([f32; 2], [f32; 2]) {
         let rad = elevation_deg.to_radians();
-        let back = [-(rad.cos() as f32), -(rad.sin() as f32)];
+        let back = [-(libm::cos(rad) as f32), -(libm::sin(rad) as f32)];
         let [bx, by] = self.elevation_ball;
         let r = self.elevation_ball_radius;
         let along = |d: f32| [bx + back[0] * d, by + back[1] * d];

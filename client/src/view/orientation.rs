@@ -194,7 +194,7 @@ mod tests {
             let t = 0.05;
             turns.turn(o, 0.0, t);
             let up = turns.get(0) * DVec3::X;
-            let about_z = up.y.atan2(up.x);
+            let about_z = libm::atan2(up.y, up.x);
             let mut want = 0.0;
             let n = 1000;
             for k in 0..n {

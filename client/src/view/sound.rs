@@ -138,9 +138,9 @@ pub fn synthesise(sound: Sound) -> Vec<i16> {
         let attack = (t / 0.001).min(1.0);
         let mut x = 0.0;
         for &(f, a, d) in partials {
-            x += a * (TAU * f * t).sin() * (-d * t).exp();
+            x += a * libm::sin(TAU * f * t) * libm::exp(-d * t);
         }
-        x += grit * noise.next() * (-grit_decay * t).exp();
+        x += grit * noise.next() * libm::exp(-grit_decay * t);
         out.push(
             (attack * x)
                 .clamp(-1.0, 1.0)

@@ -115,10 +115,10 @@ pub fn fan(look: &BallLook, turn: DQuat, axes: ScreenAxes) -> Fan {
     let mut points = vec![point(0.0, 0.0)];
     for ring in 1..=RINGS {
         // Rings closer together at the rim, where the sphere turns away fastest.
-        let s = (ring as f64 / RINGS as f64 * std::f64::consts::FRAC_PI_2).sin();
+        let s = libm::sin(ring as f64 / RINGS as f64 * std::f64::consts::FRAC_PI_2);
         for k in 0..SECTORS {
             let a = k as f64 / SECTORS as f64 * std::f64::consts::TAU;
-            points.push(point(s * a.cos(), s * a.sin()));
+            points.push(point(s * libm::cos(a), s * libm::sin(a)));
         }
     }
     let idx = |ring: usize, k: usize| (1 + (ring - 1) * SECTORS + k % SECTORS) as u16;

@@ -62,7 +62,7 @@ impl Trail {
             .take_while(|(t, _)| *t <= now)
             .map(|&(t, pos)| TrailPoint {
                 pos,
-                strength: FAINTEST + (1.0 - FAINTEST) * (-(now - t) / FADE_TIME).exp() as f32,
+                strength: FAINTEST + (1.0 - FAINTEST) * libm::exp(-(now - t) / FADE_TIME) as f32,
             })
             .collect()
     }

@@ -143,8 +143,8 @@ fn singles() -> Vec<Case> {
 pub fn aim(cue: DVec2, object: DVec2, offset: f64) -> DVec2 {
     let d = object - cue;
     let dist = d.length();
-    let turn = (offset / dist).asin();
-    let (s, c) = turn.sin_cos();
+    let turn = libm::asin(offset / dist);
+    let (s, c) = (libm::sin(turn), libm::cos(turn));
     DVec2::new(d.x * c - d.y * s, d.x * s + d.y * c) / dist
 }
 
