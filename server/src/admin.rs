@@ -144,7 +144,7 @@ pub fn metrics(stats: &Stats) -> String {
     counter(
         &mut out,
         "breakshot_web_requests_total",
-        "HTTP requests answered on the web listener (--web).",
+        "HTTP request heads read on the web listener (--web).",
         get(&stats.web_requests),
     );
     counter(

@@ -41,7 +41,8 @@ pub struct Stats {
     pub rooms_over: AtomicUsize,
     /// Rooms refused because the server is draining.
     pub refused_draining: AtomicUsize,
-    /// HTTP requests answered on the web listener (files, errors and WebSocket upgrades).
+    /// Whole HTTP request heads read on the web listener (for files, errors and WebSocket
+    /// upgrades alike; a malformed or oversized head is not counted).
     pub web_requests: AtomicUsize,
     /// WebSockets whose Noise handshake succeeded, so that became game connections.
     pub web_sockets: AtomicUsize,

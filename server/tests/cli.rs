@@ -290,3 +290,59 @@ fn the_admin_address_serves_metrics_and_sigterm_drains_an_idle_server_to_a_stop(
         "the log says the drain ended: {log:?}"
     );
 }
+
+#[test]
+fn help_lists_the_web_flag() {
+    let out = server(&[OsStr::new("--help")]);
+    assert!(out.status.success());
+    let help = String::from_utf8_lossy(&out.stdout);
+    assert!(help.contains("--web <DIR>"), "{help}");
+}
+
+#[test]
+fn with_web_the_server_prints_its_web_link_after_the_invite() {
+    use breakshot_shared::protocol::WebLink;
+    let dir = breakshot_testkit::scratch("cli-web");
+    let web = dir.path().join("web");
+    std::fs::create_dir_all(&web).unwrap();
+    let mut serving = Spawned::start(
+        Command::new(BIN)
+            .args(["--bind", "127.0.0.1:0", "--host", "pool.example.org"])
+            .arg("--web")
+            .arg(&web)
+            .arg("--data")
+            .arg(dir.path().join("data"))
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null()),
+    );
+    let stdout = serving.child().stdout.take().expect("piped");
+    let (line, rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
+    let invite: Invite = line.trim().parse().unwrap();
+    let (line, _rest) = breakshot_testkit::read_line(rest, Duration::from_secs(60));
+    let link: WebLink = line.trim().parse().unwrap();
+    let port = invite.first().port;
+    assert_eq!(
+        link.page.as_deref(),
+        Some(format!("http://pool.example.org:{port}/").as_str())
+    );
+    assert!(link.room.is_none() && link.cert.is_empty());
+    serving.interrupt();
+    assert!(serving.wait(Duration::from_secs(60)).success());
+    // The key is the one kept in the data directory: the same after a restart.
+    let mut again = Spawned::start(
+        Command::new(BIN)
+            .args(["--bind", "127.0.0.1:0", "--web"])
+            .arg(&web)
+            .arg("--data")
+            .arg(dir.path().join("data"))
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null()),
+    );
+    let stdout = again.child().stdout.take().expect("piped");
+    let (_, rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
+    let (line, _rest) = breakshot_testkit::read_line(rest, Duration::from_secs(60));
+    let second: WebLink = line.trim().parse().unwrap();
+    assert_eq!(second.key, link.key);
+    again.interrupt();
+    assert!(again.wait(Duration::from_secs(60)).success());
+}

@@ -28,6 +28,7 @@ pub const SEED: u64 = 2026;
 
 pub use breakshot_testkit::scratch;
 
+pub mod bundle;
 pub mod postgres;
 pub mod web;
 
@@ -66,6 +67,10 @@ pub struct TestServer {
     pub invite: Invite,
     pub addr: SocketAddr,
     pub restored: usize,
+    /// The Noise public key of its WebSocket ([`Server::web_key`]).
+    pub web_key: [u8; 32],
+    /// Its web listener's TCP address, when `Config::web_dir` was set.
+    pub web_addr: Option<SocketAddr>,
     /// The running server's live counters.
     pub stats: Arc<Stats>,
     /// The page's link to the server, when it serves the web client (`Config::web_dir`).
@@ -111,6 +116,8 @@ impl TestServer {
         let invite = server.invite();
         let addr = server.local_addr();
         let restored = server.restored();
+        let web_key = server.web_key();
+        let web_addr = server.web_addr();
         let stats = server.stats();
         let web_link = server.web_link(None);
         let (stop, stopped) = oneshot::channel::<()>();
@@ -121,6 +128,8 @@ impl TestServer {
             invite,
             addr,
             restored,
+            web_key,
+            web_addr,
             stats,
             web_link,
             stop: Some(stop),

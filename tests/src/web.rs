@@ -1,86 +1,237 @@
-//! What the browser tests share: whether this machine can build the web client, and the
-//! bundle itself, built once per test binary with `web/build.sh` (in its own target folder,
-//! so the build never waits for the lock of the cargo that runs the tests).
+//! A browser's way in, from Rust: a WebSocket to `/ws` with the page's side of the Noise
+//! handshake (docs/web.md), and raw HTTP requests for the web listener's tests.
 
-use std::ffi::OsString;
-use std::path::{Path, PathBuf};
-use std::process::Command;
-use std::sync::OnceLock;
+use std::net::SocketAddr;
 use std::time::Duration;
 
-use breakshot_testkit::run;
+use anyhow::{anyhow, bail, Context, Result};
+use breakshot_shared::protocol::web::{
+    MAX_NOISE_MESSAGE, MAX_NOISE_PAYLOAD, NOISE_PATTERN, NOISE_PROLOGUE, WS_PATH,
+};
+use breakshot_shared::protocol::{
+    decode_payload, encode_frame, reference_hash, split_frame, ClientMessage, ServerMessage,
+    PROTOCOL_VERSION,
+};
+use futures_util::{SinkExt, StreamExt};
+use snow::{HandshakeState, TransportState};
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio::net::TcpStream;
+use tokio_tungstenite::tungstenite::Message;
+use tokio_tungstenite::WebSocketStream;
 
-/// The browser's target.
-pub const WASM_TARGET: &str = "wasm32-unknown-unknown";
-/// A release build of the web client from nothing, on a slow machine.
-const BUILD_LIMIT: Duration = Duration::from_secs(20 * 60);
+use crate::PATIENCE;
 
-/// The workspace's root folder.
-pub fn workspace() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .expect("the tests crate sits in the workspace")
-        .to_path_buf()
+/// A WebSocket to a server's `/ws`, upgraded but with no Noise message sent yet.
+pub type Socket = WebSocketStream<TcpStream>;
+
+/// Opens a WebSocket to `addr`'s `/ws`.
+pub async fn open(addr: SocketAddr) -> Result<Socket> {
+    let tcp = TcpStream::connect(addr).await?;
+    let url = format!("ws://{addr}{WS_PATH}");
+    let (ws, _) = tokio::time::timeout(PATIENCE, tokio_tungstenite::client_async(url, tcp))
+        .await
+        .map_err(|_| anyhow!("no WebSocket upgrade"))??;
+    Ok(ws)
 }
 
-/// Whether the compiler has the standard library for wasm32 (rustup's
-/// `rustup target add wasm32-unknown-unknown`).
-pub fn has_wasm_target() -> bool {
-    let rustc = std::env::var_os("RUSTC").unwrap_or_else(|| OsString::from("rustc"));
-    let out = run(
-        Command::new(rustc)
-            .args(["--print", "target-libdir", "--target", WASM_TARGET])
-            .current_dir(workspace()),
-        None,
-        Duration::from_secs(60),
-    );
-    let dir = String::from_utf8_lossy(&out.stdout).trim().to_string();
-    out.status.success()
-        && std::fs::read_dir(&dir).is_ok_and(|mut files| {
-            files.any(|f| f.is_ok_and(|f| f.file_name().to_string_lossy().starts_with("libstd-")))
-        })
+/// The page's side of the handshake, ready to write message 1, for the server key `key`.
+pub fn initiator(key: &[u8; 32]) -> Result<HandshakeState> {
+    Ok(snow::Builder::new(NOISE_PATTERN.parse()?)
+        .remote_public_key(key)?
+        .prologue(NOISE_PROLOGUE)?
+        .build_initiator()?)
 }
 
-/// Skips the test `test` with `why`, or fails it when CI requires the web tests
-/// (`BREAKSHOT_REQUIRE_WEB=1`).
-pub fn skip_web(test: &str, why: &str) {
-    let why = format!("SKIPPED {test}: {why}");
-    if std::env::var("BREAKSHOT_REQUIRE_WEB").is_ok_and(|v| v == "1") {
-        panic!("{why} (BREAKSHOT_REQUIRE_WEB=1)");
+/// The next message the server sends, or `None` once it closed the socket (a close frame,
+/// the end of the stream or an error); an error only if nothing comes within [`PATIENCE`].
+pub async fn next(ws: &mut Socket) -> Result<Option<Message>> {
+    loop {
+        let got = tokio::time::timeout(PATIENCE, ws.next())
+            .await
+            .map_err(|_| anyhow!("the server neither sent nor closed"))?;
+        match got {
+            Some(Ok(Message::Ping(_) | Message::Pong(_))) => continue,
+            Some(Ok(Message::Close(_))) | None | Some(Err(_)) => return Ok(None),
+            Some(Ok(m)) => return Ok(Some(m)),
+        }
     }
-    eprintln!("{why}");
 }
 
-/// The web bundle (`index.html`, the loader, `breakshot.wasm`), built by `web/build.sh`
-/// into `target/web-bundle`; `Err` says why it could not be.
-pub fn bundle() -> Result<&'static Path, String> {
-    static BUILT: OnceLock<Result<PathBuf, String>> = OnceLock::new();
-    BUILT
-        .get_or_init(|| {
-            if !has_wasm_target() {
-                return Err(format!(
-                    "the {WASM_TARGET} target is not installed (rustup target add {WASM_TARGET})"
-                ));
-            }
-            let root = workspace();
-            let out = root.join("target/web-bundle");
-            let built = run(
-                Command::new("bash")
-                    .arg(root.join("web/build.sh"))
-                    .arg(&out)
-                    .env("CARGO_TARGET_DIR", root.join("target/web-client"))
-                    .current_dir(&root),
-                None,
-                BUILD_LIMIT,
-            );
-            if !built.status.success() {
-                return Err(format!(
-                    "web/build.sh failed:\n{}",
-                    String::from_utf8_lossy(&built.stderr)
-                ));
-            }
-            Ok(out)
+/// A game connection over a WebSocket, past its Noise handshake.
+pub struct WebPlayer {
+    /// The socket.
+    pub ws: Socket,
+    noise: TransportState,
+    buf: Vec<u8>,
+}
+
+impl WebPlayer {
+    /// Connects and runs the Noise handshake with server key `key`.
+    pub async fn connect(addr: SocketAddr, key: &[u8; 32]) -> Result<WebPlayer> {
+        let mut ws = open(addr).await?;
+        let mut hs = initiator(key)?;
+        let mut out = vec![0u8; MAX_NOISE_MESSAGE];
+        let len = hs.write_message(&[], &mut out)?;
+        ws.send(Message::binary(out[..len].to_vec())).await?;
+        let Some(Message::Binary(reply)) = next(&mut ws).await? else {
+            bail!("no Noise message 2");
+        };
+        let mut payload = vec![0u8; MAX_NOISE_MESSAGE];
+        let n = hs.read_message(&reply, &mut payload)?;
+        if n != 0 {
+            bail!("Noise message 2 carries {n} bytes");
+        }
+        Ok(WebPlayer {
+            ws,
+            noise: hs.into_transport_mode()?,
+            buf: Vec::new(),
         })
-        .as_deref()
-        .map_err(Clone::clone)
+    }
+
+    /// Connects and says hello; the server's `Welcome` has been read.
+    pub async fn hello(addr: SocketAddr, key: &[u8; 32]) -> Result<WebPlayer> {
+        let mut p = WebPlayer::connect(addr, key).await?;
+        p.send(&ClientMessage::Hello {
+            protocol: PROTOCOL_VERSION,
+            physics: reference_hash()?,
+        })
+        .await?;
+        match p.recv().await? {
+            ServerMessage::Welcome { .. } => Ok(p),
+            other => bail!("expected Welcome, got {other:?}"),
+        }
+    }
+
+    /// Encrypts `bytes` (any piece of the stream, at most one Noise payload) as one message.
+    pub async fn send_bytes(&mut self, bytes: &[u8]) -> Result<()> {
+        let mut out = vec![0u8; MAX_NOISE_MESSAGE];
+        for piece in bytes.chunks(MAX_NOISE_PAYLOAD) {
+            let len = self.noise.write_message(piece, &mut out)?;
+            self.ws.send(Message::binary(out[..len].to_vec())).await?;
+        }
+        Ok(())
+    }
+
+    /// Sends one message as a frame, split over two Noise messages when it has more than one
+    /// byte (the server must not care where the pieces break).
+    pub async fn send(&mut self, msg: &ClientMessage) -> Result<()> {
+        let frame = encode_frame(msg)?;
+        let (a, b) = frame.split_at(frame.len() / 2);
+        self.send_bytes(a).await?;
+        self.send_bytes(b).await
+    }
+
+    /// The next message, within [`PATIENCE`].
+    pub async fn recv(&mut self) -> Result<ServerMessage> {
+        loop {
+            if let Some((payload, used)) = split_frame(&self.buf)? {
+                let msg = decode_payload(payload)?;
+                self.buf.drain(..used);
+                return Ok(msg);
+            }
+            let Some(msg) = next(&mut self.ws).await? else {
+                bail!("the server closed the WebSocket");
+            };
+            let Message::Binary(cipher) = msg else {
+                bail!("a message that is not binary: {msg:?}");
+            };
+            let mut plain = vec![0u8; MAX_NOISE_MESSAGE];
+            let n = self
+                .noise
+                .read_message(&cipher, &mut plain)
+                .context("decrypting")?;
+            self.buf.extend_from_slice(&plain[..n]);
+        }
+    }
+
+    /// Reads messages until one matches `want`.
+    pub async fn until(
+        &mut self,
+        what: &str,
+        want: impl Fn(&ServerMessage) -> bool,
+    ) -> Result<ServerMessage> {
+        loop {
+            let msg = self
+                .recv()
+                .await
+                .with_context(|| format!("waiting for {what}"))?;
+            if want(&msg) {
+                return Ok(msg);
+            }
+        }
+    }
+}
+
+/// An HTTP response as read back: the status code, the head's lines, the body.
+#[derive(Debug)]
+pub struct Response {
+    /// The status code.
+    pub status: u16,
+    /// Header names (lowercase) and values.
+    pub headers: Vec<(String, String)>,
+    /// Everything after the head.
+    pub body: Vec<u8>,
+}
+
+impl Response {
+    /// The value of header `name` (lowercase).
+    pub fn header(&self, name: &str) -> Option<&str> {
+        self.headers
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_str())
+    }
+}
+
+/// Sends `request` as it is and reads the whole response until the server closes.
+pub async fn request(addr: SocketAddr, request: &[u8]) -> Result<Response> {
+    let mut tcp = TcpStream::connect(addr).await?;
+    tcp.write_all(request).await?;
+    read_response(&mut tcp).await
+}
+
+/// Reads a response until the server closes, within [`PATIENCE`].
+pub async fn read_response(tcp: &mut TcpStream) -> Result<Response> {
+    let mut all = Vec::new();
+    tokio::time::timeout(PATIENCE, tcp.read_to_end(&mut all))
+        .await
+        .map_err(|_| anyhow!("the server never finished its answer"))??;
+    let end = all
+        .windows(4)
+        .position(|w| w == b"\r\n\r\n")
+        .ok_or_else(|| anyhow!("no response head in {:?}", String::from_utf8_lossy(&all)))?;
+    let head = std::str::from_utf8(&all[..end])?;
+    let mut lines = head.split("\r\n");
+    let status = lines
+        .next()
+        .and_then(|l| l.split(' ').nth(1))
+        .and_then(|c| c.parse().ok())
+        .ok_or_else(|| anyhow!("no status in {head:?}"))?;
+    let headers = lines
+        .filter_map(|l| l.split_once(':'))
+        .map(|(n, v)| (n.trim().to_ascii_lowercase(), v.trim().to_string()))
+        .collect();
+    Ok(Response {
+        status,
+        headers,
+        body: all[end + 4..].to_vec(),
+    })
+}
+
+/// `GET target` with a Host header.
+pub async fn get(addr: SocketAddr, target: &str) -> Result<Response> {
+    request(
+        addr,
+        format!("GET {target} HTTP/1.1\r\nHost: {addr}\r\n\r\n").as_bytes(),
+    )
+    .await
+}
+
+/// Whether the server closed `tcp` (without an answer) within `limit`.
+pub async fn closed_within(tcp: &mut TcpStream, limit: Duration) -> bool {
+    let mut buf = [0u8; 256];
+    matches!(
+        tokio::time::timeout(limit, tcp.read(&mut buf)).await,
+        Ok(Ok(0) | Err(_))
+    )
 }

@@ -18,7 +18,7 @@ use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::WebTransportChoice;
 use breakshot_shared::replay::GameRecord;
 use breakshot_testkit::browser::{browser_or_skip, LaunchOptions, Viewport};
-use breakshot_tests::web::{bundle, skip_web};
+use breakshot_tests::bundle::{bundle, skip_web};
 use breakshot_tests::{scratch, TestServer};
 
 /// A whole game: the page's computer thinks a few simulations a frame.

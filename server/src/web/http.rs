@@ -7,7 +7,7 @@ use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
 pub const MAX_HEAD: usize = 8 * 1024;
 
 /// The most header lines a request head may have.
-const MAX_HEADERS: usize = 32;
+pub const MAX_HEADERS: usize = 32;
 
 /// What the server needs of a request head.
 #[derive(Debug, PartialEq, Eq)]

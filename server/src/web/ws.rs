@@ -1,7 +1,7 @@
 //! The browser's fallback way in: a WebSocket (`GET /ws`) whose binary messages are Noise
 //! messages (`Noise_NK_25519_ChaChaPoly_BLAKE2s`, docs/web.md). After the handshake a pump
 //! task decrypts what the page sends into one end of an in-memory pipe and encrypts what
-//! comes out of it; the other end is the byte stream [`conn::serve`] runs, so the hub treats
+//! comes out of it; the other end is the byte stream [`crate::conn::serve`] runs, so the hub treats
 //! the page exactly like a native connection.
 
 use std::net::IpAddr;
