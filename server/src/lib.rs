@@ -23,6 +23,7 @@ pub mod store;
 pub mod timing;
 pub mod tls;
 pub mod verify;
+pub mod webcert;
 pub mod work;
 
 pub use limits::Limits;

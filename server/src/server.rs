@@ -47,6 +47,7 @@ use crate::source::source_key;
 use crate::stats::Stats;
 use crate::store::{Claim, EndedGame, Location, Store, StoreError, StoredGame};
 use crate::tls::{Identity, TlsError};
+use crate::webcert::{ClockRef, WebCerts};
 
 /// How to start a server; [`Config::new`] gives the defaults that the binary's flags change.
 #[derive(Clone, Debug)]
@@ -73,6 +74,9 @@ pub struct Config {
     /// the server stops anyway (their games stay in the store, for this server's next start
     /// or, on a shared PostgreSQL store, for another instance to take over at once).
     pub drain_timeout: Duration,
+    /// The wall clock the browsers' short certificates are made and replaced by
+    /// ([`crate::webcert`]): the system's in service, a hand-moved one in tests.
+    pub clock: ClockRef,
 }
 
 /// The default [`Config::drain_timeout`]: long enough for most games to end.
@@ -101,6 +105,7 @@ impl Config {
             room_threads: pool::default_threads(),
             before_room_work: None,
             drain_timeout: DEFAULT_DRAIN_TIMEOUT,
+            clock: ClockRef::default(),
         }
     }
 }
@@ -147,6 +152,7 @@ pub enum ServerError {
 pub struct Server {
     endpoint: quinn::Endpoint,
     fingerprint: Fingerprint,
+    web_certs: WebCerts,
     hub: Hub,
     store: Store,
     restored: usize,
@@ -175,6 +181,7 @@ impl Server {
             source,
         })?;
         let identity = Identity::load_or_create(&config.data)?;
+        let web_certs = WebCerts::load_or_create(&config.data, config.clock.clone())?;
         let physics = reference_hash().map_err(|e| ServerError::Physics(e.to_string()))?;
         let mut hub = Hub::new(
             HubConfig {
@@ -202,16 +209,15 @@ impl Server {
             ServerError::StorageFailed("the thread opening the store panicked".into())
         })??;
         let reset_key = crate::tls::reset_key(&config.data)?;
-        let endpoint =
-            endpoint(identity.server_config()?, reset_key, config.bind).map_err(|source| {
-                ServerError::Bind {
-                    addr: config.bind,
-                    source,
-                }
+        let endpoint = endpoint(identity.server_config(&web_certs)?, reset_key, config.bind)
+            .map_err(|source| ServerError::Bind {
+                addr: config.bind,
+                source,
             })?;
         Ok(Server {
             endpoint,
             fingerprint: identity.fingerprint(),
+            web_certs,
             hub,
             store,
             restored,
@@ -241,6 +247,19 @@ impl Server {
         self.fingerprint
     }
 
+    /// SHA-256 of the short certificates a browser may be shown over WebTransport, newest
+    /// first: what a page passes as `serverCertificateHashes` (see [`crate::webcert`]).
+    pub fn web_cert_hashes(&self) -> Vec<Fingerprint> {
+        self.web_certs.hashes()
+    }
+
+    /// The short certificates themselves, shared with the running server: their hashes stay
+    /// current through every replacement (for whoever publishes them), and a test can
+    /// [`WebCerts::refresh`] them after moving its clock.
+    pub fn web_certs(&self) -> WebCerts {
+        self.web_certs.clone()
+    }
+
     /// Games brought back from the store at start.
     pub fn restored(&self) -> usize {
         self.restored
@@ -268,6 +287,7 @@ impl Server {
             before_room_work,
             drain_timeout,
             stats,
+            web_certs,
             ..
         } = self;
         let (hub_tx, hub_rx) = mpsc::channel::<HubEvent>();
@@ -299,6 +319,7 @@ impl Server {
         tokio::pin!(shutdown);
         let mut drain_check = tokio::time::interval(DRAIN_CHECK);
         let mut drain_started: Option<Instant> = None;
+        let mut web_cert_check = tokio::time::interval(WEB_CERT_CHECK);
         let outcome = loop {
             tokio::select! {
                 _ = &mut shutdown => break Ok(()),
@@ -323,6 +344,13 @@ impl Server {
                     if started.elapsed() >= drain_timeout {
                         tracing::warn!(playing = Stats::get(&stats.rooms_playing), "drain time is up; stopping with games in play (they stay stored)");
                         break Ok(());
+                    }
+                }
+                _ = web_cert_check.tick() => {
+                    // Rare and small (a new key and certificate every eleven days): done in
+                    // place rather than on a thread.
+                    if let Err(e) = web_certs.refresh() {
+                        tracing::error!(error = %e, "cannot keep the new certificate for browsers");
                     }
                 }
                 incoming = endpoint.accept() => {
@@ -594,6 +622,9 @@ struct Workers {
     pool: Pool,
     hook: Option<RoomHook>,
 }
+
+/// How often the server looks whether the browsers' certificate is due for replacement.
+const WEB_CERT_CHECK: Duration = Duration::from_secs(60);
 
 /// How often a draining server looks whether its games have ended.
 const DRAIN_CHECK: Duration = Duration::from_millis(250);
