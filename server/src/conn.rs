@@ -3,6 +3,7 @@
 //! message reaches the hub: the frame size, the time a frame may take, the message rate
 //! (so no connection can fill the hub's queue) and the outgoing queue's length.
 
+use std::future::Future;
 use std::net::IpAddr;
 use std::sync::atomic::Ordering;
 use std::sync::mpsc::{SendError, Sender};
@@ -13,6 +14,7 @@ use breakshot_shared::protocol::{
     decode_payload, encode_frame, payload_len, ClientMessage, RoomCode, SeatToken, ServerMessage,
     HEADER_LEN,
 };
+use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
 use tokio::sync::mpsc::{channel, Receiver};
 use tokio::sync::Notify;
 
@@ -21,7 +23,6 @@ use crate::limits::Limits;
 use crate::output::ConnId;
 use crate::ratelimit::Bucket;
 use crate::stats::Stats;
-use crate::tls::IDLE_TIMEOUT;
 use crate::work::Returned;
 
 /// What the writer thread hands a connection.
@@ -112,34 +113,53 @@ pub const CLOSE_PROTOCOL: u32 = 1;
 /// How long queued bytes get to reach the peer before a close.
 const FLUSH_TIMEOUT: Duration = Duration::from_secs(2);
 
-/// Runs one connection to its end. The hub has been told `Connected(id)` once the stream is
-/// open, and is told `Disconnected(id)` at the end.
-pub async fn serve(
+/// What [`serve`] needs from a transport beyond its two byte streams: QUIC
+/// ([`crate::quic::QuicLink`]), a Noise-encrypted WebSocket, WebTransport, or any other way
+/// in. Everything else (frames, limits, rate, queue, the hub) is the same for all of them.
+pub trait Transport: Send + Sync {
+    /// The stream [`serve`] writes frames to.
+    type Send: AsyncWrite + Unpin + Send;
+
+    /// The peer's address, for the per-address limits (an IPv4-mapped address as IPv4).
+    fn remote_ip(&self) -> IpAddr;
+
+    /// Ends the connection at once with `code` ([`CLOSE_NORMAL`] or [`CLOSE_PROTOCOL`]) and a
+    /// short reason for the peer. May be called more than once; only the first counts.
+    fn close(&self, code: u32, reason: &str);
+
+    /// When the peer of a connection that ended at `now` was last heard from: `now` for any
+    /// end seen as it happens, earlier for a peer that fell silent and timed out.
+    fn last_heard(&self, now: Instant) -> Instant;
+
+    /// Ends the sending side (no more bytes follow) and resolves once the peer has received
+    /// what was written, or gave up on it. [`serve`] bounds the wait, so this may wait for
+    /// ever on a peer that never answers.
+    fn finish<'a>(&'a self, send: &'a mut Self::Send) -> impl Future<Output = ()> + Send + 'a;
+}
+
+/// Runs one connection to its end over `recv` (the peer's bytes) and `send` (bytes for the
+/// peer), with `link` for what is specific to its transport. Tells the hub `Connected(id)`
+/// first and `Disconnected(id)` at the end; the caller has already registered `outbound`'s
+/// other end with the writer thread ([`outlet`]).
+#[allow(clippy::too_many_arguments)] // each is one thing the connection lives on
+pub async fn serve<T: Transport>(
     id: ConnId,
-    conn: quinn::Connection,
+    link: &T,
+    mut recv: impl AsyncRead + Unpin + Send,
+    mut send: T::Send,
     hub: HubSender,
     mut outbound: Receiver<Outbound>,
     kill: Arc<Notify>,
     limits: &Limits,
 ) {
-    let Ok(Ok((mut send, mut recv))) =
-        tokio::time::timeout(limits.open_timeout, conn.accept_bi()).await
-    else {
-        conn.close(CLOSE_PROTOCOL.into(), b"no stream opened");
-        return;
-    };
     if hub
-        .send(HubEvent::Connected(
-            id,
-            conn.remote_address().ip().to_canonical(),
-        ))
+        .send(HubEvent::Connected(id, link.remote_ip().to_canonical()))
         .is_err()
     {
         return;
     }
     let reader = {
         let hub = hub.clone();
-        let conn = conn.clone();
         let frame_timeout = limits.frame_timeout;
         let per_second = limits.messages_per_second.max(1);
         async move {
@@ -167,7 +187,7 @@ pub async fn serve(
                     Err(ReadEnd::Malformed(why)) => why,
                 };
                 tracing::info!(conn = id, %why, "closing connection");
-                conn.close(CLOSE_PROTOCOL.into(), why.as_bytes());
+                link.close(CLOSE_PROTOCOL, &why);
                 break;
             }
         }
@@ -188,9 +208,8 @@ pub async fn serve(
                     }
                 }
                 Outbound::Close(reason) => {
-                    let _ = send.finish();
-                    let _ = tokio::time::timeout(FLUSH_TIMEOUT, send.stopped()).await;
-                    conn.close(CLOSE_NORMAL.into(), reason.as_bytes());
+                    let _ = tokio::time::timeout(FLUSH_TIMEOUT, link.finish(&mut send)).await;
+                    link.close(CLOSE_NORMAL, &reason);
                     break;
                 }
             }
@@ -202,22 +221,12 @@ pub async fn serve(
         _ = reader => {}
         _ = writer => {}
         _ = kill.notified() => {
-            conn.close(CLOSE_PROTOCOL.into(), b"not reading: outgoing queue full");
+            link.close(CLOSE_PROTOCOL, "not reading: outgoing queue full");
         }
     }
-    let last_heard = last_heard(&conn, Instant::now());
-    conn.close(CLOSE_NORMAL.into(), b"bye");
+    let last_heard = link.last_heard(Instant::now());
+    link.close(CLOSE_NORMAL, "bye");
     let _ = hub.send(HubEvent::Disconnected(id, last_heard));
-}
-
-/// When the peer of a connection that ended at `now` was last heard from: a connection that
-/// timed out had heard nothing for the idle timeout (its peer's keep-alives stopped then);
-/// any other end is seen as it happens.
-fn last_heard(conn: &quinn::Connection, now: Instant) -> Instant {
-    match conn.close_reason() {
-        Some(quinn::ConnectionError::TimedOut) => now.checked_sub(IDLE_TIMEOUT).unwrap_or(now),
-        _ => now,
-    }
 }
 
 enum ReadEnd {
@@ -228,7 +237,7 @@ enum ReadEnd {
 /// Reads one message. Waiting for a frame to start is unlimited (a player may think), but
 /// once its first byte has arrived the rest must follow within `frame_timeout`.
 async fn read_message(
-    recv: &mut quinn::RecvStream,
+    recv: &mut (impl AsyncRead + Unpin),
     frame_timeout: Duration,
 ) -> Result<ClientMessage, ReadEnd> {
     let mut header = [0u8; HEADER_LEN];

@@ -12,6 +12,7 @@ pub mod hub;
 pub mod limits;
 pub mod output;
 pub mod pool;
+pub mod quic;
 pub mod ratelimit;
 pub mod records;
 pub mod room;

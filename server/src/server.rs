@@ -374,7 +374,7 @@ impl Server {
                         match handshake {
                             Ok(Ok(connection)) => {
                                 tracing::debug!(conn = id, peer = %connection.remote_address(), "connected");
-                                conn::serve(id, connection, hub_tx, rx, kill, &limits).await;
+                                crate::quic::serve(id, connection, hub_tx, rx, kill, &limits).await;
                             }
                             Ok(Err(e)) => tracing::debug!(conn = id, error = %e, "handshake failed"),
                             Err(_) => tracing::debug!(conn = id, "handshake took too long"),
