@@ -374,7 +374,12 @@ impl Server {
                         match handshake {
                             Ok(Ok(connection)) => {
                                 tracing::debug!(conn = id, peer = %connection.remote_address(), "connected");
-                                crate::quic::serve(id, connection, hub_tx, rx, kill, &limits).await;
+                                // One connection either way: the same gate, limits and hub.
+                                if crate::web::is_web(&connection) {
+                                    crate::web::serve(id, connection, hub_tx, rx, kill, &limits).await;
+                                } else {
+                                    crate::quic::serve(id, connection, hub_tx, rx, kill, &limits).await;
+                                }
                             }
                             Ok(Err(e)) => tracing::debug!(conn = id, error = %e, "handshake failed"),
                             Err(_) => tracing::debug!(conn = id, "handshake took too long"),

@@ -127,7 +127,8 @@ impl Identity {
             quinn::IdleTimeout::try_from(IDLE_TIMEOUT)
                 .map_err(|e| TlsError::Quic(e.to_string()))?,
         ));
-        // One stream per client, opened by the client.
+        // One stream per client, opened by the client. An `h3` connection is granted the few
+        // more HTTP/3 needs once its handshake has shown it is one (crate::web).
         transport.max_concurrent_bidi_streams(1u32.into());
         transport.max_concurrent_uni_streams(0u32.into());
         config.transport_config(Arc::new(transport));

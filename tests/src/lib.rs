@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 use anyhow::{anyhow, bail, Result};
 use breakshot_client::net::{Client, ClientEvent, Reconnect, Session, SessionEvent};
 use breakshot_client::play::{GameEvent, GameFlow, GameLink, Replica};
+use breakshot_server::webcert::WebCerts;
 use breakshot_server::{Config, Server, ServerError, Stats};
 use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, Role, RoomCode, ServerMessage};
@@ -65,6 +66,8 @@ pub struct TestServer {
     pub restored: usize,
     /// The running server's live counters.
     pub stats: Arc<Stats>,
+    /// The running server's certificates for browsers (WebTransport).
+    pub web_certs: WebCerts,
     stop: Option<oneshot::Sender<()>>,
     task: JoinHandle<Result<(), ServerError>>,
 }
@@ -107,6 +110,7 @@ impl TestServer {
         let addr = server.local_addr();
         let restored = server.restored();
         let stats = server.stats();
+        let web_certs = server.web_certs();
         let (stop, stopped) = oneshot::channel::<()>();
         let task = tokio::spawn(server.run(async {
             let _ = stopped.await;
@@ -116,6 +120,7 @@ impl TestServer {
             addr,
             restored,
             stats,
+            web_certs,
             stop: Some(stop),
             task,
         })

@@ -1,0 +1,179 @@
+//! WebTransport, the browser's way onto the QUIC endpoint. A connection that negotiated `h3`
+//! goes through HTTP/3's SETTINGS and one CONNECT request (to [`WEB_PATH`] only), then
+//! hands the one bidirectional stream the page opens to [`crate::conn::serve`], which treats
+//! it exactly as a native client's stream: same frames, limits and hub. No datagrams, no
+//! other streams.
+
+use std::net::IpAddr;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use breakshot_shared::protocol::{WEB_ALPN, WEB_PATH};
+use thiserror::Error;
+use tokio::sync::mpsc::Receiver;
+use tokio::sync::Notify;
+use web_transport_quinn::http::StatusCode;
+use web_transport_quinn::{RecvStream, Request, SendStream, Session};
+
+use crate::conn::{self, HubSender, Outbound, Transport, CLOSE_PROTOCOL};
+use crate::limits::Limits;
+use crate::output::ConnId;
+use crate::tls::IDLE_TIMEOUT;
+
+/// Unidirectional streams an `h3` client may open: its HTTP/3 control stream and the two
+/// QPACK streams. A native connection gets none.
+const H3_UNI_STREAMS: u32 = 3;
+/// Bidirectional streams an `h3` client may have open: the CONNECT request's and the game's.
+/// A native connection gets one.
+const H3_BIDI_STREAMS: u32 = 2;
+
+/// How long a refused page gets to read its refusal before the connection is closed.
+const REFUSAL_GRACE: Duration = Duration::from_secs(2);
+
+/// A WebTransport session ready to play: the session (which closes with the connection) and
+/// the stream the page opened.
+pub struct WebStream {
+    /// The session; closing it tells the page why.
+    pub session: Session,
+    /// Bytes for the page.
+    pub send: SendStream,
+    /// The page's bytes.
+    pub recv: RecvStream,
+}
+
+/// Why an `h3` connection did not become a game stream.
+#[derive(Debug, Error)]
+pub enum Refused {
+    /// The HTTP/3 exchange before the CONNECT failed or was malformed.
+    #[error("WebTransport handshake: {0}")]
+    Handshake(String),
+    /// The CONNECT asked for another path (answered 404).
+    #[error("no WebTransport endpoint at {0:?}")]
+    Path(String),
+    /// The session opened no bidirectional stream.
+    #[error("no stream opened")]
+    NoStream,
+    /// The CONNECT and the stream did not both come within the open timeout.
+    #[error("no stream opened in time")]
+    TimedOut,
+}
+
+/// Takes a connection that negotiated `h3` as far as the page's stream, within
+/// `open_timeout` (the time a native client has to open its stream). A refused connection
+/// is closed before this returns.
+pub async fn accept(conn: quinn::Connection, open_timeout: Duration) -> Result<WebStream, Refused> {
+    // The transport's initial limits are a native client's (no unidirectional stream, one
+    // bidirectional); HTTP/3 needs a few more, granted now that the ALPN is known.
+    conn.set_max_concurrent_uni_streams(H3_UNI_STREAMS.into());
+    conn.set_max_concurrent_bi_streams(H3_BIDI_STREAMS.into());
+    let setup = async {
+        let request = Request::accept(conn.clone())
+            .await
+            .map_err(|e| Refused::Handshake(e.to_string()))?;
+        let path = request.url.path();
+        if path != WEB_PATH {
+            // Shown in the log and the close reason: a hostile path is cut short.
+            let path = path.chars().take(64).collect();
+            if request.reject(StatusCode::NOT_FOUND).await.is_ok() {
+                // The answer is on its way; closing now would drop it. The page closes
+                // when it has read it.
+                let _ = tokio::time::timeout(REFUSAL_GRACE, conn.closed()).await;
+            }
+            return Err(Refused::Path(path));
+        }
+        let session = request
+            .ok()
+            .await
+            .map_err(|e| Refused::Handshake(e.to_string()))?;
+        let (send, recv) = session.accept_bi().await.map_err(|_| Refused::NoStream)?;
+        Ok(WebStream {
+            session,
+            send,
+            recv,
+        })
+    };
+    let refused = match tokio::time::timeout(open_timeout, setup).await {
+        Ok(Ok(stream)) => return Ok(stream),
+        Ok(Err(refused)) => refused,
+        Err(_) => Refused::TimedOut,
+    };
+    conn.close(CLOSE_PROTOCOL.into(), refused.to_string().as_bytes());
+    Err(refused)
+}
+
+/// Whether a connection's handshake settled on WebTransport's ALPN.
+pub fn is_web(conn: &quinn::Connection) -> bool {
+    conn.handshake_data()
+        .and_then(|data| data.downcast::<quinn::crypto::rustls::HandshakeData>().ok())
+        .and_then(|data| data.protocol)
+        .is_some_and(|alpn| alpn == WEB_ALPN)
+}
+
+/// A WebTransport session as a [`Transport`].
+pub struct WebLink {
+    session: Session,
+    conn: quinn::Connection,
+}
+
+impl Transport for WebLink {
+    type Send = SendStream;
+
+    fn remote_ip(&self) -> IpAddr {
+        self.conn.remote_address().ip()
+    }
+
+    /// Closes the session (the page's `WebTransport.closed` gets the code and reason), then
+    /// the connection; only the first close counts.
+    fn close(&self, code: u32, reason: &str) {
+        self.session.close(code, reason.as_bytes());
+    }
+
+    /// As for a native connection: a session that timed out had heard nothing for the idle
+    /// timeout.
+    fn last_heard(&self, now: Instant) -> Instant {
+        match self.conn.close_reason() {
+            Some(quinn::ConnectionError::TimedOut) => now.checked_sub(IDLE_TIMEOUT).unwrap_or(now),
+            _ => now,
+        }
+    }
+
+    /// Finishes the stream and waits for the page to acknowledge all of it (or stop it).
+    async fn finish(&self, send: &mut SendStream) {
+        let _ = send.finish();
+        let _ = send.stopped().await;
+    }
+}
+
+/// Runs one `h3` connection to its end: the WebTransport session and the page's stream
+/// ([`accept`]), then the same [`conn::serve`] as a native connection.
+pub async fn serve(
+    id: ConnId,
+    connection: quinn::Connection,
+    hub: HubSender,
+    outbound: Receiver<Outbound>,
+    kill: Arc<Notify>,
+    limits: &Limits,
+) {
+    let stream = match accept(connection.clone(), limits.open_timeout).await {
+        Ok(stream) => stream,
+        Err(why) => {
+            tracing::debug!(conn = id, %why, "WebTransport refused");
+            return;
+        }
+    };
+    let link = WebLink {
+        session: stream.session,
+        conn: connection,
+    };
+    conn::serve(
+        id,
+        &link,
+        stream.recv,
+        stream.send,
+        hub,
+        outbound,
+        kill,
+        limits,
+    )
+    .await;
+}
