@@ -66,7 +66,8 @@ pub async fn accept(conn: quinn::Connection, open_timeout: Duration) -> Result<W
     // bidirectional); HTTP/3 needs a few more, granted now that the ALPN is known.
     conn.set_max_concurrent_uni_streams(H3_UNI_STREAMS.into());
     conn.set_max_concurrent_bi_streams(H3_BIDI_STREAMS.into());
-    let setup = async {
+    let deadline = tokio::time::Instant::now() + open_timeout;
+    let connect = async {
         let request = Request::accept(conn.clone())
             .await
             .map_err(|e| Refused::Handshake(e.to_string()))?;
@@ -81,24 +82,35 @@ pub async fn accept(conn: quinn::Connection, open_timeout: Duration) -> Result<W
             }
             return Err(Refused::Path(path));
         }
-        let session = request
+        request
             .ok()
             .await
-            .map_err(|e| Refused::Handshake(e.to_string()))?;
-        let (send, recv) = session.accept_bi().await.map_err(|_| Refused::NoStream)?;
-        Ok(WebStream {
-            session,
-            send,
-            recv,
-        })
+            .map_err(|e| Refused::Handshake(e.to_string()))
     };
-    let refused = match tokio::time::timeout(open_timeout, setup).await {
-        Ok(Ok(stream)) => return Ok(stream),
-        Ok(Err(refused)) => refused,
+    let session = match tokio::time::timeout_at(deadline, connect).await {
+        Ok(Ok(session)) => session,
+        Ok(Err(refused)) => return Err(close(&conn, refused)),
+        Err(_) => return Err(close(&conn, Refused::TimedOut)),
+    };
+    // From here on the page has a session: it is told why it ends in the session's close.
+    let refused = match tokio::time::timeout_at(deadline, session.accept_bi()).await {
+        Ok(Ok((send, recv))) => {
+            return Ok(WebStream {
+                session,
+                send,
+                recv,
+            })
+        }
+        Ok(Err(_)) => Refused::NoStream,
         Err(_) => Refused::TimedOut,
     };
-    conn.close(CLOSE_PROTOCOL.into(), refused.to_string().as_bytes());
+    session.close(CLOSE_PROTOCOL, refused.to_string().as_bytes());
     Err(refused)
+}
+
+fn close(conn: &quinn::Connection, refused: Refused) -> Refused {
+    conn.close(CLOSE_PROTOCOL.into(), refused.to_string().as_bytes());
+    refused
 }
 
 /// Whether a connection's handshake settled on WebTransport's ALPN.

@@ -294,3 +294,41 @@ async fn a_restart_keeps_the_hashes_a_link_carries() -> Result<()> {
     drop(Page::open(&server, &hashes).await?);
     server.stop().await
 }
+
+#[tokio::test]
+async fn a_session_that_opens_no_stream_is_closed_after_the_open_timeout() -> Result<()> {
+    let data = scratch("web");
+    let mut config = TestServer::config(([127, 0, 0, 1], 0).into(), data.path());
+    config.limits.open_timeout = Duration::from_millis(300);
+    let server = TestServer::start_with(config).await?;
+    let idle = session(&server, WEB_PATH, &server.web_certs.hashes()).await?;
+    let closed = tokio::time::timeout(PATIENCE, idle.closed())
+        .await
+        .map_err(|_| anyhow!("a session without a stream is still open"))?;
+    assert!(closed.to_string().contains("no stream"), "{closed}");
+    server.stop().await
+}
+
+#[tokio::test]
+async fn a_session_counts_against_the_connection_limit_like_a_native_connection() -> Result<()> {
+    let data = scratch("web");
+    let mut config = TestServer::config(([127, 0, 0, 1], 0).into(), data.path());
+    config.limits.max_connections = 1;
+    let server = TestServer::start_with(config).await?;
+    let native = Player::connect(&server.invite).await?;
+    assert!(
+        session(&server, WEB_PATH, &server.web_certs.hashes())
+            .await
+            .is_err(),
+        "a session beyond the limit"
+    );
+    assert_eq!(
+        server
+            .stats
+            .refused
+            .load(std::sync::atomic::Ordering::Relaxed),
+        1
+    );
+    drop(native);
+    server.stop().await
+}
