@@ -9,6 +9,8 @@ pub mod limits;
 pub mod messages;
 pub mod reference;
 pub mod validate;
+pub mod web;
+pub mod web_link;
 
 pub use framing::{decode_payload, encode_frame, payload_len, split_frame, FrameError, HEADER_LEN};
 pub use ids::{Fingerprint, RoomCode, SeatToken};
@@ -18,6 +20,7 @@ pub use messages::{
 };
 pub use reference::{reference_hash, reference_shot, reference_shots, Mechanism, ReferenceShot};
 pub use validate::{is_valid_name, validate, InvalidMessage};
+pub use web_link::{WebLink, WebLinkError, WebTransportChoice};
 
 /// Bumped whenever a message changes shape or meaning. A client with another version is
 /// refused in the handshake with a reason. Version 2: a strike carries its cue elevation
