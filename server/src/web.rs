@@ -1,5 +1,5 @@
 //! WebTransport, the browser's way onto the QUIC endpoint. A connection that negotiated `h3`
-//! goes through HTTP/3's SETTINGS and one CONNECT request (to [`WEB_PATH`] only), then
+//! goes through HTTP/3's SETTINGS and one CONNECT request (to [`WEBTRANSPORT_PATH`] only), then
 //! hands the one bidirectional stream the page opens to [`crate::conn::serve`], which treats
 //! it exactly as a native client's stream: same frames, limits and hub. No datagrams, no
 //! other streams.
@@ -8,7 +8,8 @@ use std::net::IpAddr;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use breakshot_shared::protocol::{WEB_ALPN, WEB_PATH};
+use breakshot_shared::protocol::web::WEBTRANSPORT_PATH;
+use breakshot_shared::protocol::WEB_ALPN;
 use thiserror::Error;
 use tokio::sync::mpsc::Receiver;
 use tokio::sync::Notify;
@@ -72,7 +73,7 @@ pub async fn accept(conn: quinn::Connection, open_timeout: Duration) -> Result<W
             .await
             .map_err(|e| Refused::Handshake(e.to_string()))?;
         let path = request.url.path();
-        if path != WEB_PATH {
+        if path != WEBTRANSPORT_PATH {
             // Shown in the log and the close reason: a hostile path is cut short.
             let path = path.chars().take(64).collect();
             if request.reject(StatusCode::NOT_FOUND).await.is_ok() {

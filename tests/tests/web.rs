@@ -7,9 +7,10 @@ use std::time::{Duration, SystemTime};
 
 use anyhow::{anyhow, bail, Context, Result};
 use breakshot_server::webcert::{ClockRef, ManualClock};
+use breakshot_shared::protocol::web::WEBTRANSPORT_PATH;
 use breakshot_shared::protocol::{
     decode_payload, encode_frame, payload_len, reference_hash, AimAid, ClientMessage, Fingerprint,
-    Invite, ServerMessage, HEADER_LEN, PROTOCOL_VERSION, WEB_PATH,
+    Invite, ServerMessage, HEADER_LEN, PROTOCOL_VERSION,
 };
 use breakshot_shared::rules::Settings;
 use breakshot_tests::{create_room, eight_ball, scratch, Player, TestServer, PATIENCE};
@@ -47,7 +48,7 @@ async fn session(server: &TestServer, path: &str, hashes: &[Fingerprint]) -> Res
 
 impl Page {
     async fn open(server: &TestServer, hashes: &[Fingerprint]) -> Result<Page> {
-        let session = session(server, WEB_PATH, hashes).await?;
+        let session = session(server, WEBTRANSPORT_PATH, hashes).await?;
         let (send, recv) = session.open_bi().await?;
         let mut page = Page {
             session,
@@ -231,7 +232,7 @@ async fn a_page_with_a_wrong_hash_is_not_connected() -> Result<()> {
     let server = TestServer::start(data.path()).await?;
     // The long-lived certificate's hash is not the one h3 is shown; nor is a made-up one.
     for wrong in [server.invite.fingerprint, Fingerprint([7; 32])] {
-        let e = match session(&server, WEB_PATH, &[wrong]).await {
+        let e = match session(&server, WEBTRANSPORT_PATH, &[wrong]).await {
             Err(e) => e,
             Ok(_) => bail!("connected with a wrong hash"),
         };
@@ -270,7 +271,7 @@ async fn a_rotation_serves_a_new_certificate_lists_the_old_and_leaves_native_pin
     // longer connects, one with the list does.
     let page = Page::open(&server, &new).await?;
     assert_eq!(sha256(&shown(&page.session)?), new[0]);
-    assert!(session(&server, WEB_PATH, &old).await.is_err());
+    assert!(session(&server, WEBTRANSPORT_PATH, &old).await.is_err());
     drop(page);
     drop(native_sees_the_long_lived_certificate(&server.invite).await?);
 
@@ -301,7 +302,7 @@ async fn a_session_that_opens_no_stream_is_closed_after_the_open_timeout() -> Re
     let mut config = TestServer::config(([127, 0, 0, 1], 0).into(), data.path());
     config.limits.open_timeout = Duration::from_millis(300);
     let server = TestServer::start_with(config).await?;
-    let idle = session(&server, WEB_PATH, &server.web_certs.hashes()).await?;
+    let idle = session(&server, WEBTRANSPORT_PATH, &server.web_certs.hashes()).await?;
     let closed = tokio::time::timeout(PATIENCE, idle.closed())
         .await
         .map_err(|_| anyhow!("a session without a stream is still open"))?;
@@ -317,7 +318,7 @@ async fn a_session_counts_against_the_connection_limit_like_a_native_connection(
     let server = TestServer::start_with(config).await?;
     let native = Player::connect(&server.invite).await?;
     assert!(
-        session(&server, WEB_PATH, &server.web_certs.hashes())
+        session(&server, WEBTRANSPORT_PATH, &server.web_certs.hashes())
             .await
             .is_err(),
         "a session beyond the limit"

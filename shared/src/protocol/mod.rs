@@ -33,9 +33,6 @@ pub const ALPN: &[u8] = b"breakshot/1";
 
 /// The ALPN of WebTransport (HTTP/3), the browser's way onto the same UDP port. A
 /// connection that negotiates it is shown the server's short-lived certificate, one that
-/// negotiates [`ALPN`] the long-lived one its invites pin (docs/web.md).
+/// negotiates [`ALPN`] the long-lived one its invites pin (docs/web.md). Its CONNECT goes
+/// to [`web::WEBTRANSPORT_PATH`].
 pub const WEB_ALPN: &[u8] = b"h3";
-
-/// The path of the WebTransport CONNECT: a page connects to `https://HOST:PORT/breakshot`
-/// (with `serverCertificateHashes`); the server refuses any other path with 404.
-pub const WEB_PATH: &str = "/breakshot";
