@@ -378,6 +378,7 @@ impl Server {
                                 if crate::web::is_web(&connection) {
                                     crate::web::serve(id, connection, hub_tx, rx, kill, &limits).await;
                                 } else {
+                                    crate::tls::native_streams(&connection);
                                     crate::quic::serve(id, connection, hub_tx, rx, kill, &limits).await;
                                 }
                             }

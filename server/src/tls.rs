@@ -127,13 +127,33 @@ impl Identity {
             quinn::IdleTimeout::try_from(IDLE_TIMEOUT)
                 .map_err(|e| TlsError::Quic(e.to_string()))?,
         ));
-        // One stream per client, opened by the client. An `h3` connection is granted the few
-        // more HTTP/3 needs once its handshake has shown it is one (crate::web).
-        transport.max_concurrent_bidi_streams(1u32.into());
-        transport.max_concurrent_uni_streams(0u32.into());
+        // What HTTP/3 needs (Chromium refuses a connection that offers fewer unidirectional
+        // streams), since the ALPN is not known when these are sent; a native connection is
+        // held to its one stream once it is ([`native_streams`]). Whatever a client leaves
+        // unread on streams nobody accepts is bounded by the connection's receive window.
+        transport.max_concurrent_bidi_streams(H3_BIDI_STREAMS.into());
+        transport.max_concurrent_uni_streams(H3_UNI_STREAMS.into());
+        transport.receive_window(CONNECTION_WINDOW.into());
         config.transport_config(Arc::new(transport));
         Ok(config)
     }
+}
+
+/// Bidirectional streams a client may have open: an `h3` client's CONNECT request and game
+/// stream; a native client uses one.
+const H3_BIDI_STREAMS: u32 = 2;
+/// Unidirectional streams a client may open: an `h3` client's HTTP/3 control stream and its
+/// two QPACK streams; a native client uses none.
+const H3_UNI_STREAMS: u32 = 3;
+/// The most bytes a client may have sent that the server has not read, over all its streams:
+/// sixteen whole frames, far more than a game has in flight.
+const CONNECTION_WINDOW: u32 = 16 * limits::MAX_FRAME as u32;
+
+/// Grants a native connection (its ALPN now known) no stream beyond the one it opens: the
+/// room HTTP/3 would have needed is never renewed.
+pub fn native_streams(conn: &quinn::Connection) {
+    conn.set_max_concurrent_bi_streams(1u32.into());
+    conn.set_max_concurrent_uni_streams(0u32.into());
 }
 
 /// The ALPNs the server offers, in its order of preference (rustls picks the first of these

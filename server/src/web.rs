@@ -21,13 +21,6 @@ use crate::limits::Limits;
 use crate::output::ConnId;
 use crate::tls::IDLE_TIMEOUT;
 
-/// Unidirectional streams an `h3` client may open: its HTTP/3 control stream and the two
-/// QPACK streams. A native connection gets none.
-const H3_UNI_STREAMS: u32 = 3;
-/// Bidirectional streams an `h3` client may have open: the CONNECT request's and the game's.
-/// A native connection gets one.
-const H3_BIDI_STREAMS: u32 = 2;
-
 /// How long a refused page gets to read its refusal before the connection is closed.
 const REFUSAL_GRACE: Duration = Duration::from_secs(2);
 
@@ -63,10 +56,6 @@ pub enum Refused {
 /// `open_timeout` (the time a native client has to open its stream). A refused connection
 /// is closed before this returns.
 pub async fn accept(conn: quinn::Connection, open_timeout: Duration) -> Result<WebStream, Refused> {
-    // The transport's initial limits are a native client's (no unidirectional stream, one
-    // bidirectional); HTTP/3 needs a few more, granted now that the ALPN is known.
-    conn.set_max_concurrent_uni_streams(H3_UNI_STREAMS.into());
-    conn.set_max_concurrent_bi_streams(H3_BIDI_STREAMS.into());
     let deadline = tokio::time::Instant::now() + open_timeout;
     let connect = async {
         let request = Request::accept(conn.clone())

@@ -333,3 +333,22 @@ async fn a_session_counts_against_the_connection_limit_like_a_native_connection(
     drop(native);
     server.stop().await
 }
+
+/// Chromium closes a connection whose handshake offers fewer than three unidirectional
+/// streams ("new unidirectional limit 0 decreases the current limit: 3"), and the offer is
+/// made before the ALPN is known: every connection is offered them from the start, a native
+/// one too (which is then given no more).
+#[tokio::test]
+async fn the_handshake_offers_the_streams_http3_needs() -> Result<()> {
+    let data = scratch("web");
+    let server = TestServer::start(data.path()).await?;
+    let native = Player::connect(&server.invite).await?;
+    let conn = native.client.quic().context("not connected")?;
+    for n in 0..3 {
+        tokio::time::timeout(Duration::from_secs(5), conn.open_uni())
+            .await
+            .map_err(|_| anyhow!("stream {n}: no credit from the handshake"))??;
+    }
+    drop(native);
+    server.stop().await
+}
