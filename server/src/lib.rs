@@ -24,7 +24,7 @@ pub mod store;
 pub mod timing;
 pub mod tls;
 pub mod verify;
-pub mod web;
+pub mod webtransport;
 pub mod webcert;
 pub mod work;
 

@@ -375,8 +375,8 @@ impl Server {
                             Ok(Ok(connection)) => {
                                 tracing::debug!(conn = id, peer = %connection.remote_address(), "connected");
                                 // One connection either way: the same gate, limits and hub.
-                                if crate::web::is_web(&connection) {
-                                    crate::web::serve(id, connection, hub_tx, rx, kill, &limits).await;
+                                if crate::webtransport::is_web(&connection) {
+                                    crate::webtransport::serve(id, connection, hub_tx, rx, kill, &limits).await;
                                 } else {
                                     crate::tls::native_streams(&connection);
                                     crate::quic::serve(id, connection, hub_tx, rx, kill, &limits).await;
