@@ -141,6 +141,24 @@ pub fn metrics(stats: &Stats) -> String {
         "Connection attempts asked to prove their address first.",
         get(&stats.retried),
     );
+    counter(
+        &mut out,
+        "breakshot_web_requests_total",
+        "HTTP requests answered on the web listener (--web).",
+        get(&stats.web_requests),
+    );
+    counter(
+        &mut out,
+        "breakshot_web_sockets_total",
+        "WebSockets that finished their Noise handshake and became game connections.",
+        get(&stats.web_sockets),
+    );
+    counter(
+        &mut out,
+        "breakshot_web_sockets_failed_total",
+        "WebSockets closed before their Noise handshake was done.",
+        get(&stats.web_sockets_failed),
+    );
     histogram(
         &mut out,
         "breakshot_command_seconds",

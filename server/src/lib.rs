@@ -24,8 +24,9 @@ pub mod store;
 pub mod timing;
 pub mod tls;
 pub mod verify;
-pub mod webtransport;
+pub mod web;
 pub mod webcert;
+pub mod webtransport;
 pub mod work;
 
 pub use limits::Limits;

@@ -9,7 +9,7 @@ use anyhow::Context;
 use breakshot_server::store::Location;
 use breakshot_server::verify::{verify_dir, verify_store};
 use breakshot_server::{admin, Config, Limits, Server, DEFAULT_DRAIN_TIMEOUT};
-use breakshot_shared::protocol::ServerAddress;
+use breakshot_shared::protocol::{ServerAddress, WebLink};
 use clap::{Parser, Subcommand};
 use tokio::signal::unix::{signal, SignalKind};
 
@@ -64,6 +64,10 @@ struct Cli {
     /// stopping anyway (the games stay stored).
     #[arg(long, value_name = "SECONDS", default_value_t = DEFAULT_DRAIN_TIMEOUT.as_secs())]
     drain_timeout: u64,
+    /// Serve the web client from this directory, and the game to browsers over a WebSocket,
+    /// on TCP at the same address and port number as --bind (docs/web.md).
+    #[arg(long, value_name = "DIR")]
+    web: Option<PathBuf>,
     /// Write the log as JSON lines (one object per event) instead of text.
     #[arg(long)]
     log_json: bool,
@@ -123,6 +127,7 @@ fn serve(cli: &Cli) -> anyhow::Result<()> {
         let mut config = Config::new(cli.bind, cli.data.clone());
         config.limits = limits(cli);
         config.drain_timeout = std::time::Duration::from_secs(cli.drain_timeout);
+        config.web_dir = cli.web.clone();
         if let Some(store) = &cli.store {
             config.store = store.clone();
         }
@@ -146,6 +151,12 @@ fn serve(cli: &Cli) -> anyhow::Result<()> {
         invite.servers.extend(cli.also.iter().cloned());
         let mut out = std::io::stdout().lock();
         writeln!(out, "{invite}")?;
+        if let Some(mut link) = server.web_link(None) {
+            if let (Some(host), Some(addr)) = (&cli.host, server.web_addr()) {
+                link.page = Some(WebLink::page_url(host, addr.port()));
+            }
+            writeln!(out, "{link}")?;
+        }
         out.flush()?;
         drop(out);
         tracing::info!(addr = %server.local_addr(), restored = server.restored(), "serving");

@@ -29,10 +29,13 @@ use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use breakshot_shared::protocol::{reference_hash, Fingerprint, Invite, RoomCode, SeatToken};
+use breakshot_shared::protocol::{
+    reference_hash, Fingerprint, Invite, RoomCode, SeatToken, WebLink,
+};
 use thiserror::Error;
+use tokio::net::TcpListener;
 use tokio::sync::mpsc::error::TrySendError;
-use tokio::sync::Notify;
+use tokio::sync::{watch, Notify};
 
 use crate::admission::{Entry, Gate, Refusal, Ticket};
 use crate::conn::{self, HubEvent, Outbound, Outlet};
@@ -47,6 +50,8 @@ use crate::source::source_key;
 use crate::stats::Stats;
 use crate::store::{Claim, EndedGame, Location, Store, StoreError, StoredGame};
 use crate::tls::{Identity, TlsError};
+use crate::web::key::NoiseKey;
+use crate::web::Web;
 use crate::webcert::{ClockRef, WebCerts};
 
 /// How to start a server; [`Config::new`] gives the defaults that the binary's flags change.
@@ -77,6 +82,10 @@ pub struct Config {
     /// The wall clock the browsers' short certificates are made and replaced by
     /// ([`crate::webcert`]): the system's in service, a hand-moved one in tests.
     pub clock: ClockRef,
+    /// Serve the web client from this directory, and the game over a WebSocket, on TCP at
+    /// the same address and port number as the UDP socket (docs/web.md). `None`: no TCP
+    /// listener at all.
+    pub web_dir: Option<PathBuf>,
 }
 
 /// The default [`Config::drain_timeout`]: long enough for most games to end.
@@ -106,6 +115,7 @@ impl Config {
             before_room_work: None,
             drain_timeout: DEFAULT_DRAIN_TIMEOUT,
             clock: ClockRef::default(),
+            web_dir: None,
         }
     }
 }
@@ -136,6 +146,14 @@ pub enum ServerError {
         /// The system's error.
         source: std::io::Error,
     },
+    /// The web directory is missing or not a directory.
+    #[error("web directory {path}: {source}")]
+    WebDir {
+        /// The directory, as given.
+        path: String,
+        /// The system's error.
+        source: std::io::Error,
+    },
     /// Not one thread to run rooms on could be started.
     #[error("cannot start the room worker threads: {0}")]
     Threads(std::io::Error),
@@ -161,6 +179,8 @@ pub struct Server {
     before_room_work: Option<RoomHook>,
     drain_timeout: Duration,
     stats: Arc<Stats>,
+    noise: NoiseKey,
+    web: Option<(TcpListener, Arc<Web>)>,
 }
 
 /// What the writer thread is told.
@@ -182,6 +202,7 @@ impl Server {
         })?;
         let identity = Identity::load_or_create(&config.data)?;
         let web_certs = WebCerts::load_or_create(&config.data, config.clock.clone())?;
+        let noise = NoiseKey::load_or_create(&config.data)?;
         let physics = reference_hash().map_err(|e| ServerError::Physics(e.to_string()))?;
         let mut hub = Hub::new(
             HubConfig {
@@ -214,8 +235,30 @@ impl Server {
                 addr: config.bind,
                 source,
             })?;
+        let web = match &config.web_dir {
+            Some(dir) => {
+                let root = web_root(dir)?;
+                // The port the UDP socket got, so a port 0 gives one number for both.
+                let port = endpoint
+                    .local_addr()
+                    .map_or(config.bind.port(), |a| a.port());
+                let addr = SocketAddr::new(config.bind.ip(), port);
+                let listener =
+                    tcp_listener(addr).map_err(|source| ServerError::Bind { addr, source })?;
+                Some((
+                    listener,
+                    Arc::new(Web {
+                        root,
+                        key: noise.clone(),
+                    }),
+                ))
+            }
+            None => None,
+        };
         Ok(Server {
             endpoint,
+            noise,
+            web,
             fingerprint: identity.fingerprint(),
             web_certs,
             hub,
@@ -260,6 +303,27 @@ impl Server {
         self.web_certs.clone()
     }
 
+    /// The server's Noise static public key (X25519), which web links carry (`key=`); the
+    /// same whether or not the server serves the web.
+    pub fn web_key(&self) -> [u8; 32] {
+        self.noise.public
+    }
+
+    /// The TCP address of the web listener, when the server serves the web.
+    pub fn web_addr(&self) -> Option<SocketAddr> {
+        self.web.as_ref().and_then(|(l, _)| l.local_addr().ok())
+    }
+
+    /// The web link to this server (and `room`), or `None` when it does not serve the web:
+    /// `http://HOST:P/?room=ROOM&key=KEY`. The certificate hashes are not in it yet.
+    pub fn web_link(&self, room: Option<RoomCode>) -> Option<WebLink> {
+        let addr = self.web_addr()?;
+        let mut link = WebLink::new(self.web_key());
+        link.page = Some(WebLink::page_url(&host_of(addr), addr.port()));
+        link.room = room;
+        Some(link)
+    }
+
     /// Games brought back from the store at start.
     pub fn restored(&self) -> usize {
         self.restored
@@ -268,11 +332,7 @@ impl Server {
     /// The server's invite (no room): `breakshot://HOST:PORT#FINGERPRINT`.
     pub fn invite(&self) -> Invite {
         let addr = self.local_addr();
-        let host = match addr.ip() {
-            std::net::IpAddr::V6(ip) => format!("[{ip}]"),
-            ip => ip.to_string(),
-        };
-        Invite::new(host, addr.port(), self.fingerprint)
+        Invite::new(host_of(addr), addr.port(), self.fingerprint)
     }
 
     /// Serves until `shutdown` resolves (or a storage write fails), then closes every
@@ -288,8 +348,14 @@ impl Server {
             drain_timeout,
             stats,
             web_certs,
+            web,
             ..
         } = self;
+        let (web_listener, web) = match web {
+            Some((l, w)) => (Some(l), Some(w)),
+            None => (None, None),
+        };
+        let (stop_tx, stop_rx) = watch::channel(false);
         let (hub_tx, hub_rx) = mpsc::channel::<HubEvent>();
         let (writer_tx, writer_rx) = mpsc::channel::<WriterMsg>();
         let failed = Arc::new(Notify::new());
@@ -353,6 +419,42 @@ impl Server {
                         tracing::error!(error = %e, "cannot keep the new certificate for browsers");
                     }
                 }
+                accepted = accept_tcp(web_listener.as_ref()) => {
+                    let (Ok((stream, peer)), Some(web)) = (accepted, &web) else {
+                        // Out of file descriptors or the like: wait a little rather than spin.
+                        tokio::time::sleep(Duration::from_millis(50)).await;
+                        continue;
+                    };
+                    while connections.try_join_next().is_some() {}
+                    let source = source_key(peer.ip());
+                    // A TCP handshake has proven the address already: no retry.
+                    let ticket = match gate.admit(&limits, source, true) {
+                        Entry::Admitted(ticket) => ticket,
+                        Entry::Retry => continue,
+                        Entry::Refused(why) => {
+                            let counter = match why {
+                                Refusal::Full => &stats.refused,
+                                Refusal::AddressShare => &stats.refused_address,
+                            };
+                            counter.fetch_add(1, Ordering::Relaxed);
+                            continue;
+                        }
+                    };
+                    next_id += 1;
+                    let visit = crate::web::Visit {
+                        web: web.clone(),
+                        limits: limits.clone(),
+                        stats: stats.clone(),
+                        stop: stop_rx.clone(),
+                        attach: Attach {
+                            id: next_id,
+                            hub: hub_tx.clone(),
+                            writer: writer_tx.clone(),
+                            limits: limits.clone(),
+                        },
+                    };
+                    connections.spawn(crate::web::serve(stream, peer, ticket, visit));
+                }
                 incoming = endpoint.accept() => {
                     let Some(incoming) = incoming else { break Ok(()) };
                     // Finished tasks are reaped here so the set holds only live ones.
@@ -393,6 +495,8 @@ impl Server {
         };
         tracing::info!("shutting down");
         endpoint.close(conn::CLOSE_NORMAL.into(), b"server shutting down");
+        drop(web_listener);
+        let _ = stop_tx.send(true);
         // Closing the endpoint ends every connection task; wait for them so that nothing
         // of this server is left running when `run` returns.
         let _ = tokio::time::timeout(Duration::from_secs(5), async {
@@ -415,6 +519,80 @@ impl Server {
                 "the writer thread stopped".into(),
             )),
         }
+    }
+}
+
+/// A game connection about to start on some transport other than the QUIC endpoint's: its
+/// id, and what registers it with the writer thread and runs it.
+pub(crate) struct Attach {
+    id: ConnId,
+    hub: conn::HubSender,
+    writer: Sender<WriterMsg>,
+    limits: Limits,
+}
+
+impl Attach {
+    /// Registers the connection's outgoing queue with the writer, runs it with
+    /// [`conn::serve`] to its end, and unregisters it.
+    pub(crate) async fn serve<T: conn::Transport>(
+        self,
+        link: &T,
+        recv: impl tokio::io::AsyncRead + Unpin + Send,
+        send: T::Send,
+    ) {
+        let (outlet, rx, kill) = conn::outlet(self.limits.outbound_queue);
+        if self
+            .writer
+            .send(WriterMsg::Register(self.id, outlet))
+            .is_err()
+        {
+            return;
+        }
+        conn::serve(self.id, link, recv, send, self.hub, rx, kill, &self.limits).await;
+        let _ = self.writer.send(WriterMsg::Unregister(self.id));
+    }
+}
+
+/// The next connection on the web listener; never, without one.
+async fn accept_tcp(
+    listener: Option<&TcpListener>,
+) -> std::io::Result<(tokio::net::TcpStream, SocketAddr)> {
+    match listener {
+        Some(l) => l.accept().await,
+        None => std::future::pending().await,
+    }
+}
+
+/// The web directory, canonical (so no path served can leave it), or why not.
+fn web_root(dir: &std::path::Path) -> Result<PathBuf, ServerError> {
+    let err = |source| ServerError::WebDir {
+        path: dir.display().to_string(),
+        source,
+    };
+    let root = dir.canonicalize().map_err(err)?;
+    if !root.is_dir() {
+        return Err(err(std::io::Error::other("not a directory")));
+    }
+    Ok(root)
+}
+
+/// The TCP listener of the web side (address reuse as for any server socket, so a restart
+/// does not wait for old connections' TIME_WAIT).
+fn tcp_listener(addr: SocketAddr) -> std::io::Result<TcpListener> {
+    let socket = match addr {
+        SocketAddr::V4(_) => tokio::net::TcpSocket::new_v4()?,
+        SocketAddr::V6(_) => tokio::net::TcpSocket::new_v6()?,
+    };
+    socket.set_reuseaddr(true)?;
+    socket.bind(addr)?;
+    socket.listen(1024)
+}
+
+/// An address's host as links write it (an IPv6 address in brackets).
+fn host_of(addr: SocketAddr) -> String {
+    match addr.ip() {
+        std::net::IpAddr::V6(ip) => format!("[{ip}]"),
+        ip => ip.to_string(),
     }
 }
 

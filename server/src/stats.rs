@@ -41,6 +41,13 @@ pub struct Stats {
     pub rooms_over: AtomicUsize,
     /// Rooms refused because the server is draining.
     pub refused_draining: AtomicUsize,
+    /// HTTP requests answered on the web listener (files, errors and WebSocket upgrades).
+    pub web_requests: AtomicUsize,
+    /// WebSockets whose Noise handshake succeeded, so that became game connections.
+    pub web_sockets: AtomicUsize,
+    /// WebSockets closed before the hub saw them: a failed or late Noise handshake, a text
+    /// or oversized message.
+    pub web_sockets_failed: AtomicUsize,
     /// Set to drain: no new rooms; the server stops once the last game has ended.
     draining: AtomicBool,
 }

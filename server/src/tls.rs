@@ -50,6 +50,9 @@ pub enum TlsError {
     /// rustls refused the certificate or key (a damaged `cert.der` or `key.der`, say).
     #[error("TLS: {0}")]
     Rustls(#[from] rustls::Error),
+    /// The Noise key could not be made or used.
+    #[error("Noise key: {0}")]
+    Noise(String),
     /// quinn refused the TLS or transport configuration.
     #[error("QUIC TLS: {0}")]
     Quic(String),
@@ -218,7 +221,8 @@ pub fn fingerprint_of(cert: &CertificateDer<'_>) -> Fingerprint {
     Fingerprint(Sha256::digest(cert.as_ref()).into())
 }
 
-fn write_private(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+/// Writes a new secret file readable by its owner only (mode 0600).
+pub(crate) fn write_private(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let mut f = fs::OpenOptions::new()
         .write(true)
         .create(true)

@@ -93,6 +93,12 @@ impl WebLink {
         }
     }
 
+    /// The address of a page served by a server's own web listener: `http://HOST:PORT/`
+    /// (an IPv6 host in brackets, as given).
+    pub fn page_url(host: &str, port: u16) -> String {
+        format!("http://{host}:{port}/")
+    }
+
     /// The same link with a room.
     pub fn with_room(&self, room: RoomCode) -> WebLink {
         WebLink {
