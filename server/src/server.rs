@@ -250,6 +250,7 @@ impl Server {
                     Arc::new(Web {
                         root,
                         key: noise.clone(),
+                        certs: web_certs.clone(),
                     }),
                 ))
             }
@@ -315,12 +316,15 @@ impl Server {
     }
 
     /// The web link to this server (and `room`), or `None` when it does not serve the web:
-    /// `http://HOST:P/?room=ROOM&key=KEY`. The certificate hashes are not in it yet.
+    /// `http://HOST:P/?room=ROOM&key=KEY&cert=HASH[,HASH]`, with the `h3` certificates'
+    /// hashes as they are now (a page on the server asks `/certificate.sha256` too, for a
+    /// link older than a rotation).
     pub fn web_link(&self, room: Option<RoomCode>) -> Option<WebLink> {
         let addr = self.web_addr()?;
         let mut link = WebLink::new(self.web_key());
         link.page = Some(WebLink::page_url(&host_of(addr), addr.port()));
         link.room = room;
+        link.cert = self.web_cert_hashes();
         Some(link)
     }
 

@@ -352,3 +352,57 @@ async fn the_handshake_offers_the_streams_http3_needs() -> Result<()> {
     drop(native);
     server.stop().await
 }
+
+/// `GET /certificate.sha256` on the server's TCP port: status line, headers and body.
+async fn published_hashes(server: &TestServer) -> Result<(String, Vec<String>)> {
+    use tokio::io::{AsyncReadExt, AsyncWriteExt};
+    let exchange = async {
+        let mut tcp = tokio::net::TcpStream::connect(server.addr).await?;
+        tcp.write_all(b"GET /certificate.sha256 HTTP/1.1\r\nHost: test\r\n\r\n")
+            .await?;
+        let mut answer = String::new();
+        tcp.read_to_string(&mut answer).await?;
+        anyhow::Ok(answer)
+    };
+    let answer = tokio::time::timeout(PATIENCE, exchange)
+        .await
+        .map_err(|_| anyhow!("no answer from the web listener"))??;
+    let (head, body) = answer.split_once("\r\n\r\n").context("no end of head")?;
+    Ok((
+        head.to_ascii_lowercase(),
+        body.lines().map(str::to_string).collect(),
+    ))
+}
+
+#[tokio::test]
+async fn the_web_listener_publishes_the_hashes_newest_first() -> Result<()> {
+    let data = scratch("web");
+    let site = scratch("web-site");
+    std::fs::write(site.path().join("index.html"), "<!doctype html>")?;
+    let time = Arc::new(ManualClock::new(SystemTime::now()));
+    let mut config = TestServer::config(([127, 0, 0, 1], 0).into(), data.path());
+    config.clock = ClockRef(time.clone());
+    config.web_dir = Some(site.path().to_path_buf());
+    let server = TestServer::start_with(config).await?;
+
+    let (head, body) = published_hashes(&server).await?;
+    assert!(head.starts_with("http/1.1 200"), "{head}");
+    assert!(head.contains("\r\ncontent-type: text/plain"), "{head}");
+    assert!(head.contains("\r\ncache-control: no-store"), "{head}");
+    let hex = |hashes: Vec<Fingerprint>| hashes.iter().map(|h| h.to_string()).collect::<Vec<_>>();
+    assert_eq!(body, hex(server.web_certs.hashes()));
+    assert_eq!(body.len(), 1);
+
+    time.advance(Duration::from_secs(12 * 86400));
+    assert!(server.web_certs.refresh()?);
+    let (_, body) = published_hashes(&server).await?;
+    assert_eq!(body.len(), 2);
+    assert_eq!(body, hex(server.web_certs.hashes()));
+    // What the page fetched is what it connects with.
+    let listed: Vec<Fingerprint> = body
+        .iter()
+        .map(|h| Fingerprint::parse(h))
+        .collect::<Result<_, _>>()?;
+    drop(Page::open(&server, &listed).await?);
+    server.stop().await
+}
