@@ -473,6 +473,7 @@ impl Server {
                     let hub_tx = hub_tx.clone();
                     let writer_tx = writer_tx.clone();
                     let limits = limits.clone();
+                    let stats = stats.clone();
                     connections.spawn(async move {
                         // Dropping an unfinished handshake abandons it.
                         let handshake = tokio::time::timeout(limits.handshake_timeout, incoming).await;
@@ -482,7 +483,7 @@ impl Server {
                                 tracing::debug!(conn = id, peer = %connection.remote_address(), "connected");
                                 // One connection either way: the same gate, limits and hub.
                                 if crate::webtransport::is_web(&connection) {
-                                    crate::webtransport::serve(id, connection, hub_tx, rx, kill, &limits).await;
+                                    crate::webtransport::serve(id, connection, hub_tx, rx, kill, &limits, &stats).await;
                                 } else {
                                     crate::tls::native_streams(&connection);
                                     crate::quic::serve(id, connection, hub_tx, rx, kill, &limits).await;

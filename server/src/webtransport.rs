@@ -1,10 +1,12 @@
 //! WebTransport, the browser's way onto the QUIC endpoint. A connection that negotiated `h3`
 //! goes through HTTP/3's SETTINGS and one CONNECT request (to [`WEBTRANSPORT_PATH`] only), then
 //! hands the one bidirectional stream the page opens to [`crate::conn::serve`], which treats
-//! it exactly as a native client's stream: same frames, limits and hub. No datagrams, no
-//! other streams.
+//! it exactly as a native client's stream: same frames, limits and hub. Datagrams and any
+//! other stream are never read (unread streams are bounded by the connection's receive window,
+//! datagrams by quinn's datagram buffer).
 
 use std::net::IpAddr;
+use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -19,6 +21,7 @@ use web_transport_quinn::{RecvStream, Request, SendStream, Session};
 use crate::conn::{self, HubSender, Outbound, Transport, CLOSE_PROTOCOL};
 use crate::limits::Limits;
 use crate::output::ConnId;
+use crate::stats::Stats;
 use crate::tls::IDLE_TIMEOUT;
 
 /// How long a refused page gets to read its refusal before the connection is closed.
@@ -112,12 +115,12 @@ pub fn is_web(conn: &quinn::Connection) -> bool {
 }
 
 /// A WebTransport session as a [`Transport`].
-pub struct WebLink {
+pub struct SessionLink {
     session: Session,
     conn: quinn::Connection,
 }
 
-impl Transport for WebLink {
+impl Transport for SessionLink {
     type Send = SendStream;
 
     fn remote_ip(&self) -> IpAddr {
@@ -148,6 +151,7 @@ impl Transport for WebLink {
 
 /// Runs one `h3` connection to its end: the WebTransport session and the page's stream
 /// ([`accept`]), then the same [`conn::serve`] as a native connection.
+#[allow(clippy::too_many_arguments)] // each is one thing the connection lives on
 pub async fn serve(
     id: ConnId,
     connection: quinn::Connection,
@@ -155,15 +159,18 @@ pub async fn serve(
     outbound: Receiver<Outbound>,
     kill: Arc<Notify>,
     limits: &Limits,
+    stats: &Stats,
 ) {
     let stream = match accept(connection.clone(), limits.open_timeout).await {
         Ok(stream) => stream,
         Err(why) => {
+            stats.webtransport_refused.fetch_add(1, Ordering::Relaxed);
             tracing::debug!(conn = id, %why, "WebTransport refused");
             return;
         }
     };
-    let link = WebLink {
+    stats.webtransport_sessions.fetch_add(1, Ordering::Relaxed);
+    let link = SessionLink {
         session: stream.session,
         conn: connection,
     };

@@ -2,6 +2,7 @@
 //! WebTransport client pinning the short certificate's hash (as `serverCertificateHashes`
 //! does), and native clients beside it still pinning the long-lived certificate.
 
+use std::sync::atomic::Ordering::Relaxed;
 use std::sync::Arc;
 use std::time::{Duration, SystemTime};
 
@@ -172,14 +173,9 @@ async fn a_page_says_hello_creates_a_room_and_a_native_player_joins_it() -> Resu
         |m| matches!(m, ServerMessage::PlayerJoined { name, .. } if name == "native"),
     )
     .await?;
+    assert_eq!(server.stats.webtransport_sessions.load(Relaxed), 1);
     // Both ways in are one connection each to the gate and the hub.
-    assert_eq!(
-        server
-            .stats
-            .connections
-            .load(std::sync::atomic::Ordering::Relaxed),
-        2
-    );
+    assert_eq!(server.stats.connections.load(Relaxed), 2);
     drop((page, native));
     server.stop().await
 }
@@ -221,6 +217,16 @@ async fn another_path_is_refused_with_404() -> Result<()> {
         },
         Ok(_) => bail!("a session on another path"),
     }
+    // Counted once the server has let the page read its 404 and closed.
+    let counted = async {
+        while server.stats.webtransport_refused.load(Relaxed) == 0 {
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+    };
+    tokio::time::timeout(PATIENCE, counted)
+        .await
+        .map_err(|_| anyhow!("the refusal was not counted"))?;
+    assert_eq!(server.stats.webtransport_refused.load(Relaxed), 1);
     // The right path still works after a refusal.
     drop(Page::open(&server, &server.web_certs.hashes()).await?);
     server.stop().await
@@ -323,13 +329,7 @@ async fn a_session_counts_against_the_connection_limit_like_a_native_connection(
             .is_err(),
         "a session beyond the limit"
     );
-    assert_eq!(
-        server
-            .stats
-            .refused
-            .load(std::sync::atomic::Ordering::Relaxed),
-        1
-    );
+    assert_eq!(server.stats.refused.load(Relaxed), 1);
     drop(native);
     server.stop().await
 }
