@@ -82,6 +82,9 @@ pub struct Config {
     /// The wall clock the browsers' short certificates are made and replaced by
     /// ([`crate::webcert`]): the system's in service, a hand-moved one in tests.
     pub clock: ClockRef,
+    /// How often the server looks whether the browsers' certificate is due for replacement
+    /// (a minute; tests make it shorter).
+    pub web_cert_check: Duration,
     /// Serve the web client from this directory, and the game over a WebSocket, on TCP at
     /// the same address and port number as the UDP socket (docs/web.md). `None`: no TCP
     /// listener at all.
@@ -115,6 +118,7 @@ impl Config {
             before_room_work: None,
             drain_timeout: DEFAULT_DRAIN_TIMEOUT,
             clock: ClockRef::default(),
+            web_cert_check: WEB_CERT_CHECK,
             web_dir: None,
         }
     }
@@ -171,6 +175,7 @@ pub struct Server {
     endpoint: quinn::Endpoint,
     fingerprint: Fingerprint,
     web_certs: WebCerts,
+    web_cert_check: Duration,
     hub: Hub,
     store: Store,
     restored: usize,
@@ -262,6 +267,7 @@ impl Server {
             web,
             fingerprint: identity.fingerprint(),
             web_certs,
+            web_cert_check: config.web_cert_check,
             hub,
             store,
             restored,
@@ -352,6 +358,7 @@ impl Server {
             drain_timeout,
             stats,
             web_certs,
+            web_cert_check,
             web,
             ..
         } = self;
@@ -389,7 +396,7 @@ impl Server {
         tokio::pin!(shutdown);
         let mut drain_check = tokio::time::interval(DRAIN_CHECK);
         let mut drain_started: Option<Instant> = None;
-        let mut web_cert_check = tokio::time::interval(WEB_CERT_CHECK);
+        let mut cert_check = tokio::time::interval(web_cert_check.max(Duration::from_millis(10)));
         let outcome = loop {
             tokio::select! {
                 _ = &mut shutdown => break Ok(()),
@@ -416,7 +423,7 @@ impl Server {
                         break Ok(());
                     }
                 }
-                _ = web_cert_check.tick() => {
+                _ = cert_check.tick() => {
                     // Rare and small (a new key and certificate every eleven days): done in
                     // place rather than on a thread.
                     if let Err(e) = web_certs.refresh() {
@@ -812,7 +819,7 @@ struct Workers {
     hook: Option<RoomHook>,
 }
 
-/// How often the server looks whether the browsers' certificate is due for replacement.
+/// The default [`Config::web_cert_check`].
 const WEB_CERT_CHECK: Duration = Duration::from_secs(60);
 
 /// How often a draining server looks whether its games have ended.

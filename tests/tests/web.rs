@@ -406,3 +406,30 @@ async fn the_web_listener_publishes_the_hashes_newest_first() -> Result<()> {
     drop(Page::open(&server, &listed).await?);
     server.stop().await
 }
+
+#[tokio::test]
+async fn the_running_server_replaces_the_certificate_by_itself() -> Result<()> {
+    let data = scratch("web");
+    let time = Arc::new(ManualClock::new(SystemTime::now()));
+    let mut config = TestServer::config(([127, 0, 0, 1], 0).into(), data.path());
+    config.clock = ClockRef(time.clone());
+    config.web_cert_check = Duration::from_millis(50);
+    let server = TestServer::start_with(config).await?;
+    let first = server.web_certs.hashes();
+    time.advance(Duration::from_secs(12 * 86400));
+    let replaced = async {
+        while server.web_certs.hashes().len() < 2 {
+            tokio::time::sleep(Duration::from_millis(20)).await;
+        }
+    };
+    tokio::time::timeout(PATIENCE, replaced)
+        .await
+        .map_err(|_| anyhow!("the server did not replace its certificate"))?;
+    let now = server.web_certs.hashes();
+    assert_eq!(now[1], first[0]);
+    assert_eq!(
+        sha256(&shown(&Page::open(&server, &now[..1]).await?.session)?),
+        now[0]
+    );
+    server.stop().await
+}
