@@ -159,6 +159,18 @@ pub fn metrics(stats: &Stats) -> String {
         "WebSockets closed before their Noise handshake was done.",
         get(&stats.web_sockets_failed),
     );
+    counter(
+        &mut out,
+        "breakshot_webtransport_sessions_total",
+        "WebTransport sessions (h3 on the UDP port) that became game connections.",
+        get(&stats.webtransport_sessions),
+    );
+    counter(
+        &mut out,
+        "breakshot_webtransport_refused_total",
+        "h3 connections refused: a failed HTTP/3 exchange, another path, or no stream in time.",
+        get(&stats.webtransport_refused),
+    );
     histogram(
         &mut out,
         "breakshot_command_seconds",

@@ -25,6 +25,8 @@ pub mod timing;
 pub mod tls;
 pub mod verify;
 pub mod web;
+pub mod webcert;
+pub mod webtransport;
 pub mod work;
 
 pub use limits::Limits;

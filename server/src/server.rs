@@ -52,6 +52,7 @@ use crate::store::{Claim, EndedGame, Location, Store, StoreError, StoredGame};
 use crate::tls::{Identity, TlsError};
 use crate::web::key::NoiseKey;
 use crate::web::Web;
+use crate::webcert::{ClockRef, WebCerts};
 
 /// How to start a server; [`Config::new`] gives the defaults that the binary's flags change.
 #[derive(Clone, Debug)]
@@ -78,6 +79,12 @@ pub struct Config {
     /// the server stops anyway (their games stay in the store, for this server's next start
     /// or, on a shared PostgreSQL store, for another instance to take over at once).
     pub drain_timeout: Duration,
+    /// The wall clock the browsers' short certificates are made and replaced by
+    /// ([`crate::webcert`]): the system's in service, a hand-moved one in tests.
+    pub clock: ClockRef,
+    /// How often the server looks whether the browsers' certificate is due for replacement
+    /// (a minute; tests make it shorter).
+    pub web_cert_check: Duration,
     /// Serve the web client from this directory, and the game over a WebSocket, on TCP at
     /// the same address and port number as the UDP socket (docs/web.md). `None`: no TCP
     /// listener at all.
@@ -110,6 +117,8 @@ impl Config {
             room_threads: pool::default_threads(),
             before_room_work: None,
             drain_timeout: DEFAULT_DRAIN_TIMEOUT,
+            clock: ClockRef::default(),
+            web_cert_check: WEB_CERT_CHECK,
             web_dir: None,
         }
     }
@@ -165,6 +174,8 @@ pub enum ServerError {
 pub struct Server {
     endpoint: quinn::Endpoint,
     fingerprint: Fingerprint,
+    web_certs: WebCerts,
+    web_cert_check: Duration,
     hub: Hub,
     store: Store,
     restored: usize,
@@ -195,6 +206,7 @@ impl Server {
             source,
         })?;
         let identity = Identity::load_or_create(&config.data)?;
+        let web_certs = WebCerts::load_or_create(&config.data, config.clock.clone())?;
         let noise = NoiseKey::load_or_create(&config.data)?;
         let physics = reference_hash().map_err(|e| ServerError::Physics(e.to_string()))?;
         let mut hub = Hub::new(
@@ -223,12 +235,10 @@ impl Server {
             ServerError::StorageFailed("the thread opening the store panicked".into())
         })??;
         let reset_key = crate::tls::reset_key(&config.data)?;
-        let endpoint =
-            endpoint(identity.server_config()?, reset_key, config.bind).map_err(|source| {
-                ServerError::Bind {
-                    addr: config.bind,
-                    source,
-                }
+        let endpoint = endpoint(identity.server_config(&web_certs)?, reset_key, config.bind)
+            .map_err(|source| ServerError::Bind {
+                addr: config.bind,
+                source,
             })?;
         let web = match &config.web_dir {
             Some(dir) => {
@@ -245,6 +255,7 @@ impl Server {
                     Arc::new(Web {
                         root,
                         key: noise.clone(),
+                        certs: web_certs.clone(),
                     }),
                 ))
             }
@@ -255,6 +266,8 @@ impl Server {
             noise,
             web,
             fingerprint: identity.fingerprint(),
+            web_certs,
+            web_cert_check: config.web_cert_check,
             hub,
             store,
             restored,
@@ -284,6 +297,19 @@ impl Server {
         self.fingerprint
     }
 
+    /// SHA-256 of the short certificates a browser may be shown over WebTransport, newest
+    /// first: what a page passes as `serverCertificateHashes` (see [`crate::webcert`]).
+    pub fn web_cert_hashes(&self) -> Vec<Fingerprint> {
+        self.web_certs.hashes()
+    }
+
+    /// The short certificates themselves, shared with the running server: their hashes stay
+    /// current through every replacement (for whoever publishes them), and a test can
+    /// [`WebCerts::refresh`] them after moving its clock.
+    pub fn web_certs(&self) -> WebCerts {
+        self.web_certs.clone()
+    }
+
     /// The server's Noise static public key (X25519), which web links carry (`key=`); the
     /// same whether or not the server serves the web.
     pub fn web_key(&self) -> [u8; 32] {
@@ -296,12 +322,15 @@ impl Server {
     }
 
     /// The web link to this server (and `room`), or `None` when it does not serve the web:
-    /// `http://HOST:P/?room=ROOM&key=KEY`. The certificate hashes are not in it yet.
+    /// `http://HOST:P/?room=ROOM&key=KEY&cert=HASH[,HASH]`, with the `h3` certificates'
+    /// hashes as they are now (a page on the server asks `/certificate.sha256` too, for a
+    /// link older than a rotation).
     pub fn web_link(&self, room: Option<RoomCode>) -> Option<WebLink> {
         let addr = self.web_addr()?;
         let mut link = WebLink::new(self.web_key());
         link.page = Some(WebLink::page_url(&host_of(addr), addr.port()));
         link.room = room;
+        link.cert = self.web_cert_hashes();
         Some(link)
     }
 
@@ -328,6 +357,8 @@ impl Server {
             before_room_work,
             drain_timeout,
             stats,
+            web_certs,
+            web_cert_check,
             web,
             ..
         } = self;
@@ -365,6 +396,7 @@ impl Server {
         tokio::pin!(shutdown);
         let mut drain_check = tokio::time::interval(DRAIN_CHECK);
         let mut drain_started: Option<Instant> = None;
+        let mut cert_check = tokio::time::interval(web_cert_check.max(Duration::from_millis(10)));
         let outcome = loop {
             tokio::select! {
                 _ = &mut shutdown => break Ok(()),
@@ -389,6 +421,13 @@ impl Server {
                     if started.elapsed() >= drain_timeout {
                         tracing::warn!(playing = Stats::get(&stats.rooms_playing), "drain time is up; stopping with games in play (they stay stored)");
                         break Ok(());
+                    }
+                }
+                _ = cert_check.tick() => {
+                    // Rare and small (a new key and certificate every eleven days): done in
+                    // place rather than on a thread.
+                    if let Err(e) = web_certs.refresh() {
+                        tracing::error!(error = %e, "cannot keep the new certificate for browsers");
                     }
                 }
                 accepted = accept_tcp(web_listener.as_ref()) => {
@@ -441,6 +480,7 @@ impl Server {
                     let hub_tx = hub_tx.clone();
                     let writer_tx = writer_tx.clone();
                     let limits = limits.clone();
+                    let stats = stats.clone();
                     connections.spawn(async move {
                         // Dropping an unfinished handshake abandons it.
                         let handshake = tokio::time::timeout(limits.handshake_timeout, incoming).await;
@@ -448,7 +488,13 @@ impl Server {
                         match handshake {
                             Ok(Ok(connection)) => {
                                 tracing::debug!(conn = id, peer = %connection.remote_address(), "connected");
-                                crate::quic::serve(id, connection, hub_tx, rx, kill, &limits).await;
+                                // One connection either way: the same gate, limits and hub.
+                                if crate::webtransport::is_web(&connection) {
+                                    crate::webtransport::serve(id, connection, hub_tx, rx, kill, &limits, &stats).await;
+                                } else {
+                                    crate::tls::native_streams(&connection);
+                                    crate::quic::serve(id, connection, hub_tx, rx, kill, &limits).await;
+                                }
                             }
                             Ok(Err(e)) => tracing::debug!(conn = id, error = %e, "handshake failed"),
                             Err(_) => tracing::debug!(conn = id, "handshake took too long"),
@@ -772,6 +818,9 @@ struct Workers {
     pool: Pool,
     hook: Option<RoomHook>,
 }
+
+/// The default [`Config::web_cert_check`].
+const WEB_CERT_CHECK: Duration = Duration::from_secs(60);
 
 /// How often a draining server looks whether its games have ended.
 const DRAIN_CHECK: Duration = Duration::from_millis(250);

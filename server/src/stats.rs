@@ -49,6 +49,11 @@ pub struct Stats {
     /// WebSockets closed before the hub saw them: a failed or late Noise handshake, a text
     /// or oversized message.
     pub web_sockets_failed: AtomicUsize,
+    /// WebTransport sessions that opened their stream, so that became game connections.
+    pub webtransport_sessions: AtomicUsize,
+    /// `h3` connections that did not become game connections: a failed HTTP/3 exchange,
+    /// another path, or no stream in the open time.
+    pub webtransport_refused: AtomicUsize,
     /// Set to drain: no new rooms; the server stops once the last game has ended.
     draining: AtomicBool,
 }

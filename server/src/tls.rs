@@ -8,10 +8,14 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Duration;
 
-use breakshot_shared::protocol::{limits, Fingerprint, ALPN};
+use breakshot_shared::protocol::{limits, Fingerprint, ALPN, WEB_ALPN};
 use rustls::pki_types::{CertificateDer, PrivateKeyDer, PrivatePkcs8KeyDer};
+use rustls::server::{ClientHello, ResolvesServerCert};
+use rustls::sign::CertifiedKey;
 use sha2::{Digest, Sha256};
 use thiserror::Error;
+
+use crate::webcert::WebCerts;
 
 /// The certificate (DER) in the data directory; if it is lost, a new one is made and every
 /// earlier invite stops working.
@@ -99,18 +103,24 @@ impl Identity {
         fingerprint_of(&self.cert)
     }
 
-    /// The QUIC server configuration: ring only, TLS 1.3, ALPN `breakshot/1`, keep-alive and
-    /// idle timeout as above.
-    pub fn server_config(&self) -> Result<quinn::ServerConfig, TlsError> {
+    /// The QUIC server configuration: ring only, TLS 1.3, ALPNs `breakshot/1` (shown this
+    /// identity's certificate) and `h3` (shown `web`'s current short certificate, see
+    /// [`ByAlpn`]), keep-alive and idle timeout as above.
+    pub fn server_config(&self, web: &WebCerts) -> Result<quinn::ServerConfig, TlsError> {
         let provider = Arc::new(rustls::crypto::ring::default_provider());
+        let native = CertifiedKey::from_der(
+            vec![self.cert.clone()],
+            PrivateKeyDer::Pkcs8(self.key.clone_key()),
+            &provider,
+        )?;
         let mut tls = rustls::ServerConfig::builder_with_provider(provider)
             .with_protocol_versions(&[&rustls::version::TLS13])?
             .with_no_client_auth()
-            .with_single_cert(
-                vec![self.cert.clone()],
-                PrivateKeyDer::Pkcs8(self.key.clone_key()),
-            )?;
-        tls.alpn_protocols = vec![ALPN.to_vec()];
+            .with_cert_resolver(Arc::new(ByAlpn {
+                native: Arc::new(native),
+                web: web.clone(),
+            }));
+        tls.alpn_protocols = SERVER_ALPNS.iter().map(|a| a.to_vec()).collect();
         let crypto = quinn::crypto::rustls::QuicServerConfig::try_from(tls)
             .map_err(|e| TlsError::Quic(e.to_string()))?;
         let mut config = quinn::ServerConfig::with_crypto(Arc::new(crypto));
@@ -120,12 +130,65 @@ impl Identity {
             quinn::IdleTimeout::try_from(IDLE_TIMEOUT)
                 .map_err(|e| TlsError::Quic(e.to_string()))?,
         ));
-        // One stream per client, opened by the client.
-        transport.max_concurrent_bidi_streams(1u32.into());
-        transport.max_concurrent_uni_streams(0u32.into());
+        // What HTTP/3 needs (Chromium refuses a connection that offers fewer unidirectional
+        // streams), since the ALPN is not known when these are sent; a native connection is
+        // held to its one stream once it is ([`native_streams`]). Whatever a client leaves
+        // unread on streams nobody accepts is bounded by the connection's receive window.
+        transport.max_concurrent_bidi_streams(H3_BIDI_STREAMS.into());
+        transport.max_concurrent_uni_streams(H3_UNI_STREAMS.into());
+        transport.receive_window(CONNECTION_WINDOW.into());
         config.transport_config(Arc::new(transport));
         Ok(config)
     }
+}
+
+/// Bidirectional streams a client may have open: an `h3` client's CONNECT request and game
+/// stream; a native client uses one.
+const H3_BIDI_STREAMS: u32 = 2;
+/// Unidirectional streams a client may open: an `h3` client's HTTP/3 control stream and its
+/// two QPACK streams; a native client uses none.
+const H3_UNI_STREAMS: u32 = 3;
+/// The most bytes a client may have sent that the server has not read, over all its streams:
+/// sixteen whole frames, far more than a game has in flight.
+const CONNECTION_WINDOW: u32 = 16 * limits::MAX_FRAME as u32;
+
+/// Grants a native connection (its ALPN now known) no stream beyond the one it opens: the
+/// room HTTP/3 would have needed is never renewed.
+pub fn native_streams(conn: &quinn::Connection) {
+    conn.set_max_concurrent_bi_streams(1u32.into());
+    conn.set_max_concurrent_uni_streams(0u32.into());
+}
+
+/// The ALPNs the server offers, in its order of preference (rustls picks the first of these
+/// the client offers; [`ByAlpn`] must pick the same).
+const SERVER_ALPNS: [&[u8]; 2] = [ALPN, WEB_ALPN];
+
+/// Chooses the certificate by the ALPN the handshake will settle on: the long-lived one for
+/// the native protocol (so every invite and remembered seat keeps working), the short one
+/// for `h3`, which is all a browser can be made to trust.
+#[derive(Debug)]
+pub struct ByAlpn {
+    native: Arc<CertifiedKey>,
+    web: WebCerts,
+}
+
+impl ResolvesServerCert for ByAlpn {
+    fn resolve(&self, hello: ClientHello<'_>) -> Option<Arc<CertifiedKey>> {
+        match chosen_alpn(hello.alpn().map(|offered| offered.collect())) {
+            Some(WEB_ALPN) => Some(self.web.current()),
+            // The native protocol, or none (the handshake then fails on the ALPN anyway).
+            _ => Some(self.native.clone()),
+        }
+    }
+}
+
+/// The ALPN rustls will choose among what the client offered: the first of ours it offered.
+fn chosen_alpn(offered: Option<Vec<&[u8]>>) -> Option<&'static [u8]> {
+    let offered = offered?;
+    SERVER_ALPNS
+        .iter()
+        .copied()
+        .find(|ours| offered.contains(ours))
 }
 
 /// Loads the stateless-reset secret from `dir`, or makes and keeps a new one (mode 0600).
@@ -188,7 +251,17 @@ mod tests {
             .permissions()
             .mode();
         assert_eq!(mode & 0o777, 0o600);
-        assert!(first.server_config().is_ok());
+        let web = crate::webcert::WebCerts::load_or_create(&dir, Default::default()).unwrap();
+        assert!(first.server_config(&web).is_ok());
+    }
+
+    #[test]
+    fn the_alpn_chosen_is_the_first_of_ours_the_client_offers() {
+        assert_eq!(chosen_alpn(Some(vec![b"h3"])), Some(WEB_ALPN));
+        assert_eq!(chosen_alpn(Some(vec![ALPN])), Some(ALPN));
+        assert_eq!(chosen_alpn(Some(vec![b"h3", ALPN])), Some(ALPN));
+        assert_eq!(chosen_alpn(Some(vec![b"h2"])), None);
+        assert_eq!(chosen_alpn(None), None);
     }
 
     #[test]

@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 use anyhow::{anyhow, bail, Result};
 use breakshot_client::net::{Client, ClientEvent, Reconnect, Session, SessionEvent};
 use breakshot_client::play::{GameEvent, GameFlow, GameLink, Replica};
+use breakshot_server::webcert::WebCerts;
 use breakshot_server::{Config, Server, ServerError, Stats};
 use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{
@@ -75,6 +76,8 @@ pub struct TestServer {
     pub stats: Arc<Stats>,
     /// The page's link to the server, when it serves the web client (`Config::web_dir`).
     pub web_link: Option<WebLink>,
+    /// The running server's certificates for browsers (WebTransport).
+    pub web_certs: WebCerts,
     stop: Option<oneshot::Sender<()>>,
     task: JoinHandle<Result<(), ServerError>>,
 }
@@ -120,6 +123,7 @@ impl TestServer {
         let web_addr = server.web_addr();
         let stats = server.stats();
         let web_link = server.web_link(None);
+        let web_certs = server.web_certs();
         let (stop, stopped) = oneshot::channel::<()>();
         let task = tokio::spawn(server.run(async {
             let _ = stopped.await;
@@ -132,6 +136,7 @@ impl TestServer {
             web_addr,
             stats,
             web_link,
+            web_certs,
             stop: Some(stop),
             task,
         })

@@ -15,7 +15,7 @@ use std::sync::atomic::Ordering;
 use std::sync::Arc;
 use std::time::Duration;
 
-use breakshot_shared::protocol::web::WS_PATH;
+use breakshot_shared::protocol::web::{CERTIFICATE_HASH_PATH, WS_PATH};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
 use tokio::sync::watch;
@@ -25,6 +25,7 @@ use crate::admission::Ticket;
 use crate::limits::Limits;
 use crate::server::Attach;
 use crate::stats::Stats;
+use crate::webcert::WebCerts;
 use http::{answer, HeadError};
 use key::NoiseKey;
 
@@ -40,6 +41,8 @@ pub struct Web {
     pub root: PathBuf,
     /// The Noise key of the WebSocket.
     pub key: NoiseKey,
+    /// The `h3` certificates, whose hashes [`CERTIFICATE_HASH_PATH`] answers.
+    pub certs: WebCerts,
 }
 
 /// What one TCP connection needs from the server.
@@ -108,6 +111,9 @@ pub(crate) async fn serve(
         return websocket(stream, peer, head, deadline, ticket, visit).await;
     }
     ticket.handshake_over();
+    if path == CERTIFICATE_HASH_PATH {
+        return certificate_hashes(stream, &visit.web.certs, with_body).await;
+    }
     let file = match files::resolve(&visit.web.root, &head.target) {
         Ok(file) => file,
         Err(files::Refused::Bad) => {
@@ -147,6 +153,24 @@ async fn send_file(
         }
     }
     stream.flush().await
+}
+
+/// `GET /certificate.sha256`: the hashes a page passes as `serverCertificateHashes`, hex, one
+/// per line, newest first; never cached, since they change with every rotation.
+async fn certificate_hashes(mut stream: TcpStream, certs: &WebCerts, with_body: bool) {
+    let hashes: Vec<String> = certs.hashes().iter().map(|h| h.to_string()).collect();
+    let _ = tokio::time::timeout(
+        ANSWER_TIMEOUT,
+        answer(
+            &mut stream,
+            "200 OK",
+            &hashes.join("\n"),
+            with_body,
+            &[("Cache-Control", "no-store")],
+        ),
+    )
+    .await;
+    linger(stream).await;
 }
 
 /// Answers a short error and closes.

@@ -30,3 +30,9 @@ pub const PROTOCOL_VERSION: u32 = 3;
 
 /// The QUIC application protocol (ALPN) name.
 pub const ALPN: &[u8] = b"breakshot/1";
+
+/// The ALPN of WebTransport (HTTP/3), the browser's way onto the same UDP port. A
+/// connection that negotiates it is shown the server's short-lived certificate, one that
+/// negotiates [`ALPN`] the long-lived one its invites pin (docs/web.md). Its CONNECT goes
+/// to [`web::WEBTRANSPORT_PATH`].
+pub const WEB_ALPN: &[u8] = b"h3";
