@@ -433,12 +433,18 @@ fn announce(host: &breakshot_client::net::Host) {
         );
     }
     println!("{}", host.invite());
+    if let Some(link) = host.web_link() {
+        println!("{link}");
+    }
     let whom = match host.computer() {
         Some(level) => format!(
             "the computer (level {}) plays the other seat; send the invite above to a friend \
              to watch",
             level.number()
         ),
+        None if host.web_link().is_some() => {
+            "send the other player the invite above, or the link to play in a browser".into()
+        }
         None => "send the invite above to the other player".into(),
     };
     eprintln!(

@@ -12,6 +12,7 @@ use std::thread;
 use std::time::{Duration, Instant};
 
 pub mod browser;
+pub mod web;
 
 pub use tempfile::TempDir;
 

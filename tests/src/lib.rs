@@ -29,7 +29,6 @@ pub const SEED: u64 = 2026;
 
 pub use breakshot_testkit::scratch;
 
-pub mod bundle;
 pub mod postgres;
 pub mod web;
 

@@ -119,6 +119,7 @@ fn a_host_plays_the_seated_computer_while_a_friend_with_the_invite_watches() -> 
         resume: true,
         computer: Some(Level::new(1)),
         name: "ann".into(),
+        web: None,
     };
     let mut host = Host::start(&options)?;
     assert_eq!(host.computer(), Some(Level::new(1)));

@@ -25,6 +25,7 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
         resume: true,
         name: "ann".into(),
         computer: None,
+        web: None,
     };
     let mut host = Host::start(&options)?;
     let mut host_flow = GameFlow::new(Connection::Connecting);
@@ -127,6 +128,7 @@ fn the_invite_names_the_address_the_host_gives() -> anyhow::Result<()> {
         resume: true,
         name: "ann".into(),
         computer: None,
+        web: None,
     };
     let host = Host::start(&options)?;
     let invite = host.invite();
@@ -150,6 +152,7 @@ fn a_port_in_use_is_a_clear_error() -> anyhow::Result<()> {
         resume: true,
         name: "ann".into(),
         computer: None,
+        web: None,
     };
     let Err(e) = Host::start(&options) else {
         panic!("a second server bound the same port");

@@ -15,7 +15,7 @@ use std::process::Command;
 use std::time::Duration;
 
 use breakshot_testkit::run;
-use breakshot_tests::bundle::{has_wasm_target, skip_web, workspace, WASM_TARGET as TARGET};
+use breakshot_testkit::web::{has_wasm_target, skip_web, workspace, WASM_TARGET as TARGET};
 
 /// Skips the test with `why`, or fails it when CI requires the browser check.
 fn skip(why: &str) {

@@ -18,7 +18,7 @@ use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::WebTransportChoice;
 use breakshot_shared::replay::GameRecord;
 use breakshot_testkit::browser::{browser_or_skip, LaunchOptions, Viewport};
-use breakshot_tests::bundle::{bundle, skip_web};
+use breakshot_testkit::web::{bundle, skip_web};
 use breakshot_tests::{scratch, TestServer};
 
 /// A whole game: the page's computer thinks a few simulations a frame.
@@ -31,8 +31,7 @@ fn last_game_line(events: &serde_json::Value) -> String {
         .into_iter()
         .flatten()
         .filter_map(|e| e.as_str())
-        .filter(|e| e.starts_with("game "))
-        .next_back()
+        .rfind(|e| e.starts_with("game "))
         .unwrap_or_default()
         .to_owned()
 }
@@ -130,4 +129,9 @@ fn whole_game(test: &str, transport: WebTransportChoice) -> Result<()> {
 #[test]
 fn a_page_plays_a_whole_game_against_a_native_bot_over_the_web_socket() -> Result<()> {
     whole_game("web_play_ws", WebTransportChoice::WebSocket)
+}
+
+#[test]
+fn a_page_plays_a_whole_game_against_a_native_bot_over_web_transport() -> Result<()> {
+    whole_game("web_play_wt", WebTransportChoice::WebTransport)
 }

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use breakshot_server::{Config, Server};
 use breakshot_shared::physics::Strike;
-use breakshot_shared::protocol::{ClientMessage, Invite};
+use breakshot_shared::protocol::{ClientMessage, Invite, WebLink};
 use breakshot_shared::rules::{Command, Game, Seat, Settings, TurnId};
 use tokio::sync::oneshot;
 
@@ -35,6 +35,8 @@ const SEATING: Duration = Duration::from_secs(20);
 pub struct EmbeddedServer {
     addr: SocketAddr,
     invite: Invite,
+    /// The page's link, when the server serves the web client.
+    web_link: Option<WebLink>,
     stop: Option<oneshot::Sender<()>>,
     thread: Option<JoinHandle<()>>,
 }
@@ -68,7 +70,11 @@ impl EmbeddedServer {
                             return;
                         }
                     };
-                    let _ = ready_tx.send(Ok((server.local_addr(), server.invite())));
+                    let _ = ready_tx.send(Ok((
+                        server.local_addr(),
+                        server.invite(),
+                        server.web_link(None),
+                    )));
                     let result = server
                         .run(async {
                             let _ = stopped.await;
@@ -81,9 +87,10 @@ impl EmbeddedServer {
             })
             .map_err(|e| HostError::Runtime(e.to_string()))?;
         match ready_rx.recv() {
-            Ok(Ok((addr, invite))) => Ok(EmbeddedServer {
+            Ok(Ok((addr, invite, web_link))) => Ok(EmbeddedServer {
                 addr,
                 invite,
+                web_link,
                 stop: Some(stop),
                 thread: Some(thread),
             }),
@@ -106,6 +113,11 @@ impl EmbeddedServer {
     /// The server's own invite (no room), naming the bound address.
     pub fn invite(&self) -> Invite {
         self.invite.clone()
+    }
+
+    /// The page's link to the server (no room), when it serves the web client.
+    pub fn web_link(&self) -> Option<&WebLink> {
+        self.web_link.as_ref()
     }
 
     /// The server's invite as this computer dials it (loopback for a wildcard bind).
@@ -133,6 +145,8 @@ pub struct Host {
     /// Events the link gave while the room was being opened, handed to the screen first.
     pending: VecDeque<GameEvent>,
     invite: Invite,
+    /// The link a friend opens in a browser, when the web client is served.
+    web_link: Option<String>,
     resumed: bool,
     data: PathBuf,
     /// The computer player in the other seat, when it plays it.
@@ -150,7 +164,9 @@ impl Host {
     /// [`HostOptions::resume`] is false or that game is over; else a new room.
     pub fn start(options: &HostOptions) -> Result<Host, HostError> {
         let address = options.address.as_deref().map(invite_host).transpose()?;
-        let server = EmbeddedServer::start(Config::new(options.bind, options.data.clone()))?;
+        let mut config = Config::new(options.bind, options.data.clone());
+        config.web_dir = options.web.clone();
+        let server = EmbeddedServer::start(config)?;
         let mut addressed = server.invite();
         // A server on every interface is dialled on this computer's LAN address.
         let lan = || {
@@ -227,9 +243,19 @@ impl Host {
             }
             None => None,
         };
+        // The page is served on the same port number, at the address the invite names.
+        let web_link = server.web_link().map(|link| {
+            let at = addressed.first();
+            WebLink {
+                page: Some(WebLink::page_url(&at.host, at.port)),
+                ..link.with_room(room.clone())
+            }
+            .to_string()
+        });
         Ok(Host {
             link,
             pending,
+            web_link,
             invite: addressed.with_room(room),
             resumed,
             data: options.data.clone(),
@@ -246,6 +272,11 @@ impl Host {
     /// The invite for the other player: `breakshot://HOST:PORT/ROOM#FINGERPRINT`.
     pub fn invite(&self) -> &Invite {
         &self.invite
+    }
+
+    /// The link a friend opens in a browser to join, when the web client is served.
+    pub fn web_link(&self) -> Option<&str> {
+        self.web_link.as_deref()
     }
 
     /// True when the invite names a wildcard address (see [`names_wildcard`]).
@@ -339,5 +370,9 @@ impl GameLink for Host {
 
     fn invite(&self) -> Option<&Invite> {
         Some(&self.invite)
+    }
+
+    fn web_link(&self) -> Option<String> {
+        self.web_link.clone()
     }
 }

@@ -74,6 +74,9 @@ pub struct HostOptions {
     /// The computer plays the other seat at this level (a friend with the invite watches).
     /// A game against the computer is not resumed: it always opens a new room.
     pub computer: Option<Level>,
+    /// The web client's bundle (`web/build.sh OUT_DIR`), served on the same port number over
+    /// TCP so that a friend can play from a browser; `None`: native players only.
+    pub web: Option<PathBuf>,
 }
 
 impl HostOptions {
@@ -90,8 +93,29 @@ impl HostOptions {
             resume: true,
             name: "host".into(),
             computer: None,
+            web: web_bundle(),
         }
     }
+}
+
+/// The environment variable that names the web client's bundle (what `web/build.sh` built).
+pub const WEB_ENV: &str = "BREAKSHOT_WEB";
+
+/// The web client's bundle, if one is built: `$BREAKSHOT_WEB`, else `web` beside the
+/// program's folder (`target/web` for `target/release/breakshot`: `bash web/build.sh
+/// target/web`), else `web` in the program's folder (a packaged game). A folder counts only
+/// with its `index.html`.
+pub fn web_bundle() -> Option<PathBuf> {
+    let built = |dir: PathBuf| dir.join("index.html").is_file().then_some(dir);
+    if let Some(dir) = std::env::var_os(WEB_ENV) {
+        return built(PathBuf::from(dir));
+    }
+    let exe = std::env::current_exe().ok()?;
+    let folder = exe.parent()?;
+    folder
+        .parent()
+        .and_then(|up| built(up.join("web")))
+        .or_else(|| built(folder.join("web")))
 }
 
 /// True when `invite` names a wildcard address (0.0.0.0 or ::), which the other player

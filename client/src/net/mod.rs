@@ -43,8 +43,8 @@ pub use client::{Client, ClientEvent};
 pub use embedded::{EmbeddedServer, Host};
 pub use error::NetError;
 pub use host::{
-    default_data_dir, names_wildcard, router_hint, HostError, HostOptions, ADDRESS_NOTE,
-    DEFAULT_PORT,
+    default_data_dir, names_wildcard, router_hint, web_bundle, HostError, HostOptions,
+    ADDRESS_NOTE, DEFAULT_PORT, WEB_ENV,
 };
 pub use net_link::{NetLink, NoRoom};
 #[cfg(not(target_arch = "wasm32"))]

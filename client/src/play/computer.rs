@@ -48,10 +48,13 @@ enum Answer {
     Steps(ai::Thinking<Option<Command>>),
 }
 
-/// Simulations the stepped search runs per frame: a few milliseconds of a frame's budget
-/// (a shot of the break's kind takes well under a millisecond to simulate).
+/// The part of a frame (seconds) the stepped search may take: the page keeps drawing at
+/// its pace while the computer thinks.
 #[cfg(target_arch = "wasm32")]
-const SIMULATIONS_PER_FRAME: usize = 6;
+const THINKING_PER_FRAME: f64 = 0.008;
+/// Simulations between looks at the clock (one takes well under a millisecond).
+#[cfg(target_arch = "wasm32")]
+const SIMULATIONS_PER_STEP: usize = 2;
 
 impl Answer {
     /// The answer, once there is one: `Err` when the search ended without one.
@@ -66,10 +69,18 @@ impl Answer {
                 }
             },
             #[cfg(target_arch = "wasm32")]
-            Answer::Steps(search) => match search.step(SIMULATIONS_PER_FRAME) {
-                std::task::Poll::Ready(answer) => Some(Ok(answer.clone())),
-                std::task::Poll::Pending => None,
-            },
+            Answer::Steps(search) => {
+                let now = macroquad::miniquad::date::now;
+                let until = now() + THINKING_PER_FRAME;
+                loop {
+                    if let std::task::Poll::Ready(answer) = search.step(SIMULATIONS_PER_STEP) {
+                        return Some(Ok(answer.clone()));
+                    }
+                    if now() >= until {
+                        return None;
+                    }
+                }
+            }
         }
     }
 }

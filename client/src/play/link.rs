@@ -38,6 +38,10 @@ pub trait GameLink {
     /// Shows the others where this player aims on `turn` (online rooms; throttled by the
     /// caller).
     fn aim(&mut self, _turn: TurnId, _strike: Strike) {}
+    /// The link a friend opens in a browser to join, when the web client is served here.
+    fn web_link(&self) -> Option<String> {
+        None
+    }
     /// The invite to show while the opponent's seat is empty, when this computer hosts.
     fn invite(&self) -> Option<&Invite> {
         None

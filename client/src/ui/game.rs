@@ -35,8 +35,8 @@ pub struct GameScreen {
     frame_ms: f64,
     /// The last state told to whoever watches a page ([`super::report`]).
     reported: String,
-    /// The invite was copied to the clipboard.
-    copied: bool,
+    /// The invite panel's button pressed last.
+    copied: Option<invite::Copied>,
     /// How each ball is turned, for drawing.
     turns: Orientations,
     /// The player pressed Esc in an online game and is asked whether to leave.
@@ -97,7 +97,7 @@ impl GameScreen {
             debug: false,
             frame_ms: 0.0,
             reported: String::new(),
-            copied: false,
+            copied: None,
             turns: Orientations::new(),
             leaving: false,
             rematch_asked: false,
@@ -174,9 +174,17 @@ impl GameScreen {
                 .map_or(Rect::new(0.0, 0.0, screen_width(), screen_height()), |g| {
                     Self::layout(g).outer
                 });
-            if input.left_pressed && invite::copy_clicked(area, input.mouse) {
-                invite::copy(invite);
-                self.copied = true;
+            let link = self.link.web_link();
+            let clicked = input
+                .left_pressed
+                .then(|| invite::copy_clicked(area, link.is_some(), input.mouse))
+                .flatten();
+            if let Some(what) = clicked {
+                match (what, link) {
+                    (invite::Copied::Link, Some(link)) => invite::copy(&link),
+                    _ => invite::copy(&invite.to_string()),
+                }
+                self.copied = Some(what);
                 input.left_pressed = false;
             }
         }
@@ -617,7 +625,12 @@ impl GameScreen {
             self.debug_overlay(&layout, game);
         }
         if let Some(invite) = self.waiting_invite() {
-            invite::draw_panel(layout.outer, invite, self.copied);
+            invite::draw_panel(
+                layout.outer,
+                invite,
+                self.link.web_link().as_deref(),
+                self.copied,
+            );
         }
         if self.leaving {
             self.draw_leave_question();

@@ -125,7 +125,7 @@ fn open(start: Start, seed: Option<u64>) -> anyhow::Result<Screen> {
     let game = |link: Box<dyn GameLink>, connection| {
         Screen::Game(Box::new(game::GameScreen::new(link, connection)))
     };
-    Ok(match start {
+    let screen = match start {
         Start::Menu => Screen::Menu(menu::MenuScreen::new()),
         Start::Network(link) => game(link, Connection::Connecting),
         Start::Local(variant) => game(
@@ -149,7 +149,14 @@ fn open(start: Start, seed: Option<u64>) -> anyhow::Result<Screen> {
             scene.map(|s| *s),
             seed,
         )?)),
-    })
+    };
+    report(match screen {
+        Screen::Menu(_) => "screen menu",
+        Screen::Practice(_) => "screen practice",
+        Screen::Replay(_) => "screen replay",
+        Screen::Game(_) => "screen game",
+    });
+    Ok(screen)
 }
 
 pub enum Screen {

@@ -98,6 +98,7 @@ impl PracticeScreen {
                         self.shots += 1;
                         self.controls.shot_played();
                         self.message = format!("Shot {} at {:.1} m/s", self.shots, strike.speed);
+                        super::report(&format!("practice shot {}", self.shots));
                     }
                     Err(e) => self.message = e.to_string(),
                 },

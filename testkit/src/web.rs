@@ -8,7 +8,7 @@ use std::process::Command;
 use std::sync::OnceLock;
 use std::time::Duration;
 
-use breakshot_testkit::run;
+use crate::run;
 
 /// The browser's target.
 pub const WASM_TARGET: &str = "wasm32-unknown-unknown";
@@ -19,7 +19,7 @@ const BUILD_LIMIT: Duration = Duration::from_secs(20 * 60);
 pub fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .parent()
-        .expect("the tests crate sits in the workspace")
+        .expect("the test kit sits in the workspace")
         .to_path_buf()
 }
 
