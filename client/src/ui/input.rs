@@ -100,14 +100,28 @@ pub fn quit_requested() -> bool {
 pub fn read(dt: f64, typing: bool) -> InputFrame {
     thread_local! {
         static FINGERS: std::cell::RefCell<TwoFingers> = Default::default();
+        /// Where the last finger was, and the mouse's place then: a tap moves no mouse,
+        /// so the finger's place stands for the mouse until the mouse itself moves.
+        static FINGER: std::cell::Cell<Option<([f32; 2], (f32, f32))>> = Default::default();
     }
-    let down: Vec<[f32; 2]> = touches()
+    let touches = touches();
+    let down: Vec<[f32; 2]> = touches
         .iter()
         .filter(|t| !matches!(t.phase, TouchPhase::Ended | TouchPhase::Cancelled))
         .map(|t| [t.position.x, t.position.y])
         .collect();
     let (fingers, two_down) = FINGERS.with_borrow_mut(|f| (f.update(&down), f.active()));
-    let (mx, my) = mouse_position();
+    let mouse = mouse_position();
+    if let Some(t) = touches.first() {
+        FINGER.set(Some(([t.position.x, t.position.y], mouse)));
+    }
+    let (mx, my) = match FINGER.get() {
+        Some((finger, then)) if then == mouse => (finger[0], finger[1]),
+        _ => {
+            FINGER.set(None);
+            mouse
+        }
+    };
     let (_, wheel) = mouse_wheel();
     let frame = InputFrame {
         mouse: [mx, my],

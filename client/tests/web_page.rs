@@ -1,0 +1,216 @@
+//! The web client as a person meets it: the host runs `breakshot host` (the real program, in
+//! a window under Xvfb) with the web bundle built, and a friend opens the link it prints in a
+//! browser on a phone: the page joins the room, draws the table and the balls, and a finger
+//! aims and shoots on the practice table. The page is the bundle `web/build.sh` makes, in
+//! headless Chromium.
+//!
+//! Needs `xvfb-run`, the wasm32 target and Chromium; where one is missing the tests say why
+//! and pass (CI installs them and requires the web and browser tests).
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::Duration;
+
+use breakshot_client::play::Practice;
+use breakshot_client::view::palette::{Rgb, CLOTH, CUE_BALL};
+use breakshot_client::view::{menu_buttons, Frame, Layout};
+use breakshot_shared::physics::TableKind;
+use breakshot_testkit::browser::{browser_or_skip, LaunchOptions, Page, Rgba, Viewport};
+use breakshot_testkit::web::{bundle, skip_web};
+use breakshot_testkit::{read_line, scratch, Spawned};
+
+const PATIENCE: Duration = Duration::from_secs(60);
+
+fn close(p: [u8; 4], c: Rgb, tolerance: i32) -> bool {
+    (0..3).all(|i| (p[i] as i32 - c[i] as i32).abs() <= tolerance)
+}
+
+/// Pixels of the screenshot where `keep` holds.
+fn pixels(shot: &Rgba, keep: impl Fn([u8; 4]) -> bool) -> Vec<(u32, u32)> {
+    (0..shot.height)
+        .flat_map(|y| (0..shot.width).map(move |x| (x, y)))
+        .filter(|&(x, y)| shot.pixel(x, y).is_some_and(&keep))
+        .collect()
+}
+
+/// A ball's colours: strongly coloured, unlike the cloth, the wood and the text.
+fn coloured(p: [u8; 4]) -> bool {
+    let (hi, lo) = (p[..3].iter().max().copied(), p[..3].iter().min().copied());
+    hi.zip(lo).is_some_and(|(h, l)| h as i32 - l as i32 > 120) && !close(p, CLOTH, 30)
+}
+
+/// `xvfb-run`, or None with the reason printed.
+fn xvfb_run() -> Option<std::path::PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    let found = std::env::split_paths(&path)
+        .map(|d| d.join("xvfb-run"))
+        .find(|p| p.is_file());
+    if found.is_none() {
+        eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
+    }
+    found
+}
+
+/// `breakshot host` in a window, serving `bundle`; with the invite and the link it printed.
+fn host(dir: &Path, bundle: &Path) -> Option<(Spawned, String, String)> {
+    let xvfb = xvfb_run()?;
+    let mut host = Spawned::start(
+        Command::new(xvfb)
+            .args(["-a", "-f"])
+            .arg(dir.join("Xauthority"))
+            .args(["-s", "-screen 0 1280x800x24"])
+            .arg(env!("CARGO_BIN_EXE_breakshot"))
+            .arg("--data")
+            .arg(dir.join("data"))
+            .args(["host", "--bind", "127.0.0.1:0", "--name", "Hostess"])
+            .env("BREAKSHOT_WEB", bundle)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null()),
+    );
+    let out = host.child().stdout.take().expect("the host's output");
+    let (invite, out) = read_line(out, PATIENCE);
+    // The same reader: the second line may already be in its buffer.
+    let (link, _out) = read_line(out, PATIENCE);
+    Some((host, invite.trim().to_owned(), link.trim().to_owned()))
+}
+
+fn events(page: &mut Page<'_>) -> String {
+    page.eval("JSON.stringify(window.breakshotEvents || [])")
+        .map(|v| v.as_str().unwrap_or_default().to_owned())
+        .unwrap_or_default()
+}
+
+fn wait_for_event(page: &mut Page<'_>, prefix: &str, limit: Duration) {
+    let condition = format!("(window.breakshotEvents || []).some(e => e.startsWith({prefix:?}))");
+    if let Err(e) = page.wait_until(&condition, limit) {
+        panic!(
+            "the page never said {prefix:?}: {e}\nits events: {}",
+            events(page)
+        );
+    }
+}
+
+#[test]
+fn a_friend_opens_the_hosts_link_on_a_phone_joins_and_sees_the_table() {
+    let bundle = match bundle() {
+        Ok(b) => b,
+        Err(why) => return skip_web("web_page", &why),
+    };
+    let dir = scratch("web-page-join");
+    let Some((_host, invite, link)) = host(dir.path(), bundle) else {
+        return;
+    };
+    assert!(invite.starts_with("breakshot://127.0.0.1:"), "{invite}");
+    // The link the invite panel shows: on the same port number, with the room and the key.
+    assert!(link.starts_with("http://127.0.0.1:"), "{link}");
+    let room = invite
+        .rsplit_once('/')
+        .and_then(|(_, r)| r.split('#').next())
+        .expect("the invite's room");
+    assert!(link.contains(&format!("room={room}")), "{link}");
+    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
+        return;
+    };
+    let mut page = browser
+        .open(&link, Viewport::phone())
+        .expect("the page opens");
+    wait_for_event(&mut page, "game playing seat=B", PATIENCE);
+    let line = events(&mut page);
+    assert!(line.contains("connection=Connected"), "{line}");
+    // Let a few frames draw the table as it stands.
+    std::thread::sleep(Duration::from_millis(500));
+    let shot = page.screenshot().expect("a screenshot");
+    if let Ok(dir) = std::env::var("BREAKSHOT_SCREENSHOTS") {
+        let png = page.screenshot_png().expect("a screenshot");
+        std::fs::write(Path::new(&dir).join("web-phone.png"), png).expect("saved");
+    }
+    let cloth = pixels(&shot, |p| close(p, CLOTH, 8)).len();
+    let area = (shot.width * shot.height) as usize;
+    assert!(
+        cloth * 20 > area,
+        "the cloth covers only {cloth} of {area} pixels"
+    );
+    let balls = pixels(&shot, coloured).len();
+    assert!(
+        balls > 300,
+        "only {balls} pixels of coloured balls: no rack drawn"
+    );
+    let white = pixels(&shot, |p| close(p, CUE_BALL, 12)).len();
+    assert!(white > 30, "only {white} white pixels: no cue ball");
+    let names = events(&mut page);
+    assert!(!names.contains("desyncs=1"), "{names}");
+}
+
+#[test]
+fn a_finger_aims_and_shoots_on_the_practice_table_of_a_phone() {
+    let bundle = match bundle() {
+        Ok(b) => b,
+        Err(why) => return skip_web("web_page", &why),
+    };
+    let dir = scratch("web-page-touch");
+    let Some((_host, _invite, link)) = host(dir.path(), bundle) else {
+        return;
+    };
+    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
+        return;
+    };
+    // The page on its own, without a room: the menu, whose first button is Practice.
+    let page_url = link.split('?').next().expect("the page's address");
+    let phone = Viewport::phone();
+    let mut page = browser.open(page_url, phone).expect("the page opens");
+    wait_for_event(&mut page, "screen menu", PATIENCE);
+    if let Ok(dir) = std::env::var("BREAKSHOT_SCREENSHOTS") {
+        let png = page.screenshot_png().expect("a screenshot");
+        std::fs::write(Path::new(&dir).join("web-menu.png"), png).expect("saved");
+    }
+    let buttons = menu_buttons(phone.width as f32, phone.height as f32, 3);
+    let [x, y] = buttons[0].center();
+    page.tap((x as f64, y as f64)).expect("a tap");
+    wait_for_event(&mut page, "screen practice", PATIENCE);
+    std::thread::sleep(Duration::from_millis(500));
+
+    // Where the practice rack puts the cue ball and the rack on this screen (the rack's
+    // order changes from rack to rack; its place and the cue ball's do not).
+    let practice = Practice::rack(TableKind::NineFoot, 1);
+    let layout = Layout::new(
+        phone.width as f32,
+        phone.height as f32,
+        Frame::new(practice.table, &practice.balls),
+    );
+    let point = |p: glam::DVec2| {
+        let [x, y] = layout.to_screen(p);
+        (x as f64, y as f64)
+    };
+    let cue = point(practice.balls[0].pos);
+    let others = &practice.balls[1..];
+    let rack_at = point(others.iter().map(|b| b.pos).sum::<glam::DVec2>() / others.len() as f64);
+    let shot = page.screenshot().expect("a screenshot");
+    let r = layout.px(breakshot_shared::physics::Params::default().ball_radius) as f64;
+    let white = (0..8).any(|k| {
+        let a = k as f64 * std::f64::consts::FRAC_PI_4;
+        let (x, y) = (cue.0 + 0.5 * r * a.cos(), cue.1 + 0.5 * r * a.sin());
+        shot.pixel(x as u32, y as u32)
+            .is_some_and(|p| close(p, CUE_BALL, 40))
+    });
+    assert!(white, "no cue ball drawn at {cue:?}");
+    // Aim at a point towards the rack, then pull the finger back from it towards the ball.
+    let aim = (
+        cue.0 + 0.5 * (rack_at.0 - cue.0),
+        cue.1 + 0.5 * (rack_at.1 - cue.1),
+    );
+    page.tap(aim).expect("a tap to aim");
+    std::thread::sleep(Duration::from_millis(200));
+    let pulled = (aim.0 + 0.6 * (cue.0 - aim.0), aim.1 + 0.6 * (cue.1 - aim.1));
+    page.touch_drag(aim, pulled, 12).expect("a drag");
+    let shot = page.wait_until(
+        "(window.breakshotEvents || []).some(e => e.startsWith('practice shot 1'))",
+        Duration::from_secs(10),
+    );
+    if let Ok(dir) = std::env::var("BREAKSHOT_SCREENSHOTS") {
+        let png = page.screenshot_png().expect("a screenshot");
+        std::fs::write(Path::new(&dir).join("web-practice.png"), png).expect("saved");
+    }
+    if let Err(e) = shot {
+        panic!("no shot after aiming at {aim:?} from the cue ball at {cue:?} and pulling back to {pulled:?}: {e}\nevents: {}", events(&mut page));
+    }
+}
