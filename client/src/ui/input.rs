@@ -96,13 +96,16 @@ pub fn quit_requested() -> bool {
     macroquad::prelude::is_quit_requested() || SIGNALLED.load(Ordering::Relaxed)
 }
 
+/// The last finger's place, and the mouse's place when it was there.
+type Finger = ([f32; 2], (f32, f32));
+
 /// This frame's input; `typing`: a line of text is being typed, and takes the keys.
 pub fn read(dt: f64, typing: bool) -> InputFrame {
     thread_local! {
         static FINGERS: std::cell::RefCell<TwoFingers> = Default::default();
         /// Where the last finger was, and the mouse's place then: a tap moves no mouse,
         /// so the finger's place stands for the mouse until the mouse itself moves.
-        static FINGER: std::cell::Cell<Option<([f32; 2], (f32, f32))>> = Default::default();
+        static FINGER: std::cell::Cell<Option<Finger>> = Default::default();
     }
     let touches = touches();
     let down: Vec<[f32; 2]> = touches
