@@ -188,7 +188,10 @@ fn a_finger_aims_and_shoots_on_the_practice_table_of_a_phone() {
     let r = layout.px(breakshot_shared::physics::Params::default().ball_radius) as f64;
     let white = (0..8).any(|k| {
         let a = k as f64 * std::f64::consts::FRAC_PI_4;
-        let (x, y) = (cue.0 + 0.5 * r * a.cos(), cue.1 + 0.5 * r * a.sin());
+        let (x, y) = (
+            cue.0 + 0.5 * r * libm::cos(a),
+            cue.1 + 0.5 * r * libm::sin(a),
+        );
         shot.pixel(x as u32, y as u32)
             .is_some_and(|p| close(p, CUE_BALL, 40))
     });
