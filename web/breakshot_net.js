@@ -36,8 +36,28 @@
         return out;
     }
 
+    // A page served by the game server itself asks it for the current certificate hashes,
+    // in case its link is older than a rotation (docs/web.md).
+    async function current_hashes(url, hashes) {
+        try {
+            if (new URL(url).host !== window.location.host) {
+                return hashes;
+            }
+            const answer = await fetch("/certificate.sha256", { cache: "no-store" });
+            if (!answer.ok) {
+                return hashes;
+            }
+            const listed = (await answer.text()).split("\n").map(function (h) { return h.trim(); })
+                .filter(function (h) { return /^[0-9a-f]{64}$/.test(h); });
+            return hashes.concat(listed.filter(function (h) { return hashes.indexOf(h) < 0; }));
+        } catch (e) {
+            return hashes;
+        }
+    }
+
     async function open_web_transport(sock, url, hashes) {
         try {
+            hashes = await current_hashes(url, hashes);
             const options = { allowPooling: false, congestionControl: "low-latency" };
             if (hashes.length > 0) {
                 options.serverCertificateHashes = hashes.map(function (h) {

@@ -456,7 +456,10 @@ fn announce(host: &breakshot_client::net::Host) {
         eprintln!("breakshot: {}", breakshot_client::net::ADDRESS_NOTE);
     } else {
         let port = host.server().local_addr().port();
-        eprintln!("breakshot: {}", breakshot_client::net::router_hint(port));
+        eprintln!(
+            "breakshot: {}",
+            breakshot_client::net::router_hint(port, host.web_link().is_some())
+        );
     }
 }
 

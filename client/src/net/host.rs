@@ -21,10 +21,16 @@ pub const ADDRESS_NOTE: &str = "this computer has no network address the other p
 
 /// How to be reached from outside a home network, for a server on `port`: one line for the
 /// invite panel and the terminal (the README says the same).
-pub fn router_hint(port: u16) -> String {
+/// `web`: the web client is served too, on the same port number over TCP.
+pub fn router_hint(port: u16, web: bool) -> String {
+    let ports = if web {
+        format!("UDP and TCP port {port}")
+    } else {
+        format!("UDP port {port}")
+    };
     format!(
-        "Over the internet: forward UDP port {port} on your router to this computer and host \
-         with --address YOUR_PUBLIC_IP"
+        "Over the internet: forward {ports} on your router to this computer and host with \
+         --address YOUR_PUBLIC_IP"
     )
 }
 

@@ -79,7 +79,7 @@ pub fn draw_panel(area: Rect, invite: &Invite, link: Option<&str>, copied: Optio
         wrap(&format!("Note: {ADDRESS_NOTE}."), p.w - 32.0, NOTE)
     } else {
         wrap(
-            &format!("{}.", router_hint(invite.first().port)),
+            &format!("{}.", router_hint(invite.first().port, link.is_some())),
             p.w - 32.0,
             NOTE,
         )
