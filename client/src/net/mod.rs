@@ -26,6 +26,7 @@ pub mod page;
 mod pinned;
 mod polled;
 mod port;
+mod record_answer;
 #[cfg(not(target_arch = "wasm32"))]
 mod records;
 #[cfg(not(target_arch = "wasm32"))]
@@ -52,10 +53,9 @@ pub use pinned::client_config;
 pub use player::{Action, Entry, PlayerCore, PlayerEvent, Reconnect, Seating, ATTEMPT_LIMIT};
 pub use polled::{MemoryServer, MemoryTransport, Polled, Transport, TransportEvent};
 pub use port::{PolledSession, Port, SessionEvent};
+pub use record_answer::{interpret_record, FetchError, FetchedRecord, FETCH_TIMEOUT};
 #[cfg(not(target_arch = "wasm32"))]
-pub use records::{
-    fetch_game, fetch_game_blocking, fetch_record, FetchError, FetchedRecord, FETCH_TIMEOUT,
-};
+pub use records::{fetch_game, fetch_game_blocking, fetch_record};
 #[cfg(not(target_arch = "wasm32"))]
 pub use seat_player::RETRY_FOR;
 #[cfg(not(target_arch = "wasm32"))]

@@ -38,8 +38,6 @@ const FPS: f64 = 60.0;
 pub enum Start {
     Menu,
     Practice(Option<Box<Scene>>),
-    // A page has no replay to open yet (docs/web.md says what it lacks).
-    #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
     Replay(Box<ReplayViewer>),
     /// Two players at this computer.
     Local(Variant),

@@ -3,7 +3,7 @@
 //!
 //! `http://HOST:P/?room=ROOM&key=KEYHEX&cert=HASHHEX,HASHHEX`, and optionally
 //! `server=HOST:P` (the game server, when the page comes from elsewhere), `watch=1`,
-//! `transport=ws|wt` and, for tests, `computer=LEVEL`. The page itself reads only the query
+//! `replay=1` (the room's recorded game), `transport=ws|wt` and, for tests, `computer=LEVEL`. The page itself reads only the query
 //! string, so a link parses from the whole address or from its query string alone.
 
 use std::fmt;
@@ -44,6 +44,8 @@ pub struct WebLink {
     pub cert: Vec<Fingerprint>,
     /// Watch instead of play (`watch=1`).
     pub watch: bool,
+    /// Watch the room's recorded game from its start instead (`replay=1`).
+    pub replay: bool,
     /// The ways in the page may try (`transport=`).
     pub transport: WebTransportChoice,
     /// Tests only: the page's own computer player takes its seat at this level.
@@ -68,12 +70,13 @@ pub enum WebLinkError {
 }
 
 /// The parameters a link may carry, in the order [`WebLink`] displays them.
-const NAMES: [&str; 7] = [
+const NAMES: [&str; 8] = [
     "server",
     "room",
     "key",
     "cert",
     "watch",
+    "replay",
     "transport",
     "computer",
 ];
@@ -88,6 +91,7 @@ impl WebLink {
             key,
             cert: Vec::new(),
             watch: false,
+            replay: false,
             transport: WebTransportChoice::Any,
             computer: None,
         }
@@ -124,6 +128,9 @@ impl WebLink {
         if self.watch {
             parts.push(("watch", "1".into()));
         }
+        if self.replay {
+            parts.push(("replay", "1".into()));
+        }
         match self.transport {
             WebTransportChoice::Any => {}
             WebTransportChoice::WebSocket => parts.push(("transport", "ws".into())),
@@ -157,7 +164,7 @@ impl WebLink {
             }
             values[i] = Some(unescape(value)?);
         }
-        let [server, room, key, cert, watch, transport, computer] = values;
+        let [server, room, key, cert, watch, replay, transport, computer] = values;
         let key = key.ok_or(WebLinkError::MissingKey)?;
         Ok(WebLink {
             page: None,
@@ -177,11 +184,8 @@ impl WebLink {
                     .map(|h| Fingerprint::parse(h).map_err(|_| WebLinkError::Bad("cert")))
                     .collect::<Result<_, _>>()?,
             },
-            watch: match watch.as_deref() {
-                None | Some("0") => false,
-                Some("1") => true,
-                Some(_) => return Err(WebLinkError::Bad("watch")),
-            },
+            watch: flag(watch.as_deref(), "watch")?,
+            replay: flag(replay.as_deref(), "replay")?,
             transport: match transport.as_deref() {
                 None => WebTransportChoice::Any,
                 Some("ws") => WebTransportChoice::WebSocket,
@@ -195,6 +199,15 @@ impl WebLink {
                 })
                 .transpose()?,
         })
+    }
+}
+
+/// A parameter that is `1` or `0` (absent: `0`).
+fn flag(value: Option<&str>, name: &'static str) -> Result<bool, WebLinkError> {
+    match value {
+        None | Some("0") => Ok(false),
+        Some("1") => Ok(true),
+        Some(_) => Err(WebLinkError::Bad(name)),
     }
 }
 
@@ -282,6 +295,7 @@ mod tests {
             format!("http://[::1]:4433/?room=K7QX2M4B&key={k}&cert={h1}"),
             format!("https://example.org/play/?server=game.example.org:4433&room=K7QX2M4B&key={k}&watch=1&transport=wt"),
             format!("http://h:1/?server=[::1]:9&key={k}&transport=ws&computer=3"),
+            format!("http://h:1/?room=K7QX2M4B&key={k}&replay=1"),
             format!("?room=K7QX2M4B&key={k}"),
         ] {
             let link: WebLink = text.parse().unwrap();
@@ -341,6 +355,7 @@ mod tests {
             (format!("?key={k}&cert={h},"), WebLinkError::Bad("cert")),
             (format!("?key={k}&cert=12"), WebLinkError::Bad("cert")),
             (format!("?key={k}&watch=yes"), WebLinkError::Bad("watch")),
+            (format!("?key={k}&replay=2"), WebLinkError::Bad("replay")),
             (
                 format!("?key={k}&transport=tcp"),
                 WebLinkError::Bad("transport"),
