@@ -217,3 +217,47 @@ fn a_finger_aims_and_shoots_on_the_practice_table_of_a_phone() {
         panic!("no shot after aiming at {aim:?} from the cue ball at {cue:?} and pulling back to {pulled:?}: {e}\nevents: {}", events(&mut page));
     }
 }
+
+#[test]
+fn a_link_with_another_key_or_a_browser_without_webgl_says_why_on_the_page() {
+    let bundle = match bundle() {
+        Ok(b) => b,
+        Err(why) => return skip_web("web_page", &why),
+    };
+    let dir = scratch("web-page-bad");
+    let Some((_host, _invite, link)) = host(dir.path(), bundle) else {
+        return;
+    };
+    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
+        return;
+    };
+    // The key of another server: the WebSocket's handshake fails, and the page says so.
+    let mut parsed: breakshot_shared::protocol::WebLink = link.parse().expect("a web link");
+    parsed.key[0] ^= 1;
+    parsed.transport = breakshot_shared::protocol::WebTransportChoice::WebSocket;
+    let mut page = browser
+        .open(&parsed.to_string(), Viewport::desktop(1280, 720))
+        .expect("the page opens");
+    wait_for_event(
+        &mut page,
+        "game waiting seat=- confirmed=0 desyncs=0 connection=Closed",
+        PATIENCE,
+    );
+    drop(page);
+
+    // Without WebGL the page says what it needs instead of leaving a blank canvas.
+    let Some(blind) = browser_or_skip(
+        LaunchOptions::default()
+            .arg("--disable-gpu")
+            .arg("--disable-software-rasterizer"),
+    ) else {
+        return;
+    };
+    let mut page = blind
+        .open(&link, Viewport::desktop(800, 600))
+        .expect("the page opens");
+    let said = "(document.getElementById('status').textContent || '').includes('WebGL')";
+    if let Err(e) = page.wait_until(said, PATIENCE) {
+        panic!("no word about WebGL: {e}");
+    }
+}
