@@ -62,7 +62,15 @@ pub struct Simulator {
     table: Option<Table>,
     pieces: Vec<Piece>,
     own: Vec<Own>,
+    /// For each pair `i < j`, its next collision, or while `solved` is false a lower bound on
+    /// it: a pair is solved only when its bound is the earliest candidate (most never are:
+    /// one of the balls changes first).
     pair: Vec<f64>,
+    /// For each pair `i < j`, whether `pair` holds the exact collision time.
+    solved: Vec<bool>,
+    /// For each unsolved pair `i < j`, the time it was predicted from: solving it later
+    /// from that same time gives the very bits an immediate solve would have.
+    since: Vec<f64>,
     /// For each ball `i`, the earliest collision among its pairs `i < j`: the loop looks
     /// for the next event over these instead of over every pair.
     row: Vec<f64>,
@@ -181,6 +189,10 @@ impl Simulator {
         self.own.resize(n, NO_OWN);
         self.pair.clear();
         self.pair.resize(n * n, f64::INFINITY);
+        self.solved.clear();
+        self.solved.resize(n * n, true);
+        self.since.clear();
+        self.since.resize(n * n, 0.0);
         self.row.clear();
         self.row.resize(n, f64::INFINITY);
         self.last.clear();
@@ -204,7 +216,7 @@ impl Simulator {
         // event, so this also bounds a run of such silent steps.
         let mut steps = 0;
         loop {
-            let (t, next) = self.earliest(n);
+            let (t, next) = self.earliest(n, &ctx);
             if t > ctx.limit {
                 stopped_by_horizon = ctx.limit.is_finite();
                 break;
@@ -241,22 +253,56 @@ impl Simulator {
         Ok(())
     }
 
-    fn earliest(&self, n: usize) -> (f64, Next) {
-        let mut best = f64::INFINITY;
-        let mut next = Next::Pair;
+    /// The next event: the earliest own event or collision (own events first at the same
+    /// instant), solving the pairs whose lower bound is the earliest candidate until the
+    /// earliest is exact. Solving changes no own event, so those are scanned once.
+    fn earliest(&mut self, n: usize, ctx: &Ctx) -> (f64, Next) {
+        let mut own_best = f64::INFINITY;
+        let mut own_next = Next::Pair;
         for (i, own) in self.own.iter().enumerate() {
-            if own.t < best {
-                best = own.t;
-                next = Next::Own(i);
+            if own.t < own_best {
+                own_best = own.t;
+                own_next = Next::Own(i);
             }
         }
-        for &t in &self.row[..n] {
-            if t < best {
-                best = t;
-                next = Next::Pair;
+        loop {
+            let mut best = own_best;
+            let mut first = n;
+            for (i, &t) in self.row[..n].iter().enumerate() {
+                if t < best {
+                    best = t;
+                    first = i;
+                }
+            }
+            if first == n {
+                return (own_best, own_next);
+            }
+            if !self.solve_pairs_at(best, first, n, ctx) {
+                return (best, Next::Pair);
             }
         }
-        (best, next)
+    }
+
+    /// Solves every unsolved pair whose bound is `t`, in the rows from `first` on (no row
+    /// before it holds `t`); false when there was none.
+    fn solve_pairs_at(&mut self, t: f64, first: usize, n: usize, ctx: &Ctx) -> bool {
+        let mut any = false;
+        for i in first..n {
+            if self.row[i] != t {
+                continue;
+            }
+            for j in i + 1..n {
+                let k = i * n + j;
+                if self.pair[k] == t && !self.solved[k] {
+                    self.solved[k] = true;
+                    let exact = self.collision_time(i, j, self.since[k], ctx);
+                    debug_assert!(exact >= t, "pair {i}-{j}: bound {t} above {exact}");
+                    self.set_pair(i, j, exact);
+                    any = true;
+                }
+            }
+        }
+        any
     }
 
     /// Sets ball `i`'s next own event from `now`.
@@ -346,10 +392,37 @@ impl Simulator {
             if a.apart(b) {
                 f64::INFINITY
             } else {
-                self.collision_time(i, j, now, ctx)
+                self.deferred_collision(i, j, now, ctx)
             }
         };
         self.set_pair(i, j, t);
+    }
+
+    /// The next collision of balls `i < j` after `now`, or a lower bound on it marked
+    /// unsolved, to be solved (from `now`) only if it becomes the earliest candidate. Any
+    /// other value written to the pair later (a new prediction) marks it again.
+    #[inline(never)]
+    fn deferred_collision(&mut self, i: usize, j: usize, now: f64, ctx: &Ctx) -> f64 {
+        let n = self.row.len();
+        let k = i * n + j;
+        let flying = Mobility::Flying;
+        if self.extents[i].mobility == flying || self.extents[j].mobility == flying {
+            self.solved[k] = true;
+            return self.collision_time(i, j, now, ctx);
+        }
+        let until = self.own[i].t.min(self.own[j].t).min(ctx.limit);
+        let (a, b) = (&self.pieces[i], &self.pieces[j]);
+        match ball_ball::earliest_contact(a, b, now, until, ctx.params.ball_radius) {
+            None => {
+                self.solved[k] = true;
+                f64::INFINITY
+            }
+            Some(bound) => {
+                self.solved[k] = false;
+                self.since[k] = now;
+                bound
+            }
+        }
     }
 
     /// The next collision of balls `i < j` after `now`, whose boxes are within reach.
@@ -421,7 +494,7 @@ impl Simulator {
                 if a.apart(b) {
                     f64::INFINITY
                 } else {
-                    self.collision_time(lo, hi, t, ctx)
+                    self.deferred_collision(lo, hi, t, ctx)
                 }
             };
             self.set_pair(lo, hi, time);
