@@ -4,7 +4,7 @@ use glam::{DVec2, DVec3};
 
 use super::motion::Piece;
 use super::params::{BallBallModel, Params};
-use super::roots::{first_contact, hull_stays_apart, stays_apart, Poly, Touch};
+use super::roots::{contact_bound, first_contact, hull_stays_apart, stays_apart, Poly, Touch};
 
 /// The squared-distance polynomial of two pieces from absolute time `now`:
 /// `f(τ) = |d(τ)|² − (2R)²` with `d = r_b − r_a`.
@@ -50,47 +50,16 @@ pub fn collision_time(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -
     first_contact(&poly, until - now, Touch::squared(2.0 * radius)).map(|dt| now + dt)
 }
 
-/// How far short of contact (m) [`earliest_contact`] places its bound.
-const BOUND_MARGIN: f64 = 1e-6;
-
-/// A lower bound on [`collision_time`] (with the same arguments), or `None` when it is
-/// certainly `None`. Along the line of centres `n = Δr/|Δr|` the distance is at least
-/// `n·Δr(τ) = |Δr| + u·τ + ½·w·τ²` (`u = n·Δv`, `w = n·Δa`), so the balls cannot touch before
-/// the closing `−u·τ − ½·w·τ²` reaches the gap `|Δr| − 2R`. The closing rates are raised by
-/// a billionth of the relative speed and acceleration and the gap lowered by a micrometre:
-/// far above their rounding and the contact polynomial's (some 1e-11 m even over a whole
-/// table's travel), so the bound stays below any contact the root solver can find. Cheap:
-/// no root isolation.
+/// A lower bound on [`collision_time`] (with the same arguments), or `None` when that is
+/// certainly `None` ([`contact_bound`] on the same relative motion). Cheap: no root
+/// isolation.
 pub fn earliest_contact(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -> Option<f64> {
     if !a.start.motion.is_translating() && !b.start.motion.is_translating() {
         return None;
     }
     let dr = b.pos_at(now) - a.pos_at(now);
-    let dist = dr.length();
-    let gap = dist - 2.0 * radius - BOUND_MARGIN;
-    if gap <= 0.0 {
-        return Some(now);
-    }
     let dv = b.vel_at(now) - a.vel_at(now);
-    let da = b.acc - a.acc;
-    let n = dr / dist;
-    let speed = -n.dot(dv) + 1e-9 * (dv.x.abs() + dv.y.abs());
-    let acc = -n.dot(da) + 1e-9 * (da.x.abs() + da.y.abs());
-    // The first root of ½·acc·τ² + speed·τ = gap, written without cancellation; none when
-    // the closing never reaches the gap.
-    let disc = speed * speed + 2.0 * acc * gap;
-    if disc < 0.0 {
-        return None;
-    }
-    let den = speed + disc.sqrt();
-    if den <= 0.0 {
-        return None;
-    }
-    let tau = 2.0 * gap / den;
-    if tau.is_nan() {
-        // Not from finite pieces; a bound of `now` leaves the answer to the solver.
-        return Some(now);
-    }
+    let tau = contact_bound(dr, dv, b.acc - a.acc, 2.0 * radius)?;
     // A contact found by the solver lies within [0, until − now].
     if tau > until - now {
         return None;

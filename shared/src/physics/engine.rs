@@ -25,6 +25,7 @@ use super::ball_cushion;
 use super::event::{Event, EventKind};
 use super::group_impact::{self, Scratch};
 use super::motion::{BallState, MotionModel, MotionState, Piece};
+use super::roots;
 use super::shot::{validate, Ctx};
 use super::table::{Cushion, Table};
 
@@ -328,13 +329,19 @@ impl Simulator {
         };
         let until = piece.t_end.min(ctx.limit);
         if piece.start.motion.is_translating() {
-            let mut consider = |t: Option<f64>, kind: OwnKind| {
+            // Candidates are taken in a fixed order, the first of equal times winning; one
+            // whose lower bound (a closed form, see `roots::contact_bound`) is already later
+            // than the best so far cannot be taken, and is not solved.
+            let consider = |best: &mut Own, t: Option<f64>, kind: OwnKind| {
                 if let Some(t) = t {
                     if t < best.t || (t == best.t && best.kind == OwnKind::Transition) {
-                        best = Own { t, kind };
+                        *best = Own { t, kind };
                     }
                 }
             };
+            let can_beat =
+                |best: &Own, bound: Option<f64>| bound.is_some_and(|b| now + b <= best.t);
+            let (p, v, acc) = (piece.pos_at(now), piece.vel_at(now), piece.acc);
             let work = &mut self.outcome.work;
             // The box holding the ball's whole path rules out most cushions and pockets.
             let Extent { lo, hi, .. } = self.extents[i];
@@ -344,7 +351,12 @@ impl Simulator {
             if ctx.effects.pockets {
                 work.pocket_checks += ctx.table.pockets.len() as u64;
                 for (k, pocket) in ctx.table.pockets.iter().enumerate() {
-                    if near(pocket.center, pocket.radius) {
+                    if near(pocket.center, pocket.radius)
+                        && can_beat(
+                            &best,
+                            roots::contact_bound(p - pocket.center, v, acc, pocket.radius),
+                        )
+                    {
                         let t = ball_cushion::circle_time(
                             piece,
                             pocket.center,
@@ -352,7 +364,7 @@ impl Simulator {
                             now,
                             until,
                         );
-                        consider(t, OwnKind::Pocket(k as u8));
+                        consider(&mut best, t, OwnKind::Pocket(k as u8));
                     }
                 }
             }
@@ -366,14 +378,22 @@ impl Simulator {
                         if n.y > 0.0 { lo.y } else { hi.y },
                     );
                     if n.dot(corner - rail.a) <= ctx.contact {
-                        let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
-                        consider(t, OwnKind::Rail(k as u8));
+                        // The same signed distance and rates as `rail_time`'s polynomial.
+                        let dist = n.dot(p - rail.a) - ctx.contact;
+                        let bound = roots::line_bound(dist, n.dot(v), 0.5 * n.dot(acc));
+                        if can_beat(&best, bound) {
+                            let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
+                            consider(&mut best, t, OwnKind::Rail(k as u8));
+                        }
                     }
                 }
                 for (k, jaw) in ctx.table.jaws.iter().enumerate() {
-                    if near(jaw.center, jaw.radius + ctx.contact) {
+                    let radius = jaw.radius + ctx.contact;
+                    if near(jaw.center, radius)
+                        && can_beat(&best, roots::contact_bound(p - jaw.center, v, acc, radius))
+                    {
                         let t = ball_cushion::jaw_time(piece, jaw, now, until, ctx.contact);
-                        consider(t, OwnKind::Jaw(k as u8));
+                        consider(&mut best, t, OwnKind::Jaw(k as u8));
                     }
                 }
             }
