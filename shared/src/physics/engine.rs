@@ -75,6 +75,8 @@ pub struct Simulator {
     /// For each ball `i`, the earliest collision among its pairs `i < j`: the loop looks
     /// for the next event over these instead of over every pair.
     row: Vec<f64>,
+    /// For each ball `i` whose `row[i]` is finite, a `j` whose pair holds it.
+    arg: Vec<usize>,
     /// For each pair `i < j` (at `i·n + j`), when it last took part in an impact.
     last: Vec<f64>,
     /// For each pair `i < j`, whether its last impact left it held (moving as one).
@@ -196,6 +198,8 @@ impl Simulator {
         self.since.resize(n * n, 0.0);
         self.row.clear();
         self.row.resize(n, f64::INFINITY);
+        self.arg.clear();
+        self.arg.resize(n, 0);
         self.last.clear();
         self.last.resize(n * n, f64::NEG_INFINITY);
         self.held.clear();
@@ -278,6 +282,14 @@ impl Simulator {
             if first == n {
                 return (own_best, own_next);
             }
+            let k = first * n + self.arg[first];
+            debug_assert_eq!(self.pair[k], best);
+            if !self.solved[k] {
+                // The usual case: the earliest is one pair's bound.
+                self.solve_pair(first, self.arg[first], ctx);
+                continue;
+            }
+            // Exact; any other pair at the same time must be exact too.
             if !self.solve_pairs_at(best, first, n, ctx) {
                 return (best, Next::Pair);
             }
@@ -295,15 +307,23 @@ impl Simulator {
             for j in i + 1..n {
                 let k = i * n + j;
                 if self.pair[k] == t && !self.solved[k] {
-                    self.solved[k] = true;
-                    let exact = self.collision_time(i, j, self.since[k], ctx);
-                    debug_assert!(exact >= t, "pair {i}-{j}: bound {t} above {exact}");
-                    self.set_pair(i, j, exact);
+                    self.solve_pair(i, j, ctx);
                     any = true;
                 }
             }
         }
         any
+    }
+
+    /// Replaces the bound of the unsolved pair `i < j` by its exact collision time.
+    fn solve_pair(&mut self, i: usize, j: usize, ctx: &Ctx) {
+        let n = self.row.len();
+        let k = i * n + j;
+        let bound = self.pair[k];
+        self.solved[k] = true;
+        let exact = self.collision_time(i, j, self.since[k], ctx);
+        debug_assert!(exact >= bound, "pair {i}-{j}: bound {bound} above {exact}");
+        self.set_pair(i, j, exact);
     }
 
     /// Sets ball `i`'s next own event from `now`.
@@ -471,9 +491,18 @@ impl Simulator {
             // Most pairs stay out of reach: nothing to update.
         } else if t <= self.row[i] {
             self.row[i] = t;
+            self.arg[i] = j;
         } else if old == self.row[i] {
-            let pairs = &self.pair[i * n + i + 1..(i + 1) * n];
-            self.row[i] = pairs.iter().copied().fold(f64::INFINITY, f64::min);
+            let mut best = f64::INFINITY;
+            let mut arg = 0;
+            for (m, &p) in self.pair[i * n + i + 1..(i + 1) * n].iter().enumerate() {
+                if p < best {
+                    best = p;
+                    arg = i + 1 + m;
+                }
+            }
+            self.row[i] = best;
+            self.arg[i] = arg;
         }
     }
 
