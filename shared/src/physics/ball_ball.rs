@@ -59,9 +59,10 @@ pub fn earliest_contact(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64)
     }
     let dr = b.pos_at(now) - a.pos_at(now);
     let dv = b.vel_at(now) - a.vel_at(now);
-    let tau = contact_bound(dr, dv, b.acc - a.acc, 2.0 * radius)?;
+    let t_max = until - now;
+    let tau = contact_bound(dr, dv, b.acc - a.acc, 2.0 * radius, t_max)?;
     // A contact found by the solver lies within [0, until − now].
-    if tau > until - now {
+    if tau > t_max {
         return None;
     }
     Some(now + tau)

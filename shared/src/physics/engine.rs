@@ -362,6 +362,7 @@ impl Simulator {
             let can_beat =
                 |best: &Own, bound: Option<f64>| bound.is_some_and(|b| now + b <= best.t);
             let (p, v, acc) = (piece.pos_at(now), piece.vel_at(now), piece.acc);
+            let reach = until - now;
             let work = &mut self.outcome.work;
             // The box holding the ball's whole path rules out most cushions and pockets.
             let Extent { lo, hi, .. } = self.extents[i];
@@ -374,7 +375,7 @@ impl Simulator {
                     if near(pocket.center, pocket.radius)
                         && can_beat(
                             &best,
-                            roots::contact_bound(p - pocket.center, v, acc, pocket.radius),
+                            roots::contact_bound(p - pocket.center, v, acc, pocket.radius, reach),
                         )
                     {
                         let t = ball_cushion::circle_time(
@@ -400,7 +401,7 @@ impl Simulator {
                     if n.dot(corner - rail.a) <= ctx.contact {
                         // The same signed distance and rates as `rail_time`'s polynomial.
                         let dist = n.dot(p - rail.a) - ctx.contact;
-                        let bound = roots::line_bound(dist, n.dot(v), 0.5 * n.dot(acc));
+                        let bound = roots::line_bound(dist, n.dot(v), 0.5 * n.dot(acc), reach);
                         if can_beat(&best, bound) {
                             let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
                             consider(&mut best, t, OwnKind::Rail(k as u8));
@@ -410,7 +411,10 @@ impl Simulator {
                 for (k, jaw) in ctx.table.jaws.iter().enumerate() {
                     let radius = jaw.radius + ctx.contact;
                     if near(jaw.center, radius)
-                        && can_beat(&best, roots::contact_bound(p - jaw.center, v, acc, radius))
+                        && can_beat(
+                            &best,
+                            roots::contact_bound(p - jaw.center, v, acc, radius, reach),
+                        )
                     {
                         let t = ball_cushion::jaw_time(piece, jaw, now, until, ctx.contact);
                         consider(&mut best, t, OwnKind::Jaw(k as u8));
