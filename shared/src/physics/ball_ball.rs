@@ -4,7 +4,7 @@ use glam::{DVec2, DVec3};
 
 use super::motion::Piece;
 use super::params::{BallBallModel, Params};
-use super::roots::{first_contact, hull_stays_apart, stays_apart, Poly, Touch};
+use super::roots::{contact_bound, first_contact, hull_stays_apart, stays_apart, Poly, Touch};
 
 /// The squared-distance polynomial of two pieces from absolute time `now`:
 /// `f(τ) = |d(τ)|² − (2R)²` with `d = r_b − r_a`.
@@ -48,6 +48,24 @@ pub fn collision_time(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -
     }
     let poly = contact_poly(a, b, now, radius);
     first_contact(&poly, until - now, Touch::squared(2.0 * radius)).map(|dt| now + dt)
+}
+
+/// A lower bound on [`collision_time`] (with the same arguments), or `None` when that is
+/// certainly `None` ([`contact_bound`] on the same relative motion). Cheap: no root
+/// isolation.
+pub fn earliest_contact(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -> Option<f64> {
+    if !a.start.motion.is_translating() && !b.start.motion.is_translating() {
+        return None;
+    }
+    let dr = b.pos_at(now) - a.pos_at(now);
+    let dv = b.vel_at(now) - a.vel_at(now);
+    let t_max = until - now;
+    let tau = contact_bound(dr, dv, b.acc - a.acc, 2.0 * radius, t_max)?;
+    // A contact found by the solver lies within [0, until − now].
+    if tau > t_max {
+        return None;
+    }
+    Some(now + tau)
 }
 
 /// Velocity and spin of one ball going into or out of a collision.

@@ -25,6 +25,7 @@ use super::ball_cushion;
 use super::event::{Event, EventKind};
 use super::group_impact::{self, Scratch};
 use super::motion::{BallState, MotionModel, MotionState, Piece};
+use super::roots;
 use super::shot::{validate, Ctx};
 use super::table::{Cushion, Table};
 
@@ -62,10 +63,20 @@ pub struct Simulator {
     table: Option<Table>,
     pieces: Vec<Piece>,
     own: Vec<Own>,
+    /// For each pair `i < j`, its next collision, or while `solved` is false a lower bound on
+    /// it: a pair is solved only when its bound is the earliest candidate (most never are:
+    /// one of the balls changes first).
     pair: Vec<f64>,
+    /// For each pair `i < j`, whether `pair` holds the exact collision time.
+    solved: Vec<bool>,
+    /// For each unsolved pair `i < j`, the time it was predicted from: solving it later
+    /// from that same time gives the very bits an immediate solve would have.
+    since: Vec<f64>,
     /// For each ball `i`, the earliest collision among its pairs `i < j`: the loop looks
     /// for the next event over these instead of over every pair.
     row: Vec<f64>,
+    /// For each ball `i` whose `row[i]` is finite, a `j` whose pair holds it.
+    arg: Vec<usize>,
     /// For each pair `i < j` (at `i·n + j`), when it last took part in an impact.
     last: Vec<f64>,
     /// For each pair `i < j`, whether its last impact left it held (moving as one).
@@ -181,8 +192,14 @@ impl Simulator {
         self.own.resize(n, NO_OWN);
         self.pair.clear();
         self.pair.resize(n * n, f64::INFINITY);
+        self.solved.clear();
+        self.solved.resize(n * n, true);
+        self.since.clear();
+        self.since.resize(n * n, 0.0);
         self.row.clear();
         self.row.resize(n, f64::INFINITY);
+        self.arg.clear();
+        self.arg.resize(n, 0);
         self.last.clear();
         self.last.resize(n * n, f64::NEG_INFINITY);
         self.held.clear();
@@ -204,7 +221,7 @@ impl Simulator {
         // event, so this also bounds a run of such silent steps.
         let mut steps = 0;
         loop {
-            let (t, next) = self.earliest(n);
+            let (t, next) = self.earliest(n, &ctx);
             if t > ctx.limit {
                 stopped_by_horizon = ctx.limit.is_finite();
                 break;
@@ -241,22 +258,72 @@ impl Simulator {
         Ok(())
     }
 
-    fn earliest(&self, n: usize) -> (f64, Next) {
-        let mut best = f64::INFINITY;
-        let mut next = Next::Pair;
+    /// The next event: the earliest own event or collision (own events first at the same
+    /// instant), solving the pairs whose lower bound is the earliest candidate until the
+    /// earliest is exact. Solving changes no own event, so those are scanned once.
+    fn earliest(&mut self, n: usize, ctx: &Ctx) -> (f64, Next) {
+        let mut own_best = f64::INFINITY;
+        let mut own_next = Next::Pair;
         for (i, own) in self.own.iter().enumerate() {
-            if own.t < best {
-                best = own.t;
-                next = Next::Own(i);
+            if own.t < own_best {
+                own_best = own.t;
+                own_next = Next::Own(i);
             }
         }
-        for &t in &self.row[..n] {
-            if t < best {
-                best = t;
-                next = Next::Pair;
+        loop {
+            let mut best = own_best;
+            let mut first = n;
+            for (i, &t) in self.row[..n].iter().enumerate() {
+                if t < best {
+                    best = t;
+                    first = i;
+                }
+            }
+            if first == n {
+                return (own_best, own_next);
+            }
+            let k = first * n + self.arg[first];
+            debug_assert_eq!(self.pair[k], best);
+            if !self.solved[k] {
+                // The usual case: the earliest is one pair's bound.
+                self.solve_pair(first, self.arg[first], ctx);
+                continue;
+            }
+            // Exact; any other pair at the same time must be exact too.
+            if !self.solve_pairs_at(best, first, n, ctx) {
+                return (best, Next::Pair);
             }
         }
-        (best, next)
+    }
+
+    /// Solves every unsolved pair whose bound is `t`, in the rows from `first` on (no row
+    /// before it holds `t`); false when there was none.
+    fn solve_pairs_at(&mut self, t: f64, first: usize, n: usize, ctx: &Ctx) -> bool {
+        let mut any = false;
+        for i in first..n {
+            if self.row[i] != t {
+                continue;
+            }
+            for j in i + 1..n {
+                let k = i * n + j;
+                if self.pair[k] == t && !self.solved[k] {
+                    self.solve_pair(i, j, ctx);
+                    any = true;
+                }
+            }
+        }
+        any
+    }
+
+    /// Replaces the bound of the unsolved pair `i < j` by its exact collision time.
+    fn solve_pair(&mut self, i: usize, j: usize, ctx: &Ctx) {
+        let n = self.row.len();
+        let k = i * n + j;
+        let bound = self.pair[k];
+        self.solved[k] = true;
+        let exact = self.collision_time(i, j, self.since[k], ctx);
+        debug_assert!(exact >= bound, "pair {i}-{j}: bound {bound} above {exact}");
+        self.set_pair(i, j, exact);
     }
 
     /// Sets ball `i`'s next own event from `now`.
@@ -282,13 +349,20 @@ impl Simulator {
         };
         let until = piece.t_end.min(ctx.limit);
         if piece.start.motion.is_translating() {
-            let mut consider = |t: Option<f64>, kind: OwnKind| {
+            // Candidates are taken in a fixed order, the first of equal times winning; one
+            // whose lower bound (a closed form, see `roots::contact_bound`) is already later
+            // than the best so far cannot be taken, and is not solved.
+            let consider = |best: &mut Own, t: Option<f64>, kind: OwnKind| {
                 if let Some(t) = t {
                     if t < best.t || (t == best.t && best.kind == OwnKind::Transition) {
-                        best = Own { t, kind };
+                        *best = Own { t, kind };
                     }
                 }
             };
+            let can_beat =
+                |best: &Own, bound: Option<f64>| bound.is_some_and(|b| now + b <= best.t);
+            let (p, v, acc) = (piece.pos_at(now), piece.vel_at(now), piece.acc);
+            let reach = until - now;
             let work = &mut self.outcome.work;
             // The box holding the ball's whole path rules out most cushions and pockets.
             let Extent { lo, hi, .. } = self.extents[i];
@@ -298,7 +372,12 @@ impl Simulator {
             if ctx.effects.pockets {
                 work.pocket_checks += ctx.table.pockets.len() as u64;
                 for (k, pocket) in ctx.table.pockets.iter().enumerate() {
-                    if near(pocket.center, pocket.radius) {
+                    if near(pocket.center, pocket.radius)
+                        && can_beat(
+                            &best,
+                            roots::contact_bound(p - pocket.center, v, acc, pocket.radius, reach),
+                        )
+                    {
                         let t = ball_cushion::circle_time(
                             piece,
                             pocket.center,
@@ -306,7 +385,7 @@ impl Simulator {
                             now,
                             until,
                         );
-                        consider(t, OwnKind::Pocket(k as u8));
+                        consider(&mut best, t, OwnKind::Pocket(k as u8));
                     }
                 }
             }
@@ -320,14 +399,25 @@ impl Simulator {
                         if n.y > 0.0 { lo.y } else { hi.y },
                     );
                     if n.dot(corner - rail.a) <= ctx.contact {
-                        let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
-                        consider(t, OwnKind::Rail(k as u8));
+                        // The same signed distance and rates as `rail_time`'s polynomial.
+                        let dist = n.dot(p - rail.a) - ctx.contact;
+                        let bound = roots::line_bound(dist, n.dot(v), 0.5 * n.dot(acc), reach);
+                        if can_beat(&best, bound) {
+                            let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
+                            consider(&mut best, t, OwnKind::Rail(k as u8));
+                        }
                     }
                 }
                 for (k, jaw) in ctx.table.jaws.iter().enumerate() {
-                    if near(jaw.center, jaw.radius + ctx.contact) {
+                    let radius = jaw.radius + ctx.contact;
+                    if near(jaw.center, radius)
+                        && can_beat(
+                            &best,
+                            roots::contact_bound(p - jaw.center, v, acc, radius, reach),
+                        )
+                    {
                         let t = ball_cushion::jaw_time(piece, jaw, now, until, ctx.contact);
-                        consider(t, OwnKind::Jaw(k as u8));
+                        consider(&mut best, t, OwnKind::Jaw(k as u8));
                     }
                 }
             }
@@ -346,10 +436,37 @@ impl Simulator {
             if a.apart(b) {
                 f64::INFINITY
             } else {
-                self.collision_time(i, j, now, ctx)
+                self.deferred_collision(i, j, now, ctx)
             }
         };
         self.set_pair(i, j, t);
+    }
+
+    /// The next collision of balls `i < j` after `now`, or a lower bound on it marked
+    /// unsolved, to be solved (from `now`) only if it becomes the earliest candidate. Any
+    /// other value written to the pair later (a new prediction) marks it again.
+    #[inline(never)]
+    fn deferred_collision(&mut self, i: usize, j: usize, now: f64, ctx: &Ctx) -> f64 {
+        let n = self.row.len();
+        let k = i * n + j;
+        let flying = Mobility::Flying;
+        if self.extents[i].mobility == flying || self.extents[j].mobility == flying {
+            self.solved[k] = true;
+            return self.collision_time(i, j, now, ctx);
+        }
+        let until = self.own[i].t.min(self.own[j].t).min(ctx.limit);
+        let (a, b) = (&self.pieces[i], &self.pieces[j]);
+        match ball_ball::earliest_contact(a, b, now, until, ctx.params.ball_radius) {
+            None => {
+                self.solved[k] = true;
+                f64::INFINITY
+            }
+            Some(bound) => {
+                self.solved[k] = false;
+                self.since[k] = now;
+                bound
+            }
+        }
     }
 
     /// The next collision of balls `i < j` after `now`, whose boxes are within reach.
@@ -378,9 +495,18 @@ impl Simulator {
             // Most pairs stay out of reach: nothing to update.
         } else if t <= self.row[i] {
             self.row[i] = t;
+            self.arg[i] = j;
         } else if old == self.row[i] {
-            let pairs = &self.pair[i * n + i + 1..(i + 1) * n];
-            self.row[i] = pairs.iter().copied().fold(f64::INFINITY, f64::min);
+            let mut best = f64::INFINITY;
+            let mut arg = 0;
+            for (m, &p) in self.pair[i * n + i + 1..(i + 1) * n].iter().enumerate() {
+                if p < best {
+                    best = p;
+                    arg = i + 1 + m;
+                }
+            }
+            self.row[i] = best;
+            self.arg[i] = arg;
         }
     }
 
@@ -421,7 +547,7 @@ impl Simulator {
                 if a.apart(b) {
                     f64::INFINITY
                 } else {
-                    self.collision_time(lo, hi, t, ctx)
+                    self.deferred_collision(lo, hi, t, ctx)
                 }
             };
             self.set_pair(lo, hi, time);

@@ -78,6 +78,73 @@ fn quadratic_roots_in(a: f64, b: f64, c: f64, lo: f64, hi: f64, out: &mut [f64; 
     n
 }
 
+/// How far short of contact (m) the bounds below place themselves: far above the rounding
+/// of any contact polynomial the solver evaluates over a table's distances (some 1e-12 m),
+/// far below any distance that matters.
+const BOUND_MARGIN: f64 = 1e-6;
+
+/// The margin for a motion that may cover up to `travel` metres (an upper bound on the
+/// terms of its polynomial) before `t_max`: the polynomial's rounding grows with their
+/// squares (about 1e-16 of them, over a contact distance), so the margin does too, by far
+/// more. Infinite for an unbounded `t_max`, which leaves the answer to the solver.
+fn margin(travel: f64) -> f64 {
+    BOUND_MARGIN + 1e-12 * travel * travel
+}
+
+/// A lower bound on the first τ ≥ 0 at which `d(τ) = dr + dv·τ + ½·da·τ²` comes within
+/// `distance` (as the root solver finds it on the squared-distance polynomial of the same
+/// `dr`, `dv`, `da`), or `None` when it never does. Along `n = dr/|dr|` the length is at
+/// least `n·d(τ) = |dr| + u·τ + ½·w·τ²` (`u = n·dv`, `w = n·da`), so contact needs the
+/// closing `−u·τ − ½·w·τ²` to reach the gap `|dr| − distance`. The closing rates are raised
+/// by a billionth of `|dv|` and `|da|` and the gap lowered by a margin ([`margin`]), far above
+/// their rounding, so the bound is never above a contact the solver can find in
+/// `[0, t_max]`.
+pub fn contact_bound(dr: DVec2, dv: DVec2, da: DVec2, distance: f64, t_max: f64) -> Option<f64> {
+    let dist = dr.length();
+    let l1 = |v: DVec2| v.x.abs() + v.y.abs();
+    let travel = l1(dr) + distance + (l1(dv) + l1(da) * t_max) * t_max;
+    let gap = dist - distance - margin(travel);
+    if gap <= 0.0 {
+        return Some(0.0);
+    }
+    let n = dr / dist;
+    let speed = -n.dot(dv) + 1e-9 * (dv.x.abs() + dv.y.abs());
+    let acc = -n.dot(da) + 1e-9 * (da.x.abs() + da.y.abs());
+    closing_time(gap, speed, acc)
+}
+
+/// A lower bound on the first τ ≥ 0 at which the solver finds `c₀ + c₁·τ + c₂·τ²` (a signed
+/// distance) at or below zero, or `None` when it never does: the same quadratic, solved in
+/// closed form for a gap lowered by the margin (its evaluation's rounding is far smaller),
+/// within `[0, t_max]`.
+pub fn line_bound(c0: f64, c1: f64, c2: f64, t_max: f64) -> Option<f64> {
+    let travel = c0.abs() + (c1.abs() + c2.abs() * t_max) * t_max;
+    let gap = c0 - margin(travel);
+    if gap <= 0.0 {
+        return Some(0.0);
+    }
+    closing_time(gap, -c1, -2.0 * c2)
+}
+
+/// The first root of `½·acc·τ² + speed·τ = gap` (`gap > 0`), written without cancellation;
+/// `None` when the closing never reaches the gap.
+fn closing_time(gap: f64, speed: f64, acc: f64) -> Option<f64> {
+    let disc = speed * speed + 2.0 * acc * gap;
+    if disc < 0.0 {
+        return None;
+    }
+    let den = speed + disc.sqrt();
+    if den <= 0.0 {
+        return None;
+    }
+    let tau = 2.0 * gap / den;
+    if tau.is_nan() {
+        // Not from finite numbers; zero leaves the answer to the solver.
+        return Some(0.0);
+    }
+    Some(tau)
+}
+
 /// True when `d(τ) = dr + dv·τ + ½·da·τ²` provably stays longer than `distance` for
 /// τ in `[0, t_max]`: the straight-line part's closest approach, less the most the
 /// acceleration can bend the path, is still out of reach. A cheap test that spares the root

@@ -358,16 +358,18 @@ impl Table {
         let eps = 1e-9;
         let inside =
             p.x.abs() <= self.half.x - contact + eps && p.y.abs() <= self.half.y - contact + eps;
-        let in_a_mouth = self
-            .pockets
-            .iter()
-            .any(|pk| (p - pk.center).length() <= pk.radius + 2.0 * contact);
+        // Only asked when not inside (as a closure, so that a ball inside pays nothing).
+        let in_a_mouth = || {
+            self.pockets
+                .iter()
+                .any(|pk| (p - pk.center).length() <= pk.radius + 2.0 * contact)
+        };
         let clear_of_rails = self.rails.iter().all(|rail| {
             let along = rail.b - rail.a;
             let k = along.dot(p - rail.a) / along.length_squared();
             !(0.0..=1.0).contains(&k) || rail.normal.dot(p - rail.a) >= contact - eps
         });
-        (inside || in_a_mouth)
+        (inside || in_a_mouth())
             && clear_of_rails
             && self
                 .jaws
