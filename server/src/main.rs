@@ -68,6 +68,11 @@ struct Cli {
     /// on TCP at the same address and port number as --bind (docs/web.md).
     #[arg(long, value_name = "DIR")]
     web: Option<PathBuf>,
+    /// The address where the same web bundle is published (a static HTTPS site): the link
+    /// printed opens that page and names this server with `server=HOST:PORT`, so browsers
+    /// reach it over WebTransport (docs/web.md).
+    #[arg(long, value_name = "URL", value_parser = page_url)]
+    web_page: Option<String>,
     /// Write the log as JSON lines (one object per event) instead of text.
     #[arg(long)]
     log_json: bool,
@@ -151,7 +156,14 @@ fn serve(cli: &Cli) -> anyhow::Result<()> {
         invite.servers.extend(cli.also.iter().cloned());
         let mut out = std::io::stdout().lock();
         writeln!(out, "{invite}")?;
-        if let Some(mut link) = server.web_link(None) {
+        if let Some(site) = &cli.web_page {
+            // The page comes from the site; the game from this server's UDP port.
+            let mut link = WebLink::new(server.web_key());
+            link.cert = server.web_cert_hashes();
+            link.page = Some(site.clone());
+            link.server = Some(invite.first().clone());
+            writeln!(out, "{link}")?;
+        } else if let Some(mut link) = server.web_link(None) {
             if let (Some(host), Some(addr)) = (&cli.host, server.web_addr()) {
                 link.page = Some(WebLink::page_url(host, addr.port()));
             }
@@ -242,4 +254,20 @@ fn verify(data: &std::path::Path, store: Option<&Location>) -> anyhow::Result<bo
         failed
     );
     Ok(failed == 0)
+}
+
+/// `--web-page`: an http(s) address, kept with a final `/` so the link's query follows it.
+fn page_url(text: &str) -> Result<String, String> {
+    let rest = text
+        .strip_prefix("https://")
+        .or_else(|| text.strip_prefix("http://"))
+        .ok_or("the page's address starts with https:// (or http://)")?;
+    if rest.is_empty() || rest.contains(['?', '#', ' ']) {
+        return Err("the page's address is a plain URL without ? or #".into());
+    }
+    Ok(if text.ends_with('/') {
+        text.to_owned()
+    } else {
+        format!("{text}/")
+    })
 }

@@ -325,7 +325,11 @@ fn with_web_the_server_prints_its_web_link_after_the_invite() {
         link.page.as_deref(),
         Some(format!("http://pool.example.org:{port}/").as_str())
     );
-    assert!(link.room.is_none() && link.cert.is_empty());
+    assert!(link.room.is_none());
+    assert!(
+        !link.cert.is_empty(),
+        "the link carries the browsers' certificate hashes"
+    );
     serving.interrupt();
     assert!(serving.wait(Duration::from_secs(60)).success());
     // The key is the one kept in the data directory: the same after a restart.
@@ -345,4 +349,38 @@ fn with_web_the_server_prints_its_web_link_after_the_invite() {
     assert_eq!(second.key, link.key);
     again.interrupt();
     assert!(again.wait(Duration::from_secs(60)).success());
+}
+
+#[test]
+fn with_web_page_the_link_opens_the_published_site_and_names_this_server() {
+    use breakshot_shared::protocol::WebLink;
+    let dir = breakshot_testkit::scratch("cli-web-page");
+    let mut serving = Spawned::start(
+        Command::new(BIN)
+            .args(["--bind", "127.0.0.1:0", "--host", "pool.example.org"])
+            .args(["--web-page", "https://play.example.org/breakshot"])
+            .arg("--data")
+            .arg(dir.path().join("data"))
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null()),
+    );
+    let stdout = serving.child().stdout.take().expect("piped");
+    let (line, rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
+    let invite: Invite = line.trim().parse().unwrap();
+    let (line, _rest) = breakshot_testkit::read_line(rest, Duration::from_secs(60));
+    let link: WebLink = line.trim().parse().unwrap();
+    assert_eq!(
+        link.page.as_deref(),
+        Some("https://play.example.org/breakshot/")
+    );
+    assert_eq!(link.server.as_ref(), Some(invite.first()));
+    assert!(!link.cert.is_empty());
+    serving.interrupt();
+    assert!(serving.wait(Duration::from_secs(60)).success());
+
+    // An address that is not a page's is refused before anything starts.
+    let out = server(&[OsStr::new("--web-page"), OsStr::new("play.example.org?x")]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("https://"), "{err}");
 }
