@@ -122,6 +122,24 @@ fn whole_game(test: &str, transport: WebTransportChoice) -> Result<()> {
         resolved.len()
     );
     drop(page);
+
+    // The same game watched again in a page: its record fetched from the server.
+    let Some(link) = &server.web_link else {
+        bail!("no link");
+    };
+    let mut replay = link.with_room(room.clone());
+    replay.replay = true;
+    replay.transport = transport;
+    let mut page = browser.open(&replay.to_string(), Viewport::desktop(1280, 720))?;
+    if let Err(e) = page.wait_until(
+        "(window.breakshotEvents || []).includes('screen replay')",
+        Duration::from_secs(60),
+    ) {
+        let events = page.eval("window.breakshotEvents || []")?;
+        bail!("the page never showed the replay: {e}\npage events: {events}");
+    }
+    drop(page);
+
     runtime.block_on(server.stop())?;
     Ok(())
 }
