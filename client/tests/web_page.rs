@@ -90,6 +90,14 @@ fn wait_for_event(page: &mut Page<'_>, prefix: &str, limit: Duration) {
     }
 }
 
+/// Waits until the page takes input: the game's first screen is made before the loader
+/// installs its mouse, touch and drop handlers, so a tap sent at once would be lost.
+fn wait_for_input(page: &mut Page<'_>) {
+    if let Err(e) = page.wait_until("typeof window.ondrop === 'function'", PATIENCE) {
+        panic!("the page never took input: {e}");
+    }
+}
+
 #[test]
 fn a_friend_opens_the_hosts_link_on_a_phone_joins_and_sees_the_table() {
     let bundle = match bundle() {
@@ -159,6 +167,7 @@ fn a_finger_aims_and_shoots_on_the_practice_table_of_a_phone() {
     let phone = Viewport::phone();
     let mut page = browser.open(page_url, phone).expect("the page opens");
     wait_for_event(&mut page, "screen menu", PATIENCE);
+    wait_for_input(&mut page);
     if let Ok(dir) = std::env::var("BREAKSHOT_SCREENSHOTS") {
         let png = page.screenshot_png().expect("a screenshot");
         std::fs::write(Path::new(&dir).join("web-menu.png"), png).expect("saved");
@@ -270,4 +279,77 @@ fn a_link_with_another_key_or_a_browser_without_webgl_says_why_on_the_page() {
     if let Err(e) = page.wait_until(said, PATIENCE) {
         panic!("no word about WebGL: {e}");
     }
+}
+
+/// Drops a file holding `bytes` on the page, as a person dragging it from their files would.
+fn drop_file(page: &mut Page<'_>, bytes: &[u8]) {
+    let list: Vec<String> = bytes.iter().map(u8::to_string).collect();
+    page.eval(&format!(
+        "(() => {{ const file = new File([new Uint8Array([{}])], 'game.rec'); \
+         const data = new DataTransfer(); data.items.add(file); \
+         window.dispatchEvent(new DragEvent('drop', {{ dataTransfer: data }})); }})()",
+        list.join(",")
+    ))
+    .expect("the drop");
+}
+
+/// Drops `bytes` until the page says `said` (a drop the page was too busy to take is made
+/// again, as a person would drag the file again), a few times.
+fn dropped_until(page: &mut Page<'_>, bytes: &[u8], said: &str) {
+    let condition = format!("(window.breakshotEvents || []).some(e => e.startsWith({said:?}))");
+    for _ in 0..4 {
+        drop_file(page, bytes);
+        if page.wait_until(&condition, Duration::from_secs(10)).is_ok() {
+            return;
+        }
+    }
+    panic!(
+        "dropping the file never made the page say {said:?}: {}",
+        events(page)
+    );
+}
+
+#[test]
+fn a_record_dropped_on_the_page_plays_back_and_anything_else_is_refused_with_a_reason() {
+    use breakshot_shared::physics::Strike;
+    use breakshot_shared::replay::GameRecord;
+    use breakshot_shared::rules::{Command, EightBallRules, Game, Settings, Variant};
+
+    let bundle = match bundle() {
+        Ok(b) => b,
+        Err(why) => return skip_web("web_page", &why),
+    };
+    let dir = scratch("web-page-drop");
+    let Some((_host, _invite, link)) = host(dir.path(), bundle) else {
+        return;
+    };
+    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
+        return;
+    };
+    let page_url = link.split('?').next().expect("the page's address");
+    let mut page = browser
+        .open(page_url, Viewport::desktop(1280, 720))
+        .expect("the page opens");
+    wait_for_event(&mut page, "screen menu", PATIENCE);
+
+    wait_for_input(&mut page);
+    // Noise first: the page says why it opens nothing.
+    dropped_until(
+        &mut page,
+        &[0xff, 0, 0x12, 7],
+        "status The dropped file is neither",
+    );
+
+    // A recorded break.
+    let variant = Variant::EightBall(EightBallRules::Wpa);
+    let mut game = Game::new(variant, Settings::offline(), 5);
+    let mut record = GameRecord::new(variant, Settings::offline(), 5);
+    let shot = Command::Shot {
+        strike: Strike::at_angle(9.0, 90.0, glam::DVec2::ZERO),
+        call: None,
+    };
+    let breaker = game.to_move();
+    let verdict = game.apply(breaker, &shot).expect("a legal break");
+    record.push(breaker, shot, verdict.shot.map(|s| s.hash));
+    dropped_until(&mut page, &record.encode(), "screen replay");
 }

@@ -126,6 +126,8 @@ pub struct InputFrame {
     pub pressed: Vec<Key>,
     /// Printable characters typed this frame, for the chat line.
     pub typed: Vec<char>,
+    /// The contents of files dropped on the window this frame.
+    pub dropped: Vec<Vec<u8>>,
     /// Seconds since the last frame.
     pub dt: f64,
 }

@@ -2,9 +2,9 @@
 //! per frame.
 
 use macroquad::prelude::{
-    get_char_pressed, is_key_down, is_key_pressed, is_mouse_button_down, is_mouse_button_pressed,
-    is_mouse_button_released, mouse_position, mouse_wheel, touches, KeyCode, MouseButton,
-    TouchPhase,
+    get_char_pressed, get_dropped_files, is_key_down, is_key_pressed, is_mouse_button_down,
+    is_mouse_button_pressed, is_mouse_button_released, mouse_position, mouse_wheel, touches,
+    KeyCode, MouseButton, TouchPhase,
 };
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -160,6 +160,10 @@ pub fn read(dt: f64, typing: bool) -> InputFrame {
             .filter(|c| !c.is_control())
             .collect(),
         fingers,
+        dropped: get_dropped_files()
+            .into_iter()
+            .filter_map(|f| f.bytes)
+            .collect(),
         dt,
     };
     if typing {

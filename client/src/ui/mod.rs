@@ -22,7 +22,9 @@ use breakshot_shared::scene::Scene;
 use macroquad::prelude::{clear_background, next_frame};
 
 use breakshot_client::memory;
-use breakshot_client::play::{ComputerLink, GameLink, InputFrame, LocalLink, ReplayViewer};
+use breakshot_client::play::{
+    open_dropped, ComputerLink, Dropped, GameLink, InputFrame, LocalLink, ReplayViewer,
+};
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::{palette, Playback, ViewKind};
 use breakshot_shared::ai::Level;
@@ -261,7 +263,19 @@ pub async fn run(start: Start, options: Options) -> anyhow::Result<()> {
             real_dt
         };
         let input = input::read(dt, screen.typing());
-        let next = screen.update(&input);
+        let mut next = screen.update(&input);
+        // A file dropped on the window opens: a record to watch, a scene to practise on.
+        if let Some(bytes) = input.dropped.last() {
+            next = match open_dropped(bytes) {
+                Ok(Dropped::Record(viewer)) => Step::Open(Start::Replay(viewer)),
+                Ok(Dropped::Scene(scene)) => Step::Open(Start::Practice(Some(scene))),
+                Err(why) => {
+                    report(&format!("status {why}"));
+                    screen = Screen::Menu(menu::MenuScreen::with_message(why));
+                    Step::Stay
+                }
+            };
+        }
         speaker.keys(&input);
         speaker.hear(screen.shot());
         clear_background(draw::color(palette::BACKGROUND));
