@@ -153,3 +153,89 @@ fn a_page_plays_a_whole_game_against_a_native_bot_over_the_web_socket() -> Resul
 fn a_page_plays_a_whole_game_against_a_native_bot_over_web_transport() -> Result<()> {
     whole_game("web_play_wt", WebTransportChoice::WebTransport)
 }
+
+/// Pixels of a screenshot near the cue's wood colour.
+fn cue_pixels(shot: &breakshot_testkit::browser::Rgba) -> std::collections::HashSet<(u32, u32)> {
+    let wood = breakshot_client::view::palette::CUE_WOOD;
+    (0..shot.height)
+        .flat_map(|y| (0..shot.width).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            shot.pixel(x, y)
+                .is_some_and(|p| (0..3).all(|i| (p[i] as i32 - wood[i] as i32).abs() <= 12))
+        })
+        .collect()
+}
+
+#[test]
+fn a_page_watching_sees_the_players_cue_move_while_they_aim() -> Result<()> {
+    let test = "web_aim";
+    let bundle = match bundle() {
+        Ok(b) => b,
+        Err(why) => {
+            skip_web(test, &why);
+            return Ok(());
+        }
+    };
+    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
+        return Ok(());
+    };
+    let runtime = tokio::runtime::Runtime::new()?;
+    let data = scratch(test);
+    let mut config = TestServer::config(SocketAddr::from(([127, 0, 0, 1], 0)), data.path());
+    config.web_dir = Some(bundle.to_path_buf());
+    let server = runtime.block_on(TestServer::start_with(config))?;
+    let (opened, code) = tokio::sync::oneshot::channel();
+    let bot_config = BotConfig::new(server.invite.clone(), 1);
+    let _bot = runtime.spawn(async move { open_room(&bot_config, opened).await });
+    let room = runtime
+        .block_on(async { tokio::time::timeout(Duration::from_secs(30), code).await })
+        .context("the bot opened no room in 30 s")??;
+    let Some(link) = &server.web_link else {
+        bail!("no link");
+    };
+    let mut player_link = link.with_room(room.clone());
+    player_link.transport = WebTransportChoice::WebSocket;
+    let mut watcher_link = player_link.clone();
+    watcher_link.watch = true;
+
+    // The person at the first page plays seat B; the second page watches.
+    let mut player = browser.open(&player_link.to_string(), Viewport::desktop(1280, 720))?;
+    player.wait_until(
+        "(window.breakshotEvents || []).some(e => e.startsWith('game playing seat=B') && e.endsWith('turn=mine'))",
+        Duration::from_secs(120),
+    )?;
+    let mut watcher = browser.open(&watcher_link.to_string(), Viewport::desktop(1280, 720))?;
+    watcher.wait_until(
+        "(window.breakshotEvents || []).includes('screen game')",
+        Duration::from_secs(60),
+    )?;
+    std::thread::sleep(Duration::from_secs(2));
+    let before = cue_pixels(&watcher.screenshot()?);
+
+    // The player moves the mouse across the table, as one lines up a shot.
+    for k in 0..=20 {
+        let x = 420.0 + 20.0 * k as f64;
+        let y = 200.0 + 12.0 * k as f64;
+        player.call(
+            "Input.dispatchMouseEvent",
+            serde_json::json!({ "type": "mouseMoved", "x": x, "y": y }),
+        )?;
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    std::thread::sleep(Duration::from_secs(1));
+    let after = cue_pixels(&watcher.screenshot()?);
+    let changed = before.symmetric_difference(&after).count();
+    assert!(
+        after.len() > 100,
+        "the watcher sees no cue ({} pixels of its wood)",
+        after.len()
+    );
+    assert!(
+        changed > 100,
+        "the watcher's picture of the cue did not move while the player aimed ({changed} pixels changed)"
+    );
+    drop(player);
+    drop(watcher);
+    runtime.block_on(server.stop())?;
+    Ok(())
+}

@@ -672,7 +672,7 @@ impl GameScreen {
             None => "waiting",
         };
         let line = format!(
-            "game {over} seat={} confirmed={} desyncs={} connection={}",
+            "game {over} seat={} confirmed={} desyncs={} connection={} turn={}",
             self.link
                 .seat()
                 .map_or("-".to_owned(), |s| format!("{s:?}")),
@@ -683,6 +683,10 @@ impl GameScreen {
                 .split([' ', '(', '{'])
                 .next()
                 .unwrap_or_default(),
+            match self.turn() {
+                Turn::Wait => "theirs",
+                Turn::Shoot { .. } | Turn::Decide { .. } => "mine",
+            },
         );
         if line != self.reported {
             super::report(&line);
