@@ -446,9 +446,19 @@ async fn the_web_link_names_the_listener_the_key_and_the_room() -> Result<()> {
         .iter()
         .map(|b| format!("{b:02x}"))
         .collect();
+    // The browsers' certificate hashes follow, newest first.
+    let hashes: Vec<String> = server
+        .web_cert_hashes()
+        .iter()
+        .map(|h| h.to_string())
+        .collect();
+    assert!(!hashes.is_empty());
     assert_eq!(
         text,
-        format!("http://127.0.0.1:{port}/?room=K7QX2M4B&key={key}")
+        format!(
+            "http://127.0.0.1:{port}/?room=K7QX2M4B&key={key}&cert={}",
+            hashes.join(",")
+        )
     );
     let back: WebLink = text.parse()?;
     assert_eq!((back.room, back.key), (Some(room), server.web_key()));
