@@ -39,6 +39,8 @@ pub fn main() {
         ..Default::default()
     };
     macroquad::Window::from_config(conf, async {
+        // First, so that a reason told below stays on the status line.
+        page::report("started");
         let start = match page_link() {
             Ok(link) if link.replay => match fetch_replay(link).await {
                 Ok(viewer) => ui::Start::Replay(Box::new(viewer)),
@@ -56,7 +58,6 @@ pub fn main() {
             view: None,
             data: None,
         };
-        page::report("started");
         if let Err(e) = ui::run(start, options).await {
             page::report(&format!("status {e:#}"));
         }
