@@ -8,16 +8,17 @@
 //! Where the wasm32 target or Chromium is missing the tests say why and pass; CI
 //! (`BREAKSHOT_REQUIRE_WEB=1`, `BREAKSHOT_REQUIRE_BROWSER=1`) requires them.
 
+use std::collections::HashSet;
 use std::net::SocketAddr;
 use std::time::Duration;
 
 use anyhow::{bail, Context, Result};
-use breakshot_client::bot::{open_room, BotConfig};
+use breakshot_client::bot::{open_room, BotConfig, Report};
 use breakshot_client::net::fetch_record;
 use breakshot_shared::ai::Level;
-use breakshot_shared::protocol::WebTransportChoice;
+use breakshot_shared::protocol::{RoomCode, WebLink, WebTransportChoice};
 use breakshot_shared::replay::GameRecord;
-use breakshot_testkit::browser::{browser_or_skip, LaunchOptions, Viewport};
+use breakshot_testkit::browser::{browser_or_skip, near, Browser, LaunchOptions, Rgba, Viewport};
 use breakshot_testkit::web::{bundle, skip_web};
 use breakshot_tests::{scratch, TestServer};
 
@@ -43,32 +44,68 @@ fn count(line: &str, name: &str) -> Option<u32> {
         .and_then(|n| n.parse().ok())
 }
 
-fn whole_game(test: &str, transport: WebTransportChoice) -> Result<()> {
+/// A server serving the web client, a native bot that opened a room on it (and plays it
+/// once someone joins), and a browser: what every test here starts from. `None`: the
+/// machine cannot run the test (the reason was printed).
+struct Table {
+    runtime: tokio::runtime::Runtime,
+    server: TestServer,
+    link: WebLink,
+    room: RoomCode,
+    bot: tokio::task::JoinHandle<Report>,
+    browser: Browser,
+    _data: tempfile::TempDir,
+}
+
+fn open_table(test: &str) -> Result<Option<Table>> {
     let bundle = match bundle() {
         Ok(b) => b,
         Err(why) => {
             skip_web(test, &why);
-            return Ok(());
+            return Ok(None);
         }
     };
     let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
-        return Ok(());
+        return Ok(None);
     };
     let runtime = tokio::runtime::Runtime::new()?;
     let data = scratch(test);
     let mut config = TestServer::config(SocketAddr::from(([127, 0, 0, 1], 0)), data.path());
     config.web_dir = Some(bundle.to_path_buf());
     let server = runtime.block_on(TestServer::start_with(config))?;
-
-    // The native bot opens the room and breaks; the page joins it from the link.
+    // The native bot opens the room and breaks; pages join it from the link.
     let (opened, code) = tokio::sync::oneshot::channel();
     let bot_config = BotConfig::new(server.invite.clone(), 1);
     let bot = runtime.spawn(async move { open_room(&bot_config, opened).await });
     let room = runtime
         .block_on(async { tokio::time::timeout(Duration::from_secs(30), code).await })
         .context("the bot opened no room in 30 s")??;
-    let Some(link) = &server.web_link else {
+    let Some(link) = server.web_link.clone() else {
         bail!("a server serving the web client has no link");
+    };
+    Ok(Some(Table {
+        runtime,
+        server,
+        link,
+        room,
+        bot,
+        browser,
+        _data: data,
+    }))
+}
+
+fn whole_game(test: &str, transport: WebTransportChoice) -> Result<()> {
+    let Some(Table {
+        runtime,
+        server,
+        link,
+        room,
+        bot,
+        browser,
+        _data,
+    }) = open_table(test)?
+    else {
+        return Ok(());
     };
     let mut link = link.with_room(room.clone());
     link.computer = Some(Level::new(1));
@@ -124,9 +161,6 @@ fn whole_game(test: &str, transport: WebTransportChoice) -> Result<()> {
     drop(page);
 
     // The same game watched again in a page: its record fetched from the server.
-    let Some(link) = &server.web_link else {
-        bail!("no link");
-    };
     let mut replay = link.with_room(room.clone());
     replay.replay = true;
     replay.transport = transport;
@@ -155,43 +189,24 @@ fn a_page_plays_a_whole_game_against_a_native_bot_over_web_transport() -> Result
 }
 
 /// Pixels of a screenshot near the cue's wood colour.
-fn cue_pixels(shot: &breakshot_testkit::browser::Rgba) -> std::collections::HashSet<(u32, u32)> {
+fn cue_pixels(shot: &Rgba) -> HashSet<(u32, u32)> {
     let wood = breakshot_client::view::palette::CUE_WOOD;
-    (0..shot.height)
-        .flat_map(|y| (0..shot.width).map(move |x| (x, y)))
-        .filter(|&(x, y)| {
-            shot.pixel(x, y)
-                .is_some_and(|p| (0..3).all(|i| (p[i] as i32 - wood[i] as i32).abs() <= 12))
-        })
-        .collect()
+    shot.points(|p| near(p, wood, 12)).into_iter().collect()
 }
 
 #[test]
 fn a_page_watching_sees_the_players_cue_move_while_they_aim() -> Result<()> {
-    let test = "web_aim";
-    let bundle = match bundle() {
-        Ok(b) => b,
-        Err(why) => {
-            skip_web(test, &why);
-            return Ok(());
-        }
-    };
-    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
+    let Some(Table {
+        runtime,
+        server,
+        link,
+        room,
+        browser,
+        _data,
+        ..
+    }) = open_table("web_aim")?
+    else {
         return Ok(());
-    };
-    let runtime = tokio::runtime::Runtime::new()?;
-    let data = scratch(test);
-    let mut config = TestServer::config(SocketAddr::from(([127, 0, 0, 1], 0)), data.path());
-    config.web_dir = Some(bundle.to_path_buf());
-    let server = runtime.block_on(TestServer::start_with(config))?;
-    let (opened, code) = tokio::sync::oneshot::channel();
-    let bot_config = BotConfig::new(server.invite.clone(), 1);
-    let _bot = runtime.spawn(async move { open_room(&bot_config, opened).await });
-    let room = runtime
-        .block_on(async { tokio::time::timeout(Duration::from_secs(30), code).await })
-        .context("the bot opened no room in 30 s")??;
-    let Some(link) = &server.web_link else {
-        bail!("no link");
     };
     let mut player_link = link.with_room(room.clone());
     player_link.transport = WebTransportChoice::WebSocket;
