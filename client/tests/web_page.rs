@@ -12,31 +12,19 @@ use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use breakshot_client::play::Practice;
-use breakshot_client::view::palette::{Rgb, CLOTH, CUE_BALL};
+use breakshot_client::view::palette::{CLOTH, CUE_BALL};
 use breakshot_client::view::{menu_buttons, Frame, Layout};
 use breakshot_shared::physics::TableKind;
-use breakshot_testkit::browser::{browser_or_skip, LaunchOptions, Page, Rgba, Viewport};
+use breakshot_testkit::browser::{browser_or_skip, near, LaunchOptions, Page, Viewport};
 use breakshot_testkit::web::{bundle, skip_web};
 use breakshot_testkit::{read_line, scratch, Spawned};
 
 const PATIENCE: Duration = Duration::from_secs(60);
 
-fn close(p: [u8; 4], c: Rgb, tolerance: i32) -> bool {
-    (0..3).all(|i| (p[i] as i32 - c[i] as i32).abs() <= tolerance)
-}
-
-/// Pixels of the screenshot where `keep` holds.
-fn pixels(shot: &Rgba, keep: impl Fn([u8; 4]) -> bool) -> Vec<(u32, u32)> {
-    (0..shot.height)
-        .flat_map(|y| (0..shot.width).map(move |x| (x, y)))
-        .filter(|&(x, y)| shot.pixel(x, y).is_some_and(&keep))
-        .collect()
-}
-
 /// A ball's colours: strongly coloured, unlike the cloth, the wood and the text.
 fn coloured(p: [u8; 4]) -> bool {
     let (hi, lo) = (p[..3].iter().max().copied(), p[..3].iter().min().copied());
-    hi.zip(lo).is_some_and(|(h, l)| h as i32 - l as i32 > 120) && !close(p, CLOTH, 30)
+    hi.zip(lo).is_some_and(|(h, l)| h as i32 - l as i32 > 120) && !near(p, CLOTH, 30)
 }
 
 /// `xvfb-run`, or None with the reason printed.
@@ -132,18 +120,18 @@ fn a_friend_opens_the_hosts_link_on_a_phone_joins_and_sees_the_table() {
         let png = page.screenshot_png().expect("a screenshot");
         std::fs::write(Path::new(&dir).join("web-phone.png"), png).expect("saved");
     }
-    let cloth = pixels(&shot, |p| close(p, CLOTH, 8)).len();
+    let cloth = shot.points(|p| near(p, CLOTH, 8)).len();
     let area = (shot.width * shot.height) as usize;
     assert!(
         cloth * 20 > area,
         "the cloth covers only {cloth} of {area} pixels"
     );
-    let balls = pixels(&shot, coloured).len();
+    let balls = shot.points(coloured).len();
     assert!(
         balls > 300,
         "only {balls} pixels of coloured balls: no rack drawn"
     );
-    let white = pixels(&shot, |p| close(p, CUE_BALL, 12)).len();
+    let white = shot.points(|p| near(p, CUE_BALL, 12)).len();
     assert!(white > 30, "only {white} white pixels: no cue ball");
     let names = events(&mut page);
     assert!(!names.contains("desyncs=1"), "{names}");
@@ -212,7 +200,7 @@ fn a_finger_aims_and_shoots_on_the_practice_table_of_a_phone() {
             cue.1 + 0.5 * r * libm::sin(a),
         );
         shot.pixel(x as u32, y as u32)
-            .is_some_and(|p| close(p, CUE_BALL, 40))
+            .is_some_and(|p| near(p, CUE_BALL, 40))
     });
     assert!(white, "no cue ball drawn at {cue:?}");
     // Aim at a point towards the rack, then pull the finger back from it towards the ball.

@@ -679,10 +679,7 @@ impl GameScreen {
             replica.confirmed(),
             replica.desyncs(),
             // The kind only: a countdown in it would make a new line every frame.
-            format!("{:?}", self.flow.connection)
-                .split([' ', '(', '{'])
-                .next()
-                .unwrap_or_default(),
+            self.flow.connection.kind(),
             match self.turn() {
                 Turn::Wait => "theirs",
                 Turn::Shoot { .. } | Turn::Decide { .. } => "mine",

@@ -38,6 +38,22 @@ pub enum Connection {
     Closed(String),
 }
 
+impl Connection {
+    /// The kind of state, without what it carries: a name that stays put while a countdown
+    /// runs (for the page's report of how the game stands).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Connection::Offline => "Offline",
+            Connection::Connecting => "Connecting",
+            Connection::WaitingForOpponent => "WaitingForOpponent",
+            Connection::Connected => "Connected",
+            Connection::Reconnecting => "Reconnecting",
+            Connection::OpponentLeft { .. } => "OpponentLeft",
+            Connection::Closed(_) => "Closed",
+        }
+    }
+}
+
 /// The readable name of a game.
 pub fn variant_name(v: Variant) -> &'static str {
     match v {

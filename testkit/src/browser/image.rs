@@ -59,6 +59,14 @@ impl Rgba {
         let p = self.pixels.get(at..at + 4)?;
         Some([p[0], p[1], p[2], p[3]])
     }
+
+    /// Every pixel (`x`, `y`) whose color `keep` accepts, row by row.
+    pub fn points(&self, keep: impl Fn([u8; 4]) -> bool) -> Vec<(u32, u32)> {
+        (0..self.height)
+            .flat_map(|y| (0..self.width).map(move |x| (x, y)))
+            .filter(|&(x, y)| self.pixel(x, y).is_some_and(&keep))
+            .collect()
+    }
 }
 
 /// Whether `a` and `b` differ by at most `tolerance` in each of R, G and B (alpha is not
