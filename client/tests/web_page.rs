@@ -11,7 +11,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use breakshot_client::play::Practice;
+use breakshot_client::play::practice_rack;
 use breakshot_client::view::palette::{CLOTH, CUE_BALL};
 use breakshot_client::view::{menu_buttons, Frame, Layout};
 use breakshot_shared::physics::TableKind;
@@ -178,18 +178,18 @@ fn a_finger_aims_and_shoots_on_the_practice_table_of_a_phone() {
 
     // Where the practice rack puts the cue ball and the rack on this screen (the rack's
     // order changes from rack to rack; its place and the cue ball's do not).
-    let practice = Practice::rack(TableKind::NineFoot, 1);
+    let practice = practice_rack(1).expect("the practice rack");
     let layout = Layout::new(
         phone.width as f32,
         phone.height as f32,
-        Frame::new(practice.table, &practice.balls),
+        Frame::new(practice.table(), practice.balls()),
     );
     let point = |p: glam::DVec2| {
         let [x, y] = layout.to_screen(p);
         (x as f64, y as f64)
     };
-    let cue = point(practice.balls[0].pos);
-    let others = &practice.balls[1..];
+    let cue = point(practice.balls()[0].pos);
+    let others = &practice.balls()[1..];
     let rack_at = point(others.iter().map(|b| b.pos).sum::<glam::DVec2>() / others.len() as f64);
     let shot = page.screenshot().expect("a screenshot");
     let r = layout.px(breakshot_shared::physics::Params::default().ball_radius) as f64;

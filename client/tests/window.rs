@@ -1427,6 +1427,49 @@ fn l_shows_the_cue_ball_s_trail_after_the_shot() {
 }
 
 #[test]
+fn a_practice_scratch_is_put_back_by_the_rules_where_the_cue_ball_started() {
+    // The scene's strike sends the cue ball straight into the bottom-left pocket.
+    const SCRATCH: &str = r#"{"balls":[{"id":"cue","pos":[0.3,0.3]},{"id":"1","pos":[1.0,2.0]}],
+        "strike":{"ball":"cue","speed":3.0,"angle_deg":225}}"#;
+    let dir = breakshot_testkit::scratch("window-scratch");
+    let (scene, out) = (dir.path().join("scene.json"), dir.path().join("out.png"));
+    std::fs::write(&scene, SCRATCH).expect("scene written");
+    let parsed = Scene::from_json(SCRATCH).expect("valid scene");
+    let shot = parsed.to_shot().expect("valid shot");
+    let outcome = Simulator::new().run(&shot).expect("valid shot").clone();
+    assert_eq!(
+        outcome.finals[0].motion,
+        MotionState::Pocketed,
+        "the shot must scratch"
+    );
+    let args = [OsStr::new("practice"), scene.as_os_str()];
+    let Some(run) = played(&args, &out, 300, &["key --window \"$wid\" space"]) else {
+        return;
+    };
+    assert_ran(&run);
+    let pic = picture(&out);
+    let layout = Layout::new(1280.0, 720.0, Frame::new(shot.table, &shot.balls));
+    // The cue ball is back on its spot, where the practice rules put it.
+    balls_are_drawn(&pic, &layout, &["cue"], &shot.balls[..1]);
+    let game = breakshot_shared::rules::Game::practice(&parsed).expect("a practice table");
+    let mut after = game.clone();
+    after
+        .apply(
+            breakshot_shared::rules::Seat::A,
+            &Command::Shot {
+                strike: shot.strike.expect("a strike").1,
+                call: None,
+            },
+        )
+        .expect("a legal shot");
+    assert_eq!(
+        after.balls()[0],
+        shot.balls[0],
+        "the rules put the cue ball back"
+    );
+}
+
+#[test]
 fn the_cue_is_seen_going_through_the_cue_ball_as_a_shot_starts() {
     const CUT: &str = include_str!("../scenes/cut-shot.json");
     let scene = Scene::from_json(CUT).expect("valid scene");

@@ -66,6 +66,8 @@ pub struct LocalLink {
     variant: Variant,
     settings: Settings,
     seed: u64,
+    /// The game a rematch starts again from, when it is not a new rack (a practice table).
+    again: Option<Game>,
     events: VecDeque<GameEvent>,
 }
 
@@ -77,6 +79,19 @@ impl LocalLink {
             variant,
             settings,
             seed,
+            again: None,
+            events: VecDeque::from([GameEvent::Started(Box::new(game))]),
+        }
+    }
+
+    /// A local game starting from `game` (a practice table laid out from a scene); a
+    /// rematch starts from it again.
+    pub fn from_game(game: Game) -> LocalLink {
+        LocalLink {
+            variant: game.variant(),
+            settings: game.settings(),
+            seed: game.seed(),
+            again: Some(game.clone()),
             events: VecDeque::from([GameEvent::Started(Box::new(game))]),
         }
     }
@@ -104,8 +119,13 @@ impl GameLink for LocalLink {
     }
 
     fn rematch(&mut self) {
-        self.seed = self.seed.wrapping_add(1);
-        let game = Game::new(self.variant, self.settings, self.seed);
+        let game = match &self.again {
+            Some(game) => game.clone(),
+            None => {
+                self.seed = self.seed.wrapping_add(1);
+                Game::new(self.variant, self.settings, self.seed)
+            }
+        };
         self.events.push_back(GameEvent::Started(Box::new(game)));
     }
 }

@@ -29,7 +29,7 @@ pub use dropped::{open_dropped, Dropped};
 pub use event::{AwayResult, GameEvent};
 pub use game_flow::{GameFlow, Turn};
 pub use link::{GameLink, LocalLink, Shown};
-pub use practice::{rack_scene, Practice, PracticeError};
+pub use practice::{practice_rack, rack_scene};
 pub use replay::{ReplayOpenError, ReplayViewer};
 pub use replica::{Check, Replica};
 pub use touch::{Gesture, TwoFingers};

@@ -220,11 +220,12 @@ impl Replica {
         }
     }
 
-    /// Object balls off the table as shown now.
+    /// Object balls off the table as shown now (every ball but the one struck).
     pub fn tray(&self) -> Vec<usize> {
         let balls = self.balls();
-        (1..balls.len())
-            .filter(|&b| is_off_table(&balls[b]))
+        let cue = self.game.as_ref().map_or(0, Game::cue_ball);
+        (0..balls.len())
+            .filter(|&b| b != cue && is_off_table(&balls[b]))
             .collect()
     }
 }

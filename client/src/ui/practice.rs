@@ -1,10 +1,15 @@
-//! The practice screen: a table with no rules and no server.
+//! The practice screen: a practice table of the rules, played through the local link.
 
-use breakshot_client::play::{Context, Controls, Drag, InputFrame, Intent, Key, Practice, Stage};
+use breakshot_client::play::{
+    practice_rack, Aim, Context, Controls, Drag, GameFlow, GameLink, InputFrame, Intent, Key,
+    LocalLink, Stage,
+};
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
-use breakshot_client::view::{Frame, Layout, Orientations, Playback, Rect};
+use breakshot_client::view::hud::Connection;
+use breakshot_client::view::{palette, Frame, Layout, Orientations, Playback, Rect};
 use breakshot_shared::hash::hash_hex;
-use breakshot_shared::physics::{Shot, Simulator, TableKind};
+use breakshot_shared::physics::{Shot, Simulator};
+use breakshot_shared::rules::{Command, Game};
 use breakshot_shared::scene::Scene;
 use macroquad::prelude::*;
 
@@ -12,9 +17,15 @@ use super::table_view::TableView;
 use super::{draw, panel, trays, Start, Step};
 
 pub struct PracticeScreen {
-    practice: Practice,
-    /// The table as it started, for re-racking.
-    initial: Practice,
+    /// Where the table's commands are checked; a reset starts its first table again.
+    link: LocalLink,
+    /// The table as the rules leave it, and the shot being shown.
+    flow: GameFlow,
+    /// The balls' names, index = ball.
+    ids: Vec<String>,
+    /// Dragging moves the cue ball (the rules allow it any time in practice; the screen
+    /// offers it after a scratch, at the start of a rack, or on H).
+    placing: bool,
     frame: Frame,
     controls: Controls,
     toggles: AidToggles,
@@ -32,15 +43,31 @@ pub struct PracticeScreen {
 
 impl PracticeScreen {
     pub fn new(scene: Option<Scene>, seed: u64) -> anyhow::Result<PracticeScreen> {
-        let practice = match &scene {
-            Some(s) => Practice::from_scene(s)?,
-            None => Practice::rack(TableKind::NineFoot, seed),
+        let game = match &scene {
+            Some(s) => Game::practice(s)?,
+            None => practice_rack(seed)?,
         };
-        let aim = practice.scene_aim.unwrap_or_default();
-        let frame = Frame::new(practice.table, &practice.balls);
+        // A scene's strike is the set-up the cue starts with.
+        let aim = scene
+            .as_ref()
+            .and_then(|s| s.to_shot().ok()?.strike)
+            .map(|(_, strike)| Aim::from_strike(&strike))
+            .unwrap_or_default();
+        let ids = match game.scene_ids() {
+            Some(ids) => ids.to_vec(),
+            None => palette::ball_ids(&game),
+        };
+        let frame = Frame::new(game.table(), game.balls());
+        let mut link = LocalLink::from_game(game);
+        let mut flow = GameFlow::new(Connection::Offline);
+        while let Some(event) = link.poll() {
+            flow.handle(event);
+        }
         Ok(PracticeScreen {
-            initial: practice.clone(),
-            practice,
+            link,
+            flow,
+            ids,
+            placing: scene.is_none(),
             frame,
             controls: Controls::new(aim),
             toggles: AidToggles::default(),
@@ -55,139 +82,190 @@ impl PracticeScreen {
         })
     }
 
+    /// The table as the rules left it (every practice screen has one).
+    fn game(&self) -> Option<&Game> {
+        self.flow.game()
+    }
+
+    fn busy(&self) -> bool {
+        self.flow.shot().is_some()
+    }
+
     fn layout(&self) -> Layout {
         Layout::new(screen_width(), screen_height(), self.frame)
     }
 
     fn stage(&self) -> Stage {
-        if self.practice.busy() {
+        if self.busy() {
             Stage::Watching
-        } else if self.practice.in_hand {
+        } else if self.placing {
             Stage::InHand
         } else {
             Stage::Aiming
         }
     }
 
+    /// Sends `command` through the link and applies what it says; the rules' refusal, if
+    /// any, becomes the message.
+    fn send(&mut self, command: Command) -> bool {
+        let Some(game) = self.flow.game().cloned() else {
+            return false;
+        };
+        self.link.send(&game, game.to_move(), command);
+        let mut accepted = false;
+        while let Some(event) = self.link.poll() {
+            if let breakshot_client::play::GameEvent::Refused(why) = &event {
+                self.message = why.clone();
+            } else {
+                accepted = true;
+            }
+            self.flow.handle(event);
+        }
+        accepted
+    }
+
     pub fn update(&mut self, input: &InputFrame) -> Step {
         self.frame_ms = 0.9 * self.frame_ms + 0.1 * input.dt * 1000.0;
+        let Some(game) = self.game().cloned() else {
+            return Step::Open(Start::Menu);
+        };
         let layout = self.layout();
-        let cue = self.practice.balls[self.practice.cue].pos;
-        let r = self.practice.params.ball_radius;
-        let aiming = !self.practice.busy();
+        let cue = game.balls()[game.cue_ball()].pos;
+        let r = game.params().ball_radius;
+        let aiming = !self.busy();
         self.view
             .update(input, cue, self.controls.aim.dir(), aiming);
         let input = &self.view.pointer(input, &layout, r);
         let ctx = Context {
             layout: &layout,
             cue,
-            radius: self.practice.params.ball_radius,
+            radius: r,
             stage: self.stage(),
         };
-        if self.practice.busy() && input.pressed.contains(&Key::Shoot) {
-            self.practice.skip();
+        if self.busy() && input.pressed.contains(&Key::Shoot) {
+            self.flow.skip();
         }
-        let practice = &self.practice;
-        let intents = self
-            .controls
-            .update(input, &ctx, &|p| practice.placement(p).is_ok());
+        let intents = self.controls.update(input, &ctx, &|p| {
+            game.legal_cue_placement(p.to_array()).is_ok()
+        });
         for intent in intents {
             match intent {
-                Intent::Shoot(strike) => match self.practice.shoot(strike) {
-                    Ok(()) => {
+                Intent::Shoot(strike) => {
+                    if self.send(Command::Shot { strike, call: None }) {
                         self.shots += 1;
+                        self.placing = false;
                         self.controls.shot_played();
                         self.message = format!("Shot {} at {:.1} m/s", self.shots, strike.speed);
                         super::report(&format!("practice shot {}", self.shots));
                     }
-                    Err(e) => self.message = e.to_string(),
-                },
-                Intent::PlaceCueBall(p) => {
-                    if let Err(e) = self.practice.place_cue(p.into()) {
-                        self.message = e.to_string();
-                    }
+                }
+                Intent::PlaceCueBall(pos) => {
+                    self.send(Command::PlaceCueBall { pos });
                 }
                 Intent::Toggle(aid) => self.toggles.toggle(aid),
                 Intent::ToggleDebug => self.debug = !self.debug,
-                Intent::TakeBallInHand if !self.practice.busy() => self.practice.in_hand = true,
+                Intent::TakeBallInHand if !self.busy() => self.placing = true,
                 Intent::TakeBallInHand => {}
                 Intent::Rerack => {
-                    self.practice = self.initial.clone();
+                    self.link.rematch();
+                    while let Some(event) = self.link.poll() {
+                        self.flow.handle(event);
+                    }
                     self.message = "Table reset".into();
                 }
                 Intent::Back => return Step::Open(Start::Menu),
             }
         }
-        self.practice.tick(input.dt, 1.0);
+        let was_busy = self.busy();
+        self.flow.tick(input.dt);
+        if was_busy && !self.busy() && self.scratched() {
+            // The rules put the cue ball back: offer to move it.
+            self.placing = true;
+        }
         self.refresh_prediction();
         Step::Stay
     }
 
+    /// Did the last shot pocket the cue ball (which the rules then put back)?
+    fn scratched(&self) -> bool {
+        let (Some(game), Some(verdict)) = (self.game(), &self.flow.last_verdict) else {
+            return false;
+        };
+        let cue = game.cue_ball();
+        verdict
+            .shot
+            .as_ref()
+            .is_some_and(|s| s.pocketed.iter().any(|&(b, _)| usize::from(b) == cue))
+    }
+
     /// Re-simulates the aids when the shot being set up changes.
     fn refresh_prediction(&mut self) {
-        if self.practice.busy() {
+        let Some(game) = self.game().filter(|_| !self.busy()) else {
             self.predicted = None;
             return;
-        }
-        let shot = self.practice.shot(self.controls.aim.strike());
+        };
+        let (shot, cue) = (game.shot_for(&self.controls.aim.strike()), game.cue_ball());
         if self.predicted.as_ref().is_some_and(|(s, _)| *s == shot) {
             return;
         }
-        let prediction = aids::predict(&mut self.sim, &shot, self.practice.cue).unwrap_or_default();
+        let prediction = aids::predict(&mut self.sim, &shot, cue).unwrap_or_default();
         self.predicted = Some((shot, prediction));
     }
 
     /// The shot being shown, if any.
     pub fn shot(&self) -> Option<&Playback> {
-        self.practice.playback.as_ref()
+        self.flow.shot()
     }
 
     pub fn draw(&mut self) {
-        self.turns.follow(self.practice.playback.as_ref());
+        let Some(game) = self.game().cloned() else {
+            return;
+        };
+        self.turns.follow(self.flow.shot());
         let layout = self.layout();
-        let p = &self.practice;
-        let r = p.params.ball_radius;
-        let pen = self.view.pen(&layout, r, p.playback.as_ref(), p.table);
-        draw::table(&pen, p.table);
-        let shown = p.shown_balls();
-        let cue = shown[p.cue].pos;
+        let r = game.params().ball_radius;
+        let busy = self.busy();
+        let pen = self.view.pen(&layout, r, self.flow.shot(), game.table());
+        draw::table(&pen, game.table());
+        let shown = self.flow.balls();
+        let cue_index = game.cue_ball();
+        let cue = shown[cue_index].pos;
         let dragging = match self.controls.drag {
-            Drag::CueBall { at } => Some((at, p.placement(at).is_ok())),
+            Drag::CueBall { at } => Some((at, game.legal_cue_placement(at.to_array()).is_ok())),
             _ => None,
         };
-        if !p.busy() && dragging.is_none() {
+        if !busy && dragging.is_none() {
             if let Some((_, pred)) = &self.predicted {
                 let object = pred
                     .first_hit
-                    .and_then(|b| p.ids.get(b))
+                    .and_then(|b| self.ids.get(b))
                     .map_or("", |s| s.as_str());
                 draw::aids(&pen, pred, self.toggles, r, object);
             }
         }
         draw::balls(
             &pen,
-            &p.ids,
+            &self.ids,
             &shown,
             r,
-            dragging.map(|_| p.cue),
+            dragging.map(|_| cue_index),
             &self.turns,
         );
-        if !p.busy() && p.in_hand {
+        if !busy && self.placing {
             draw::in_hand(&pen, layout.cloth, dragging, r);
         }
-        if !p.busy() && dragging.is_none() {
+        if !busy && dragging.is_none() {
             draw::cue_stick(&pen, cue, &self.controls.aim, r);
         }
-        trays::tray(&layout, &p.ids, &p.shown_pocketed(), r);
+        trays::tray(&layout, &self.ids, &self.flow.tray(), r);
         panel::panel(&layout, &self.controls.aim, Some(self.controls.keep_spin));
-        self.hud(&layout);
+        self.hud(&layout, &game);
         if self.debug {
             self.debug_overlay(&layout);
         }
     }
 
-    fn hud(&self, layout: &Layout) {
-        let p = &self.practice;
+    fn hud(&self, layout: &Layout, game: &Game) {
         draw_rectangle(
             layout.hud.x,
             layout.hud.y,
@@ -195,9 +273,9 @@ impl PracticeScreen {
             layout.hud.h,
             Color::new(0.0, 0.0, 0.0, 0.5),
         );
-        let state = if p.busy() {
+        let state = if self.busy() {
             "balls moving (Space: skip)"
-        } else if p.in_hand {
+        } else if self.placing {
             "ball in hand: drag the cue ball"
         } else {
             "your shot"
@@ -212,7 +290,7 @@ impl PracticeScreen {
             bar.h,
         );
         draw::label_in(
-            &format!("Practice  |  {} table  |  {}", p.table.name(), state),
+            &format!("Practice  |  {} table  |  {}", game.table().name(), state),
             across,
             20.0,
             draw::Align::Left,
@@ -230,7 +308,12 @@ impl PracticeScreen {
     }
 
     fn debug_overlay(&self, layout: &Layout) {
-        let p = &self.practice;
+        let last_hash = self
+            .flow
+            .last_verdict
+            .as_ref()
+            .and_then(|v| v.shot.as_ref())
+            .map(|s| s.hash);
         let mut lines = vec![
             format!("frame {:.1} ms", self.frame_ms),
             format!(
@@ -246,9 +329,9 @@ impl PracticeScreen {
                 self.controls.aim.tip.y,
                 self.controls.aim.elevation_deg
             ),
-            format!("last hash {}", p.last_hash.map_or("-".into(), hash_hex)),
+            format!("last hash {}", last_hash.map_or("-".into(), hash_hex)),
         ];
-        if let Some(pb) = &p.playback {
+        if let Some(pb) = self.flow.shot() {
             let o = pb.outcome();
             lines.push(format!(
                 "t {:.3} / {:.3} s, {} events",

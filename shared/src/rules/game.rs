@@ -38,6 +38,9 @@ pub struct Game {
     pub(super) carom: Option<three_cushion::Match>,
     /// Snooker: the match (its frames, scores and the state between strokes).
     pub(super) snooker: Option<snooker::frame::Snooker>,
+    /// A practice table set up by a player here (never sent: a server's games have none).
+    #[serde(skip)]
+    pub(super) sandbox: Option<Box<practice::Sandbox>>,
 }
 
 impl Game {
@@ -66,6 +69,7 @@ impl Game {
             stalemate: [false; 2],
             carom: None,
             snooker: None,
+            sandbox: None,
         };
         game.rack(Seat::A);
         game
@@ -158,20 +162,37 @@ impl Game {
     /// The ball the shooter strikes: the cue ball, or in three-cushion the shooter's own
     /// ball (the white for seat A, the yellow for seat B).
     pub fn cue_ball(&self) -> usize {
-        match &self.carom {
-            Some(m) => usize::from(three_cushion::cue_ball(m.to_move())),
-            None => usize::from(facts::CUE),
+        match (&self.carom, &self.sandbox) {
+            (Some(m), _) => usize::from(three_cushion::cue_ball(m.to_move())),
+            (None, Some(sandbox)) => sandbox.cue(),
+            (None, None) => usize::from(facts::CUE),
         }
     }
 
     /// The physics shot that `strike` on the cue ball would be from the current table.
     pub fn shot_for(&self, strike: &Strike) -> Shot {
-        Shot::new(self.table(), self.balls.clone()).struck(self.cue_ball(), *strike)
+        match &self.sandbox {
+            Some(sandbox) => sandbox.shot(self, self.balls.clone(), Some(*strike)),
+            None => Shot::new(self.table(), self.balls.clone()).struck(self.cue_ball(), *strike),
+        }
     }
 
     /// The physical parameters every shot of this game is simulated with.
     pub fn params(&self) -> Params {
-        Shot::new(self.table(), Vec::new()).params
+        match &self.sandbox {
+            Some(sandbox) => sandbox.params(),
+            None => Shot::new(self.table(), Vec::new()).params,
+        }
+    }
+
+    /// May `ball` lie at rest at `pos`: on the cloth, clear of the cushions, the pockets and
+    /// the other balls?
+    pub(super) fn is_free(&self, ball: usize, pos: DVec2) -> bool {
+        match (&self.sandbox, &self.snooker) {
+            (Some(sandbox), _) => practice::sandbox_free(self, sandbox, ball, pos),
+            (None, Some(_)) => snooker::table::is_free(&self.balls, ball, pos),
+            (None, None) => rack::is_free(&self.balls, ball, pos, self.table()),
+        }
     }
 
     /// Must the next shot name a pocket? The same answer [`Game::check`] enforces: never on
@@ -246,12 +267,7 @@ impl Game {
                 "the cue ball must be placed in the D".into(),
             ));
         }
-        let free = if self.snooker.is_some() {
-            snooker::table::is_free(&self.balls, 0, p)
-        } else {
-            rack::is_free(&self.balls, 0, p, self.table())
-        };
-        if !free {
+        if !self.is_free(self.cue_ball(), p) {
             return Err(RuleError::IllegalPlacement(
                 "the cue ball must lie on the cloth, clear of the cushions, pockets and other balls"
                     .into(),
@@ -389,7 +405,8 @@ impl Game {
         let verdict = match cmd {
             Command::Shot { strike, call } => self.shoot(seat, strike, *call)?,
             Command::PlaceCueBall { pos } => {
-                if let Some(cue) = self.balls.first_mut() {
+                let cue = self.cue_ball();
+                if let Some(cue) = self.balls.get_mut(cue) {
                     *cue = BallState::at_rest(DVec2::from_array(*pos));
                 }
                 if self.variant == Variant::Practice {

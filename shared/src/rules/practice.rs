@@ -3,14 +3,140 @@
 
 use glam::DVec2;
 
-use crate::physics::{BallState, MotionState};
+use crate::physics::{engine, BallState, Effects, Models, MotionState, Params, Shot, Strike};
 use crate::scene::Scene;
 
 use super::facts::ShotFacts;
 use super::{
     ball_name, capitalise, off_table, pocket_name, rack, Game, InHand, Next, RuleError, Ruling,
-    Seat,
+    Seat, Settings, Variant,
 };
+
+/// A practice table a player set up (the window's practice: a rack, or any scene file): its
+/// own physics, its balls' names, which ball is the cue ball and where it comes back to.
+/// A practice room of the server has none and keeps the plain practice rules, so the
+/// records of those rooms replay as they were played.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Sandbox {
+    /// The scene's names of the balls, index = ball.
+    ids: Vec<String>,
+    /// The ball struck.
+    cue: usize,
+    /// Where the cue ball started: a pocketed cue ball comes back here, or as near as is
+    /// free up the table's long axis.
+    home: DVec2,
+    params: Params,
+    models: Models,
+    effects: Effects,
+    horizon: Option<f64>,
+}
+
+impl Game {
+    /// A practice table laid out as `scene` is: its table, physics and balls (at rest: a
+    /// scene's velocities and spins are not kept). The cue ball is the one the scene's
+    /// strike names, else the ball called "cue" or "0", else the first. Shots go through
+    /// [`Game::apply`] like any game's; a pocketed cue ball comes back to where it started.
+    pub fn practice(scene: &Scene) -> Result<Game, RuleError> {
+        let shot = scene
+            .to_shot()
+            .map_err(|e| RuleError::NotAllowed(format!("the scene is not valid: {e}")))?;
+        if shot.balls.is_empty() {
+            return Err(RuleError::NotAllowed(
+                "the scene has no ball: practice needs at least one".into(),
+            ));
+        }
+        let ids: Vec<String> = scene.balls.iter().map(|b| b.id.clone()).collect();
+        let named = ids.iter().position(|id| id == "cue" || id == "0");
+        let cue = shot.strike.map(|(i, _)| i).or(named).unwrap_or(0);
+        let settings = Settings {
+            table: shot.table,
+            ..Settings::offline()
+        };
+        let mut game = Game::new(Variant::Practice, settings, 0);
+        game.balls = shot
+            .balls
+            .iter()
+            .map(|b| BallState::at_rest(b.pos))
+            .collect();
+        game.sandbox = Some(Box::new(Sandbox {
+            ids,
+            cue,
+            home: game.balls[cue].pos,
+            params: shot.params,
+            models: shot.models,
+            effects: shot.effects,
+            horizon: shot.horizon,
+        }));
+        Ok(game)
+    }
+
+    /// The names of the balls of a practice table set up from a scene, index = ball.
+    pub fn scene_ids(&self) -> Option<&[String]> {
+        self.sandbox.as_ref().map(|s| s.ids.as_slice())
+    }
+}
+
+impl Sandbox {
+    pub(super) fn cue(&self) -> usize {
+        self.cue
+    }
+
+    pub(super) fn params(&self) -> Params {
+        self.params
+    }
+
+    /// The physics shot of `balls` with `strike` on the cue ball.
+    pub(super) fn shot(&self, game: &Game, balls: Vec<BallState>, strike: Option<Strike>) -> Shot {
+        Shot {
+            table: game.table(),
+            params: self.params,
+            models: self.models,
+            effects: self.effects,
+            horizon: self.horizon,
+            balls,
+            strike: strike.map(|s| (self.cue, s)),
+        }
+    }
+}
+
+/// May `ball` lie at `pos` on a set-up practice table? The engine's own check decides, with
+/// the table's physics, so a place accepted here is one every shot from it accepts.
+pub(super) fn sandbox_free(game: &Game, sandbox: &Sandbox, ball: usize, pos: DVec2) -> bool {
+    let mut balls = game.balls.clone();
+    let Some(b) = balls.get_mut(ball) else {
+        return false;
+    };
+    *b = BallState::at_rest(pos);
+    engine::check(&sandbox.shot(game, balls, None)).is_ok()
+}
+
+/// After a set-up practice table's shot: balls a horizon stopped mid-roll stay where they
+/// are, at rest, and a pocketed cue ball comes back to its starting place or the nearest
+/// free place up the table's long axis (it stays off the table when none is free).
+fn settle_sandbox(game: &mut Game) {
+    let Some(sandbox) = game.sandbox.take() else {
+        return;
+    };
+    for b in &mut game.balls {
+        if b.motion != MotionState::Pocketed {
+            *b = BallState::at_rest(b.pos);
+        }
+    }
+    if game.balls[sandbox.cue].motion == MotionState::Pocketed {
+        let step = 2.1 * sandbox.params.ball_radius;
+        let spots = (0..200).flat_map(|k| {
+            let d = DVec2::new(0.0, f64::from(k) * step);
+            [sandbox.home + d, sandbox.home - d]
+        });
+        if let Some(spot) = spots
+            .into_iter()
+            .find(|&p| sandbox_free(game, &sandbox, sandbox.cue, p))
+        {
+            game.balls[sandbox.cue] = BallState::at_rest(spot);
+        }
+    }
+    game.sandbox = Some(sandbox);
+}
 
 /// Practice layouts hold the cue ball and the fifteen object balls.
 pub(super) const PRACTICE_BALLS: usize = 16;
@@ -29,7 +155,7 @@ pub(super) fn check_place_ball(
     }
     match pos {
         None => Ok(()),
-        Some(p) if rack::is_free(&game.balls, index, DVec2::from_array(p), game.table()) => Ok(()),
+        Some(p) if game.is_free(index, DVec2::from_array(p)) => Ok(()),
         Some(_) => Err(RuleError::IllegalPlacement(format!(
             "{} must lie on the cloth, clear of the cushions, pockets and other balls",
             ball_name(ball)
@@ -115,17 +241,23 @@ pub fn layout_from_scene(scene: &Scene) -> Result<Vec<Option<[f64; 2]>>, RuleErr
 /// A practice shot is never a foul: report what fell, and play on (the cue ball stays in
 /// hand, as it always is in practice).
 pub(super) fn judge(game: &mut Game, shooter: Seat, facts: &ShotFacts) -> Ruling {
+    // A scene's own names where they are not the pool numbers ("the red ball").
+    let name = |b: u8| match game.scene_ids().and_then(|ids| ids.get(usize::from(b))) {
+        Some(id) if *id != b.to_string() && !(b == 0 && id == "cue") => format!("the {id} ball"),
+        _ => ball_name(b),
+    };
     let reasons = facts
         .pocketed
         .iter()
         .map(|&(b, p)| {
             format!(
                 "{} fell in the {}",
-                capitalise(&ball_name(b)),
+                capitalise(&name(b)),
                 pocket_name(game.table(), p)
             )
         })
         .collect();
+    settle_sandbox(game);
     Ruling {
         reasons,
         foul: false,
@@ -134,5 +266,134 @@ pub(super) fn judge(game: &mut Game, shooter: Seat, facts: &ShotFacts) -> Ruling
             in_hand: Some(InHand::Anywhere),
             options: Vec::new(),
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::{simulate, Strike};
+    use crate::rules::{Command, Phase};
+
+    fn table(json: &str) -> Game {
+        Game::practice(&Scene::from_json(json).expect("valid scene")).expect("a practice table")
+    }
+
+    fn shoot(game: &mut Game, strike: Strike) -> super::super::Verdict {
+        let shot = Command::Shot { strike, call: None };
+        game.apply(Seat::A, &shot).expect("a legal shot")
+    }
+
+    #[test]
+    fn a_shot_plays_the_scenes_physics_and_its_final_table_stays() {
+        let mut game = table(
+            r#"{"table":"9ft","physics":{"mu_roll":0.02},
+                "balls":[{"id":"cue","pos":[0.3,0.3]},{"id":"1","pos":[0.15,0.15]}]}"#,
+        );
+        assert_eq!(game.params().mu_roll, 0.02);
+        let strike = Strike::at_angle(3.0, 225.0, DVec2::ZERO);
+        let expected = simulate(&game.shot_for(&strike)).expect("valid");
+        let verdict = shoot(&mut game, strike);
+        assert_eq!(verdict.shot.expect("a shot").hash, expected.hash());
+        assert_eq!(game.balls()[1].motion, MotionState::Pocketed);
+        assert_eq!(
+            verdict.reasons,
+            vec!["The 1 fell in the bottom-left corner"]
+        );
+    }
+
+    #[test]
+    fn a_scratch_brings_the_cue_ball_back_to_where_it_started() {
+        // The cue ball rolls straight into the bottom-left pocket.
+        let mut game =
+            table(r#"{"balls":[{"id":"cue","pos":[0.3,0.3]},{"id":"1","pos":[1.0,2.0]}]}"#);
+        shoot(&mut game, Strike::at_angle(3.0, 225.0, DVec2::ZERO));
+        assert_eq!(game.balls()[0], BallState::at_rest(DVec2::new(0.3, 0.3)));
+        assert!(matches!(
+            game.phase(),
+            Phase::Shooting {
+                in_hand: Some(InHand::Anywhere),
+                ..
+            }
+        ));
+    }
+
+    #[test]
+    fn a_scratch_onto_a_taken_start_comes_back_on_the_nearest_free_place_up_the_table() {
+        let mut game =
+            table(r#"{"balls":[{"id":"cue","pos":[0.3,0.3]},{"id":"1","pos":[1.0,2.0]}]}"#);
+        // The cue ball goes nearer the pocket and the 1 takes its starting place.
+        for command in [
+            Command::PlaceCueBall { pos: [0.15, 0.15] },
+            Command::PlaceBall {
+                ball: 1,
+                pos: Some([0.3, 0.3]),
+            },
+        ] {
+            game.apply(Seat::A, &command).expect("a free place");
+        }
+        shoot(&mut game, Strike::at_angle(2.0, 225.0, DVec2::ZERO));
+        let back = game.balls()[0];
+        assert_eq!(back.motion, MotionState::Stationary);
+        assert_eq!(back.pos.x, 0.3);
+        let off = (back.pos.y - 0.3).abs();
+        assert!(off > 0.05 && off < 0.07, "{back:?}");
+    }
+
+    #[test]
+    fn the_ball_the_strike_names_is_the_cue_ball_and_balls_keep_their_scene_names() {
+        let mut game = table(
+            r#"{"balls":[{"id":"a","pos":[0.3,0.3]},{"id":"b","pos":[0.6,0.6]}],
+                "strike":{"ball":"b","speed":3.0,"angle_deg":225}}"#,
+        );
+        assert_eq!(game.cue_ball(), 1);
+        assert_eq!(
+            game.scene_ids(),
+            Some(&["a".to_string(), "b".to_string()][..])
+        );
+        // b drives a into the bottom-left pocket, and follows it in: b comes back.
+        let verdict = shoot(&mut game, Strike::at_angle(3.0, 225.0, DVec2::ZERO));
+        assert!(verdict
+            .reasons
+            .contains(&"The a ball fell in the bottom-left corner".into()));
+        assert_eq!(game.balls()[1].motion, MotionState::Stationary);
+    }
+
+    #[test]
+    fn a_horizon_leaves_the_balls_where_it_stopped_them_at_rest() {
+        let mut game = table(r#"{"horizon":0.2,"balls":[{"id":"cue","pos":[0.3,0.3]}]}"#);
+        shoot(&mut game, Strike::at_angle(2.0, 90.0, DVec2::ZERO));
+        let cue = game.balls()[0];
+        assert_eq!(cue.motion, MotionState::Stationary);
+        assert!(cue.pos.y > 0.5, "{cue:?}");
+    }
+
+    #[test]
+    fn placements_on_a_ball_off_the_cloth_or_not_a_number_are_refused_and_change_nothing() {
+        let mut game = table(
+            r#"{"table":"carom","balls":[{"id":"white","pos":[0.4,0.4]},{"id":"red","pos":[0.7,1.0]}]}"#,
+        );
+        let before = game.clone();
+        for pos in [[0.7, 1.0], [-0.1, 0.5], [f64::NAN, 0.5]] {
+            let place = Command::PlaceCueBall { pos };
+            assert!(game.apply(Seat::A, &place).is_err(), "{pos:?}");
+        }
+        assert_eq!(game, before);
+        game.apply(Seat::A, &Command::PlaceCueBall { pos: [0.4, 0.8] })
+            .expect("a free place");
+        assert_eq!(game.balls()[0].pos, DVec2::new(0.4, 0.8));
+    }
+
+    #[test]
+    fn a_scene_with_no_ball_or_a_broken_one_is_refused() {
+        for json in [
+            r#"{"balls":[]}"#,
+            r#"{"balls":[{"id":"cue","pos":[9.0,9.0]}]}"#,
+        ] {
+            let scene = Scene::from_json(json);
+            if let Ok(scene) = scene {
+                assert!(Game::practice(&scene).is_err(), "{json}");
+            }
+        }
     }
 }
