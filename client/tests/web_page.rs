@@ -14,7 +14,6 @@ use std::time::Duration;
 use breakshot_client::play::practice_rack;
 use breakshot_client::view::palette::{CLOTH, CUE_BALL};
 use breakshot_client::view::{menu_buttons, Frame, Layout};
-use breakshot_shared::physics::TableKind;
 use breakshot_testkit::browser::{browser_or_skip, near, LaunchOptions, Page, Viewport};
 use breakshot_testkit::web::{bundle, skip_web};
 use breakshot_testkit::{read_line, scratch, Spawned};
