@@ -4,8 +4,8 @@
 use ::glam::DVec2;
 use breakshot_client::play::leave::{self, LeaveAnswer};
 use breakshot_client::play::{
-    Aim, AimShare, AwayResult, Chat, ChatKey, Context, Controls, Drag, GameFlow, GameLink,
-    InputFrame, Intent, Key, Stage, Turn,
+    Aim, AimShare, AwayResult, Chat, ChatKey, Context, Controls, Drag, GameEvent, GameFlow,
+    GameLink, InputFrame, Intent, Key, Stage, Turn,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{self, call_prompt, connection as connection_text, Connection};
@@ -30,7 +30,8 @@ pub struct GameScreen {
     aim_share: AimShare,
     toggles: AidToggles,
     sim: Simulator,
-    predicted: Option<(Shot, Prediction)>,
+    /// The shot the aids were computed for, what they show, and the rules' warning for it.
+    predicted: Option<(Shot, Prediction, Option<String>)>,
     debug: bool,
     frame_ms: f64,
     /// The last state told to whoever watches a page ([`super::report`]).
@@ -287,12 +288,15 @@ impl GameScreen {
         for intent in intents {
             match (intent, seat) {
                 (Intent::Shoot(strike), Some(seat)) => {
-                    if is_off_table(&game.balls()[game.cue_ball()]) {
-                        self.flow.message =
-                            "Place the cue ball first: drag it onto the table".into();
-                    } else if let Some(cmd) = self.flow.shot_command(strike) {
-                        self.link.send(&game, seat, cmd);
-                        self.controls.shot_played();
+                    if let Some(cmd) = self.flow.shot_command(strike) {
+                        // The rules here say at once what the deciding side would refuse.
+                        match game.check(seat, &cmd) {
+                            Ok(()) => {
+                                self.link.send(&game, seat, cmd);
+                                self.controls.shot_played();
+                            }
+                            Err(why) => self.flow.handle(GameEvent::Refused(why.to_string())),
+                        }
                     }
                 }
                 (Intent::PlaceCueBall(pos), Some(seat)) => {
@@ -386,12 +390,29 @@ impl GameScreen {
             self.predicted = None;
             return;
         }
-        let shot = game.shot_for(&self.controls.aim.strike());
-        if self.predicted.as_ref().is_some_and(|(s, _)| *s == shot) {
+        let strike = self.controls.aim.strike();
+        let shot = game.shot_for(&strike);
+        if self.predicted.as_ref().is_some_and(|(s, ..)| *s == shot) {
             return;
         }
-        let prediction = aids::predict(&mut self.sim, &shot, game.cue_ball()).unwrap_or_default();
-        self.predicted = Some((shot, prediction));
+        // The rules judge the shot as it would play; when they cannot yet (a pocket to call
+        // first), the physics alone draws the aids.
+        let cue = game.cue_ball();
+        let (prediction, warning) = match game.preview(game.to_move(), &strike, self.flow.call) {
+            Ok(verdict) => (
+                verdict
+                    .outcome
+                    .as_ref()
+                    .map(|o| aids::prediction_of(o, cue))
+                    .unwrap_or_default(),
+                aids::preview_warning(&verdict, game.to_move()),
+            ),
+            Err(_) => (
+                aids::predict(&mut self.sim, &shot, cue).unwrap_or_default(),
+                None,
+            ),
+        };
+        self.predicted = Some((shot, prediction, warning));
     }
 
     /// The shot being shown, if any.
@@ -458,35 +479,38 @@ impl GameScreen {
             _ => None,
         };
         let cue = Self::cue_spot(game);
-        if let (Some((_, pred)), None) = (&self.predicted, dragging) {
+        if let (Some((_, pred, _)), None) = (&self.predicted, dragging) {
             let object = pred
                 .first_hit
                 .and_then(|b| names.get(b))
                 .map_or("", |s| s.as_str());
             draw::aids(&pen, pred, self.shown_aids(), r, object);
         }
-        draw::balls(&pen, &names, &balls, r, dragging.map(|_| 0), &self.turns);
+        draw::balls(
+            &pen,
+            &names,
+            &balls,
+            r,
+            dragging.map(|_| game.cue_ball()),
+            &self.turns,
+        );
         let shooting = matches!(turn, Turn::Shoot { .. }) && dragging.is_none();
         if shooting {
-            // In 9-ball the ball on is ringed; a first contact the rules forbid is warned of.
+            // In 9-ball the ball on is ringed.
             if game.variant() == Variant::NineBall {
                 for n in game.legal_first_balls() {
                     draw::ring(&pen, balls[usize::from(n)].pos, r, YELLOW);
                 }
             }
-            // In three-cushion a miss scores nothing but is no foul: nothing to warn of.
-            let pool = !matches!(game.variant(), Variant::ThreeCushion { .. });
-            if let Some((_, pred)) = self.predicted.as_ref().filter(|_| pool) {
-                let legal = game.legal_first_balls();
-                if let Some(warning) = aids::first_hit_warning(&legal, pred.first_hit) {
-                    if let Some(end) = pred.aim_end.filter(|_| self.shown_aids().aim_line) {
-                        draw::segment(&pen, cue, end, 2.5, RED);
-                    }
-                    // Along the top of the cloth, shrunk to stay on it.
-                    let c = layout.cloth;
-                    let line = Rect::new(c.x + 6.0, c.y + 4.0, c.w - 12.0, 28.0);
-                    draw::label_in(&warning, line, 20.0, draw::Align::Left, RED);
+            // A shot the rules would judge a foul (or a loss) is warned of in their words.
+            if let Some((_, pred, Some(warning))) = &self.predicted {
+                if let Some(end) = pred.aim_end.filter(|_| self.shown_aids().aim_line) {
+                    draw::segment(&pen, cue, end, 2.5, RED);
                 }
+                // Along the top of the cloth, shrunk to stay on it.
+                let c = layout.cloth;
+                let line = Rect::new(c.x + 6.0, c.y + 4.0, c.w - 12.0, 28.0);
+                draw::label_in(warning, line, 20.0, draw::Align::Left, RED);
             }
         }
         if let Turn::Shoot {
@@ -503,7 +527,7 @@ impl GameScreen {
                 (b[1] - a[1]).abs(),
             );
             draw::in_hand(&pen, rect, dragging, r);
-            if is_off_table(&balls[0]) && dragging.is_none() {
+            if is_off_table(&balls[game.cue_ball()]) && dragging.is_none() {
                 draw::ball_at(&pen, "cue", cue, r);
             }
         }

@@ -5,6 +5,7 @@
 
 use breakshot_shared::physics::{EventKind, MotionState, Outcome, Shot, ShotError, Simulator};
 use breakshot_shared::protocol::AimAid;
+use breakshot_shared::rules::{Seat, Verdict};
 use glam::DVec2;
 
 /// Points per second of shot time along a predicted path.
@@ -119,22 +120,23 @@ pub struct Prediction {
     pub object_path: Vec<PathPoint>,
 }
 
-/// The warning to show on the aim line when the shot would foul by its first contact: the
-/// cue ball would hit no ball, or first a ball the rules do not allow now (`legal`: the balls
-/// it may hit first; empty when anything goes). None for a legal first contact.
-pub fn first_hit_warning(legal: &[u8], first_hit: Option<usize>) -> Option<String> {
-    if legal.is_empty() {
+/// The warning to show on the aim line for a shot the rules, previewing it
+/// ([`Game::preview`](breakshot_shared::rules::Game::preview)), would judge a foul or the
+/// loss of the game: their first reason, as they would give it. None for a fair shot.
+pub fn preview_warning(verdict: &Verdict, shooter: Seat) -> Option<String> {
+    let lost = verdict
+        .over
+        .as_ref()
+        .is_some_and(|(winner, _)| *winner != Some(shooter));
+    if !verdict.foul && !lost {
         return None;
     }
-    let on = match legal {
-        [only] => format!(" (the {only} is on)"),
-        _ => String::new(),
-    };
-    match first_hit {
-        None => Some(format!("Foul: the cue ball would hit no ball{on}")),
-        Some(b) if legal.iter().any(|&l| usize::from(l) == b) => None,
-        Some(b) => Some(format!("Foul: the {b} would be hit first{on}")),
-    }
+    let why = verdict
+        .reasons
+        .iter()
+        .find(|r| r.starts_with("Foul") || lost)
+        .or(verdict.reasons.first())?;
+    Some(format!("If played: {why}"))
 }
 
 /// Simulates `shot` (whose strike is on ball `cue`) and extracts the aids.
@@ -144,7 +146,7 @@ pub fn predict(sim: &mut Simulator, shot: &Shot, cue: usize) -> Result<Predictio
 }
 
 /// The aids for a simulated shot.
-pub(crate) fn prediction_of(outcome: &Outcome, cue: usize) -> Prediction {
+pub fn prediction_of(outcome: &Outcome, cue: usize) -> Prediction {
     let cue16 = cue as u16;
     let mut aim_end = None;
     let mut aim_time = None;
@@ -387,28 +389,44 @@ mod tests {
         assert!(t.aim_line && !t.ghost_ball && t.paths);
     }
 
+    fn verdict(foul: bool, reasons: &[&str], over: Option<Option<Seat>>) -> Verdict {
+        Verdict {
+            reasons: reasons.iter().map(|r| r.to_string()).collect(),
+            foul,
+            shot: None,
+            next: Seat::A,
+            over: over.map(|winner| (winner, "over".into())),
+            outcome: None,
+        }
+    }
+
     #[test]
-    fn a_first_contact_the_rules_forbid_is_warned_of() {
-        assert_eq!(
-            first_hit_warning(&[], None),
+    fn the_rules_preview_is_warned_of_in_their_words_only_for_a_foul_or_a_loss() {
+        let fair = verdict(false, &["Player A pocketed a ball and continues"], None);
+        assert_eq!(preview_warning(&fair, Seat::A), None);
+        let foul = verdict(
+            true,
+            &[
+                "Player B to shoot",
+                "Foul: wrong ball first - hit the 5 before the 3",
+            ],
             None,
-            "practice: anything goes"
-        );
-        assert_eq!(first_hit_warning(&[3], Some(3)), None);
-        assert_eq!(
-            first_hit_warning(&[3], Some(5)).as_deref(),
-            Some("Foul: the 5 would be hit first (the 3 is on)")
-        );
-        let solids = [1, 2, 3, 4, 5, 6, 7];
-        assert_eq!(first_hit_warning(&solids, Some(6)), None);
-        assert_eq!(
-            first_hit_warning(&solids, Some(8)).as_deref(),
-            Some("Foul: the 8 would be hit first")
         );
         assert_eq!(
-            first_hit_warning(&solids, None).as_deref(),
-            Some("Foul: the cue ball would hit no ball")
+            preview_warning(&foul, Seat::A).as_deref(),
+            Some("If played: Foul: wrong ball first - hit the 5 before the 3")
         );
+        let lost = verdict(
+            false,
+            &["Player A loses: pocketed the 8 early"],
+            Some(Some(Seat::B)),
+        );
+        assert_eq!(
+            preview_warning(&lost, Seat::A).as_deref(),
+            Some("If played: Player A loses: pocketed the 8 early")
+        );
+        let won = verdict(false, &["Player A wins"], Some(Some(Seat::A)));
+        assert_eq!(preview_warning(&won, Seat::A), None);
     }
 
     #[test]

@@ -399,6 +399,23 @@ impl Game {
         }
     }
 
+    /// What the rules would say of `seat` playing `strike` (naming pocket `call`) now: the
+    /// very judgement [`Game::apply`] makes, on a copy, with the shot's trajectory in the
+    /// verdict's `outcome`. Aiming aids show it before the shot (a foul, a loss) in the
+    /// rules' own words. Changes nothing.
+    pub fn preview(
+        &self,
+        seat: Seat,
+        strike: &Strike,
+        call: Option<u8>,
+    ) -> Result<Verdict, RuleError> {
+        let shot = Command::Shot {
+            strike: *strike,
+            call,
+        };
+        self.clone().apply(seat, &shot)
+    }
+
     /// Applies `cmd` from `seat`: the only way a game changes. On error nothing changes.
     pub fn apply(&mut self, seat: Seat, cmd: &Command) -> Result<Verdict, RuleError> {
         self.check(seat, cmd)?;

@@ -1199,3 +1199,38 @@ fn turn_counts_every_applied_command() {
 }
 
 mod wpa;
+
+#[test]
+fn a_preview_is_the_judgement_the_shot_gets_and_changes_nothing() {
+    // 9-ball, the 3 on, the 5 hit first: the preview warns of the very foul the shot gets.
+    let g = setup(Variant::NineBall, HIT, 5, &[3]);
+    let before = g.clone();
+    let preview = g
+        .preview(Seat::A, &HIT.strike(), None)
+        .expect("a legal stroke");
+    assert_eq!(g, before);
+    assert!(preview.foul);
+    assert_eq!(
+        preview.reasons[0],
+        "Foul: wrong ball first - hit the 5 before the 3"
+    );
+    assert!(preview.outcome.is_some(), "the trajectory comes with it");
+    let mut played = g.clone();
+    let verdict = shoot(&mut played, HIT, None);
+    assert_eq!(
+        (verdict.foul, &verdict.reasons, verdict.shot.map(|s| s.hash)),
+        (preview.foul, &preview.reasons, preview.shot.map(|s| s.hash))
+    );
+    // A shot the rules refuse is refused by the preview too.
+    let wrong_seat = g.preview(Seat::B, &HIT.strike(), None);
+    assert_eq!(wrong_seat.map(|v| v.foul), Err(RuleError::NotYourTurn));
+}
+
+#[test]
+fn a_three_cushion_miss_previews_as_no_foul() {
+    let g = Game::new(Variant::three_cushion(), Settings::offline(), 1);
+    // Straight along the long axis, away from both object balls.
+    let away = Strike::at_angle(0.5, 270.0, DVec2::ZERO);
+    let preview = g.preview(Seat::A, &away, None).expect("a legal stroke");
+    assert!(!preview.foul, "{:?}", preview.reasons);
+}
