@@ -11,11 +11,11 @@ use breakshot_client::memory::player_name;
 use breakshot_client::net::{
     default_data_dir, fetch_game_blocking, HostOptions, NetLink, SeatStore, DEFAULT_PORT,
 };
-use breakshot_client::play::{rack_scene, ReplayViewer};
+use breakshot_client::play::ReplayViewer;
 use breakshot_client::view::ViewKind;
 use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::{AimAid, Invite, RoomCode};
-use breakshot_shared::rules::{EightBallRules, Variant};
+use breakshot_shared::rules::{EightBallRules, Game, Settings, Variant};
 use breakshot_shared::scene::Scene;
 use clap::{ArgGroup, Args, Parser, Subcommand};
 
@@ -257,12 +257,12 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             mode,
             seed,
         }) => match mode.as_str() {
-            "9ball" => ui::Start::Practice(Some(Box::new(rack_scene(
+            "9ball" => ui::Start::Practice(Some(Box::new(opening_scene(
                 Variant::NineBall,
                 seed.seed.unwrap_or_else(ui::fresh_seed),
             )))),
             "3cushion" => {
-                ui::Start::Practice(Some(Box::new(rack_scene(Variant::three_cushion(), 0))))
+                ui::Start::Practice(Some(Box::new(opening_scene(Variant::three_cushion(), 0))))
             }
             _ => ui::Start::Practice(None),
         },
@@ -513,4 +513,9 @@ fn open_window(cli: &Cli, start: ui::Start) -> ExitCode {
         }
         _ => ExitCode::SUCCESS,
     }
+}
+
+/// `variant`'s opening position (shuffled by `seed`) as a scene, for the practice table.
+fn opening_scene(variant: Variant, seed: u64) -> Scene {
+    Game::new(variant, Settings::offline(), seed).scene()
 }

@@ -11,9 +11,9 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::Duration;
 
-use breakshot_client::play::practice_rack;
 use breakshot_client::view::palette::{CLOTH, CUE_BALL};
 use breakshot_client::view::{menu_buttons, Frame, Layout};
+use breakshot_shared::rules::{EightBallRules, Game, Variant};
 use breakshot_testkit::browser::{browser_or_skip, near, LaunchOptions, Page, Viewport};
 use breakshot_testkit::web::{bundle, skip_web};
 use breakshot_testkit::{read_line, scratch, Spawned};
@@ -177,7 +177,8 @@ fn a_finger_aims_and_shoots_on_the_practice_table_of_a_phone() {
 
     // Where the practice rack puts the cue ball and the rack on this screen (the rack's
     // order changes from rack to rack; its place and the cue ball's do not).
-    let practice = practice_rack(1).expect("the practice rack");
+    let practice =
+        Game::practice_rack(Variant::EightBall(EightBallRules::Wpa), 1).expect("the practice rack");
     let layout = Layout::new(
         phone.width as f32,
         phone.height as f32,

@@ -11,8 +11,7 @@ use std::time::Duration;
 use breakshot_client::play::{Aim, ReplayViewer};
 use breakshot_client::view::aids::{predict, PathPoint};
 use breakshot_client::view::palette::{
-    ball_ids, ball_look, Rgb, BALL_WHITE, CLOTH, CUE_BALL, CUE_WOOD, CUSHION, DIAMOND, POCKET,
-    RAIL_WOOD,
+    ball_look, Rgb, BALL_WHITE, CLOTH, CUE_BALL, CUE_WOOD, CUSHION, DIAMOND, POCKET, RAIL_WOOD,
 };
 use breakshot_client::view::{flight, Camera, Frame, Layout, Orbit};
 use breakshot_shared::physics::Simulator;
@@ -135,6 +134,8 @@ fn window_sized(args: &[&OsStr], out: &Path, frames: u32, size: (u32, u32)) -> O
     Some(breakshot_testkit::run(
         Process::new(xvfb)
             .env("BREAKSHOT_DATA", data.path())
+            // The window tells standard error what it did ("report: ..." lines).
+            .env("BREAKSHOT_REPORT", "1")
             // The X authority file in the test's own folder: xvfb-run leaves nothing in /tmp,
             // even when it is stopped.
             .args(["-a", "-f"])
@@ -233,7 +234,7 @@ fn rack_is_drawn(pic: &Picture, game: &Game) {
         pic.height as f32,
         Frame::new(game.table(), game.balls()),
     );
-    let ids = ball_ids(game);
+    let ids = game.ball_ids();
     let ids: Vec<&str> = ids.iter().map(|s| s.as_str()).collect();
     balls_are_drawn(pic, &layout, &ids, game.balls());
 }
@@ -915,7 +916,7 @@ fn a_three_cushion_game_shows_the_carom_table_and_its_three_balls() {
         assert!(close(pic.at(x, y), DIAMOND, 12), "no diamond at {p}");
     }
     // The white, the yellow and the red, each in its colour where the layout puts it.
-    let ids = ball_ids(&game);
+    let ids = game.ball_ids();
     let ids: Vec<&str> = ids.iter().map(|s| s.as_str()).collect();
     assert_eq!(ids, ["white", "yellow", "red"]);
     balls_are_drawn(&pic, &layout, &ids, game.balls());
@@ -1319,12 +1320,67 @@ fn played(args: &[&OsStr], out: &Path, frames: u32, keys: &[&str]) -> Option<Out
     Some(breakshot_testkit::run(
         Process::new(xvfb)
             .env("BREAKSHOT_DATA", data.path())
+            // The window tells standard error what it did ("report: ..." lines).
+            .env("BREAKSHOT_REPORT", "1")
             .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
             .arg(env!("CARGO_BIN_EXE_breakshot"))
             .args(args),
         None,
         Duration::from_secs(120),
     ))
+}
+
+/// The lines the window reported on standard error.
+fn reports(run: &Output) -> Vec<String> {
+    String::from_utf8_lossy(&run.stderr)
+        .lines()
+        .filter_map(|l| l.strip_prefix("report: "))
+        .map(String::from)
+        .collect()
+}
+
+#[cfg(feature = "host")]
+#[test]
+fn m_and_the_brackets_typed_in_the_chat_line_are_said_not_taken_as_sound_keys() {
+    let dir = breakshot_testkit::scratch("window-chat");
+    let out = dir.path().join("out.png");
+    let data = dir.path().join("data");
+    let args = [
+        "host",
+        "--computer",
+        "--level",
+        "1",
+        "--bind",
+        "127.0.0.1:0",
+        "--data",
+    ]
+    .map(OsStr::new);
+    let args = [&args[..], &[data.as_os_str()]].concat();
+    // T opens the chat line, "m[]" is typed and sent with Enter; then M, outside the line,
+    // mutes.
+    let keys = [
+        "sleep 2",
+        "key --window \"$wid\" t",
+        "type --window \"$wid\" 'm[]'",
+        "key --window \"$wid\" Return",
+        "key --window \"$wid\" m",
+    ];
+    let Some(run) = played(&args, &out, 480, &keys) else {
+        return;
+    };
+    assert_ran(&run);
+    let said = reports(&run);
+    let sent = said.iter().position(|l| l == "chat sent m[]");
+    let muted = said.iter().position(|l| l == "sound muted");
+    assert!(
+        matches!((sent, muted), (Some(s), Some(m)) if s < m),
+        "the line is said, then M mutes: {said:?}"
+    );
+    assert_eq!(
+        said.iter().filter(|l| l.starts_with("sound")).count(),
+        1,
+        "only the M outside the line turned the sound: {said:?}"
+    );
 }
 
 #[test]

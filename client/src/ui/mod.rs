@@ -89,13 +89,15 @@ pub fn fresh_seed() -> u64 {
     (macroquad::miniquad::date::now() * 1e9) as u64
 }
 
-/// Tells whoever watches the page (its status line, a test) that `line` happened; the
-/// native window has no one to tell.
+/// Tells whoever watches (the page's status line, a test) that `line` happened: the page
+/// hears it; the native window writes it to standard error when `BREAKSHOT_REPORT` is set.
 pub fn report(line: &str) {
     #[cfg(target_arch = "wasm32")]
     breakshot_client::net::page::report(line);
     #[cfg(not(target_arch = "wasm32"))]
-    let _ = line;
+    if std::env::var_os("BREAKSHOT_REPORT").is_some() {
+        eprintln!("report: {line}");
+    }
 }
 
 /// What a screen asks for after a frame.

@@ -1,15 +1,14 @@
 //! The practice screen: a practice table of the rules, played through the local link.
 
 use breakshot_client::play::{
-    practice_rack, Aim, Context, Controls, Drag, GameFlow, GameLink, InputFrame, Intent, Key,
-    LocalLink, Stage,
+    Aim, Context, Controls, Drag, GameFlow, GameLink, InputFrame, Intent, Key, LocalLink, Stage,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::Connection;
-use breakshot_client::view::{palette, Frame, Layout, Orientations, Playback, Rect};
+use breakshot_client::view::{Frame, Layout, Orientations, Playback, Rect};
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator};
-use breakshot_shared::rules::{Command, Game};
+use breakshot_shared::rules::{Command, EightBallRules, Game, Variant};
 use breakshot_shared::scene::Scene;
 use macroquad::prelude::*;
 
@@ -45,7 +44,7 @@ impl PracticeScreen {
     pub fn new(scene: Option<Scene>, seed: u64) -> anyhow::Result<PracticeScreen> {
         let game = match &scene {
             Some(s) => Game::practice(s)?,
-            None => practice_rack(seed)?,
+            None => Game::practice_rack(Variant::EightBall(EightBallRules::Wpa), seed)?,
         };
         // A scene's strike is the set-up the cue starts with.
         let aim = scene
@@ -53,10 +52,7 @@ impl PracticeScreen {
             .and_then(|s| s.to_shot().ok()?.strike)
             .map(|(_, strike)| Aim::from_strike(&strike))
             .unwrap_or_default();
-        let ids = match game.scene_ids() {
-            Some(ids) => ids.to_vec(),
-            None => palette::ball_ids(&game),
-        };
+        let ids = game.ball_ids();
         let frame = Frame::new(game.table(), game.balls());
         let mut link = LocalLink::from_game(game);
         let mut flow = GameFlow::new(Connection::Offline);

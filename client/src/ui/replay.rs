@@ -2,7 +2,7 @@
 
 use breakshot_client::play::{Aim, InputFrame, Key, ReplayViewer};
 use breakshot_client::view::hud::Connection;
-use breakshot_client::view::{palette, tray, Frame, Layout, Orientations, Playback};
+use breakshot_client::view::{tray, Frame, Layout, Orientations, Playback};
 use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
 
@@ -70,7 +70,7 @@ impl ReplayScreen {
         let layout = Layout::new(screen_width(), screen_height(), self.frame);
         let v = &self.viewer;
         let r = v.game().params().ball_radius;
-        let ids = palette::ball_ids(v.game());
+        let ids = v.game().ball_ids();
         let pen = self.view.pen(&layout, r, v.shot(), v.game().table());
         draw::table(&pen, v.game().table());
         draw::balls(&pen, &ids, &v.balls(), r, None, &self.turns);

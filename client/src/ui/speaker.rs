@@ -44,7 +44,15 @@ impl Speaker {
 
     /// The mute and volume keys of this frame.
     pub fn keys(&mut self, input: &InputFrame) {
+        let before = self.mixer;
         turn(&mut self.mixer, input);
+        if self.mixer != before {
+            super::report(&if self.mixer.muted {
+                "sound muted".to_string()
+            } else {
+                format!("sound {:.0} %", 100.0 * self.mixer.volume)
+            });
+        }
     }
 
     /// Plays the sounds of `shot` that became due since the last frame.

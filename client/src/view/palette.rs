@@ -2,8 +2,6 @@
 //! 4 purple, 5 orange, 6 green, 7 maroon, 8 black; 9 to 15 are the same colours as stripes),
 //! and the three carom balls (white, yellow, red).
 
-use breakshot_shared::rules::{Game, Variant};
-
 /// An sRGB colour.
 pub type Rgb = [u8; 3];
 
@@ -58,20 +56,6 @@ pub struct BallLook {
     pub number: Option<u8>,
 }
 
-/// The names the window gives a game's balls, index = ball number: pool balls by number
-/// ("cue" for the cue ball), the three-cushion balls by colour.
-pub fn ball_ids(game: &Game) -> Vec<String> {
-    match game.variant() {
-        Variant::ThreeCushion { .. } => ["white", "yellow", "red"].map(String::from).to_vec(),
-        Variant::Snooker { .. } => (0..game.balls().len())
-            .map(|n| breakshot_shared::rules::snooker::table::scene_id(n as u8))
-            .collect(),
-        _ => (0..game.balls().len())
-            .map(|n| if n == 0 { "cue".into() } else { n.to_string() })
-            .collect(),
-    }
-}
-
 /// The look of the ball called `id` ("cue" or "0" for the cue ball, "1" to "15"; "white",
 /// "yellow" and "red" for carom balls, plain and unnumbered).
 pub fn ball_look(id: &str) -> BallLook {
@@ -99,6 +83,7 @@ pub fn ball_look(id: &str) -> BallLook {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use breakshot_shared::rules::{Game, Variant};
 
     fn distance(a: Rgb, b: Rgb) -> i32 {
         a.iter()
@@ -119,7 +104,7 @@ mod tests {
     #[test]
     fn carom_balls_are_plain_white_yellow_and_red() {
         let game = Game::new(Variant::three_cushion(), Default::default(), 1);
-        let ids = ball_ids(&game);
+        let ids = game.ball_ids();
         assert_eq!(ids, ["white", "yellow", "red"]);
         let looks: Vec<BallLook> = ids.iter().map(|id| ball_look(id)).collect();
         assert_eq!(looks[0].color, CUE_BALL);

@@ -23,9 +23,9 @@ use tokio_tungstenite::tungstenite::handshake::derive_accept_key;
 
 use crate::admission::Ticket;
 use crate::limits::Limits;
-use crate::server::Attach;
 use crate::stats::Stats;
 use crate::webcert::WebCerts;
+use crate::writer::Attach;
 use http::{answer, HeadError};
 use key::NoiseKey;
 

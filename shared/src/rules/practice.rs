@@ -4,7 +4,7 @@
 use glam::DVec2;
 
 use crate::physics::{engine, BallState, Effects, Models, MotionState, Params, Shot, Strike};
-use crate::scene::Scene;
+use crate::scene::{Scene, SceneBall};
 
 use super::facts::ShotFacts;
 use super::{
@@ -73,6 +73,59 @@ impl Game {
     /// The names of the balls of a practice table set up from a scene, index = ball.
     pub fn scene_ids(&self) -> Option<&[String]> {
         self.sandbox.as_ref().map(|s| s.ids.as_slice())
+    }
+
+    /// The names scenes give this game's balls, index = ball: a practice table's own, else
+    /// the pool balls by number ("cue" for the cue ball), the three-cushion balls by colour,
+    /// the snooker balls as the scene format names them.
+    pub fn ball_ids(&self) -> Vec<String> {
+        if let Some(ids) = self.scene_ids() {
+            return ids.to_vec();
+        }
+        let count = self.balls.len() as u8;
+        match self.variant {
+            Variant::ThreeCushion { .. } => ["white", "yellow", "red"].map(String::from).to_vec(),
+            Variant::Snooker { .. } => (0..count).map(super::snooker::table::scene_id).collect(),
+            _ => (0..count)
+                .map(|n| if n == 0 { "cue".into() } else { n.to_string() })
+                .collect(),
+        }
+    }
+
+    /// The table as it stands, as a scene file of the simulator's: its table, physics and
+    /// the balls on the cloth (those off the table are left out), no strike.
+    pub fn scene(&self) -> Scene {
+        let shot = match &self.sandbox {
+            Some(sandbox) => sandbox.shot(self, Vec::new(), None),
+            None => Shot::new(self.table(), Vec::new()),
+        };
+        let balls = self
+            .ball_ids()
+            .into_iter()
+            .zip(&self.balls)
+            .filter(|(_, b)| b.motion != MotionState::Pocketed)
+            .map(|(id, b)| SceneBall {
+                id,
+                pos: b.pos.to_array(),
+                vel: [0.0; 2],
+                spin: [0.0; 3],
+            })
+            .collect();
+        Scene {
+            table: shot.table,
+            physics: shot.params,
+            models: shot.models,
+            effects: shot.effects,
+            horizon: shot.horizon,
+            balls,
+            strike: None,
+        }
+    }
+
+    /// A practice table laid out as `variant`'s opening position (its rack shuffled by
+    /// `seed`: a 9-ball diamond, the three-cushion start on the carom table, ...).
+    pub fn practice_rack(variant: Variant, seed: u64) -> Result<Game, RuleError> {
+        Game::practice(&Game::new(variant, Settings::offline(), seed).scene())
     }
 }
 
@@ -394,6 +447,24 @@ mod tests {
             if let Ok(scene) = scene {
                 assert!(Game::practice(&scene).is_err(), "{json}");
             }
+        }
+    }
+
+    #[test]
+    fn a_table_saved_as_a_scene_opens_as_the_same_table() {
+        for variant in [
+            Variant::NineBall,
+            Variant::three_cushion(),
+            Variant::snooker(),
+        ] {
+            let game = Game::practice_rack(variant, 7).expect("a rack");
+            let scene = game.scene();
+            let again = Game::practice(&Scene::from_json(&scene.to_json()).expect("valid"))
+                .expect("a practice table");
+            assert_eq!(again.balls(), game.balls(), "{variant:?}");
+            assert_eq!(again.ball_ids(), game.ball_ids(), "{variant:?}");
+            assert_eq!(again.params(), game.params(), "{variant:?}");
+            assert_eq!(again.scene(), scene, "{variant:?}");
         }
     }
 }

@@ -1,0 +1,64 @@
+//! What the writer thread (the one that sends every connection's outgoing messages) is
+//! told, and a connection on a transport other than the QUIC endpoint's registering with it.
+
+use std::sync::mpsc::Sender;
+use std::time::Instant;
+
+use crate::conn::{self, Outlet};
+use crate::hub::Output;
+use crate::limits::Limits;
+use crate::output::ConnId;
+
+/// What the writer thread is told.
+pub(crate) enum WriterMsg {
+    Register(ConnId, Outlet),
+    Unregister(ConnId),
+    /// What the hub made of one event; `read` is when the message it answers was read, for
+    /// the server's time per command.
+    Batch(Vec<Output>, Option<Instant>),
+}
+
+/// A game connection about to start on some transport other than the QUIC endpoint's: its
+/// id, and what registers it with the writer thread and runs it.
+pub(crate) struct Attach {
+    id: ConnId,
+    hub: conn::HubSender,
+    writer: Sender<WriterMsg>,
+    limits: Limits,
+}
+
+impl Attach {
+    pub(crate) fn new(
+        id: ConnId,
+        hub: conn::HubSender,
+        writer: Sender<WriterMsg>,
+        limits: Limits,
+    ) -> Attach {
+        Attach {
+            id,
+            hub,
+            writer,
+            limits,
+        }
+    }
+
+    /// Registers the connection's outgoing queue with the writer, runs it with
+    /// [`conn::serve`] to its end, and unregisters it.
+    pub(crate) async fn serve<T: conn::Transport>(
+        self,
+        link: &T,
+        recv: impl tokio::io::AsyncRead + Unpin + Send,
+        send: T::Send,
+    ) {
+        let (outlet, rx, kill) = conn::outlet(self.limits.outbound_queue);
+        if self
+            .writer
+            .send(WriterMsg::Register(self.id, outlet))
+            .is_err()
+        {
+            return;
+        }
+        conn::serve(self.id, link, recv, send, self.hub, rx, kill, &self.limits).await;
+        let _ = self.writer.send(WriterMsg::Unregister(self.id));
+    }
+}
