@@ -9,6 +9,7 @@ use breakshot_shared::protocol::AimAid;
 use breakshot_shared::rules::{Choice, Command, Game, InHand, Phase, Seat, TurnId, Verdict};
 
 use super::chat::Chat;
+use super::controls::Stage;
 use super::event::{AwayResult, GameEvent};
 use super::link::Shown;
 use super::replica::Replica;
@@ -36,6 +37,19 @@ pub enum Turn {
         /// The options offered.
         options: Vec<Choice>,
     },
+}
+
+impl Turn {
+    /// What the controls may do on this turn: move the cue ball, strike, or only watch.
+    pub fn stage(&self) -> Stage {
+        match self {
+            Turn::Shoot {
+                in_hand: Some(_), ..
+            } => Stage::InHand,
+            Turn::Shoot { .. } => Stage::Aiming,
+            Turn::Wait | Turn::Decide { .. } => Stage::Watching,
+        }
+    }
 }
 
 /// A game screen's state: the [`Replica`] of the game, and what the screen shows around it.
@@ -284,6 +298,16 @@ impl GameFlow {
         }
     }
 
+    /// What the player here may do: as [`GameFlow::turn`], but nothing until the opponent is
+    /// seated, and nothing for a spectator (`watching`).
+    pub fn turn_here(&self, me: Option<Seat>, watching: bool) -> Turn {
+        if self.connection == Connection::WaitingForOpponent || watching {
+            Turn::Wait
+        } else {
+            self.turn(me)
+        }
+    }
+
     /// The shot command for `strike`, with the called pocket; None (and a message) if a
     /// call is needed and missing.
     pub fn shot_command(&mut self, strike: Strike) -> Option<Command> {
@@ -328,6 +352,30 @@ mod tests {
         let game = flow.game().expect("a game").clone();
         link.send(&game, seat, command);
         drain(link, flow);
+    }
+
+    #[test]
+    fn nobody_here_moves_until_the_opponent_is_seated_and_a_spectator_never_does() {
+        let (_, mut flow) = local();
+        let shoot = flow.turn_here(Some(Seat::A), false);
+        assert!(matches!(
+            shoot,
+            Turn::Shoot {
+                seat: Seat::A,
+                in_hand: Some(_),
+                ..
+            }
+        ));
+        assert_eq!(shoot.stage(), Stage::InHand, "the break: cue ball in hand");
+        assert_eq!(
+            flow.turn_here(Some(Seat::B), false),
+            Turn::Wait,
+            "not B's turn"
+        );
+        assert_eq!(flow.turn_here(None, true), Turn::Wait, "a spectator");
+        flow.connection = Connection::WaitingForOpponent;
+        assert_eq!(flow.turn_here(Some(Seat::A), false), Turn::Wait);
+        assert_eq!(Turn::Wait.stage(), Stage::Watching);
     }
 
     #[test]

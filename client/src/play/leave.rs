@@ -3,7 +3,10 @@
 
 use std::time::Duration;
 
+use breakshot_shared::rules::Seat;
+
 use super::controls::Key;
+use crate::view::hud::Connection;
 
 /// What a key does while the player is asked whether to leave.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -14,6 +17,13 @@ pub enum LeaveAnswer {
     Leave,
     /// Give up the game (C).
     Concede,
+}
+
+/// Does Esc ask before leaving? Only for a player holding a seat in an online game still in
+/// play (leaving keeps the seat only for the reconnect window); a spectator, a game at this
+/// computer or a game that is over goes straight back to the menu.
+pub fn asks_first(seat: Option<Seat>, connection: &Connection, over: bool) -> bool {
+    seat.is_some() && *connection != Connection::Offline && !over
 }
 
 /// The answer a key gives to the question, if it answers it.
@@ -44,6 +54,22 @@ pub fn question(window: Duration) -> [String; 4] {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn esc_asks_first_only_for_a_seat_held_online_in_a_game_in_play() {
+        let online = Connection::Connected;
+        assert!(asks_first(Some(Seat::A), &online, false));
+        assert!(!asks_first(None, &online, false), "a spectator just goes");
+        assert!(
+            !asks_first(Some(Seat::A), &Connection::Offline, false),
+            "one computer"
+        );
+        assert!(
+            !asks_first(Some(Seat::B), &online, true),
+            "the game is over"
+        );
+    }
+
     use super::*;
 
     #[test]

@@ -132,14 +132,9 @@ impl GameScreen {
             .filter(|_| self.flow.connection == Connection::WaitingForOpponent)
     }
 
-    /// What the player here may do; nothing until the opponent is seated, nothing for a
-    /// spectator.
+    /// What the player here may do.
     fn turn(&self) -> Turn {
-        if self.flow.connection == Connection::WaitingForOpponent || self.link.watching() {
-            Turn::Wait
-        } else {
-            self.flow.turn(self.link.seat())
-        }
+        self.flow.turn_here(self.link.seat(), self.link.watching())
     }
 
     /// The aids to draw: those toggled on that the room allows.
@@ -260,13 +255,7 @@ impl GameScreen {
             }
         }
 
-        let stage = match turn {
-            Turn::Shoot {
-                in_hand: Some(_), ..
-            } => Stage::InHand,
-            Turn::Shoot { .. } => Stage::Aiming,
-            _ => Stage::Watching,
-        };
+        let stage = turn.stage();
         let ctx = Context {
             layout: &layout,
             cue: Self::cue_spot(&game),
@@ -312,9 +301,11 @@ impl GameScreen {
                 }
                 // Leaving an online game in play keeps the seat only for a while: ask first.
                 (Intent::Back, _)
-                    if self.link.seat().is_some()
-                        && self.flow.connection != Connection::Offline
-                        && !matches!(game.phase(), Phase::Over { .. }) =>
+                    if leave::asks_first(
+                        self.link.seat(),
+                        &self.flow.connection,
+                        matches!(game.phase(), Phase::Over { .. }),
+                    ) =>
                 {
                     self.leaving = true;
                     return Step::Stay;
