@@ -1,5 +1,8 @@
-//! Breakshot's shared core: the physics engine, scenes, and the state hash. Pure and
-//! deterministic: no I/O, no clock, no threads.
+//! Breakshot's shared core, the same in the server, every client and the simulator: the
+//! physics engine (`physics`), the rules of every game (`rules`), the computer player (`ai`),
+//! the wire protocol and invites (`protocol`), game records (`replay`), scene files
+//! (`scene`) and the state hash (`hash`). Pure and deterministic: no I/O, no clock, no
+//! threads, the same bits on every platform (the browser's wasm32 included).
 
 #![warn(missing_docs, unreachable_pub)]
 

@@ -5,7 +5,7 @@ use crate::physics::{BallState, MotionState};
 use super::facts::{ShotFacts, CUE};
 use super::kitchen::kitchen_foul;
 use super::{
-    ball_name, pocket_name, Choice, EightBallRules, Game, Group, InHand, Next, Pending, Ruling,
+    ball_name, pocket_name, Choice, EightBallRules, Game, Group, InHand, Judged, Next, Pending,
     Seat,
 };
 
@@ -68,7 +68,7 @@ pub(super) fn judge(
     call: Option<u8>,
     facts: &ShotFacts,
     before: &[BallState],
-) -> Ruling {
+) -> Judged {
     if game.breaking {
         judge_break(rules, shooter, facts)
     } else {
@@ -84,9 +84,9 @@ fn scratch_reason(facts: &ShotFacts) -> String {
     }
 }
 
-fn over(winner: Seat, reason: String, mut reasons: Vec<String>, foul: bool) -> Ruling {
+fn over(winner: Seat, reason: String, mut reasons: Vec<String>, foul: bool) -> Judged {
     reasons.insert(0, reason.clone());
-    Ruling {
+    Judged {
         reasons,
         foul,
         next: Next::Over {
@@ -115,7 +115,7 @@ fn break_fouls(facts: &ShotFacts) -> Vec<String> {
     fouls
 }
 
-fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Ruling {
+fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Judged {
     let opponent = breaker.other();
     let scratched = facts.scratched();
     let fouls = break_fouls(facts);
@@ -144,7 +144,7 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Rulin
                 false,
             ),
             // WPA 8-ball 3.3 (e): the breaker spots the 8 and continues, or re-breaks.
-            EightBallRules::Wpa if fouls.is_empty() => Ruling {
+            EightBallRules::Wpa if fouls.is_empty() => Judged {
                 reasons: vec![format!(
                     "The 8 fell on the break: {breaker} chooses to spot it and continue, or to re-rack"
                 )],
@@ -168,7 +168,7 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Rulin
                 reasons.push(format!(
                     "{what}: {opponent} chooses to spot it and take ball in hand behind the head string, or to re-rack"
                 ));
-                Ruling {
+                Judged {
                     reasons,
                     foul: true,
                     next: Next::Decide {
@@ -191,7 +191,7 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Rulin
         reasons.push(format!(
             "{opponent} chooses to accept the table, re-rack and break, or have {breaker} break again"
         ));
-        return Ruling {
+        return Judged {
             reasons,
             foul: true,
             next: Next::Decide {
@@ -215,7 +215,7 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Rulin
         reasons.push(format!(
             "{opponent} has the cue ball in hand behind the head string; the table is open"
         ));
-        return Ruling {
+        return Judged {
             reasons,
             foul: true,
             next: shoot(opponent, Some(InHand::Kitchen)),
@@ -228,7 +228,7 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Rulin
         reasons.push(format!(
             "{opponent} chooses to accept the table in position or take the cue ball in hand behind the head string; the table is open"
         ));
-        return Ruling {
+        return Judged {
             reasons,
             foul: true,
             next: Next::Decide {
@@ -239,7 +239,7 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Rulin
         };
     }
     if facts.any_object_ball_pocketed() {
-        Ruling {
+        Judged {
             reasons: vec![format!(
                 "Legal break: {breaker} pocketed a ball and continues; the table is open"
             )],
@@ -247,7 +247,7 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Rulin
             next: shoot(breaker, None),
         }
     } else {
-        Ruling {
+        Judged {
             reasons: vec![format!(
                 "Legal break: nothing pocketed; {opponent} shoots on an open table"
             )],
@@ -272,7 +272,7 @@ fn judge_shot(
     call: Option<u8>,
     facts: &ShotFacts,
     before: &[BallState],
-) -> Ruling {
+) -> Judged {
     let opponent = shooter.other();
     let group = game.group_of(shooter);
     let at_eight = shooting_at_eight(before, group);
@@ -356,7 +356,7 @@ fn judge_shot(
     }
     if foul {
         fouls.push(format!("{opponent} has ball in hand"));
-        return Ruling {
+        return Judged {
             reasons: fouls,
             foul: true,
             next: shoot(opponent, Some(InHand::Anywhere)),
@@ -391,14 +391,14 @@ fn judge_shot(
     });
     if scored {
         reasons.push(format!("{shooter} pocketed a ball and continues"));
-        Ruling {
+        Judged {
             reasons,
             foul: false,
             next: shoot(shooter, None),
         }
     } else {
         reasons.push(format!("{opponent} to shoot"));
-        Ruling {
+        Judged {
             reasons,
             foul: false,
             next: shoot(opponent, None),

@@ -8,7 +8,7 @@ use crate::physics::{simulate, BallState, MotionState, Params, Shot, Strike, Tab
 
 use super::{
     eight, facts, nine, practice, rack, snooker, three_cushion, Choice, Command, Group, InHand,
-    Next, Pending, Phase, RuleError, Ruling, Seat, Settings, ShotFacts, ShotReport, TurnId,
+    Judged, Next, Pending, Phase, RuleError, Seat, Settings, ShotFacts, ShotReport, TurnId,
     Variant, Verdict,
 };
 
@@ -544,7 +544,7 @@ impl Game {
             Variant::Practice => practice::judge(self, seat, facts),
             // Three-cushion shots are judged by the match (`carom_shot`), never here: the
             // turn stays as it is.
-            Variant::ThreeCushion { .. } | Variant::Snooker { .. } => Ruling {
+            Variant::ThreeCushion { .. } | Variant::Snooker { .. } => Judged {
                 reasons: Vec::new(),
                 foul: false,
                 next: Next::Shoot {

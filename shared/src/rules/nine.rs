@@ -5,7 +5,7 @@ use crate::physics::{BallState, MotionState};
 use super::eight::BREAK_CUSHION_BALLS;
 use super::facts::{ShotFacts, CUE};
 use super::kitchen::kitchen_foul;
-use super::{ball_name, pocket_name, rack, Choice, Game, InHand, Next, Pending, Ruling, Seat};
+use super::{ball_name, pocket_name, rack, Choice, Game, InHand, Judged, Next, Pending, Seat};
 
 const NINE: u8 = 9;
 /// Consecutive fouls that lose the game.
@@ -55,7 +55,7 @@ pub(super) fn judge(
     facts: &ShotFacts,
     before: &[BallState],
     push_out: bool,
-) -> Ruling {
+) -> Judged {
     let opponent = shooter.other();
     let breaking = game.breaking;
     let lowest = lowest_ball(before);
@@ -110,14 +110,14 @@ pub(super) fn judge(
             reasons.push(format!("The 9 is spotted {}", spotted.describe()));
         }
         if let Some(end) = count_foul(game, shooter, &mut reasons) {
-            return Ruling {
+            return Judged {
                 reasons,
                 foul: true,
                 next: end,
             };
         }
         reasons.push(format!("{opponent} has ball in hand"));
-        return Ruling {
+        return Judged {
             reasons,
             foul: true,
             next: Next::Shoot {
@@ -142,7 +142,7 @@ pub(super) fn judge(
         reasons.push(format!(
             "{opponent} chooses to shoot from here or hand the table back"
         ));
-        return Ruling {
+        return Judged {
             reasons,
             foul: false,
             next: Next::Decide {
@@ -158,7 +158,7 @@ pub(super) fn judge(
     if let Some(pocket) = facts.pocket_of(NINE) {
         if counts(pocket) {
             let reason = format!("{shooter} wins: the 9 fell on a legal shot");
-            return Ruling {
+            return Judged {
                 reasons: vec![reason.clone()],
                 foul: false,
                 next: Next::Over {
@@ -184,7 +184,7 @@ pub(super) fn judge(
     } else {
         format!("{opponent} to shoot")
     });
-    Ruling {
+    Judged {
         reasons,
         foul: false,
         next: Next::Shoot {

@@ -8,7 +8,7 @@ use crate::scene::{Scene, SceneBall};
 
 use super::facts::ShotFacts;
 use super::{
-    ball_name, capitalise, off_table, pocket_name, rack, Game, InHand, Next, RuleError, Ruling,
+    ball_name, capitalise, off_table, pocket_name, rack, Game, InHand, Judged, Next, RuleError,
     Seat, Settings, Variant,
 };
 
@@ -293,7 +293,7 @@ pub fn layout_from_scene(scene: &Scene) -> Result<Vec<Option<[f64; 2]>>, RuleErr
 
 /// A practice shot is never a foul: report what fell, and play on (the cue ball stays in
 /// hand, as it always is in practice).
-pub(super) fn judge(game: &mut Game, shooter: Seat, facts: &ShotFacts) -> Ruling {
+pub(super) fn judge(game: &mut Game, shooter: Seat, facts: &ShotFacts) -> Judged {
     // A scene's own names where they are not the pool numbers ("the red ball").
     let name = |b: u8| match game.scene_ids().and_then(|ids| ids.get(usize::from(b))) {
         Some(id) if *id != b.to_string() && !(b == 0 && id == "cue") => format!("the {id} ball"),
@@ -311,7 +311,7 @@ pub(super) fn judge(game: &mut Game, shooter: Seat, facts: &ShotFacts) -> Ruling
         })
         .collect();
     settle_sandbox(game);
-    Ruling {
+    Judged {
         reasons,
         foul: false,
         next: Next::Shoot {

@@ -401,9 +401,10 @@ pub(super) enum Next {
     },
 }
 
-/// The judgement of one shot by a variant's rules.
+/// What a pool variant's judge decided of one shot: its reasons, whether it was a foul and
+/// what comes next (the wire's `protocol::Ruling` is a verdict's summary, another thing).
 #[derive(Clone, Debug, PartialEq)]
-pub(super) struct Ruling {
+pub(super) struct Judged {
     pub(super) reasons: Vec<String>,
     pub(super) foul: bool,
     pub(super) next: Next,
