@@ -2,8 +2,6 @@
 //! reaches the server through the page's plugin, WebTransport first, else the WebSocket
 //! under Noise. Whatever goes wrong is said on the page, never left as a blank canvas.
 
-use std::sync::OnceLock;
-
 use breakshot_client::net::noise::Noised;
 use breakshot_client::net::page::{self, PageSocket, Way as PageWay};
 use breakshot_client::net::{
@@ -21,17 +19,6 @@ use crate::ui::{self, clock};
 /// The name a page's player goes by (a page has nowhere to remember one).
 const PAGE_NAME: &str = "Guest";
 
-/// The page's link, read once.
-fn page_link() -> &'static Result<WebLink, WebLinkError> {
-    static LINK: OnceLock<Result<WebLink, WebLinkError>> = OnceLock::new();
-    LINK.get_or_init(|| page::page_url().parse())
-}
-
-/// Whether the page's link names a game to join.
-pub fn link_has_room() -> bool {
-    page_link().as_ref().is_ok_and(|l| l.room.is_some())
-}
-
 pub fn main() {
     let conf = macroquad::miniquad::conf::Conf {
         window_title: "Breakshot".to_string(),
@@ -41,7 +28,7 @@ pub fn main() {
     macroquad::Window::from_config(conf, async {
         // First, so that a reason told below stays on the status line.
         page::report("started");
-        let start = match page_link() {
+        let start = match page::link() {
             Ok(link) if link.replay => match fetch_replay(link).await {
                 Ok(viewer) => ui::Start::Replay(Box::new(viewer)),
                 Err(why) => {
@@ -66,7 +53,7 @@ pub fn main() {
 
 /// The game of the link's room, else the menu (with why, when the link is broken).
 fn first_screen() -> ui::Start {
-    match page_link() {
+    match page::link() {
         Ok(link) if link.room.is_some() => match join_link() {
             Ok(game) => return ui::Start::Network(game),
             Err(why) => page::report(&format!("status {why}")),
@@ -81,7 +68,7 @@ fn first_screen() -> ui::Start {
 
 /// The link, read, or why it cannot be used.
 fn usable_link() -> Result<&'static WebLink, String> {
-    page_link()
+    page::link()
         .as_ref()
         .map_err(|e| format!("This link is damaged ({e}): ask for a new one"))
 }

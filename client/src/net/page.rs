@@ -9,7 +9,7 @@
 // lengths given).
 #![allow(unsafe_code)]
 
-use breakshot_shared::protocol::{Fingerprint, ServerAddress};
+use breakshot_shared::protocol::{Fingerprint, ServerAddress, WebLink, WebLinkError};
 
 use super::error::NetError;
 use super::polled::{Transport, TransportEvent};
@@ -172,4 +172,10 @@ impl Transport for PageSocket {
         }
         None
     }
+}
+
+/// The page's link (docs/web.md), read and parsed once.
+pub fn link() -> &'static Result<WebLink, WebLinkError> {
+    static LINK: std::sync::OnceLock<Result<WebLink, WebLinkError>> = std::sync::OnceLock::new();
+    LINK.get_or_init(|| page_url().parse())
 }

@@ -148,7 +148,12 @@ impl MenuScreen {
     fn buttons() -> Vec<(Item, &'static str, Rect)> {
         // A page without a game in its link has nothing to join.
         #[cfg(target_arch = "wasm32")]
-        let offered = |item: &&(Item, &str)| item.0 != Item::Join || crate::web::link_has_room();
+        let offered = |item: &&(Item, &str)| {
+            item.0 != Item::Join
+                || breakshot_client::net::page::link()
+                    .as_ref()
+                    .is_ok_and(|l| l.room.is_some())
+        };
         #[cfg(not(target_arch = "wasm32"))]
         let offered = |_: &&(Item, &str)| true;
         let items: Vec<&(Item, &str)> = ITEMS.iter().filter(offered).collect();
