@@ -113,7 +113,8 @@ pub fn read(dt: f64, typing: bool) -> InputFrame {
         .filter(|t| !matches!(t.phase, TouchPhase::Ended | TouchPhase::Cancelled))
         .map(|t| [t.position.x, t.position.y])
         .collect();
-    let (fingers, two_down) = FINGERS.with_borrow_mut(|f| (f.update(&down), f.active()));
+    let (fingers, two_down, two_tapped) =
+        FINGERS.with_borrow_mut(|f| (f.update(&down), f.active(), f.tapped()));
     let mouse = mouse_position();
     if let Some(t) = touches.first() {
         FINGER.set(Some(([t.position.x, t.position.y], mouse)));
@@ -151,10 +152,12 @@ pub fn read(dt: f64, typing: bool) -> InputFrame {
         down_key: is_key_down(KeyCode::Down),
         raise_key: is_key_down(KeyCode::W) || is_key_down(KeyCode::PageUp),
         lower_key: is_key_down(KeyCode::S) || is_key_down(KeyCode::PageDown),
+        // A two-finger tap switches the view, as V does.
         pressed: KEYS
             .iter()
             .filter(|(code, _)| is_key_pressed(*code))
             .map(|&(_, key)| key)
+            .chain(two_tapped.then_some(Key::View))
             .collect(),
         typed: std::iter::from_fn(get_char_pressed)
             .filter(|c| !c.is_control())

@@ -98,7 +98,15 @@ impl PracticeScreen {
                         self.shots += 1;
                         self.controls.shot_played();
                         self.message = format!("Shot {} at {:.1} m/s", self.shots, strike.speed);
-                        super::report(&format!("practice shot {}", self.shots));
+                        super::report(&format!(
+                            "practice shot {} dir={:.4},{:.4} tip={:.3},{:.3} elevation={:.2}",
+                            self.shots,
+                            strike.dir.x,
+                            strike.dir.y,
+                            strike.tip.x,
+                            strike.tip.y,
+                            strike.elevation_deg
+                        ));
                     }
                     Err(e) => self.message = e.to_string(),
                 },
