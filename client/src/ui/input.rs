@@ -106,6 +106,12 @@ pub fn read(dt: f64, typing: bool) -> InputFrame {
         /// Where the last finger was, and the mouse's place then: a tap moves no mouse,
         /// so the finger's place stands for the mouse until the mouse itself moves.
         static FINGER: std::cell::Cell<Option<Finger>> = Default::default();
+        /// The pointer kept while two fingers look at the table (and after, until one
+        /// finger or the mouse moves it), and the mouse's place then: the first finger of
+        /// a gesture does not also aim.
+        static HELD: std::cell::Cell<Option<Finger>> = Default::default();
+        /// The pointer given last frame.
+        static LAST: std::cell::Cell<[f32; 2]> = Default::default();
     }
     let touches = touches();
     let down: Vec<[f32; 2]> = touches
@@ -126,6 +132,15 @@ pub fn read(dt: f64, typing: bool) -> InputFrame {
             mouse
         }
     };
+    let one_lands = down.len() == 1 && touches.iter().any(|t| t.phase == TouchPhase::Started);
+    let held = match HELD.get() {
+        _ if two_down => Some((HELD.get().map_or(LAST.get(), |h| h.0), mouse)),
+        Some((at, then)) if then == mouse && !one_lands => Some((at, then)),
+        _ => None,
+    };
+    HELD.set(held);
+    let (mx, my) = held.map_or((mx, my), |(at, _)| (at[0], at[1]));
+    LAST.set([mx, my]);
     let (_, wheel) = mouse_wheel();
     let frame = InputFrame {
         mouse: [mx, my],
