@@ -459,7 +459,8 @@ fn on_a_phone_taps_set_the_tip_and_the_elevation_and_two_fingers_turn_and_pinch_
     };
     let mut page = open_practice(&browser, &link);
     let (layout, practice) = phone_practice();
-    let pause = Duration::from_millis(80);
+    // Long enough for a frame of a loaded machine between the touch events.
+    let pause = Duration::from_millis(150);
 
     // A tap on the tip face, up and to the right of its centre: top and right spin.
     let [cx, cy] = layout.tip_center;

@@ -274,7 +274,8 @@ impl<'b> Page<'b> {
     }
 
     /// Two fingers put down at `from`, moved together to `to` in `steps` equal moves and
-    /// lifted: one `touchstart` with both, `steps` × `touchmove` of both, `touchend`, with
+    /// lifted: both down (Chromium fires a `touchstart` for each), `steps` × `touchmove` of
+    /// both, both up (a `touchend` for each), with
     /// `pause` after each (a game that follows fingers from frame to frame must see them
     /// down before they move). Both moving the same way is a two-finger drag; apart or
     /// together, a pinch; `from` = `to`, a two-finger tap.
