@@ -175,6 +175,26 @@
         env.bs_random = function (ptr, len) {
             crypto.getRandomValues(bytes(ptr, len));
         };
+        // The page's localStorage, which a browser may refuse (private windows, storage
+        // turned off): then nothing is kept and nothing is found.
+        env.bs_store_get = function (key_ptr, key_len, ptr, cap) {
+            try {
+                const value = window.localStorage.getItem(text(key_ptr, key_len));
+                return value === null ? -1 : put_text(value, ptr, cap);
+            } catch (e) {
+                return -1;
+            }
+        };
+        env.bs_store_set = function (key_ptr, key_len, ptr, len) {
+            try {
+                window.localStorage.setItem(text(key_ptr, key_len), text(ptr, len));
+            } catch (e) { }
+        };
+        env.bs_store_remove = function (key_ptr, key_len) {
+            try {
+                window.localStorage.removeItem(text(key_ptr, key_len));
+            } catch (e) { }
+        };
         // An event for whoever watches the page (tests, the page's own status line).
         env.bs_report = function (ptr, len) {
             const line = text(ptr, len);

@@ -14,7 +14,7 @@ use breakshot_client::net::{
 use breakshot_client::play::ReplayViewer;
 use breakshot_client::view::ViewKind;
 use breakshot_shared::ai::Level;
-use breakshot_shared::protocol::{AimAid, Invite, RoomCode};
+use breakshot_shared::protocol::{AimAid, Invite, RoomCode, WebLink};
 use breakshot_shared::rules::{EightBallRules, Game, Settings, Variant};
 use breakshot_shared::scene::Scene;
 use clap::{ArgGroup, Args, Parser, Subcommand};
@@ -147,6 +147,11 @@ enum Command {
         /// With --computer: how strong it plays, 1 (beginner) to 5 (strong).
         #[arg(long, value_name = "LEVEL", default_value_t = 3, requires = "computer", value_parser = clap::value_parser!(u8).range(1..=5))]
         level: u8,
+        /// The address where the web bundle is published (a static HTTPS site): the link
+        /// printed opens that page and names this server, reached over WebTransport
+        /// (docs/web.md).
+        #[arg(long, value_name = "URL", value_parser = WebLink::published_page)]
+        web_page: Option<String>,
     },
     /// Join a game with the invite the host sent (a full room is watched).
     Join {
@@ -294,6 +299,7 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             new,
             computer,
             level,
+            web_page,
         }) => {
             let options = HostOptions {
                 bind: *bind,
@@ -303,6 +309,7 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
                 resume: !new,
                 name: name(cli, name_arg)?,
                 computer: computer.then(|| Level::new(*level)),
+                web_page: web_page.clone(),
                 ..HostOptions::new(data_dir(cli)?)
             };
             host(&options)?

@@ -6,18 +6,33 @@ use breakshot_client::net::noise::Noised;
 use breakshot_client::net::page::{self, PageSocket, Way as PageWay};
 use breakshot_client::net::{
     interpret_record, Entry, NetLink, PlayerCore, PlayerEvent, Polled, PolledSession, Port,
-    Reconnect, WebWay, FETCH_TIMEOUT,
+    Reconnect, SeatStore, WebWay, FETCH_TIMEOUT,
 };
 use breakshot_client::play::{GameLink, PlayedByComputer, ReplayViewer};
 use breakshot_shared::protocol::{
-    ClientMessage, Fingerprint, Invite, RoomCode, ServerAddress, ServerMessage, WebLink,
-    WebLinkError, WebTransportChoice,
+    is_valid_name, ClientMessage, Fingerprint, Invite, RoomCode, ServerAddress, ServerMessage,
+    WebLink, WebLinkError, WebTransportChoice,
 };
 
 use crate::ui::{self, clock};
 
-/// The name a page's player goes by (a page has nowhere to remember one).
+/// The name a page's player goes by when no link has named them yet.
 const PAGE_NAME: &str = "Guest";
+/// Where the page keeps the name last given (`name=` in a link) for the next visit.
+const NAME_KEY: &str = "breakshot.name";
+
+/// The player's name: the link's `name=` (kept for next time), else the name kept from an
+/// earlier visit, else [`PAGE_NAME`].
+fn player_name(link: &WebLink) -> String {
+    if let Some(name) = &link.name {
+        page::store(NAME_KEY, name);
+        return name.clone();
+    }
+    page::stored(NAME_KEY)
+        .map(|n| n.trim().to_owned())
+        .filter(|n| is_valid_name(n))
+        .unwrap_or_else(|| PAGE_NAME.to_owned())
+}
 
 pub fn main() {
     let conf = macroquad::miniquad::conf::Conf {
@@ -123,7 +138,11 @@ pub fn join_link() -> Result<Box<dyn GameLink>, String> {
         session.enter(Entry::Spectate { room });
         NetLink::new(session)
     } else {
-        NetLink::joining(session, invite, PAGE_NAME, None).map_err(|e| e.to_string())?
+        // The seat taken is kept in the page's storage: a reload takes it back.
+        let name = player_name(link);
+        page::report(&format!("joining as {name}"));
+        NetLink::joining(session, invite, &name, Some(SeatStore::page()))
+            .map_err(|e| e.to_string())?
     };
     Ok(match link.computer {
         Some(level) => Box::new(PlayedByComputer::new(game, level, ui::fresh_seed())),

@@ -402,3 +402,44 @@ fn every_subcommand_lists_only_its_own_options_each_with_help() {
         assert!(line.to_lowercase().contains(words), "{sub}: {line}");
     }
 }
+
+#[test]
+fn hosting_with_a_published_page_prints_a_link_to_it_naming_this_server() {
+    let data = breakshot_testkit::scratch("cli-web-page");
+    // No display: the window cannot open, but the invite and the link come first.
+    let out = breakshot_testkit::run(
+        Command::new(env!("CARGO_BIN_EXE_breakshot"))
+            .args(["--data", data.path().to_str().expect("utf-8")])
+            .args(["host", "--bind", "127.0.0.1:0", "--name", "Hostess"])
+            .args(["--web-page", "https://example.org/breakshot"])
+            .env_remove("DISPLAY")
+            .env_remove("WAYLAND_DISPLAY")
+            .env_remove("BREAKSHOT_WEB"),
+        None,
+        Duration::from_secs(60),
+    );
+    let printed = String::from_utf8_lossy(&out.stdout);
+    let mut lines = printed.lines();
+    let invite: breakshot_shared::protocol::Invite = lines
+        .next()
+        .unwrap_or_default()
+        .parse()
+        .unwrap_or_else(|e| panic!("no invite first ({e}): {printed}\n{}", stderr(&out)));
+    let line = lines.next().unwrap_or_default();
+    let link: breakshot_shared::protocol::WebLink = line
+        .parse()
+        .unwrap_or_else(|e| panic!("no link second ({e}): {printed}"));
+    assert_eq!(
+        link.page.as_deref(),
+        Some("https://example.org/breakshot/"),
+        "{line}"
+    );
+    assert_eq!(link.server.as_ref(), Some(invite.first()), "{line}");
+    assert_eq!(link.room, invite.room, "{line}");
+    assert!(!link.cert.is_empty(), "the certificate hashes: {line}");
+
+    // An address that is not a page's is refused before anything starts.
+    let out = breakshot(&["host", "--web-page", "ftp://example.org/"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("https://"), "{}", stderr(&out));
+}

@@ -85,6 +85,110 @@ fn wait_for_input(page: &mut Page<'_>) {
     }
 }
 
+/// The most points of `points` on one row and on one column.
+fn spans(points: &[(u32, u32)]) -> (usize, usize) {
+    let mut rows = std::collections::HashMap::new();
+    let mut columns = std::collections::HashMap::new();
+    for (x, y) in points {
+        *rows.entry(y).or_insert(0) += 1;
+        *columns.entry(x).or_insert(0) += 1;
+    }
+    let most = |m: std::collections::HashMap<_, usize>| m.into_values().max().unwrap_or(0);
+    (most(rows), most(columns))
+}
+
+/// The page on its own (no room) on a phone, with its practice table open from the menu.
+fn open_practice<'b>(browser: &'b breakshot_testkit::browser::Browser, link: &str) -> Page<'b> {
+    let page_url = link.split('?').next().expect("the page's address");
+    let phone = Viewport::phone();
+    let mut page = browser.open(page_url, phone).expect("the page opens");
+    wait_for_event(&mut page, "screen menu", PATIENCE);
+    wait_for_input(&mut page);
+    if let Ok(dir) = std::env::var("BREAKSHOT_SCREENSHOTS") {
+        let png = page.screenshot_png().expect("a screenshot");
+        std::fs::write(Path::new(&dir).join("web-menu.png"), png).expect("saved");
+    }
+    let buttons = menu_buttons(phone.width as f32, phone.height as f32, 3);
+    let [x, y] = buttons[0].center();
+    // A slow machine may take the tap before the menu's first frame: tap again, as a
+    // person would, a few times.
+    let practice = "(window.breakshotEvents || []).includes('screen practice')";
+    let opened = (0..6).any(|_| {
+        page.tap((x as f64, y as f64)).expect("a tap");
+        page.wait_until(practice, Duration::from_secs(10)).is_ok()
+    });
+    assert!(
+        opened,
+        "tapping Practice opened nothing: {}",
+        events(&mut page)
+    );
+    std::thread::sleep(Duration::from_millis(500));
+    page
+}
+
+/// The practice table's layout on a phone, and its rack (the cue ball first).
+fn phone_practice() -> (Layout, Game) {
+    let phone = Viewport::phone();
+    let practice =
+        Game::practice_rack(Variant::EightBall(EightBallRules::Wpa), 1).expect("the practice rack");
+    let layout = Layout::new(
+        phone.width as f32,
+        phone.height as f32,
+        Frame::new(practice.table(), practice.balls()),
+    );
+    (layout, practice)
+}
+
+/// A practice shot as the page reported it: the aim's direction, the tip offset and the
+/// elevation (`practice shot N dir=X,Y tip=S,H elevation=E`).
+#[derive(Debug)]
+struct Reported {
+    dir: glam::DVec2,
+    tip: glam::DVec2,
+    elevation: f64,
+}
+
+/// The page's report of practice shot `n`, waiting for it at most `limit`.
+fn practice_shot(page: &mut Page<'_>, n: u32, limit: Duration) -> Result<Reported, String> {
+    let prefix = format!("practice shot {n} ");
+    let condition = format!("(window.breakshotEvents || []).some(e => e.startsWith({prefix:?}))");
+    page.wait_until(&condition, limit)
+        .map_err(|e| format!("no shot {n}: {e}"))?;
+    let all = events(page);
+    let list: Vec<String> = serde_json::from_str(&all).map_err(|e| e.to_string())?;
+    let line = list
+        .iter()
+        .find(|e| e.starts_with(&prefix))
+        .ok_or("the report went away")?;
+    let field = |name: &str| -> Result<Vec<f64>, String> {
+        line.split_whitespace()
+            .find_map(|w| w.strip_prefix(name))
+            .ok_or(format!("no {name} in {line:?}"))?
+            .split(',')
+            .map(|v| v.parse::<f64>().map_err(|e| format!("{line:?}: {e}")))
+            .collect()
+    };
+    let (dir, tip, elevation) = (field("dir=")?, field("tip=")?, field("elevation=")?);
+    match (&dir[..], &tip[..], &elevation[..]) {
+        ([dx, dy], [ts, th], [e]) => Ok(Reported {
+            dir: glam::DVec2::new(*dx, *dy),
+            tip: glam::DVec2::new(*ts, *th),
+            elevation: *e,
+        }),
+        _ => Err(format!("a malformed report: {line:?}")),
+    }
+}
+
+/// Aims at `aim` with a tap and pulls the finger back from it towards the cue ball at `cue`:
+/// a shot along the line from the cue ball to `aim`.
+fn tap_and_pull(page: &mut Page<'_>, cue: (f64, f64), aim: (f64, f64)) -> (f64, f64) {
+    page.tap(aim).expect("a tap to aim");
+    std::thread::sleep(Duration::from_millis(200));
+    let pulled = (aim.0 + 0.6 * (cue.0 - aim.0), aim.1 + 0.6 * (cue.1 - aim.1));
+    page.touch_drag(aim, pulled, 12).expect("a drag");
+    pulled
+}
+
 #[test]
 fn a_friend_opens_the_hosts_link_on_a_phone_joins_and_sees_the_table() {
     let bundle = match bundle() {
@@ -119,11 +223,25 @@ fn a_friend_opens_the_hosts_link_on_a_phone_joins_and_sees_the_table() {
         let png = page.screenshot_png().expect("a screenshot");
         std::fs::write(Path::new(&dir).join("web-phone.png"), png).expect("saved");
     }
-    let cloth = shot.points(|p| near(p, CLOTH, 8)).len();
+    let cloth_points = shot.points(|p| near(p, CLOTH, 8));
+    let cloth = cloth_points.len();
     let area = (shot.width * shot.height) as usize;
+    // Upright, the table is turned: its length down the screen, its width across most of
+    // it (drawn beside the panel it covered a tenth of the screen).
     assert!(
-        cloth * 20 > area,
+        cloth * 4 > area,
         "the cloth covers only {cloth} of {area} pixels"
+    );
+    let (widest, tallest) = spans(&cloth_points);
+    assert!(
+        widest as f64 > 0.55 * shot.width as f64,
+        "the cloth is {widest} of {} pixels wide",
+        shot.width
+    );
+    assert!(
+        tallest as f64 > 0.45 * shot.height as f64,
+        "the cloth is {tallest} of {} pixels tall",
+        shot.height
     );
     let balls = shot.points(coloured).len();
     assert!(
@@ -149,41 +267,11 @@ fn a_finger_aims_and_shoots_on_the_practice_table_of_a_phone() {
     let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
         return;
     };
-    // The page on its own, without a room: the menu, whose first button is Practice.
-    let page_url = link.split('?').next().expect("the page's address");
-    let phone = Viewport::phone();
-    let mut page = browser.open(page_url, phone).expect("the page opens");
-    wait_for_event(&mut page, "screen menu", PATIENCE);
-    wait_for_input(&mut page);
-    if let Ok(dir) = std::env::var("BREAKSHOT_SCREENSHOTS") {
-        let png = page.screenshot_png().expect("a screenshot");
-        std::fs::write(Path::new(&dir).join("web-menu.png"), png).expect("saved");
-    }
-    let buttons = menu_buttons(phone.width as f32, phone.height as f32, 3);
-    let [x, y] = buttons[0].center();
-    // A slow machine may take the tap before the menu's first frame: tap again, as a
-    // person would, a few times.
-    let practice = "(window.breakshotEvents || []).includes('screen practice')";
-    let opened = (0..6).any(|_| {
-        page.tap((x as f64, y as f64)).expect("a tap");
-        page.wait_until(practice, Duration::from_secs(10)).is_ok()
-    });
-    assert!(
-        opened,
-        "tapping Practice opened nothing: {}",
-        events(&mut page)
-    );
-    std::thread::sleep(Duration::from_millis(500));
+    let mut page = open_practice(&browser, &link);
 
     // Where the practice rack puts the cue ball and the rack on this screen (the rack's
     // order changes from rack to rack; its place and the cue ball's do not).
-    let practice =
-        Game::practice_rack(Variant::EightBall(EightBallRules::Wpa), 1).expect("the practice rack");
-    let layout = Layout::new(
-        phone.width as f32,
-        phone.height as f32,
-        Frame::new(practice.table(), practice.balls()),
-    );
+    let (layout, practice) = phone_practice();
     let point = |p: glam::DVec2| {
         let [x, y] = layout.to_screen(p);
         (x as f64, y as f64)
@@ -203,26 +291,30 @@ fn a_finger_aims_and_shoots_on_the_practice_table_of_a_phone() {
             .is_some_and(|p| near(p, CUE_BALL, 40))
     });
     assert!(white, "no cue ball drawn at {cue:?}");
-    // Aim at a point towards the rack, then pull the finger back from it towards the ball.
+    // Aim at a point towards the rack but off its middle (so a mirrored or unturned aim
+    // would go elsewhere), then pull the finger back from it towards the ball.
     let aim = (
-        cue.0 + 0.5 * (rack_at.0 - cue.0),
+        cue.0 + 0.5 * (rack_at.0 - cue.0) + 40.0,
         cue.1 + 0.5 * (rack_at.1 - cue.1),
     );
-    page.tap(aim).expect("a tap to aim");
-    std::thread::sleep(Duration::from_millis(200));
-    let pulled = (aim.0 + 0.6 * (cue.0 - aim.0), aim.1 + 0.6 * (cue.1 - aim.1));
-    page.touch_drag(aim, pulled, 12).expect("a drag");
-    let shot = page.wait_until(
-        "(window.breakshotEvents || []).some(e => e.startsWith('practice shot 1'))",
-        Duration::from_secs(10),
-    );
+    let pulled = tap_and_pull(&mut page, cue, aim);
+    let shot = practice_shot(&mut page, 1, Duration::from_secs(10));
     if let Ok(dir) = std::env::var("BREAKSHOT_SCREENSHOTS") {
         let png = page.screenshot_png().expect("a screenshot");
         std::fs::write(Path::new(&dir).join("web-practice.png"), png).expect("saved");
     }
-    if let Err(e) = shot {
-        panic!("no shot after aiming at {aim:?} from the cue ball at {cue:?} and pulling back to {pulled:?}: {e}\nevents: {}", events(&mut page));
-    }
+    let shot = shot.unwrap_or_else(|e| {
+        panic!("no shot after aiming at {aim:?} from the cue ball at {cue:?} and pulling back to {pulled:?}: {e}\nevents: {}", events(&mut page))
+    });
+    // The ball went where the finger tapped.
+    let want =
+        (layout.to_scene([aim.0 as f32, aim.1 as f32]) - practice.balls()[0].pos).normalize();
+    let off = want.angle_to(shot.dir).to_degrees().abs();
+    assert!(
+        off < 2.0,
+        "tapped towards {want}, shot along {} ({off:.1} degrees off)",
+        shot.dir
+    );
 }
 
 #[test]
@@ -340,4 +432,171 @@ fn a_record_dropped_on_the_page_plays_back_and_anything_else_is_refused_with_a_r
     let verdict = game.apply(breaker, &shot).expect("a legal break");
     record.push(breaker, shot, verdict.shot.map(|s| s.hash));
     dropped_until(&mut page, &record.encode(), "screen replay");
+}
+
+/// The number of pixels that differ (beyond a little noise) between two screenshots.
+fn changed(a: &breakshot_testkit::browser::Rgba, b: &breakshot_testkit::browser::Rgba) -> usize {
+    a.points(|_| true)
+        .into_iter()
+        .filter(|&(x, y)| match (a.pixel(x, y), b.pixel(x, y)) {
+            (Some(p), Some(q)) => !near(p, [q[0], q[1], q[2]], 24),
+            _ => true,
+        })
+        .count()
+}
+
+#[test]
+fn on_a_phone_taps_set_the_tip_and_the_elevation_and_two_fingers_turn_and_pinch_the_camera() {
+    let bundle = match bundle() {
+        Ok(b) => b,
+        Err(why) => return skip_web("web_page", &why),
+    };
+    let dir = scratch("web-page-fingers");
+    let Some((_host, _invite, link)) = host(dir.path(), bundle) else {
+        return;
+    };
+    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
+        return;
+    };
+    let mut page = open_practice(&browser, &link);
+    let (layout, practice) = phone_practice();
+    // Long enough for a frame of a loaded machine between the touch events.
+    let pause = Duration::from_millis(150);
+
+    // A tap on the tip face, up and to the right of its centre: top and right spin.
+    let [cx, cy] = layout.tip_center;
+    let tr = layout.tip_radius;
+    page.tap(((cx + 0.45 * tr) as f64, (cy - 0.45 * tr) as f64))
+        .expect("a tap on the tip face");
+    std::thread::sleep(Duration::from_millis(200));
+    // A tap on the side view where the cue lies at 25 degrees.
+    let (_, butt) = layout.elevation_cue(25.0);
+    let toward = layout.elevation_ball;
+    let on_cue = (
+        (butt[0] + 0.3 * (toward[0] - butt[0])) as f64,
+        (butt[1] + 0.3 * (toward[1] - butt[1])) as f64,
+    );
+    page.tap(on_cue).expect("a tap on the side view");
+    std::thread::sleep(Duration::from_millis(200));
+
+    // Two fingers tapped on the table open the 3-D view.
+    let table = layout.cloth.center();
+    let (tx, ty) = (table[0] as f64, table[1] as f64);
+    let top_down = page.screenshot().expect("a screenshot");
+    let fingers = [(tx - 60.0, ty), (tx + 60.0, ty)];
+    page.two_finger_drag(fingers, fingers, 1, pause)
+        .expect("a two-finger tap");
+    std::thread::sleep(Duration::from_millis(600));
+    let three_d = page.screenshot().expect("a screenshot");
+    let pixels = (three_d.width * three_d.height) as usize;
+    let switched = changed(&top_down, &three_d);
+    assert!(
+        switched * 5 > pixels,
+        "a two-finger tap left the view as it was ({switched} of {pixels} pixels changed)"
+    );
+    if let Ok(dir) = std::env::var("BREAKSHOT_SCREENSHOTS") {
+        let png = page.screenshot_png().expect("a screenshot");
+        std::fs::write(Path::new(&dir).join("web-3d.png"), png).expect("saved");
+    }
+    // Left alone, the picture stays; two fingers dragged sideways turn the camera.
+    std::thread::sleep(Duration::from_millis(300));
+    let still = page.screenshot().expect("a screenshot");
+    let idle = changed(&three_d, &still);
+    let right = [(tx - 60.0 + 160.0, ty), (tx + 60.0 + 160.0, ty)];
+    page.two_finger_drag(fingers, right, 8, pause)
+        .expect("a two-finger drag");
+    std::thread::sleep(Duration::from_millis(600));
+    let turned = page.screenshot().expect("a screenshot");
+    let moved = changed(&still, &turned);
+    assert!(
+        moved > 10 * idle + pixels / 20,
+        "dragging two fingers did not turn the camera ({moved} pixels changed, {idle} when idle)"
+    );
+    // Spreading them brings the camera nearer: the cue ball grows.
+    let white =
+        |shot: &breakshot_testkit::browser::Rgba| shot.points(|p| near(p, CUE_BALL, 30)).len();
+    let before = white(&turned);
+    let apart = [(tx - 150.0, ty), (tx + 150.0, ty)];
+    page.two_finger_drag([(tx - 40.0, ty), (tx + 40.0, ty)], apart, 8, pause)
+        .expect("a pinch");
+    std::thread::sleep(Duration::from_millis(600));
+    let nearer = page.screenshot().expect("a screenshot");
+    let after = white(&nearer);
+    assert!(
+        after as f64 > 1.3 * before.max(20) as f64,
+        "spreading two fingers did not bring the camera nearer ({before} white pixels, then {after})"
+    );
+    // And a two-finger tap goes back to the table from above, where one finger aims.
+    page.two_finger_drag(fingers, fingers, 1, pause)
+        .expect("a two-finger tap");
+    std::thread::sleep(Duration::from_millis(600));
+    let back = page.screenshot().expect("a screenshot");
+    let differs = changed(&top_down, &back);
+    assert!(
+        differs * 20 < pixels,
+        "a second two-finger tap did not go back to the view from above ({differs} of {pixels} pixels differ)"
+    );
+
+    let point = |p: glam::DVec2| {
+        let [x, y] = layout.to_screen(p);
+        (x as f64, y as f64)
+    };
+    let cue = point(practice.balls()[0].pos);
+    let aim = (cue.0, cue.1 - 150.0);
+    tap_and_pull(&mut page, cue, aim);
+    let shot = practice_shot(&mut page, 1, Duration::from_secs(10))
+        .unwrap_or_else(|e| panic!("{e}\nevents: {}", events(&mut page)));
+    assert!(
+        shot.tip.x > 0.2 && shot.tip.y > 0.2 && (shot.tip.x - shot.tip.y).abs() < 0.1,
+        "the tap up and right on the tip face gave the tip {}",
+        shot.tip
+    );
+    assert!(
+        (shot.elevation - 25.0).abs() < 2.0,
+        "the tap on the side view at 25 degrees gave {} degrees",
+        shot.elevation
+    );
+}
+
+#[test]
+fn a_page_reloaded_during_the_game_takes_its_seat_back_under_the_name_it_was_given() {
+    let bundle = match bundle() {
+        Ok(b) => b,
+        Err(why) => return skip_web("web_page", &why),
+    };
+    let dir = scratch("web-page-reload");
+    let Some((_host, _invite, link)) = host(dir.path(), bundle) else {
+        return;
+    };
+    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
+        return;
+    };
+    let named = format!("{link}&name=Ann%20Lee");
+    let mut page = browser
+        .open(&named, Viewport::phone())
+        .expect("the page opens");
+    wait_for_event(&mut page, "game playing seat=B", PATIENCE);
+    let first = events(&mut page);
+    assert!(first.contains("joining as Ann Lee"), "{first}");
+
+    // Reloaded without the name: the page still knows it, and takes seat B back (a plain
+    // join would find the room full, its seat B kept for the player who left, and watch).
+    page.eval("window.breakshotBefore = true").expect("a mark");
+    page.call("Page.reload", serde_json::json!({}))
+        .expect("a reload");
+    let seated = "!window.breakshotBefore && (window.breakshotEvents || []).some(e => e.startsWith('game playing seat=B'))";
+    if let Err(e) = page.wait_until(seated, PATIENCE) {
+        panic!(
+            "the reloaded page did not take seat B back: {e}\nits events: {}",
+            events(&mut page)
+        );
+    }
+    let again = events(&mut page);
+    assert!(again.contains("joining as Ann Lee"), "{again}");
+    assert!(!again.contains("desyncs=1"), "{again}");
+
+    // Opened again from the link without a name: the page remembers it.
+    page.navigate(&link).expect("the link again");
+    wait_for_event(&mut page, "joining as Ann Lee", PATIENCE);
+    wait_for_event(&mut page, "game playing seat=B", PATIENCE);
 }

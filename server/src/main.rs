@@ -71,7 +71,7 @@ struct Cli {
     /// The address where the same web bundle is published (a static HTTPS site): the link
     /// printed opens that page and names this server with `server=HOST:PORT`, so browsers
     /// reach it over WebTransport (docs/web.md).
-    #[arg(long, value_name = "URL", value_parser = page_url)]
+    #[arg(long, value_name = "URL", value_parser = WebLink::published_page)]
     web_page: Option<String>,
     /// Write the log as JSON lines (one object per event) instead of text.
     #[arg(long)]
@@ -254,20 +254,4 @@ fn verify(data: &std::path::Path, store: Option<&Location>) -> anyhow::Result<bo
         failed
     );
     Ok(failed == 0)
-}
-
-/// `--web-page`: an http(s) address, kept with a final `/` so the link's query follows it.
-fn page_url(text: &str) -> Result<String, String> {
-    let rest = text
-        .strip_prefix("https://")
-        .or_else(|| text.strip_prefix("http://"))
-        .ok_or("the page's address starts with https:// (or http://)")?;
-    if rest.is_empty() || rest.contains(['?', '#', ' ']) {
-        return Err("the page's address is a plain URL without ? or #".into());
-    }
-    Ok(if text.ends_with('/') {
-        text.to_owned()
-    } else {
-        format!("{text}/")
-    })
 }

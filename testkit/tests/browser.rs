@@ -276,6 +276,35 @@ fn a_touch_drag_on_a_phone_arrives_where_it_was_sent() {
         .eval("seen.filter(e => e.type.startsWith('touch')).map(e => [e.type, e.x, e.y])")
         .expect("eval");
     assert_eq!(seen, json!([["touchstart", 20, 30], ["touchend", 20, 30]]));
+
+    // Two fingers: put down (a touchstart for each), moved together in one event a step,
+    // lifted (a touchend for each).
+    page.eval(
+        "window.fingers = []; for (const type of ['touchstart', 'touchmove', 'touchend']) \
+         document.addEventListener(type, e => fingers.push([type, e.changedTouches.length, \
+         ...Array.from(e.touches).map(t => [t.clientX, t.clientY])]))",
+    )
+    .expect("eval");
+    page.two_finger_drag(
+        [(100.0, 400.0), (200.0, 400.0)],
+        [(50.0, 400.0), (250.0, 420.0)],
+        2,
+        Duration::from_millis(10),
+    )
+    .expect("the pinch is sent");
+    page.wait_until("fingers.some(e => e[0] === 'touchend')", WAIT)
+        .expect("the pinch ends");
+    assert_eq!(
+        page.eval("fingers").expect("eval"),
+        json!([
+            ["touchstart", 1, [100, 400]],
+            ["touchstart", 1, [100, 400], [200, 400]],
+            ["touchmove", 2, [75, 400], [225, 410]],
+            ["touchmove", 2, [50, 400], [250, 420]],
+            ["touchend", 1, [250, 420]],
+            ["touchend", 1],
+        ])
+    );
 }
 
 #[test]

@@ -37,6 +37,8 @@ pub struct EmbeddedServer {
     invite: Invite,
     /// The page's link, when the server serves the web client.
     web_link: Option<WebLink>,
+    /// The server's key and certificate hashes, for a link to a page published elsewhere.
+    web_trust: WebLink,
     stop: Option<oneshot::Sender<()>>,
     thread: Option<JoinHandle<()>>,
 }
@@ -74,6 +76,10 @@ impl EmbeddedServer {
                         server.local_addr(),
                         server.invite(),
                         server.web_link(None),
+                        WebLink {
+                            cert: server.web_cert_hashes(),
+                            ..WebLink::new(server.web_key())
+                        },
                     )));
                     let result = server
                         .run(async {
@@ -87,10 +93,11 @@ impl EmbeddedServer {
             })
             .map_err(|e| HostError::Runtime(e.to_string()))?;
         match ready_rx.recv() {
-            Ok(Ok((addr, invite, web_link))) => Ok(EmbeddedServer {
+            Ok(Ok((addr, invite, web_link, web_trust))) => Ok(EmbeddedServer {
                 addr,
                 invite,
                 web_link,
+                web_trust,
                 stop: Some(stop),
                 thread: Some(thread),
             }),
@@ -243,15 +250,21 @@ impl Host {
             }
             None => None,
         };
-        // The page is served on the same port number, at the address the invite names.
-        let web_link = server.web_link().map(|link| {
-            let at = addressed.first();
-            WebLink {
+        let at = addressed.first();
+        let web_link = match &options.web_page {
+            // The page comes from the published site; the game from this server's UDP port.
+            Some(site) => Some(WebLink {
+                page: Some(site.clone()),
+                server: Some(at.clone()),
+                ..server.web_trust.with_room(room.clone())
+            }),
+            // The page is served on the same port number, at the address the invite names.
+            None => server.web_link().map(|link| WebLink {
                 page: Some(WebLink::page_url(&at.host, at.port)),
                 ..link.with_room(room.clone())
-            }
-            .to_string()
-        });
+            }),
+        }
+        .map(|link| link.to_string());
         Ok(Host {
             link,
             pending,

@@ -83,6 +83,9 @@ pub struct HostOptions {
     /// The web client's bundle (`web/build.sh OUT_DIR`), served on the same port number over
     /// TCP so that a friend can play from a browser; `None`: native players only.
     pub web: Option<PathBuf>,
+    /// The address where the same bundle is published (a static HTTPS site): the link then
+    /// opens that page and names this server (`server=HOST:PORT`), reached over WebTransport.
+    pub web_page: Option<String>,
 }
 
 impl HostOptions {
@@ -100,6 +103,7 @@ impl HostOptions {
             name: "host".into(),
             computer: None,
             web: web_bundle(),
+            web_page: None,
         }
     }
 }

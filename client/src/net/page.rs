@@ -1,7 +1,8 @@
 //! The browser's side of the network: the page's plugin (`web/breakshot_net.js`) opens a
 //! WebTransport stream or a WebSocket and queues what arrives; [`PageSocket`] polls it once a
-//! frame as a [`Transport`]. Also the page's address, its randomness and a line of events for
-//! whoever watches the page. Only in the browser build.
+//! frame as a [`Transport`]. Also the page's address, its randomness, its `localStorage` (the
+//! name and the seats kept between visits) and a line of events for whoever watches the
+//! page. Only in the browser build.
 
 // The plugin's functions are imports of the WebAssembly module: calling a foreign function
 // is `unsafe` in Rust, and these are the only ones the game calls (each takes plain numbers
@@ -28,6 +29,9 @@ extern "C" {
     fn bs_page(what: u32, ptr: *mut u8, cap: usize) -> usize;
     fn bs_random(ptr: *mut u8, len: usize);
     fn bs_report(ptr: *const u8, len: usize);
+    fn bs_store_get(key: *const u8, key_len: usize, ptr: *mut u8, cap: usize) -> i32;
+    fn bs_store_set(key: *const u8, key_len: usize, value: *const u8, len: usize);
+    fn bs_store_remove(key: *const u8, key_len: usize);
 }
 
 /// The plugin's version, which its loader compares with its own.
@@ -79,6 +83,31 @@ pub fn fill_random(dest: &mut [u8]) -> Result<(), String> {
 /// Tells whoever watches the page (its status line, a test) that `line` happened.
 pub fn report(line: &str) {
     unsafe { bs_report(line.as_ptr(), line.len()) };
+}
+
+/// The value the page keeps under `key` in its `localStorage`, if any (none where the
+/// browser keeps nothing, as in some private windows).
+pub fn stored(key: &str) -> Option<String> {
+    let mut buf = vec![0u8; 256];
+    loop {
+        let n = unsafe { bs_store_get(key.as_ptr(), key.len(), buf.as_mut_ptr(), buf.len()) };
+        let n = usize::try_from(n).ok()?;
+        if n <= buf.len() {
+            buf.truncate(n);
+            return String::from_utf8(buf).ok();
+        }
+        buf.resize(n, 0);
+    }
+}
+
+/// Keeps `value` under `key` in the page's `localStorage` (nothing where it cannot).
+pub fn store(key: &str, value: &str) {
+    unsafe { bs_store_set(key.as_ptr(), key.len(), value.as_ptr(), value.len()) };
+}
+
+/// Forgets `key` in the page's `localStorage`.
+pub fn unstore(key: &str) {
+    unsafe { bs_store_remove(key.as_ptr(), key.len()) };
 }
 
 /// Which way a [`PageSocket`] goes.

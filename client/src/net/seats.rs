@@ -1,7 +1,8 @@
 //! The seats this computer holds in games on other servers (or its own): the seat token of
 //! each, so that closing the window, a crash or a restarted host does not give the game
 //! away. One small file per server and room under `seats/` in the data directory, readable
-//! only by the user (a token is what proves the seat is ours).
+//! only by the user (a token is what proves the seat is ours); in the browser, one entry per
+//! server and room in the page's `localStorage`.
 
 use std::fs;
 use std::io::Write as _;
@@ -9,10 +10,13 @@ use std::path::{Path, PathBuf};
 
 use breakshot_shared::protocol::{Fingerprint, Invite, RoomCode, SeatToken};
 
-/// The directory of remembered seats, under a data directory.
+/// The directory of remembered seats, under a data directory (or the page's storage).
 #[derive(Clone, Debug)]
 pub struct SeatStore {
     dir: PathBuf,
+    /// In the browser: the page's `localStorage` instead of `dir`.
+    #[cfg(target_arch = "wasm32")]
+    page: bool,
 }
 
 /// A remembered seat: the invite of its room and the token that takes it back.
@@ -29,7 +33,29 @@ impl SeatStore {
     pub fn new(data: &Path) -> SeatStore {
         SeatStore {
             dir: data.join("seats"),
+            #[cfg(target_arch = "wasm32")]
+            page: false,
         }
+    }
+
+    /// The seats the page remembers in its `localStorage` (kept per site by the browser).
+    #[cfg(target_arch = "wasm32")]
+    pub fn page() -> SeatStore {
+        SeatStore {
+            dir: PathBuf::new(),
+            page: true,
+        }
+    }
+
+    /// The page's storage key of a room's seat: its server and room (a page dials by
+    /// address; the invite's fingerprint is not the page's to check).
+    #[cfg(target_arch = "wasm32")]
+    fn page_key(invite: &Invite) -> Option<String> {
+        let room = invite.room.as_ref()?;
+        Some(format!(
+            "breakshot.seat {}/{room}",
+            invite.first().authority()
+        ))
     }
 
     /// The file of one server's room: named by the certificate fingerprint (which stays
@@ -45,6 +71,13 @@ impl SeatStore {
         let Some(room) = &invite.room else {
             return Ok(());
         };
+        #[cfg(target_arch = "wasm32")]
+        if self.page {
+            if let Some(key) = SeatStore::page_key(invite) {
+                super::page::store(&key, &hex(&token.0));
+            }
+            return Ok(());
+        }
         fs::create_dir_all(&self.dir)?;
         let path = self.file(&invite.fingerprint, room);
         let tmp = path.with_extension("tmp");
@@ -63,6 +96,11 @@ impl SeatStore {
 
     /// The token remembered for the room of `invite`, if any.
     pub fn load(&self, invite: &Invite) -> Option<SeatToken> {
+        #[cfg(target_arch = "wasm32")]
+        if self.page {
+            let kept = super::page::stored(&SeatStore::page_key(invite)?)?;
+            return unhex(kept.trim()).map(SeatToken);
+        }
         let room = invite.room.as_ref()?;
         let found = read(&self.file(&invite.fingerprint, room))?;
         Some(found.token)
@@ -70,6 +108,13 @@ impl SeatStore {
 
     /// Forgets the seat in the room of `invite` (the game is over or the token is stale).
     pub fn forget(&self, invite: &Invite) {
+        #[cfg(target_arch = "wasm32")]
+        if self.page {
+            if let Some(key) = SeatStore::page_key(invite) {
+                super::page::unstore(&key);
+            }
+            return;
+        }
         if let Some(room) = &invite.room {
             let _ = fs::remove_file(self.file(&invite.fingerprint, room));
         }

@@ -26,6 +26,9 @@ pub(crate) const WHEEL_POWER_STEP: f64 = 0.02;
 pub(crate) const FULL_PULL_RADII: f64 = 14.0;
 /// A pull-back weaker than this is a click, not a shot.
 pub(crate) const MIN_PULL_POWER: f64 = 0.03;
+/// How far (pixels) the pointer may move between press and release and still be a tap,
+/// which aims at where it was: a finger moves no pointer before it lands.
+const TAP_SLOP: f32 = 6.0;
 
 /// Keys that do one thing when pressed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -381,6 +384,13 @@ impl Controls {
                     self.drag = Drag::None;
                     if pulled >= MIN_PULL_POWER {
                         out.push(Intent::Shoot(self.aim.strike()));
+                    } else if dist(from, input.mouse) <= TAP_SLOP
+                        && !input.shift
+                        && at.is_finite()
+                        && (at - ctx.cue).length() > ctx.radius
+                    {
+                        // A tap (or a click) on the table aims at it; Shift's fine aim stays.
+                        self.aim.point_along(at - ctx.cue);
                     }
                 }
             }
@@ -733,6 +743,30 @@ mod tests {
             panic!("{out:?}")
         };
         assert!((s.dir - dir).length() < 1e-12);
+    }
+
+    #[test]
+    fn a_tap_on_the_table_aims_where_it_lands_in_a_wide_and_a_tall_window() {
+        let tall = Layout::new(390.0, 844.0, Frame::new(TableKind::NineFoot, &[]));
+        for l in [layout(), tall] {
+            let cx = ctx(&l, Stage::Aiming);
+            let mut c = Controls::new(Aim::default());
+            let target = cx.cue + DVec2::new(0.4, 0.9);
+            // A finger lands there at once: no movement before the press.
+            let mut down = frame(l.to_screen(target));
+            down.left_pressed = true;
+            down.left_down = true;
+            c.update(&down, &cx, &anywhere);
+            let mut up = frame(l.to_screen(target));
+            up.left_released = true;
+            assert!(c.update(&up, &cx, &anywhere).is_empty());
+            let want = (target - cx.cue).normalize();
+            assert!(
+                (c.aim.dir() - want).length() < 1e-2,
+                "{} {want}",
+                c.aim.dir()
+            );
+        }
     }
 
     #[test]

@@ -1,6 +1,13 @@
 //! Two fingers on a touch screen: dragging together turns the 3-D camera, pinching brings it
-//! nearer or takes it back. One finger is the mouse (macroquad turns it into one), so it
-//! aims, pulls back for power and taps the tip and the elevation view as the mouse does.
+//! nearer or takes it back, and a tap of both (down and up without moving) switches between
+//! the top-down and the 3-D view, as V does. One finger is the mouse (macroquad turns it into
+//! one), so it aims, pulls back for power and taps the tip and the elevation view as the
+//! mouse does.
+
+/// How far (pixels) two fingers may move, in all, and still be a tap.
+const TAP_TRAVEL: f32 = 12.0;
+/// How much two fingers may pinch, in all (the logarithm's size), and still be a tap.
+const TAP_PINCH: f32 = 0.1;
 
 /// What two fingers did since the last frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -16,13 +23,22 @@ pub struct Gesture {
 #[derive(Debug, Default)]
 pub struct TwoFingers {
     last: Option<([f32; 2], [f32; 2])>,
+    /// How far the fingers have moved and pinched since they came down.
+    travel: f32,
+    pinch: f32,
+    /// The fingers lifted this frame after a tap.
+    tapped: bool,
 }
 
 impl TwoFingers {
     /// The fingers on the screen this frame; a gesture while exactly two stay down.
     pub fn update(&mut self, fingers: &[[f32; 2]]) -> Option<Gesture> {
+        self.tapped = false;
         let [a, b] = fingers else {
-            self.last = None;
+            if self.last.take().is_some() {
+                self.tapped = self.travel < TAP_TRAVEL && self.pinch < TAP_PINCH;
+            }
+            (self.travel, self.pinch) = (0.0, 0.0);
             return None;
         };
         let gesture = self.last.map(|(la, lb)| {
@@ -34,8 +50,17 @@ impl TwoFingers {
                 spread: (apart(*a, *b) / apart(la, lb)).ln(),
             }
         });
+        if let Some(g) = gesture {
+            self.travel += g.moved[0].hypot(g.moved[1]);
+            self.pinch += g.spread.abs();
+        }
         self.last = Some((*a, *b));
         gesture
+    }
+
+    /// Whether two fingers were lifted this frame without moving: a two-finger tap.
+    pub fn tapped(&self) -> bool {
+        self.tapped
     }
 
     /// Whether two (or more) fingers are down: the table is being looked at, not aimed.
@@ -79,6 +104,32 @@ mod tests {
         // The next two-finger frame is a new start, not a jump from the old fingers.
         assert_eq!(f.update(&[[500.0, 500.0], [600.0, 500.0]]), None);
         assert_eq!(f.update(&[[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]]), None);
+    }
+
+    #[test]
+    fn two_fingers_lifted_where_they_came_down_are_a_tap_and_moved_ones_are_not() {
+        let mut f = TwoFingers::default();
+        f.update(&[[100.0, 100.0], [200.0, 100.0]]);
+        f.update(&[[102.0, 101.0], [201.0, 100.0]]);
+        assert!(!f.tapped(), "not while they are down");
+        f.update(&[[102.0, 101.0]]);
+        assert!(f.tapped());
+        f.update(&[]);
+        assert!(!f.tapped(), "one frame only");
+        // Dragged, or pinched: a gesture, not a tap.
+        for far in [
+            [[160.0, 100.0], [260.0, 100.0]],
+            [[90.0, 100.0], [210.0, 100.0]],
+        ] {
+            f.update(&[[100.0, 100.0], [200.0, 100.0]]);
+            f.update(&far);
+            f.update(&[]);
+            assert!(!f.tapped(), "{far:?}");
+        }
+        // One finger is the mouse, never a two-finger tap.
+        f.update(&[[5.0, 5.0]]);
+        f.update(&[]);
+        assert!(!f.tapped());
     }
 
     #[test]

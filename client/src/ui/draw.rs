@@ -78,12 +78,21 @@ pub struct TopDown;
 /// How far the cue's tip goes past where it met the ball at the end of its stroke (m).
 const FOLLOW_THROUGH: f64 = 0.08;
 
-/// The layout's mapping of scene directions: x down the screen, y to the right
-/// ([`Layout::dir_to_screen`]).
+/// The wide layout's mapping of scene directions: x down the screen, y to the right
+/// ([`Layout::dir_to_screen`]); for balls drawn off the table, whose turn is none.
 const SCREEN_AXES: ScreenAxes = ScreenAxes {
     x: [0.0, 1.0],
     y: [1.0, 0.0],
 };
+
+/// The scene's axes on the screen as `layout` draws the table (turned in a tall window).
+fn screen_axes(layout: &Layout) -> ScreenAxes {
+    let axis = |d: DVec2| layout.dir_to_screen(d).map(f64::from);
+    ScreenAxes {
+        x: axis(DVec2::X),
+        y: axis(DVec2::Y),
+    }
+}
 
 /// Width of the cushion rubber drawn behind the nose line (m).
 pub const CUSHION_WIDTH: f64 = 0.045;
@@ -206,14 +215,14 @@ fn diamonds(layout: &Layout, pockets: bool) {
 
 /// One ball at pixel `at` with radius `r` pixels, unturned, on the cloth.
 pub fn ball(id: &str, at: [f32; 2], r: f32) {
-    ball_turned(id, at, r, DQuat::IDENTITY, flight(0.0, 1.0));
+    ball_turned(id, at, r, DQuat::IDENTITY, flight(0.0, 1.0), SCREEN_AXES);
 }
 
 /// One ball turned by `turn` ([`Orientations`]) and at the height `air` says: a soft shadow
 /// on the cloth, the shaded sphere with its spots and stripe where the turn puts them, the
 /// numbers on the spots that face up, and a highlight. `r` is the radius on the cloth; a
 /// ball in flight is drawn bigger, its shadow further off.
-pub fn ball_turned(id: &str, at: [f32; 2], r: f32, turn: DQuat, air: Flight) {
+pub fn ball_turned(id: &str, at: [f32; 2], r: f32, turn: DQuat, air: Flight, axes: ScreenAxes) {
     let look = ball_look(id);
     let (x, y) = (at[0], at[1]);
     // The shadow falls down-right, away from the light; three layers make its edge soft.
@@ -230,7 +239,7 @@ pub fn ball_turned(id: &str, at: [f32; 2], r: f32, turn: DQuat, air: Flight) {
         );
     }
     let r = r * air.scale as f32;
-    let f = sphere::fan(&look, turn, SCREEN_AXES);
+    let f = sphere::fan(&look, turn, axes);
     let vertices = f
         .points
         .iter()
@@ -248,7 +257,7 @@ pub fn ball_turned(id: &str, at: [f32; 2], r: f32, turn: DQuat, air: Flight) {
         texture: None,
     });
     if let Some(n) = look.number {
-        for (spot, facing) in sphere::spots(turn, SCREEN_AXES) {
+        for (spot, facing) in sphere::spots(turn, axes) {
             // The number fades and shrinks as its spot turns away.
             if facing < 0.45 {
                 continue;
@@ -469,7 +478,8 @@ impl Surface for TopDown {
                     continue;
                 }
                 let air = flight(s.lift, radius);
-                ball_turned(id, layout.to_screen(s.pos), r, turns.get(i), air);
+                let at = layout.to_screen(s.pos);
+                ball_turned(id, at, r, turns.get(i), air, screen_axes(layout));
             }
         }
     }

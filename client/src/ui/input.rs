@@ -106,6 +106,12 @@ pub fn read(dt: f64, typing: bool) -> InputFrame {
         /// Where the last finger was, and the mouse's place then: a tap moves no mouse,
         /// so the finger's place stands for the mouse until the mouse itself moves.
         static FINGER: std::cell::Cell<Option<Finger>> = Default::default();
+        /// The pointer kept while two fingers look at the table (and after, until one
+        /// finger or the mouse moves it), and the mouse's place then: the first finger of
+        /// a gesture does not also aim.
+        static HELD: std::cell::Cell<Option<Finger>> = Default::default();
+        /// The pointer given last frame.
+        static LAST: std::cell::Cell<[f32; 2]> = Default::default();
     }
     let touches = touches();
     let down: Vec<[f32; 2]> = touches
@@ -113,7 +119,8 @@ pub fn read(dt: f64, typing: bool) -> InputFrame {
         .filter(|t| !matches!(t.phase, TouchPhase::Ended | TouchPhase::Cancelled))
         .map(|t| [t.position.x, t.position.y])
         .collect();
-    let (fingers, two_down) = FINGERS.with_borrow_mut(|f| (f.update(&down), f.active()));
+    let (fingers, two_down, two_tapped) =
+        FINGERS.with_borrow_mut(|f| (f.update(&down), f.active(), f.tapped()));
     let mouse = mouse_position();
     if let Some(t) = touches.first() {
         FINGER.set(Some(([t.position.x, t.position.y], mouse)));
@@ -125,6 +132,15 @@ pub fn read(dt: f64, typing: bool) -> InputFrame {
             mouse
         }
     };
+    let one_lands = down.len() == 1 && touches.iter().any(|t| t.phase == TouchPhase::Started);
+    let held = match HELD.get() {
+        _ if two_down => Some((HELD.get().map_or(LAST.get(), |h| h.0), mouse)),
+        Some((at, then)) if then == mouse && !one_lands => Some((at, then)),
+        _ => None,
+    };
+    HELD.set(held);
+    let (mx, my) = held.map_or((mx, my), |(at, _)| (at[0], at[1]));
+    LAST.set([mx, my]);
     let (_, wheel) = mouse_wheel();
     let frame = InputFrame {
         mouse: [mx, my],
@@ -151,10 +167,12 @@ pub fn read(dt: f64, typing: bool) -> InputFrame {
         down_key: is_key_down(KeyCode::Down),
         raise_key: is_key_down(KeyCode::W) || is_key_down(KeyCode::PageUp),
         lower_key: is_key_down(KeyCode::S) || is_key_down(KeyCode::PageDown),
+        // A two-finger tap switches the view, as V does.
         pressed: KEYS
             .iter()
             .filter(|(code, _)| is_key_pressed(*code))
             .map(|&(_, key)| key)
+            .chain(two_tapped.then_some(Key::View))
             .collect(),
         typed: std::iter::from_fn(get_char_pressed)
             .filter(|c| !c.is_control())

@@ -152,7 +152,15 @@ impl PracticeScreen {
                         self.placing = false;
                         self.controls.shot_played();
                         self.message = format!("Shot {} at {:.1} m/s", self.shots, strike.speed);
-                        super::report(&format!("practice shot {}", self.shots));
+                        super::report(&format!(
+                            "practice shot {} dir={:.4},{:.4} tip={:.3},{:.3} elevation={:.2}",
+                            self.shots,
+                            strike.dir.x,
+                            strike.dir.y,
+                            strike.tip.x,
+                            strike.tip.y,
+                            strike.elevation_deg
+                        ));
                     }
                 }
                 Intent::PlaceCueBall(pos) => {

@@ -589,10 +589,11 @@ impl Surface for Camera {
         radius: f64,
     ) {
         let layout = pen.layout;
-        let corners = (
+        let (a, b) = (
             layout.to_scene([area.x, area.y]),
             layout.to_scene([area.x + area.w, area.y + area.h]),
         );
-        in_hand(self, corners, dragged, radius);
+        // Opposite corners, whichever way the layout turns the table.
+        in_hand(self, (a.min(b), a.max(b)), dragged, radius);
     }
 }

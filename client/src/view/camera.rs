@@ -76,7 +76,12 @@ impl Camera {
         Camera::look(
             target + DVec3::Z * height,
             target,
-            DVec3::NEG_X,
+            // The scene direction up the screen.
+            if layout.turned() {
+                DVec3::Y
+            } else {
+                DVec3::NEG_X
+            },
             FOV_Y,
             layout.screen,
             centre,
@@ -151,6 +156,15 @@ fn top_down_frame(layout: &Layout) -> (DVec2, f64, [f32; 2]) {
 /// The part of the window the 3-D view fills: the table's place, between the HUD and the
 /// tray, left of the panel.
 pub fn area(layout: &Layout) -> Rect {
+    if layout.turned() {
+        // A tall window: the panel is below the table, under the tray.
+        return Rect::new(
+            0.0,
+            layout.hud.h,
+            layout.screen[0],
+            layout.tray.y - layout.hud.h,
+        );
+    }
     let right = (layout.elevation_view.x - 4.0).max(1.0);
     Rect::new(0.0, layout.hud.h, right, layout.tray.y - layout.hud.h)
 }
@@ -308,7 +322,12 @@ mod tests {
 
     #[test]
     fn the_top_down_camera_draws_ball_centres_where_the_layout_does() {
-        for (w, h) in [(1280.0, 720.0), (1920.0, 1080.0), (800.0, 600.0)] {
+        for (w, h) in [
+            (1280.0, 720.0),
+            (1920.0, 1080.0),
+            (800.0, 600.0),
+            (390.0, 844.0),
+        ] {
             let l = layout(w, h);
             let cam = Camera::top_down(&l, R);
             for p in spots() {

@@ -3,10 +3,14 @@
 //!
 //! The table lies with its long side across the screen: scene `y` (along the table) runs to
 //! the right and scene `x` (across) runs down. With the screen's `y` pointing down this is a
-//! rotation, not a mirror image, so a shot looks on the screen as it is on the table.
+//! rotation, not a mirror image, so a shot looks on the screen as it is on the table. A
+//! window taller than wide turns the table a quarter more, its length down the screen
+//! (`tall`).
 
 use breakshot_shared::physics::{BallState, MotionState, Table, TableKind};
 use glam::DVec2;
+
+mod tall;
 
 /// Width of the rails drawn around the cloth (cushion and wood), in metres. Drawing only.
 pub const RAIL_WIDTH: f64 = 0.12;
@@ -146,8 +150,11 @@ pub struct Layout {
     pub frame: Frame,
     /// Pixels per metre.
     pub scale: f64,
-    /// Pixel position of the frame's corner (`frame.min`).
+    /// Pixel position of the cloth's top-left corner: the frame's corner `frame.min`, or in
+    /// a turned layout the corner at the frame's far end (`frame.min.y + frame.size.y`).
     origin: DVec2,
+    /// The table turned for a tall window: scene `x` to the right, scene `y` up the screen.
+    turned: bool,
     /// The bar at the top with the players, the turn and the last verdict.
     pub hud: Rect,
     /// The cloth (the playing surface).
@@ -228,6 +235,16 @@ impl Layout {
         };
         let game_info = Rect::new(w - info_w, 0.0, info_w - margin, hud_h);
         let footer = Rect::new(margin, h - footer_h, w - 2.0 * margin, footer_h);
+        if h > w {
+            let edges = tall::Edges {
+                margin,
+                hud,
+                players,
+                game_info,
+                footer,
+            };
+            return tall::layout(w, h, frame, edges);
+        }
 
         let panel_x = w - panel_w - margin;
         let status = Rect::new(
@@ -321,6 +338,7 @@ impl Layout {
             frame,
             scale,
             origin,
+            turned: false,
             hud,
             cloth,
             outer,
@@ -390,12 +408,23 @@ impl Layout {
         (along(1.15 * r), along(to_left.min(to_top)))
     }
 
+    /// Whether the table is turned for a tall window (its length down the screen).
+    pub fn turned(&self) -> bool {
+        self.turned
+    }
+
     /// Scene coordinates (metres) to pixels.
     pub fn to_screen(&self, p: DVec2) -> [f32; 2] {
         let d = p - self.frame.min;
+        let (right, down) = if self.turned {
+            // The cloth's top edge is the frame's far end.
+            (d.x, self.frame.size.y - d.y)
+        } else {
+            (d.y, d.x)
+        };
         [
-            (self.origin.x + d.y * self.scale) as f32,
-            (self.origin.y + d.x * self.scale) as f32,
+            (self.origin.x + right * self.scale) as f32,
+            (self.origin.y + down * self.scale) as f32,
         ]
     }
 
@@ -403,12 +432,21 @@ impl Layout {
     pub fn to_scene(&self, px: [f32; 2]) -> DVec2 {
         let sx = (px[0] as f64 - self.origin.x) / self.scale;
         let sy = (px[1] as f64 - self.origin.y) / self.scale;
-        self.frame.min + DVec2::new(sy, sx)
+        self.frame.min
+            + if self.turned {
+                DVec2::new(sx, self.frame.size.y - sy)
+            } else {
+                DVec2::new(sy, sx)
+            }
     }
 
     /// A scene direction as a pixel direction (same rotation as [`Layout::to_screen`]).
     pub fn dir_to_screen(&self, d: DVec2) -> [f32; 2] {
-        [d.y as f32, d.x as f32]
+        if self.turned {
+            [d.x as f32, -d.y as f32]
+        } else {
+            [d.y as f32, d.x as f32]
+        }
     }
 
     /// A length in metres as pixels.
@@ -467,6 +505,55 @@ mod tests {
         }
     }
 
+    /// Phone-shaped windows held upright.
+    const TALL_SIZES: [(f32, f32); 2] = [(390.0, 844.0), (720.0, 1280.0)];
+
+    #[test]
+    fn a_tall_window_turns_the_table_and_pixels_map_back_to_the_same_spot() {
+        for (w, h) in TALL_SIZES {
+            let l = nine_foot(w, h);
+            assert!(l.turned(), "{w}x{h}");
+            for p in [DVec2::ZERO, DVec2::new(1.27, 2.54), DVec2::new(0.3, 1.9)] {
+                let back = l.to_scene(l.to_screen(p));
+                assert!((back - p).length() < 1e-4, "{w}x{h}: {p} -> {back}");
+            }
+            for px in [[l.cloth.x, l.cloth.y], l.cloth.center(), [30.0, 700.0]] {
+                let back = l.to_screen(l.to_scene(px));
+                assert!((back[0] - px[0]).abs() < 1e-2 && (back[1] - px[1]).abs() < 1e-2);
+            }
+            // The length runs up the screen: the near end (y = 0) at the cloth's bottom
+            // left, the far corner at its top right.
+            let near = l.to_screen(DVec2::ZERO);
+            assert!((near[0] - l.cloth.x).abs() < 1e-2);
+            assert!((near[1] - (l.cloth.y + l.cloth.h)).abs() < 1e-2);
+            let far = l.to_screen(DVec2::new(1.27, 2.54));
+            assert!((far[0] - (l.cloth.x + l.cloth.w)).abs() < 1e-2);
+            assert!((far[1] - l.cloth.y).abs() < 1e-2);
+            assert!((l.cloth.h / l.cloth.w - 2.0).abs() < 1e-3);
+            // Directions turn with the points.
+            let step = l.to_screen(DVec2::new(0.3, 1.0));
+            let base = l.to_screen(DVec2::new(0.2, 0.8));
+            let dir = l.dir_to_screen(DVec2::new(0.1, 0.2));
+            let moved = [step[0] - base[0], step[1] - base[1]];
+            let s = l.scale as f32;
+            assert!((moved[0] - s * dir[0]).abs() < 1e-2 && (moved[1] - s * dir[1]).abs() < 1e-2);
+            // A quarter turn of the wide picture, not its mirror image: scene x then y make
+            // the same turn on the screen in both.
+            let wide = nine_foot(h, w);
+            let turn = |l: &Layout| {
+                let [ax, ay] = l.dir_to_screen(DVec2::X);
+                let [bx, by] = l.dir_to_screen(DVec2::Y);
+                ax * by - ay * bx
+            };
+            assert_eq!(turn(&l), turn(&wide));
+            // The table fills the width: most of it cloth, the rails nearly all of it.
+            assert!(l.cloth.w > 0.55 * w, "{w}x{h}: cloth {:?}", l.cloth);
+            assert!(l.outer.w > 0.65 * w, "{w}x{h}: table {:?}", l.outer);
+        }
+        assert!(!nine_foot(844.0, 390.0).turned());
+        assert!(!nine_foot(800.0, 800.0).turned());
+    }
+
     #[test]
     fn table_lies_along_the_screen_and_keeps_its_proportions() {
         let l = nine_foot(1280.0, 720.0);
@@ -499,13 +586,24 @@ mod tests {
             for r in [l.outer, l.tray, l.power_bar, l.elevation_view] {
                 assert!(screen.contains([r.x, r.y]) && screen.contains([r.x + r.w, r.y + r.h]));
             }
-            // Nothing overlaps the table: the panel is to its right, the tray below.
-            assert!(l.power_bar.x > l.outer.x + l.outer.w);
-            assert!(l.tip_center[0] - l.tip_radius > l.outer.x + l.outer.w);
-            assert!(l.elevation_view.x > l.outer.x + l.outer.w);
-            // The panel's widgets are stacked: tip face, side view, power bar.
-            assert!(l.elevation_view.y > l.tip_center[1] + l.tip_radius);
-            assert!(l.power_bar.y > l.elevation_view.y + l.elevation_view.h);
+            if h > w {
+                // A tall window: the panel is below the table, its widgets side by side.
+                assert!(l.turned(), "{w}x{h}");
+                let below = l.tray.y + l.tray.h;
+                assert!(l.power_bar.y > below && l.elevation_view.y > below);
+                assert!(l.tip_center[1] - l.tip_radius > below);
+                assert!(l.elevation_view.x > l.tip_center[0] + l.tip_radius);
+                assert!(l.power_bar.x > l.elevation_view.x + l.elevation_view.w);
+            } else {
+                // Nothing overlaps the table: the panel is to its right, the tray below.
+                assert!(!l.turned(), "{w}x{h}");
+                assert!(l.power_bar.x > l.outer.x + l.outer.w);
+                assert!(l.tip_center[0] - l.tip_radius > l.outer.x + l.outer.w);
+                assert!(l.elevation_view.x > l.outer.x + l.outer.w);
+                // The panel's widgets are stacked: tip face, side view, power bar.
+                assert!(l.elevation_view.y > l.tip_center[1] + l.tip_radius);
+                assert!(l.power_bar.y > l.elevation_view.y + l.elevation_view.h);
+            }
             let [bx, by] = l.elevation_ball;
             let br = l.elevation_ball_radius;
             assert!(l.elevation_view.contains([bx - br, by - br]));

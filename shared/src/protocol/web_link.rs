@@ -3,8 +3,9 @@
 //!
 //! `http://HOST:P/?room=ROOM&key=KEYHEX&cert=HASHHEX,HASHHEX`, and optionally
 //! `server=HOST:P` (the game server, when the page comes from elsewhere), `watch=1`,
-//! `replay=1` (the room's recorded game), `transport=ws|wt` and, for tests, `computer=LEVEL`. The page itself reads only the query
-//! string, so a link parses from the whole address or from its query string alone.
+//! `replay=1` (the room's recorded game), `transport=ws|wt`, `name=NAME` (the player's name)
+//! and, for tests, `computer=LEVEL`. The page itself reads only the query string, so a link
+//! parses from the whole address or from its query string alone.
 
 use std::fmt;
 use std::str::FromStr;
@@ -13,6 +14,7 @@ use thiserror::Error;
 
 use super::ids::{Fingerprint, RoomCode};
 use super::invite::ServerAddress;
+use super::validate::is_valid_name;
 use super::web::NOISE_KEY_LEN;
 use crate::ai::Level;
 
@@ -50,6 +52,8 @@ pub struct WebLink {
     pub transport: WebTransportChoice,
     /// Tests only: the page's own computer player takes its seat at this level.
     pub computer: Option<Level>,
+    /// The player's name (`name=`), a valid name ([`is_valid_name`]).
+    pub name: Option<String>,
 }
 
 /// Why a text is not a web link.
@@ -70,7 +74,7 @@ pub enum WebLinkError {
 }
 
 /// The parameters a link may carry, in the order [`WebLink`] displays them.
-const NAMES: [&str; 8] = [
+const NAMES: [&str; 9] = [
     "server",
     "room",
     "key",
@@ -79,6 +83,7 @@ const NAMES: [&str; 8] = [
     "replay",
     "transport",
     "computer",
+    "name",
 ];
 
 impl WebLink {
@@ -94,6 +99,7 @@ impl WebLink {
             replay: false,
             transport: WebTransportChoice::Any,
             computer: None,
+            name: None,
         }
     }
 
@@ -101,6 +107,23 @@ impl WebLink {
     /// (an IPv6 host in brackets, as given).
     pub fn page_url(host: &str, port: u16) -> String {
         format!("http://{host}:{port}/")
+    }
+
+    /// The address of a published copy of the web bundle (a static site, as `--web-page`
+    /// gives it), kept with a final `/` so the link's query follows it; or why it is not one.
+    pub fn published_page(text: &str) -> Result<String, String> {
+        let rest = text
+            .strip_prefix("https://")
+            .or_else(|| text.strip_prefix("http://"))
+            .ok_or("the page's address starts with https:// (or http://)")?;
+        if rest.is_empty() || rest.contains(['?', '#', ' ']) {
+            return Err("the page's address is a plain URL without ? or #".into());
+        }
+        Ok(if text.ends_with('/') {
+            text.to_owned()
+        } else {
+            format!("{text}/")
+        })
     }
 
     /// The same link with a room.
@@ -139,6 +162,9 @@ impl WebLink {
         if let Some(level) = self.computer {
             parts.push(("computer", level.number().to_string()));
         }
+        if let Some(name) = &self.name {
+            parts.push(("name", name.clone()));
+        }
         parts
             .iter()
             .map(|(name, value)| format!("{name}={}", escape(value)))
@@ -164,7 +190,7 @@ impl WebLink {
             }
             values[i] = Some(unescape(value)?);
         }
-        let [server, room, key, cert, watch, replay, transport, computer] = values;
+        let [server, room, key, cert, watch, replay, transport, computer, name] = values;
         let key = key.ok_or(WebLinkError::MissingKey)?;
         Ok(WebLink {
             page: None,
@@ -196,6 +222,14 @@ impl WebLink {
                 .map(|c| match c.parse::<u8>() {
                     Ok(n) if (Level::MIN..=Level::MAX).contains(&n) => Ok(Level::new(n)),
                     _ => Err(WebLinkError::Bad("computer")),
+                })
+                .transpose()?,
+            name: name
+                .map(|n| {
+                    let n = n.trim();
+                    is_valid_name(n)
+                        .then(|| n.to_owned())
+                        .ok_or(WebLinkError::Bad("name"))
                 })
                 .transpose()?,
         })
@@ -296,6 +330,7 @@ mod tests {
             format!("https://example.org/play/?server=game.example.org:4433&room=K7QX2M4B&key={k}&watch=1&transport=wt"),
             format!("http://h:1/?server=[::1]:9&key={k}&transport=ws&computer=3"),
             format!("http://h:1/?room=K7QX2M4B&key={k}&replay=1"),
+            format!("http://h:1/?room=K7QX2M4B&key={k}&name=Ann%20Lee"),
             format!("?room=K7QX2M4B&key={k}"),
         ] {
             let link: WebLink = text.parse().unwrap();
@@ -376,6 +411,12 @@ mod tests {
                 format!("?key={k}&server=::1:4"),
                 WebLinkError::Bad("server"),
             ),
+            (format!("?key={k}&name="), WebLinkError::Bad("name")),
+            (format!("?key={k}&name=%07"), WebLinkError::Bad("name")),
+            (
+                format!("?key={k}&name={}", "n".repeat(25)),
+                WebLinkError::Bad("name"),
+            ),
             (format!("?key={k}&key={k}"), WebLinkError::Repeated("key")),
             (format!("?key={k}&room=%4"), WebLinkError::Escape),
             (format!("?key={k}&room=%zz"), WebLinkError::Escape),
@@ -383,6 +424,27 @@ mod tests {
             (format!("?key={k}&room=%C3%"), WebLinkError::Escape),
         ] {
             assert_eq!(text.parse::<WebLink>(), Err(want), "{text}");
+        }
+    }
+
+    #[test]
+    fn a_published_page_is_a_plain_address_ending_in_a_slash() {
+        assert_eq!(
+            WebLink::published_page("https://example.org/play").as_deref(),
+            Ok("https://example.org/play/")
+        );
+        assert_eq!(
+            WebLink::published_page("https://example.org/").as_deref(),
+            Ok("https://example.org/")
+        );
+        for bad in [
+            "ftp://x/",
+            "https://",
+            "https://x/?a=1",
+            "https://x/#y",
+            "x.org",
+        ] {
+            assert!(WebLink::published_page(bad).is_err(), "{bad}");
         }
     }
 

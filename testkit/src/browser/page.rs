@@ -273,6 +273,30 @@ impl<'b> Page<'b> {
         self.touch("touchEnd", None)
     }
 
+    /// Two fingers put down at `from`, moved together to `to` in `steps` equal moves and
+    /// lifted: both down (Chromium fires a `touchstart` for each), `steps` × `touchmove` of
+    /// both, both up (a `touchend` for each), with
+    /// `pause` after each (a game that follows fingers from frame to frame must see them
+    /// down before they move). Both moving the same way is a two-finger drag; apart or
+    /// together, a pinch; `from` = `to`, a two-finger tap.
+    pub fn two_finger_drag(
+        &mut self,
+        from: [(f64, f64); 2],
+        to: [(f64, f64); 2],
+        steps: u32,
+        pause: Duration,
+    ) -> Result<(), Error> {
+        self.touches("touchStart", &from)?;
+        std::thread::sleep(pause);
+        for (a, b) in path(from[0], to[0], steps).zip(path(from[1], to[1], steps)) {
+            self.touches("touchMove", &[a, b])?;
+            std::thread::sleep(pause);
+        }
+        self.touches("touchEnd", &[])?;
+        std::thread::sleep(pause);
+        Ok(())
+    }
+
     /// A finger put down at `at` and lifted: `touchstart`, `touchend`.
     pub fn tap(&mut self, at: (f64, f64)) -> Result<(), Error> {
         self.touch("touchStart", Some(at))?;
@@ -372,11 +396,17 @@ impl<'b> Page<'b> {
     }
 
     fn touch(&mut self, kind: &str, at: Option<(f64, f64)>) -> Result<(), Error> {
+        self.touches(kind, at.as_slice())
+    }
+
+    /// One touch event with the fingers `at` down (their ids are their places in the list).
+    fn touches(&mut self, kind: &str, at: &[(f64, f64)]) -> Result<(), Error> {
         let points: Vec<Value> = at
-            .map(
-                |(x, y)| json!({ "x": x, "y": y, "id": 0, "radiusX": 1, "radiusY": 1, "force": 1 }),
-            )
-            .into_iter()
+            .iter()
+            .enumerate()
+            .map(|(id, (x, y))| {
+                json!({ "x": x, "y": y, "id": id, "radiusX": 1, "radiusY": 1, "force": 1 })
+            })
             .collect();
         self.call(
             "Input.dispatchTouchEvent",

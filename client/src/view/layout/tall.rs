@@ -1,0 +1,135 @@
+//! The layout of a window taller than wide (a phone held upright): the table turned a
+//! quarter so that its length runs down the screen, with the tray, the verdict and the panel
+//! (tip face, side view and power bar side by side) below it.
+//!
+//! Turned, scene `x` (across the table) runs to the right and scene `y` (along it) runs up,
+//! so the end the cue ball breaks from is at the bottom, nearest the player's thumb. Like the
+//! wide layout's, this is a rotation, not a mirror image ([`Layout::to_screen`]).
+
+use glam::DVec2;
+
+use super::{Frame, Layout, Rect, RAIL_WIDTH};
+
+/// What the tall layout takes from the wide one: the boxes along the top and the bottom.
+pub(super) struct Edges {
+    pub margin: f32,
+    pub hud: Rect,
+    pub players: [Rect; 2],
+    pub game_info: Rect,
+    pub footer: Rect,
+}
+
+/// Fits the turned table into a `w` × `h` window (`h > w`) between `edges`.
+pub(super) fn layout(w: f32, h: f32, frame: Frame, edges: Edges) -> Layout {
+    let Edges {
+        margin,
+        hud,
+        players,
+        game_info,
+        footer,
+    } = edges;
+    let status_h = (0.04 * h).clamp(18.0, 30.0);
+    let title_h = (0.035 * h).clamp(16.0, 26.0);
+    // Low boxes under the table: the height goes to the table, whose width the window caps.
+    let panel_h = (0.13 * h).clamp(100.0, 150.0);
+    let verdict_h = (0.05 * h).clamp(40.0, 64.0);
+    let tray_h = (0.045 * h).clamp(30.0, 50.0);
+    let rail = if frame.rails { RAIL_WIDTH } else { 0.0 };
+
+    let status = Rect::new(
+        margin,
+        hud.h + 0.5 * margin,
+        (w - 2.0 * margin).max(10.0),
+        status_h,
+    );
+    let panel = Rect::new(
+        margin,
+        footer.y - 0.5 * margin - panel_h,
+        (w - 2.0 * margin).max(10.0),
+        panel_h,
+    );
+    let verdict = Rect::new(
+        margin,
+        panel.y - 0.5 * margin - verdict_h,
+        (w - 2.0 * margin).max(10.0),
+        verdict_h,
+    );
+    let tray_y = verdict.y - 0.5 * margin - tray_h;
+    let top = status.y + status_h + 0.5 * margin;
+    let area = Rect::new(
+        margin,
+        top,
+        (w - 2.0 * margin).max(10.0),
+        (tray_y - 0.5 * margin - top).max(10.0),
+    );
+    // Turned: the table's width across the screen, its length down it.
+    let outer_m = DVec2::new(frame.size.x + 2.0 * rail, frame.size.y + 2.0 * rail);
+    let scale = (area.w as f64 / outer_m.x).min(area.h as f64 / outer_m.y);
+    let outer_px = outer_m * scale;
+    let outer = Rect::new(
+        area.x + 0.5 * (area.w - outer_px.x as f32),
+        area.y + 0.5 * (area.h - outer_px.y as f32),
+        outer_px.x as f32,
+        outer_px.y as f32,
+    );
+    let rail_px = (rail * scale) as f32;
+    let cloth = Rect::new(
+        outer.x + rail_px,
+        outer.y + rail_px,
+        (frame.size.x * scale) as f32,
+        (frame.size.y * scale) as f32,
+    );
+    let tray = Rect::new(outer.x, tray_y, outer.w, tray_h);
+
+    // The panel, left to right: the tip face, the side view and the power bar, each under
+    // its title.
+    // Whole pixels, so the last column ends inside the panel.
+    let column_w = ((panel.w - 2.0 * margin) / 3.0).floor();
+    let column = |k: f32| panel.x + k * (column_w + margin);
+    let widget_top = panel.y + title_h + 0.5 * margin;
+    let widget_h = (panel.y + panel.h - widget_top).max(20.0);
+    let tip_title = Rect::new(column(0.0), panel.y, column_w, title_h);
+    let tip_radius = (0.4 * column_w).min(0.5 * widget_h - 2.0).max(4.0);
+    let tip_center = [column(0.0) + 0.5 * column_w, widget_top + 0.5 * widget_h];
+    let elevation_title = Rect::new(column(1.0), panel.y, column_w, title_h);
+    let elevation_view = Rect::new(column(1.0), widget_top, column_w, widget_h);
+    let elevation_ball_radius = (0.15 * column_w).min(0.3 * widget_h);
+    let elevation_ball = [
+        elevation_view.x + elevation_view.w - 1.6 * elevation_ball_radius,
+        elevation_view.y + elevation_view.h - elevation_ball_radius - 3.0,
+    ];
+    let power_title = Rect::new(column(2.0), panel.y, column_w, title_h);
+    let bar_w = (0.25 * column_w).max(18.0);
+    let power_bar = Rect::new(
+        column(2.0) + 0.5 * (column_w - bar_w),
+        widget_top,
+        bar_w,
+        widget_h,
+    );
+    Layout {
+        screen: [w, h],
+        frame,
+        scale,
+        origin: DVec2::new(cloth.x as f64, cloth.y as f64),
+        turned: true,
+        hud,
+        cloth,
+        outer,
+        tray,
+        tip_center,
+        tip_radius,
+        elevation_view,
+        elevation_ball,
+        elevation_ball_radius,
+        power_bar,
+        players,
+        game_info,
+        status,
+        panel,
+        tip_title,
+        elevation_title,
+        power_title,
+        verdict,
+        footer,
+    }
+}
