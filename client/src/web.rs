@@ -2,37 +2,15 @@
 //! reaches the server through the page's plugin, WebTransport first, else the WebSocket
 //! under Noise. Whatever goes wrong is said on the page, never left as a blank canvas.
 
-use breakshot_client::net::noise::Noised;
-use breakshot_client::net::page::{self, PageSocket, Way as PageWay};
+use breakshot_client::net::page;
 use breakshot_client::net::{
-    interpret_record, Entry, NetLink, PlayerCore, PlayerEvent, Polled, PolledSession, Port,
-    Reconnect, SeatStore, WebWay, FETCH_TIMEOUT,
+    interpret_record, PlayerCore, PlayerEvent, Polled, Reconnect, FETCH_TIMEOUT,
 };
-use breakshot_client::play::{GameLink, PlayedByComputer, ReplayViewer};
-use breakshot_shared::protocol::{
-    is_valid_name, ClientMessage, Fingerprint, Invite, RoomCode, ServerAddress, ServerMessage,
-    WebLink, WebLinkError, WebTransportChoice,
-};
+use breakshot_client::play::ReplayViewer;
+use breakshot_shared::protocol::{ClientMessage, ServerMessage, WebLink, WebLinkError};
 
+use crate::ui::page_game::{join_link, way_to_server};
 use crate::ui::{self, clock};
-
-/// The name a page's player goes by when no link has named them yet.
-const PAGE_NAME: &str = "Guest";
-/// Where the page keeps the name last given (`name=` in a link) for the next visit.
-const NAME_KEY: &str = "breakshot.name";
-
-/// The player's name: the link's `name=` (kept for next time), else the name kept from an
-/// earlier visit, else [`PAGE_NAME`].
-fn player_name(link: &WebLink) -> String {
-    if let Some(name) = &link.name {
-        page::store(NAME_KEY, name);
-        return name.clone();
-    }
-    page::stored(NAME_KEY)
-        .map(|n| n.trim().to_owned())
-        .filter(|n| is_valid_name(n))
-        .unwrap_or_else(|| PAGE_NAME.to_owned())
-}
 
 pub fn main() {
     let conf = macroquad::miniquad::conf::Conf {
@@ -79,75 +57,6 @@ fn first_screen() -> ui::Start {
         )),
     }
     ui::Start::Menu
-}
-
-/// The link, read, or why it cannot be used.
-fn usable_link() -> Result<&'static WebLink, String> {
-    page::link()
-        .as_ref()
-        .map_err(|e| format!("This link is damaged ({e}): ask for a new one"))
-}
-
-/// The page's way to the game server of `link`: the invite the player core dials and the
-/// transports to try.
-type Way = WebWay<PageSocket, Noised<PageSocket>>;
-
-fn way_to_server(link: &WebLink, room: RoomCode) -> Result<(Invite, Way), String> {
-    let server = match &link.server {
-        Some(server) => server.clone(),
-        None => page::page_host()
-            .parse::<ServerAddress>()
-            .map_err(|e| format!("The page's address names no server: {e}"))?,
-    };
-    let first = (link.transport != WebTransportChoice::WebSocket && page::has_web_transport())
-        .then(|| PageSocket::new(PageWay::WebTransport(link.cert.clone())));
-    let fallback = (link.transport != WebTransportChoice::WebTransport).then(|| {
-        Noised::new(
-            PageSocket::new(PageWay::WebSocket),
-            link.key,
-            page::fill_random,
-        )
-    });
-    if first.is_none() && fallback.is_none() {
-        return Err(
-            "This browser has no WebTransport here, and the link allows nothing else".into(),
-        );
-    }
-    // The page trusts the server by the link's key and certificate hashes, never by the
-    // native certificate's fingerprint, which it has no way to check.
-    let invite = Invite {
-        servers: vec![server],
-        room: Some(room),
-        fingerprint: Fingerprint([0; 32]),
-    };
-    Ok((invite, WebWay::new(first, fallback)))
-}
-
-/// Joins (or watches) the game of the link's room.
-pub fn join_link() -> Result<Box<dyn GameLink>, String> {
-    let link = usable_link()?;
-    let room = link
-        .room
-        .clone()
-        .ok_or("This page's link names no game: ask the host for the game's link")?;
-    let (invite, way) = way_to_server(link, room.clone())?;
-    let core = PlayerCore::new(invite.clone(), Reconnect::default(), clock::now());
-    let session = PolledSession::new(Polled::new(core, way), clock::now);
-    let game: NetLink<_> = if link.watch {
-        let mut session = session;
-        session.enter(Entry::Spectate { room });
-        NetLink::new(session)
-    } else {
-        // The seat taken is kept in the page's storage: a reload takes it back.
-        let name = player_name(link);
-        page::report(&format!("joining as {name}"));
-        NetLink::joining(session, invite, &name, Some(SeatStore::page()))
-            .map_err(|e| e.to_string())?
-    };
-    Ok(match link.computer {
-        Some(level) => Box::new(PlayedByComputer::new(game, level, ui::fresh_seed())),
-        None => Box::new(game),
-    })
 }
 
 /// Fetches the record of the link's room from the server, saying so on the canvas while it

@@ -73,3 +73,9 @@ impl FrameClock {
         self.work.as_secs_f64() * 1000.0
     }
 }
+
+/// A seed for a new rack from the clock: every rack is different.
+pub fn fresh_seed() -> u64 {
+    // Seconds since 1970 from the system (or the page), in nanoseconds' worth of bits.
+    (macroquad::miniquad::date::now() * 1e9) as u64
+}

@@ -43,7 +43,7 @@ const ITEMS: [(Item, &str); 4] = [
 ];
 
 #[cfg(target_arch = "wasm32")]
-use crate::web::join_link as join;
+use super::page_game::join_link as join;
 #[cfg(not(target_arch = "wasm32"))]
 use native::{host_default, join_from_clipboard as join, resume};
 

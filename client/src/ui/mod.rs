@@ -8,6 +8,8 @@ mod hud;
 mod input;
 mod invite;
 mod menu;
+#[cfg(target_arch = "wasm32")]
+pub mod page_game;
 mod panel;
 mod practice;
 mod replay;
@@ -83,11 +85,7 @@ pub fn data_dir() -> Option<std::path::PathBuf> {
     dir
 }
 
-/// A seed for a new rack from the clock: every rack is different.
-pub fn fresh_seed() -> u64 {
-    // Seconds since 1970 from the system (or the page), in nanoseconds' worth of bits.
-    (macroquad::miniquad::date::now() * 1e9) as u64
-}
+pub use clock::fresh_seed;
 
 /// Tells whoever watches (the page's status line, a test) that `line` happened: the page
 /// hears it; the native window writes it to standard error when `BREAKSHOT_REPORT` is set.
