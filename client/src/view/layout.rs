@@ -481,6 +481,54 @@ pub fn menu_buttons(w: f32, h: f32, n: usize) -> Vec<Rect> {
         .collect()
 }
 
+/// The boxes of the menu's page for watching a game again, in a `w` x `h` window.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReplayPageBoxes {
+    /// The line the game's invite (its server and room) is typed on.
+    pub field: Rect,
+    /// The button that asks the server for the room's games.
+    pub list: Rect,
+    /// The button back to the menu.
+    pub back: Rect,
+    /// One button a game, in rows of four: as many of the room's games as fit.
+    pub games: Vec<Rect>,
+}
+
+/// The replay page's boxes for a room of `games` games (only as many buttons as fit the
+/// window: the screen shows the latest ones).
+pub fn replay_page(w: f32, h: f32, games: usize) -> ReplayPageBoxes {
+    let bw = 560.0f32.min(0.9 * w);
+    let x0 = 0.5 * (w - bw);
+    let gap = 10.0;
+    let bh = (0.06 * h).clamp(22.0, 40.0);
+    let field = Rect::new(x0, 0.24 * h, bw, bh);
+    let row = field.y + bh + gap;
+    let list_w = 0.6 * bw;
+    let list = Rect::new(x0, row, list_w, bh);
+    let back = Rect::new(x0 + list_w + gap, row, bw - list_w - gap, bh);
+    const COLUMNS: usize = 4;
+    let top = row + bh + 2.0 * gap;
+    let rows = ((0.92 * h - top) / (bh + gap)).floor().max(0.0) as usize;
+    let gw = (bw - (COLUMNS - 1) as f32 * gap) / COLUMNS as f32;
+    let games = (0..games.min(rows * COLUMNS))
+        .map(|k| {
+            let (r, c) = (k / COLUMNS, k % COLUMNS);
+            Rect::new(
+                x0 + c as f32 * (gw + gap),
+                top + r as f32 * (bh + gap),
+                gw,
+                bh,
+            )
+        })
+        .collect();
+    ReplayPageBoxes {
+        field,
+        list,
+        back,
+        games,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -732,6 +780,25 @@ mod tests {
             }
             assert!(buttons.windows(2).all(|p| p[0].y + p[0].h < p[1].y));
         }
+    }
+
+    #[test]
+    fn the_replay_page_s_buttons_are_inside_the_window_and_apart() {
+        for (w, h) in [(1280.0, 720.0), (640.0, 480.0), (400.0, 300.0)] {
+            let p = replay_page(w, h, 40);
+            let screen = Rect::new(0.0, 0.0, w, h);
+            let mut all = vec![p.field, p.list, p.back];
+            all.extend(&p.games);
+            assert!(p.games.len() >= 4, "{w}x{h}: {} games fit", p.games.len());
+            for (i, r) in all.iter().enumerate() {
+                assert!(screen.holds(r), "{w}x{h}: {r:?}");
+                assert!(
+                    all[i + 1..].iter().all(|q| !q.overlaps(r)),
+                    "{w}x{h}: {r:?}"
+                );
+            }
+        }
+        assert_eq!(replay_page(1280.0, 720.0, 2).games.len(), 2);
     }
 
     #[test]
