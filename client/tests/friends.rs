@@ -400,3 +400,136 @@ fn the_opponent_s_cue_moves_in_the_other_window_as_the_player_to_move_aims() {
     );
     drop((join, host));
 }
+
+/// The hint bar's lit columns of `pic`: how far right its text reaches (pixels from its left).
+fn hint_reach(pic: &Picture, layout: &Layout) -> f32 {
+    let f = layout.footer;
+    (0..f.w as u32)
+        .rev()
+        .find(|&x| {
+            (0..f.h as u32).any(|y| {
+                pic.at(f.x + x as f32, f.y + y as f32)
+                    .iter()
+                    .all(|&v| v > 150)
+            })
+        })
+        .map_or(0.0, |x| x as f32)
+}
+
+/// Ann hosts in a window and breaks against Bob; her window's process is stopped and started
+/// again on the same data: it shows the game as it stood, saying "Game resumed" on the hint
+/// bar (a short line where a new game lists the keys).
+#[test]
+fn a_host_restarted_on_its_data_says_game_resumed() {
+    let Some(display) = Display::start() else {
+        return;
+    };
+    let dir = breakshot_testkit::scratch("friends-resumed");
+    let data = dir.path().join("ann");
+    let host = |bind: &str| {
+        let mut host = Spawned::start(
+            display
+                .on(&mut Command::new(BREAKSHOT))
+                .args([
+                    "host", "--bind", bind, "--name", "ann", "--size", "1280x720",
+                ])
+                .arg("--data")
+                .arg(&data)
+                .stdout(Stdio::piped())
+                .stderr(Stdio::null()),
+        );
+        let stdout = host.child().stdout.take().expect("the host's output");
+        let (line, rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
+        let invite: Invite = line.trim().parse().expect("the invite is the first line");
+        // The rest of the output is read, so the host never blocks on a full pipe.
+        std::thread::spawn(move || std::io::copy(&mut { rest }, &mut std::io::sink()));
+        (host, invite)
+    };
+    let (first, invite) = host("127.0.0.1:0");
+    let wid = display.new_window(&[]);
+    let runtime = tokio::runtime::Runtime::new().expect("a runtime");
+    let mut bob = within(&runtime, "Bob's seat", async {
+        let mut bob = Client::connect(invite.clone(), Reconnect::never())
+            .await
+            .expect("connected");
+        bob.send(&ClientMessage::Join {
+            room: invite.room.clone().expect("the invite's room"),
+            name: "bob".into(),
+        })
+        .await
+        .expect("sent");
+        next(&mut bob, |m| matches!(m, ServerMessage::Joined { .. })).await;
+        bob
+    });
+    let rack = eight_ball(Settings::online(), 0);
+    let layout = Layout::new(1280.0, 720.0, Frame::new(rack.table(), rack.balls()));
+    let c = layout.cloth;
+    let out = dir.path().join("ann.png");
+    let new_game = until_shown(
+        &display,
+        &wid,
+        &out,
+        Duration::from_secs(60),
+        "the table",
+        |p| close(p.at(c.x + 0.5 * c.w, c.y + 0.25 * c.h), CLOTH, 8),
+    );
+    // A new game lists the keys across the bar.
+    let keys = hint_reach(&new_game, &layout);
+    assert!(keys > 600.0, "the keys reach {keys} px");
+
+    // Ann, who breaks, aims at the rack and shoots with Space; Bob sees the shot end.
+    let (x, y) = (c.x + 0.75 * c.w, c.y + 0.5 * c.h);
+    display.xdotool(&[
+        "mousemove",
+        "--window",
+        &wid,
+        &x.to_string(),
+        &y.to_string(),
+    ]);
+    std::thread::sleep(Duration::from_secs(1));
+    display.xdotool(&["key", "space"]);
+    within(&runtime, "the break", async {
+        next(&mut bob, |m| {
+            matches!(m, ServerMessage::ShotResolved { .. })
+        })
+        .await;
+    });
+
+    // Her window is closed (SIGTERM, as a Ctrl-C) and opened again on the same data and port.
+    first.terminate();
+    let mut first = first;
+    assert!(
+        first.wait(Duration::from_secs(30)).success(),
+        "the host ended"
+    );
+    drop(bob);
+    let bind = format!("127.0.0.1:{}", invite.first().port);
+    let (_again, _) = host(&bind);
+    let wid = display.new_window(&[]);
+    let out = dir.path().join("again.png");
+    let resumed = until_shown(
+        &display,
+        &wid,
+        &out,
+        Duration::from_secs(60),
+        "the game",
+        |p| {
+            // The table, with balls off the rack's spot: the break was kept.
+            close(p.at(c.x + 0.5 * c.w, c.y + 0.25 * c.h), CLOTH, 8) && {
+                let reach = hint_reach(p, &layout);
+                reach > 20.0 && reach < 300.0
+            }
+        },
+    );
+    let reach = hint_reach(&resumed, &layout);
+    eprintln!("hint bar text reaches {keys} px in a new game, {reach} px after the restart");
+    // "Game resumed": 12 letters of 6 to 10 px at the bar's size (the keys' are about
+    // 8.4 px).
+    assert!(
+        (72.0..120.0).contains(&reach),
+        "{reach} px: not a line of 12 letters"
+    );
+    let ids = ball_ids(&rack);
+    let racked = balls_not_seen(&resumed, &layout, &ids, rack.balls());
+    assert!(racked.len() > 3, "the break was not kept: {racked:?} moved");
+}

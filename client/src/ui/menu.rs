@@ -157,10 +157,7 @@ impl MenuScreen {
     /// keys.
     pub fn typing(&self) -> bool {
         #[cfg(not(target_arch = "wasm32"))]
-        return self
-            .replays
-            .as_ref()
-            .is_some_and(|p| p.typing());
+        return self.replays.as_ref().is_some_and(|p| p.typing());
         #[cfg(target_arch = "wasm32")]
         false
     }
