@@ -215,13 +215,16 @@ impl Layout {
         };
         let status_h = (0.04 * h).clamp(18.0, 30.0);
         let panel_w = (0.14 * w).clamp(110.0, 260.0);
-        let tray_h = (0.09 * h).clamp(34.0, 90.0);
-        let verdict_h = (0.08 * h).clamp(48.0, 90.0);
         let row_h = (0.035 * h).clamp(18.0, 28.0);
         // The keys are one long line: a narrow window gives them two rows.
         let footer_rows = if stacked { 2 } else { 1 };
         let footer_h = footer_rows as f32 * row_h;
+        // The notice line takes its room from the trays and the verdict, which had more than
+        // they need, so the table keeps its size.
         let notice_h = row_h;
+        let shared = notice_h + 0.5 * margin;
+        let tray_h = ((0.09 * h).clamp(34.0, 90.0) - 0.6 * shared).max(30.0);
+        let verdict_h = ((0.08 * h).clamp(48.0, 90.0) - 0.4 * shared).max(36.0);
         let rail = if frame.rails { RAIL_WIDTH } else { 0.0 };
 
         let hud = Rect::new(0.0, 0.0, w, hud_h);
