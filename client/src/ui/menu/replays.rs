@@ -250,7 +250,7 @@ impl ReplayPage {
         for (k, r) in boxes.games.iter().enumerate() {
             let n = first + k as u32;
             let name = match latest {
-                Some((last, false)) if last == n => format!("Game {n} (on)"),
+                Some((last, false)) if last == n => format!("Game {n} (live)"),
                 _ => format!("Game {n}"),
             };
             button(*r, &name);
