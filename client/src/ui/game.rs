@@ -19,7 +19,7 @@ use breakshot_shared::rules::{
 };
 use macroquad::prelude::*;
 
-use super::hud::{game_hud, HudInfo};
+use super::hud::{game_hud, hint_bar, HudInfo};
 use super::table_view::TableView;
 use super::{draw, invite, panel, trays, Start, Step};
 
@@ -636,7 +636,7 @@ impl GameScreen {
             (false, true) => keys.to_string(),
             (false, false) => message.to_string(),
         };
-        draw::label_in(&footer, layout.footer, 18.0, draw::Align::Left, LIGHTGRAY);
+        hint_bar(&layout, &footer, LIGHTGRAY);
         if self.debug {
             self.debug_overlay(&layout, game);
         }
@@ -668,13 +668,8 @@ impl GameScreen {
             draw::mark(pen, centre, pk.radius, if chosen { 4.0 } else { 2.0 }, c);
         }
         if self.flow.call.is_none() {
-            draw::label(
-                call_prompt(game),
-                layout.cloth.x + 8.0,
-                layout.cloth.y + layout.cloth.h - 10.0,
-                22.0,
-                YELLOW,
-            );
+            let notice = layout.notice;
+            draw::label_in(call_prompt(game), notice, 22.0, draw::Align::Left, YELLOW);
         }
     }
 
@@ -795,23 +790,12 @@ fn draw_chat(layout: &Layout, chat: &Chat) {
     }
 }
 
-/// "Computer is thinking", in a dark box over the middle of the cloth, its dots counting
-/// the time.
+/// "Computer is thinking", on the notice line under the trays (off the cloth, so the rack
+/// stays in view), its dots counting the time.
 fn draw_thinking(layout: &Layout) {
     let dots = ".".repeat(1 + (get_time() * 3.0) as usize % 3);
     let text = format!("Computer is thinking{dots}");
-    let size = 30.0;
-    let w = draw::text_width("Computer is thinking...", size);
-    let c = layout.cloth;
-    let (x, y) = (c.x + 0.5 * (c.w - w), c.y + 0.5 * c.h);
-    draw_rectangle(
-        x - 16.0,
-        y - 34.0,
-        w + 32.0,
-        48.0,
-        Color::new(0.0, 0.0, 0.0, 0.75),
-    );
-    draw::label(&text, x, y, size, WHITE);
+    draw::label_in(&text, layout.notice, 22.0, draw::Align::Left, WHITE);
 }
 
 #[cfg(test)]

@@ -99,3 +99,19 @@ fn right_aligned(pieces: &[(String, Color)], r: Rect) {
         );
     }
 }
+
+/// The hint bar along the bottom: `text` in as many rows as the layout gives it (two in a
+/// narrow window), broken between its pieces, every row at one size.
+pub fn hint_bar(layout: &Layout, text: &str, c: Color) {
+    let rows = hud::hint_rows(text, layout.footer_rows);
+    let f = layout.footer;
+    let row_h = f.h / rows.len().max(1) as f32;
+    let size = rows
+        .iter()
+        .map(|r| draw::fitted_size(r, f.w, row_h, 18.0))
+        .fold(18.0f32, f32::min);
+    for (k, line) in rows.iter().enumerate() {
+        let r = Rect::new(f.x, f.y + k as f32 * row_h, f.w, row_h);
+        draw::label_in(line, r, size, Align::Left, c);
+    }
+}

@@ -8,6 +8,9 @@ use macroquad::prelude::*;
 
 use super::{draw, Start, Step};
 
+#[cfg(not(target_arch = "wasm32"))]
+mod replays;
+
 #[derive(Clone, Copy, PartialEq, Eq)]
 // A page offers only what a browser can do: no hosting, files or quitting.
 #[cfg_attr(target_arch = "wasm32", allow(dead_code))]
@@ -128,6 +131,9 @@ mod native {
 
 pub struct MenuScreen {
     message: String,
+    /// The page for watching a game again, when open.
+    #[cfg(not(target_arch = "wasm32"))]
+    replays: Option<Box<replays::ReplayPage>>,
     /// Where the mouse was at the last update (input is read in `ui/input.rs` only).
     mouse: [f32; 2],
 }
@@ -141,8 +147,19 @@ impl MenuScreen {
     pub fn with_message(message: String) -> MenuScreen {
         MenuScreen {
             message,
+            #[cfg(not(target_arch = "wasm32"))]
+            replays: None,
             mouse: [-1.0, -1.0],
         }
+    }
+
+    /// Whether a line of text is being typed here (the replay page's invite): it takes the
+    /// keys.
+    pub fn typing(&self) -> bool {
+        #[cfg(not(target_arch = "wasm32"))]
+        return self.replays.as_ref().is_some_and(|p| p.typing());
+        #[cfg(target_arch = "wasm32")]
+        false
     }
 
     fn buttons() -> Vec<(Item, &'static str, Rect)> {
@@ -167,6 +184,15 @@ impl MenuScreen {
 
     pub fn update(&mut self, input: &InputFrame) -> Step {
         self.mouse = input.mouse;
+        #[cfg(not(target_arch = "wasm32"))]
+        if let Some(page) = &mut self.replays {
+            match page.update(input) {
+                replays::PageStep::Stay => {}
+                replays::PageStep::Back => self.replays = None,
+                replays::PageStep::Watch(viewer) => return Step::Open(Start::Replay(viewer)),
+            }
+            return Step::Stay;
+        }
         if input.pressed.contains(&Key::Back) {
             return Step::Quit;
         }
@@ -203,17 +229,21 @@ impl MenuScreen {
                 Ok(link) => return Step::Open(Start::Network(link)),
                 Err(e) => self.message = e,
             },
-            Item::Replay => {
-                self.message =
-                    "To watch a game, run: breakshot replay FILE (or --server URL --game ROOM)"
-                        .into();
-            }
+            // A game's invite and its number; a record file is dropped on the window.
+            #[cfg(not(target_arch = "wasm32"))]
+            Item::Replay => self.replays = Some(Box::new(replays::ReplayPage::open())),
+            #[cfg(target_arch = "wasm32")]
+            Item::Replay => {}
             Item::Quit => return Step::Quit,
         }
         Step::Stay
     }
 
     pub fn draw(&mut self) {
+        #[cfg(not(target_arch = "wasm32"))]
+        if let Some(page) = &self.replays {
+            return page.draw(self.mouse);
+        }
         let (w, h) = (screen_width(), screen_height());
         let title = "BREAKSHOT";
         let title_size = 72.0f32.min(0.12 * h);

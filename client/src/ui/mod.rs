@@ -190,6 +190,7 @@ impl Screen {
     /// True while a line of text is being typed (the chat): it takes the keys.
     fn typing(&self) -> bool {
         matches!(self, Screen::Game(s) if s.typing())
+            || matches!(self, Screen::Menu(s) if s.typing())
     }
 
     fn awaiting_server(&self) -> bool {

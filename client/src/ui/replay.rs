@@ -6,7 +6,7 @@ use breakshot_client::view::{tray, Frame, Layout, Orientations, Playback};
 use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
 
-use super::hud::{game_hud, HudInfo};
+use super::hud::{game_hud, hint_bar, HudInfo};
 use super::table_view::TableView;
 use super::{draw, panel, trays, Start, Step};
 
@@ -106,7 +106,7 @@ impl ReplayScreen {
             "Replay: entry {done} of {total}  |  {state}  |  speed x{}  |  Space pause  |  Left/Right shot by shot  |  +/- speed  |  V 3-D view  |  Esc menu",
             v.speed
         );
-        draw::label_in(&line, layout.footer, 18.0, draw::Align::Left, LIGHTGRAY);
+        hint_bar(&layout, &line, LIGHTGRAY);
         let mut warnings = Vec::new();
         if !v.mismatches.is_empty() {
             warnings.push(format!(
@@ -117,14 +117,10 @@ impl ReplayScreen {
         if let Some(why) = &v.stopped {
             warnings.push(format!("replay stopped: {why}"));
         }
-        for (k, w) in warnings.iter().enumerate() {
-            draw::label(
-                w,
-                layout.cloth.x + 8.0,
-                layout.cloth.y + 22.0 + 20.0 * k as f32,
-                20.0,
-                RED,
-            );
+        // On the notice line under the trays, off the cloth and its balls.
+        if !warnings.is_empty() {
+            let text = warnings.join("  |  ");
+            draw::label_in(&text, layout.notice, 20.0, draw::Align::Left, RED);
         }
     }
 }

@@ -5,7 +5,7 @@ use breakshot_client::view::tray::Trays;
 use breakshot_client::view::Layout;
 use macroquad::prelude::*;
 
-use super::draw::{ball, fill_rect, label, text_width};
+use super::draw::{ball, fill_rect, label_in, Align};
 
 /// Pocketed balls in the tray, in the order they fell.
 pub fn tray(layout: &Layout, ids: &[String], pocketed: &[usize], radius: f64) {
@@ -45,17 +45,12 @@ pub fn player_trays(
     };
     let width = |n: usize| n as f32 * pitch + 0.5 * r;
     let [a, b] = names;
-    // Seat A from the left, seat B ending at the right, what is shared in the middle.
-    label(&a, area.x + 8.0, y + 6.0, 18.0, LIGHTGRAY);
-    row(&t.seats[0], area.x + 16.0 + text_width(&a, 18.0));
-    let b_x = area.x + area.w - width(t.seats[1].len()) - 8.0;
-    label(
-        &b,
-        b_x - text_width(&b, 18.0) - 8.0,
-        y + 6.0,
-        18.0,
-        LIGHTGRAY,
-    );
-    row(&t.seats[1], b_x);
+    let [a_box, b_box] = layout.tray_names;
+    // [A's name][A's balls ... the 8 and the undecided ... B's balls][B's name]: each name in
+    // its own box (shrunk to fit it), so no name runs under a ball.
+    label_in(&a, a_box, 18.0, Align::Centre, LIGHTGRAY);
+    row(&t.seats[0], a_box.x + a_box.w);
+    label_in(&b, b_box, 18.0, Align::Centre, LIGHTGRAY);
+    row(&t.seats[1], b_box.x - width(t.seats[1].len()));
     row(&t.between, area.x + 0.5 * (area.w - width(t.between.len())));
 }

@@ -274,8 +274,53 @@ pub fn connection(c: &Connection) -> String {
     }
 }
 
+/// The pieces the hint bar's keys are written in, between which it may break a row.
+pub const HINT_SEPARATOR: &str = "  |  ";
+
+/// The hint bar's `text` in at most `rows` rows, broken between its pieces (separated by
+/// [`HINT_SEPARATOR`]) so the rows are about as long as each other.
+pub fn hint_rows(text: &str, rows: usize) -> Vec<String> {
+    let pieces: Vec<&str> = text.split(HINT_SEPARATOR).collect();
+    if rows <= 1 || pieces.len() < 2 {
+        return vec![text.to_owned()];
+    }
+    let total = text.chars().count();
+    let target = total.div_ceil(rows);
+    let mut out: Vec<String> = vec![String::new()];
+    for piece in pieces {
+        let full = out.len() == rows;
+        let row = out.last_mut().expect("one row at least");
+        let longer = row.chars().count() + HINT_SEPARATOR.len() + piece.chars().count();
+        if row.is_empty() {
+            row.push_str(piece);
+        } else if longer <= target || full {
+            row.push_str(HINT_SEPARATOR);
+            row.push_str(piece);
+        } else {
+            out.push(piece.to_owned());
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn the_hint_bar_breaks_its_keys_between_pieces_into_rows_of_about_one_length() {
+        let keys = "Mouse: aim  |  Space: shoot  |  W/S: elevation  |  V: 3-D  |  Esc: leave";
+        assert_eq!(hint_rows(keys, 1), vec![keys.to_owned()]);
+        let two = hint_rows(keys, 2);
+        assert_eq!(two.len(), 2);
+        assert_eq!(two.join(HINT_SEPARATOR), keys);
+        let (a, b) = (two[0].len() as i32, two[1].len() as i32);
+        assert!((a - b).abs() < 20, "{two:?}");
+        // A message has no pieces: one row.
+        assert_eq!(
+            hint_rows("Game resumed", 2),
+            vec!["Game resumed".to_owned()]
+        );
+    }
     use super::*;
     use breakshot_shared::rules::{Command, EightBallRules, Settings};
 

@@ -194,6 +194,16 @@ pub struct Layout {
     pub verdict: Rect,
     /// The hint bar along the bottom of the window (keys, or the latest message).
     pub footer: Rect,
+    /// How many rows of text the hint bar holds: two in a narrow window, so the keys stay
+    /// readable.
+    pub footer_rows: usize,
+    /// The players' names on the trays: at the tray's left end for the first player and at
+    /// its right end for the second, the balls of each beside them.
+    pub tray_names: [Rect; 2],
+    /// One line between the trays and the verdict for what the game asks or says now (the
+    /// pocket to call, the computer thinking, a replay's warnings): off the cloth, where it
+    /// covers no ball.
+    pub notice: Rect,
 }
 
 impl Layout {
@@ -212,9 +222,16 @@ impl Layout {
         };
         let status_h = (0.04 * h).clamp(18.0, 30.0);
         let panel_w = (0.14 * w).clamp(110.0, 260.0);
-        let tray_h = (0.09 * h).clamp(34.0, 90.0);
-        let verdict_h = (0.08 * h).clamp(48.0, 90.0);
-        let footer_h = (0.035 * h).clamp(18.0, 28.0);
+        let row_h = (0.035 * h).clamp(18.0, 28.0);
+        // The keys are one long line: a narrow window gives them two rows.
+        let footer_rows = if stacked { 2 } else { 1 };
+        let footer_h = footer_rows as f32 * row_h;
+        // The notice line takes its room from the trays and the verdict, which had more than
+        // they need, so the table keeps its size.
+        let notice_h = row_h;
+        let shared = notice_h + 0.5 * margin;
+        let tray_h = ((0.09 * h).clamp(34.0, 90.0) - 0.6 * shared).max(30.0);
+        let verdict_h = ((0.08 * h).clamp(48.0, 90.0) - 0.4 * shared).max(36.0);
         let rail = if frame.rails { RAIL_WIDTH } else { 0.0 };
 
         let hud = Rect::new(0.0, 0.0, w, hud_h);
@@ -255,7 +272,7 @@ impl Layout {
         );
         // The area left for the table and its rails, between the status line and the trays.
         let top = status.y + status_h + 0.5 * margin;
-        let below = tray_h + verdict_h + footer_h + 2.5 * margin;
+        let below = tray_h + notice_h + verdict_h + footer_h + 3.0 * margin;
         let area = Rect::new(
             margin,
             top,
@@ -280,11 +297,23 @@ impl Layout {
         );
         let origin = DVec2::new(cloth.x as f64, cloth.y as f64);
         let tray = Rect::new(outer.x, outer.y + outer.h + margin, outer.w, tray_h);
+        let name_w = (0.28 * tray.w).min(180.0);
+        let tray_names = [
+            Rect::new(tray.x + 0.5 * margin, tray.y, name_w, tray_h),
+            Rect::new(
+                tray.x + tray.w - name_w - 0.5 * margin,
+                tray.y,
+                name_w,
+                tray_h,
+            ),
+        ];
+        let notice = Rect::new(area.x, tray.y + tray_h + 0.5 * margin, area.w, notice_h);
+        let verdict_y = notice.y + notice_h + 0.5 * margin;
         let verdict = Rect::new(
             area.x,
-            tray.y + tray_h + 0.5 * margin,
+            verdict_y,
             area.w,
-            (footer.y - 0.5 * margin - (tray.y + tray_h + 0.5 * margin)).max(10.0),
+            (footer.y - 0.5 * margin - verdict_y).max(10.0),
         );
 
         // The panel, top to bottom: a title over each of the tip face, the side view and
@@ -358,11 +387,14 @@ impl Layout {
             power_title,
             verdict,
             footer,
+            footer_rows,
+            tray_names,
+            notice,
         }
     }
 
     /// Every box the window writes text in, named, for checking that none overlaps another.
-    pub fn text_boxes(&self) -> [(&'static str, Rect); 10] {
+    pub fn text_boxes(&self) -> [(&'static str, Rect); 12] {
         [
             ("first player", self.players[0]),
             ("second player", self.players[1]),
@@ -371,7 +403,9 @@ impl Layout {
             ("tip title", self.tip_title),
             ("elevation title", self.elevation_title),
             ("power title", self.power_title),
-            ("tray", self.tray),
+            ("first tray name", self.tray_names[0]),
+            ("second tray name", self.tray_names[1]),
+            ("notice", self.notice),
             ("verdict", self.verdict),
             ("hint bar", self.footer),
         ]
@@ -486,6 +520,54 @@ pub fn menu_buttons(w: f32, h: f32, n: usize) -> Vec<Rect> {
     (0..n)
         .map(|k| Rect::new(0.5 * (w - bw), top + k as f32 * (bh + gap), bw, bh))
         .collect()
+}
+
+/// The boxes of the menu's page for watching a game again, in a `w` x `h` window.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReplayPageBoxes {
+    /// The line the game's invite (its server and room) is typed on.
+    pub field: Rect,
+    /// The button that asks the server for the room's games.
+    pub list: Rect,
+    /// The button back to the menu.
+    pub back: Rect,
+    /// One button a game, in rows of four: as many of the room's games as fit.
+    pub games: Vec<Rect>,
+}
+
+/// The replay page's boxes for a room of `games` games (only as many buttons as fit the
+/// window: the screen shows the latest ones).
+pub fn replay_page(w: f32, h: f32, games: usize) -> ReplayPageBoxes {
+    let bw = 560.0f32.min(0.9 * w);
+    let x0 = 0.5 * (w - bw);
+    let gap = 10.0;
+    let bh = (0.06 * h).clamp(22.0, 40.0);
+    let field = Rect::new(x0, 0.24 * h, bw, bh);
+    let row = field.y + bh + gap;
+    let list_w = 0.6 * bw;
+    let list = Rect::new(x0, row, list_w, bh);
+    let back = Rect::new(x0 + list_w + gap, row, bw - list_w - gap, bh);
+    const COLUMNS: usize = 4;
+    let top = row + bh + 2.0 * gap;
+    let rows = ((0.92 * h - top) / (bh + gap)).floor().max(0.0) as usize;
+    let gw = (bw - (COLUMNS - 1) as f32 * gap) / COLUMNS as f32;
+    let games = (0..games.min(rows * COLUMNS))
+        .map(|k| {
+            let (r, c) = (k / COLUMNS, k % COLUMNS);
+            Rect::new(
+                x0 + c as f32 * (gw + gap),
+                top + r as f32 * (bh + gap),
+                gw,
+                bh,
+            )
+        })
+        .collect();
+    ReplayPageBoxes {
+        field,
+        list,
+        back,
+        games,
+    }
 }
 
 #[cfg(test)]
@@ -677,6 +759,43 @@ mod tests {
         }
     }
 
+    /// Where a ball can lie, the cloth is free of text: no box of text meets the cloth,
+    /// grown by a ball's radius (a ball frozen to a cushion reaches over its nose). The
+    /// players' names on the trays leave the balls of a whole rack room between them.
+    #[test]
+    fn no_box_of_text_meets_the_cloth_where_balls_lie_nor_the_tray_s_balls() {
+        let radius = breakshot_shared::physics::Params::default().ball_radius;
+        for kind in [TableKind::NineFoot, TableKind::Carom] {
+            for (w, h) in [(640.0, 480.0), (1280.0, 720.0), (720.0, 1280.0)] {
+                let l = Layout::new(w, h, Frame::new(kind, &[]));
+                let r = l.px(radius);
+                let c = l.cloth;
+                let balls = Rect::new(c.x - r, c.y - r, c.w + 2.0 * r, c.h + 2.0 * r);
+                for (name, b) in l.text_boxes() {
+                    assert!(
+                        !b.overlaps(&balls),
+                        "{w}x{h} {kind:?}: {name} {b:?} on the cloth"
+                    );
+                }
+                let [a, b] = l.tray_names;
+                assert!(
+                    l.tray.holds(&a) && l.tray.holds(&b),
+                    "{w}x{h}: names off the tray"
+                );
+                let room = b.x - (a.x + a.w);
+                let rack = 15.0 * 2.6 * r.max(3.0);
+                assert!(
+                    room >= rack,
+                    "{w}x{h}: {room} px between the names for {rack}"
+                );
+                assert!(
+                    l.footer.h / l.footer_rows as f32 >= 18.0,
+                    "{w}x{h}: hint rows"
+                );
+            }
+        }
+    }
+
     #[test]
     fn a_narrow_window_puts_the_players_one_over_the_other_and_a_wide_one_side_by_side() {
         let narrow = nine_foot(640.0, 480.0);
@@ -762,6 +881,25 @@ mod tests {
             }
             assert!(buttons.windows(2).all(|p| p[0].y + p[0].h < p[1].y));
         }
+    }
+
+    #[test]
+    fn the_replay_page_s_buttons_are_inside_the_window_and_apart() {
+        for (w, h) in [(1280.0, 720.0), (640.0, 480.0), (400.0, 300.0)] {
+            let p = replay_page(w, h, 40);
+            let screen = Rect::new(0.0, 0.0, w, h);
+            let mut all = vec![p.field, p.list, p.back];
+            all.extend(&p.games);
+            assert!(p.games.len() >= 4, "{w}x{h}: {} games fit", p.games.len());
+            for (i, r) in all.iter().enumerate() {
+                assert!(screen.holds(r), "{w}x{h}: {r:?}");
+                assert!(
+                    all[i + 1..].iter().all(|q| !q.overlaps(r)),
+                    "{w}x{h}: {r:?}"
+                );
+            }
+        }
+        assert_eq!(replay_page(1280.0, 720.0, 2).games.len(), 2);
     }
 
     #[test]

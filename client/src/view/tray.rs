@@ -101,6 +101,84 @@ mod tests {
         assert!(t.seats.iter().any(|s| !s.is_empty()));
     }
 
+    /// The shot that decides the groups: while it plays, the balls it pockets lie between
+    /// the trays (the table was open when it was struck); once it is over they go to the
+    /// groups it decided. The screens sort the trays by `GameFlow::shown_game` for this.
+    #[test]
+    fn a_ball_pocketed_on_an_open_table_joins_a_tray_only_once_the_groups_are_decided() {
+        use crate::play::{GameEvent, GameFlow};
+        use crate::view::hud::Connection;
+        use breakshot_shared::ai::{self, Level};
+        use breakshot_shared::rules::{Command, TurnId};
+        // A strong computer plays both seats; the game just before the shot that decides
+        // the groups, and that shot.
+        let mut game = Game::new(
+            Variant::EightBall(EightBallRules::Wpa),
+            Settings::offline(),
+            3,
+        );
+        let (before, seat, command) = (0..60)
+            .find_map(|turn| {
+                let command = ai::decide(&game, Level::new(5), turn).expect("a move");
+                let seat = game.to_move();
+                let before = game.clone();
+                game.apply(seat, &command)
+                    .expect("the computer's move is legal");
+                let decides = before.group_of(seat).is_none() && game.group_of(seat).is_some();
+                decides.then_some((before, seat, command))
+            })
+            .expect("the groups are decided within 60 turns");
+        assert!(matches!(command, Command::Shot { .. }));
+        let turn: TurnId = before.turn();
+
+        let mut flow = GameFlow::new(Connection::Offline);
+        flow.handle(GameEvent::Started(Box::new(before.clone())));
+        let down_before = flow.tray();
+        flow.handle(GameEvent::Decided {
+            turn,
+            seat,
+            command,
+        });
+        // The shot plays: tick until one of its balls has fallen while it is still shown.
+        let mut seen_between = false;
+        for _ in 0..60 * 60 {
+            if flow.shot().is_none() {
+                break;
+            }
+            let pocketed = flow.tray();
+            let new: Vec<usize> = pocketed
+                .iter()
+                .copied()
+                .filter(|b| *b != 0 && !down_before.contains(b))
+                .collect();
+            if !new.is_empty() {
+                let shown = flow.shown_game().expect("a game");
+                let t = trays(shown, &pocketed).expect("8-ball has trays");
+                for b in &new {
+                    assert!(
+                        t.between.contains(b),
+                        "ball {b} is in a player's tray before the shot is over: {t:?}"
+                    );
+                }
+                seen_between = true;
+            }
+            flow.tick(1.0 / 60.0);
+        }
+        assert!(seen_between, "no ball fell while the shot was shown");
+        assert!(
+            flow.shot().is_none(),
+            "the shot did not end within a minute"
+        );
+        // Over: the shooter's group holds its balls, in the shooter's tray.
+        let shown = flow.shown_game().expect("a game");
+        let group = shown.group_of(seat).expect("groups decided");
+        let pocketed = flow.tray();
+        let t = trays(shown, &pocketed).expect("8-ball has trays");
+        let mine = &t.seats[usize::from(seat == Seat::B)];
+        assert!(!mine.is_empty(), "the shooter's tray is empty: {t:?}");
+        assert!(mine.iter().all(|&b| group.balls().contains(&(b as u8))));
+    }
+
     #[test]
     fn a_tray_is_labelled_with_the_player_s_name_or_the_seat() {
         let names = [None, Some("ann".to_string())];

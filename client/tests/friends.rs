@@ -1,0 +1,535 @@
+//! Two friends in real windows: the computer's thinking said off the cloth in a small window,
+//! an earlier game of a room watched from the menu, and the opponent's aim seen moving in the
+//! other player's window. The windows run under a virtual display of their own (Xvfb),
+//! driven with `xdotool` and photographed with ImageMagick's `import`.
+//!
+//! Without Xvfb, xdotool or ImageMagick each test says why and passes (CI installs them).
+#![cfg(feature = "host")]
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use breakshot_client::net::{Client, ClientEvent, Reconnect};
+use breakshot_client::view::palette::{ball_ids, CLOTH, CUE_WOOD};
+use breakshot_client::view::{menu_buttons, replay_page, Frame, Layout, Rect};
+use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, RoomCode, ServerMessage};
+use breakshot_shared::replay::GameRecord;
+use breakshot_shared::rules::{EightBallRules, Game, Settings, Variant};
+use breakshot_testkit::Spawned;
+
+#[allow(dead_code)]
+mod common;
+#[path = "friends/display.rs"]
+mod display;
+
+use display::{balls_not_seen, close, Display, Picture};
+
+const BREAKSHOT: &str = env!("CARGO_BIN_EXE_breakshot");
+
+/// The menu's buttons, in order, as `ui/menu.rs` lists them; "Watch a replay" is the one
+/// before "Quit".
+const MENU_BUTTONS: usize = 8;
+const WATCH_A_REPLAY: usize = MENU_BUTTONS - 2;
+
+fn middle(r: &Rect) -> (f32, f32) {
+    (r.x + 0.5 * r.w, r.y + 0.5 * r.h)
+}
+
+/// Clicks window `wid` at (`x`, `y`) of its own.
+fn click(display: &Display, wid: &str, (x, y): (f32, f32)) {
+    let (x, y) = (x.round().to_string(), y.round().to_string());
+    display.xdotool(&["mousemove", "--window", wid, &x, &y]);
+    std::thread::sleep(Duration::from_millis(300));
+    display.xdotool(&["click", "1"]);
+}
+
+/// Grabs `wid` every half second until `ready` holds of its picture; fails the test after
+/// `limit`, naming `what`.
+fn until_shown(
+    display: &Display,
+    wid: &str,
+    out: &Path,
+    limit: Duration,
+    what: &str,
+    ready: impl Fn(&Picture) -> bool,
+) -> Picture {
+    let deadline = Instant::now() + limit;
+    loop {
+        let pic = display.grab(wid, out);
+        if ready(&pic) {
+            return pic;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "{what}: not shown within {limit:?}"
+        );
+        std::thread::sleep(Duration::from_millis(500));
+    }
+}
+
+fn eight_ball(settings: Settings, seed: u64) -> Game {
+    Game::new(Variant::EightBall(EightBallRules::Wpa), settings, seed)
+}
+
+/// While the computer thinks in a 640x480 window, the words say so under the trays and the
+/// rack stays in view: every ball in its colour, the cloth between the middle and the rack
+/// bare (the box that said it lay over both).
+#[test]
+fn in_a_small_window_the_computer_thinks_under_the_trays_and_the_rack_stays_in_view() {
+    let Some(display) = Display::start() else {
+        return;
+    };
+    let dir = breakshot_testkit::scratch("friends-thinking");
+    let out = dir.path().join("thinking.png");
+    let run = breakshot_testkit::run(
+        display
+            .on(&mut Command::new(BREAKSHOT))
+            .env("BREAKSHOT_DATA", dir.path().join("data"))
+            .args(["vs-computer", "--level", "1", "--break", "computer"])
+            .args(["--seed", "4", "--size", "640x480", "--frames", "10"])
+            .arg("--screenshot")
+            .arg(&out),
+        None,
+        Duration::from_secs(120),
+    );
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let pic = Picture::read(&out);
+    assert_eq!((pic.width, pic.height), (640, 480));
+    let rack = eight_ball(Settings::offline(), 4);
+    let layout = Layout::new(640.0, 480.0, Frame::new(rack.table(), rack.balls()));
+    let ids = ball_ids(&rack);
+    let hidden = balls_not_seen(&pic, &layout, &ids, rack.balls());
+    assert!(hidden.is_empty(), "balls covered: {hidden:?}");
+    // The cloth from its middle to the rack's apex (its ball nearest the middle), clear of
+    // the balls: bare.
+    let apex = rack.balls()[1..]
+        .iter()
+        .map(|b| layout.to_screen(b.pos))
+        .min_by(|a, b| a[0].total_cmp(&b[0]))
+        .expect("a rack");
+    let c = layout.cloth;
+    let centre = [c.x + 0.5 * c.w, c.y + 0.5 * c.h];
+    let r = layout.px(rack.params().ball_radius);
+    for k in 0..=20 {
+        let t = k as f32 / 20.0;
+        let p = [
+            centre[0] + t * (apex[0] - 2.0 * r - centre[0]),
+            centre[1] + t * (apex[1] - centre[1]),
+        ];
+        let got = pic.at(p[0], p[1]);
+        assert!(close(got, CLOTH, 8), "covered cloth at {p:?}: {got:?}");
+    }
+    // The words, white, on the notice line under the trays.
+    let n = layout.notice;
+    let white = (0..n.w as u32)
+        .flat_map(|x| (0..n.h as u32).map(move |y| (x, y)))
+        .filter(|&(x, y)| {
+            pic.at(n.x + x as f32, n.y + y as f32)
+                .iter()
+                .all(|&v| v > 200)
+        })
+        .count();
+    assert!(white > 40, "{white} white points: no thinking line");
+}
+
+/// The next message `client` receives for which `want` holds.
+async fn next(client: &mut Client, want: impl Fn(&ServerMessage) -> bool) -> ServerMessage {
+    loop {
+        if let ClientEvent::Message(m) = client.recv().await.expect("a message") {
+            if want(&m) {
+                return m;
+            }
+        }
+    }
+}
+
+/// `f` on `runtime`, failing the test if it takes more than a minute.
+fn within<T>(
+    runtime: &tokio::runtime::Runtime,
+    what: &str,
+    f: impl std::future::Future<Output = T>,
+) -> T {
+    runtime
+        .block_on(async { tokio::time::timeout(Duration::from_secs(60), f).await })
+        .unwrap_or_else(|_| panic!("{what} did not happen within a minute"))
+}
+
+/// Alice and Bob play two games in one room on the server of `invite`: the first ends at
+/// once (Alice concedes), then both ask for a rematch. The room and the two games' seeds.
+async fn two_games(invite: &Invite) -> (RoomCode, [u64; 2]) {
+    let mut alice = Client::connect(invite.clone(), Reconnect::never())
+        .await
+        .expect("connected");
+    alice
+        .send(&ClientMessage::CreateRoom {
+            variant: Variant::EightBall(EightBallRules::Wpa),
+            mode: Settings::online(),
+            aim_aid: AimAid::Full,
+            name: "alice".into(),
+        })
+        .await
+        .expect("sent");
+    let ServerMessage::Joined { snapshot, .. } =
+        next(&mut alice, |m| matches!(m, ServerMessage::Joined { .. })).await
+    else {
+        unreachable!("matched above")
+    };
+    let room = snapshot.room.clone();
+    let mut bob = Client::connect(invite.clone(), Reconnect::never())
+        .await
+        .expect("connected");
+    bob.send(&ClientMessage::Join {
+        room: room.clone(),
+        name: "bob".into(),
+    })
+    .await
+    .expect("sent");
+    let ServerMessage::Joined { snapshot, .. } =
+        next(&mut bob, |m| matches!(m, ServerMessage::Joined { .. })).await
+    else {
+        unreachable!("matched above")
+    };
+    let first = snapshot.game.seed();
+    alice.send(&ClientMessage::Concede).await.expect("sent");
+    for p in [&mut alice, &mut bob] {
+        next(p, |m| matches!(m, ServerMessage::GameOver { .. })).await;
+    }
+    for p in [&mut alice, &mut bob] {
+        p.send(&ClientMessage::Rematch).await.expect("sent");
+    }
+    let ServerMessage::GameStarted { snapshot } = next(&mut alice, |m| {
+        matches!(m, ServerMessage::GameStarted { .. })
+    })
+    .await
+    else {
+        unreachable!("matched above")
+    };
+    assert_eq!(snapshot.game_number, 2);
+    (room, [first, snapshot.game.seed()])
+}
+
+/// After a rematch, the menu's *Watch a replay* lists the room's games from its invite, and
+/// *Game 1* opens the first game: its rack, not the second's.
+#[test]
+fn the_menu_lists_a_room_s_games_and_opens_the_first_after_a_rematch() {
+    let Some(display) = Display::start() else {
+        return;
+    };
+    let dir = breakshot_testkit::scratch("friends-replays");
+    let server = common::loopback_server(dir.path().join("server"));
+    let invite = server.loopback_invite();
+    let runtime = tokio::runtime::Runtime::new().expect("a runtime");
+    let (room, seeds) = within(&runtime, "two games", two_games(&invite));
+    assert_ne!(seeds[0], seeds[1], "the rematch has a rack of its own");
+
+    let _window = Spawned::start(
+        display
+            .on(&mut Command::new(BREAKSHOT))
+            .args(["--size", "1280x720", "--data"])
+            .arg(dir.path().join("client"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null()),
+    );
+    let wid = display.new_window(&[]);
+    std::thread::sleep(Duration::from_secs(1));
+    let buttons = menu_buttons(1280.0, 720.0, MENU_BUTTONS);
+    click(&display, &wid, middle(&buttons[WATCH_A_REPLAY]));
+    // The game's invite typed on the page's line, then its games listed.
+    std::thread::sleep(Duration::from_secs(1));
+    let text = invite.with_room(room.clone()).to_string();
+    display.xdotool(&["type", "--delay", "20", &text]);
+    let page = replay_page(1280.0, 720.0, 2);
+    click(&display, &wid, middle(&page.list));
+    let out = dir.path().join("page.png");
+    // Two game buttons appear where the page puts them.
+    let button_fill = |p: &Picture, r: &Rect| close(p.at(r.x + 4.0, r.y + 4.0), [24, 104, 74], 30);
+    until_shown(
+        &display,
+        &wid,
+        &out,
+        Duration::from_secs(30),
+        "the games",
+        |p| page.games.iter().all(|r| button_fill(p, r)),
+    );
+    assert_eq!(page.games.len(), 2);
+    click(&display, &wid, middle(&page.games[0]));
+
+    // Game 1's rack: its balls where its seed racked them.
+    let first = GameRecord::decode(
+        &breakshot_client::net::fetch_game_blocking(&invite, &room, Some(1))
+            .expect("game 1")
+            .bytes,
+    )
+    .expect("a record");
+    assert_eq!(first.seed, seeds[0]);
+    let rack = Game::new(first.variant, first.settings, first.seed);
+    let second = Game::new(first.variant, first.settings, seeds[1]);
+    let layout = Layout::new(1280.0, 720.0, Frame::new(rack.table(), rack.balls()));
+    let ids = ball_ids(&rack);
+    let shown = until_shown(
+        &display,
+        &wid,
+        &out,
+        Duration::from_secs(30),
+        "game 1",
+        |p| balls_not_seen(p, &layout, &ids, rack.balls()).is_empty(),
+    );
+    // Not the second game's rack (which puts some balls elsewhere).
+    let not_second = balls_not_seen(&shown, &layout, &ids, second.balls());
+    assert!(!not_second.is_empty(), "the two racks look the same");
+    drop(server);
+}
+
+/// Cloth points of `after` that differ from `before` (the two windows' layouts are the same).
+fn changed_on_cloth(before: &Picture, after: &Picture, layout: &Layout) -> usize {
+    let c = layout.cloth;
+    (0..c.w as u32)
+        .flat_map(|x| (0..c.h as u32).map(move |y| (x, y)))
+        .filter(|&(x, y)| {
+            let (x, y) = (c.x + x as f32, c.y + y as f32);
+            !close(before.at(x, y), after.at(x, y), 40)
+        })
+        .count()
+}
+
+/// Ann hosts and Ben joins, each in a real window: as the player to move moves the mouse
+/// over the table, the other's window shows the cue turn with it.
+#[test]
+fn the_opponent_s_cue_moves_in_the_other_window_as_the_player_to_move_aims() {
+    let Some(display) = Display::start() else {
+        return;
+    };
+    let dir = breakshot_testkit::scratch("friends-aim");
+    let size = ["--size", "640x480"];
+    let mut host = Spawned::start(
+        display
+            .on(&mut Command::new(BREAKSHOT))
+            .args(["host", "--bind", "127.0.0.1:0", "--name", "ann"])
+            .args(size)
+            .arg("--data")
+            .arg(dir.path().join("ann"))
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null()),
+    );
+    let stdout = host.child().stdout.take().expect("the host's output");
+    let (line, _rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
+    let invite: Invite = line.trim().parse().expect("the invite is the first line");
+    let ann = display.new_window(&[]);
+    let join = Spawned::start(
+        display
+            .on(&mut Command::new(BREAKSHOT))
+            .args(["join", &invite.to_string(), "--name", "ben"])
+            .args(size)
+            .arg("--data")
+            .arg(dir.path().join("ben"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null()),
+    );
+    let windows = [ann.clone(), display.new_window(&[ann])];
+    display.xdotool(&["windowmove", &windows[1], "650", "0"]);
+
+    // Both show the racked table (the host's invite panel has gone: Ben is seated), on
+    // cloth off the line the player to move aims along.
+    let rack = eight_ball(Settings::online(), 0);
+    let layout = Layout::new(640.0, 480.0, Frame::new(rack.table(), rack.balls()));
+    let c = layout.cloth;
+    let pictures = [dir.path().join("ann.png"), dir.path().join("ben.png")];
+    for (wid, out) in windows.iter().zip(&pictures) {
+        until_shown(
+            &display,
+            wid,
+            out,
+            Duration::from_secs(60),
+            "the table",
+            |p| close(p.at(c.x + 0.5 * c.w, c.y + 0.25 * c.h), CLOTH, 8),
+        );
+    }
+    let aim_at = |wid: &str, fy: f32| {
+        let (x, y) = (c.x + 0.85 * c.w, c.y + fy * c.h);
+        display.xdotool(&["mousemove", "--window", wid, &x.to_string(), &y.to_string()]);
+        // Aims are shared every 0.1 s; a loaded machine draws a frame in about that.
+        std::thread::sleep(Duration::from_secs(2));
+    };
+    // Who is to move, from Ann's bar: the line of the player to move is yellow.
+    let to_move = |p: &Picture| {
+        let yellow = |r: &Rect| {
+            (0..r.w as u32).any(|x| {
+                let q = p.at(r.x + x as f32, r.y + 0.5 * r.h);
+                q[0] > 200 && q[1] > 200 && q[2] < 80
+            })
+        };
+        usize::from(!yellow(&layout.players[0]))
+    };
+    let cue_points = |p: &Picture| {
+        (0..c.w as u32)
+            .flat_map(|x| (0..c.h as u32).map(move |y| (x, y)))
+            .filter(|&(x, y)| close(p.at(c.x + x as f32, c.y + y as f32), CUE_WOOD, 30))
+            .count()
+    };
+    // The player to move aims up the table, then down it; the other's window is grabbed
+    // after each. (Once more if the shot clock gave the turn away meanwhile.)
+    let mut seen = Vec::new();
+    for _ in 0..2 {
+        let mover = to_move(&display.grab(&windows[0], &pictures[0]));
+        let watcher = 1 - mover;
+        aim_at(&windows[mover], 0.15);
+        let before = display.grab(&windows[watcher], &pictures[watcher]);
+        aim_at(&windows[mover], 0.85);
+        let after = display.grab(&windows[watcher], &pictures[watcher]);
+        let still = to_move(&display.grab(&windows[0], &pictures[0])) == mover;
+        let changed = changed_on_cloth(&before, &after, &layout);
+        seen.push((mover, cue_points(&before), cue_points(&after), changed));
+        if still {
+            break;
+        }
+    }
+    eprintln!("(mover, cue points before, after, cloth points changed): {seen:?}");
+    let &(_, before, after, changed) = seen.last().expect("one try");
+    assert!(
+        before > 20 && after > 20,
+        "the opponent's cue is not drawn in the other window: {seen:?}"
+    );
+    assert!(
+        changed > 100,
+        "the cue did not move in the other window: {seen:?}"
+    );
+    drop((join, host));
+}
+
+/// The hint bar's lit columns of `pic`: how far right its text reaches (pixels from its left).
+fn hint_reach(pic: &Picture, layout: &Layout) -> f32 {
+    let f = layout.footer;
+    (0..f.w as u32)
+        .rev()
+        .find(|&x| {
+            (0..f.h as u32).any(|y| {
+                pic.at(f.x + x as f32, f.y + y as f32)
+                    .iter()
+                    .all(|&v| v > 150)
+            })
+        })
+        .map_or(0.0, |x| x as f32)
+}
+
+/// Ann hosts in a window and breaks against Bob; her window's process is stopped and started
+/// again on the same data: it shows the game as it stood, saying "Game resumed" on the hint
+/// bar (a short line where a new game lists the keys).
+#[test]
+fn a_host_restarted_on_its_data_says_game_resumed() {
+    let Some(display) = Display::start() else {
+        return;
+    };
+    let dir = breakshot_testkit::scratch("friends-resumed");
+    let data = dir.path().join("ann");
+    let host = |bind: &str| {
+        let mut host = Spawned::start(
+            display
+                .on(&mut Command::new(BREAKSHOT))
+                .args([
+                    "host", "--bind", bind, "--name", "ann", "--size", "1280x720",
+                ])
+                .arg("--data")
+                .arg(&data)
+                .stdout(Stdio::piped())
+                .stderr(Stdio::null()),
+        );
+        let stdout = host.child().stdout.take().expect("the host's output");
+        let (line, rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
+        let invite: Invite = line.trim().parse().expect("the invite is the first line");
+        // The rest of the output is read, so the host never blocks on a full pipe.
+        std::thread::spawn(move || std::io::copy(&mut { rest }, &mut std::io::sink()));
+        (host, invite)
+    };
+    let (first, invite) = host("127.0.0.1:0");
+    let wid = display.new_window(&[]);
+    let runtime = tokio::runtime::Runtime::new().expect("a runtime");
+    let mut bob = within(&runtime, "Bob's seat", async {
+        let mut bob = Client::connect(invite.clone(), Reconnect::never())
+            .await
+            .expect("connected");
+        bob.send(&ClientMessage::Join {
+            room: invite.room.clone().expect("the invite's room"),
+            name: "bob".into(),
+        })
+        .await
+        .expect("sent");
+        next(&mut bob, |m| matches!(m, ServerMessage::Joined { .. })).await;
+        bob
+    });
+    let rack = eight_ball(Settings::online(), 0);
+    let layout = Layout::new(1280.0, 720.0, Frame::new(rack.table(), rack.balls()));
+    let c = layout.cloth;
+    let out = dir.path().join("ann.png");
+    let new_game = until_shown(
+        &display,
+        &wid,
+        &out,
+        Duration::from_secs(60),
+        "the table",
+        |p| close(p.at(c.x + 0.5 * c.w, c.y + 0.25 * c.h), CLOTH, 8),
+    );
+    // A new game lists the keys across the bar.
+    let keys = hint_reach(&new_game, &layout);
+    assert!(keys > 600.0, "the keys reach {keys} px");
+
+    // Ann, who breaks, aims at the rack and shoots with Space; Bob sees the shot end.
+    let (x, y) = (c.x + 0.75 * c.w, c.y + 0.5 * c.h);
+    display.xdotool(&[
+        "mousemove",
+        "--window",
+        &wid,
+        &x.to_string(),
+        &y.to_string(),
+    ]);
+    std::thread::sleep(Duration::from_secs(1));
+    display.xdotool(&["key", "space"]);
+    within(&runtime, "the break", async {
+        next(&mut bob, |m| {
+            matches!(m, ServerMessage::ShotResolved { .. })
+        })
+        .await;
+    });
+
+    // Her window is closed (SIGTERM, as a Ctrl-C) and opened again on the same data and port.
+    first.terminate();
+    let mut first = first;
+    assert!(
+        first.wait(Duration::from_secs(30)).success(),
+        "the host ended"
+    );
+    drop(bob);
+    let bind = format!("127.0.0.1:{}", invite.first().port);
+    let (_again, _) = host(&bind);
+    let wid = display.new_window(&[]);
+    let out = dir.path().join("again.png");
+    let resumed = until_shown(
+        &display,
+        &wid,
+        &out,
+        Duration::from_secs(60),
+        "the game",
+        |p| {
+            // The table, with balls off the rack's spot: the break was kept.
+            close(p.at(c.x + 0.5 * c.w, c.y + 0.25 * c.h), CLOTH, 8) && {
+                let reach = hint_reach(p, &layout);
+                reach > 20.0 && reach < 300.0
+            }
+        },
+    );
+    let reach = hint_reach(&resumed, &layout);
+    eprintln!("hint bar text reaches {keys} px in a new game, {reach} px after the restart");
+    // "Game resumed": 12 letters of 6 to 10 px at the bar's size (the keys' are about
+    // 8.4 px).
+    assert!(
+        (72.0..120.0).contains(&reach),
+        "{reach} px: not a line of 12 letters"
+    );
+    let ids = ball_ids(&rack);
+    let racked = balls_not_seen(&resumed, &layout, &ids, rack.balls());
+    assert!(racked.len() > 3, "the break was not kept: {racked:?} moved");
+}
