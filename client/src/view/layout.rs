@@ -223,8 +223,9 @@ impl Layout {
         let status_h = (0.04 * h).clamp(18.0, 30.0);
         let panel_w = (0.14 * w).clamp(110.0, 260.0);
         let row_h = (0.035 * h).clamp(18.0, 28.0);
-        // The keys are one long line: a narrow window gives them two rows.
-        let footer_rows = if stacked { 2 } else { 1 };
+        // The keys are one long line: a narrow window gives them two rows, unless it is taller
+        // than wide, where the height goes to the turned table (and a phone has no keys).
+        let footer_rows = if stacked && h <= w { 2 } else { 1 };
         let footer_h = footer_rows as f32 * row_h;
         // The notice line takes its room from the trays and the verdict, which had more than
         // they need, so the table keeps its size.
@@ -259,6 +260,8 @@ impl Layout {
                 players,
                 game_info,
                 footer,
+                footer_rows,
+                row_h,
             };
             return tall::layout(w, h, frame, edges);
         }

@@ -17,6 +17,9 @@ pub(super) struct Edges {
     pub players: [Rect; 2],
     pub game_info: Rect,
     pub footer: Rect,
+    pub footer_rows: usize,
+    /// The height of one line of text (the notice's).
+    pub row_h: f32,
 }
 
 /// Fits the turned table into a `w` × `h` window (`h > w`) between `edges`.
@@ -27,12 +30,18 @@ pub(super) fn layout(w: f32, h: f32, frame: Frame, edges: Edges) -> Layout {
         players,
         game_info,
         footer,
+        footer_rows,
+        row_h,
     } = edges;
     let status_h = (0.04 * h).clamp(18.0, 30.0);
     let title_h = (0.035 * h).clamp(16.0, 26.0);
     // Low boxes under the table: the height goes to the table, whose width the window caps.
-    let panel_h = (0.13 * h).clamp(100.0, 150.0);
-    let verdict_h = (0.05 * h).clamp(40.0, 64.0);
+    // The notice line under the tray takes its room from the verdict, down to two short
+    // lines, and the rest from the panel, so the table keeps its size.
+    let notice_room = row_h + 0.5 * margin;
+    let wide_verdict = (0.05 * h).clamp(40.0, 64.0);
+    let verdict_h = (wide_verdict - notice_room).max(30.0);
+    let panel_h = (0.13 * h).clamp(100.0, 150.0) - (notice_room - (wide_verdict - verdict_h));
     let tray_h = (0.045 * h).clamp(30.0, 50.0);
     let rail = if frame.rails { RAIL_WIDTH } else { 0.0 };
 
@@ -54,7 +63,13 @@ pub(super) fn layout(w: f32, h: f32, frame: Frame, edges: Edges) -> Layout {
         (w - 2.0 * margin).max(10.0),
         verdict_h,
     );
-    let tray_y = verdict.y - 0.5 * margin - tray_h;
+    let notice = Rect::new(
+        margin,
+        verdict.y - 0.5 * margin - row_h,
+        (w - 2.0 * margin).max(10.0),
+        row_h,
+    );
+    let tray_y = notice.y - 0.5 * margin - tray_h;
     let top = status.y + status_h + 0.5 * margin;
     let area = Rect::new(
         margin,
@@ -79,7 +94,18 @@ pub(super) fn layout(w: f32, h: f32, frame: Frame, edges: Edges) -> Layout {
         (frame.size.x * scale) as f32,
         (frame.size.y * scale) as f32,
     );
-    let tray = Rect::new(outer.x, tray_y, outer.w, tray_h);
+    // The tray runs the window's width (the turned table is narrower than the rack).
+    let tray = Rect::new(margin, tray_y, (w - 2.0 * margin).max(10.0), tray_h);
+    let name_w = (0.2 * tray.w).min(180.0);
+    let tray_names = [
+        Rect::new(tray.x + 0.5 * margin, tray.y, name_w, tray_h),
+        Rect::new(
+            tray.x + tray.w - name_w - 0.5 * margin,
+            tray.y,
+            name_w,
+            tray_h,
+        ),
+    ];
 
     // The panel, left to right: the tip face, the side view and the power bar, each under
     // its title.
@@ -131,5 +157,8 @@ pub(super) fn layout(w: f32, h: f32, frame: Frame, edges: Edges) -> Layout {
         power_title,
         verdict,
         footer,
+        footer_rows,
+        tray_names,
+        notice,
     }
 }
