@@ -129,7 +129,12 @@ pub fn join_link() -> Result<Box<dyn GameLink>, String> {
         .clone()
         .ok_or("This page's link names no game: ask the host for the game's link")?;
     let (invite, way) = way_to_server(link, room.clone())?;
-    let core = PlayerCore::new(invite.clone(), Reconnect::default(), clock::now());
+    let core = PlayerCore::new(
+        invite.clone(),
+        Reconnect::default(),
+        breakshot_client::net::for_connection(),
+        clock::now(),
+    );
     let session = PolledSession::new(Polled::new(core, way), clock::now);
     let game: NetLink<_> = if link.watch {
         let mut session = session;
@@ -153,7 +158,12 @@ async fn fetch_replay(link: &WebLink) -> Result<ReplayViewer, String> {
         .ok_or("This replay link names no game: ask for the game's link")?;
     let (invite, way) = way_to_server(link, room.clone())?;
     let mut polled = Polled::new(
-        PlayerCore::new(invite, Reconnect::never(), clock::now()),
+        PlayerCore::new(
+            invite,
+            Reconnect::never(),
+            breakshot_client::net::for_connection(),
+            clock::now(),
+        ),
         way,
     );
     let deadline = clock::now() + FETCH_TIMEOUT;

@@ -11,11 +11,13 @@ use std::collections::{BTreeMap, VecDeque};
 use std::net::IpAddr;
 use std::time::{Duration, Instant};
 
+use breakshot_shared::protocol::identity::NONCE_LEN;
 use breakshot_shared::protocol::limits::{
     CHAT_BURST, CHAT_REFILL, MAX_ROOMS, MAX_SPECTATORS, ROOM_CODE_LEN,
 };
 use breakshot_shared::protocol::{
-    validate, ClientMessage, ErrorCode, Role, RoomCode, SeatToken, ServerMessage, PROTOCOL_VERSION,
+    validate, ClientMessage, ErrorCode, PlayerKey, Role, RoomCode, SeatToken, ServerMessage,
+    PROTOCOL_VERSION,
 };
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Game, Phase, Seat};
@@ -77,9 +79,23 @@ pub struct Restored {
     pub clock: Option<ClockLeft>,
 }
 
+/// Where a connection is in its handshake.
+enum Greeting {
+    /// Nothing yet: the first message must be `Hello`.
+    Unknown,
+    /// `Hello` was accepted and its key challenged; the next message must prove it. The
+    /// challenge is this connection's alone and is dropped once answered, right or wrong.
+    Challenged {
+        key: PlayerKey,
+        nonce: [u8; NONCE_LEN],
+    },
+    /// Welcomed: the connection is this player's.
+    Welcomed(PlayerKey),
+}
+
 struct Conn {
     addr: IpAddr,
-    greeted: bool,
+    greeting: Greeting,
     room: Option<(RoomCode, Role)>,
     /// Its entry into a room is held until the room comes back.
     entering: bool,
@@ -452,7 +468,7 @@ impl Hub {
             conn,
             Conn {
                 addr,
-                greeted: false,
+                greeting: Greeting::Unknown,
                 room: None,
                 entering: false,
                 chat: Bucket::new(CHAT_BURST, CHAT_REFILL, now),
@@ -514,7 +530,7 @@ impl Hub {
                 reason: "too many messages".into(),
             })];
         }
-        if !state.greeted {
+        if !matches!(state.greeting, Greeting::Welcomed(_)) {
             return self.hello(conn, msg);
         }
         if state.entering {
@@ -584,7 +600,7 @@ impl Hub {
             }
         }
         match (msg, in_room) {
-            (ClientMessage::Hello { .. }, _) => {
+            (ClientMessage::Hello { .. } | ClientMessage::Prove { .. }, _) => {
                 error(conn, ErrorCode::Unexpected, "already greeted")
             }
             // Only the store knows every game (a room that ended is no longer here).
@@ -730,26 +746,62 @@ impl Hub {
         });
     }
 
+    /// The handshake: `Hello` (version, physics, key) is answered by a fresh challenge, and
+    /// its `Prove` by `Welcome`; anything else, or a wrong answer, closes the connection.
     fn hello(&mut self, conn: ConnId, msg: ClientMessage) -> Vec<Output> {
-        let reason = match msg {
-            ClientMessage::Hello { protocol, .. } if protocol != PROTOCOL_VERSION => format!(
-                "protocol version {protocol} is not supported; this server speaks version {PROTOCOL_VERSION}"
-            ),
-            ClientMessage::Hello { physics, .. } if physics != self.config.physics => format!(
-                "physics differ: reference shot hash {physics:016x}, the server's is {:016x}; update the game",
-                self.config.physics
-            ),
-            ClientMessage::Hello { .. } => {
-                if let Some(c) = self.conns.get_mut(&conn) {
-                    c.greeted = true;
-                }
-                return vec![send(
-                    conn,
-                    ServerMessage::Welcome {
-                        protocol: PROTOCOL_VERSION,
-                    },
-                )];
+        let Some(state) = self.conns.get_mut(&conn) else {
+            return Vec::new();
+        };
+        let greeting = std::mem::replace(&mut state.greeting, Greeting::Unknown);
+        let physics = self.config.physics;
+        let reason = match (greeting, msg) {
+            (Greeting::Unknown, ClientMessage::Hello { protocol, .. })
+                if protocol != PROTOCOL_VERSION =>
+            {
+                format!(
+                    "protocol version {protocol} is not supported; this server speaks version {PROTOCOL_VERSION}"
+                )
             }
+            (
+                Greeting::Unknown,
+                ClientMessage::Hello {
+                    physics: theirs, ..
+                },
+            ) if theirs != physics => {
+                format!(
+                    "physics differ: reference shot hash {theirs:016x}, the server's is {physics:016x}; update the game"
+                )
+            }
+            (Greeting::Unknown, ClientMessage::Hello { key, .. }) => {
+                match PlayerKey::from_wire(&key) {
+                    Ok(key) => {
+                        let mut nonce = [0u8; NONCE_LEN];
+                        self.rng.fill(&mut nonce);
+                        if let Some(c) = self.conns.get_mut(&conn) {
+                            c.greeting = Greeting::Challenged { key, nonce };
+                        }
+                        return vec![send(conn, ServerMessage::Challenge { nonce })];
+                    }
+                    Err(e) => e.to_string(),
+                }
+            }
+            (Greeting::Challenged { key, nonce }, ClientMessage::Prove { signature }) => {
+                match key.verify(&nonce, PROTOCOL_VERSION, physics, &signature) {
+                    Ok(()) => {
+                        if let Some(c) = self.conns.get_mut(&conn) {
+                            c.greeting = Greeting::Welcomed(key);
+                        }
+                        return vec![send(
+                            conn,
+                            ServerMessage::Welcome {
+                                protocol: PROTOCOL_VERSION,
+                            },
+                        )];
+                    }
+                    Err(e) => e.to_string(),
+                }
+            }
+            (Greeting::Challenged { .. }, _) => "the answer to a challenge must be Prove".into(),
             _ => "the first message must be Hello".into(),
         };
         vec![
@@ -761,6 +813,14 @@ impl Hub {
             ),
             Output::Room(RoomOutput::Close { conn, reason }),
         ]
+    }
+
+    /// The player a welcomed connection is (its key), if it is welcomed.
+    pub fn player_of(&self, conn: ConnId) -> Option<PlayerKey> {
+        match self.conns.get(&conn)?.greeting {
+            Greeting::Welcomed(key) => Some(key),
+            _ => None,
+        }
     }
 
     fn create(

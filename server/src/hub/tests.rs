@@ -5,8 +5,8 @@ use std::time::{Duration, Instant};
 use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::limits::{CHAT_BURST, CHAT_REFILL, MAX_MESSAGES_PER_SECOND};
 use breakshot_shared::protocol::{
-    reference_hash, AimAid, ClientMessage, ErrorCode, Role, RoomCode, SeatToken, ServerMessage,
-    PROTOCOL_VERSION,
+    reference_hash, AimAid, ClientMessage, ErrorCode, Identity, Role, RoomCode, SeatToken,
+    ServerMessage, PROTOCOL_VERSION,
 };
 use breakshot_shared::replay::{GameRecord, RecordEntry};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Seat, Settings, Variant};
@@ -25,6 +25,34 @@ const PEER: std::net::IpAddr = std::net::IpAddr::V4(std::net::Ipv4Addr::LOCALHOS
 struct World {
     hub: Hub,
     now: Instant,
+}
+
+/// The player of connection `conn` in these tests: a key of its own.
+fn identity(conn: ConnId) -> Identity {
+    let mut seed = [0u8; 32];
+    seed[..8].copy_from_slice(&conn.to_le_bytes());
+    Identity::from_seed(&seed)
+}
+
+fn hello_of(id: &Identity) -> ClientMessage {
+    ClientMessage::Hello {
+        protocol: PROTOCOL_VERSION,
+        physics: reference_hash().unwrap(),
+        key: id.public().0.to_vec(),
+    }
+}
+
+fn challenge_in(out: &[Output], conn: ConnId) -> [u8; 32] {
+    match sent_to(out, conn)[..] {
+        [ServerMessage::Challenge { nonce }] => *nonce,
+        ref other => panic!("no challenge: {other:?}"),
+    }
+}
+
+fn prove(id: &Identity, nonce: &[u8; 32]) -> ClientMessage {
+    ClientMessage::Prove {
+        signature: id.sign(nonce, PROTOCOL_VERSION, reference_hash().unwrap()),
+    }
 }
 
 fn sent_to(out: &[Output], conn: ConnId) -> Vec<&ServerMessage> {
@@ -107,13 +135,16 @@ impl World {
 
     fn greet(&mut self, conn: ConnId) {
         self.hub.connected(self.now, conn, PEER);
-        let out = self.send(
-            conn,
-            ClientMessage::Hello {
-                protocol: PROTOCOL_VERSION,
-                physics: reference_hash().unwrap(),
-            },
-        );
+        self.handshake(conn);
+    }
+
+    /// Hello, the challenge, the proof: conn is welcomed as [`identity`]`(conn)`.
+    fn handshake(&mut self, conn: ConnId) {
+        let id = identity(conn);
+        let out = self.send(conn, hello_of(&id));
+        let nonce = challenge_in(&out, conn);
+        let out = self.send(conn, prove(&id, &nonce));
+        assert_eq!(self.hub.player_of(conn), Some(id.public()));
         assert!(matches!(
             sent_to(&out, conn)[..],
             [ServerMessage::Welcome { .. }]
@@ -192,6 +223,7 @@ fn the_handshake_refuses_other_versions_other_physics_and_silence() {
             ClientMessage::Hello {
                 protocol: PROTOCOL_VERSION + 1,
                 physics: reference_hash().unwrap(),
+                key: identity(1).public().0.to_vec(),
             },
             "protocol version",
         ),
@@ -201,6 +233,7 @@ fn the_handshake_refuses_other_versions_other_physics_and_silence() {
             ClientMessage::Hello {
                 protocol: PROTOCOL_VERSION - 1,
                 physics: reference_hash().unwrap(),
+                key: Vec::new(),
             },
             "protocol version",
         ),
@@ -209,6 +242,7 @@ fn the_handshake_refuses_other_versions_other_physics_and_silence() {
             ClientMessage::Hello {
                 protocol: PROTOCOL_VERSION,
                 physics: reference_hash().unwrap() ^ 1,
+                key: identity(2).public().0.to_vec(),
             },
             "physics differ",
         ),
@@ -224,6 +258,75 @@ fn the_handshake_refuses_other_versions_other_physics_and_silence() {
             matches!(out.last(), Some(Output::Room(RoomOutput::Close { conn: c, .. })) if *c == conn)
         );
     }
+}
+
+/// The reject and close a hostile handshake gets, with the reason.
+fn refused(out: &[Output], conn: ConnId) -> String {
+    assert!(
+        matches!(out.last(), Some(Output::Room(RoomOutput::Close { conn: c, .. })) if *c == conn),
+        "{out:?}"
+    );
+    match sent_to(out, conn)[..] {
+        [ServerMessage::Reject { reason }] => reason.clone(),
+        ref other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_key_must_be_proved_over_this_connection_s_own_challenge() {
+    let mut w = World::new();
+    let ann = identity(1);
+    // A forged signature: another key signed the challenge.
+    w.hub.connected(w.now, 1, PEER);
+    let nonce = challenge_in(&w.send(1, hello_of(&ann)), 1);
+    let why = refused(&w.send(1, prove(&identity(66), &nonce)), 1);
+    assert!(why.contains("does not prove the key"), "{why}");
+    assert_eq!(w.hub.player_of(1), None);
+    // A replayed challenge: the proof seen on one connection, sent on another.
+    w.hub.connected(w.now, 2, PEER);
+    let seen = challenge_in(&w.send(2, hello_of(&ann)), 2);
+    let proof = prove(&ann, &seen);
+    assert!(matches!(
+        sent_to(&w.send(2, proof.clone()), 2)[..],
+        [ServerMessage::Welcome { .. }]
+    ));
+    w.hub.connected(w.now, 3, PEER);
+    let fresh = challenge_in(&w.send(3, hello_of(&ann)), 3);
+    assert_ne!(fresh, seen, "each connection has its own challenge");
+    let why = refused(&w.send(3, proof.clone()), 3);
+    assert!(why.contains("does not prove the key"), "{why}");
+    // Nor does the proof count twice on its own connection.
+    assert_eq!(
+        error_code(&w.send(2, proof), 2),
+        Some(ErrorCode::Unexpected)
+    );
+    // Keys and signatures of the wrong length.
+    for (conn, len) in [(4, 0), (5, 31), (6, 33), (7, 1000)] {
+        w.hub.connected(w.now, conn, PEER);
+        let hello = ClientMessage::Hello {
+            protocol: PROTOCOL_VERSION,
+            physics: reference_hash().unwrap(),
+            key: vec![5; len],
+        };
+        let why = refused(&w.send(conn, hello), conn);
+        assert!(why.contains(&format!("not {len}")), "{why}");
+    }
+    w.hub.connected(w.now, 8, PEER);
+    let nonce = challenge_in(&w.send(8, hello_of(&identity(8))), 8);
+    let mut short = prove(&identity(8), &nonce);
+    if let ClientMessage::Prove { signature } = &mut short {
+        signature.pop();
+    }
+    let why = refused(&w.send(8, short), 8);
+    assert!(why.contains("signature is 64 bytes"), "{why}");
+    // A proof before any Hello, and anything but a proof after one.
+    w.hub.connected(w.now, 9, PEER);
+    let why = refused(&w.send(9, prove(&identity(9), &[0; 32])), 9);
+    assert!(why.contains("first message must be Hello"), "{why}");
+    w.hub.connected(w.now, 10, PEER);
+    challenge_in(&w.send(10, hello_of(&identity(10))), 10);
+    let why = refused(&w.send(10, hello_of(&identity(10))), 10);
+    assert!(why.contains("must be Prove"), "{why}");
 }
 
 #[test]
@@ -867,11 +970,7 @@ fn ipv6_addresses_of_one_64_share_one_entry_budget() {
         let conn = 200 + n;
         let addr: std::net::IpAddr = format!("2001:db8:7:8::{:x}", n + 1).parse().unwrap();
         w.hub.connected(w.now, conn, addr);
-        let hello = ClientMessage::Hello {
-            protocol: PROTOCOL_VERSION,
-            physics: reference_hash().unwrap(),
-        };
-        w.send(conn, hello);
+        w.handshake(conn);
         codes.push(error_code(&w.send(conn, guess(n + 1)), conn));
     }
     let guessed = codes
@@ -883,13 +982,7 @@ fn ipv6_addresses_of_one_64_share_one_entry_budget() {
     // Another /64 has its own budget.
     let addr: std::net::IpAddr = "2001:db8:7:9::1".parse().unwrap();
     w.hub.connected(w.now, 999, addr);
-    w.send(
-        999,
-        ClientMessage::Hello {
-            protocol: PROTOCOL_VERSION,
-            physics: reference_hash().unwrap(),
-        },
-    );
+    w.handshake(999);
     assert_eq!(
         error_code(&w.send(999, guess(1)), 999),
         Some(ErrorCode::NoSuchRoom)

@@ -1,6 +1,7 @@
 //! The messages, client to server and server to client. One bidirectional QUIC stream per
 //! client carries them as frames (see [`super::framing`]); the client speaks first with
-//! [`ClientMessage::Hello`].
+//! [`ClientMessage::Hello`], the server answers [`ServerMessage::Challenge`], the client
+//! proves its key with [`ClientMessage::Prove`] and the server says [`ServerMessage::Welcome`].
 
 use serde::{Deserialize, Serialize};
 
@@ -29,6 +30,15 @@ pub enum ClientMessage {
         protocol: u32,
         /// [`super::reference::reference_hash`] as the client computes it.
         physics: u64,
+        /// The player's Ed25519 public key, [`super::identity::PUBLIC_KEY_LEN`] bytes: who
+        /// the player is on this server ([`super::identity`]).
+        key: Vec<u8>,
+    },
+    /// The answer to [`ServerMessage::Challenge`]: the key's signature over
+    /// [`super::identity::signed_message`], [`super::identity::SIGNATURE_LEN`] bytes.
+    Prove {
+        /// The Ed25519 signature.
+        signature: Vec<u8>,
     },
     /// Opens a room and takes seat A in it. `mode` holds the room's settings (calling every
     /// shot, shot clock).
@@ -209,6 +219,11 @@ pub enum ErrorCode {
 /// Server to client.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ServerMessage {
+    /// The answer to a `Hello` the server accepts: sign this, once, to prove the key.
+    Challenge {
+        /// Fresh random bytes, drawn for this connection alone.
+        nonce: [u8; super::identity::NONCE_LEN],
+    },
     /// The handshake succeeded.
     Welcome {
         /// The server's [`super::PROTOCOL_VERSION`], equal to the client's.
