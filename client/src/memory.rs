@@ -8,8 +8,8 @@ use std::path::Path;
 
 #[cfg(not(target_arch = "wasm32"))]
 use breakshot_shared::protocol::identity::SEED_LEN;
-use breakshot_shared::protocol::limits::MAX_NAME_CHARS;
 use breakshot_shared::protocol::is_valid_name;
+use breakshot_shared::protocol::limits::MAX_NAME_CHARS;
 #[cfg(not(target_arch = "wasm32"))]
 use breakshot_shared::protocol::Identity;
 

@@ -13,19 +13,23 @@ use std::time::{Duration, Instant};
 
 use breakshot_shared::protocol::identity::NONCE_LEN;
 use breakshot_shared::protocol::limits::{
-    CHAT_BURST, CHAT_REFILL, MAX_ROOMS, MAX_SPECTATORS, ROOM_CODE_LEN,
+    CHAT_BURST, CHAT_REFILL, LOBBY_BURST, LOBBY_REFILL, MAX_ROOMS, MAX_SPECTATORS, QUEUE_BURST,
+    QUEUE_REFILL, QUEUE_TIMEOUT, ROOM_CODE_LEN,
 };
 use breakshot_shared::protocol::{
-    validate, ClientMessage, ErrorCode, PlayerKey, Role, RoomCode, SeatToken, ServerMessage,
-    PROTOCOL_VERSION,
+    validate, AimAid, ClientMessage, ErrorCode, PlayerKey, Role, RoomCode, SeatToken,
+    ServerMessage, PROTOCOL_VERSION,
 };
 use breakshot_shared::replay::GameRecord;
-use breakshot_shared::rules::{Game, Phase, Seat};
+use breakshot_shared::rules::{Game, Phase, Seat, Settings, Variant};
 
 use crate::endings::{Ending, Endings};
 use crate::limits::Limits;
+use crate::lobby::{Listed, Listing, Lobby};
+use crate::matchmaking::{Match, Queues, Waiting};
 use crate::output::{ConnId, RoomMeta, RoomOutput, StoreOp};
 use crate::ratelimit::Bucket;
+use crate::ratings::{PlayerRating, Ratings};
 use crate::room::{ClockLeft, Entry, Room, RoomRules, Who};
 use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
 use crate::source::source_key;
@@ -101,6 +105,17 @@ struct Conn {
     entering: bool,
     chat: Bucket,
     messages: Bucket,
+    /// Lobby and leaderboard pages.
+    lobby: Bucket,
+    /// Quick-match joins and leaves.
+    queue: Bucket,
+}
+
+/// A quick-match room's first game, rated when it ends.
+struct RatedGame {
+    keys: [PlayerKey; 2],
+    names: [String; 2],
+    settled: bool,
 }
 
 /// What the hub remembers about one source address: its room-entry budget and how many
@@ -139,6 +154,16 @@ pub struct Hub {
     draining: bool,
     /// Rooms refused because of the drain.
     drain_refusals: usize,
+    /// The public rooms listed.
+    lobby: Lobby,
+    /// Players waiting for a quick match.
+    queues: Queues,
+    /// Every player's rating.
+    ratings: Ratings,
+    /// Quick-match rooms whose first game is rated.
+    rated: BTreeMap<RoomCode, RatedGame>,
+    /// Desyncs clients reported (`ReportDesync`).
+    desyncs: usize,
 }
 
 /// How many rooms are in each state, for the operator's metrics.
@@ -224,7 +249,37 @@ impl Hub {
             rng,
             draining: false,
             drain_refusals: 0,
+            lobby: Lobby::default(),
+            queues: Queues::new(QUEUE_TIMEOUT),
+            ratings: Ratings::default(),
+            rated: BTreeMap::new(),
+            desyncs: 0,
         }
+    }
+
+    /// Takes the ratings the store kept (at start).
+    pub fn load_ratings(&mut self, stored: impl IntoIterator<Item = (PlayerKey, PlayerRating)>) {
+        self.ratings = Ratings::from_stored(stored);
+    }
+
+    /// Every rating, for the leaderboard and tests.
+    pub fn ratings(&self) -> &Ratings {
+        &self.ratings
+    }
+
+    /// Players waiting in each quick-match queue, for the metrics.
+    pub fn queue_lengths(&self) -> Vec<(Variant, Settings, usize)> {
+        self.queues.lengths()
+    }
+
+    /// Desyncs clients have reported.
+    pub fn desyncs(&self) -> usize {
+        self.desyncs
+    }
+
+    /// Rooms listed in the lobby.
+    pub fn listed(&self) -> usize {
+        self.lobby.len()
     }
 
     /// How many rooms the drain has refused so far.
@@ -232,9 +287,45 @@ impl Hub {
         self.drain_refusals
     }
 
-    /// Opens no new room from now on (the games in play go on): the server drains.
-    pub fn drain(&mut self) {
+    /// Opens no new room from now on (the games in play go on): the server drains. The first
+    /// call tells every player so and empties the quick-match queues; later calls do nothing.
+    pub fn drain(&mut self) -> Vec<Output> {
+        if self.draining {
+            return Vec::new();
+        }
         self.draining = true;
+        let mut out = Vec::new();
+        let queued: Vec<ConnId> = self
+            .conns
+            .keys()
+            .copied()
+            .filter(|c| self.queues.is_queued(*c))
+            .collect();
+        for conn in queued {
+            self.queues.leave(conn);
+            out.push(send(
+                conn,
+                ServerMessage::Unqueued {
+                    reason: "this server is shutting down; find a game on another".into(),
+                },
+            ));
+        }
+        for (&conn, c) in &self.conns {
+            if matches!(c.greeting, Greeting::Welcomed(_)) {
+                let message = if c.room.is_some() {
+                    "this server is shutting down: your game goes on to its end, but no new game can start here"
+                } else {
+                    "this server is shutting down and starts no new games; find a game on another"
+                };
+                out.push(send(
+                    conn,
+                    ServerMessage::Draining {
+                        message: message.into(),
+                    },
+                ));
+            }
+        }
+        out
     }
 
     /// Rooms by state; linear in the rooms, so the driver takes it now and then, not per event.
@@ -314,6 +405,7 @@ impl Hub {
                 }
             }
         }
+        out.extend(self.settle_rating(&code));
         out
     }
 
@@ -340,6 +432,8 @@ impl Hub {
             }
         }
         self.tokens.retain(|_, (c, _)| c != code);
+        self.lobby.remove(code);
+        self.rated.remove(code);
         if let Some(addr) = self.creators.remove(code) {
             if let Some(source) = self.sources.get_mut(&addr) {
                 source.rooms = source.rooms.saturating_sub(1);
@@ -473,6 +567,8 @@ impl Hub {
                 entering: false,
                 chat: Bucket::new(CHAT_BURST, CHAT_REFILL, now),
                 messages: Bucket::new(per_second, Duration::from_secs(1) / per_second, now),
+                lobby: Bucket::new(LOBBY_BURST, LOBBY_REFILL, now),
+                queue: Bucket::new(QUEUE_BURST, QUEUE_REFILL, now),
             },
         );
         let source = self.sources.entry(addr).or_insert_with(|| Source {
@@ -491,6 +587,8 @@ impl Hub {
         let Some(state) = self.conns.remove(&conn) else {
             return Vec::new();
         };
+        // A player who drops while queued is out of the queue: nobody is matched with them.
+        self.queues.leave(conn);
         if let Some(source) = self.sources.get_mut(&state.addr) {
             source.conns = source.conns.saturating_sub(1);
         }
@@ -552,6 +650,42 @@ impl Hub {
             );
         }
         let in_room = state.room.clone();
+        let paged = matches!(
+            msg,
+            ClientMessage::ListGames { .. } | ClientMessage::Leaderboard { .. }
+        );
+        if paged && !state.lobby.take(now) {
+            return error(
+                conn,
+                ErrorCode::RateLimited,
+                "the lobby is limited to a few pages a second",
+            );
+        }
+        let queueing = matches!(
+            msg,
+            ClientMessage::QuickMatch { .. } | ClientMessage::LeaveQueue
+        );
+        if queueing && !state.queue.take(now) {
+            return error(
+                conn,
+                ErrorCode::RateLimited,
+                "joining and leaving the queue is limited; wait a little",
+            );
+        }
+        let entering = matches!(
+            msg,
+            ClientMessage::CreateRoom { .. }
+                | ClientMessage::Join { .. }
+                | ClientMessage::Rejoin { .. }
+                | ClientMessage::Spectate { .. }
+        );
+        if entering && self.queues.is_queued(conn) {
+            return error(
+                conn,
+                ErrorCode::Unexpected,
+                "waiting for a quick match: leave the queue first",
+            );
+        }
         // Anything that names a room or a seat by a secret the sender may be guessing uses
         // the address's entry budget. A stored record can be fetched from inside a room too.
         let entry = match msg {
@@ -636,6 +770,53 @@ impl Hub {
                 };
                 self.create(now, conn, rules, name)
             }
+            (ClientMessage::ListGames { page }, _) => {
+                let ratings = &self.ratings;
+                vec![send(
+                    conn,
+                    self.lobby
+                        .page(now, page, |k| ratings.get(k).map(PlayerRating::shown)),
+                )]
+            }
+            (ClientMessage::Leaderboard { page }, _) => {
+                let (pages, players) = self.ratings.leaderboard(page);
+                vec![send(
+                    conn,
+                    ServerMessage::Leaders {
+                        page,
+                        pages,
+                        players,
+                    },
+                )]
+            }
+            (ClientMessage::ReportDesync { .. }, _) => {
+                self.desyncs += 1;
+                Vec::new()
+            }
+            (ClientMessage::Publish, in_room) => self.publish(now, conn, in_room),
+            (ClientMessage::QuickMatch { .. } | ClientMessage::LeaveQueue, Some(_)) => {
+                error(conn, ErrorCode::Unexpected, "already in a room")
+            }
+            (
+                ClientMessage::QuickMatch {
+                    variant,
+                    mode,
+                    name,
+                },
+                None,
+            ) => self.queue(now, conn, variant, mode, name),
+            (ClientMessage::LeaveQueue, None) => {
+                if self.queues.leave(conn) {
+                    vec![send(
+                        conn,
+                        ServerMessage::Unqueued {
+                            reason: "you left the queue".into(),
+                        },
+                    )]
+                } else {
+                    error(conn, ErrorCode::Unexpected, "not waiting for a quick match")
+                }
+            }
             (ClientMessage::Join { room, name }, None) => self.join(now, conn, room, name),
             (ClientMessage::Rejoin { token }, None) => self.rejoin(now, conn, token, true),
             (ClientMessage::Spectate { room }, None) => match self.rooms.get_mut(&room) {
@@ -653,18 +834,26 @@ impl Hub {
 
     /// The earliest instant at which [`Hub::tick`] has something to do.
     pub fn next_deadline(&self) -> Option<Instant> {
-        self.rooms.values().filter_map(Room::next_deadline).min()
+        let rooms = self.rooms.values().filter_map(Room::next_deadline).min();
+        rooms.into_iter().chain(self.queues.next_deadline()).min()
     }
 
     /// Runs what is due by `now` (shot clocks, forfeits at the end of a reconnect window) and drops
     /// closed rooms, keeping their seats' results; the driver calls it at [`Hub::next_deadline`].
     pub fn tick(&mut self, now: Instant) -> Vec<Output> {
         let mut out = Vec::new();
+        let mut ticked = Vec::new();
         for room in self.rooms.values_mut() {
             if room.next_deadline().is_some_and(|d| d <= now) || room.is_closed() {
                 out.extend(lift(room.tick(now)));
+                ticked.push(room.code().clone());
             }
         }
+        // A forfeit at the end of a reconnect window ends a rated game too.
+        for code in ticked {
+            out.extend(self.settle_rating(&code));
+        }
+        out.extend(self.match_queued(now));
         let closed: Vec<RoomCode> = self
             .rooms
             .values()
@@ -679,6 +868,8 @@ impl Hub {
                 ))));
             }
             self.tokens.retain(|_, (c, _)| *c != code);
+            self.lobby.remove(&code);
+            self.rated.remove(&code);
             if let Some(room) = self.rooms.remove(&code) {
                 self.keep_ending(now, &room);
             }
@@ -850,14 +1041,7 @@ impl Hub {
                 "too many open rooms from this address; finish one first",
             );
         }
-        let code = loop {
-            let mut bytes = [0u8; ROOM_CODE_LEN];
-            self.rng.fill(&mut bytes);
-            let code = RoomCode::from_random(bytes);
-            if !self.rooms.contains_key(&code) && !self.away.contains_key(&code) {
-                break code;
-            }
-        };
+        let code = self.new_code();
         let token = new_token(self.rng.as_mut());
         let seed = new_seed(self.rng.as_mut());
         let (room, out) = Room::create(now, code.clone(), rules, seed, conn, name, token);
@@ -879,10 +1063,12 @@ impl Hub {
         let Some(room) = self.rooms.get_mut(&code) else {
             return error(conn, ErrorCode::NoSuchRoom, format!("no room {code}"));
         };
-        let entry = room.join(now, conn, name, token);
+        let entry = room.join(now, conn, name.clone(), token);
         if entry.role.is_some() {
             self.tokens
                 .insert(TokenDigest::of(&token), (code.clone(), Seat::B));
+            let key = self.player_of(conn);
+            self.lobby.seated(&code, Listed { name, key });
         }
         self.entered(conn, code, &entry);
         lift(entry.out)
@@ -924,6 +1110,241 @@ impl Hub {
             c.room = None;
         }
         self.set_room(conn, code, role);
+    }
+
+    /// A room code no open room has.
+    fn new_code(&mut self) -> RoomCode {
+        loop {
+            let mut bytes = [0u8; ROOM_CODE_LEN];
+            self.rng.fill(&mut bytes);
+            let code = RoomCode::from_random(bytes);
+            if !self.rooms.contains_key(&code) && !self.away.contains_key(&code) {
+                return code;
+            }
+        }
+    }
+
+    /// Lists the room `conn` created, while it waits for its second player.
+    fn publish(
+        &mut self,
+        now: Instant,
+        conn: ConnId,
+        in_room: Option<(RoomCode, Role)>,
+    ) -> Vec<Output> {
+        let Some((code, Role::Player(Seat::A))) = in_room else {
+            return error(
+                conn,
+                ErrorCode::Unexpected,
+                "only the player who created a room can list it",
+            );
+        };
+        let Some(room) = self.rooms.get(&code) else {
+            return error(conn, ErrorCode::ServerBusy, "the room is busy; try again");
+        };
+        if !room.is_waiting() {
+            return error(
+                conn,
+                ErrorCode::Unexpected,
+                "the room has both its players: nothing to list",
+            );
+        }
+        if !self.lobby.is_listed(&code) {
+            let snapshot = room.snapshot(now);
+            let host = snapshot.seats[0]
+                .as_ref()
+                .map_or_else(String::new, |s| s.name.clone());
+            let listing = Listing {
+                variant: room.game().variant(),
+                mode: room.game().settings(),
+                host: Listed {
+                    name: host,
+                    key: self.player_of(conn),
+                },
+                guest: None,
+                since: now,
+                rated: false,
+            };
+            self.lobby.list(code.clone(), listing);
+        }
+        vec![send(conn, ServerMessage::Published { room: code })]
+    }
+
+    /// Queues `conn` for a quick match, and pairs whoever can be paired now.
+    fn queue(
+        &mut self,
+        now: Instant,
+        conn: ConnId,
+        variant: Variant,
+        mode: Settings,
+        name: String,
+    ) -> Vec<Output> {
+        if self.draining {
+            self.drain_refusals += 1;
+            return error(
+                conn,
+                ErrorCode::ServerBusy,
+                "this server is shutting down and opens no new games; try another",
+            );
+        }
+        let (Some(key), Some(source)) =
+            (self.player_of(conn), self.conns.get(&conn).map(|c| c.addr))
+        else {
+            return Vec::new();
+        };
+        let who = Waiting {
+            conn,
+            key,
+            source,
+            name,
+            rating: self.ratings.or_start(&key),
+            since: now,
+        };
+        let waiting = match self.queues.join(variant, mode, who) {
+            Ok(n) => n,
+            Err(_) => {
+                return error(
+                    conn,
+                    ErrorCode::Unexpected,
+                    "this player already waits for a quick match",
+                )
+            }
+        };
+        let mut out = vec![send(
+            conn,
+            ServerMessage::Queued {
+                waiting: u32::try_from(waiting).unwrap_or(u32::MAX),
+                timeout_s: QUEUE_TIMEOUT.as_secs() as u32,
+            },
+        )];
+        out.extend(self.match_queued(now));
+        out
+    }
+
+    /// Times out players who waited too long and opens a room for every pair found.
+    fn match_queued(&mut self, now: Instant) -> Vec<Output> {
+        let mut out = Vec::new();
+        for gone in self.queues.expire(now) {
+            out.push(send(
+                gone.conn,
+                ServerMessage::Unqueued {
+                    reason: "no opponent was found in time; try again".into(),
+                },
+            ));
+        }
+        for found in self.queues.pairs(now) {
+            out.extend(self.open_match(now, found));
+        }
+        out
+    }
+
+    /// A room for a pair from the queue, both seated, its first game rated.
+    fn open_match(&mut self, now: Instant, found: Match) -> Vec<Output> {
+        let Match {
+            variant,
+            mode,
+            a,
+            b,
+        } = found;
+        let rules = RoomRules {
+            variant,
+            settings: mode,
+            aim_aid: AimAid::FirstContact,
+            reconnect_window: self.config.limits.reconnect_window,
+            max_commands: self.config.limits.max_commands(variant),
+        };
+        let code = self.new_code();
+        let (token_a, token_b) = (new_token(self.rng.as_mut()), new_token(self.rng.as_mut()));
+        let seed = new_seed(self.rng.as_mut());
+        let (mut room, mut out) = Room::create(
+            now,
+            code.clone(),
+            rules,
+            seed,
+            a.conn,
+            a.name.clone(),
+            token_a,
+        );
+        let entry = room.join(now, b.conn, b.name.clone(), token_b);
+        out.extend(entry.out);
+        self.tokens
+            .insert(TokenDigest::of(&token_a), (code.clone(), Seat::A));
+        self.tokens
+            .insert(TokenDigest::of(&token_b), (code.clone(), Seat::B));
+        self.rooms.insert(code.clone(), room);
+        self.set_room(a.conn, code.clone(), Role::Player(Seat::A));
+        self.set_room(b.conn, code.clone(), Role::Player(Seat::B));
+        self.lobby.list(
+            code.clone(),
+            Listing {
+                variant,
+                mode,
+                host: Listed {
+                    name: a.name.clone(),
+                    key: Some(a.key),
+                },
+                guest: Some(Listed {
+                    name: b.name.clone(),
+                    key: Some(b.key),
+                }),
+                since: now,
+                rated: true,
+            },
+        );
+        self.rated.insert(
+            code,
+            RatedGame {
+                keys: [a.key, b.key],
+                names: [a.name, b.name],
+                settled: false,
+            },
+        );
+        lift(out)
+    }
+
+    /// Rates a quick-match room's first game once it is over with a winner: both ratings
+    /// are stored, then both players are told.
+    fn settle_rating(&mut self, code: &RoomCode) -> Vec<Output> {
+        let (Some(game), Some(room)) = (self.rated.get_mut(code), self.rooms.get(code)) else {
+            return Vec::new();
+        };
+        if game.settled || room.game_number() != 1 {
+            return Vec::new();
+        }
+        let Phase::Over { winner, .. } = room.game().phase() else {
+            return Vec::new();
+        };
+        game.settled = true;
+        let Some(winner) = *winner else {
+            return Vec::new();
+        };
+        let (w, l) = (winner.index(), winner.other().index());
+        let changes = self.ratings.rate(
+            (game.keys[w], &game.names[w]),
+            (game.keys[l], &game.names[l]),
+        );
+        let mut out = Vec::new();
+        for (key, _, after) in &changes {
+            out.push(Output::Room(RoomOutput::Store(StoreOp::Rating {
+                key: *key,
+                rating: after.clone(),
+            })));
+        }
+        let seats = [winner, winner.other()];
+        for (&conn, c) in &self.conns {
+            if c.room.as_ref().is_some_and(|(r, _)| r == code) {
+                for (seat, (_, before, after)) in seats.iter().zip(&changes) {
+                    out.push(send(
+                        conn,
+                        ServerMessage::Rated {
+                            seat: *seat,
+                            before: before.shown(),
+                            after: after.shown(),
+                        },
+                    ));
+                }
+            }
+        }
+        out
     }
 
     /// Keeps the seats of a closing room's last game, so its players learn how it ended.

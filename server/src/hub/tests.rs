@@ -3,10 +3,12 @@
 use std::time::{Duration, Instant};
 
 use breakshot_shared::physics::Strike;
-use breakshot_shared::protocol::limits::{CHAT_BURST, CHAT_REFILL, MAX_MESSAGES_PER_SECOND};
+use breakshot_shared::protocol::limits::{
+    CHAT_BURST, CHAT_REFILL, LOBBY_BURST, MAX_MESSAGES_PER_SECOND, QUEUE_TIMEOUT,
+};
 use breakshot_shared::protocol::{
-    reference_hash, AimAid, ClientMessage, ErrorCode, Identity, Role, RoomCode, SeatToken,
-    ServerMessage, PROTOCOL_VERSION,
+    reference_hash, AimAid, ClientMessage, ErrorCode, Identity, PlayerKey, Role, RoomCode,
+    SeatToken, ServerMessage, PROTOCOL_VERSION,
 };
 use breakshot_shared::replay::{GameRecord, RecordEntry};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Seat, Settings, Variant};
@@ -1274,4 +1276,297 @@ fn with_a_shared_store_an_unknown_seat_is_claimed_and_its_room_rebuilt_or_refuse
     alone.greet(1);
     let out = alone.send(1, ClientMessage::Rejoin { token: token_a });
     assert_eq!(error_code(&out, 1), Some(ErrorCode::BadToken));
+}
+
+/// Connection `conn` from its own address (10.0.0.`conn`), welcomed.
+fn greet_from(w: &mut World, conn: ConnId, addr: [u8; 4]) {
+    w.hub.connected(w.now, conn, std::net::IpAddr::from(addr));
+    w.handshake(conn);
+}
+
+fn quick(name: &str) -> ClientMessage {
+    ClientMessage::QuickMatch {
+        variant: Variant::EightBall(EightBallRules::Wpa),
+        mode: Settings::online(),
+        name: name.into(),
+    }
+}
+
+fn lobby_page(w: &mut World, conn: ConnId) -> (usize, usize) {
+    match sent_to(&w.send(conn, ClientMessage::ListGames { page: 0 }), conn)[..] {
+        [ServerMessage::Games {
+            waiting, playing, ..
+        }] => (waiting.len(), playing.len()),
+        ref other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_public_room_is_listed_until_it_closes_and_a_private_one_never() {
+    let mut w = World::new();
+    w.greet(1);
+    w.greet(2);
+    w.greet(3);
+    w.send(1, create_room(Settings::online(), "ann"));
+    assert_eq!(lobby_page(&mut w, 3), (0, 0), "private until published");
+    // Only its creator lists a room, and only from inside it.
+    assert_eq!(
+        error_code(&w.send(3, ClientMessage::Publish), 3),
+        Some(ErrorCode::Unexpected)
+    );
+    let out = w.send(1, ClientMessage::Publish);
+    let Some(ServerMessage::Published { room }) = sent_to(&out, 1).first().cloned().cloned() else {
+        panic!("{out:?}");
+    };
+    w.now += Duration::from_secs(7);
+    match sent_to(&w.send(3, ClientMessage::ListGames { page: 0 }), 3)[..] {
+        [ServerMessage::Games {
+            waiting,
+            playing,
+            pages,
+            ..
+        }] => {
+            assert_eq!(*pages, 1);
+            assert!(playing.is_empty());
+            assert_eq!(waiting[0].room, room);
+            assert_eq!(waiting[0].host, "ann");
+            assert_eq!(waiting[0].waited_s, 7);
+            assert_eq!(waiting[0].rating, None, "no rated game yet");
+        }
+        ref other => panic!("{other:?}"),
+    }
+    // Page 1 is empty; a page past the end is not an error.
+    match sent_to(&w.send(3, ClientMessage::ListGames { page: u32::MAX }), 3)[..] {
+        [ServerMessage::Games { waiting, .. }] => assert!(waiting.is_empty()),
+        ref other => panic!("{other:?}"),
+    }
+    // Once its second player comes, it is a game to watch.
+    w.send(
+        2,
+        ClientMessage::Join {
+            room: room.clone(),
+            name: "bob".into(),
+        },
+    );
+    assert_eq!(lobby_page(&mut w, 3), (0, 1));
+    assert_eq!(
+        error_code(&w.send(1, ClientMessage::Publish), 1),
+        Some(ErrorCode::Unexpected),
+        "nothing to list once full"
+    );
+    // Both leave: the room closes and leaves the lobby.
+    w.hub.disconnected(w.now, w.now, 1);
+    w.hub.disconnected(w.now, w.now, 2);
+    w.now += WINDOW + Duration::from_secs(1);
+    let out = w.hub.tick(w.now);
+    w.settle(out);
+    let out = w.hub.tick(w.now);
+    w.settle(out);
+    assert_eq!(w.hub.listed(), 0);
+}
+
+#[test]
+fn a_lobby_flood_is_rate_limited_and_costs_nothing_else() {
+    let mut w = World::new();
+    w.greet(1);
+    let mut limited = 0;
+    // 40 messages: under the per-connection message limit, which would close it.
+    for _ in 0..20 {
+        let out = w.send(1, ClientMessage::ListGames { page: 0 });
+        if error_code(&out, 1) == Some(ErrorCode::RateLimited) {
+            limited += 1;
+        }
+        let out = w.send(1, ClientMessage::Leaderboard { page: 3 });
+        if error_code(&out, 1) == Some(ErrorCode::RateLimited) {
+            limited += 1;
+        }
+    }
+    assert_eq!(limited, 40 - LOBBY_BURST as usize);
+    // A second later one more page is earned.
+    w.now += Duration::from_secs(1);
+    assert_eq!(lobby_page(&mut w, 1), (0, 0));
+}
+
+#[test]
+fn two_strangers_are_matched_into_one_room_and_a_concession_rates_them() {
+    let mut w = World::new();
+    greet_from(&mut w, 1, [10, 0, 0, 1]);
+    greet_from(&mut w, 2, [10, 0, 0, 2]);
+    let out = w.send(1, quick("ann"));
+    assert!(matches!(
+        sent_to(&out, 1)[..],
+        [ServerMessage::Queued { waiting: 1, .. }]
+    ));
+    let out = w.send(2, quick("bob"));
+    let joined = |conn| {
+        sent_to(&out, conn)
+            .into_iter()
+            .find_map(|m| match m {
+                ServerMessage::Joined { role, .. } => Some(*role),
+                _ => None,
+            })
+            .unwrap_or_else(|| panic!("{conn} not seated: {out:?}"))
+    };
+    assert_eq!(
+        joined(1),
+        Role::Player(Seat::A),
+        "the longer wait takes seat A"
+    );
+    assert_eq!(joined(2), Role::Player(Seat::B));
+    assert_eq!(lobby_page(&mut w, 1), (0, 1), "listed to watch");
+    // Seat B concedes: a loss like any other.
+    let out = w.send(2, ClientMessage::Concede);
+    let ratings: Vec<(PlayerKey, f64)> = out
+        .iter()
+        .filter_map(|o| match o {
+            Output::Room(RoomOutput::Store(StoreOp::Rating { key, rating })) => {
+                Some((*key, rating.rating))
+            }
+            _ => None,
+        })
+        .collect();
+    assert_eq!(ratings.len(), 2, "{out:?}");
+    // skillratings' own numbers for two new players, a win: 1662 and 1338.
+    let (ann, bob) = (identity(1).public(), identity(2).public());
+    assert_eq!(ratings[0].0, ann);
+    assert_eq!(ratings[0].1.round(), 1662.0);
+    assert_eq!(ratings[1].0, bob);
+    assert_eq!(ratings[1].1.round(), 1338.0);
+    for conn in [1, 2] {
+        let told: Vec<_> = sent_to(&out, conn)
+            .into_iter()
+            .filter(|m| matches!(m, ServerMessage::Rated { .. }))
+            .cloned()
+            .collect();
+        assert_eq!(
+            told,
+            vec![
+                ServerMessage::Rated {
+                    seat: Seat::A,
+                    before: 1500,
+                    after: 1662
+                },
+                ServerMessage::Rated {
+                    seat: Seat::B,
+                    before: 1500,
+                    after: 1338
+                }
+            ]
+        );
+    }
+    // Rated once: a rematch is a friendly.
+    w.send(1, ClientMessage::Rematch);
+    w.send(2, ClientMessage::Rematch);
+    let out = w.send(1, ClientMessage::Concede);
+    assert!(!out
+        .iter()
+        .any(|o| matches!(o, Output::Room(RoomOutput::Store(StoreOp::Rating { .. })))));
+    match sent_to(&w.send(1, ClientMessage::Leaderboard { page: 0 }), 1)[..] {
+        [ServerMessage::Leaders { players, .. }] => {
+            assert_eq!(players[0].name, "ann");
+            assert_eq!(players[0].rating, 1662);
+            assert_eq!(players[1].key, bob.short());
+        }
+        ref other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn the_queue_handles_leaving_dropping_waiting_too_long_and_a_second_key_at_one_address() {
+    let mut w = World::new();
+    greet_from(&mut w, 1, [10, 0, 0, 1]);
+    greet_from(&mut w, 2, [10, 0, 0, 1]);
+    greet_from(&mut w, 3, [10, 0, 0, 3]);
+    w.send(1, quick("ann"));
+    // A second key from ann's address: never her opponent, however long they wait.
+    let out = w.send(2, quick("ann2"));
+    assert!(matches!(
+        sent_to(&out, 2)[..],
+        [ServerMessage::Queued { waiting: 2, .. }]
+    ));
+    w.now += Duration::from_secs(60);
+    let out = w.hub.tick(w.now);
+    assert!(sent_to(&out, 1).is_empty() && sent_to(&out, 2).is_empty());
+    // While queued, no other entry; and one queue at a time.
+    assert_eq!(
+        error_code(&w.send(1, create_room(Settings::online(), "ann")), 1),
+        Some(ErrorCode::Unexpected)
+    );
+    assert_eq!(
+        error_code(&w.send(1, quick("ann")), 1),
+        Some(ErrorCode::Unexpected)
+    );
+    // Ann leaves; her second key drops: neither is matched with the newcomer.
+    assert!(matches!(
+        sent_to(&w.send(1, ClientMessage::LeaveQueue), 1)[..],
+        [ServerMessage::Unqueued { .. }]
+    ));
+    w.hub.disconnected(w.now, w.now, 2);
+    let out = w.send(3, quick("cat"));
+    assert!(matches!(
+        sent_to(&out, 3)[..],
+        [ServerMessage::Queued { waiting: 1, .. }]
+    ));
+    assert_eq!(
+        error_code(&w.send(1, ClientMessage::LeaveQueue), 1),
+        Some(ErrorCode::Unexpected),
+        "not queued"
+    );
+    // Cat waits too long.
+    w.now += QUEUE_TIMEOUT;
+    let out = w.hub.tick(w.now);
+    assert!(matches!(
+        sent_to(&out, 3)[..],
+        [ServerMessage::Unqueued { reason }] if reason.contains("in time")
+    ));
+    assert!(w.hub.queue_lengths().is_empty());
+    // Practice has no opponent; a storm of joins and leaves is limited.
+    let practice = ClientMessage::QuickMatch {
+        variant: Variant::Practice,
+        mode: Settings::online(),
+        name: "cat".into(),
+    };
+    assert_eq!(
+        error_code(&w.send(3, practice), 3),
+        Some(ErrorCode::Invalid)
+    );
+    let mut limited = 0;
+    for n in 0..50 {
+        let msg = if n % 2 == 0 {
+            quick("cat")
+        } else {
+            ClientMessage::LeaveQueue
+        };
+        if error_code(&w.send(3, msg), 3) == Some(ErrorCode::RateLimited) {
+            limited += 1;
+        }
+    }
+    assert!(limited >= 40, "{limited}");
+    assert!(w.hub.queue_lengths().iter().all(|(_, _, n)| *n <= 1));
+}
+
+#[test]
+fn a_drain_tells_every_player_and_empties_the_queues() {
+    let mut w = World::new();
+    greet_from(&mut w, 1, [10, 0, 0, 1]);
+    greet_from(&mut w, 2, [10, 0, 0, 2]);
+    w.send(1, quick("ann"));
+    w.send(2, create_room(Settings::online(), "bob"));
+    let out = w.hub.drain();
+    assert!(matches!(
+        sent_to(&out, 1)[..],
+        [
+            ServerMessage::Unqueued { .. },
+            ServerMessage::Draining { .. }
+        ]
+    ));
+    assert!(matches!(
+        sent_to(&out, 2)[..],
+        [ServerMessage::Draining { message }] if message.contains("your game goes on")
+    ));
+    assert!(w.hub.drain().is_empty(), "told once");
+    assert_eq!(
+        error_code(&w.send(1, quick("ann")), 1),
+        Some(ErrorCode::ServerBusy)
+    );
 }

@@ -7,6 +7,7 @@ pub mod identity;
 pub mod ids;
 pub mod invite;
 pub mod limits;
+pub mod lobby;
 pub mod messages;
 pub mod reference;
 pub mod validate;
@@ -17,6 +18,7 @@ pub use framing::{decode_payload, encode_frame, payload_len, split_frame, FrameE
 pub use identity::{Identity, IdentityError, PlayerKey};
 pub use ids::{Fingerprint, RoomCode, SeatToken};
 pub use invite::{Invite, InviteError, ServerAddress};
+pub use lobby::{GameInPlay, RatedPlayer, WaitingRoom};
 pub use messages::{
     command_of, AimAid, ClientMessage, ErrorCode, Role, Ruling, SeatView, ServerMessage, Snapshot,
 };
