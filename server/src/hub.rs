@@ -238,6 +238,7 @@ impl Hub {
     /// A hub with no connections or rooms; `rng` draws room codes, seat tokens and game seeds.
     pub fn new(config: HubConfig, rng: Box<dyn Entropy>) -> Hub {
         Hub {
+            queues: Queues::new(QUEUE_TIMEOUT, config.limits.match_one_address),
             config,
             rooms: BTreeMap::new(),
             away: BTreeMap::new(),
@@ -250,7 +251,6 @@ impl Hub {
             draining: false,
             drain_refusals: 0,
             lobby: Lobby::default(),
-            queues: Queues::new(QUEUE_TIMEOUT),
             ratings: Ratings::default(),
             rated: BTreeMap::new(),
             desyncs: 0,

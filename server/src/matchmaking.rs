@@ -68,6 +68,8 @@ struct Queue {
 pub struct Queues {
     queues: Vec<Queue>,
     timeout: Duration,
+    /// Whether two players of one source address may be paired (load tests only).
+    one_address: bool,
     /// When pairs were last looked for: the bands have widened a second later.
     checked: Option<Instant>,
 }
@@ -78,11 +80,13 @@ pub fn band(waited: Duration) -> f64 {
 }
 
 impl Queues {
-    /// No one waiting; a player waits at most `timeout`.
-    pub fn new(timeout: Duration) -> Queues {
+    /// No one waiting; a player waits at most `timeout`; with `one_address`, players of one
+    /// source address may be paired (for load tests from one machine only).
+    pub fn new(timeout: Duration, one_address: bool) -> Queues {
         Queues {
             queues: Vec::new(),
             timeout,
+            one_address,
             checked: None,
         }
     }
@@ -150,9 +154,10 @@ impl Queues {
             let mut i = 0;
             while i < q.players.len() {
                 let a = &q.players[i];
+                let one_address = self.one_address;
                 let partner = q.players.iter().enumerate().skip(i + 1).find(|(_, b)| {
                     let gap = (a.rating - b.rating).abs();
-                    b.source != a.source
+                    (one_address || b.source != a.source)
                         && gap <= band(now.saturating_duration_since(a.since))
                         && gap <= band(now.saturating_duration_since(b.since))
                 });
@@ -247,7 +252,7 @@ mod tests {
     fn close_ratings_pair_at_once_far_ones_once_the_band_has_widened() {
         let t0 = Instant::now();
         let (v, m) = eight();
-        let mut q = Queues::new(Duration::from_secs(180));
+        let mut q = Queues::new(Duration::from_secs(180), false);
         q.join(v, m, who(1, 1500.0, 1, t0)).unwrap();
         q.join(v, m, who(2, 1900.0, 2, t0)).unwrap();
         assert_eq!(q.join(v, m, who(3, 1550.0, 3, t0)), Ok(3));
@@ -268,7 +273,7 @@ mod tests {
     fn other_settings_one_address_and_a_second_join_never_pair() {
         let t0 = Instant::now();
         let (v, m) = eight();
-        let mut q = Queues::new(Duration::from_secs(180));
+        let mut q = Queues::new(Duration::from_secs(180), false);
         q.join(v, m, who(1, 1500.0, 1, t0)).unwrap();
         q.join(Variant::NineBall, m, who(2, 1500.0, 2, t0)).unwrap();
         // A second key from the first player's address: not their opponent.
@@ -285,7 +290,7 @@ mod tests {
     fn leaving_and_waiting_too_long_take_a_player_out() {
         let t0 = Instant::now();
         let (v, m) = eight();
-        let mut q = Queues::new(Duration::from_secs(10));
+        let mut q = Queues::new(Duration::from_secs(10), false);
         q.join(v, m, who(1, 1500.0, 1, t0)).unwrap();
         q.join(v, m, who(2, 1500.0, 1, t0 + Duration::from_secs(5)))
             .unwrap();
@@ -309,7 +314,7 @@ mod tests {
     fn a_storm_of_joins_and_leaves_leaves_nothing_behind() {
         let t0 = Instant::now();
         let (v, m) = eight();
-        let mut q = Queues::new(Duration::from_secs(180));
+        let mut q = Queues::new(Duration::from_secs(180), false);
         for n in 0..10_000u64 {
             let _ = q.join(v, m, who(n % 50, 1500.0, (n % 7) as u8, t0));
             if n % 3 == 0 {

@@ -565,6 +565,8 @@ impl PlayerCore {
         let code = match msg {
             ServerMessage::Joined { .. } => return false,
             ServerMessage::GameFinished { .. } => return false,
+            // Out of the queue without a match: the entry is over.
+            ServerMessage::Unqueued { .. } => return false,
             ServerMessage::Error { code, .. } => *code,
             _ => {
                 self.entry = Some(entry);
