@@ -19,6 +19,9 @@ use crate::view::ViewKind;
 pub const NAME_FILE: &str = "name";
 /// The file under the data directory that holds the view's name.
 pub const VIEW_FILE: &str = "view";
+/// The file under the data directory that holds the invite of the server whose lobby was
+/// opened last.
+pub const SERVER_FILE: &str = "lobby-server";
 /// The file under the data directory that holds the secret of the player's key pair (32
 /// bytes), readable by the user alone.
 pub const KEY_FILE: &str = "player.key";
@@ -73,6 +76,21 @@ pub fn remembered_view(data: &Path) -> Option<ViewKind> {
 /// Remembers `view` in `data` for next time.
 pub fn remember_view(data: &Path, view: ViewKind) -> std::io::Result<()> {
     keep(data, VIEW_FILE, view.name())
+}
+
+/// The server whose lobby was opened last (its invite without a room), if one was.
+pub fn last_server(data: &Path) -> Option<breakshot_shared::protocol::Invite> {
+    recall(data, SERVER_FILE)?.trim().parse().ok()
+}
+
+/// Remembers `server` as the lobby to open next time.
+pub fn remember_server(
+    data: &Path,
+    server: &breakshot_shared::protocol::Invite,
+) -> std::io::Result<()> {
+    let mut server = server.clone();
+    server.room = None;
+    keep(data, SERVER_FILE, &server.to_string())
 }
 
 /// The player's key pair kept in `data`, made on first run. The file is created readable

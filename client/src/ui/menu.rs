@@ -20,10 +20,12 @@ enum Item {
     Join,
     Replay,
     Quit,
+    Lobby,
 }
 
 #[cfg(not(target_arch = "wasm32"))]
-const ITEMS: [(Item, &str); 8] = [
+const ITEMS: [(Item, &str); 9] = [
+    (Item::Lobby, "Find a game"),
     (Item::Resume, "Resume game"),
     (Item::Practice, "Practice"),
     (Item::Computer, "Play the computer"),
@@ -204,6 +206,10 @@ impl MenuScreen {
                         .into();
             }
             Item::Quit => return Step::Quit,
+            #[cfg(not(target_arch = "wasm32"))]
+            Item::Lobby => return Step::Open(Start::Lobby),
+            #[cfg(target_arch = "wasm32")]
+            Item::Lobby => {}
         }
         Step::Stay
     }
