@@ -208,7 +208,18 @@ impl SeatPlayer {
                 }
             };
             let me = client.seating().seat();
+            let desyncs = self.replica.desyncs();
             self.replica.observe(&msg, me);
+            if self.replica.desyncs() > desyncs {
+                // The operator counts these (`breakshot_desyncs_reported_total`).
+                if let ServerMessage::ShotResolved { turn, hash, .. } = &msg {
+                    let report = ClientMessage::ReportDesync {
+                        turn: *turn,
+                        hash: *hash,
+                    };
+                    client.send(&report).await?;
+                }
+            }
             match &msg {
                 ServerMessage::Joined { snapshot, .. } => {
                     self.full = snapshot.seats.iter().all(Option::is_some);

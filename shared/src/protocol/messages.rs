@@ -160,7 +160,7 @@ pub enum ClientMessage {
     ReportDesync {
         /// The turn of the shot.
         turn: TurnId,
-        /// The client's hash.
+        /// The server's hash for it, which the client's own simulation did not reach.
         hash: u64,
     },
 }
