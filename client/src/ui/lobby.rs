@@ -4,7 +4,9 @@
 //! was opened last (remembered in the data directory).
 
 use breakshot_client::memory;
-use breakshot_client::net::{Entry, NetLink, SeatStore, Session, SessionEvent};
+use std::collections::VecDeque;
+
+use breakshot_client::net::{Entry, NetLink, Port, SeatStore, Seating, Session, SessionEvent};
 use breakshot_client::play::{InputFrame, Key};
 use breakshot_client::view::{hud::variant_name, Rect};
 use breakshot_shared::protocol::{ClientMessage, GameInPlay, Invite, ServerMessage, WaitingRoom};
@@ -29,9 +31,44 @@ enum Click {
     Back,
 }
 
+/// A session that found its match while this screen watched it: the events it read (the
+/// connection and the room joined) are handed to the game screen first, as if unread.
+struct Matched {
+    session: Session,
+    unread: VecDeque<SessionEvent>,
+}
+
+impl Port for Matched {
+    fn send(&mut self, msg: ClientMessage) -> bool {
+        self.session.send(msg)
+    }
+
+    fn enter(&mut self, entry: Entry) -> bool {
+        self.session.enter(entry)
+    }
+
+    fn try_recv(&mut self) -> Option<SessionEvent> {
+        self.unread.pop_front().or_else(|| self.session.try_recv())
+    }
+
+    fn seating(&self) -> &Seating {
+        self.session.seating()
+    }
+}
+
+/// Waiting in the quick-match queue, on a connection of its own.
+struct Queue {
+    session: Session,
+    /// Players waiting in the queue, as the server last said.
+    waiting: u32,
+    /// When the wait began (seconds, the window's clock).
+    since: f64,
+}
+
 pub struct LobbyScreen {
     server: Option<Invite>,
     session: Option<Session>,
+    queue: Option<Queue>,
     page: u32,
     pages: u32,
     waiting: Vec<WaitingRoom>,
@@ -109,6 +146,7 @@ impl LobbyScreen {
         let mut screen = LobbyScreen {
             server: None,
             session: None,
+            queue: None,
             page: 0,
             pages: 1,
             waiting: Vec::new(),
@@ -167,8 +205,13 @@ impl LobbyScreen {
             ));
             y += row_h;
         }
+        let quick = if self.queue.is_some() {
+            "Cancel"
+        } else {
+            "Quick match"
+        };
         let bar = [
-            (Click::QuickMatch, "Quick match"),
+            (Click::QuickMatch, quick),
             (Click::Refresh, "Refresh"),
             (Click::Previous, "< Page"),
             (Click::Next, "Page >"),
@@ -227,6 +270,9 @@ impl LobbyScreen {
             self.asked = f64::NEG_INFINITY;
             self.ask();
         }
+        if let Some(link) = self.poll_queue() {
+            return Step::Open(Start::Network(link));
+        }
         if input.pressed.contains(&Key::Back) {
             return Step::Open(Start::Menu);
         }
@@ -241,6 +287,40 @@ impl LobbyScreen {
             return Step::Stay;
         };
         self.clicked(click)
+    }
+
+    /// Follows the wait for a quick match; once a room is joined, the game's link.
+    fn poll_queue(&mut self) -> Option<Box<dyn breakshot_client::play::GameLink>> {
+        let queue = self.queue.as_mut()?;
+        let mut unread = VecDeque::new();
+        while let Some(event) = queue.session.try_recv() {
+            match event {
+                SessionEvent::Message(ServerMessage::Queued { waiting, .. }) => {
+                    queue.waiting = waiting;
+                }
+                SessionEvent::Message(ServerMessage::Joined { .. }) => {
+                    unread.push_back(event);
+                    let queue = self.queue.take()?;
+                    let matched = Matched {
+                        session: queue.session,
+                        unread,
+                    };
+                    return Some(Box::new(NetLink::new(matched)));
+                }
+                SessionEvent::Message(ServerMessage::Unqueued { reason })
+                | SessionEvent::Message(ServerMessage::Error {
+                    message: reason, ..
+                })
+                | SessionEvent::Closed(reason) => {
+                    self.message = reason;
+                    self.queue = None;
+                    return None;
+                }
+                SessionEvent::Connected => unread.push_back(event),
+                _ => {}
+            }
+        }
+        None
     }
 
     fn clicked(&mut self, click: Click) -> Step {
@@ -276,15 +356,26 @@ impl LobbyScreen {
                 });
                 return Step::Open(Start::Network(Box::new(NetLink::new(session))));
             }
-            Click::QuickMatch => {
-                let session = Session::connect(server);
-                session.enter(Entry::QuickMatch(ClientMessage::QuickMatch {
-                    variant: Variant::EightBall(EightBallRules::Wpa),
-                    mode: Settings::online(),
-                    name: name(),
-                }));
-                return Step::Open(Start::Network(Box::new(NetLink::new(session))));
-            }
+            Click::QuickMatch => match self.queue.take() {
+                // Leaving the queue; closing the connection would take the player out too.
+                Some(queue) => {
+                    queue.session.send(ClientMessage::LeaveQueue);
+                    self.message = "You left the queue".into();
+                }
+                None => {
+                    let session = Session::connect(server);
+                    session.enter(Entry::QuickMatch(ClientMessage::QuickMatch {
+                        variant: Variant::EightBall(EightBallRules::Wpa),
+                        mode: Settings::online(),
+                        name: name(),
+                    }));
+                    self.queue = Some(Queue {
+                        session,
+                        waiting: 0,
+                        since: get_time(),
+                    });
+                }
+            },
             Click::Refresh => {
                 if self.session.is_none() {
                     self.connect(Some(server));
@@ -350,7 +441,15 @@ impl LobbyScreen {
             draw_rectangle(r.x, r.y, r.w, r.h, fill);
             draw::label_in(name, r, 24.0, Align::Centre, WHITE);
         }
-        let status = if self.message.is_empty() {
+        let status = if let Some(q) = &self.queue {
+            let waited = (get_time() - q.since).max(0.0) as u32;
+            format!(
+                "Looking for an 8-ball opponent of your level: {} waiting, {}:{:02}",
+                q.waiting,
+                waited / 60,
+                waited % 60
+            )
+        } else if self.message.is_empty() {
             format!("Page {} of {}", self.page + 1, self.pages)
         } else {
             self.message.clone()
