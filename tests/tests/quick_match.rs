@@ -162,6 +162,50 @@ async fn a_published_room_is_in_the_lobby_and_a_queued_player_can_leave() -> Res
             matches!(m, ServerMessage::Unqueued { .. })
         })
         .await?;
-    tokio::time::sleep(Duration::from_millis(10)).await;
+
+    // A storm of lobby pages and queue joins and leaves: refused beyond their budgets, with
+    // nothing left queued and the connection still served.
+    let storm = |n: usize| match n % 3 {
+        0 => ClientMessage::ListGames { page: 0 },
+        1 => ClientMessage::QuickMatch {
+            variant: breakshot_tests::eight_ball(),
+            mode: breakshot_shared::rules::Settings::online(),
+            name: "eve".into(),
+        },
+        _ => ClientMessage::LeaveQueue,
+    };
+    for n in 0..30 {
+        finder.send(storm(n)).await?;
+    }
+    let mut limited = 0;
+    for _ in 0..30 {
+        if let ServerMessage::Error {
+            code: breakshot_shared::protocol::ErrorCode::RateLimited,
+            ..
+        } = finder.recv().await?
+        {
+            limited += 1;
+        }
+    }
+    assert!(limited >= 10, "only {limited} of 30 refused");
+    finder.send(ClientMessage::LeaveQueue).await?;
+    let deadline = tokio::time::Instant::now() + PATIENCE;
+    loop {
+        let queued: usize = server
+            .stats
+            .queued
+            .lock()
+            .unwrap()
+            .iter()
+            .map(|q| q.1)
+            .sum();
+        if queued == 0 {
+            break;
+        }
+        if tokio::time::Instant::now() > deadline {
+            bail!("{queued} still queued after the storm");
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
     server.stop().await
 }
