@@ -39,6 +39,9 @@ pub struct BotConfig {
     /// at a server over time (thousands of handshakes in the same second are a load of
     /// their own).
     pub ramp: Duration,
+    /// Each pair meets through quick match instead of a room's code (the server must allow
+    /// pairs from one address: `Limits::match_one_address`).
+    pub quick_match: bool,
 }
 
 impl BotConfig {
@@ -54,6 +57,7 @@ impl BotConfig {
             think: Duration::ZERO,
             levels: [None, None],
             ramp: Duration::ZERO,
+            quick_match: false,
         }
     }
 }
@@ -227,8 +231,24 @@ async fn play_game(config: &BotConfig, g: u64) -> (GameSummary, PlayerResult, Pl
         aim_aid: AimAid::Full,
         name: host.name().to_owned(),
     };
-    let host_task = tokio::spawn(host.play(Entrance::Create(create, room_tx)));
-    let guest_task = tokio::spawn(guest.play(Entrance::Join(room_rx)));
+    let (host_task, guest_task) = if config.quick_match {
+        // No invite to a room: both wait in the queue and are paired by the server.
+        let queue = |name: &str| {
+            Entrance::QuickMatch(ClientMessage::QuickMatch {
+                variant: config.variant,
+                mode: config.settings,
+                name: name.to_owned(),
+            })
+        };
+        let (h, g) = (queue(host.name()), queue(guest.name()));
+        drop((room_tx, room_rx));
+        (tokio::spawn(host.play(h)), tokio::spawn(guest.play(g)))
+    } else {
+        (
+            tokio::spawn(host.play(Entrance::Create(create, room_tx))),
+            tokio::spawn(guest.play(Entrance::Join(room_rx))),
+        )
+    };
     let host = host_task
         .await
         .unwrap_or_else(|e| PlayerResult::failed(e.to_string()));

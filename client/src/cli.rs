@@ -224,6 +224,12 @@ pub fn main() -> ExitCode {
     if let Some(dir) = &cli.data {
         ui::use_data_dir(dir.clone());
     }
+    // Who the player is on every server: the key pair kept in the data directory.
+    match ui::data_dir().map(|d| breakshot_client::memory::identity(&d)) {
+        Some(Ok(identity)) => breakshot_client::net::use_identity(identity),
+        Some(Err(e)) => eprintln!("breakshot: {e}; playing under a key for this run only"),
+        None => {}
+    }
     if let Some(Command::Replay {
         server: Some(server),
         game: Some(game),

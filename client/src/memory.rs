@@ -1,12 +1,17 @@
 //! What the client remembers between runs, each in a small file of the data directory
 //! (beside the seats): the player's name, given once with `--name`, and the view of the
-//! table chosen last (top-down or 3-D), so the window opens on it next time.
+//! table chosen last (top-down or 3-D), so the window opens on it next time; and the
+//! player's key pair, made on first run, which is who the player is on every server.
 
 use std::fs;
 use std::path::Path;
 
+#[cfg(not(target_arch = "wasm32"))]
+use breakshot_shared::protocol::identity::SEED_LEN;
 use breakshot_shared::protocol::is_valid_name;
 use breakshot_shared::protocol::limits::MAX_NAME_CHARS;
+#[cfg(not(target_arch = "wasm32"))]
+use breakshot_shared::protocol::Identity;
 
 use crate::view::ViewKind;
 
@@ -14,6 +19,12 @@ use crate::view::ViewKind;
 pub const NAME_FILE: &str = "name";
 /// The file under the data directory that holds the view's name.
 pub const VIEW_FILE: &str = "view";
+/// The file under the data directory that holds the invite of the server whose lobby was
+/// opened last.
+pub const SERVER_FILE: &str = "lobby-server";
+/// The file under the data directory that holds the secret of the player's key pair (32
+/// bytes), readable by the user alone.
+pub const KEY_FILE: &str = "player.key";
 
 /// The text remembered in `data`'s `file`, if there is one.
 fn recall(data: &Path, file: &str) -> Option<String> {
@@ -67,6 +78,84 @@ pub fn remember_view(data: &Path, view: ViewKind) -> std::io::Result<()> {
     keep(data, VIEW_FILE, view.name())
 }
 
+/// The server whose lobby was opened last (its invite without a room), if one was.
+pub fn last_server(data: &Path) -> Option<breakshot_shared::protocol::Invite> {
+    recall(data, SERVER_FILE)?.trim().parse().ok()
+}
+
+/// Remembers `server` as the lobby to open next time.
+pub fn remember_server(
+    data: &Path,
+    server: &breakshot_shared::protocol::Invite,
+) -> std::io::Result<()> {
+    let mut server = server.clone();
+    server.room = None;
+    keep(data, SERVER_FILE, &server.to_string())
+}
+
+/// The player's key pair kept in `data`, made on first run. The file is created readable
+/// and writable by the user alone, and made so again if it was opened up; a file that does
+/// not hold a key is an error (a new key would be a new player, so it is not replaced).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn identity(data: &Path) -> Result<Identity, String> {
+    let path = data.join(KEY_FILE);
+    match fs::read(&path) {
+        Ok(bytes) => {
+            let seed: [u8; SEED_LEN] = bytes.as_slice().try_into().map_err(|_| {
+                format!(
+                    "{} holds {} bytes, not a {SEED_LEN}-byte key; move it away to start as a new player",
+                    path.display(),
+                    bytes.len()
+                )
+            })?;
+            private(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+            Ok(Identity::from_seed(&seed))
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            let identity = crate::net::fresh_identity();
+            fs::create_dir_all(data).map_err(|e| format!("{}: {e}", data.display()))?;
+            write_private(&path, &identity.seed())
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            Ok(identity)
+        }
+        Err(e) => Err(format!("{}: {e}", path.display())),
+    }
+}
+
+/// Writes a new file that only the user may read (`create_new`: an existing key is never
+/// overwritten).
+#[cfg(not(target_arch = "wasm32"))]
+fn write_private(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write;
+    let mut options = fs::OpenOptions::new();
+    options.write(true).create_new(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        options.mode(0o600);
+    }
+    let mut file = options.open(path)?;
+    file.write_all(bytes)?;
+    file.sync_all()
+}
+
+/// Takes away any permission on the key file beyond the user's own.
+#[cfg(not(target_arch = "wasm32"))]
+fn private(path: &Path) -> std::io::Result<()> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = fs::metadata(path)?.permissions().mode();
+        if mode & 0o077 != 0 {
+            tracing::warn!(path = %path.display(), "the key file was readable by others; it is made private");
+            fs::set_permissions(path, fs::Permissions::from_mode(0o600))?;
+        }
+    }
+    #[cfg(not(unix))]
+    let _ = path;
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -92,6 +181,26 @@ mod tests {
         let dir = breakshot_testkit::scratch("name-none");
         let name = player_name(dir.path(), None).expect("a name");
         assert!(is_valid_name(&name), "{name:?}");
+    }
+
+    #[test]
+    fn the_key_is_made_once_kept_private_and_never_replaced() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = breakshot_testkit::scratch("key");
+        let data = dir.path().join("data");
+        let first = identity(&data).expect("made");
+        let path = data.join(KEY_FILE);
+        let mode = fs::metadata(&path).unwrap().permissions().mode();
+        assert_eq!(mode & 0o777, 0o600, "readable by the user alone");
+        assert_eq!(identity(&data).expect("read").public(), first.public());
+        fs::set_permissions(&path, fs::Permissions::from_mode(0o644)).unwrap();
+        assert_eq!(identity(&data).expect("read").public(), first.public());
+        let mode = fs::metadata(&path).unwrap().permissions().mode();
+        assert_eq!(mode & 0o777, 0o600, "made private again");
+        fs::write(&path, b"short").unwrap();
+        let refused = identity(&data).expect_err("a spoilt key");
+        assert!(refused.contains("not a 32-byte key"), "{refused}");
+        assert_eq!(fs::read(&path).unwrap(), b"short", "not replaced");
     }
 
     #[test]

@@ -68,7 +68,12 @@ async fn fetch_replay(link: &WebLink) -> Result<ReplayViewer, String> {
         .ok_or("This replay link names no game: ask for the game's link")?;
     let (invite, way) = way_to_server(link, room.clone())?;
     let mut polled = Polled::new(
-        PlayerCore::new(invite, Reconnect::never(), clock::now()),
+        PlayerCore::new(
+            invite,
+            Reconnect::never(),
+            breakshot_client::net::for_connection(),
+            clock::now(),
+        ),
         way,
     );
     let deadline = clock::now() + FETCH_TIMEOUT;

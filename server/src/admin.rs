@@ -183,6 +183,28 @@ pub fn metrics(stats: &Stats) -> String {
         "Time per durable store write (one group commit).",
         &stats.store_write_time,
     );
+    header(
+        &mut out,
+        "breakshot_queue_players",
+        "gauge",
+        "Players waiting for a quick match, by game.",
+    );
+    let queued = stats.queued.lock().map(|q| q.clone()).unwrap_or_default();
+    for (game, n) in queued {
+        let _ = writeln!(out, "breakshot_queue_players{{game=\"{game}\"}} {n}");
+    }
+    gauge(
+        &mut out,
+        "breakshot_rooms_listed",
+        "Rooms listed in the lobby (public rooms waiting, and quick-match games).",
+        get(&stats.rooms_listed),
+    );
+    counter(
+        &mut out,
+        "breakshot_desyncs_reported_total",
+        "Shots whose result a client computed differently from the server (ReportDesync).",
+        get(&stats.desyncs_reported),
+    );
     gauge(
         &mut out,
         "breakshot_draining",

@@ -11,8 +11,8 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use breakshot_shared::protocol::{
-    decode_payload, encode_frame, payload_len, ClientMessage, RoomCode, SeatToken, ServerMessage,
-    HEADER_LEN,
+    claimed_version, decode_payload, encode_frame, payload_len, ClientMessage, RoomCode, SeatToken,
+    ServerMessage, HEADER_LEN, PROTOCOL_VERSION,
 };
 use tokio::io::{AsyncRead, AsyncReadExt, AsyncWrite, AsyncWriteExt};
 use tokio::sync::mpsc::{channel, Receiver};
@@ -258,5 +258,14 @@ async fn read_message(
     let payload = tokio::time::timeout(frame_timeout, rest)
         .await
         .map_err(|_| ReadEnd::Malformed("a frame took too long to arrive".into()))??;
-    decode_payload(&payload).map_err(|e| ReadEnd::Malformed(e.to_string()))
+    decode_payload(&payload).or_else(|e| match claimed_version(&payload) {
+        // A `Hello` of another version, whose shape may differ: the hub refuses it by its
+        // version, with a reason the player can read.
+        Some(protocol) if protocol != PROTOCOL_VERSION => Ok(ClientMessage::Hello {
+            protocol,
+            physics: 0,
+            key: Vec::new(),
+        }),
+        _ => Err(ReadEnd::Malformed(e.to_string())),
+    })
 }

@@ -11,19 +11,25 @@ use std::collections::{BTreeMap, VecDeque};
 use std::net::IpAddr;
 use std::time::{Duration, Instant};
 
+use breakshot_shared::protocol::identity::NONCE_LEN;
 use breakshot_shared::protocol::limits::{
-    CHAT_BURST, CHAT_REFILL, MAX_ROOMS, MAX_SPECTATORS, ROOM_CODE_LEN,
+    CHAT_BURST, CHAT_REFILL, LOBBY_BURST, LOBBY_REFILL, MAX_ROOMS, MAX_SPECTATORS, QUEUE_BURST,
+    QUEUE_REFILL, QUEUE_TIMEOUT, ROOM_CODE_LEN,
 };
 use breakshot_shared::protocol::{
-    validate, ClientMessage, ErrorCode, Role, RoomCode, SeatToken, ServerMessage, PROTOCOL_VERSION,
+    validate, ClientMessage, ErrorCode, PlayerKey, Role, RoomCode, SeatToken, ServerMessage,
+    PROTOCOL_VERSION,
 };
 use breakshot_shared::replay::GameRecord;
-use breakshot_shared::rules::{Game, Phase, Seat};
+use breakshot_shared::rules::{Game, Phase, Seat, Settings, Variant};
 
 use crate::endings::{Ending, Endings};
 use crate::limits::Limits;
+use crate::lobby::{Listed, Lobby};
+use crate::matchmaking::Queues;
 use crate::output::{ConnId, RoomMeta, RoomOutput, StoreOp};
 use crate::ratelimit::Bucket;
+use crate::ratings::{PlayerRating, Ratings};
 use crate::room::{ClockLeft, Entry, Room, RoomRules, Who};
 use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
 use crate::source::source_key;
@@ -77,14 +83,39 @@ pub struct Restored {
     pub clock: Option<ClockLeft>,
 }
 
+/// Where a connection is in its handshake.
+enum Greeting {
+    /// Nothing yet: the first message must be `Hello`.
+    Unknown,
+    /// `Hello` was accepted and its key challenged; the next message must prove it. The
+    /// challenge is this connection's alone and is dropped once answered, right or wrong.
+    Challenged {
+        key: PlayerKey,
+        nonce: [u8; NONCE_LEN],
+    },
+    /// Welcomed: the connection is this player's.
+    Welcomed(PlayerKey),
+}
+
 struct Conn {
     addr: IpAddr,
-    greeted: bool,
+    greeting: Greeting,
     room: Option<(RoomCode, Role)>,
     /// Its entry into a room is held until the room comes back.
     entering: bool,
     chat: Bucket,
     messages: Bucket,
+    /// Lobby and leaderboard pages.
+    lobby: Bucket,
+    /// Quick-match joins and leaves.
+    queue: Bucket,
+}
+
+/// A quick-match room's first game, rated when it ends.
+struct RatedGame {
+    keys: [PlayerKey; 2],
+    names: [String; 2],
+    settled: bool,
 }
 
 /// What the hub remembers about one source address: its room-entry budget and how many
@@ -123,6 +154,16 @@ pub struct Hub {
     draining: bool,
     /// Rooms refused because of the drain.
     drain_refusals: usize,
+    /// The public rooms listed.
+    lobby: Lobby,
+    /// Players waiting for a quick match.
+    queues: Queues,
+    /// Every player's rating.
+    ratings: Ratings,
+    /// Quick-match rooms whose first game is rated.
+    rated: BTreeMap<RoomCode, RatedGame>,
+    /// Desyncs clients reported (`ReportDesync`).
+    desyncs: usize,
 }
 
 /// How many rooms are in each state, for the operator's metrics.
@@ -197,6 +238,7 @@ impl Hub {
     /// A hub with no connections or rooms; `rng` draws room codes, seat tokens and game seeds.
     pub fn new(config: HubConfig, rng: Box<dyn Entropy>) -> Hub {
         Hub {
+            queues: Queues::new(QUEUE_TIMEOUT, config.limits.match_one_address),
             config,
             rooms: BTreeMap::new(),
             away: BTreeMap::new(),
@@ -208,17 +250,41 @@ impl Hub {
             rng,
             draining: false,
             drain_refusals: 0,
+            lobby: Lobby::default(),
+            ratings: Ratings::default(),
+            rated: BTreeMap::new(),
+            desyncs: 0,
         }
+    }
+
+    /// Takes the ratings the store kept (at start).
+    pub fn load_ratings(&mut self, stored: impl IntoIterator<Item = (PlayerKey, PlayerRating)>) {
+        self.ratings = Ratings::from_stored(stored);
+    }
+
+    /// Every rating, for the leaderboard and tests.
+    pub fn ratings(&self) -> &Ratings {
+        &self.ratings
+    }
+
+    /// Players waiting in each quick-match queue, for the metrics.
+    pub fn queue_lengths(&self) -> Vec<(Variant, Settings, usize)> {
+        self.queues.lengths()
+    }
+
+    /// Desyncs clients have reported.
+    pub fn desyncs(&self) -> usize {
+        self.desyncs
+    }
+
+    /// Rooms listed in the lobby.
+    pub fn listed(&self) -> usize {
+        self.lobby.len()
     }
 
     /// How many rooms the drain has refused so far.
     pub fn drain_refusals(&self) -> usize {
         self.drain_refusals
-    }
-
-    /// Opens no new room from now on (the games in play go on): the server drains.
-    pub fn drain(&mut self) {
-        self.draining = true;
     }
 
     /// Rooms by state; linear in the rooms, so the driver takes it now and then, not per event.
@@ -298,6 +364,7 @@ impl Hub {
                 }
             }
         }
+        out.extend(self.settle_rating(&code));
         out
     }
 
@@ -324,6 +391,8 @@ impl Hub {
             }
         }
         self.tokens.retain(|_, (c, _)| c != code);
+        self.lobby.remove(code);
+        self.rated.remove(code);
         if let Some(addr) = self.creators.remove(code) {
             if let Some(source) = self.sources.get_mut(&addr) {
                 source.rooms = source.rooms.saturating_sub(1);
@@ -452,11 +521,13 @@ impl Hub {
             conn,
             Conn {
                 addr,
-                greeted: false,
+                greeting: Greeting::Unknown,
                 room: None,
                 entering: false,
                 chat: Bucket::new(CHAT_BURST, CHAT_REFILL, now),
                 messages: Bucket::new(per_second, Duration::from_secs(1) / per_second, now),
+                lobby: Bucket::new(LOBBY_BURST, LOBBY_REFILL, now),
+                queue: Bucket::new(QUEUE_BURST, QUEUE_REFILL, now),
             },
         );
         let source = self.sources.entry(addr).or_insert_with(|| Source {
@@ -475,6 +546,8 @@ impl Hub {
         let Some(state) = self.conns.remove(&conn) else {
             return Vec::new();
         };
+        // A player who drops while queued is out of the queue: nobody is matched with them.
+        self.queues.leave(conn);
         if let Some(source) = self.sources.get_mut(&state.addr) {
             source.conns = source.conns.saturating_sub(1);
         }
@@ -514,7 +587,7 @@ impl Hub {
                 reason: "too many messages".into(),
             })];
         }
-        if !state.greeted {
+        if !matches!(state.greeting, Greeting::Welcomed(_)) {
             return self.hello(conn, msg);
         }
         if state.entering {
@@ -536,6 +609,42 @@ impl Hub {
             );
         }
         let in_room = state.room.clone();
+        let paged = matches!(
+            msg,
+            ClientMessage::ListGames { .. } | ClientMessage::Leaderboard { .. }
+        );
+        if paged && !state.lobby.take(now) {
+            return error(
+                conn,
+                ErrorCode::RateLimited,
+                "the lobby is limited to a few pages a second",
+            );
+        }
+        let queueing = matches!(
+            msg,
+            ClientMessage::QuickMatch { .. } | ClientMessage::LeaveQueue
+        );
+        if queueing && !state.queue.take(now) {
+            return error(
+                conn,
+                ErrorCode::RateLimited,
+                "joining and leaving the queue is limited; wait a little",
+            );
+        }
+        let entering = matches!(
+            msg,
+            ClientMessage::CreateRoom { .. }
+                | ClientMessage::Join { .. }
+                | ClientMessage::Rejoin { .. }
+                | ClientMessage::Spectate { .. }
+        );
+        if entering && self.queues.is_queued(conn) {
+            return error(
+                conn,
+                ErrorCode::Unexpected,
+                "waiting for a quick match: leave the queue first",
+            );
+        }
         // Anything that names a room or a seat by a secret the sender may be guessing uses
         // the address's entry budget. A stored record can be fetched from inside a room too.
         let entry = match msg {
@@ -584,7 +693,7 @@ impl Hub {
             }
         }
         match (msg, in_room) {
-            (ClientMessage::Hello { .. }, _) => {
+            (ClientMessage::Hello { .. } | ClientMessage::Prove { .. }, _) => {
                 error(conn, ErrorCode::Unexpected, "already greeted")
             }
             // Only the store knows every game (a room that ended is no longer here).
@@ -620,6 +729,53 @@ impl Hub {
                 };
                 self.create(now, conn, rules, name)
             }
+            (ClientMessage::ListGames { page }, _) => {
+                let ratings = &self.ratings;
+                vec![send(
+                    conn,
+                    self.lobby
+                        .page(now, page, |k| ratings.get(k).map(PlayerRating::shown)),
+                )]
+            }
+            (ClientMessage::Leaderboard { page }, _) => {
+                let (pages, players) = self.ratings.leaderboard(page);
+                vec![send(
+                    conn,
+                    ServerMessage::Leaders {
+                        page,
+                        pages,
+                        players,
+                    },
+                )]
+            }
+            (ClientMessage::ReportDesync { .. }, _) => {
+                self.desyncs += 1;
+                Vec::new()
+            }
+            (ClientMessage::Publish, in_room) => self.publish(now, conn, in_room),
+            (ClientMessage::QuickMatch { .. } | ClientMessage::LeaveQueue, Some(_)) => {
+                error(conn, ErrorCode::Unexpected, "already in a room")
+            }
+            (
+                ClientMessage::QuickMatch {
+                    variant,
+                    mode,
+                    name,
+                },
+                None,
+            ) => self.queue(now, conn, variant, mode, name),
+            (ClientMessage::LeaveQueue, None) => {
+                if self.queues.leave(conn) {
+                    vec![send(
+                        conn,
+                        ServerMessage::Unqueued {
+                            reason: "you left the queue".into(),
+                        },
+                    )]
+                } else {
+                    error(conn, ErrorCode::Unexpected, "not waiting for a quick match")
+                }
+            }
             (ClientMessage::Join { room, name }, None) => self.join(now, conn, room, name),
             (ClientMessage::Rejoin { token }, None) => self.rejoin(now, conn, token, true),
             (ClientMessage::Spectate { room }, None) => match self.rooms.get_mut(&room) {
@@ -637,18 +793,26 @@ impl Hub {
 
     /// The earliest instant at which [`Hub::tick`] has something to do.
     pub fn next_deadline(&self) -> Option<Instant> {
-        self.rooms.values().filter_map(Room::next_deadline).min()
+        let rooms = self.rooms.values().filter_map(Room::next_deadline).min();
+        rooms.into_iter().chain(self.queues.next_deadline()).min()
     }
 
     /// Runs what is due by `now` (shot clocks, forfeits at the end of a reconnect window) and drops
     /// closed rooms, keeping their seats' results; the driver calls it at [`Hub::next_deadline`].
     pub fn tick(&mut self, now: Instant) -> Vec<Output> {
         let mut out = Vec::new();
+        let mut ticked = Vec::new();
         for room in self.rooms.values_mut() {
             if room.next_deadline().is_some_and(|d| d <= now) || room.is_closed() {
                 out.extend(lift(room.tick(now)));
+                ticked.push(room.code().clone());
             }
         }
+        // A forfeit at the end of a reconnect window ends a rated game too.
+        for code in ticked {
+            out.extend(self.settle_rating(&code));
+        }
+        out.extend(self.match_queued(now));
         let closed: Vec<RoomCode> = self
             .rooms
             .values()
@@ -663,6 +827,8 @@ impl Hub {
                 ))));
             }
             self.tokens.retain(|_, (c, _)| *c != code);
+            self.lobby.remove(&code);
+            self.rated.remove(&code);
             if let Some(room) = self.rooms.remove(&code) {
                 self.keep_ending(now, &room);
             }
@@ -730,26 +896,62 @@ impl Hub {
         });
     }
 
+    /// The handshake: `Hello` (version, physics, key) is answered by a fresh challenge, and
+    /// its `Prove` by `Welcome`; anything else, or a wrong answer, closes the connection.
     fn hello(&mut self, conn: ConnId, msg: ClientMessage) -> Vec<Output> {
-        let reason = match msg {
-            ClientMessage::Hello { protocol, .. } if protocol != PROTOCOL_VERSION => format!(
-                "protocol version {protocol} is not supported; this server speaks version {PROTOCOL_VERSION}"
-            ),
-            ClientMessage::Hello { physics, .. } if physics != self.config.physics => format!(
-                "physics differ: reference shot hash {physics:016x}, the server's is {:016x}; update the game",
-                self.config.physics
-            ),
-            ClientMessage::Hello { .. } => {
-                if let Some(c) = self.conns.get_mut(&conn) {
-                    c.greeted = true;
-                }
-                return vec![send(
-                    conn,
-                    ServerMessage::Welcome {
-                        protocol: PROTOCOL_VERSION,
-                    },
-                )];
+        let Some(state) = self.conns.get_mut(&conn) else {
+            return Vec::new();
+        };
+        let greeting = std::mem::replace(&mut state.greeting, Greeting::Unknown);
+        let physics = self.config.physics;
+        let reason = match (greeting, msg) {
+            (Greeting::Unknown, ClientMessage::Hello { protocol, .. })
+                if protocol != PROTOCOL_VERSION =>
+            {
+                format!(
+                    "protocol version {protocol} is not supported; this server speaks version {PROTOCOL_VERSION}"
+                )
             }
+            (
+                Greeting::Unknown,
+                ClientMessage::Hello {
+                    physics: theirs, ..
+                },
+            ) if theirs != physics => {
+                format!(
+                    "physics differ: reference shot hash {theirs:016x}, the server's is {physics:016x}; update the game"
+                )
+            }
+            (Greeting::Unknown, ClientMessage::Hello { key, .. }) => {
+                match PlayerKey::from_wire(&key) {
+                    Ok(key) => {
+                        let mut nonce = [0u8; NONCE_LEN];
+                        self.rng.fill(&mut nonce);
+                        if let Some(c) = self.conns.get_mut(&conn) {
+                            c.greeting = Greeting::Challenged { key, nonce };
+                        }
+                        return vec![send(conn, ServerMessage::Challenge { nonce })];
+                    }
+                    Err(e) => e.to_string(),
+                }
+            }
+            (Greeting::Challenged { key, nonce }, ClientMessage::Prove { signature }) => {
+                match key.verify(&nonce, PROTOCOL_VERSION, physics, &signature) {
+                    Ok(()) => {
+                        if let Some(c) = self.conns.get_mut(&conn) {
+                            c.greeting = Greeting::Welcomed(key);
+                        }
+                        return vec![send(
+                            conn,
+                            ServerMessage::Welcome {
+                                protocol: PROTOCOL_VERSION,
+                            },
+                        )];
+                    }
+                    Err(e) => e.to_string(),
+                }
+            }
+            (Greeting::Challenged { .. }, _) => "the answer to a challenge must be Prove".into(),
             _ => "the first message must be Hello".into(),
         };
         vec![
@@ -761,6 +963,14 @@ impl Hub {
             ),
             Output::Room(RoomOutput::Close { conn, reason }),
         ]
+    }
+
+    /// The player a welcomed connection is (its key), if it is welcomed.
+    pub fn player_of(&self, conn: ConnId) -> Option<PlayerKey> {
+        match self.conns.get(&conn)?.greeting {
+            Greeting::Welcomed(key) => Some(key),
+            _ => None,
+        }
     }
 
     fn create(
@@ -790,14 +1000,7 @@ impl Hub {
                 "too many open rooms from this address; finish one first",
             );
         }
-        let code = loop {
-            let mut bytes = [0u8; ROOM_CODE_LEN];
-            self.rng.fill(&mut bytes);
-            let code = RoomCode::from_random(bytes);
-            if !self.rooms.contains_key(&code) && !self.away.contains_key(&code) {
-                break code;
-            }
-        };
+        let code = self.new_code();
         let token = new_token(self.rng.as_mut());
         let seed = new_seed(self.rng.as_mut());
         let (room, out) = Room::create(now, code.clone(), rules, seed, conn, name, token);
@@ -819,10 +1022,12 @@ impl Hub {
         let Some(room) = self.rooms.get_mut(&code) else {
             return error(conn, ErrorCode::NoSuchRoom, format!("no room {code}"));
         };
-        let entry = room.join(now, conn, name, token);
+        let entry = room.join(now, conn, name.clone(), token);
         if entry.role.is_some() {
             self.tokens
                 .insert(TokenDigest::of(&token), (code.clone(), Seat::B));
+            let key = self.player_of(conn);
+            self.lobby.seated(&code, Listed { name, key });
         }
         self.entered(conn, code, &entry);
         lift(entry.out)
@@ -866,6 +1071,18 @@ impl Hub {
         self.set_room(conn, code, role);
     }
 
+    /// A room code no open room has.
+    fn new_code(&mut self) -> RoomCode {
+        loop {
+            let mut bytes = [0u8; ROOM_CODE_LEN];
+            self.rng.fill(&mut bytes);
+            let code = RoomCode::from_random(bytes);
+            if !self.rooms.contains_key(&code) && !self.away.contains_key(&code) {
+                return code;
+            }
+        }
+    }
+
     /// Keeps the seats of a closing room's last game, so its players learn how it ended.
     fn keep_ending(&mut self, now: Instant, room: &Room) {
         let (winner, reason) = match room.game().phase() {
@@ -902,5 +1119,6 @@ fn told_result(out: &[Output], conn: ConnId) -> bool {
     )
 }
 
+mod public;
 #[cfg(test)]
 mod tests;

@@ -60,6 +60,10 @@ pub struct Limits {
     /// across restarts): a player who comes back with their token in that time is told the
     /// result instead of `BadToken`.
     pub finished_retention: Duration,
+    /// Whether quick match may pair two players of one source address. Off on a public
+    /// server (a second key of one's own would be an easy opponent to farm a rating from);
+    /// on for load tests from one machine.
+    pub match_one_address: bool,
 }
 
 impl Default for Limits {
@@ -81,6 +85,7 @@ impl Default for Limits {
             max_game_commands: 900,
             max_practice_commands: 500,
             finished_retention: Duration::from_secs(3_600),
+            match_one_address: false,
         }
     }
 }
@@ -117,6 +122,7 @@ impl Limits {
             rooms_per_address: usize::MAX,
             entry_burst: u32::MAX,
             entry_refill: Duration::from_nanos(1),
+            match_one_address: true,
             ..Limits::default()
         }
     }

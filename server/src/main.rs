@@ -90,6 +90,17 @@ enum Command {
         #[arg(long, value_parser = parse_store)]
         store: Option<Location>,
     },
+    /// Print the players' Glicko-2 ratings from the store, best first.
+    Leaderboard {
+        #[arg(long, default_value = "breakshot-data")]
+        data: PathBuf,
+        /// Read the ratings from this PostgreSQL database instead.
+        #[arg(long, value_parser = parse_store)]
+        store: Option<Location>,
+        /// How many players to print.
+        #[arg(long, default_value_t = 20)]
+        top: usize,
+    },
 }
 
 fn parse_store(url: &str) -> Result<Location, String> {
@@ -100,6 +111,9 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match &cli.command {
         Some(Command::Verify { data, store }) => verify(data, store.as_ref()),
+        Some(Command::Leaderboard { data, store, top }) => {
+            leaderboard(data, store.as_ref(), *top).map(|()| true)
+        }
         None => serve(&cli).map(|()| true),
     };
     match result {
@@ -110,6 +124,39 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// Prints the leaderboard: rank, rating ± deviation, games, the key's first characters and
+/// the name last played under.
+fn leaderboard(data: &std::path::Path, store: Option<&Location>, top: usize) -> anyhow::Result<()> {
+    let location = store
+        .cloned()
+        .unwrap_or_else(|| Location::Sqlite(data.to_path_buf()));
+    let store = breakshot_server::store::Store::at(&location).context("opening the store")?;
+    let ratings = breakshot_server::ratings::Ratings::from_stored(store.ratings()?);
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "rank  rating   ±dev  games  key       name")?;
+    let mut page = 0;
+    let mut printed = 0;
+    while printed < top {
+        let (pages, players) = ratings.leaderboard(page);
+        for p in players.iter().take(top - printed) {
+            writeln!(
+                out,
+                "{:>4}  {:>6}  {:>5}  {:>5}  {}  {}",
+                p.rank, p.rating, p.deviation, p.games, p.key, p.name
+            )?;
+            printed += 1;
+        }
+        page += 1;
+        if page >= pages {
+            break;
+        }
+    }
+    if printed == 0 {
+        writeln!(out, "(no rated games yet)")?;
+    }
+    Ok(())
 }
 
 fn serve(cli: &Cli) -> anyhow::Result<()> {

@@ -1,6 +1,8 @@
 //! What a room asks its driver to do, in order, and what the store keeps: the lowest layer
 //! of the server's outputs (the hub's own, [`crate::hub::Output`], wrap these).
 
+use crate::ratings::PlayerRating;
+use breakshot_shared::protocol::PlayerKey;
 use breakshot_shared::protocol::{AimAid, RoomCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Seat, Settings, Variant};
@@ -91,6 +93,13 @@ pub enum StoreOp {
     },
     /// The room closed on this server: a store shared with other instances lets go of it.
     Released(RoomCode),
+    /// A player's rating after a rated game (kept by key, the latest only).
+    Rating {
+        /// Who.
+        key: PlayerKey,
+        /// Their rating now, with the name they played under.
+        rating: PlayerRating,
+    },
 }
 
 impl StoreOp {

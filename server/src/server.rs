@@ -32,6 +32,7 @@ use std::time::{Duration, Instant};
 use breakshot_shared::protocol::{
     reference_hash, Fingerprint, Invite, RoomCode, SeatToken, WebLink,
 };
+use breakshot_shared::rules::Variant;
 use thiserror::Error;
 use tokio::net::TcpListener;
 use tokio::sync::mpsc::error::TrySendError;
@@ -691,6 +692,7 @@ pub async fn run(config: Config, shutdown: impl Future<Output = ()>) -> Result<(
 /// game stored in an older record format is written again in the current one first).
 fn restore(store: &mut Store, hub: &mut Hub) -> Result<usize, ServerError> {
     let now = Instant::now();
+    hub.load_ratings(store.ratings()?);
     let mut restored = 0;
     for stored in store.unfinished()? {
         store.upgrade(&stored)?;
@@ -793,6 +795,19 @@ const DRAIN_CHECK: Duration = Duration::from_millis(250);
 /// How often the hub counts its rooms by state for the metrics (and so how stale they may be).
 const CENSUS_PERIOD: Duration = Duration::from_secs(1);
 
+/// The games the quick-match queues are counted by on `/metrics`.
+const QUEUE_LABELS: [&str; 4] = ["eight_ball", "nine_ball", "three_cushion", "snooker"];
+
+/// The `/metrics` label of a queue's game.
+fn queue_label(variant: Variant) -> &'static str {
+    match variant {
+        Variant::EightBall(_) | Variant::Practice => QUEUE_LABELS[0],
+        Variant::NineBall => QUEUE_LABELS[1],
+        Variant::ThreeCushion { .. } => QUEUE_LABELS[2],
+        Variant::Snooker { .. } => QUEUE_LABELS[3],
+    }
+}
+
 fn spawn_hub(
     mut hub: Hub,
     events: Receiver<HubEvent>,
@@ -807,7 +822,11 @@ fn spawn_hub(
     std::thread::spawn(move || loop {
         stats.rooms.store(hub.room_count(), Ordering::Relaxed);
         if stats.is_draining() {
-            hub.drain();
+            // The first time: every player is told, and the queues are emptied.
+            let told = hub.drain();
+            if !told.is_empty() && writer.send(WriterMsg::Batch(told, None)).is_err() {
+                return;
+            }
         }
         if last_census.is_none_or(|t| t.elapsed() >= CENSUS_PERIOD) {
             let census = hub.census();
@@ -817,6 +836,20 @@ fn spawn_hub(
             stats
                 .refused_draining
                 .store(hub.drain_refusals(), Ordering::Relaxed);
+            stats.rooms_listed.store(hub.listed(), Ordering::Relaxed);
+            stats
+                .desyncs_reported
+                .store(hub.desyncs(), Ordering::Relaxed);
+            let mut queued: Vec<(&'static str, usize)> =
+                QUEUE_LABELS.iter().map(|l| (*l, 0)).collect();
+            for (variant, _, n) in hub.queue_lengths() {
+                if let Some(q) = queued.iter_mut().find(|(l, _)| *l == queue_label(variant)) {
+                    q.1 += n;
+                }
+            }
+            if let Ok(mut q) = stats.queued.lock() {
+                *q = queued;
+            }
             last_census = Some(Instant::now());
         }
         // The hub wakes at least once a census period, so the metrics stay current while

@@ -54,6 +54,13 @@ pub struct Stats {
     /// `h3` connections that did not become game connections: a failed HTTP/3 exchange,
     /// another path, or no stream in the open time.
     pub webtransport_refused: AtomicUsize,
+    /// Players waiting for a quick match, by game (`eight_ball`, `nine_ball`,
+    /// `three_cushion`, `snooker`), updated by the hub about once a second.
+    pub queued: std::sync::Mutex<Vec<(&'static str, usize)>>,
+    /// Rooms listed in the lobby (likewise).
+    pub rooms_listed: AtomicUsize,
+    /// Desyncs clients reported (`ReportDesync`), since the server started.
+    pub desyncs_reported: AtomicUsize,
     /// Set to drain: no new rooms; the server stops once the last game has ended.
     draining: AtomicBool,
 }

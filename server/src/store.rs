@@ -14,8 +14,10 @@
 use std::path::Path;
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
+use crate::ratings::PlayerRating;
 use bincode::config;
 use breakshot_shared::protocol::limits::MAX_RECORD;
+use breakshot_shared::protocol::PlayerKey;
 use breakshot_shared::protocol::RoomCode;
 use breakshot_shared::replay::{self, GameRecord, RecordEntry, RecordError, RECORD_VERSION};
 use breakshot_shared::rules::Seat;
@@ -226,6 +228,14 @@ impl Store {
         match &mut self.0 {
             Backend::Sqlite(s) => s.apply(ops),
             Backend::Postgres(s) => s.apply(ops),
+        }
+    }
+
+    /// Every player's rating, for the hub at start and the leaderboard.
+    pub fn ratings(&self) -> Result<Vec<(PlayerKey, PlayerRating)>, StoreError> {
+        match &self.0 {
+            Backend::Sqlite(s) => s.ratings(),
+            Backend::Postgres(s) => s.ratings(),
         }
     }
 

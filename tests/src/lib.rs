@@ -29,6 +29,32 @@ pub const SEED: u64 = 2026;
 
 pub use breakshot_testkit::scratch;
 
+/// A handshake spoken by hand (over a raw stream): the `Hello` for `identity` ...
+pub fn hello_of(identity: &breakshot_shared::protocol::Identity) -> Result<ClientMessage> {
+    Ok(ClientMessage::Hello {
+        protocol: breakshot_shared::protocol::PROTOCOL_VERSION,
+        physics: breakshot_shared::protocol::reference_hash()?,
+        key: identity.public().0.to_vec(),
+    })
+}
+
+/// ... and the `Prove` that answers the server's `Challenge` to it.
+pub fn prove_of(
+    identity: &breakshot_shared::protocol::Identity,
+    answer: &ServerMessage,
+) -> Result<ClientMessage> {
+    let ServerMessage::Challenge { nonce } = answer else {
+        bail!("expected a Challenge, got {answer:?}");
+    };
+    Ok(ClientMessage::Prove {
+        signature: identity.sign(
+            nonce,
+            breakshot_shared::protocol::PROTOCOL_VERSION,
+            breakshot_shared::protocol::reference_hash()?,
+        ),
+    })
+}
+
 pub mod postgres;
 pub mod web;
 

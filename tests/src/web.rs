@@ -9,8 +9,7 @@ use breakshot_shared::protocol::web::{
     MAX_NOISE_MESSAGE, MAX_NOISE_PAYLOAD, NOISE_PATTERN, NOISE_PROLOGUE, WS_PATH,
 };
 use breakshot_shared::protocol::{
-    decode_payload, encode_frame, reference_hash, split_frame, ClientMessage, ServerMessage,
-    PROTOCOL_VERSION,
+    decode_payload, encode_frame, split_frame, ClientMessage, ServerMessage,
 };
 use futures_util::{SinkExt, StreamExt};
 use snow::{HandshakeState, TransportState};
@@ -91,11 +90,10 @@ impl WebPlayer {
     /// Connects and says hello; the server's `Welcome` has been read.
     pub async fn hello(addr: SocketAddr, key: &[u8; 32]) -> Result<WebPlayer> {
         let mut p = WebPlayer::connect(addr, key).await?;
-        p.send(&ClientMessage::Hello {
-            protocol: PROTOCOL_VERSION,
-            physics: reference_hash()?,
-        })
-        .await?;
+        let me = breakshot_client::net::fresh_identity();
+        p.send(&crate::hello_of(&me)?).await?;
+        let challenge = p.recv().await?;
+        p.send(&crate::prove_of(&me, &challenge)?).await?;
         match p.recv().await? {
             ServerMessage::Welcome { .. } => Ok(p),
             other => bail!("expected Welcome, got {other:?}"),

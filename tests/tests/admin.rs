@@ -96,9 +96,51 @@ async fn metrics_move_during_a_game_and_a_drain_lets_it_finish() -> Result<()> {
         "{after}"
     );
 
-    // The drain: unready at once, no new room, the game in play goes on.
+    // A player waiting for a quick match, and a desync a client reports, are counted.
+    let mut queued = Player::connect(&server.invite).await?;
+    queued
+        .send(ClientMessage::QuickMatch {
+            variant: eight_ball(),
+            mode: Settings::online(),
+            name: "dave".into(),
+        })
+        .await?;
+    until_sample(
+        admin_addr,
+        "breakshot_queue_players{game=\"eight_ball\"}",
+        1.0,
+    )
+    .await?;
+    a.send(ClientMessage::ReportDesync { turn: 0, hash: 1 })
+        .await?;
+    until_sample(admin_addr, "breakshot_desyncs_reported_total", 1.0).await?;
+
+    // The drain: unready at once, no new room, the game in play goes on, and every player
+    // is told (the one waiting for a match is out of the queue).
     assert_eq!(http(admin_addr, "POST", "/drain").await?.0, 202);
     assert_eq!(http(admin_addr, "GET", "/readyz").await?.0, 503);
+    queued
+        .until("out of the queue", |m| {
+            matches!(m, ServerMessage::Unqueued { .. })
+        })
+        .await?;
+    for p in [&mut a, &mut b] {
+        match p
+            .until("the drain", |m| matches!(m, ServerMessage::Draining { .. }))
+            .await?
+        {
+            ServerMessage::Draining { message } => {
+                assert!(message.contains("your game goes on"), "{message}")
+            }
+            other => bail!("{other:?}"),
+        }
+    }
+    until_sample(
+        admin_addr,
+        "breakshot_queue_players{game=\"eight_ball\"}",
+        0.0,
+    )
+    .await?;
     let mut late = Player::connect(&server.invite).await?;
     late.send(ClientMessage::CreateRoom {
         variant: eight_ball(),

@@ -12,11 +12,12 @@ use breakshot_client::bot::{run, BotConfig};
 use breakshot_client::net::client_config;
 use breakshot_server::{Limits, Stats};
 use breakshot_shared::protocol::{
-    encode_frame, reference_hash, ClientMessage, ErrorCode, Fingerprint, ServerMessage,
-    PROTOCOL_VERSION,
+    decode_payload, encode_frame, payload_len, reference_hash, ClientMessage, ErrorCode,
+    Fingerprint, ServerMessage, PROTOCOL_VERSION,
 };
 use breakshot_tests::{
-    break_shot, create_room, resident_bytes, scratch, Player, TestServer, PATIENCE,
+    break_shot, create_room, hello_of, prove_of, resident_bytes, scratch, Player, TestServer,
+    PATIENCE,
 };
 
 /// Half-open handshakes the test server allows before it asks for retries.
@@ -40,7 +41,7 @@ struct Raw {
     _endpoint: quinn::Endpoint,
     conn: quinn::Connection,
     send: quinn::SendStream,
-    _recv: quinn::RecvStream,
+    recv: quinn::RecvStream,
 }
 
 impl Raw {
@@ -62,7 +63,7 @@ impl Raw {
             _endpoint: endpoint,
             conn,
             send,
-            _recv: recv,
+            recv,
         })
     }
 
@@ -70,12 +71,27 @@ impl Raw {
         Ok(self.send.write_all(bytes).await?)
     }
 
+    /// Says `Hello` as a fresh player and proves its key: the server's `Welcome` is on its way.
     async fn hello(&mut self) -> Result<()> {
-        let hello = ClientMessage::Hello {
-            protocol: PROTOCOL_VERSION,
-            physics: reference_hash()?,
+        let me = breakshot_client::net::fresh_identity();
+        self.write(&encode_frame(&hello_of(&me)?)?).await?;
+        let challenge = self.read().await?;
+        self.write(&encode_frame(&prove_of(&me, &challenge)?)?)
+            .await
+    }
+
+    /// Reads one message from the server.
+    async fn read(&mut self) -> Result<ServerMessage> {
+        let read = async {
+            let mut header = [0u8; 4];
+            self.recv.read_exact(&mut header).await?;
+            let mut payload = vec![0u8; payload_len(header)?];
+            self.recv.read_exact(&mut payload).await?;
+            anyhow::Ok(decode_payload(&payload)?)
         };
-        self.write(&encode_frame(&hello)?).await
+        tokio::time::timeout(PATIENCE, read)
+            .await
+            .map_err(|_| anyhow!("no message from the server"))?
     }
 
     /// Waits for the server to close the connection and returns its reason.
@@ -216,6 +232,64 @@ async fn hostile_clients_cost_only_their_own_connections() -> Result<()> {
     big.write(&[0xff, 0xff, 0xff, 0xff]).await?;
     let why = big.closed().await?;
     assert!(why.contains("exceeds"), "{why}");
+
+    // Hostile handshakes: a key of the wrong length, a forged signature, a proof replayed
+    // from another connection. Each is refused with its reason and closed.
+    let mut short = Raw::connect(&server, 1 << 20).await?;
+    let mut hello = hello_of(&breakshot_client::net::fresh_identity())?;
+    if let ClientMessage::Hello { key, .. } = &mut hello {
+        key.truncate(31);
+    }
+    short.write(&encode_frame(&hello)?).await?;
+    assert!(
+        matches!(short.read().await?, ServerMessage::Reject { reason } if reason.contains("32 bytes, not 31"))
+    );
+    assert!(short.closed().await?.contains("not 31"));
+
+    let ann = breakshot_client::net::fresh_identity();
+    let mut forger = Raw::connect(&server, 1 << 20).await?;
+    forger.write(&encode_frame(&hello_of(&ann)?)?).await?;
+    let challenge = forger.read().await?;
+    let forged = prove_of(&breakshot_client::net::fresh_identity(), &challenge)?;
+    forger.write(&encode_frame(&forged)?).await?;
+    assert!(matches!(forger.read().await?, ServerMessage::Reject { .. }));
+    assert!(forger.closed().await?.contains("does not prove the key"));
+
+    let mut honest = Raw::connect(&server, 1 << 20).await?;
+    honest.write(&encode_frame(&hello_of(&ann)?)?).await?;
+    let proof = prove_of(&ann, &honest.read().await?)?;
+    honest.write(&encode_frame(&proof)?).await?;
+    assert!(matches!(
+        honest.read().await?,
+        ServerMessage::Welcome { .. }
+    ));
+    let mut replayer = Raw::connect(&server, 1 << 20).await?;
+    replayer.write(&encode_frame(&hello_of(&ann)?)?).await?;
+    assert!(matches!(
+        replayer.read().await?,
+        ServerMessage::Challenge { .. }
+    ));
+    replayer.write(&encode_frame(&proof)?).await?;
+    assert!(matches!(
+        replayer.read().await?,
+        ServerMessage::Reject { .. }
+    ));
+    assert!(replayer.closed().await?.contains("does not prove the key"));
+    drop(honest);
+
+    // A client of version 3, whose Hello has no key: told why in words, not cut off.
+    #[derive(serde::Serialize)]
+    enum OldClientMessage {
+        Hello { protocol: u32, physics: u64 },
+    }
+    let mut old = Raw::connect(&server, 1 << 20).await?;
+    let v3 = OldClientMessage::Hello {
+        protocol: 3,
+        physics: reference_hash()?,
+    };
+    old.write(&encode_frame(&v3)?).await?;
+    assert!(matches!(old.read().await?, ServerMessage::Reject { reason }
+        if reason.contains(&format!("protocol version 3 is not supported; this server speaks version {PROTOCOL_VERSION}"))));
 
     // A truncated frame: a length, part of the payload, then the end of the stream.
     let mut cut = Raw::connect(&server, 1 << 20).await?;

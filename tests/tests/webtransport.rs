@@ -10,8 +10,8 @@ use anyhow::{anyhow, bail, Context, Result};
 use breakshot_server::webcert::{ClockRef, ManualClock};
 use breakshot_shared::protocol::web::WEBTRANSPORT_PATH;
 use breakshot_shared::protocol::{
-    decode_payload, encode_frame, payload_len, reference_hash, AimAid, ClientMessage, Fingerprint,
-    Invite, ServerMessage, HEADER_LEN, PROTOCOL_VERSION,
+    decode_payload, encode_frame, payload_len, AimAid, ClientMessage, Fingerprint, Invite,
+    ServerMessage, HEADER_LEN,
 };
 use breakshot_shared::rules::Settings;
 use breakshot_tests::{create_room, eight_ball, scratch, Player, TestServer, PATIENCE};
@@ -56,11 +56,11 @@ impl Page {
             send,
             recv,
         };
-        page.send(&ClientMessage::Hello {
-            protocol: PROTOCOL_VERSION,
-            physics: reference_hash()?,
-        })
-        .await?;
+        let me = breakshot_client::net::fresh_identity();
+        page.send(&breakshot_tests::hello_of(&me)?).await?;
+        let challenge = page.recv().await?;
+        page.send(&breakshot_tests::prove_of(&me, &challenge)?)
+            .await?;
         match page.recv().await? {
             ServerMessage::Welcome { .. } => Ok(page),
             other => bail!("expected Welcome, got {other:?}"),

@@ -12,7 +12,7 @@ use breakshot_shared::protocol::{
 
 use super::error::NetError;
 use super::pinned::client_config;
-use super::player::{answer_to_hello, hello};
+use super::player::{answer_to_hello, hello, prove};
 
 /// A client endpoint for any number of connections.
 pub fn endpoint() -> Result<quinn::Endpoint, NetError> {
@@ -90,7 +90,16 @@ impl Channel {
     ) -> Result<Channel, NetError> {
         let Stream { conn, send, recv } = open_stream(endpoint, server, fingerprint).await?;
         let mut c = Channel { conn, send, recv };
-        c.send(&hello(protocol)?).await?;
+        let identity = super::keys::for_connection();
+        let hello = hello(protocol, &identity)?;
+        c.send(&hello).await?;
+        match c.recv().await? {
+            ServerMessage::Challenge { nonce } => c.send(&prove(&hello, &identity, &nonce)).await?,
+            other => {
+                answer_to_hello(other)?;
+                return Err(NetError::Handshake("welcomed without a challenge".into()));
+            }
+        }
         answer_to_hello(c.recv().await?)?;
         Ok(c)
     }

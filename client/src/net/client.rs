@@ -8,7 +8,9 @@ use std::future::Future;
 use std::pin::Pin;
 use std::time::{Duration, Instant};
 
-use breakshot_shared::protocol::{ClientMessage, Invite, Role, RoomCode, SeatToken, ServerMessage};
+use breakshot_shared::protocol::{
+    ClientMessage, Identity, Invite, Role, RoomCode, SeatToken, ServerMessage,
+};
 use tokio::sync::mpsc;
 use tokio::task::JoinHandle;
 
@@ -97,9 +99,18 @@ impl Client {
     /// Connects to the server `invite` names (retrying as `policy` says) and completes the
     /// handshake. Must be called inside a tokio runtime.
     pub async fn connect(invite: Invite, policy: Reconnect) -> Result<Client, NetError> {
+        Self::connect_as(invite, policy, super::keys::for_connection()).await
+    }
+
+    /// [`Client::connect`] as the player `identity`.
+    pub async fn connect_as(
+        invite: Invite,
+        policy: Reconnect,
+        identity: Identity,
+    ) -> Result<Client, NetError> {
         let endpoint = endpoint()?;
         let origin = Instant::now();
-        let core = PlayerCore::new(invite, policy, Duration::ZERO);
+        let core = PlayerCore::new(invite, policy, identity, Duration::ZERO);
         let mut client = Client {
             endpoint,
             core,

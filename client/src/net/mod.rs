@@ -18,6 +18,7 @@ mod seated_computer;
 // Without the embedded server, the helpers it shares with this module have no caller.
 #[cfg_attr(any(not(feature = "host"), target_arch = "wasm32"), allow(dead_code))]
 mod host;
+mod keys;
 mod net_link;
 pub mod noise;
 #[cfg(target_arch = "wasm32")]
@@ -47,6 +48,7 @@ pub use host::{
     default_data_dir, names_wildcard, router_hint, web_bundle, HostError, HostOptions,
     ADDRESS_NOTE, DEFAULT_PORT, WEB_ENV,
 };
+pub use keys::{for_connection, fresh as fresh_identity, use_identity};
 pub use net_link::{NetLink, NoRoom};
 #[cfg(not(target_arch = "wasm32"))]
 pub use pinned::client_config;

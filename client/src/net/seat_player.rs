@@ -30,6 +30,8 @@ pub(crate) enum Entrance {
     Create(ClientMessage, oneshot::Sender<RoomCode>),
     /// Joins the room whose code arrives.
     Join(oneshot::Receiver<RoomCode>),
+    /// Waits for a quick match (a `QuickMatch`) and plays the room it opens.
+    QuickMatch(ClientMessage),
 }
 
 /// What one bot saw and did.
@@ -156,6 +158,7 @@ impl SeatPlayer {
     pub(crate) async fn play(mut self, entrance: Entrance) -> PlayerResult {
         let (entry, mut room_tx) = match entrance {
             Entrance::Create(msg, tx) => (Entry::Create(msg), Some(tx)),
+            Entrance::QuickMatch(msg) => (Entry::QuickMatch(msg), None),
             Entrance::Join(rx) => match rx.await {
                 Ok(room) => (
                     Entry::Join {
@@ -205,7 +208,18 @@ impl SeatPlayer {
                 }
             };
             let me = client.seating().seat();
+            let desyncs = self.replica.desyncs();
             self.replica.observe(&msg, me);
+            if self.replica.desyncs() > desyncs {
+                // The operator counts these (`breakshot_desyncs_reported_total`).
+                if let ServerMessage::ShotResolved { turn, hash, .. } = &msg {
+                    let report = ClientMessage::ReportDesync {
+                        turn: *turn,
+                        hash: *hash,
+                    };
+                    client.send(&report).await?;
+                }
+            }
             match &msg {
                 ServerMessage::Joined { snapshot, .. } => {
                     self.full = snapshot.seats.iter().all(Option::is_some);

@@ -23,10 +23,12 @@ enum Item {
     Join,
     Replay,
     Quit,
+    Lobby,
 }
 
 #[cfg(not(target_arch = "wasm32"))]
-const ITEMS: [(Item, &str); 8] = [
+const ITEMS: [(Item, &str); 9] = [
+    (Item::Lobby, "Find a game"),
     (Item::Resume, "Resume game"),
     (Item::Practice, "Practice"),
     (Item::Computer, "Play the computer"),
@@ -235,6 +237,10 @@ impl MenuScreen {
             #[cfg(target_arch = "wasm32")]
             Item::Replay => {}
             Item::Quit => return Step::Quit,
+            #[cfg(not(target_arch = "wasm32"))]
+            Item::Lobby => return Step::Open(Start::Lobby),
+            #[cfg(target_arch = "wasm32")]
+            Item::Lobby => {}
         }
         Step::Stay
     }

@@ -82,7 +82,12 @@ pub(crate) fn join_link() -> Result<Box<dyn GameLink>, String> {
         .clone()
         .ok_or("This page's link names no game: ask the host for the game's link")?;
     let (invite, way) = way_to_server(link, room.clone())?;
-    let core = PlayerCore::new(invite.clone(), Reconnect::default(), clock::now());
+    let core = PlayerCore::new(
+        invite.clone(),
+        Reconnect::default(),
+        breakshot_client::net::for_connection(),
+        clock::now(),
+    );
     let session = PolledSession::new(Polled::new(core, way), clock::now);
     let game: NetLink<_> = if link.watch {
         let mut session = session;

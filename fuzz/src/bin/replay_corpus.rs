@@ -102,6 +102,13 @@ fn write_seeds(corpus: &Path) -> Result<(), String> {
             ClientMessage::Hello {
                 protocol: PROTOCOL_VERSION,
                 physics: reference_hash().map_err(|e| e.to_string())?,
+                key: vec![7; 32],
+            },
+        ),
+        (
+            "prove",
+            ClientMessage::Prove {
+                signature: vec![9; 64],
             },
         ),
         (

@@ -3,10 +3,12 @@
 use std::time::{Duration, Instant};
 
 use breakshot_shared::physics::Strike;
-use breakshot_shared::protocol::limits::{CHAT_BURST, CHAT_REFILL, MAX_MESSAGES_PER_SECOND};
+use breakshot_shared::protocol::limits::{
+    CHAT_BURST, CHAT_REFILL, LOBBY_BURST, MAX_MESSAGES_PER_SECOND, QUEUE_TIMEOUT,
+};
 use breakshot_shared::protocol::{
-    reference_hash, AimAid, ClientMessage, ErrorCode, Role, RoomCode, SeatToken, ServerMessage,
-    PROTOCOL_VERSION,
+    reference_hash, AimAid, ClientMessage, ErrorCode, Identity, PlayerKey, Role, RoomCode,
+    SeatToken, ServerMessage, PROTOCOL_VERSION,
 };
 use breakshot_shared::replay::{GameRecord, RecordEntry};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Seat, Settings, Variant};
@@ -25,6 +27,34 @@ const PEER: std::net::IpAddr = std::net::IpAddr::V4(std::net::Ipv4Addr::LOCALHOS
 struct World {
     hub: Hub,
     now: Instant,
+}
+
+/// The player of connection `conn` in these tests: a key of its own.
+fn identity(conn: ConnId) -> Identity {
+    let mut seed = [0u8; 32];
+    seed[..8].copy_from_slice(&conn.to_le_bytes());
+    Identity::from_seed(&seed)
+}
+
+fn hello_of(id: &Identity) -> ClientMessage {
+    ClientMessage::Hello {
+        protocol: PROTOCOL_VERSION,
+        physics: reference_hash().unwrap(),
+        key: id.public().0.to_vec(),
+    }
+}
+
+fn challenge_in(out: &[Output], conn: ConnId) -> [u8; 32] {
+    match sent_to(out, conn)[..] {
+        [ServerMessage::Challenge { nonce }] => *nonce,
+        ref other => panic!("no challenge: {other:?}"),
+    }
+}
+
+fn prove(id: &Identity, nonce: &[u8; 32]) -> ClientMessage {
+    ClientMessage::Prove {
+        signature: id.sign(nonce, PROTOCOL_VERSION, reference_hash().unwrap()),
+    }
 }
 
 fn sent_to(out: &[Output], conn: ConnId) -> Vec<&ServerMessage> {
@@ -107,13 +137,16 @@ impl World {
 
     fn greet(&mut self, conn: ConnId) {
         self.hub.connected(self.now, conn, PEER);
-        let out = self.send(
-            conn,
-            ClientMessage::Hello {
-                protocol: PROTOCOL_VERSION,
-                physics: reference_hash().unwrap(),
-            },
-        );
+        self.handshake(conn);
+    }
+
+    /// Hello, the challenge, the proof: conn is welcomed as [`identity`]`(conn)`.
+    fn handshake(&mut self, conn: ConnId) {
+        let id = identity(conn);
+        let out = self.send(conn, hello_of(&id));
+        let nonce = challenge_in(&out, conn);
+        let out = self.send(conn, prove(&id, &nonce));
+        assert_eq!(self.hub.player_of(conn), Some(id.public()));
         assert!(matches!(
             sent_to(&out, conn)[..],
             [ServerMessage::Welcome { .. }]
@@ -192,6 +225,7 @@ fn the_handshake_refuses_other_versions_other_physics_and_silence() {
             ClientMessage::Hello {
                 protocol: PROTOCOL_VERSION + 1,
                 physics: reference_hash().unwrap(),
+                key: identity(1).public().0.to_vec(),
             },
             "protocol version",
         ),
@@ -201,6 +235,7 @@ fn the_handshake_refuses_other_versions_other_physics_and_silence() {
             ClientMessage::Hello {
                 protocol: PROTOCOL_VERSION - 1,
                 physics: reference_hash().unwrap(),
+                key: Vec::new(),
             },
             "protocol version",
         ),
@@ -209,6 +244,7 @@ fn the_handshake_refuses_other_versions_other_physics_and_silence() {
             ClientMessage::Hello {
                 protocol: PROTOCOL_VERSION,
                 physics: reference_hash().unwrap() ^ 1,
+                key: identity(2).public().0.to_vec(),
             },
             "physics differ",
         ),
@@ -224,6 +260,75 @@ fn the_handshake_refuses_other_versions_other_physics_and_silence() {
             matches!(out.last(), Some(Output::Room(RoomOutput::Close { conn: c, .. })) if *c == conn)
         );
     }
+}
+
+/// The reject and close a hostile handshake gets, with the reason.
+fn refused(out: &[Output], conn: ConnId) -> String {
+    assert!(
+        matches!(out.last(), Some(Output::Room(RoomOutput::Close { conn: c, .. })) if *c == conn),
+        "{out:?}"
+    );
+    match sent_to(out, conn)[..] {
+        [ServerMessage::Reject { reason }] => reason.clone(),
+        ref other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_key_must_be_proved_over_this_connection_s_own_challenge() {
+    let mut w = World::new();
+    let ann = identity(1);
+    // A forged signature: another key signed the challenge.
+    w.hub.connected(w.now, 1, PEER);
+    let nonce = challenge_in(&w.send(1, hello_of(&ann)), 1);
+    let why = refused(&w.send(1, prove(&identity(66), &nonce)), 1);
+    assert!(why.contains("does not prove the key"), "{why}");
+    assert_eq!(w.hub.player_of(1), None);
+    // A replayed challenge: the proof seen on one connection, sent on another.
+    w.hub.connected(w.now, 2, PEER);
+    let seen = challenge_in(&w.send(2, hello_of(&ann)), 2);
+    let proof = prove(&ann, &seen);
+    assert!(matches!(
+        sent_to(&w.send(2, proof.clone()), 2)[..],
+        [ServerMessage::Welcome { .. }]
+    ));
+    w.hub.connected(w.now, 3, PEER);
+    let fresh = challenge_in(&w.send(3, hello_of(&ann)), 3);
+    assert_ne!(fresh, seen, "each connection has its own challenge");
+    let why = refused(&w.send(3, proof.clone()), 3);
+    assert!(why.contains("does not prove the key"), "{why}");
+    // Nor does the proof count twice on its own connection.
+    assert_eq!(
+        error_code(&w.send(2, proof), 2),
+        Some(ErrorCode::Unexpected)
+    );
+    // Keys and signatures of the wrong length.
+    for (conn, len) in [(4, 0), (5, 31), (6, 33), (7, 1000)] {
+        w.hub.connected(w.now, conn, PEER);
+        let hello = ClientMessage::Hello {
+            protocol: PROTOCOL_VERSION,
+            physics: reference_hash().unwrap(),
+            key: vec![5; len],
+        };
+        let why = refused(&w.send(conn, hello), conn);
+        assert!(why.contains(&format!("not {len}")), "{why}");
+    }
+    w.hub.connected(w.now, 8, PEER);
+    let nonce = challenge_in(&w.send(8, hello_of(&identity(8))), 8);
+    let mut short = prove(&identity(8), &nonce);
+    if let ClientMessage::Prove { signature } = &mut short {
+        signature.pop();
+    }
+    let why = refused(&w.send(8, short), 8);
+    assert!(why.contains("signature is 64 bytes"), "{why}");
+    // A proof before any Hello, and anything but a proof after one.
+    w.hub.connected(w.now, 9, PEER);
+    let why = refused(&w.send(9, prove(&identity(9), &[0; 32])), 9);
+    assert!(why.contains("first message must be Hello"), "{why}");
+    w.hub.connected(w.now, 10, PEER);
+    challenge_in(&w.send(10, hello_of(&identity(10))), 10);
+    let why = refused(&w.send(10, hello_of(&identity(10))), 10);
+    assert!(why.contains("must be Prove"), "{why}");
 }
 
 #[test]
@@ -867,11 +972,7 @@ fn ipv6_addresses_of_one_64_share_one_entry_budget() {
         let conn = 200 + n;
         let addr: std::net::IpAddr = format!("2001:db8:7:8::{:x}", n + 1).parse().unwrap();
         w.hub.connected(w.now, conn, addr);
-        let hello = ClientMessage::Hello {
-            protocol: PROTOCOL_VERSION,
-            physics: reference_hash().unwrap(),
-        };
-        w.send(conn, hello);
+        w.handshake(conn);
         codes.push(error_code(&w.send(conn, guess(n + 1)), conn));
     }
     let guessed = codes
@@ -883,13 +984,7 @@ fn ipv6_addresses_of_one_64_share_one_entry_budget() {
     // Another /64 has its own budget.
     let addr: std::net::IpAddr = "2001:db8:7:9::1".parse().unwrap();
     w.hub.connected(w.now, 999, addr);
-    w.send(
-        999,
-        ClientMessage::Hello {
-            protocol: PROTOCOL_VERSION,
-            physics: reference_hash().unwrap(),
-        },
-    );
+    w.handshake(999);
     assert_eq!(
         error_code(&w.send(999, guess(1)), 999),
         Some(ErrorCode::NoSuchRoom)
@@ -1181,4 +1276,297 @@ fn with_a_shared_store_an_unknown_seat_is_claimed_and_its_room_rebuilt_or_refuse
     alone.greet(1);
     let out = alone.send(1, ClientMessage::Rejoin { token: token_a });
     assert_eq!(error_code(&out, 1), Some(ErrorCode::BadToken));
+}
+
+/// Connection `conn` from its own address (10.0.0.`conn`), welcomed.
+fn greet_from(w: &mut World, conn: ConnId, addr: [u8; 4]) {
+    w.hub.connected(w.now, conn, std::net::IpAddr::from(addr));
+    w.handshake(conn);
+}
+
+fn quick(name: &str) -> ClientMessage {
+    ClientMessage::QuickMatch {
+        variant: Variant::EightBall(EightBallRules::Wpa),
+        mode: Settings::online(),
+        name: name.into(),
+    }
+}
+
+fn lobby_page(w: &mut World, conn: ConnId) -> (usize, usize) {
+    match sent_to(&w.send(conn, ClientMessage::ListGames { page: 0 }), conn)[..] {
+        [ServerMessage::Games {
+            waiting, playing, ..
+        }] => (waiting.len(), playing.len()),
+        ref other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_public_room_is_listed_until_it_closes_and_a_private_one_never() {
+    let mut w = World::new();
+    w.greet(1);
+    w.greet(2);
+    w.greet(3);
+    w.send(1, create_room(Settings::online(), "ann"));
+    assert_eq!(lobby_page(&mut w, 3), (0, 0), "private until published");
+    // Only its creator lists a room, and only from inside it.
+    assert_eq!(
+        error_code(&w.send(3, ClientMessage::Publish), 3),
+        Some(ErrorCode::Unexpected)
+    );
+    let out = w.send(1, ClientMessage::Publish);
+    let Some(ServerMessage::Published { room }) = sent_to(&out, 1).first().cloned().cloned() else {
+        panic!("{out:?}");
+    };
+    w.now += Duration::from_secs(7);
+    match sent_to(&w.send(3, ClientMessage::ListGames { page: 0 }), 3)[..] {
+        [ServerMessage::Games {
+            waiting,
+            playing,
+            pages,
+            ..
+        }] => {
+            assert_eq!(*pages, 1);
+            assert!(playing.is_empty());
+            assert_eq!(waiting[0].room, room);
+            assert_eq!(waiting[0].host, "ann");
+            assert_eq!(waiting[0].waited_s, 7);
+            assert_eq!(waiting[0].rating, None, "no rated game yet");
+        }
+        ref other => panic!("{other:?}"),
+    }
+    // Page 1 is empty; a page past the end is not an error.
+    match sent_to(&w.send(3, ClientMessage::ListGames { page: u32::MAX }), 3)[..] {
+        [ServerMessage::Games { waiting, .. }] => assert!(waiting.is_empty()),
+        ref other => panic!("{other:?}"),
+    }
+    // Once its second player comes, it is a game to watch.
+    w.send(
+        2,
+        ClientMessage::Join {
+            room: room.clone(),
+            name: "bob".into(),
+        },
+    );
+    assert_eq!(lobby_page(&mut w, 3), (0, 1));
+    assert_eq!(
+        error_code(&w.send(1, ClientMessage::Publish), 1),
+        Some(ErrorCode::Unexpected),
+        "nothing to list once full"
+    );
+    // Both leave: the room closes and leaves the lobby.
+    w.hub.disconnected(w.now, w.now, 1);
+    w.hub.disconnected(w.now, w.now, 2);
+    w.now += WINDOW + Duration::from_secs(1);
+    let out = w.hub.tick(w.now);
+    w.settle(out);
+    let out = w.hub.tick(w.now);
+    w.settle(out);
+    assert_eq!(w.hub.listed(), 0);
+}
+
+#[test]
+fn a_lobby_flood_is_rate_limited_and_costs_nothing_else() {
+    let mut w = World::new();
+    w.greet(1);
+    let mut limited = 0;
+    // 40 messages: under the per-connection message limit, which would close it.
+    for _ in 0..20 {
+        let out = w.send(1, ClientMessage::ListGames { page: 0 });
+        if error_code(&out, 1) == Some(ErrorCode::RateLimited) {
+            limited += 1;
+        }
+        let out = w.send(1, ClientMessage::Leaderboard { page: 3 });
+        if error_code(&out, 1) == Some(ErrorCode::RateLimited) {
+            limited += 1;
+        }
+    }
+    assert_eq!(limited, 40 - LOBBY_BURST as usize);
+    // A second later one more page is earned.
+    w.now += Duration::from_secs(1);
+    assert_eq!(lobby_page(&mut w, 1), (0, 0));
+}
+
+#[test]
+fn two_strangers_are_matched_into_one_room_and_a_concession_rates_them() {
+    let mut w = World::new();
+    greet_from(&mut w, 1, [10, 0, 0, 1]);
+    greet_from(&mut w, 2, [10, 0, 0, 2]);
+    let out = w.send(1, quick("ann"));
+    assert!(matches!(
+        sent_to(&out, 1)[..],
+        [ServerMessage::Queued { waiting: 1, .. }]
+    ));
+    let out = w.send(2, quick("bob"));
+    let joined = |conn| {
+        sent_to(&out, conn)
+            .into_iter()
+            .find_map(|m| match m {
+                ServerMessage::Joined { role, .. } => Some(*role),
+                _ => None,
+            })
+            .unwrap_or_else(|| panic!("{conn} not seated: {out:?}"))
+    };
+    assert_eq!(
+        joined(1),
+        Role::Player(Seat::A),
+        "the longer wait takes seat A"
+    );
+    assert_eq!(joined(2), Role::Player(Seat::B));
+    assert_eq!(lobby_page(&mut w, 1), (0, 1), "listed to watch");
+    // Seat B concedes: a loss like any other.
+    let out = w.send(2, ClientMessage::Concede);
+    let ratings: Vec<(PlayerKey, f64)> = out
+        .iter()
+        .filter_map(|o| match o {
+            Output::Room(RoomOutput::Store(StoreOp::Rating { key, rating })) => {
+                Some((*key, rating.rating))
+            }
+            _ => None,
+        })
+        .collect();
+    assert_eq!(ratings.len(), 2, "{out:?}");
+    // skillratings' own numbers for two new players, a win: 1662 and 1338.
+    let (ann, bob) = (identity(1).public(), identity(2).public());
+    assert_eq!(ratings[0].0, ann);
+    assert_eq!(ratings[0].1.round(), 1662.0);
+    assert_eq!(ratings[1].0, bob);
+    assert_eq!(ratings[1].1.round(), 1338.0);
+    for conn in [1, 2] {
+        let told: Vec<_> = sent_to(&out, conn)
+            .into_iter()
+            .filter(|m| matches!(m, ServerMessage::Rated { .. }))
+            .cloned()
+            .collect();
+        assert_eq!(
+            told,
+            vec![
+                ServerMessage::Rated {
+                    seat: Seat::A,
+                    before: 1500,
+                    after: 1662
+                },
+                ServerMessage::Rated {
+                    seat: Seat::B,
+                    before: 1500,
+                    after: 1338
+                }
+            ]
+        );
+    }
+    // Rated once: a rematch is a friendly.
+    w.send(1, ClientMessage::Rematch);
+    w.send(2, ClientMessage::Rematch);
+    let out = w.send(1, ClientMessage::Concede);
+    assert!(!out
+        .iter()
+        .any(|o| matches!(o, Output::Room(RoomOutput::Store(StoreOp::Rating { .. })))));
+    match sent_to(&w.send(1, ClientMessage::Leaderboard { page: 0 }), 1)[..] {
+        [ServerMessage::Leaders { players, .. }] => {
+            assert_eq!(players[0].name, "ann");
+            assert_eq!(players[0].rating, 1662);
+            assert_eq!(players[1].key, bob.short());
+        }
+        ref other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn the_queue_handles_leaving_dropping_waiting_too_long_and_a_second_key_at_one_address() {
+    let mut w = World::new();
+    greet_from(&mut w, 1, [10, 0, 0, 1]);
+    greet_from(&mut w, 2, [10, 0, 0, 1]);
+    greet_from(&mut w, 3, [10, 0, 0, 3]);
+    w.send(1, quick("ann"));
+    // A second key from ann's address: never her opponent, however long they wait.
+    let out = w.send(2, quick("ann2"));
+    assert!(matches!(
+        sent_to(&out, 2)[..],
+        [ServerMessage::Queued { waiting: 2, .. }]
+    ));
+    w.now += Duration::from_secs(60);
+    let out = w.hub.tick(w.now);
+    assert!(sent_to(&out, 1).is_empty() && sent_to(&out, 2).is_empty());
+    // While queued, no other entry; and one queue at a time.
+    assert_eq!(
+        error_code(&w.send(1, create_room(Settings::online(), "ann")), 1),
+        Some(ErrorCode::Unexpected)
+    );
+    assert_eq!(
+        error_code(&w.send(1, quick("ann")), 1),
+        Some(ErrorCode::Unexpected)
+    );
+    // Ann leaves; her second key drops: neither is matched with the newcomer.
+    assert!(matches!(
+        sent_to(&w.send(1, ClientMessage::LeaveQueue), 1)[..],
+        [ServerMessage::Unqueued { .. }]
+    ));
+    w.hub.disconnected(w.now, w.now, 2);
+    let out = w.send(3, quick("cat"));
+    assert!(matches!(
+        sent_to(&out, 3)[..],
+        [ServerMessage::Queued { waiting: 1, .. }]
+    ));
+    assert_eq!(
+        error_code(&w.send(1, ClientMessage::LeaveQueue), 1),
+        Some(ErrorCode::Unexpected),
+        "not queued"
+    );
+    // Cat waits too long.
+    w.now += QUEUE_TIMEOUT;
+    let out = w.hub.tick(w.now);
+    assert!(matches!(
+        sent_to(&out, 3)[..],
+        [ServerMessage::Unqueued { reason }] if reason.contains("in time")
+    ));
+    assert!(w.hub.queue_lengths().is_empty());
+    // Practice has no opponent; a storm of joins and leaves is limited.
+    let practice = ClientMessage::QuickMatch {
+        variant: Variant::Practice,
+        mode: Settings::online(),
+        name: "cat".into(),
+    };
+    assert_eq!(
+        error_code(&w.send(3, practice), 3),
+        Some(ErrorCode::Invalid)
+    );
+    let mut limited = 0;
+    for n in 0..50 {
+        let msg = if n % 2 == 0 {
+            quick("cat")
+        } else {
+            ClientMessage::LeaveQueue
+        };
+        if error_code(&w.send(3, msg), 3) == Some(ErrorCode::RateLimited) {
+            limited += 1;
+        }
+    }
+    assert!(limited >= 40, "{limited}");
+    assert!(w.hub.queue_lengths().iter().all(|(_, _, n)| *n <= 1));
+}
+
+#[test]
+fn a_drain_tells_every_player_and_empties_the_queues() {
+    let mut w = World::new();
+    greet_from(&mut w, 1, [10, 0, 0, 1]);
+    greet_from(&mut w, 2, [10, 0, 0, 2]);
+    w.send(1, quick("ann"));
+    w.send(2, create_room(Settings::online(), "bob"));
+    let out = w.hub.drain();
+    assert!(matches!(
+        sent_to(&out, 1)[..],
+        [
+            ServerMessage::Unqueued { .. },
+            ServerMessage::Draining { .. }
+        ]
+    ));
+    assert!(matches!(
+        sent_to(&out, 2)[..],
+        [ServerMessage::Draining { message }] if message.contains("your game goes on")
+    ));
+    assert!(w.hub.drain().is_empty(), "told once");
+    assert_eq!(
+        error_code(&w.send(1, quick("ann")), 1),
+        Some(ErrorCode::ServerBusy)
+    );
 }

@@ -16,6 +16,8 @@
 use std::cell::RefCell;
 use std::collections::BTreeSet;
 
+use crate::ratings::PlayerRating;
+use breakshot_shared::protocol::PlayerKey;
 use breakshot_shared::protocol::RoomCode;
 use postgres::{Client, NoTls, Statement};
 
@@ -31,6 +33,7 @@ const MIGRATIONS: &[&str] = &[
     include_str!("../../migrations/postgres/0001_games.sql"),
     include_str!("../../migrations/postgres/0002_seats.sql"),
     include_str!("../../migrations/postgres/0003_clocks.sql"),
+    include_str!("../../migrations/postgres/0004_ratings.sql"),
 ];
 
 /// The advisory lock key under which the schema is migrated ("BRKSHOT" in ASCII).
@@ -45,6 +48,7 @@ struct Writes {
     ended: Statement,
     seat: Statement,
     clock: Statement,
+    rating: Statement,
 }
 
 pub(super) struct PgStore {
@@ -116,6 +120,14 @@ impl PgStore {
                  SET turn = excluded.turn, left_ms = excluded.left_ms,
                      running = excluded.running, at_ms = excluded.at_ms",
             )?,
+            rating: db.prepare(
+                "INSERT INTO ratings (player, name, rating, deviation, volatility, games)
+                 VALUES ($1, $2, $3, $4, $5, $6)
+                 ON CONFLICT (player) DO UPDATE
+                 SET name = excluded.name, rating = excluded.rating,
+                     deviation = excluded.deviation, volatility = excluded.volatility,
+                     games = excluded.games",
+            )?,
         };
         Ok(PgStore {
             db: RefCell::new(db),
@@ -160,7 +172,7 @@ impl PgStore {
                 | StoreOp::Command { room, .. }
                 | StoreOp::GameEnded { room, .. }
                 | StoreOp::Clock { room, .. } => room,
-                StoreOp::Released(_) => continue,
+                StoreOp::Released(_) | StoreOp::Rating { .. } => continue,
             };
             if !self.own(room.as_str())? {
                 return Err(StoreError::OwnedElsewhere(room.to_string()));
@@ -233,6 +245,19 @@ impl PgStore {
                     )?;
                 }
                 StoreOp::Released(_) => {}
+                StoreOp::Rating { key, rating } => {
+                    tx.execute(
+                        &w.rating,
+                        &[
+                            &key.0.as_slice(),
+                            &rating.name,
+                            &rating.rating,
+                            &rating.deviation,
+                            &rating.volatility,
+                            &int(rating.games),
+                        ],
+                    )?;
+                }
             }
         }
         tx.commit()?;
@@ -244,6 +269,33 @@ impl PgStore {
             }
         }
         Ok(())
+    }
+
+    /// Every player's rating.
+    pub(super) fn ratings(&self) -> Result<Vec<(PlayerKey, PlayerRating)>, StoreError> {
+        let rows = self.db.borrow_mut().query(
+            "SELECT player, name, rating, deviation, volatility, games FROM ratings",
+            &[],
+        )?;
+        let mut out = Vec::new();
+        for row in rows {
+            let key: Vec<u8> = row.get(0);
+            let games: i64 = row.get(5);
+            // A row that is no key is skipped rather than trusted.
+            if let Ok(key) = <[u8; 32]>::try_from(key.as_slice()) {
+                out.push((
+                    PlayerKey(key),
+                    PlayerRating {
+                        name: row.get(1),
+                        rating: row.get(2),
+                        deviation: row.get(3),
+                        volatility: row.get(4),
+                        games: u32::try_from(games).unwrap_or(0),
+                    },
+                ));
+            }
+        }
+        Ok(out)
     }
 
     /// The unfinished games of rooms no other instance owns, taking them.

@@ -3,6 +3,8 @@
 
 use std::path::Path;
 
+use crate::ratings::PlayerRating;
+use breakshot_shared::protocol::PlayerKey;
 use breakshot_shared::protocol::RoomCode;
 use breakshot_shared::replay::{self, GameRecord, RecordEntry, RECORD_VERSION};
 use rusqlite::{params, Connection, OptionalExtension};
@@ -85,6 +87,14 @@ impl SqliteStore {
                  running INTEGER NOT NULL,
                  at_ms INTEGER NOT NULL,
                  PRIMARY KEY (room, number)
+             ) WITHOUT ROWID;
+             CREATE TABLE IF NOT EXISTS ratings (
+                 player BLOB PRIMARY KEY,
+                 name TEXT NOT NULL,
+                 rating REAL NOT NULL,
+                 deviation REAL NOT NULL,
+                 volatility REAL NOT NULL,
+                 games INTEGER NOT NULL
              ) WITHOUT ROWID;",
         )?;
         if version < 3 {
@@ -178,10 +188,56 @@ impl SqliteStore {
                 }
                 // One server owns every room of its own SQLite file.
                 StoreOp::Released(_) => {}
+                StoreOp::Rating { key, rating } => {
+                    tx.prepare_cached(
+                        "INSERT INTO ratings (player, name, rating, deviation, volatility, games)
+                         VALUES (?1, ?2, ?3, ?4, ?5, ?6)
+                         ON CONFLICT(player) DO UPDATE
+                         SET name = excluded.name, rating = excluded.rating,
+                             deviation = excluded.deviation, volatility = excluded.volatility,
+                             games = excluded.games",
+                    )?
+                    .execute(params![
+                        key.0.as_slice(),
+                        rating.name,
+                        rating.rating,
+                        rating.deviation,
+                        rating.volatility,
+                        rating.games
+                    ])?;
+                }
             }
         }
         tx.commit()?;
         Ok(())
+    }
+
+    /// Every player's rating.
+    pub(super) fn ratings(&self) -> Result<Vec<(PlayerKey, PlayerRating)>, StoreError> {
+        let mut q = self
+            .db
+            .prepare("SELECT player, name, rating, deviation, volatility, games FROM ratings")?;
+        let rows = q.query_map([], |r| {
+            Ok((
+                r.get::<_, Vec<u8>>(0)?,
+                PlayerRating {
+                    name: r.get(1)?,
+                    rating: r.get(2)?,
+                    deviation: r.get(3)?,
+                    volatility: r.get(4)?,
+                    games: r.get(5)?,
+                },
+            ))
+        })?;
+        let mut out = Vec::new();
+        for row in rows {
+            let (key, rating) = row?;
+            // A row that is no key is skipped rather than trusted.
+            if let Ok(key) = <[u8; 32]>::try_from(key.as_slice()) {
+                out.push((PlayerKey(key), rating));
+            }
+        }
+        Ok(out)
     }
 
     /// Games still being played, for a restart.

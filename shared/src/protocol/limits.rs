@@ -44,3 +44,13 @@ pub const IDLE_TIMEOUT: Duration = Duration::from_secs(5);
 /// (or when the server stopped), but never less than this, enough to look at the table
 /// again and play.
 pub const MIN_CLOCK_ON_RETURN: Duration = Duration::from_secs(15);
+/// Lobby and leaderboard pages a connection may ask for in a burst ...
+pub const LOBBY_BURST: u32 = 5;
+/// ... and the time it takes to earn one more.
+pub const LOBBY_REFILL: Duration = Duration::from_secs(1);
+/// How long a player waits in the quick-match queue before it gives up.
+pub const QUEUE_TIMEOUT: Duration = Duration::from_secs(180);
+/// Quick-match joins and leaves a connection may make in a burst ...
+pub const QUEUE_BURST: u32 = 5;
+/// ... and the time it takes to earn one more.
+pub const QUEUE_REFILL: Duration = Duration::from_secs(2);

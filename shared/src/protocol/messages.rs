@@ -1,10 +1,12 @@
 //! The messages, client to server and server to client. One bidirectional QUIC stream per
 //! client carries them as frames (see [`super::framing`]); the client speaks first with
-//! [`ClientMessage::Hello`].
+//! [`ClientMessage::Hello`], the server answers [`ServerMessage::Challenge`], the client
+//! proves its key with [`ClientMessage::Prove`] and the server says [`ServerMessage::Welcome`].
 
 use serde::{Deserialize, Serialize};
 
 use super::ids::{RoomCode, SeatToken};
+use super::lobby::{GameInPlay, RatedPlayer, WaitingRoom};
 use crate::physics::{BallState, Strike};
 use crate::rules::{Choice, Command, Game, Seat, Settings, TurnId, Variant};
 
@@ -29,6 +31,15 @@ pub enum ClientMessage {
         protocol: u32,
         /// [`super::reference::reference_hash`] as the client computes it.
         physics: u64,
+        /// The player's Ed25519 public key, [`super::identity::PUBLIC_KEY_LEN`] bytes: who
+        /// the player is on this server ([`super::identity`]).
+        key: Vec<u8>,
+    },
+    /// The answer to [`ServerMessage::Challenge`]: the key's signature over
+    /// [`super::identity::signed_message`], [`super::identity::SIGNATURE_LEN`] bytes.
+    Prove {
+        /// The Ed25519 signature.
+        signature: Vec<u8>,
     },
     /// Opens a room and takes seat A in it. `mode` holds the room's settings (calling every
     /// shot, shot clock).
@@ -115,6 +126,42 @@ pub enum ClientMessage {
         turn: TurnId,
         /// The strike as it stands now, checked like a shot's.
         strike: Strike,
+    },
+    /// Lists the room this player created, while it waits for its second player, in the
+    /// lobby (it is private, reached by its invite alone, until then). Answered by
+    /// [`ServerMessage::Published`].
+    Publish,
+    /// Asks for a page (from 0) of the lobby: public rooms waiting for a player and listed
+    /// games in play. Rate-limited. Answered by [`ServerMessage::Games`].
+    ListGames {
+        /// The page, from 0.
+        page: u32,
+    },
+    /// Waits in the quick-match queue of this variant and settings to be paired with a
+    /// player of a near rating; answered by [`ServerMessage::Queued`], then `Joined` when
+    /// a match is found (a rated game), or [`ServerMessage::Unqueued`].
+    QuickMatch {
+        /// The game wanted.
+        variant: Variant,
+        /// Its settings; players are paired only with the same.
+        mode: Settings,
+        /// The player's display name: 1 to 24 printable characters.
+        name: String,
+    },
+    /// Leaves the quick-match queue.
+    LeaveQueue,
+    /// Asks for a page (from 0) of the leaderboard. Rate-limited like `ListGames`.
+    Leaderboard {
+        /// The page, from 0.
+        page: u32,
+    },
+    /// The client's own simulation of a shot ended on another hash than the server's: counted
+    /// for the operator (`breakshot_desyncs_reported_total`), never answered.
+    ReportDesync {
+        /// The turn of the shot.
+        turn: TurnId,
+        /// The server's hash for it, which the client's own simulation did not reach.
+        hash: u64,
     },
 }
 
@@ -209,6 +256,11 @@ pub enum ErrorCode {
 /// Server to client.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum ServerMessage {
+    /// The answer to a `Hello` the server accepts: sign this, once, to prove the key.
+    Challenge {
+        /// Fresh random bytes, drawn for this connection alone.
+        nonce: [u8; super::identity::NONCE_LEN],
+    },
     /// The handshake succeeded.
     Welcome {
         /// The server's [`super::PROTOCOL_VERSION`], equal to the client's.
@@ -368,6 +420,57 @@ pub enum ServerMessage {
         seat: Seat,
         /// The strike as it stands now (checked, aim normalised).
         strike: Strike,
+    },
+    /// The room is listed in the lobby now, until its second player comes.
+    Published {
+        /// The room listed.
+        room: RoomCode,
+    },
+    /// A page of the lobby.
+    Games {
+        /// The page, from 0.
+        page: u32,
+        /// Pages in all (at least 1), of whichever list is longer.
+        pages: u32,
+        /// Public rooms waiting for a player, the longest waiting first.
+        waiting: Vec<WaitingRoom>,
+        /// Listed games in play, to watch.
+        playing: Vec<GameInPlay>,
+    },
+    /// The player waits in the quick-match queue.
+    Queued {
+        /// Players waiting in this queue now, this one included.
+        waiting: u32,
+        /// Seconds this player may wait before the queue gives up.
+        timeout_s: u32,
+    },
+    /// The player is out of the queue without a match (they left, or waited too long).
+    Unqueued {
+        /// Why, readable by a person.
+        reason: String,
+    },
+    /// A page of the leaderboard.
+    Leaders {
+        /// The page, from 0.
+        page: u32,
+        /// Pages in all (at least 1).
+        pages: u32,
+        /// The players of this page, best first.
+        players: Vec<RatedPlayer>,
+    },
+    /// A rated game ended: this seat's rating before and after (Glicko-2, rounded).
+    Rated {
+        /// The seat whose rating changed.
+        seat: Seat,
+        /// The rating before the game.
+        before: i32,
+        /// The rating after it.
+        after: i32,
+    },
+    /// The server is shutting down: no new games; games in play go on to their end.
+    Draining {
+        /// What it means for the player, readable by a person.
+        message: String,
     },
 }
 

@@ -39,6 +39,9 @@ pub enum InvalidMessage {
     /// A new room whose table, race or shot clock is out of range.
     #[error("a room is played on a 7, 8 or 9-foot table (three-cushion: the carom table, a race of 1 to {MAX_RACE} points; snooker: the snooker table, 6, 10 or 15 reds, the best of an odd number of frames up to {MAX_BEST_OF}) with a shot clock of {MIN_SHOT_CLOCK} to {MAX_SHOT_CLOCK} s, if any")]
     Mode,
+    /// Quick match for practice, which has no opponent.
+    #[error("practice has no opponent to be matched with")]
+    Practice,
     /// A game number of 0 (a room's games are numbered from 1).
     #[error("a room's games are numbered from 1")]
     GameNumber,
@@ -76,8 +79,17 @@ pub fn validate(msg: ClientMessage) -> Result<ClientMessage, InvalidMessage> {
         }
         ClientMessage::CreateRoom {
             variant, ref mode, ..
+        }
+        | ClientMessage::QuickMatch {
+            variant, ref mode, ..
         } if !playable(variant, mode) => Err(InvalidMessage::Mode),
-        ClientMessage::CreateRoom { ref name, .. } | ClientMessage::Join { ref name, .. }
+        ClientMessage::QuickMatch {
+            variant: Variant::Practice,
+            ..
+        } => Err(InvalidMessage::Practice),
+        ClientMessage::CreateRoom { ref name, .. }
+        | ClientMessage::Join { ref name, .. }
+        | ClientMessage::QuickMatch { ref name, .. }
             if !printable(name, MAX_NAME_CHARS) =>
         {
             Err(InvalidMessage::Name)

@@ -20,6 +20,9 @@ pub enum Entry {
         /// Watch a full room rather than be refused.
         watch_if_full: bool,
     },
+    /// Waits for a quick match (a [`ClientMessage::QuickMatch`]): answered by `Queued`, then
+    /// `Joined` once paired.
+    QuickMatch(ClientMessage),
     /// Watches `room`.
     Spectate {
         /// The room.
@@ -39,7 +42,7 @@ impl Entry {
     /// The message that asks for this entry.
     pub(super) fn message(&self) -> ClientMessage {
         match self {
-            Entry::Create(msg) => msg.clone(),
+            Entry::Create(msg) | Entry::QuickMatch(msg) => msg.clone(),
             Entry::Join { room, name, .. } => ClientMessage::Join {
                 room: room.clone(),
                 name: name.clone(),

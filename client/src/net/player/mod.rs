@@ -4,7 +4,7 @@
 //! connection to an address, close it), the frames to send and the events to show.
 //!
 //! It owns every decision a player's connection makes: the handshake (`Hello`, the protocol
-//! version and the physics), the invite's addresses tried in order with growing pauses,
+//! version, the physics and the player's key, proved by signing the server's challenge), the invite's addresses tried in order with growing pauses,
 //! entering a room ([`Entry`]: join, take a remembered seat back and fall back when the
 //! server no longer knows it, watch a full room), taking the seat back after a drop,
 //! asking the next instance when one says the game is played on another, and the one
@@ -26,8 +26,8 @@ use std::time::Duration;
 
 use breakshot_shared::protocol::limits::RECONNECT_WINDOW;
 use breakshot_shared::protocol::{
-    encode_frame, reference_hash, split_frame, ClientMessage, ErrorCode, Fingerprint, Invite,
-    ServerAddress, ServerMessage, PROTOCOL_VERSION,
+    encode_frame, reference_hash, split_frame, ClientMessage, ErrorCode, Fingerprint, Identity,
+    Invite, ServerAddress, ServerMessage, PROTOCOL_VERSION,
 };
 
 pub use entry::{Entry, Seating};
@@ -132,6 +132,8 @@ pub struct PlayerCore {
     policy: Reconnect,
     /// The `Hello` this core says.
     hello: ClientMessage,
+    /// Who the player is: the key `Hello` names and `Prove` signs with.
+    identity: Identity,
     /// The index in the invite of the address connected to (or last connected to).
     at: usize,
     link: Link,
@@ -155,20 +157,28 @@ pub struct PlayerCore {
 impl PlayerCore {
     /// A core that starts connecting to the server `invite` names at `now`, retrying as
     /// `policy` says.
-    pub fn new(invite: Invite, policy: Reconnect, now: Duration) -> PlayerCore {
-        Self::claiming(invite, policy, PROTOCOL_VERSION, now)
+    pub fn new(invite: Invite, policy: Reconnect, identity: Identity, now: Duration) -> PlayerCore {
+        Self::claiming(invite, policy, identity, PROTOCOL_VERSION, now)
     }
 
     /// [`PlayerCore::new`] saying `Hello` with another protocol version than ours (to test
     /// refusals).
-    pub fn claiming(invite: Invite, policy: Reconnect, protocol: u32, now: Duration) -> Self {
+    pub fn claiming(
+        invite: Invite,
+        policy: Reconnect,
+        identity: Identity,
+        protocol: u32,
+        now: Duration,
+    ) -> Self {
         let mut core = PlayerCore {
             invite,
             policy,
             hello: ClientMessage::Hello {
                 protocol,
                 physics: 0,
+                key: Vec::new(),
             },
+            identity,
             at: 0,
             link: Link::Closed,
             seating: Seating::default(),
@@ -181,7 +191,7 @@ impl PlayerCore {
             actions: VecDeque::new(),
             events: VecDeque::new(),
         };
-        match hello(protocol) {
+        match hello(protocol, &core.identity) {
             Ok(msg) => {
                 core.hello = msg;
                 let opening = Opening::new(Purpose::First, 0, now, policy.first_for, policy);
@@ -480,8 +490,19 @@ impl PlayerCore {
         self.events.push_back(PlayerEvent::Message(msg));
     }
 
-    /// The answer to `Hello`.
+    /// The key this core proves: who the player is on the server.
+    pub fn identity(&self) -> &Identity {
+        &self.identity
+    }
+
+    /// The answer to `Hello` (a challenge, answered here), then the answer to `Prove`.
     fn greeted(&mut self, msg: ServerMessage, now: Duration) {
+        if let ServerMessage::Challenge { nonce } = msg {
+            if let Ok(frame) = encode_frame(&prove(&self.hello, &self.identity, &nonce)) {
+                self.transmits.push_back(frame);
+            }
+            return;
+        }
         match answer_to_hello(msg) {
             Ok(()) => {
                 let Link::Opening(opening) = &self.link else {
@@ -544,6 +565,8 @@ impl PlayerCore {
         let code = match msg {
             ServerMessage::Joined { .. } => return false,
             ServerMessage::GameFinished { .. } => return false,
+            // Out of the queue without a match: the entry is over.
+            ServerMessage::Unqueued { .. } => return false,
             ServerMessage::Error { code, .. } => *code,
             _ => {
                 self.entry = Some(entry);
@@ -579,10 +602,32 @@ pub(crate) fn answer_to_hello(msg: ServerMessage) -> Result<(), NetError> {
     }
 }
 
-/// The `Hello` this build says, claiming `protocol`.
-pub(crate) fn hello(protocol: u32) -> Result<ClientMessage, NetError> {
+/// The `Hello` this build says for `identity`, claiming `protocol`.
+pub(crate) fn hello(protocol: u32, identity: &Identity) -> Result<ClientMessage, NetError> {
     let physics = reference_hash().map_err(|e| NetError::Connect(e.to_string()))?;
-    Ok(ClientMessage::Hello { protocol, physics })
+    Ok(ClientMessage::Hello {
+        protocol,
+        physics,
+        key: identity.public().0.to_vec(),
+    })
+}
+
+/// The `Prove` that answers the server's challenge `nonce` to `hello`: the signature covers
+/// the challenge and what `hello` claimed.
+pub(crate) fn prove(
+    hello: &ClientMessage,
+    identity: &Identity,
+    nonce: &[u8; breakshot_shared::protocol::identity::NONCE_LEN],
+) -> ClientMessage {
+    let (protocol, physics) = match hello {
+        ClientMessage::Hello {
+            protocol, physics, ..
+        } => (*protocol, *physics),
+        _ => (PROTOCOL_VERSION, 0),
+    };
+    ClientMessage::Prove {
+        signature: identity.sign(nonce, protocol, physics),
+    }
 }
 
 /// The answer an instance gives to a `Rejoin` for a game another instance plays.

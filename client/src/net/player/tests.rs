@@ -3,8 +3,8 @@
 use std::time::Duration;
 
 use breakshot_shared::protocol::{
-    encode_frame, AimAid, ClientMessage, ErrorCode, Invite, Role, RoomCode, SeatToken,
-    ServerMessage, Snapshot, PROTOCOL_VERSION,
+    encode_frame, AimAid, ClientMessage, ErrorCode, Identity, Invite, PlayerKey, Role, RoomCode,
+    SeatToken, ServerMessage, Snapshot, PROTOCOL_VERSION,
 };
 use breakshot_shared::rules::{EightBallRules, Game, Seat, Settings, Variant};
 
@@ -68,6 +68,12 @@ fn error(code: ErrorCode) -> ServerMessage {
     }
 }
 
+fn identity() -> Identity {
+    Identity::from_seed(&[3; 32])
+}
+
+const NONCE: [u8; 32] = [9; 32];
+
 fn welcome() -> ServerMessage {
     ServerMessage::Welcome {
         protocol: PROTOCOL_VERSION,
@@ -84,7 +90,7 @@ struct Script {
 impl Script {
     fn new(invite: Invite, policy: Reconnect) -> Script {
         let (transport, server) = MemoryTransport::pair();
-        let core = PlayerCore::new(invite, policy, Duration::ZERO);
+        let core = PlayerCore::new(invite, policy, identity(), Duration::ZERO);
         let mut driver = Polled::new(core, transport);
         driver.update(Duration::ZERO);
         Script {
@@ -110,10 +116,28 @@ impl Script {
     fn greet(&mut self) {
         self.server.accept();
         self.driver.update(self.now);
-        assert!(matches!(
-            self.server.heard().as_slice(),
-            [ClientMessage::Hello { protocol, .. }] if *protocol == PROTOCOL_VERSION
-        ));
+        let heard = self.server.heard();
+        let [ClientMessage::Hello {
+            protocol,
+            physics,
+            key,
+        }] = heard.as_slice()
+        else {
+            panic!("no Hello: {heard:?}");
+        };
+        assert_eq!(*protocol, PROTOCOL_VERSION);
+        assert_eq!(key.as_slice(), identity().public().0.as_slice());
+        self.say(&ServerMessage::Challenge { nonce: NONCE });
+        // The core proves its key over this challenge and this Hello's context.
+        let heard = self.server.heard();
+        let [ClientMessage::Prove { signature }] = heard.as_slice() else {
+            panic!("no Prove: {heard:?}");
+        };
+        let player = PlayerKey::from_wire(key).expect("a key");
+        assert_eq!(
+            player.verify(&NONCE, *protocol, *physics, signature),
+            Ok(())
+        );
         self.say(&welcome());
     }
 
@@ -365,14 +389,15 @@ fn a_rematch_is_sent_and_its_game_arrives_as_a_message() {
 
 #[test]
 fn frames_split_anywhere_are_put_back_together() {
-    let mut core = PlayerCore::new(invite(1), Reconnect::never(), Duration::ZERO);
+    let mut core = PlayerCore::new(invite(1), Reconnect::never(), identity(), Duration::ZERO);
     assert!(matches!(
         core.poll_action(),
         Some(Action::Open { at: 0, .. })
     ));
     core.opened(ms(1));
     assert!(core.poll_transmit().is_some(), "Hello");
-    let mut bytes = encode_frame(&welcome()).unwrap();
+    let mut bytes = encode_frame(&ServerMessage::Challenge { nonce: NONCE }).unwrap();
+    bytes.extend(encode_frame(&welcome()).unwrap());
     bytes.extend(encode_frame(&error(ErrorCode::NotYourTurn)).unwrap());
     for chunk in bytes.chunks(3) {
         core.received(chunk, ms(2));

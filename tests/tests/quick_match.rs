@@ -1,0 +1,211 @@
+//! Strangers meet through quick match on a real server, with no invite to a room: they are
+//! paired, play a rated game through, and both ratings change as Glicko-2 says (the
+//! `skillratings` crate's own numbers), then survive a restart on both store backends. The
+//! lobby lists the game to watch while it is played.
+
+use std::time::Duration;
+
+use anyhow::{bail, Result};
+use breakshot_client::bot::{run, BotConfig};
+use breakshot_server::ratings::PlayerRating;
+use breakshot_server::store::{Location, Store};
+use breakshot_server::Limits;
+use breakshot_shared::protocol::{ClientMessage, ServerMessage};
+use breakshot_tests::postgres::Cluster;
+use breakshot_tests::{scratch, Player, TestServer, PATIENCE};
+use skillratings::glicko2::{glicko2, Glicko2Config, Glicko2Rating};
+use skillratings::Outcomes;
+
+/// Both bots connect from 127.0.0.1: the test server lets one address be paired (a public
+/// one does not; `server::matchmaking`'s tests hold that rule).
+fn config_at(data: &std::path::Path, store: Option<Location>) -> breakshot_server::Config {
+    let mut config = TestServer::config(([127, 0, 0, 1], 0).into(), data);
+    config.limits = Limits {
+        match_one_address: true,
+        ..Limits::default()
+    };
+    if let Some(store) = store {
+        config.store = store;
+    }
+    config
+}
+
+/// What the crate says two new players' ratings become when one beats the other.
+fn expected() -> (Glicko2Rating, Glicko2Rating) {
+    glicko2(
+        &Glicko2Rating::new(),
+        &Glicko2Rating::new(),
+        &Outcomes::WIN,
+        &Glicko2Config::new(),
+    )
+}
+
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() < 1e-9
+}
+
+/// Plays one quick match with two bots, checks the game and the ratings stored, restarts
+/// the server on the same store and checks the leaderboard it serves.
+async fn quick_match_rates_and_remembers(
+    data: &std::path::Path,
+    store: Option<Location>,
+) -> Result<()> {
+    let server = TestServer::start_with(config_at(data, store.clone())).await?;
+    let mut config = BotConfig::new(server.invite.clone(), 1);
+    config.quick_match = true;
+    let report = tokio::time::timeout(PATIENCE, run(&config))
+        .await
+        .map_err(|_| anyhow::anyhow!("the quick match never finished"))?;
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert_eq!(report.games_completed, 1);
+    assert_eq!(report.desyncs, 0);
+    assert_eq!(report.confirmed, 2 * report.shots);
+    let game = &report.games[0];
+    eprintln!(
+        "quick match over after {} shots: {}",
+        report.shots, game.reason
+    );
+    server.stop().await?;
+
+    // Both ratings, as stored, are the crate's numbers for a win and a loss.
+    let location = store.unwrap_or_else(|| Location::Sqlite(data.to_path_buf()));
+    // The PostgreSQL driver blocks on a runtime of its own: read on a plain thread.
+    let stored = {
+        let location = location.clone();
+        tokio::task::spawn_blocking(move || Store::at(&location)?.ratings()).await??
+    };
+    assert_eq!(stored.len(), 2, "{stored:?}");
+    let (win, loss) = expected();
+    let mut ratings: Vec<&PlayerRating> = stored.iter().map(|(_, r)| r).collect();
+    ratings.sort_by(|a, b| b.rating.total_cmp(&a.rating));
+    for (got, want) in ratings.iter().zip([win, loss]) {
+        assert!(close(got.rating, want.rating), "{got:?} vs {want:?}");
+        assert!(close(got.deviation, want.deviation), "{got:?} vs {want:?}");
+        assert!(
+            close(got.volatility, want.volatility),
+            "{got:?} vs {want:?}"
+        );
+        assert_eq!(got.games, 1);
+    }
+    assert!(ratings[0].rating > 1500.0 && ratings[1].rating < 1500.0);
+
+    // A new server on the same store serves them on its leaderboard.
+    let server = TestServer::start_with(config_at(data, Some(location))).await?;
+    let mut p = Player::connect(&server.invite).await?;
+    p.send(ClientMessage::Leaderboard { page: 0 }).await?;
+    match p.recv().await? {
+        ServerMessage::Leaders { players, pages, .. } => {
+            assert_eq!(pages, 1);
+            assert_eq!(players.len(), 2);
+            assert_eq!(players[0].rating, win.rating.round() as i32);
+            assert_eq!(players[1].rating, loss.rating.round() as i32);
+            assert_eq!(players[0].rank, 1);
+        }
+        other => bail!("expected the leaderboard, got {other:?}"),
+    }
+    server.stop().await
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn strangers_meet_through_quick_match_and_their_ratings_survive_a_restart() -> Result<()> {
+    let data = scratch("quick-match");
+    quick_match_rates_and_remembers(data.path(), None).await
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn on_postgres_the_ratings_survive_a_restart_too() -> Result<()> {
+    let Some(cluster) = Cluster::start("quick_match_postgres") else {
+        return Ok(());
+    };
+    let data = scratch("quick-match-pg");
+    quick_match_rates_and_remembers(data.path(), Some(Location::Postgres(cluster.url.clone())))
+        .await
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_published_room_is_in_the_lobby_and_a_queued_player_can_leave() -> Result<()> {
+    let data = scratch("lobby");
+    let server = TestServer::start(data.path()).await?;
+    let mut host = Player::connect(&server.invite).await?;
+    let room = breakshot_tests::create_room(&mut host, "ann").await?;
+    host.send(ClientMessage::Publish).await?;
+    host.until("the listing", |m| {
+        matches!(m, ServerMessage::Published { .. })
+    })
+    .await?;
+    let mut finder = Player::connect(&server.invite).await?;
+    finder.send(ClientMessage::ListGames { page: 0 }).await?;
+    match finder.recv().await? {
+        ServerMessage::Games { waiting, .. } => {
+            assert_eq!(waiting.len(), 1);
+            assert_eq!(waiting[0].room, room);
+            assert_eq!(waiting[0].host, "ann");
+        }
+        other => bail!("expected the lobby, got {other:?}"),
+    }
+    // A player who queues and leaves is out of the queue; one who drops is too.
+    finder
+        .send(ClientMessage::QuickMatch {
+            variant: breakshot_tests::eight_ball(),
+            mode: breakshot_shared::rules::Settings::online(),
+            name: "bob".into(),
+        })
+        .await?;
+    finder
+        .until("queued", |m| {
+            matches!(m, ServerMessage::Queued { waiting: 1, .. })
+        })
+        .await?;
+    finder.send(ClientMessage::LeaveQueue).await?;
+    finder
+        .until("out of the queue", |m| {
+            matches!(m, ServerMessage::Unqueued { .. })
+        })
+        .await?;
+
+    // A storm of lobby pages and queue joins and leaves: refused beyond their budgets, with
+    // nothing left queued and the connection still served.
+    let storm = |n: usize| match n % 3 {
+        0 => ClientMessage::ListGames { page: 0 },
+        1 => ClientMessage::QuickMatch {
+            variant: breakshot_tests::eight_ball(),
+            mode: breakshot_shared::rules::Settings::online(),
+            name: "eve".into(),
+        },
+        _ => ClientMessage::LeaveQueue,
+    };
+    for n in 0..30 {
+        finder.send(storm(n)).await?;
+    }
+    let mut limited = 0;
+    for _ in 0..30 {
+        if let ServerMessage::Error {
+            code: breakshot_shared::protocol::ErrorCode::RateLimited,
+            ..
+        } = finder.recv().await?
+        {
+            limited += 1;
+        }
+    }
+    assert!(limited >= 10, "only {limited} of 30 refused");
+    finder.send(ClientMessage::LeaveQueue).await?;
+    let deadline = tokio::time::Instant::now() + PATIENCE;
+    loop {
+        let queued: usize = server
+            .stats
+            .queued
+            .lock()
+            .unwrap()
+            .iter()
+            .map(|q| q.1)
+            .sum();
+        if queued == 0 {
+            break;
+        }
+        if tokio::time::Instant::now() > deadline {
+            bail!("{queued} still queued after the storm");
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    server.stop().await
+}
