@@ -107,6 +107,7 @@ fn main() -> ExitCode {
         "break_9ft.json",
         "frozen_cradle.json",
         "draw_shot.json",
+        "jump_9ft.json",
     ] {
         let shot = match example(name) {
             Ok(shot) => shot,

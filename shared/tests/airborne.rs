@@ -8,7 +8,7 @@ use breakshot_shared::physics::{
 };
 use breakshot_shared::scene::Scene;
 use common::*;
-use glam::DVec2;
+use glam::{DVec2, DVec3};
 
 /// A shot on a 9 ft table: the cue ball at `cue` struck along +y at `speed` with the cue
 /// elevated by `elevation` degrees, and object balls at `others` (scene coordinates).
@@ -294,13 +294,18 @@ fn grazing_a_ball_in_flight() {
 #[test]
 fn a_ball_landing_in_a_pocket_falls_in() {
     let table = breakshot_shared::physics::Table::new(TableKind::NineFoot);
-    let middle = DVec2::new(0.635, 1.27);
     // Thrown level from 5 cm up at 1.5 m/s towards the pocket, it lands after τ = √(2h/g).
     let (h, v) = (0.05, 1.5);
     let travel = v * (2.0 * h / G).sqrt();
     for (k, pocket) in table.pockets.iter().enumerate() {
         let centre = table.to_scene(pocket.center);
-        let inward = (middle - centre).normalize();
+        // Along the pocket's own axis, between its jaws (seen by balls in flight too).
+        let c = pocket.center;
+        let inward = if c.y.abs() < 1e-9 {
+            DVec2::new(-c.x.signum(), 0.0)
+        } else {
+            DVec2::new(-c.x.signum(), -c.y.signum()).normalize()
+        };
         for (reach, falls) in [(0.0, true), (0.9, true), (1.05, false)] {
             let landing = centre + inward * (reach * pocket.radius);
             let start = landing + inward * travel;
@@ -331,5 +336,215 @@ fn a_ball_landing_in_a_pocket_falls_in() {
                 assert_eq!(out.finals[0].pocket, Some(k as u8));
             }
         }
+    }
+}
+
+/// The distance from a point (engine coordinates, as in pieces, height `z` above the cloth) to
+/// the nose of jaw `k`, the horizontal circle of the jaw's radius at the cushion height.
+fn to_jaw_nose(table: &breakshot_shared::physics::Table, k: usize, p: DVec2, z: f64) -> f64 {
+    let h = breakshot_shared::physics::Params::default().cushion_height;
+    let jaw = table.jaws[k];
+    let across = (p - jaw.center).length() - jaw.radius;
+    (across * across + (z - h) * (z - h)).sqrt()
+}
+
+/// Balls thrown in flight at every jaw of a 9 ft table, from several heights: those that
+/// meet a jaw's nose touch it exactly (the centre one radius from the nose circle, checked
+/// by the closed form of the distance, not by the solver's polynomial), bounce back into the
+/// bed, and keep the energy from rising; those high enough pass over the jaw and leave.
+#[test]
+fn balls_in_flight_meet_the_jaws() {
+    let table = breakshot_shared::physics::Table::new(TableKind::NineFoot);
+    let mut touched = 0;
+    let mut over = 0;
+    for k in 0..table.jaws.len() {
+        let jaw = table.jaws[k];
+        // The rail end the jaw rounds off, and the direction along the rail from there.
+        let (normal, along) = table
+            .rails
+            .iter()
+            .find_map(|rail| {
+                let touch = jaw.center + rail.normal * jaw.radius;
+                [(rail.a, rail.b), (rail.b, rail.a)]
+                    .into_iter()
+                    .find(|(end, _)| (touch - *end).length() < 1e-9)
+                    .map(|(end, other)| (rail.normal, (other - end).normalize()))
+            })
+            .expect("every jaw ends a rail");
+        // Thrown from the bed at the jaw's rounded nose, past the rail's end.
+        let inward = (normal - along).normalize();
+        let axis = table.to_scene(jaw.center);
+        for (lift, vz) in [
+            (0.0, 0.4),
+            (0.01, 0.3),
+            (0.03, 0.0),
+            (0.05, 0.5),
+            (0.2, 0.0),
+        ] {
+            let start = axis + inward * (table.jaws[k].radius + 2.5 * R);
+            let vel = -inward * 2.0;
+            let mut b = ball([start.x, start.y], [vel.x, vel.y], [0.0; 3]);
+            (b.lift, b.vz, b.motion) = (lift, vz, MotionState::Airborne);
+            let shot = Shot::new(TableKind::NineFoot, vec![b]);
+            let out = run(&shot);
+            invariant_figures(&shot, &out);
+            let first = out.events[0];
+            let hop = out.history[0][0];
+            let s = hop.state_at(first.t, R);
+            let z = R + s.lift;
+            match first.kind {
+                EventKind::BallCushion {
+                    cushion: breakshot_shared::physics::Cushion::Jaw(j),
+                    ..
+                } => {
+                    let gap = to_jaw_nose(&table, j as usize, s.pos, z) - R;
+                    assert!(gap.abs() < 1e-9, "jaw {j}, lift {lift}: gap {gap:e}");
+                    // Approaching until then: a moment earlier the ball was farther away.
+                    let before = out.state_at(0, first.t - 1e-4);
+                    let earlier = to_jaw_nose(&table, j as usize, before.pos, R + before.lift);
+                    assert!(earlier > R, "jaw {j}: {earlier}");
+                    // It comes away from the jaw, towards the bed.
+                    let after = out.history[0][1].start;
+                    assert!(after.vel.dot(inward) > 0.0, "jaw {j}: {:?}", after.vel);
+                    touched += 1;
+                }
+                EventKind::BallOffTable { ball: 0 } => {
+                    assert!(z - table_cushion_height() > R, "left below the nose: {z}");
+                    over += 1;
+                }
+                other => println!("jaw {k}, lift {lift}: first {other:?}"),
+            }
+        }
+    }
+    assert!(touched >= table.jaws.len(), "{touched} jaw contacts");
+    assert!(over >= table.jaws.len() / 2, "{over} balls over a jaw");
+    println!("{touched} jaw contacts in flight, {over} balls over a jaw");
+}
+
+fn table_cushion_height() -> f64 {
+    breakshot_shared::physics::Params::default().cushion_height
+}
+
+/// A ball coming down on another at a cut, with side spin: the contact's friction throws the
+/// object ball off the 3-D line of centres and spins it, as on the cloth; with the
+/// `ball_friction` effect off (or the ideal model) the collision is frictionless.
+#[test]
+fn ball_friction_acts_in_flight() {
+    let collide = |friction: bool| {
+        // Falling onto the object ball from 6 cm up, at a half-ball cut, with side spin.
+        let mut flying = ball([R, -0.2], [0.0, 2.0], [0.0, 0.0, 40.0]);
+        (flying.lift, flying.vz, flying.motion) = (0.045, 0.0, MotionState::Airborne);
+        let target = ball([0.0, 0.0], [0.0; 2], [0.0; 3]);
+        let mut shot = Shot::new(TableKind::Open, vec![flying, target]);
+        shot.effects.ball_friction = friction;
+        let out = run(&shot);
+        invariant_figures(&shot, &out);
+        let hit = out
+            .events
+            .iter()
+            .find(|e| e.kind == EventKind::BallBall { a: 0, b: 1 })
+            .expect("the balls meet in flight");
+        let a = out.state_at(0, hit.t);
+        let line = (out.state_at(1, hit.t).pos - a.pos).normalize();
+        let k = out.history[1]
+            .iter()
+            .position(|p| p.t0 == hit.t)
+            .expect("new piece");
+        let b = out.history[1][k].start;
+        let k = out.history[0]
+            .iter()
+            .position(|p| p.t0 == hit.t)
+            .expect("new piece");
+        let a = out.history[0][k].start;
+        (angle_between(b.vel, line), a.spin)
+    };
+    let before = DVec3::new(0.0, 0.0, 40.0);
+    let (throw, spin) = collide(true);
+    let (straight, kept) = collide(false);
+    println!("in flight: throw {throw:.3}°, striker's spin {spin}; frictionless {straight:e}°");
+    assert!(throw > 0.1, "throw {throw}°");
+    assert!((spin - before).length() > 1.0, "the striker's spin {spin}");
+    assert!(straight < 1e-6 && kept == before, "{straight} {kept}");
+}
+
+/// The first hop of a centre-ball jump shot against the closed form of the same strike and
+/// bounce: the ball leaves the tip at `v = 2V/(1 + m/M)` along the cue (the instantaneous
+/// point strike, Alciatore TP A.30, as pooltool's 3-D mode on its main branch applies it), is
+/// driven into the slate at `v·sin θ`, comes off at `e_t·v·sin θ` with its horizontal speed
+/// lowered by the slate's friction `μ·(1 + e_t)·v·sin θ` (at most the 2/7 that ends the
+/// slip), and flies a parabola: apex `(e_t·v·sin θ)²/2g`, first landing `v_h·2e_t·v·sin θ/g`
+/// from the strike.
+#[test]
+fn jump_heights_and_distances_match_the_closed_form() {
+    let p = breakshot_shared::physics::Params::default();
+    let m_over_cue = p.ball_mass / breakshot_shared::physics::cue::CUE_MASS;
+    let e = p.e_table;
+    for speed in [2.0, 4.0, 6.0] {
+        for elevation in [30.0, 45.0, 60.0, 75.0] {
+            let shot = jump_shot([0.635, 0.4], &[], speed, elevation);
+            let (_, apex, landing) = first_apex(&shot);
+            let v = 2.0 * speed / (1.0 + m_over_cue);
+            let rad = elevation * (std::f64::consts::PI / 180.0);
+            let down = v * libm::sin(rad);
+            let level = v * libm::cos(rad);
+            let up = e * down;
+            let vh = level - (p.mu_slide * (1.0 + e) * down).min(2.0 / 7.0 * level);
+            let want_apex = up * up / (2.0 * G);
+            let want_distance = vh * 2.0 * up / G;
+            let out = run(&shot);
+            let hop = out.history[0][0];
+            let distance = hop.pos_at(landing).y - hop.start.pos.y;
+            println!(
+                "{speed} m/s at {elevation}°: apex {:.1} mm (closed form {:.1}), first landing \
+                 {:.3} m ({:.3})",
+                apex * 1e3,
+                want_apex * 1e3,
+                distance,
+                want_distance
+            );
+            assert!((apex - want_apex).abs() < 1e-12, "{apex} {want_apex}");
+            assert!(
+                (distance - want_distance).abs() < 1e-12,
+                "{distance} {want_distance}"
+            );
+        }
+    }
+}
+
+/// A ball in flight meeting a rail's nose while running along the rail: the nose's friction
+/// takes some of its speed along the rail and spins it, under every cushion model but the
+/// mirror one, which leaves both as they were.
+#[test]
+fn the_nose_has_friction_in_flight() {
+    use breakshot_shared::physics::CushionModel;
+    let (w, l) = TableKind::NineFoot.size().expect("pocket table");
+    let along = |model: CushionModel| {
+        let mut b = ball([0.3 * w, l - 0.1], [1.0, 1.5], [0.0; 3]);
+        (b.lift, b.vz, b.motion) = (0.01, 0.3, MotionState::Airborne);
+        let mut shot = Shot::new(TableKind::NineFoot, vec![b]);
+        shot.models.cushion = model;
+        let out = run(&shot);
+        invariant_figures(&shot, &out);
+        let nose = out
+            .events
+            .iter()
+            .position(|e| matches!(e.kind, EventKind::BallCushion { ball: 0, .. }))
+            .expect("meets the nose");
+        let k = out.history[0]
+            .iter()
+            .position(|p| p.t0 == out.events[nose].t)
+            .expect("new piece");
+        assert_eq!(out.history[0][k - 1].start.motion, MotionState::Airborne);
+        out.history[0][k].start
+    };
+    let mirror = along(CushionModel::Simple);
+    assert_eq!((mirror.vel.x, mirror.spin), (1.0, DVec3::ZERO));
+    for model in [
+        CushionModel::Han2005,
+        CushionModel::Mathavan2010,
+        CushionModel::Stronge,
+    ] {
+        let s = along(model);
+        assert!(s.vel.x < 0.99 && s.spin.length() > 1.0, "{model:?}: {s:?}");
     }
 }

@@ -29,9 +29,11 @@ use glam::{DVec2, DVec3};
 use super::ball_ball;
 use super::event::EventKind;
 use super::motion::{BallState, MotionState, Piece};
-use super::params::{Effects, Params};
-use super::roots::{first_contact, stays_apart, Poly, Touch};
-use super::table::{Cushion, Rail, Table};
+use super::octic::{self, Octic};
+use super::params::{CushionModel, Params};
+use super::roots::{first_contact, stays_apart, Poly, Touch, TOUCH_ACCEL, TOUCH_SPEED};
+use super::shot::Ctx;
+use super::table::{Cushion, Jaw, Rail, Table};
 
 /// A rebound that would lift the ball less than this (m) ends the flight: the ball settles
 /// onto the cloth and slides (pooltool's cut-off).
@@ -46,6 +48,10 @@ pub enum Flight {
     Nose(u8),
     /// The ball's centre crosses the nose line of rail `k` above it: it leaves the table.
     Leave(u8),
+    /// The ball touches the nose of jaw `k`.
+    Jaw(u8),
+    /// The ball's centre comes over the rounded cushion of jaw `k`: it leaves the table.
+    OverJaw(u8),
 }
 
 /// The next event of a ball in flight after `now` (the landing, at the latest), and how many
@@ -72,7 +78,84 @@ pub fn next_event(
             }
         }
     }
+    for (k, jaw) in table.jaws.iter().enumerate() {
+        if let Some(t) = jaw_time(piece, jaw, now, best.0, params) {
+            best = (t, Flight::Jaw(k as u8));
+        }
+        if let Some(t) = over_jaw_time(piece, jaw, now, best.0) {
+            if t < best.0 {
+                best = (t, Flight::OverJaw(k as u8));
+            }
+        }
+    }
     best
+}
+
+/// First time in (now, until] at which the ball touches the nose of `jaw`, a horizontal
+/// circle of the jaw's radius `ρ` at the cushion height `h` about the jaw's axis, while
+/// approaching it. With `q(τ)` the squared horizontal distance from the axis to the centre
+/// (a quadratic: nothing slows a ball in flight) and `Δz(τ)` the centre's height above the
+/// nose, the squared distance to the circle is `(√q − ρ)² + Δz²`; it is `R²` where
+/// `A(τ) = q + ρ² + Δz² − R²` equals `2ρ·√q`, so contact is the first decreasing zero of the
+/// octic `A² − 4ρ²·q`. That is also `(d² − R²)·((√q + ρ)² + Δz² − R²)`, with `d` the distance
+/// to the circle, whose second factor stays positive until the first one has changed sign:
+/// the first contact is the octic's. At `Δz = R − h` (a ball on the cloth) the contact lies at
+/// the horizontal distance `ρ + R·cos θ` from the axis, the level jaw contact.
+fn jaw_time(piece: &Piece, jaw: &Jaw, now: f64, until: f64, params: &Params) -> Option<f64> {
+    let r = params.ball_radius;
+    let rho = jaw.radius;
+    let u0 = piece.pos_at(now) - jaw.center;
+    let u1 = piece.vel_at(now);
+    if stays_apart(u0, u1, DVec2::ZERO, until - now, rho + r) {
+        return None;
+    }
+    let (lift, vz) = piece.height_at(now);
+    let (e0, e1, e2) = (r + lift - params.cushion_height, vz, -0.5 * piece.gravity());
+    let q = [u0.dot(u0), 2.0 * u0.dot(u1), u1.dot(u1)];
+    let a: [f64; 5] = [
+        q[0] + (rho * rho - r * r) + e0 * e0,
+        q[1] + 2.0 * e0 * e1,
+        q[2] + e1 * e1 + 2.0 * e0 * e2,
+        2.0 * e1 * e2,
+        e2 * e2,
+    ];
+    let mut poly: Octic = [0.0; 9];
+    for (i, x) in a.iter().enumerate() {
+        for (j, y) in a.iter().enumerate() {
+            poly[i + j] += x * y;
+        }
+    }
+    for (k, x) in q.iter().enumerate() {
+        poly[k] -= 4.0 * rho * rho * x;
+    }
+    // Near contact the octic is about 8ρ·R·√q times the gap d − R.
+    let scale = 8.0 * rho * r * (rho + r);
+    let touch = Touch {
+        speed: scale * TOUCH_SPEED,
+        accel: scale * TOUCH_ACCEL,
+    };
+    octic::first_contact(&poly, until - now, touch).map(|dt| now + dt)
+}
+
+/// First time in (now, until] at which the centre comes over the disc of `jaw` (the
+/// rounded end of the cushion): a ball that does so without touching the nose first is
+/// above the cushion by more than its radius, and leaves the table as over a rail.
+fn over_jaw_time(piece: &Piece, jaw: &Jaw, now: f64, until: f64) -> Option<f64> {
+    let u0 = piece.pos_at(now) - jaw.center;
+    let u1 = piece.vel_at(now);
+    let rho = jaw.radius;
+    if stays_apart(u0, u1, DVec2::ZERO, until - now, rho) {
+        return None;
+    }
+    let d = u0.length();
+    let poly: Poly = [
+        (d - rho) * (d + rho),
+        2.0 * u0.dot(u1),
+        u1.dot(u1),
+        0.0,
+        0.0,
+    ];
+    first_contact(&poly, until - now, Touch::squared(rho)).map(|dt| now + dt)
 }
 
 /// True when `p` lies between the rail's ends, seen along the rail.
@@ -131,21 +214,22 @@ fn leave_time(piece: &Piece, rail: &Rail, now: f64, until: f64) -> Option<f64> {
 }
 
 /// Resolves the event `flight` of ball `ball` at time `t`: its new state and the event.
-pub fn resolve(
+pub(super) fn resolve(
     piece: &Piece,
     t: f64,
     flight: Flight,
     ball: u16,
-    table: &Table,
-    params: &Params,
-    effects: &Effects,
+    ctx: &Ctx,
 ) -> (BallState, EventKind) {
+    let (table, params) = (ctx.table, ctx.params);
     let r = params.ball_radius;
+    // Every cushion model but the mirror one has friction at the nose.
+    let friction = ctx.models.cushion != CushionModel::Simple;
     let mut s = piece.state_at(t, r);
     match flight {
         Flight::Land => {
             s.lift = 0.0;
-            if effects.pockets {
+            if ctx.effects.pockets {
                 for (k, pocket) in table.pockets.iter().enumerate() {
                     if (s.pos - pocket.center).length() <= pocket.radius {
                         return (gone(s, MotionState::Pocketed, Some(k as u8)), {
@@ -190,31 +274,78 @@ pub fn resolve(
             }
             let e = r + s.lift - params.cushion_height;
             let n = DVec3::new(rail.normal.x * d, rail.normal.y * d, e).normalize_or_zero();
-            let mut v = DVec3::new(s.vel.x, s.vel.y, s.vz);
-            let approach = v.dot(n);
-            // A ball bouncing on the edge from above, ever lower, would bounce without end
-            // (ever shorter hops in a finite time): once the hops are lower than the cut-off
-            // they are elastic, and the balance on the edge, which is unstable, ends in a few
-            // dozen hops at most, with the ball falling to one side.
-            let weak = e > 0.0 && approach * approach < 2.0 * params.gravity * SETTLE_HEIGHT;
-            let restitution = if weak { 1.0 } else { params.e_cushion };
-            if approach < 0.0 {
-                v -= n * ((1.0 + restitution) * approach);
-            }
-            (s.vel, s.vz) = (DVec2::new(v.x, v.y), v.z);
             (
-                after_impact(s, params),
+                off_edge(s, n, friction, params),
                 EventKind::BallCushion {
                     ball,
                     cushion: Cushion::Rail(k),
                 },
             )
         }
-        Flight::Leave(_) => (
+        Flight::Jaw(k) => {
+            let jaw = &table.jaws[k as usize];
+            let u = s.pos - jaw.center;
+            let dist = u.length();
+            if dist <= jaw.radius {
+                // Centred over the cushion's rounded end: as above the nose of a rail.
+                return (
+                    gone(s, MotionState::OffTable, None),
+                    EventKind::BallOffTable { ball },
+                );
+            }
+            // From the nearest point of the nose circle to the centre.
+            let d = u * ((dist - jaw.radius) / dist);
+            let e = r + s.lift - params.cushion_height;
+            let n = DVec3::new(d.x, d.y, e).normalize_or_zero();
+            (
+                off_edge(s, n, friction, params),
+                EventKind::BallCushion {
+                    ball,
+                    cushion: Cushion::Jaw(k),
+                },
+            )
+        }
+        Flight::Leave(_) | Flight::OverJaw(_) => (
             gone(s, MotionState::OffTable, None),
             EventKind::BallOffTable { ball },
         ),
     }
+}
+
+/// The answer of a cushion nose (a rail's edge or a jaw's circle) to a ball touching it in
+/// flight, `n` the unit normal from the contact point to the centre: restitution
+/// `e_cushion` along `n`, then, with `friction`, Coulomb friction `f_cushion` times the normal
+/// impulse against the slip of the contact point, capped at the impulse that ends the slip
+/// (`2/7·m·|s|` for a ball on a fixed edge), as the slate's.
+fn off_edge(mut s: BallState, n: DVec3, friction: bool, params: &Params) -> BallState {
+    let mut v = DVec3::new(s.vel.x, s.vel.y, s.vz);
+    let approach = v.dot(n);
+    // A ball bouncing on the edge from above, ever lower, would bounce without end (ever
+    // shorter hops in a finite time): once the hops are lower than the cut-off they are
+    // elastic, and the balance on the edge, which is unstable, ends in a few dozen hops at
+    // most, with the ball falling to one side.
+    let weak = n.z > 0.0 && approach * approach < 2.0 * params.gravity * SETTLE_HEIGHT;
+    let restitution = if weak { 1.0 } else { params.e_cushion };
+    if approach < 0.0 {
+        v -= n * ((1.0 + restitution) * approach);
+        if friction {
+            // The contact point is at −R·n; its velocity, less its part along n.
+            let r = params.ball_radius;
+            let c = v + s.spin.cross(n * -r);
+            let slip = c - n * c.dot(n);
+            let speed = slip.length();
+            if speed > 0.0 {
+                let dv =
+                    (params.f_cushion * (1.0 + restitution) * -approach).min(2.0 / 7.0 * speed);
+                let dv = slip * (-dv / speed);
+                v += dv;
+                // Torque of the impulse m·Δv at −R·n: Δω = −(m·R/I)·n × Δv.
+                s.spin -= n.cross(dv) * (2.5 / r);
+            }
+        }
+    }
+    (s.vel, s.vz) = (DVec2::new(v.x, v.y), v.z);
+    after_impact(s, params)
 }
 
 /// A ball that fell into a pocket or left the table: it stays where it went, motionless.
@@ -300,8 +431,17 @@ pub fn collision_time(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -
 }
 
 /// A collision between touching balls `a` and `b` of which one at least is in flight:
-/// frictionless, restitution `e` along the 3-D line of centres, equal masses.
-pub fn collide(states: &mut [BallState], a: usize, b: usize, e: f64, params: &Params) {
+/// restitution `e` along the 3-D line of centres, equal masses, then, with `friction`, the
+/// same Coulomb friction at the contact as on the cloth ([`ball_ball::friction_impulse`]),
+/// acting in 3-D: its vertical part goes to the balls, not to the cloth.
+pub fn collide(
+    states: &mut [BallState],
+    a: usize,
+    b: usize,
+    e: f64,
+    friction: bool,
+    params: &Params,
+) {
     let (sa, sb) = (states[a], states[b]);
     let d = sb.pos - sa.pos;
     let n = DVec3::new(d.x, d.y, sb.lift - sa.lift).normalize_or_zero();
@@ -312,9 +452,21 @@ pub fn collide(states: &mut [BallState], a: usize, b: usize, e: f64, params: &Pa
         return;
     }
     let j = n * (0.5 * (1.0 + e) * approach);
-    for (k, v) in [(a, va - j), (b, vb + j)] {
+    let (mut va, mut vb) = (va - j, vb + j);
+    let (mut wa, mut wb) = (sa.spin, sb.spin);
+    if friction {
+        let separation = e * approach;
+        if let Some((dva, dw)) = ball_ball::friction_impulse(va, wa, vb, wb, n, separation, params)
+        {
+            va += dva;
+            vb -= dva;
+            wa += dw;
+            wb += dw;
+        }
+    }
+    for (k, v, w) in [(a, va, wa), (b, vb, wb)] {
         let mut s = states[k];
-        (s.vel, s.vz) = (DVec2::new(v.x, v.y), v.z);
+        (s.vel, s.vz, s.spin) = (DVec2::new(v.x, v.y), v.z, w);
         states[k] = after_impact(s, params);
     }
 }

@@ -119,11 +119,8 @@ pub fn collide(
 }
 
 /// Coulomb friction at the contact (Alciatore TP A-14, extended to both balls and full 3D
-/// spin as pooltool's `frictional_inelastic` does): the surfaces slip past each other with
-/// tangential velocity `s`; each ball's velocity changes by `μ(|s|)·Δv_n` against `s`, but
-/// never more than the `|s|/7` that stops the slip (then the surfaces roll on each other).
-/// `Δv_n` is the normal separation speed after the impact. The vertical part of the impulse
-/// is taken by the cloth: velocities stay horizontal, spins change in all three axes.
+/// spin as pooltool's `frictional_inelastic` does). The vertical part of the impulse is taken
+/// by the cloth: velocities stay horizontal, spins change in all three axes.
 fn apply_friction(
     a: &mut Kinematics,
     b: &mut Kinematics,
@@ -131,28 +128,48 @@ fn apply_friction(
     separation: f64,
     params: &Params,
 ) {
-    let r = params.ball_radius;
-    let n3 = DVec3::new(n.x, n.y, 0.0);
-    // Surface velocity of each ball at the contact point, tangential part only (the normal
-    // parts of the centre velocities are handled by restitution).
     let va = DVec3::new(a.vel.x, a.vel.y, 0.0);
     let vb = DVec3::new(b.vel.x, b.vel.y, 0.0);
-    let ca = va + a.spin.cross(n3 * r);
-    let cb = vb + b.spin.cross(-n3 * r);
+    let n3 = DVec3::new(n.x, n.y, 0.0);
+    if let Some((dva, dw)) = friction_impulse(va, a.spin, vb, b.spin, n3, separation, params) {
+        a.vel += DVec2::new(dva.x, dva.y);
+        b.vel -= DVec2::new(dva.x, dva.y);
+        a.spin += dw;
+        b.spin += dw;
+    }
+}
+
+/// The friction of two touching balls, equal masses, whose line of centres (from `a` to
+/// `b`) is the unit `n3`, in 3-D: the surfaces slip past each other with tangential velocity
+/// `s`; each ball's velocity changes by `μ(|s|)·Δv_n` against `s`, but never more than the
+/// `|s|/7` that stops the slip (then the surfaces roll on each other). `Δv_n` is the normal
+/// separation speed after the impact. Returns the change of `a`'s velocity (`b`'s is its
+/// opposite) and the change of each ball's spin (the same for both), or `None` without slip.
+pub(super) fn friction_impulse(
+    va: DVec3,
+    wa: DVec3,
+    vb: DVec3,
+    wb: DVec3,
+    n3: DVec3,
+    separation: f64,
+    params: &Params,
+) -> Option<(DVec3, DVec3)> {
+    let r = params.ball_radius;
+    // Surface velocity of each ball at the contact point, tangential part only (the normal
+    // parts of the centre velocities are handled by restitution).
+    let ca = va + wa.cross(n3 * r);
+    let cb = vb + wb.cross(-n3 * r);
     let rel = ca - cb;
     let slip = rel - n3 * rel.dot(n3);
     let slip_speed = slip.length();
     if slip_speed <= 0.0 {
-        return;
+        return None;
     }
     let mu = params.ball_friction.at(slip_speed);
     let dv = (mu * separation).min(slip_speed / 7.0);
     let dva = slip * (-dv / slip_speed);
     let dw = n3.cross(dva) * (2.5 / r);
-    a.vel += DVec2::new(dva.x, dva.y);
-    b.vel -= DVec2::new(dva.x, dva.y);
-    a.spin += dw;
-    b.spin += dw;
+    Some((dva, dw))
 }
 
 #[cfg(test)]

@@ -589,9 +589,7 @@ impl Simulator {
                     },
                 )
             }
-            OwnKind::Flight(flight) => {
-                airborne::resolve(&piece, t, flight, ball, ctx.table, ctx.params, &ctx.effects)
-            }
+            OwnKind::Flight(flight) => airborne::resolve(&piece, t, flight, ball, ctx),
             OwnKind::Jaw(k) => {
                 let center = ctx.table.jaws[k as usize].center;
                 let normal = (piece.pos_at(t) - center).normalize_or_zero();

@@ -533,7 +533,9 @@ pub(super) fn flight_impact(g: &mut Scratch, ctx: &Ctx) {
 fn collide_pair(states: &mut [BallState], a: usize, b: usize, ctx: &Ctx) {
     let (sa, sb) = (states[a], states[b]);
     if sa.motion == MotionState::Airborne || sb.motion == MotionState::Airborne {
-        airborne::collide(states, a, b, restitution(ctx), ctx.params);
+        let friction =
+            ctx.models.ball_ball == BallBallModel::Frictional && ctx.effects.ball_friction;
+        airborne::collide(states, a, b, restitution(ctx), friction, ctx.params);
         return;
     }
     let (ka, kb) = ball_ball::collide(

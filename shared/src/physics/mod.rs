@@ -10,6 +10,7 @@ pub mod event;
 mod group_impact;
 pub mod mathavan;
 pub mod motion;
+mod octic;
 pub mod params;
 pub mod roots;
 mod shot;

@@ -219,7 +219,7 @@ pub const TIME_TOLERANCE: f64 = 1e-13;
 /// Finds the zero of a function monotone on `[lo, hi]` whose ends have opposite signs, by
 /// Newton steps kept inside the bracket (a step that would leave it, or not halve it, is
 /// replaced by bisection), to within [`TIME_TOLERANCE`].
-fn bracketed_root(
+pub(super) fn bracketed_root(
     f: impl Fn(f64) -> f64,
     df: impl Fn(f64) -> f64,
     mut lo: f64,
