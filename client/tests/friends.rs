@@ -11,7 +11,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use breakshot_client::net::{Client, ClientEvent, Reconnect};
-use breakshot_client::view::palette::{ball_ids, CLOTH, CUE_WOOD};
+use breakshot_client::view::palette::{CLOTH, CUE_WOOD};
 use breakshot_client::view::{menu_buttons, replay_page, Frame, Layout, Rect};
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, RoomCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
@@ -102,7 +102,7 @@ fn in_a_small_window_the_computer_thinks_under_the_trays_and_the_rack_stays_in_v
     assert_eq!((pic.width, pic.height), (640, 480));
     let rack = eight_ball(Settings::offline(), 4);
     let layout = Layout::new(640.0, 480.0, Frame::new(rack.table(), rack.balls()));
-    let ids = ball_ids(&rack);
+    let ids = rack.ball_ids();
     let hidden = balls_not_seen(&pic, &layout, &ids, rack.balls());
     assert!(hidden.is_empty(), "balls covered: {hidden:?}");
     // The cloth from its middle to the rack's apex (its ball nearest the middle), clear of
@@ -270,7 +270,7 @@ fn the_menu_lists_a_room_s_games_and_opens_the_first_after_a_rematch() {
     let rack = Game::new(first.variant, first.settings, first.seed);
     let second = Game::new(first.variant, first.settings, seeds[1]);
     let layout = Layout::new(1280.0, 720.0, Frame::new(rack.table(), rack.balls()));
-    let ids = ball_ids(&rack);
+    let ids = rack.ball_ids();
     let shown = until_shown(
         &display,
         &wid,
@@ -529,7 +529,7 @@ fn a_host_restarted_on_its_data_says_game_resumed() {
         (72.0..120.0).contains(&reach),
         "{reach} px: not a line of 12 letters"
     );
-    let ids = ball_ids(&rack);
+    let ids = rack.ball_ids();
     let racked = balls_not_seen(&resumed, &layout, &ids, rack.balls());
     assert!(racked.len() > 3, "the break was not kept: {racked:?} moved");
 }

@@ -120,6 +120,7 @@ fn a_host_plays_the_seated_computer_while_a_friend_with_the_invite_watches() -> 
         computer: Some(Level::new(1)),
         name: "ann".into(),
         web: None,
+        web_page: None,
     };
     let mut host = Host::start(&options)?;
     assert_eq!(host.computer(), Some(Level::new(1)));

@@ -26,6 +26,7 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
         name: "ann".into(),
         computer: None,
         web: None,
+        web_page: None,
     };
     let mut host = Host::start(&options)?;
     let mut host_flow = GameFlow::new(Connection::Connecting);
@@ -129,6 +130,7 @@ fn the_invite_names_the_address_the_host_gives() -> anyhow::Result<()> {
         name: "ann".into(),
         computer: None,
         web: None,
+        web_page: None,
     };
     let host = Host::start(&options)?;
     let invite = host.invite();
@@ -153,6 +155,7 @@ fn a_port_in_use_is_a_clear_error() -> anyhow::Result<()> {
         name: "ann".into(),
         computer: None,
         web: None,
+        web_page: None,
     };
     let Err(e) = Host::start(&options) else {
         panic!("a second server bound the same port");

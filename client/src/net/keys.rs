@@ -58,11 +58,13 @@ fn fresh_seed() -> [u8; SEED_LEN] {
 }
 
 /// A seed as the page keeps it: lower-case hex.
+#[cfg(any(target_arch = "wasm32", test))]
 fn seed_to_hex(seed: &[u8; SEED_LEN]) -> String {
     seed.iter().map(|b| format!("{b:02x}")).collect()
 }
 
 /// The seed a kept text holds, if it is one (exactly the hex of [`SEED_LEN`] bytes).
+#[cfg(any(target_arch = "wasm32", test))]
 fn seed_from_hex(text: &str) -> Option<[u8; SEED_LEN]> {
     let text = text.trim();
     if text.len() != 2 * SEED_LEN || !text.is_ascii() {
