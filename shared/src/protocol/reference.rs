@@ -15,8 +15,8 @@ use std::sync::OnceLock;
 use glam::DVec2;
 
 use crate::physics::{
-    simulate, BallState, CushionModel, EventKind, Outcome, Params, Shot, ShotError, Strike,
-    TableKind,
+    simulate, BallState, CushionModel, EventKind, MotionState, Outcome, Params, Shot, ShotError,
+    Strike, TableKind,
 };
 
 /// Which mechanism a reference shot is there for; [`ReferenceShot::meets`] checks that its
@@ -33,6 +33,11 @@ pub enum Mechanism {
     Jaw,
     /// An elevated strike that lifts the ball off the cloth.
     Flight,
+    /// A ball in flight coming down on another ball (the contact, with its friction, in the
+    /// air).
+    FlightOntoBall,
+    /// A ball in flight meeting a pocket jaw's nose.
+    FlightJaw,
     /// Carom balls on the heated cloth of the carom table.
     Carom,
 }
@@ -85,8 +90,27 @@ impl ReferenceShot {
             }),
             // The ball leaves the cloth at the strike and lands on the slate.
             Mechanism::Flight => kinds().any(|k| matches!(k, EventKind::BallTable { .. })),
+            Mechanism::FlightOntoBall => outcome.events.iter().any(|e| match e.kind {
+                EventKind::BallBall { a, b } => {
+                    in_flight(outcome, usize::from(a), e.t)
+                        || in_flight(outcome, usize::from(b), e.t)
+                }
+                _ => false,
+            }),
+            Mechanism::FlightJaw => outcome.events.iter().any(|e| match e.kind {
+                EventKind::BallCushion {
+                    ball,
+                    cushion: crate::physics::Cushion::Jaw(_),
+                } => in_flight(outcome, usize::from(ball), e.t),
+                _ => false,
+            }),
         }
     }
+}
+
+/// Whether `ball` was in the air just before time `t` of `outcome`.
+fn in_flight(outcome: &Outcome, ball: usize, t: f64) -> bool {
+    outcome.state_at(ball, t - 1e-9).motion == MotionState::Airborne
 }
 
 /// A six-ball triangle on a 9-foot table, broken hard with a little side and follow, so the
@@ -168,6 +192,30 @@ fn jump() -> Shot {
     )
 }
 
+/// A jump with side spin that comes down on a ball a little to its side.
+fn jump_onto_ball() -> Shot {
+    Shot::new(
+        TableKind::NineFoot,
+        vec![
+            BallState::at_rest(DVec2::new(0.635, 0.4)),
+            BallState::at_rest(DVec2::new(0.65, 0.7)),
+        ],
+    )
+    .struck(
+        0,
+        Strike::at_angle(2.0, 90.0, DVec2::new(0.2, 0.1)).elevated(50.0),
+    )
+}
+
+/// A jump towards a corner pocket that meets the nose of its jaw in the air.
+fn jump_into_the_jaw() -> Shot {
+    Shot::new(
+        TableKind::NineFoot,
+        vec![BallState::at_rest(DVec2::new(0.3, 2.2))],
+    )
+    .struck(0, Strike::at_angle(2.0, 136.0, DVec2::ZERO).elevated(35.0))
+}
+
 /// Three carom balls, a three-cushion style shot with side spin.
 fn carom() -> Shot {
     Shot::new(
@@ -213,6 +261,12 @@ pub fn reference_shots() -> Vec<ReferenceShot> {
         ),
         shot("jaw", Mechanism::Jaw, into_the_jaw()),
         shot("jump", Mechanism::Flight, jump()),
+        shot(
+            "jump_onto_ball",
+            Mechanism::FlightOntoBall,
+            jump_onto_ball(),
+        ),
+        shot("jump_jaw", Mechanism::FlightJaw, jump_into_the_jaw()),
         shot("carom", Mechanism::Carom, carom()),
     ]
 }

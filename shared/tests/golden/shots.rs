@@ -73,19 +73,6 @@ pub fn shots() -> Result<Vec<(String, Shot)>, String> {
     jump.table = TableKind::NineFoot;
     let strike = Strike::at_angle(4.0, 90.0, DVec2::new(0.0, -0.1)).elevated(45.0);
     shots.push(("jump_9ft".into(), jump.struck(0, strike)));
-    // Contacts in flight: a jump that comes down on a ball with side spin (friction in
-    // flight), and one into a corner pocket that meets a jaw's nose in the air.
-    let mut onto = open_shot(vec![
-        ball([0.635, 0.4], [0.0; 2]),
-        ball([0.65, 0.7], [0.0; 2]),
-    ]);
-    onto.table = TableKind::NineFoot;
-    let strike = Strike::at_angle(2.0, 90.0, DVec2::new(0.2, 0.1)).elevated(50.0);
-    shots.push(("jump_onto_ball_9ft".into(), onto.struck(0, strike)));
-    let mut jaw = open_shot(vec![ball([0.3, 2.2], [0.0; 2])]);
-    jaw.table = TableKind::NineFoot;
-    let strike = Strike::at_angle(2.0, 136.0, DVec2::ZERO).elevated(35.0);
-    shots.push(("jump_jaw_9ft".into(), jaw.struck(0, strike)));
     // The handshake's reference shots, one per mechanism (see protocol::reference): the
     // physics fingerprint is made of exactly these.
     for reference in reference_shots() {
