@@ -11,6 +11,7 @@ mod menu;
 mod panel;
 mod practice;
 mod replay;
+mod snooker;
 mod speaker;
 mod table3d;
 mod table_view;
