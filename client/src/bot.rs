@@ -62,6 +62,17 @@ impl BotConfig {
     }
 }
 
+impl BotConfig {
+    /// The settings a room is created with: these settings, on the table the game is
+    /// played on (three-cushion's carom table, snooker's snooker table).
+    fn room_settings(&self) -> Settings {
+        Settings {
+            table: self.variant.table(self.settings.table),
+            ..self.settings
+        }
+    }
+}
+
 /// One game as the bots saw it.
 #[derive(Clone, Debug, Default)]
 pub struct GameSummary {
@@ -197,7 +208,7 @@ pub async fn open_room(config: &BotConfig, opened: oneshot::Sender<RoomCode>) ->
     let host = player(config, 0, "Bot".to_owned(), config.seed);
     let create = ClientMessage::CreateRoom {
         variant: config.variant,
-        mode: config.settings,
+        mode: config.room_settings(),
         aim_aid: AimAid::Full,
         name: host.name().to_owned(),
     };
@@ -227,7 +238,7 @@ async fn play_game(config: &BotConfig, g: u64) -> (GameSummary, PlayerResult, Pl
     let guest = player(config, 1, format!("bot{g}b"), config.seed ^ (g * 2 + 2));
     let create = ClientMessage::CreateRoom {
         variant: config.variant,
-        mode: config.settings,
+        mode: config.room_settings(),
         aim_aid: AimAid::Full,
         name: host.name().to_owned(),
     };

@@ -51,13 +51,13 @@ struct Cli {
 }
 
 /// The games a rules game can be, for `--mode`.
-const MODES: [&str; 3] = ["8ball", "9ball", "3cushion"];
+const MODES: [&str; 4] = ["8ball", "9ball", "3cushion", "snooker"];
 
 /// Which game to play: the options of every command that starts a rules game.
 #[derive(Args, Debug)]
 struct GameArgs {
-    /// The game: `8ball`, `9ball`, or `3cushion` (three-cushion billiards on the carom
-    /// table).
+    /// The game: `8ball`, `9ball`, `3cushion` (three-cushion billiards on the carom
+    /// table) or `snooker` (on the 12 ft snooker table).
     #[arg(long, default_value = "8ball", value_parser = MODES)]
     mode: String,
     /// 8-ball's rule set: `wpa` (the World Pool-Billiard Association's rules: ball in hand
@@ -68,6 +68,13 @@ struct GameArgs {
     /// Three-cushion: the points that win the game, 1 to 1000 (default 15).
     #[arg(long, value_name = "POINTS", value_parser = clap::value_parser!(u32).range(1..=1000))]
     race: Option<u32>,
+    /// Snooker: the reds racked each frame, 15, or 10 or 6 for a short game (default 15).
+    #[arg(long, value_name = "N", value_parser = ["6", "10", "15"])]
+    reds: Option<String>,
+    /// Snooker: the frames of the match, an odd number from 1 to 35; the first to win
+    /// more than half wins (default 1).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u8).range(1..=35))]
+    best_of: Option<u8>,
 }
 
 impl GameArgs {
@@ -86,8 +93,25 @@ impl GameArgs {
                 self.mode
             );
         }
+        if (self.reds.is_some() || self.best_of.is_some()) && self.mode != "snooker" {
+            bail!(
+                "--reds and --best-of set a snooker match; they mean nothing with --mode {}",
+                self.mode
+            );
+        }
+        if self.best_of.is_some_and(|n| n % 2 == 0) {
+            bail!("--best-of must be odd, so that a match cannot end level");
+        }
         Ok(match (self.mode.as_str(), self.rules.as_deref()) {
             ("9ball", _) => Variant::NineBall,
+            ("snooker", _) => Variant::Snooker {
+                reds: self
+                    .reds
+                    .as_deref()
+                    .and_then(|r| r.parse().ok())
+                    .unwrap_or(15),
+                best_of: self.best_of.unwrap_or(1),
+            },
             ("3cushion", _) => Variant::ThreeCushion {
                 race: self.race.unwrap_or(DEFAULT_RACE),
             },
@@ -189,8 +213,8 @@ enum Command {
         #[arg(value_name = "SCENE")]
         scene: Option<PathBuf>,
         /// The table without a scene: an `8ball` or `9ball` rack (`pool` is the 8-ball
-        /// rack), or the `3cushion` start on the carom table.
-        #[arg(long, value_name = "MODE", default_value = "8ball", value_parser = ["8ball", "9ball", "pool", "3cushion"], conflicts_with = "scene")]
+        /// rack), the `3cushion` start on the carom table, or the `snooker` rack (15 reds).
+        #[arg(long, value_name = "MODE", default_value = "8ball", value_parser = ["8ball", "9ball", "pool", "3cushion", "snooker"], conflicts_with = "scene")]
         mode: String,
         #[command(flatten)]
         seed: SeedArg,
@@ -275,6 +299,10 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             "3cushion" => {
                 ui::Start::Practice(Some(Box::new(opening_scene(Variant::three_cushion(), 0))))
             }
+            "snooker" => ui::Start::Practice(Some(Box::new(opening_scene(
+                Variant::snooker(),
+                seed.seed.unwrap_or_else(ui::fresh_seed),
+            )))),
             _ => ui::Start::Practice(None),
         },
         Some(Command::Practice {

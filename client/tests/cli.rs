@@ -81,10 +81,15 @@ fn bad_options_are_refused() {
     for args in [
         &["practice", "--frames", "0"][..],
         &["practice", "--size", "12x"][..],
-        &["local", "--mode", "snooker"][..],
+        &["local", "--mode", "snooker", "--reds", "7"][..],
+        &["local", "--mode", "snooker", "--best-of", "2"][..],
+        &["local", "--mode", "snooker", "--best-of", "37"][..],
         &["local", "--mode", "3cushion", "--race", "0"][..],
         // Options refused where they mean nothing.
         &["local", "--race", "5"][..],
+        &["local", "--reds", "6"][..],
+        &["host", "--mode", "9ball", "--best-of", "3"][..],
+        &["local", "--mode", "snooker", "--race", "5"][..],
         &["vs-computer", "--mode", "9ball", "--rules", "bar"][..],
         &["host", "--mode", "3cushion", "--rules", "wpa"][..],
         &["practice", "--name", "ann"][..],
@@ -442,4 +447,23 @@ fn hosting_with_a_published_page_prints_a_link_to_it_naming_this_server() {
     let out = breakshot(&["host", "--web-page", "ftp://example.org/"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(stderr(&out).contains("https://"), "{}", stderr(&out));
+}
+
+#[test]
+fn a_snooker_match_of_an_even_number_of_frames_or_snooker_options_in_another_game_are_refused_with_why(
+) {
+    let out = breakshot(&["local", "--mode", "snooker", "--best-of", "4"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("--best-of must be odd"),
+        "{}",
+        stderr(&out)
+    );
+    let out = breakshot(&["vs-computer", "--mode", "8ball", "--reds", "10"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).contains("set a snooker match; they mean nothing with --mode 8ball"),
+        "{}",
+        stderr(&out)
+    );
 }

@@ -95,6 +95,10 @@ enum Command {
         /// Levels to pair (each against the ghost-ball player and the level below).
         #[arg(long, value_delimiter = ',', default_values_t = [1u8, 2, 3, 4, 5])]
         levels: Vec<u8>,
+        /// Study snooker instead, frames of REDS reds (6, 10 or 15): frames won against the
+        /// simple potter and the level below, the breaks made (snooker.md, snooker.csv).
+        #[arg(long, value_name = "REDS", value_parser = ["6", "10", "15"])]
+        snooker: Option<String>,
     },
 }
 
@@ -219,15 +223,19 @@ fn run(command: Command) -> Result<(), Failure> {
             positions,
             jobs,
             levels,
-        } => ai_study::run(
-            &out,
-            ai_study::Size {
+            snooker,
+        } => {
+            let size = ai_study::Size {
                 games,
                 positions,
                 jobs,
                 levels,
-            },
-        )?,
+            };
+            match snooker.and_then(|r| r.parse::<u8>().ok()) {
+                Some(reds) => ai_study::snooker::run(&out, reds, &size)?,
+                None => ai_study::run(&out, size)?,
+            }
+        }
     }
     Ok(())
 }

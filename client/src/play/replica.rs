@@ -6,6 +6,7 @@
 
 use breakshot_shared::physics::BallState;
 use breakshot_shared::protocol::ServerMessage;
+use breakshot_shared::rules::snooker::table::LAST_RED;
 use breakshot_shared::rules::{
     is_off_table, Command, Game, Phase, RuleError, Seat, TurnId, Verdict,
 };
@@ -220,12 +221,17 @@ impl Replica {
         }
     }
 
-    /// Object balls off the table as shown now (every ball but the one struck).
+    /// Object balls off the table as shown now: every ball but the one struck (and, in a
+    /// short snooker frame, not the reds it never racked).
     pub fn tray(&self) -> Vec<usize> {
         let balls = self.balls();
         let cue = self.game.as_ref().map_or(0, Game::cue_ball);
+        let unused = |b: usize| {
+            let reds = self.game.as_ref().and_then(Game::snooker).map(|m| m.reds);
+            reds.is_some_and(|reds| b > usize::from(reds) && b <= usize::from(LAST_RED))
+        };
         (0..balls.len())
-            .filter(|&b| b != cue && is_off_table(&balls[b]))
+            .filter(|&b| b != cue && is_off_table(&balls[b]) && !unused(b))
             .collect()
     }
 }

@@ -123,6 +123,9 @@ pub fn fill_rect(r: Rect, c: Color) {
 /// The cloth, rails, cushions, diamonds and pockets, and the cue ball's trail on the cloth.
 pub fn table(pen: &Pen, kind: TableKind) {
     pen.surface().table(pen, kind);
+    if kind == TableKind::Snooker {
+        super::snooker::markings(pen);
+    }
 }
 
 /// The colour of a stretch of the cue ball's trail drawn with `strength`.

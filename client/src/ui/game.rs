@@ -9,6 +9,7 @@ use breakshot_client::play::{
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{self, call_prompt, connection as connection_text, Connection};
+use breakshot_client::view::snooker as view_snooker;
 use breakshot_client::view::{tray, Frame, Layout, Orientations, Playback, Rect};
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
@@ -21,7 +22,7 @@ use macroquad::prelude::*;
 
 use super::hud::{game_hud, hint_bar, HudInfo};
 use super::table_view::TableView;
-use super::{draw, invite, panel, trays, Start, Step};
+use super::{draw, invite, panel, snooker, trays, Start, Step};
 
 pub struct GameScreen {
     link: Box<dyn GameLink>,
@@ -245,6 +246,18 @@ impl GameScreen {
         let aim = self.controls.aim.dir();
         self.view.update(&input, Self::cue_spot(&game), aim, aiming);
         let mut input = self.view.pointer(&input, &layout, r);
+        // Snooker: a click on a ball that may be nominated nominates it.
+        if let (Turn::Shoot { seat, .. }, Phase::Shooting { options, .. }) = (&turn, game.phase()) {
+            let at = layout.to_scene(input.mouse);
+            let nomination = input
+                .left_pressed
+                .then(|| view_snooker::nomination_at(&game, options, at))
+                .flatten();
+            if let Some(choice) = nomination {
+                self.link.send(&game, *seat, Command::Decide(choice));
+                input.left_pressed = false;
+            }
+        }
         if let Turn::Shoot { call: true, .. } = turn {
             if input.left_pressed {
                 if let Some(p) = layout.pocket_at(&Table::new(game.table()), input.mouse) {
@@ -494,15 +507,16 @@ impl GameScreen {
                     draw::ring(&pen, balls[usize::from(n)].pos, r, YELLOW);
                 }
             }
+            snooker::nominated_ring(&pen, game, &balls, r);
             // A shot the rules would judge a foul (or a loss) is warned of in their words.
             if let Some((_, pred, Some(warning))) = &self.predicted {
                 if let Some(end) = pred.aim_end.filter(|_| self.shown_aids().aim_line) {
                     draw::segment(&pen, cue, end, 2.5, RED);
                 }
-                // Along the top of the cloth, shrunk to stay on it.
-                let c = layout.cloth;
-                let line = Rect::new(c.x + 6.0, c.y + 4.0, c.w - 12.0, 28.0);
-                draw::label_in(warning, line, 20.0, draw::Align::Left, RED);
+                // On the notice line under the trays, off the cloth and its balls (the call
+                // prompt, which it never meets, uses it too: without a call there is no
+                // preview).
+                draw::label_in(warning, layout.notice, 20.0, draw::Align::Left, RED);
             }
         }
         if let Turn::Shoot {
@@ -557,22 +571,19 @@ impl GameScreen {
             _ => Vec::new(),
         };
         for (choice, rect) in choice_buttons(&layout, &options) {
-            draw_rectangle(
-                rect.x,
-                rect.y,
-                rect.w,
-                rect.h,
-                Color::from_rgba(30, 60, 120, 220),
-            );
+            let (text, fill, ink) = if game.snooker().is_some() {
+                snooker::button(choice)
+            } else {
+                (
+                    choice.to_string(),
+                    Color::from_rgba(30, 60, 120, 220),
+                    WHITE,
+                )
+            };
+            draw_rectangle(rect.x, rect.y, rect.w, rect.h, fill);
             draw_rectangle_lines(rect.x, rect.y, rect.w, rect.h, 2.0, WHITE);
             let inside = Rect::new(rect.x + 6.0, rect.y + 2.0, rect.w - 12.0, rect.h - 4.0);
-            draw::label_in(
-                &choice.to_string(),
-                inside,
-                22.0,
-                draw::Align::Centre,
-                WHITE,
-            );
+            draw::label_in(&text, inside, 22.0, draw::Align::Centre, ink);
         }
         if let Phase::Over { reason, .. } = game.phase() {
             let names = &self.flow.names;

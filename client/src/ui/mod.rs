@@ -15,6 +15,7 @@ pub mod page_game;
 mod panel;
 mod practice;
 mod replay;
+mod snooker;
 mod speaker;
 mod table3d;
 mod table_view;

@@ -103,6 +103,11 @@ pub fn players(game: &Game, me: Option<Seat>, names: &[Option<String>; 2]) -> [P
                     text.push_str(&format!(": {ball}, {points} of {}", m.race()));
                 }
             }
+            (Variant::Snooker { .. }, _) => {
+                if let Some(m) = game.snooker() {
+                    text.push_str(&super::snooker::score_text(m, seat));
+                }
+            }
             _ => {}
         }
         let to_move = !matches!(game.phase(), Phase::Over { .. }) && game.to_move() == seat;
@@ -180,6 +185,10 @@ fn status_of_seats(game: &Game) -> String {
     let legal = game.legal_first_balls();
     match (game.variant(), game.phase(), &legal[..]) {
         (Variant::NineBall, Phase::Shooting { .. }, [on]) => format!("{text} - the {on} is on"),
+        (Variant::Snooker { .. }, _, _) => match super::snooker::status(game) {
+            Some(more) => format!("{text}  |  {more}"),
+            None => text,
+        },
         _ => text,
     }
 }

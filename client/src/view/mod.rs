@@ -10,6 +10,7 @@ mod layout;
 mod orientation;
 pub mod palette;
 mod playback;
+pub mod snooker;
 pub mod sound;
 pub mod sphere;
 mod trail;

@@ -1,6 +1,6 @@
 //! Colours: the cloth, the rails and the standard pool ball colours (1 yellow, 2 blue, 3 red,
 //! 4 purple, 5 orange, 6 green, 7 maroon, 8 black; 9 to 15 are the same colours as stripes),
-//! and the three carom balls (white, yellow, red).
+//! and the three carom balls (white, yellow, red); the snooker balls' in `snooker.rs`.
 
 /// An sRGB colour.
 pub type Rgb = [u8; 3];
@@ -69,6 +69,9 @@ pub fn ball_look(id: &str) -> BallLook {
         "yellow" => return plain(CAROM_YELLOW),
         "red" => return plain(CAROM_RED),
         _ => {}
+    }
+    if let Some(look) = super::snooker::ball_look(id) {
+        return look;
     }
     match id.parse::<u8>() {
         Ok(n @ 1..=15) => BallLook {

@@ -19,6 +19,7 @@ pub fn loopback_server(data: PathBuf) -> EmbeddedServer {
 
 /// Two bots play one game on `server`: its room. Fails the test if the game has not ended
 /// within two minutes or a bot met an error.
+#[allow(dead_code)] // not every test file plays a bots game
 pub fn bots_game(server: &EmbeddedServer) -> RoomCode {
     let runtime = tokio::runtime::Runtime::new().expect("a runtime");
     let bots = BotConfig::new(server.loopback_invite(), 1);
@@ -28,3 +29,4 @@ pub fn bots_game(server: &EmbeddedServer) -> RoomCode {
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     report.games[0].room.clone().expect("the bots' room")
 }
+pub mod screen;

@@ -43,6 +43,7 @@ mod noise;
 mod placement;
 mod scene_judge;
 mod search;
+mod snooker;
 mod thinking;
 mod value;
 
@@ -289,6 +290,15 @@ async fn planned(game: &Game, player: &Player, seed: u64, meter: &Meter) -> Opti
                     }
                 }
             }
+            // A free ball offered is nominated before the stroke is chosen.
+            if let Some(ball) = snooker::free_ball(game, player.noise.aim_sigma()) {
+                return Some(Decision {
+                    command: Command::Decide(Choice::Nominate(ball)),
+                    p_success: None,
+                    kind: None,
+                    simulations: 0,
+                });
+            }
             let decision = shoot(game, player, seed, meter).await;
             match snooker_nomination(game, &decision.command) {
                 Some(colour) => Some(Decision {
@@ -353,7 +363,12 @@ async fn search_shot(
     meter: &Meter,
 ) -> Option<search::Choice> {
     let layout = Layout::new(game.table(), game.balls());
-    let targets = game.legal_first_balls();
+    let snooker = matches!(game.variant(), Variant::Snooker { .. });
+    let targets = if snooker {
+        snooker::targets(game)
+    } else {
+        game.legal_first_balls()
+    };
     let pottable = value::pottable(game);
     let mut judge = GameJudge::new(game, player, meter);
     let candidates: Vec<Candidate>;
@@ -376,7 +391,11 @@ async fn search_shot(
             pottable: &pottable,
             aim_sigma: player.noise.aim_sigma(),
         };
-        candidates = candidates::generate(&mut lab, &view, &player.breadth).await;
+        let mut found = candidates::generate(&mut lab, &view, &player.breadth).await;
+        if snooker && player.breadth.safeties {
+            found.extend(snooker::safeties(&view));
+        }
+        candidates = found;
     }
     search::choose(
         &mut judge,

@@ -32,6 +32,7 @@ pub(super) fn shot_quality(game: &Game, aim_sigma: f64) -> f64 {
 pub(super) fn pottable(game: &Game) -> Vec<u8> {
     match game.variant() {
         Variant::Practice => (1..game.balls().len() as u8).collect(),
+        Variant::Snooker { .. } => super::snooker::targets(game),
         _ => game.legal_first_balls(),
     }
 }
@@ -83,8 +84,14 @@ fn value_at(game: &Game, me: Seat, aim_sigma: f64, depth: u32) -> f64 {
         Phase::Shooting { .. } if game.is_break() => 0.52,
         Phase::Shooting { .. } => {
             let q = shot_quality(game, aim_sigma);
-            let lead = progress(game, shooter) - progress(game, shooter.other());
-            (0.5 + 0.4 * q + 0.1 * lead).clamp(0.0, 1.0)
+            // Snooker is won on points: its own worth of the scores and the balls left.
+            match super::snooker::value_for_shooter(game, q) {
+                Some(v) => v,
+                None => {
+                    let lead = progress(game, shooter) - progress(game, shooter.other());
+                    (0.5 + 0.4 * q + 0.1 * lead).clamp(0.0, 1.0)
+                }
+            }
         }
     };
     if shooter == me {

@@ -515,5 +515,28 @@ fn capital(s: &str) -> String {
     super::capitalise(s)
 }
 
+/// Positions for the tests of other modules of the crate (the computer player's).
+#[cfg(test)]
+impl Game {
+    /// This snooker game with `balls` laid out, its match changed by `change`, and the seat
+    /// to move shooting from where the cue ball lies, offered the nominations that follow.
+    pub(crate) fn snooker_laid_out(
+        mut self,
+        balls: Vec<BallState>,
+        change: impl FnOnce(&mut Snooker),
+    ) -> Game {
+        self.balls = balls;
+        if let Some(m) = &mut self.snooker {
+            change(m);
+            self.phase = Phase::Shooting {
+                in_hand: None,
+                options: nominations(m, &self.balls),
+                push_out: false,
+            };
+        }
+        self
+    }
+}
+
 #[cfg(test)]
 mod tests;

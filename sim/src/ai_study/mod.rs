@@ -1,10 +1,11 @@
 //! `breakshot-sim ai-study`: how well the computer player plays, and what it costs
 //! (docs/computer-player.md). Every level plays the ghost-ball baseline and the level below
 //! over whole games of 8-ball (both rule sets) and 9-ball; a fixed set of positions measures
-//! strength against the search budget.
+//! strength against the search budget. Snooker has a study of its own (`snooker.rs`).
 
 mod games;
 mod plot;
+pub mod snooker;
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -77,7 +78,7 @@ impl Match {
     }
 }
 
-fn quantile(v: &[f64], q: f64) -> f64 {
+pub(crate) fn quantile(v: &[f64], q: f64) -> f64 {
     if v.is_empty() {
         return 0.0;
     }
@@ -87,7 +88,11 @@ fn quantile(v: &[f64], q: f64) -> f64 {
 }
 
 /// Runs `count` jobs on `jobs` threads, collecting `f(k)` in order.
-fn parallel<T: Send>(count: usize, jobs: usize, f: impl Fn(usize) -> T + Sync) -> Vec<T> {
+pub(crate) fn parallel<T: Send>(
+    count: usize,
+    jobs: usize,
+    f: impl Fn(usize) -> T + Sync,
+) -> Vec<T> {
     let next = AtomicUsize::new(0);
     let out: Mutex<Vec<(usize, T)>> = Mutex::new(Vec::new());
     std::thread::scope(|s| {

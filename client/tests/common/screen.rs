@@ -1,0 +1,117 @@
+//! The window under a virtual display, for the window tests of one game (`snooker.rs`): the
+//! `breakshot` binary run under `xvfb-run` with a screenshot, and the picture it saved.
+#![allow(dead_code)]
+
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
+use std::process::{Command as Process, Output};
+use std::time::Duration;
+
+use breakshot_client::view::palette::Rgb;
+
+/// The window's size in these tests.
+pub const SIZE: (u32, u32) = (1280, 720);
+
+/// `xvfb-run`, or None with the reason printed (the test is then skipped).
+pub fn xvfb_run() -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    let found = std::env::split_paths(&path)
+        .map(|dir| dir.join("xvfb-run"))
+        .find(|p| p.is_file());
+    if found.is_none() {
+        eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
+    }
+    found
+}
+
+/// Runs `breakshot ARGS` under a virtual display, saving its window to `out` at frame
+/// `frames`, with a fresh data directory; None without `xvfb-run`. Fails the test if the
+/// window has not closed within `patience`.
+pub fn window(args: &[&OsStr], out: &Path, frames: u32, patience: Duration) -> Option<Output> {
+    let xvfb = xvfb_run()?;
+    let data = breakshot_testkit::scratch("window-data");
+    Some(breakshot_testkit::run(
+        Process::new(xvfb)
+            .env("BREAKSHOT_DATA", data.path())
+            // The X authority file in the test's own folder: nothing is left in /tmp.
+            .args(["-a", "-f"])
+            .arg(out.with_file_name("Xauthority"))
+            .args(["-s", "-screen 0 1280x800x24"])
+            .arg(env!("CARGO_BIN_EXE_breakshot"))
+            .args(args)
+            .arg("--screenshot")
+            .arg(out)
+            .args(["--frames", &frames.to_string()])
+            .arg(format!("--size={}x{}", SIZE.0, SIZE.1)),
+        None,
+        patience,
+    ))
+}
+
+/// Fails the test unless `breakshot` exited cleanly, showing what it wrote to standard error.
+pub fn assert_ran(run: &Output) {
+    assert!(
+        run.status.success(),
+        "breakshot exited with {}: {}",
+        run.status,
+        String::from_utf8_lossy(&run.stderr)
+    );
+}
+
+/// A screenshot the window saved.
+pub struct Picture {
+    pub width: u32,
+    pub height: u32,
+    pixels: Vec<u8>,
+}
+
+impl Picture {
+    /// The PNG at `path`, checked to be the window's size.
+    pub fn read(path: &Path) -> Picture {
+        let file = std::fs::File::open(path).expect("screenshot written");
+        let decoder = png::Decoder::new(std::io::BufReader::new(file));
+        let mut reader = decoder.read_info().expect("a PNG");
+        let mut buf = vec![0; reader.output_buffer_size()];
+        let info = reader.next_frame(&mut buf).expect("PNG data");
+        assert_eq!(info.color_type, png::ColorType::Rgba);
+        buf.truncate(info.buffer_size());
+        assert_eq!((info.width, info.height), SIZE);
+        Picture {
+            width: info.width,
+            height: info.height,
+            pixels: buf,
+        }
+    }
+
+    /// The colour at pixel (x, y), rounded to the nearest pixel.
+    pub fn at(&self, x: f32, y: f32) -> Rgb {
+        let x = (x.round().max(0.0) as usize).min(self.width as usize - 1);
+        let y = (y.round().max(0.0) as usize).min(self.height as usize - 1);
+        let i = (y * self.width as usize + x) * 4;
+        [self.pixels[i], self.pixels[i + 1], self.pixels[i + 2]]
+    }
+
+    /// Whether any pixel within `reach` pixels of (x, y) satisfies `want` (a thin line
+    /// drawn with anti-aliasing lands on a pixel or its neighbour).
+    pub fn near(&self, x: f32, y: f32, reach: i32, want: impl Fn(Rgb) -> bool) -> bool {
+        (-reach..=reach)
+            .any(|dx| (-reach..=reach).any(|dy| want(self.at(x + dx as f32, y + dy as f32))))
+    }
+}
+
+/// Whether `got` is `want` lit more or less brightly (a ball is a shaded sphere): the same
+/// colour scaled by one factor in a plausible range, within `tolerance` per channel.
+pub fn shaded(got: Rgb, want: Rgb, tolerance: f32) -> bool {
+    let dot = |a: Rgb, b: Rgb| {
+        a.iter()
+            .zip(b)
+            .map(|(&x, y)| x as f32 * y as f32)
+            .sum::<f32>()
+    };
+    let k = dot(got, want) / dot(want, want).max(1.0);
+    (0.3..=1.1).contains(&k)
+        && got
+            .iter()
+            .zip(want)
+            .all(|(&x, y)| (x as f32 - k * y as f32).abs() <= tolerance)
+}
