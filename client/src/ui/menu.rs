@@ -28,11 +28,11 @@ enum Item {
 
 #[cfg(not(target_arch = "wasm32"))]
 const ITEMS: [(Item, &str); 9] = [
-    (Item::Lobby, "Find a game"),
     (Item::Resume, "Resume game"),
     (Item::Practice, "Practice"),
     (Item::Computer, "Play the computer"),
     (Item::Local, "Two players, one computer"),
+    (Item::Lobby, "Find a game"),
     (Item::Host, "Host a game"),
     (Item::Join, "Join (invite on clipboard)"),
     (Item::Replay, "Watch a replay"),
