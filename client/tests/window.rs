@@ -136,6 +136,8 @@ fn window_sized(args: &[&OsStr], out: &Path, frames: u32, size: (u32, u32)) -> O
             .env("BREAKSHOT_DATA", data.path())
             // The window tells standard error what it did ("report: ..." lines).
             .env("BREAKSHOT_REPORT", "1")
+            // A host serves no web client here, even where one was built beside the binary.
+            .env("BREAKSHOT_WEB", data.path().join("no-web-client"))
             // The X authority file in the test's own folder: xvfb-run leaves nothing in /tmp,
             // even when it is stopped.
             .args(["-a", "-f"])
