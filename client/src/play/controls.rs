@@ -78,6 +78,16 @@ pub enum Key {
     VolumeDown,
     /// Sound louder.
     VolumeUp,
+    /// Take the last shot back (practice, against the computer).
+    Undo,
+    /// Play again a shot taken back.
+    Redo,
+    /// Set up the last shot again: its position and its cue.
+    Again,
+    /// Ask the computer which shot it would play here.
+    Advice,
+    /// Set the cue to the shot advised.
+    PlayAdvice,
 }
 
 impl Key {
@@ -182,6 +192,16 @@ pub enum Intent {
     Rerack,
     /// Back to the menu.
     Back,
+    /// Take the last shot back.
+    Undo,
+    /// Play again a shot taken back.
+    Redo,
+    /// Set up the last shot again.
+    Again,
+    /// Ask the computer for its shot.
+    Advice,
+    /// Set the cue to the shot advised.
+    PlayAdvice,
 }
 
 /// What the left button is doing.
@@ -256,6 +276,11 @@ impl Controls {
                 Key::BallInHand => out.push(Intent::TakeBallInHand),
                 Key::Rerack => out.push(Intent::Rerack),
                 Key::Back => out.push(Intent::Back),
+                Key::Undo => out.push(Intent::Undo),
+                Key::Redo => out.push(Intent::Redo),
+                Key::Again => out.push(Intent::Again),
+                Key::Advice => out.push(Intent::Advice),
+                Key::PlayAdvice => out.push(Intent::PlayAdvice),
                 Key::KeepSpin => self.keep_spin = !self.keep_spin,
                 Key::Shoot
                 | Key::Next

@@ -5,7 +5,7 @@ use ::glam::DVec2;
 use breakshot_client::play::leave::{self, LeaveAnswer};
 use breakshot_client::play::{
     Aim, AimShare, AwayResult, Chat, ChatKey, Context, Controls, Drag, GameEvent, GameFlow,
-    GameLink, InputFrame, Intent, Key, Stage, Turn,
+    GameLink, History, InputFrame, Intent, Key, Stage, Turn,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{self, call_prompt, connection as connection_text, Connection};
@@ -48,6 +48,8 @@ pub struct GameScreen {
     told_terminal: bool,
     /// Top-down or 3-D, and the 3-D camera.
     view: TableView,
+    /// The player's shots to take back, against the computer.
+    history: History,
 }
 
 /// The buttons of the choices offered, in a row over the trays: off the cloth, so they
@@ -104,6 +106,7 @@ impl GameScreen {
             rematch_asked: false,
             told_terminal: false,
             view: TableView::new(),
+            history: History::new(),
         }
     }
 
@@ -292,6 +295,9 @@ impl GameScreen {
                         // The rules here say at once what the deciding side would refuse.
                         match game.check(seat, &cmd) {
                             Ok(()) => {
+                                if self.link.takes_back() {
+                                    self.history.shot(game.clone(), strike);
+                                }
                                 self.link.send(&game, seat, cmd);
                                 self.controls.shot_played();
                             }
@@ -308,6 +314,7 @@ impl GameScreen {
                     if matches!(game.phase(), Phase::Over { .. }) && !self.link.watching() =>
                 {
                     self.rematch_asked = true;
+                    self.history.clear();
                     self.link.rematch()
                 }
                 // Leaving an online game in play keeps the seat only for a while: ask first.
@@ -320,11 +327,39 @@ impl GameScreen {
                     return Step::Stay;
                 }
                 (Intent::Back, _) => return Step::Open(Start::Menu),
+                (Intent::Undo | Intent::Redo | Intent::Again, _) if self.link.takes_back() => {
+                    self.take_back(&game, intent)
+                }
                 _ => {}
             }
         }
         self.refresh_prediction(&game, stage);
         Step::Stay
+    }
+
+    /// Undo, redo or again against the computer: the table goes back to the replica's own
+    /// game before the player's shot (the computer's shots after it go too).
+    fn take_back(&mut self, game: &Game, intent: Intent) {
+        let to = match intent {
+            Intent::Undo => self.history.undo(game.clone()),
+            Intent::Redo => self.history.redo(game.clone()),
+            _ => self.history.again(game.clone()),
+        };
+        let Some(to) = to else {
+            self.flow.message = "No shot to take back or play again".into();
+            return;
+        };
+        // A command the computer sent on the table left behind is stale.
+        while self.link.poll().is_some() {}
+        self.flow.handle(GameEvent::Started(Box::new(to.game)));
+        if let (Intent::Again, Some(strike)) = (intent, to.strike) {
+            self.controls.aim = Aim::from_strike(&strike);
+        }
+        self.flow.message = format!(
+            "Taken back: {} shots behind, {} ahead  (U undo, Y redo, B again)",
+            self.history.behind(),
+            self.history.ahead()
+        );
     }
 
     /// Feeds a frame's keys to the open chat line, and sends the line on Enter.
@@ -635,6 +670,11 @@ impl GameScreen {
             "Mouse: aim, drag back: shoot  |  Space: shoot  |  W/S: elevation  |  V: 3-D  |  A G P L: aids  |  T: chat  |  Esc: leave"
         } else {
             "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  V: 3-D view  |  A G P L: aids  |  Esc: leave"
+        };
+        let keys = if self.link.takes_back() {
+            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  V: 3-D  |  A G P L: aids  |  U undo  Y redo  B again  |  Esc: leave"
+        } else {
+            keys
         };
         let message = self.flow.message.as_str();
         let footer = match (self.link.watching(), message.is_empty()) {

@@ -1,12 +1,13 @@
 //! The practice screen: a practice table of the rules, played through the local link.
 
 use breakshot_client::play::{
-    Aim, Context, Controls, Drag, GameFlow, GameLink, InputFrame, Intent, Key, LocalLink, Stage,
+    Aim, Context, Controls, Drag, GameEvent, GameFlow, GameLink, History, InputFrame, Intent, Key,
+    LocalLink, Position, Stage,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::{Frame, Layout, Orientations, Playback, Rect};
-use breakshot_shared::hash::hash_hex;
+use breakshot_shared::hash::{hash_hex, state_hash};
 use breakshot_shared::physics::{Shot, Simulator};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Variant};
 use breakshot_shared::scene::Scene;
@@ -38,6 +39,10 @@ pub struct PracticeScreen {
     /// How each ball is turned, for drawing.
     turns: Orientations,
     view: TableView,
+    /// The tables before each shot, for undo, redo and again.
+    history: History,
+    /// The hash of the table at rest last reported (`BREAKSHOT_REPORT`).
+    reported: Option<u64>,
 }
 
 impl PracticeScreen {
@@ -75,6 +80,8 @@ impl PracticeScreen {
             frame_ms: 0.0,
             turns: Orientations::new(),
             view: TableView::new(),
+            history: History::new(),
+            reported: None,
         })
     }
 
@@ -148,6 +155,7 @@ impl PracticeScreen {
             match intent {
                 Intent::Shoot(strike) => {
                     if self.send(Command::Shot { strike, call: None }) {
+                        self.history.shot(game.clone(), strike);
                         self.shots += 1;
                         self.placing = false;
                         self.controls.shot_played();
@@ -167,9 +175,23 @@ impl PracticeScreen {
                     while let Some(event) = self.link.poll() {
                         self.flow.handle(event);
                     }
+                    self.history.clear();
                     self.message = "Table reset".into();
                 }
+                Intent::Undo => {
+                    let to = self.history.undo(game.clone());
+                    self.restore(to, false, "Shot taken back", "No shot to take back");
+                }
+                Intent::Redo => {
+                    let to = self.history.redo(game.clone());
+                    self.restore(to, false, "Shot played again", "No shot to play again");
+                }
+                Intent::Again => {
+                    let to = self.history.again(game.clone());
+                    self.restore(to, true, "The last shot set up again", "No shot yet");
+                }
                 Intent::Back => return Step::Open(Start::Menu),
+                Intent::Advice | Intent::PlayAdvice => {}
             }
         }
         let was_busy = self.busy();
@@ -179,7 +201,41 @@ impl PracticeScreen {
             self.placing = true;
         }
         self.refresh_prediction();
+        self.report_table();
         Step::Stay
+    }
+
+    /// Puts the table back to `to` (the replica's own game, so to the bit); with `aim`, the
+    /// cue as it was set for the shot played from there too.
+    fn restore(&mut self, to: Option<Position>, aim: bool, done: &str, none: &str) {
+        let Some(to) = to else {
+            self.message = none.into();
+            return;
+        };
+        self.flow.handle(GameEvent::Started(Box::new(to.game)));
+        if let (true, Some(strike)) = (aim, to.strike) {
+            self.controls.aim = Aim::from_strike(&strike);
+        }
+        self.placing = false;
+        self.predicted = None;
+        self.message = format!(
+            "{done} ({} behind, {} ahead)",
+            self.history.behind(),
+            self.history.ahead()
+        );
+        super::report(&format!("practice {}", done.to_lowercase()));
+    }
+
+    /// Says the table's hash each time it comes to rest changed, for tests to observe.
+    fn report_table(&mut self) {
+        let Some(game) = self.game().filter(|_| !self.busy()) else {
+            return;
+        };
+        let hash = state_hash(game.balls());
+        if self.reported != Some(hash) {
+            self.reported = Some(hash);
+            super::report(&format!("practice table {}", hash_hex(hash)));
+        }
     }
 
     /// Did the last shot pocket the cue ball (which the rules then put back)?
@@ -292,7 +348,7 @@ impl PracticeScreen {
             draw::Align::Left,
             WHITE,
         );
-        let hint = "W/S elevation  |  A G P aids  |  V view  |  L trail  |  H in hand  |  R reset  |  Esc menu";
+        let hint = "W/S elevation  |  A G P aids  |  V view  |  L trail  |  H in hand  |  U undo  Y redo  B again  |  R reset  |  Esc menu";
         draw::label_in(hint, layout.status, 16.0, draw::Align::Left, LIGHTGRAY);
         draw::label_in(
             &self.message,

@@ -1,0 +1,138 @@
+//! Practice that teaches, played in the window under a virtual display with `xdotool`:
+//! shots taken back and played again. The window says what it did on standard error
+//! (`BREAKSHOT_REPORT`: "report: ..." lines), which is what these tests read.
+//!
+//! Needs `xvfb-run` and `xdotool`; without them a test says why and passes.
+
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
+use std::process::{Command as Process, Output};
+use std::time::Duration;
+
+use breakshot_shared::hash::{hash_hex, state_hash};
+use breakshot_shared::rules::Game;
+use breakshot_shared::scene::Scene;
+
+const CUT: &str = include_str!("../scenes/cut-shot.json");
+
+fn find_in_path(name: &str) -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .map(|dir| dir.join(name))
+        .find(|p| p.is_file())
+}
+
+/// Runs `breakshot ARGS --screenshot OUT --frames FRAMES` under a virtual display while
+/// `xdotool` plays `keys` on its window (one xdotool command a line, `$wid` the window, a
+/// short pause before each); None if xvfb-run or xdotool is missing (the reason is printed).
+fn played(args: &[&OsStr], out: &Path, frames: u32, keys: &[&str]) -> Option<Output> {
+    let (Some(xvfb), Some(_)) = (find_in_path("xvfb-run"), find_in_path("xdotool")) else {
+        eprintln!("skipped: needs xvfb-run and xdotool (apt-get install xvfb xdotool)");
+        return None;
+    };
+    let mut script = format!(
+        "\"$0\" \"$@\" --screenshot \"{}\" --frames {frames} --size 1280x720 &\n\
+         pid=$!\nwid=$(xdotool search --sync --name Breakshot | head -n 1)\n",
+        out.display()
+    );
+    for key in keys {
+        script.push_str(&format!("sleep 0.3\nxdotool {key}\n"));
+    }
+    script.push_str("wait $pid\n");
+    let data = breakshot_testkit::scratch("teach-data");
+    Some(breakshot_testkit::run(
+        Process::new(xvfb)
+            .env("BREAKSHOT_DATA", data.path())
+            .env("BREAKSHOT_REPORT", "1")
+            .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
+            .arg(env!("CARGO_BIN_EXE_breakshot"))
+            .args(args),
+        None,
+        Duration::from_secs(300),
+    ))
+}
+
+fn assert_ran(run: &Output) {
+    assert!(
+        run.status.success(),
+        "breakshot exited with {}: {}",
+        run.status,
+        String::from_utf8_lossy(&run.stderr)
+    );
+}
+
+/// The lines the window reported on standard error.
+fn reports(run: &Output) -> Vec<String> {
+    String::from_utf8_lossy(&run.stderr)
+        .lines()
+        .filter_map(|l| l.strip_prefix("report: "))
+        .map(String::from)
+        .collect()
+}
+
+/// The hashes of the table at rest, in the order the window reported them.
+fn tables(said: &[String]) -> Vec<&str> {
+    said.iter()
+        .filter_map(|l| l.strip_prefix("practice table "))
+        .collect()
+}
+
+#[test]
+fn three_shots_taken_back_give_the_table_before_them_to_the_bit_and_again_replays_one() {
+    let dir = breakshot_testkit::scratch("teach-undo");
+    let (scene, out) = (dir.path().join("scene.json"), dir.path().join("out.png"));
+    std::fs::write(&scene, CUT).expect("scene written");
+    let args = [OsStr::new("practice"), scene.as_os_str()];
+    // Each shot is played (Space) and its playback skipped (Space again); then U three
+    // times, Y (redo the first shot), B (set it up again) and the same shot played again.
+    let key = |k: &str| format!("key --window \"$wid\" {k}");
+    let mut keys = vec!["sleep 1".to_string()];
+    for k in [
+        "space", "space", "space", "space", "space", "space", "u", "u", "u", "y", "b",
+    ]
+    .into_iter()
+    .chain(["space", "space"])
+    {
+        // Slow frames (a loaded machine, a software display) still see each press.
+        keys.extend([key(k), "sleep 0.4".to_string()]);
+    }
+    let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
+    let Some(run) = played(&args, &out, 900, &keys) else {
+        return;
+    };
+    assert_ran(&run);
+    let said = reports(&run);
+    let shots = said
+        .iter()
+        .filter(|l| {
+            l.strip_prefix("practice shot ")
+                .is_some_and(|n| n.parse::<u32>().is_ok())
+        })
+        .count();
+    let undone = said
+        .iter()
+        .filter(|l| *l == "practice shot taken back")
+        .count();
+    assert_eq!((shots, undone), (4, 3), "four shots, three undos: {said:?}");
+    let seen = tables(&said);
+    let start = Game::practice(&Scene::from_json(CUT).expect("a scene")).expect("a table");
+    let first = hash_hex(state_hash(start.balls()));
+    assert_eq!(
+        seen.first(),
+        Some(&first.as_str()),
+        "the scene's table first"
+    );
+    // The tables at rest: after three shots, three undos give the first one back to the
+    // bit; redo gives the one after the first shot, again the first, and the same strike
+    // from it the same table as the first time.
+    assert_eq!(seen.len(), 10, "{said:?}");
+    let at = |i: usize| seen[i];
+    assert_eq!(
+        [at(4), at(5), at(6)],
+        [at(2), at(1), at(0)],
+        "undone: {said:?}"
+    );
+    assert_eq!([at(7), at(8), at(9)], [at(1), at(0), at(1)], "{said:?}");
+    let distinct: std::collections::HashSet<_> = seen[..4].iter().collect();
+    assert_eq!(distinct.len(), 4, "each shot moved balls: {said:?}");
+}
