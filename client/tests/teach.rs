@@ -136,3 +136,47 @@ fn three_shots_taken_back_give_the_table_before_them_to_the_bit_and_again_replay
     let distinct: std::collections::HashSet<_> = seen[..4].iter().collect();
     assert_eq!(distinct.len(), 4, "each shot moved balls: {said:?}");
 }
+
+#[test]
+fn the_advice_shown_is_the_simulator_s_and_j_sets_the_cue_to_it() {
+    use breakshot_client::play::{Advisor, Request};
+    use breakshot_shared::ai::Level;
+    let dir = breakshot_testkit::scratch("teach-advice");
+    let (scene, out) = (dir.path().join("scene.json"), dir.path().join("out.png"));
+    std::fs::write(&scene, CUT).expect("scene written");
+    let args = [OsStr::new("practice"), scene.as_os_str()];
+    // I asks (level 3 by default); the search runs a few simulations a frame; J sets the cue.
+    let keys = [
+        "sleep 1",
+        "key --window \"$wid\" i",
+        "sleep 12",
+        "key --window \"$wid\" j",
+    ];
+    let Some(run) = played(&args, &out, 1200, &keys) else {
+        return;
+    };
+    assert_ran(&run);
+    let said = reports(&run);
+    let start = Game::practice(&Scene::from_json(CUT).expect("a scene")).expect("a table");
+    let request = Request::for_table(&start, Level::new(3)).expect("a request");
+    let mut advisor = Advisor::start(request).expect("an advisor");
+    let want = advisor
+        .step(usize::MAX)
+        .expect("done")
+        .clone()
+        .expect("advice");
+    let line = format!(
+        "practice advice {} {} {} {} {}",
+        want.strike.speed, want.strike.dir.x, want.strike.dir.y, want.p_success, want.trials
+    );
+    assert!(said.contains(&line), "{line} in {said:?}");
+    let asked = said.iter().position(|l| *l == line);
+    let set = said.iter().position(|l| l == "practice advice set");
+    assert!(
+        matches!((asked, set), (Some(a), Some(s)) if a < s),
+        "advised, then set: {said:?}"
+    );
+    if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
+        std::fs::copy(&out, keep).expect("screenshot kept");
+    }
+}

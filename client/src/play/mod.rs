@@ -4,6 +4,7 @@
 //! game ([`Replica`]) and a screen's state around it ([`GameFlow`]), who chooses a seat's
 //! moves when no person does ([`ComputerLink`] at one computer, [`Chooser`] online), and replays.
 
+mod advice;
 mod aim;
 mod chat;
 mod chooser;
@@ -19,6 +20,7 @@ mod replay;
 mod replica;
 mod touch;
 
+pub use advice::{measured, succeeded, Advice, Advisor, Request};
 pub use aim::{Aim, AimShare};
 pub use chat::{Chat, ChatKey, ChatLine};
 pub use chooser::Chooser;

@@ -1,12 +1,13 @@
 //! The practice screen: a practice table of the rules, played through the local link.
 
 use breakshot_client::play::{
-    Aim, Context, Controls, Drag, GameEvent, GameFlow, GameLink, History, InputFrame, Intent, Key,
-    LocalLink, Position, Stage,
+    Advice, Advisor, Aim, Context, Controls, Drag, GameEvent, GameFlow, GameLink, History,
+    InputFrame, Intent, Key, LocalLink, Position, Request, Stage,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::{Frame, Layout, Orientations, Playback, Rect};
+use breakshot_shared::ai::Level;
 use breakshot_shared::hash::{hash_hex, state_hash};
 use breakshot_shared::physics::{Shot, Simulator};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Variant};
@@ -43,7 +44,19 @@ pub struct PracticeScreen {
     history: History,
     /// The hash of the table at rest last reported (`BREAKSHOT_REPORT`).
     reported: Option<u64>,
+    /// The computer's advice being searched, a few simulations a frame.
+    advisor: Option<Advisor>,
+    /// The advice found for the table shown, with its predicted paths.
+    advice: Option<(Advice, Prediction)>,
+    /// Whose noise the advice's chance is for (I again on an advice: the next level).
+    advice_level: Level,
+    /// The last shot pocketed nothing: I then advises on the table it was played from.
+    missed: bool,
 }
+
+/// Simulations the advice's search may run each frame: the window keeps drawing while it
+/// thinks, natively and in the browser alike (one takes well under a millisecond).
+const ADVICE_PER_FRAME: usize = 6;
 
 impl PracticeScreen {
     pub fn new(scene: Option<Scene>, seed: u64) -> anyhow::Result<PracticeScreen> {
@@ -82,6 +95,10 @@ impl PracticeScreen {
             view: TableView::new(),
             history: History::new(),
             reported: None,
+            advisor: None,
+            advice: None,
+            advice_level: Level::new(3),
+            missed: false,
         })
     }
 
@@ -156,6 +173,8 @@ impl PracticeScreen {
                 Intent::Shoot(strike) => {
                     if self.send(Command::Shot { strike, call: None }) {
                         self.history.shot(game.clone(), strike);
+                        self.advice = None;
+                        self.advisor = None;
                         self.shots += 1;
                         self.placing = false;
                         self.controls.shot_played();
@@ -191,7 +210,18 @@ impl PracticeScreen {
                     self.restore(to, true, "The last shot set up again", "No shot yet");
                 }
                 Intent::Back => return Step::Open(Start::Menu),
-                Intent::Advice | Intent::PlayAdvice => {}
+                Intent::Advice if !self.busy() => self.ask_advice(&game),
+                Intent::PlayAdvice => {
+                    if let Some((advice, _)) = &self.advice {
+                        self.controls.aim = Aim::from_strike(&advice.strike);
+                        self.message = format!(
+                            "Set: {}  |  Space plays it",
+                            advice.summary(self.advice_level)
+                        );
+                        super::report("practice advice set");
+                    }
+                }
+                Intent::Advice => {}
             }
         }
         let was_busy = self.busy();
@@ -200,9 +230,92 @@ impl PracticeScreen {
             // The rules put the cue ball back: offer to move it.
             self.placing = true;
         }
+        if was_busy && !self.busy() {
+            self.missed = self.pocketed_nothing();
+            if self.missed {
+                self.message = "Missed: I shows what the computer would have played".into();
+            }
+        }
+        self.think();
         self.refresh_prediction();
         self.report_table();
         Step::Stay
+    }
+
+    /// Did the last shot pocket no object ball?
+    fn pocketed_nothing(&self) -> bool {
+        let (Some(game), Some(verdict)) = (self.game(), &self.flow.last_verdict) else {
+            return false;
+        };
+        let cue = game.cue_ball();
+        verdict
+            .shot
+            .as_ref()
+            .is_some_and(|s| s.pocketed.iter().all(|&(b, _)| usize::from(b) == cue))
+    }
+
+    /// I: the computer's shot on this table (after a miss: on the table the shot was
+    /// played from, which comes back); I again once it is shown: the same at the next level.
+    fn ask_advice(&mut self, game: &Game) {
+        let mut table = game.clone();
+        if std::mem::take(&mut self.missed) {
+            let back = self.history.undo(game.clone());
+            if let Some(back) = back {
+                table = back.game.clone();
+                self.restore(Some(back), false, "Shot taken back", "");
+            }
+        } else if self.advice.is_some() {
+            let next = self.advice_level.number() % Level::MAX + 1;
+            self.advice_level = Level::new(next);
+        }
+        self.advice = None;
+        self.advisor = None;
+        match Request::for_table(&table, self.advice_level).and_then(Advisor::start) {
+            Ok(advisor) => {
+                super::report(&format!(
+                    "practice advice asked: {}",
+                    advisor.request().command_line("SCENE")
+                ));
+                self.advisor = Some(advisor);
+            }
+            Err(why) => self.message = format!("No advice: {why}"),
+        }
+    }
+
+    /// Moves the advice's search on by a frame's share; shows the advice once found.
+    fn think(&mut self) {
+        let Some(advisor) = self.advisor.as_mut() else {
+            return;
+        };
+        let Some(done) = advisor.step(ADVICE_PER_FRAME).cloned() else {
+            self.message = format!(
+                "The computer is thinking ({:.0} %)",
+                100.0 * advisor.fraction()
+            );
+            return;
+        };
+        self.advisor = None;
+        let Some(game) = self.game().cloned() else {
+            return;
+        };
+        match done {
+            Ok(advice) => {
+                let shot = game.shot_for(&advice.strike);
+                let prediction =
+                    aids::predict(&mut self.sim, &shot, game.cue_ball()).unwrap_or_default();
+                self.message = format!("{}  |  J: play it", advice.summary(self.advice_level));
+                super::report(&format!(
+                    "practice advice {} {} {} {} {}",
+                    advice.strike.speed,
+                    advice.strike.dir.x,
+                    advice.strike.dir.y,
+                    advice.p_success,
+                    advice.trials
+                ));
+                self.advice = Some((advice, prediction));
+            }
+            Err(why) => self.message = format!("No advice: {why}"),
+        }
     }
 
     /// Puts the table back to `to` (the replica's own game, so to the bit); with `aim`, the
@@ -218,6 +331,9 @@ impl PracticeScreen {
         }
         self.placing = false;
         self.predicted = None;
+        self.advice = None;
+        self.advisor = None;
+        self.missed = false;
         self.message = format!(
             "{done} ({} behind, {} ahead)",
             self.history.behind(),
@@ -295,6 +411,22 @@ impl PracticeScreen {
                 draw::aids(&pen, pred, self.toggles, r, object);
             }
         }
+        if let (false, Some((advice, pred))) = (busy, &self.advice) {
+            // The advised shot's paths, all of them, and the spot the cue ball plays for.
+            let all = AidToggles {
+                aim_line: true,
+                ghost_ball: true,
+                paths: true,
+            };
+            let object = pred
+                .first_hit
+                .and_then(|b| self.ids.get(b))
+                .map_or("", |s| s.as_str());
+            draw::aids(&pen, pred, all, r, object);
+            if let Some(leave) = advice.leave {
+                draw::ring(&pen, leave, r, YELLOW);
+            }
+        }
         draw::balls(
             &pen,
             &self.ids,
@@ -348,7 +480,7 @@ impl PracticeScreen {
             draw::Align::Left,
             WHITE,
         );
-        let hint = "W/S elevation  |  A G P aids  |  V view  |  L trail  |  H in hand  |  U undo  Y redo  B again  |  R reset  |  Esc menu";
+        let hint = "W/S elevation  |  A G P aids  |  V view  |  L trail  |  H in hand  |  U undo  Y redo  B again  |  I advice  J play it  |  R reset  |  Esc menu";
         draw::label_in(hint, layout.status, 16.0, draw::Align::Left, LIGHTGRAY);
         draw::label_in(
             &self.message,
