@@ -26,6 +26,18 @@ fn find_in_path(name: &str) -> Option<PathBuf> {
 /// `xdotool` plays `keys` on its window (one xdotool command a line, `$wid` the window, a
 /// short pause before each); None if xvfb-run or xdotool is missing (the reason is printed).
 fn played(args: &[&OsStr], out: &Path, frames: u32, keys: &[&str]) -> Option<Output> {
+    let data = breakshot_testkit::scratch("teach-data");
+    played_with(args, out, frames, keys, data.path())
+}
+
+/// [`played`] with `data` as the window's data directory.
+fn played_with(
+    args: &[&OsStr],
+    out: &Path,
+    frames: u32,
+    keys: &[&str],
+    data: &Path,
+) -> Option<Output> {
     let (Some(xvfb), Some(_)) = (find_in_path("xvfb-run"), find_in_path("xdotool")) else {
         eprintln!("skipped: needs xvfb-run and xdotool (apt-get install xvfb xdotool)");
         return None;
@@ -39,10 +51,9 @@ fn played(args: &[&OsStr], out: &Path, frames: u32, keys: &[&str]) -> Option<Out
         script.push_str(&format!("sleep 0.3\nxdotool {key}\n"));
     }
     script.push_str("wait $pid\n");
-    let data = breakshot_testkit::scratch("teach-data");
     Some(breakshot_testkit::run(
         Process::new(xvfb)
-            .env("BREAKSHOT_DATA", data.path())
+            .env("BREAKSHOT_DATA", data)
             .env("BREAKSHOT_REPORT", "1")
             .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
             .arg(env!("CARGO_BIN_EXE_breakshot"))
@@ -178,5 +189,70 @@ fn the_advice_shown_is_the_simulator_s_and_j_sets_the_cue_to_it() {
     );
     if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
         std::fs::copy(&out, keep).expect("screenshot kept");
+    }
+}
+
+#[test]
+fn a_ball_dragged_then_kept_opens_again_as_the_same_table() {
+    use breakshot_client::play::position;
+    use breakshot_client::view::{Frame, Layout};
+    let dir = breakshot_testkit::scratch("teach-position");
+    let (scene, out) = (dir.path().join("scene.json"), dir.path().join("out.png"));
+    let data = dir.path().join("data");
+    std::fs::write(&scene, CUT).expect("scene written");
+    let start = Game::practice(&Scene::from_json(CUT).expect("a scene")).expect("a table");
+    let layout = Layout::new(1280.0, 720.0, Frame::new(start.table(), start.balls()));
+    // The 8 (ball 2 of the scene) is dragged to a free spot; then O keeps the position.
+    let [fx, fy] = layout.to_screen(start.balls()[2].pos).map(f32::round);
+    let to = glam::DVec2::new(0.9, 0.9);
+    let [tx, ty] = layout.to_screen(to).map(f32::round);
+    let keys = [
+        "sleep 1".to_string(),
+        "key --window \"$wid\" f".into(),
+        format!("mousemove --window \"$wid\" {fx} {fy}"),
+        "mousedown 1".into(),
+        format!("mousemove --window \"$wid\" {tx} {ty}"),
+        "sleep 0.3".into(),
+        "mouseup 1".into(),
+        "key --window \"$wid\" o".into(),
+    ];
+    let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
+    let Some(run) = played_with(
+        &[OsStr::new("practice"), scene.as_os_str()],
+        &out,
+        600,
+        &keys,
+        &data,
+    ) else {
+        return;
+    };
+    assert_ran(&run);
+    let said = reports(&run);
+    assert!(said.iter().any(|l| l == "practice ball placed"), "{said:?}");
+    let saved = said
+        .iter()
+        .find_map(|l| l.strip_prefix("practice saved "))
+        .expect("the position kept");
+    let (path, code) = saved.rsplit_once(' ').expect("path and code");
+    let text = std::fs::read_to_string(path).expect("the scene file");
+    assert!(path.starts_with(data.to_str().expect("a path")), "{path}");
+    let (_, kept) = position::open(&text).expect("the kept file opens");
+    let (_, coded) = position::open(code).expect("the code opens");
+    // The 8 is where it was dropped (to the pixel), every other ball where it was.
+    let scale = layout.scale;
+    assert!(
+        (kept.balls()[2].pos - to).length() <= 1.5 / scale,
+        "{:?}",
+        kept.balls()[2]
+    );
+    for i in (0..start.balls().len()).filter(|&i| i != 2) {
+        assert_eq!(kept.balls()[i], start.balls()[i], "ball {i}");
+    }
+    assert_eq!(kept.ball_ids(), start.ball_ids());
+    for (a, b) in coded.balls().iter().zip(kept.balls()) {
+        assert!(
+            (a.pos - b.pos).length() < 1e-6,
+            "the code is the same table"
+        );
     }
 }

@@ -88,6 +88,10 @@ pub enum Key {
     Advice,
     /// Set the cue to the shot advised.
     PlayAdvice,
+    /// Keep the position: a scene file and a code (practice).
+    SavePosition,
+    /// Set up the position: drag any ball, take balls off and put them back (practice).
+    Arrange,
 }
 
 impl Key {
@@ -202,6 +206,10 @@ pub enum Intent {
     Advice,
     /// Set the cue to the shot advised.
     PlayAdvice,
+    /// Keep the position as a scene file and a code.
+    SavePosition,
+    /// Start or stop setting up the position.
+    Arrange,
 }
 
 /// What the left button is doing.
@@ -281,6 +289,8 @@ impl Controls {
                 Key::Again => out.push(Intent::Again),
                 Key::Advice => out.push(Intent::Advice),
                 Key::PlayAdvice => out.push(Intent::PlayAdvice),
+                Key::SavePosition => out.push(Intent::SavePosition),
+                Key::Arrange => out.push(Intent::Arrange),
                 Key::KeepSpin => self.keep_spin = !self.keep_spin,
                 Key::Shoot
                 | Key::Next

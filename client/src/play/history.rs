@@ -35,11 +35,24 @@ impl History {
     /// `before` is about to be played from with `strike`: it becomes the position an undo
     /// goes back to, and the positions ahead (undone ones) are dropped.
     pub fn shot(&mut self, before: Game, strike: Strike) {
-        self.forward.clear();
-        self.back.push(Position {
+        self.push(Position {
             game: before,
             strike: Some(strike),
         });
+    }
+
+    /// `before` is about to be changed by hand (a ball moved, taken off or put back): an
+    /// undo goes back to it as to the table before a shot.
+    pub fn changed(&mut self, before: Game) {
+        self.push(Position {
+            game: before,
+            strike: None,
+        });
+    }
+
+    fn push(&mut self, before: Position) {
+        self.forward.clear();
+        self.back.push(before);
         if self.back.len() > KEPT {
             self.back.remove(0);
         }

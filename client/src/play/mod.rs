@@ -16,6 +16,7 @@ mod game_flow;
 mod history;
 pub mod leave;
 mod link;
+pub mod position;
 mod replay;
 mod replica;
 mod touch;

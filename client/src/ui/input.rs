@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use breakshot_client::play::{InputFrame, Key, TwoFingers};
 
-const KEYS: [(KeyCode, Key); 33] = [
+const KEYS: [(KeyCode, Key); 35] = [
     (KeyCode::Space, Key::Shoot),
     (KeyCode::A, Key::AimLine),
     (KeyCode::G, Key::GhostBall),
@@ -45,6 +45,8 @@ const KEYS: [(KeyCode, Key); 33] = [
     (KeyCode::B, Key::Again),
     (KeyCode::I, Key::Advice),
     (KeyCode::J, Key::PlayAdvice),
+    (KeyCode::O, Key::SavePosition),
+    (KeyCode::F, Key::Arrange),
 ];
 
 /// −1, 0 or 1 as one key or the other is held.

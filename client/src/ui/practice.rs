@@ -1,5 +1,6 @@
 //! The practice screen: a practice table of the rules, played through the local link.
 
+use breakshot_client::play::position;
 use breakshot_client::play::{
     Advice, Advisor, Aim, Context, Controls, Drag, GameEvent, GameFlow, GameLink, History,
     InputFrame, Intent, Key, LocalLink, Position, Request, Stage,
@@ -9,7 +10,7 @@ use breakshot_client::view::hud::Connection;
 use breakshot_client::view::{Frame, Layout, Orientations, Playback, Rect};
 use breakshot_shared::ai::Level;
 use breakshot_shared::hash::{hash_hex, state_hash};
-use breakshot_shared::physics::{Shot, Simulator};
+use breakshot_shared::physics::{MotionState, Shot, Simulator};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Variant};
 use breakshot_shared::scene::Scene;
 use macroquad::prelude::*;
@@ -52,6 +53,12 @@ pub struct PracticeScreen {
     advice_level: Level,
     /// The last shot pocketed nothing: I then advises on the table it was played from.
     missed: bool,
+    /// Setting up the position (F): the mouse drags any ball instead of aiming.
+    arranging: bool,
+    /// The ball being dragged while arranging.
+    moving: Option<usize>,
+    /// Where it would go.
+    drag_to: Option<::glam::DVec2>,
 }
 
 /// Simulations the advice's search may run each frame: the window keeps drawing while it
@@ -99,6 +106,9 @@ impl PracticeScreen {
             advice: None,
             advice_level: Level::new(3),
             missed: false,
+            arranging: false,
+            moving: None,
+            drag_to: None,
         })
     }
 
@@ -116,7 +126,7 @@ impl PracticeScreen {
     }
 
     fn stage(&self) -> Stage {
-        if self.busy() {
+        if self.busy() || self.arranging {
             Stage::Watching
         } else if self.placing {
             Stage::InHand
@@ -135,6 +145,7 @@ impl PracticeScreen {
         let mut accepted = false;
         while let Some(event) = self.link.poll() {
             if let breakshot_client::play::GameEvent::Refused(why) = &event {
+                super::report(&format!("practice refused: {why}"));
                 self.message = why.clone();
             } else {
                 accepted = true;
@@ -164,6 +175,12 @@ impl PracticeScreen {
         };
         if self.busy() && input.pressed.contains(&Key::Shoot) {
             self.flow.skip();
+        }
+        if let Some(dropped) = input.dropped.last() {
+            self.open_dropped(dropped);
+        }
+        if self.arranging && !self.busy() {
+            self.arrange(input, &layout, &game);
         }
         let intents = self.controls.update(input, &ctx, &|p| {
             game.legal_cue_placement(p.to_array()).is_ok()
@@ -211,6 +228,17 @@ impl PracticeScreen {
                 }
                 Intent::Back => return Step::Open(Start::Menu),
                 Intent::Advice if !self.busy() => self.ask_advice(&game),
+                Intent::SavePosition => self.save(&game),
+                Intent::Arrange => {
+                    self.arranging = !self.arranging;
+                    self.moving = None;
+                    super::report(&format!("practice arranging {}", self.arranging));
+                    self.message = if self.arranging {
+                        "Setting up: drag any ball; off the cloth takes it off; N puts the next one back at the mouse; F: done".into()
+                    } else {
+                        "Position set: aim and shoot".into()
+                    };
+                }
                 Intent::PlayAdvice => {
                     if let Some((advice, _)) = &self.advice {
                         self.controls.aim = Aim::from_strike(&advice.strike);
@@ -240,6 +268,101 @@ impl PracticeScreen {
         self.refresh_prediction();
         self.report_table();
         Step::Stay
+    }
+
+    /// Arranging: a press on a ball picks it up, the release puts it down there (off the
+    /// cloth: off the table); N puts the first ball off the table back at the mouse. Each
+    /// change is the rules' `PlaceBall`, refused with their reason where a ball cannot lie.
+    fn arrange(&mut self, input: &InputFrame, layout: &Layout, game: &Game) {
+        let at = layout.to_scene(input.mouse);
+        let r = game.params().ball_radius;
+        if input.left_pressed {
+            self.moving = game.balls().iter().position(|b| {
+                b.motion != MotionState::Pocketed && (b.pos - at).length() <= 1.5 * r
+            });
+        }
+        let put = |pos: Option<[f64; 2]>, ball: usize| Command::PlaceBall {
+            ball: ball as u8,
+            pos,
+        };
+        let mut command = None;
+        let released = self.moving.filter(|_| input.left_released);
+        if let Some(ball) = released {
+            self.moving = None;
+            let on_cloth = layout.cloth.contains(input.mouse) && at.is_finite();
+            command = Some(put(on_cloth.then(|| at.to_array()), ball));
+        }
+        self.drag_to = self.moving.map(|_| at);
+        if input.pressed.contains(&Key::Next) {
+            let off = game
+                .balls()
+                .iter()
+                .position(|b| b.motion == MotionState::Pocketed);
+            match off {
+                Some(ball) => command = Some(put(Some(at.to_array()), ball)),
+                None => self.message = "Every ball of the set is on the table".into(),
+            }
+        }
+        if let Some(command) = command {
+            if self.send(command) {
+                self.history.changed(game.clone());
+                self.advice = None;
+                self.message = "Ball placed (U takes it back)".into();
+                super::report("practice ball placed");
+            }
+        }
+    }
+
+    /// O: the table as a scene file in the data directory and as a code on the clipboard.
+    fn save(&mut self, game: &Game) {
+        let (json, code) = match position::written(game) {
+            Ok(written) => written,
+            Err(why) => {
+                self.message = format!("Cannot keep this position: {why}");
+                return;
+            }
+        };
+        super::invite::copy(&code);
+        let kept = super::data_dir().map(|dir| {
+            let dir = dir.join("positions");
+            let path = dir.join(format!("{}.json", hash_hex(state_hash(game.balls()))));
+            std::fs::create_dir_all(&dir)
+                .and_then(|()| std::fs::write(&path, &json))
+                .map(|()| path)
+        });
+        self.message = match kept {
+            Some(Ok(path)) => {
+                super::report(&format!("practice saved {} {code}", path.display()));
+                format!("Kept as {} and copied as {code}", path.display())
+            }
+            Some(Err(e)) => format!("Copied as {code}; cannot write the file: {e}"),
+            None => format!("Copied as {code}"),
+        };
+    }
+
+    /// A scene file or a file holding a code dropped on the window: its table, if the rules
+    /// accept it; otherwise the reason, and the table stays as it was.
+    fn open_dropped(&mut self, bytes: &[u8]) {
+        let text = String::from_utf8_lossy(bytes);
+        match position::open(&text) {
+            Ok((_, game)) => {
+                self.ids = game.ball_ids();
+                self.frame = Frame::new(game.table(), game.balls());
+                self.link = LocalLink::from_game(game);
+                while let Some(event) = self.link.poll() {
+                    self.flow.handle(event);
+                }
+                self.history.clear();
+                self.advice = None;
+                self.advisor = None;
+                self.message = "Position opened".into();
+                super::report("practice position opened");
+            }
+            Err(why) => {
+                self.message = format!("Not opened: {why}");
+                super::report(&format!("practice position refused: {why}"));
+            }
+        }
     }
 
     /// Did the last shot pocket no object ball?
@@ -435,6 +558,9 @@ impl PracticeScreen {
             dragging.map(|_| cue_index),
             &self.turns,
         );
+        if let Some(to) = self.drag_to {
+            draw::ring(&pen, to, r, WHITE);
+        }
         if !busy && self.placing {
             draw::in_hand(&pen, layout.cloth, dragging, r);
         }
@@ -459,6 +585,8 @@ impl PracticeScreen {
         );
         let state = if self.busy() {
             "balls moving (Space: skip)"
+        } else if self.arranging {
+            "setting up: drag any ball (F: done)"
         } else if self.placing {
             "ball in hand: drag the cue ball"
         } else {
@@ -480,7 +608,7 @@ impl PracticeScreen {
             draw::Align::Left,
             WHITE,
         );
-        let hint = "W/S elevation  |  A G P aids  |  V view  |  L trail  |  H in hand  |  U undo  Y redo  B again  |  I advice  J play it  |  R reset  |  Esc menu";
+        let hint = "W/S elevation  |  A G P aids  |  V view  |  L trail  |  H in hand  |  U undo  Y redo  B again  |  I advice  J play it  |  F set up  O keep  |  R reset  |  Esc menu";
         draw::label_in(hint, layout.status, 16.0, draw::Align::Left, LIGHTGRAY);
         draw::label_in(
             &self.message,
