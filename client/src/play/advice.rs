@@ -3,10 +3,12 @@
 //! of the same scene, targets, level and seed ([`Request::command_line`]), and it is
 //! searched in steps ([`Advisor::step`]) so a frame loop (the browser's too) keeps drawing.
 
-use breakshot_shared::ai::{Kind, Level, Rng, Suggestion, Thinking};
+use std::task::Poll;
+
+use breakshot_shared::ai::{Decision, Kind, Level, Player, Rng, Suggestion, Thinking};
 use breakshot_shared::hash::state_hash;
 use breakshot_shared::physics::{EventKind, MotionState, Outcome, Shot, Simulator, Strike};
-use breakshot_shared::rules::{pocket_name, Game, ShotFacts};
+use breakshot_shared::rules::{pocket_name, Command, Game, ShotFacts};
 use breakshot_shared::scene::Scene;
 use glam::DVec2;
 
@@ -124,11 +126,24 @@ impl Advice {
 
 /// The search for one table's advice, stepped.
 pub struct Advisor {
-    request: Request,
-    shot: Shot,
-    cue: usize,
-    search: Thinking<Result<Suggestion, String>>,
+    search: Search,
+    level: Level,
     done: Option<Result<Advice, String>>,
+}
+
+/// What is searched: a practice table's scene (as `breakshot-sim suggest`), or a rules
+/// game's next move (as the computer opponent plans it, legal balls and calls included).
+enum Search {
+    Scene {
+        request: Box<Request>,
+        shot: Box<Shot>,
+        cue: usize,
+        search: Thinking<Result<Suggestion, String>>,
+    },
+    Game {
+        game: Box<Game>,
+        search: Thinking<Option<Decision>>,
+    },
 }
 
 impl Advisor {
@@ -137,63 +152,130 @@ impl Advisor {
         let (shot, cue, targets) = request.indices()?;
         let search = Thinking::suggest(&shot, cue, &targets, request.level, request.seed);
         Ok(Advisor {
-            request,
-            shot,
-            cue,
-            search,
+            level: request.level,
+            search: Search::Scene {
+                request: Box::new(request),
+                shot: Box::new(shot),
+                cue,
+                search,
+            },
             done: None,
         })
     }
 
-    /// What was asked.
-    pub fn request(&self) -> &Request {
-        &self.request
+    /// Starts advising the player to move in a rules game (a local game, against the
+    /// computer): the shot the computer at `level` would mean to play there.
+    pub fn for_game(game: &Game, level: Level) -> Advisor {
+        let seed = state_hash(game.balls());
+        Advisor {
+            level,
+            search: Search::Game {
+                game: Box::new(game.clone()),
+                search: Thinking::plan(game, &Player::from(level), seed),
+            },
+            done: None,
+        }
+    }
+
+    /// What was asked of a practice table (None for a rules game).
+    pub fn request(&self) -> Option<&Request> {
+        match &self.search {
+            Search::Scene { request, .. } => Some(request),
+            Search::Game { .. } => None,
+        }
     }
 
     /// Runs at most `simulations` more of the search; the advice once it is found.
     pub fn step(&mut self, simulations: usize) -> Option<&Result<Advice, String>> {
         if self.done.is_none() {
-            if let std::task::Poll::Ready(found) = self.search.step(simulations) {
-                let found = found.clone();
-                self.done = Some(found.map(|s| self.advice(&s)));
-            }
+            let trials = self.level.schedule().samples[2];
+            self.done = match &mut self.search {
+                Search::Scene {
+                    request,
+                    shot,
+                    cue,
+                    search,
+                } => match search.step(simulations) {
+                    Poll::Ready(Ok(found)) => {
+                        let ids: Vec<String> =
+                            request.scene.balls.iter().map(|b| b.id.clone()).collect();
+                        let mut shot = (**shot).clone();
+                        shot.strike = Some((*cue, found.strike));
+                        let (pots, leave) = played(&shot, *cue, &ids);
+                        Some(Ok(Advice {
+                            strike: found.strike,
+                            p_success: found.p_success,
+                            trials,
+                            kind: found.kind,
+                            pots,
+                            leave,
+                        }))
+                    }
+                    Poll::Ready(Err(why)) => Some(Err(why.clone())),
+                    Poll::Pending => None,
+                },
+                Search::Game { game, search } => match search.step(simulations) {
+                    Poll::Ready(Some(Decision {
+                        command: Command::Shot { strike, call },
+                        p_success,
+                        kind,
+                        ..
+                    })) => {
+                        let shot = game.shot_for(strike);
+                        let (mut pots, leave) = played(&shot, game.cue_ball(), &game.ball_ids());
+                        if let (Some(call), Some((_, pocket))) = (call, &mut pots) {
+                            *pocket = pocket_name(game.table(), *call);
+                        }
+                        Some(Ok(Advice {
+                            strike: *strike,
+                            p_success: p_success.unwrap_or(0.0),
+                            trials,
+                            kind: kind.unwrap_or(Kind::Safety),
+                            pots,
+                            leave,
+                        }))
+                    }
+                    Poll::Ready(Some(other)) => Some(Err(format!(
+                        "the computer would not shoot: {:?}",
+                        other.command
+                    ))),
+                    Poll::Ready(None) => Some(Err("the game is over".into())),
+                    Poll::Pending => None,
+                },
+            };
         }
         self.done.as_ref()
     }
 
     /// The share of the search done, 0 to 1.
     pub fn fraction(&self) -> f64 {
-        self.search.fraction()
-    }
-
-    /// The suggestion with what it leads to played as meant.
-    fn advice(&self, found: &Suggestion) -> Advice {
-        let mut shot = self.shot.clone();
-        shot.strike = Some((self.cue, found.strike));
-        let mut sim = Simulator::new();
-        let outcome = sim.run(&shot).ok();
-        let pots = outcome.and_then(|o| {
-            o.events.iter().find_map(|e| match e.kind {
-                EventKind::BallPocket { ball, pocket } if usize::from(ball) != self.cue => {
-                    let id = self.request.scene.balls.get(usize::from(ball))?.id.clone();
-                    Some((id, pocket_name(shot.table, pocket)))
-                }
-                _ => None,
-            })
-        });
-        let leave = outcome
-            .and_then(|o| o.finals.get(self.cue))
-            .filter(|b| b.motion != MotionState::Pocketed)
-            .map(|b| b.pos);
-        Advice {
-            strike: found.strike,
-            p_success: found.p_success,
-            trials: self.request.level.schedule().samples[2],
-            kind: found.kind,
-            pots,
-            leave,
+        match &self.search {
+            Search::Scene { search, .. } => search.fraction(),
+            Search::Game { search, .. } => search.fraction(),
         }
     }
+}
+
+/// `shot` played as meant: the first object ball it pots with the pocket's name, and where
+/// the cue ball (ball `cue`) stops if it stays on the table. `ids` names the balls.
+fn played(shot: &Shot, cue: usize, ids: &[String]) -> (Option<(String, String)>, Option<DVec2>) {
+    let mut sim = Simulator::new();
+    let Ok(outcome) = sim.run(shot) else {
+        return (None, None);
+    };
+    let pots = outcome.events.iter().find_map(|e| match e.kind {
+        EventKind::BallPocket { ball, pocket } if usize::from(ball) != cue => {
+            let id = ids.get(usize::from(ball))?.clone();
+            Some((id, pocket_name(shot.table, pocket)))
+        }
+        _ => None,
+    });
+    let leave = outcome
+        .finals
+        .get(cue)
+        .filter(|b| b.motion != MotionState::Pocketed)
+        .map(|b| b.pos);
+    (pots, leave)
 }
 
 /// Whether `outcome` of a shot whose cue ball is ball 0 is a success as the advice counts
@@ -231,7 +313,7 @@ pub fn measured(
 mod tests {
     use super::*;
     use breakshot_shared::ai;
-    use breakshot_shared::rules::{Command, Seat};
+    use breakshot_shared::rules::Seat;
 
     const CUT: &str = include_str!("../../scenes/cut-shot.json");
 
@@ -316,6 +398,31 @@ mod tests {
                 advice.p_success
             );
         }
+    }
+
+    #[test]
+    fn a_rules_game_s_advice_is_the_computer_s_plan_for_the_player_to_move() {
+        use breakshot_shared::rules::{EightBallRules, Settings, Variant};
+        let game = Game::new(
+            Variant::EightBall(EightBallRules::Wpa),
+            Settings::offline(),
+            3,
+        );
+        let level = Level::new(1);
+        let mut advisor = Advisor::for_game(&game, level);
+        assert!(advisor.request().is_none());
+        let advice = loop {
+            if let Some(done) = advisor.step(5) {
+                break done.clone().expect("advice");
+            }
+        };
+        let plan = ai::plan(&game, &Player::from(level), state_hash(game.balls())).expect("a plan");
+        let Command::Shot { strike, .. } = plan.command else {
+            panic!("a shot: {plan:?}");
+        };
+        assert_eq!(advice.strike, strike);
+        assert_eq!(Some(advice.p_success), plan.p_success);
+        assert_eq!(advice.kind, Kind::Break);
     }
 
     #[test]

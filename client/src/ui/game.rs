@@ -4,8 +4,8 @@
 use ::glam::DVec2;
 use breakshot_client::play::leave::{self, LeaveAnswer};
 use breakshot_client::play::{
-    Aim, AimShare, AwayResult, Chat, ChatKey, Context, Controls, Drag, GameEvent, GameFlow,
-    GameLink, History, InputFrame, Intent, Key, Stage, Turn,
+    Advice, Advisor, Aim, AimShare, AwayResult, Chat, ChatKey, Context, Controls, Drag, GameEvent,
+    GameFlow, GameLink, History, InputFrame, Intent, Key, Stage, Turn,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{self, call_prompt, connection as connection_text, Connection};
@@ -50,6 +50,9 @@ pub struct GameScreen {
     view: TableView,
     /// The player's shots to take back, against the computer.
     history: History,
+    /// The computer's advice at this computer (not online): the turn it is for, the search
+    /// and, once found, the advice.
+    advice: Option<(u32, Advisor, Option<Advice>)>,
 }
 
 /// The buttons of the choices offered, in a row over the trays: off the cloth, so they
@@ -107,6 +110,7 @@ impl GameScreen {
             told_terminal: false,
             view: TableView::new(),
             history: History::new(),
+            advice: None,
         }
     }
 
@@ -327,6 +331,17 @@ impl GameScreen {
                     return Step::Stay;
                 }
                 (Intent::Back, _) => return Step::Open(Start::Menu),
+                (Intent::Advice, Some(_))
+                    if self.flow.connection == Connection::Offline && !self.link.watching() =>
+                {
+                    let level = breakshot_shared::ai::Level::new(3);
+                    self.advice = Some((game.turn(), Advisor::for_game(&game, level), None));
+                }
+                (Intent::PlayAdvice, Some(_)) => {
+                    if let Some((_, _, Some(advice))) = &self.advice {
+                        self.controls.aim = Aim::from_strike(&advice.strike);
+                    }
+                }
                 (Intent::Undo | Intent::Redo | Intent::Again, _) if self.link.takes_back() => {
                     self.take_back(&game, intent)
                 }
@@ -334,7 +349,35 @@ impl GameScreen {
             }
         }
         self.refresh_prediction(&game, stage);
+        self.think_advice(&game);
         Step::Stay
+    }
+
+    /// Moves the advice's search on a few simulations; says the advice once found. Advice
+    /// for an earlier turn is dropped.
+    fn think_advice(&mut self, game: &Game) {
+        let Some((turn, advisor, found)) = &mut self.advice else {
+            return;
+        };
+        if *turn != game.turn() {
+            self.advice = None;
+            return;
+        }
+        if found.is_some() {
+            return;
+        }
+        self.flow.message = match advisor.step(6) {
+            None => format!(
+                "The computer is thinking ({:.0} %)",
+                100.0 * advisor.fraction()
+            ),
+            Some(Ok(advice)) => {
+                *found = Some(advice.clone());
+                let level = breakshot_shared::ai::Level::new(3);
+                format!("Advice: {}  |  J: play it", advice.summary(level))
+            }
+            Some(Err(why)) => format!("No advice: {why}"),
+        };
     }
 
     /// Undo, redo or again against the computer: the table goes back to the replica's own
@@ -672,7 +715,7 @@ impl GameScreen {
             "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  V: 3-D view  |  A G P L: aids  |  Esc: leave"
         };
         let keys = if self.link.takes_back() {
-            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  V: 3-D  |  A G P L: aids  |  U undo  Y redo  B again  |  Esc: leave"
+            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  V: 3-D  |  A G P L: aids  |  U undo  Y redo  B again  |  I advice  J play it  |  Esc: leave"
         } else {
             keys
         };

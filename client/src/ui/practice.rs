@@ -395,10 +395,12 @@ impl PracticeScreen {
         self.advisor = None;
         match Request::for_table(&table, self.advice_level).and_then(Advisor::start) {
             Ok(advisor) => {
-                super::report(&format!(
-                    "practice advice asked: {}",
-                    advisor.request().command_line("SCENE")
-                ));
+                if let Some(request) = advisor.request() {
+                    super::report(&format!(
+                        "practice advice asked: {}",
+                        request.command_line("SCENE")
+                    ));
+                }
                 self.advisor = Some(advisor);
             }
             Err(why) => self.message = format!("No advice: {why}"),
