@@ -256,3 +256,17 @@ fn a_ball_dragged_then_kept_opens_again_as_the_same_table() {
         );
     }
 }
+
+#[test]
+fn a_code_that_does_not_decode_is_refused_before_any_window_opens() {
+    for (code, says) in [("bs1.@@@", "base64"), ("bs1.AzlmdAcDY3Vl", "cut short")] {
+        let out = breakshot_testkit::run(
+            Process::new(env!("CARGO_BIN_EXE_breakshot")).args(["practice", code]),
+            None,
+            Duration::from_secs(60),
+        );
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains(says), "{code}: {err}");
+    }
+}
