@@ -10,6 +10,7 @@ mod chat;
 mod chooser;
 mod computer;
 mod controls;
+pub mod drill;
 mod dropped;
 mod event;
 mod game_flow;
