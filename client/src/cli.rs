@@ -277,8 +277,20 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
                 std::fs::read_to_string(path)
                     .with_context(|| format!("cannot read {}", path.display()))?
             };
-            let scene = breakshot_client::play::position::read(&text)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+            // A drill file is a scene with a goal: its table, played as the drill.
+            let drill = serde_json::from_str::<serde_json::Value>(&text)
+                .ok()
+                .filter(|v| v.get("goal").is_some());
+            let scene = if drill.is_some() {
+                let drill = breakshot_client::play::drill::Drill::from_json(&text)
+                    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+                let scene = drill.scene.clone();
+                ui::practice::offer_drill(drill);
+                scene
+            } else {
+                breakshot_client::play::position::read(&text)
+                    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
+            };
             ui::Start::Practice(Some(Box::new(scene)))
         }
         Some(Command::Local { game, .. }) => ui::Start::Local(game.variant()?),

@@ -270,3 +270,47 @@ fn a_code_that_does_not_decode_is_refused_before_any_window_opens() {
         assert!(err.contains(says), "{code}: {err}");
     }
 }
+
+#[test]
+fn a_drill_scores_a_made_and_a_missed_attempt_and_remembers_them() {
+    let dir = breakshot_testkit::scratch("teach-drill");
+    let (drill, out) = (dir.path().join("drill.json"), dir.path().join("out.png"));
+    let data = dir.path().join("data");
+    // The shipped straight-in drill, with the strike that makes it as the first aim.
+    let shipped: serde_json::Value =
+        serde_json::from_str(include_str!("../drills/straight-in.json")).expect("a drill");
+    let mut with_aim = shipped.clone();
+    with_aim["scene"]["strike"] =
+        serde_json::json!({"ball": "cue", "speed": 2.5, "dir": [-0.640184, 0.768221]});
+    std::fs::write(&drill, with_aim.to_string()).expect("drill written");
+    let key = |k: &str| format!("key --window \"$wid\" {k}");
+    let keys = [
+        "sleep 1".to_string(),
+        key("space"),
+        key("space"),
+        // The aim turned away from the 1 for the second attempt.
+        "keydown --window \"$wid\" Left".into(),
+        "sleep 2.5".into(),
+        "keyup --window \"$wid\" Left".into(),
+        key("space"),
+        key("space"),
+    ];
+    let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
+    let args = [OsStr::new("practice"), drill.as_os_str()];
+    let Some(run) = played_with(&args, &out, 900, &keys, &data) else {
+        return;
+    };
+    assert_ran(&run);
+    let said = reports(&run);
+    let drills: Vec<&String> = said.iter().filter(|l| l.starts_with("drill ")).collect();
+    assert_eq!(
+        drills,
+        [
+            "drill made: 1 of 1; best streak 1",
+            "drill missed: 1 of 2; best streak 1"
+        ],
+        "{said:?}"
+    );
+    let kept = std::fs::read_to_string(data.join("drill-straight-in")).expect("the score kept");
+    assert_eq!(kept.trim(), "1 2 1");
+}

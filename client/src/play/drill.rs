@@ -201,6 +201,24 @@ mod tests {
     }
 
     #[test]
+    fn the_rules_verdict_of_a_practice_shot_is_judged_like_its_simulation() {
+        use breakshot_shared::rules::{Command, Seat};
+        let drill = Drill::from_json(STRAIGHT).expect("a drill");
+        let mut game = Game::practice(&drill.scene).expect("a table");
+        let strike = Strike {
+            speed: 2.5,
+            dir: DVec2::new(-0.4, 0.48).normalize(),
+            tip: DVec2::ZERO,
+            elevation_deg: 0.0,
+        };
+        let verdict = game
+            .apply(Seat::A, &Command::Shot { strike, call: None })
+            .expect("a shot");
+        let outcome = verdict.outcome.expect("the trajectory");
+        assert!(drill.judge(&outcome, game.cue_ball()));
+    }
+
+    #[test]
     fn a_goal_naming_a_ball_that_is_not_there_is_refused() {
         let bad = STRAIGHT.replace("\"pot\": \"1\"", "\"pot\": \"9\"");
         let why = Drill::from_json(&bad).expect_err("no 9 on the table");

@@ -9,7 +9,7 @@ mod input;
 mod invite;
 mod menu;
 mod panel;
-mod practice;
+pub(crate) mod practice;
 mod replay;
 mod speaker;
 mod table3d;

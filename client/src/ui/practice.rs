@@ -1,5 +1,6 @@
 //! The practice screen: a practice table of the rules, played through the local link.
 
+use breakshot_client::play::drill::{Drill, Score};
 use breakshot_client::play::position;
 use breakshot_client::play::{
     Advice, Advisor, Aim, Context, Controls, Drag, GameEvent, GameFlow, GameLink, History,
@@ -17,6 +18,26 @@ use macroquad::prelude::*;
 
 use super::table_view::TableView;
 use super::{draw, panel, trays, Start, Step};
+
+/// The drill the command line asked for, taken by the next practice screen (the window's
+/// screens run on another thread than the one that reads the command line).
+static DRILL: std::sync::Mutex<Option<Drill>> = std::sync::Mutex::new(None);
+
+/// Makes the next practice screen play `drill` (its scene is the table it opens with).
+pub fn offer_drill(drill: Drill) {
+    if let Ok(mut offered) = DRILL.lock() {
+        *offered = Some(drill);
+    }
+}
+
+/// A drill being played: its start, and the score so far (the remembered one to begin).
+struct DrillRun {
+    drill: Drill,
+    start: Game,
+    score: Score,
+    /// The trajectory of the attempt playing (the replica plays it back).
+    attempt: Option<breakshot_shared::physics::Outcome>,
+}
 
 pub struct PracticeScreen {
     /// Where the table's commands are checked; a reset starts its first table again.
@@ -59,6 +80,9 @@ pub struct PracticeScreen {
     moving: Option<usize>,
     /// Where it would go.
     drag_to: Option<::glam::DVec2>,
+    /// The drill played, if any: each shot is an attempt, judged, then the table is set up
+    /// again.
+    drill: Option<DrillRun>,
 }
 
 /// Simulations the advice's search may run each frame: the window keeps drawing while it
@@ -79,6 +103,19 @@ impl PracticeScreen {
             .unwrap_or_default();
         let ids = game.ball_ids();
         let frame = Frame::new(game.table(), game.balls());
+        let offered = DRILL.lock().ok().and_then(|mut d| d.take());
+        let drill = offered.map(|drill| DrillRun {
+            score: super::data_dir()
+                .map(|d| breakshot_client::memory::drill_score(&d, &drill.name))
+                .unwrap_or_default(),
+            drill,
+            start: game.clone(),
+            attempt: None,
+        });
+        let message = match &drill {
+            Some(run) => format!("Drill: {}  |  {}", run.drill.name, run.score.line()),
+            None => "Aim with the mouse, pull back or press Space to shoot".into(),
+        };
         let mut link = LocalLink::from_game(game);
         let mut flow = GameFlow::new(Connection::Offline);
         while let Some(event) = link.poll() {
@@ -95,7 +132,7 @@ impl PracticeScreen {
             sim: Simulator::new(),
             predicted: None,
             debug: false,
-            message: "Aim with the mouse, pull back or press Space to shoot".into(),
+            message,
             shots: 0,
             frame_ms: 0.0,
             turns: Orientations::new(),
@@ -109,6 +146,7 @@ impl PracticeScreen {
             arranging: false,
             moving: None,
             drag_to: None,
+            drill,
         })
     }
 
@@ -160,6 +198,8 @@ impl PracticeScreen {
         let Some(game) = self.game().cloned() else {
             return Step::Open(Start::Menu);
         };
+        // Before Space can skip the shot: a skipped shot has ended too.
+        let was_busy = self.busy();
         let layout = self.layout();
         let cue = game.balls()[game.cue_ball()].pos;
         let r = game.params().ball_radius;
@@ -190,6 +230,9 @@ impl PracticeScreen {
                 Intent::Shoot(strike) => {
                     if self.send(Command::Shot { strike, call: None }) {
                         self.history.shot(game.clone(), strike);
+                        if let Some(run) = self.drill.as_mut() {
+                            run.attempt = self.flow.shot().map(|pb| pb.outcome().clone());
+                        }
                         self.advice = None;
                         self.advisor = None;
                         self.shots += 1;
@@ -252,13 +295,14 @@ impl PracticeScreen {
                 Intent::Advice => {}
             }
         }
-        let was_busy = self.busy();
         self.flow.tick(input.dt);
         if was_busy && !self.busy() && self.scratched() {
             // The rules put the cue ball back: offer to move it.
             self.placing = true;
         }
-        if was_busy && !self.busy() {
+        if was_busy && !self.busy() && self.drill.is_some() {
+            self.judge_attempt();
+        } else if was_busy && !self.busy() {
             self.missed = self.pocketed_nothing();
             if self.missed {
                 self.message = "Missed: I shows what the computer would have played".into();
@@ -363,6 +407,31 @@ impl PracticeScreen {
                 super::report(&format!("practice position refused: {why}"));
             }
         }
+    }
+
+    /// A drill's attempt has played out: judged by the goal, counted, remembered, and the
+    /// drill's table set up again for the next one.
+    fn judge_attempt(&mut self) {
+        let (Some(run), Some(game)) = (self.drill.as_mut(), self.flow.game()) else {
+            return;
+        };
+        let outcome = run.attempt.take();
+        let made = outcome.is_some_and(|o| run.drill.judge(&o, game.cue_ball()));
+        run.score.attempt(made);
+        if let Some(data) = super::data_dir() {
+            let kept =
+                breakshot_client::memory::remember_drill_score(&data, &run.drill.name, &run.score);
+            if let Err(e) = kept {
+                tracing::warn!(error = %e, "cannot keep the drill's score");
+            }
+        }
+        let said = if made { "made" } else { "missed" };
+        let line = run.score.line();
+        super::report(&format!("drill {said}: {line}"));
+        let start = run.start.clone();
+        self.flow.handle(GameEvent::Started(Box::new(start)));
+        self.placing = false;
+        self.message = format!("{}: {said}  |  {line}", run.drill.name);
     }
 
     /// Did the last shot pocket no object ball?
