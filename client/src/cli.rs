@@ -209,7 +209,7 @@ enum Command {
     /// Play offline with no rules, from a rack or from a scene file.
     Practice {
         /// A scene file (JSON, see docs/scene.md): its table, balls and physics, and its
-        /// strike as the first aim.
+        /// strike as the first aim; or a position code (`bs1.…`, as O in practice gives).
         #[arg(value_name = "SCENE")]
         scene: Option<PathBuf>,
         /// The table without a scene: an `8ball` or `9ball` rack (`pool` is the 8-ball
@@ -308,9 +308,28 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
         Some(Command::Practice {
             scene: Some(path), ..
         }) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("cannot read {}", path.display()))?;
-            let scene = Scene::from_json(&text).with_context(|| format!("{}", path.display()))?;
+            // A position code stands where a scene file's path does.
+            let given = path.to_string_lossy();
+            let text = if given.starts_with(breakshot_shared::scene_code::PREFIX) {
+                given.into_owned()
+            } else {
+                std::fs::read_to_string(path)
+                    .with_context(|| format!("cannot read {}", path.display()))?
+            };
+            // A drill file is a scene with a goal: its table, played as the drill.
+            let drill = serde_json::from_str::<serde_json::Value>(&text)
+                .ok()
+                .filter(|v| v.get("goal").is_some());
+            let scene = if drill.is_some() {
+                let drill = breakshot_client::play::drill::Drill::from_json(&text)
+                    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+                let scene = drill.scene.clone();
+                ui::practice::offer_drill(drill);
+                scene
+            } else {
+                breakshot_client::play::position::read(&text)
+                    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
+            };
             ui::Start::Practice(Some(Box::new(scene)))
         }
         Some(Command::Local { game, .. }) => ui::Start::Local(game.variant()?),

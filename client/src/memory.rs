@@ -156,9 +156,66 @@ fn private(path: &Path) -> std::io::Result<()> {
     Ok(())
 }
 
+/// The file a drill's score is kept in: `drill-` and its name's letters and digits.
+fn drill_file(name: &str) -> String {
+    let slug: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '-'
+            }
+        })
+        .collect();
+    format!("drill-{slug}")
+}
+
+/// The score remembered for the drill called `name` (nothing yet: all zero).
+pub fn drill_score(data: &Path, name: &str) -> crate::play::drill::Score {
+    let text = recall(data, &drill_file(name)).unwrap_or_default();
+    let n: Vec<u32> = text
+        .split_whitespace()
+        .filter_map(|w| w.parse().ok())
+        .collect();
+    match n[..] {
+        [made, attempts, best] if made <= attempts && best <= made => crate::play::drill::Score {
+            made,
+            attempts,
+            streak: 0,
+            best,
+        },
+        _ => crate::play::drill::Score::default(),
+    }
+}
+
+/// Remembers `score` for the drill called `name`.
+pub fn remember_drill_score(
+    data: &Path,
+    name: &str,
+    score: &crate::play::drill::Score,
+) -> std::io::Result<()> {
+    let text = format!("{} {} {}\n", score.made, score.attempts, score.best);
+    keep(data, &drill_file(name), &text)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_drill_s_score_is_remembered_and_a_damaged_one_is_forgotten() {
+        let dir = breakshot_testkit::scratch("drill-score");
+        let mut score = crate::play::drill::Score::default();
+        for made in [true, true, false, true] {
+            score.attempt(made);
+        }
+        remember_drill_score(dir.path(), "Straight in", &score).expect("kept");
+        let back = drill_score(dir.path(), "Straight in");
+        assert_eq!((back.made, back.attempts, back.best), (3, 4, 2));
+        std::fs::write(dir.path().join("drill-straight-in"), "9 2 1").expect("written");
+        assert_eq!(drill_score(dir.path(), "Straight in"), Default::default());
+    }
 
     #[test]
     fn a_given_name_is_remembered_and_a_bad_one_is_refused() {

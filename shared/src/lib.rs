@@ -13,3 +13,4 @@ pub mod protocol;
 pub mod replay;
 pub mod rules;
 pub mod scene;
+pub mod scene_code;

@@ -14,6 +14,7 @@ use std::time::Instant;
 use anyhow::Context;
 use breakshot_shared::physics::Simulator;
 use breakshot_shared::scene::Scene;
+use breakshot_shared::scene_code;
 use clap::{Parser, Subcommand};
 
 #[derive(Parser)]
@@ -27,7 +28,7 @@ struct Cli {
 enum Command {
     /// Simulate a scene and print the result as JSON.
     Run {
-        /// Scene file, or - for standard input.
+        /// Scene file, - for standard input, or a position code (`bs1.…`).
         scene: String,
         /// Also print every ball's state every DT seconds.
         #[arg(long, value_name = "DT")]
@@ -35,7 +36,7 @@ enum Command {
     },
     /// Time the simulation of a scene and print the timing as JSON.
     Bench {
-        /// Scene file, or - for standard input.
+        /// Scene file, - for standard input, or a position code (`bs1.…`).
         scene: String,
         /// How many timed runs.
         #[arg(long, default_value_t = 1000)]
@@ -63,9 +64,15 @@ enum Command {
     /// Fit cue strikes (and the shared cloth and cushion parameters) to recorded shots and
     /// report how close the simulation comes (docs/reality.md).
     Fit(fit::cli::Args),
+    /// Print the position of a scene (its table and balls) as a short code; every command
+    /// that takes a scene file also takes such a code in its place.
+    Code {
+        /// Scene file, - for standard input, or a code (printed as a scene file).
+        scene: String,
+    },
     /// Suggest a strike for the cue ball that hits and pockets one of the targets.
     Suggest {
-        /// Scene file, or - for standard input.
+        /// Scene file, - for standard input, or a position code (`bs1.…`).
         scene: String,
         /// Ids of the balls that may be hit first and pocketed, comma-separated.
         #[arg(long, value_name = "ID[,ID...]")]
@@ -131,7 +138,12 @@ impl From<anyhow::Error> for Failure {
     }
 }
 
+/// The scene at `path` (a file, or - for standard input), or the position a code given in
+/// its place stands for (`bs1.…`, as the game shares them).
 fn load(path: &str) -> Result<Scene, Failure> {
+    if path.starts_with(scene_code::PREFIX) {
+        return scene_code::decode(path).map_err(|e| Failure::Invalid(e.to_string()));
+    }
     let mut text = String::new();
     if path == "-" {
         std::io::stdin()
@@ -206,6 +218,17 @@ fn run(command: Command) -> Result<(), Failure> {
             fit::cli::Error::Invalid(msg) => Failure::Invalid(msg),
             fit::cli::Error::Other(e) => Failure::Other(e),
         })?,
+        Command::Code { scene } => {
+            // A code is printed back as the scene it stands for, a scene file as its code.
+            let loaded = load(&scene)?;
+            if scene.starts_with(scene_code::PREFIX) {
+                println!("{}", loaded.to_json());
+            } else {
+                let code =
+                    scene_code::encode(&loaded).map_err(|e| Failure::Invalid(e.to_string()))?;
+                println!("{code}");
+            }
+        }
         Command::Suggest {
             scene,
             targets,

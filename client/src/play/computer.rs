@@ -253,6 +253,10 @@ impl GameLink for ComputerLink {
     fn thinking(&self) -> bool {
         self.computer.thinking()
     }
+
+    fn takes_back(&self) -> bool {
+        true
+    }
 }
 
 /// Any link whose own seat the computer plays (a page opened with `computer=LEVEL`: the

@@ -81,6 +81,20 @@ pub enum Key {
     VolumeDown,
     /// Sound louder.
     VolumeUp,
+    /// Take the last shot back (practice, against the computer).
+    Undo,
+    /// Play again a shot taken back.
+    Redo,
+    /// Set up the last shot again: its position and its cue.
+    Again,
+    /// Ask the computer which shot it would play here.
+    Advice,
+    /// Set the cue to the shot advised.
+    PlayAdvice,
+    /// Keep the position: a scene file and a code (practice).
+    SavePosition,
+    /// Set up the position: drag any ball, take balls off and put them back (practice).
+    Arrange,
 }
 
 impl Key {
@@ -185,6 +199,20 @@ pub enum Intent {
     Rerack,
     /// Back to the menu.
     Back,
+    /// Take the last shot back.
+    Undo,
+    /// Play again a shot taken back.
+    Redo,
+    /// Set up the last shot again.
+    Again,
+    /// Ask the computer for its shot.
+    Advice,
+    /// Set the cue to the shot advised.
+    PlayAdvice,
+    /// Keep the position as a scene file and a code.
+    SavePosition,
+    /// Start or stop setting up the position.
+    Arrange,
 }
 
 /// What the left button is doing.
@@ -259,6 +287,13 @@ impl Controls {
                 Key::BallInHand => out.push(Intent::TakeBallInHand),
                 Key::Rerack => out.push(Intent::Rerack),
                 Key::Back => out.push(Intent::Back),
+                Key::Undo => out.push(Intent::Undo),
+                Key::Redo => out.push(Intent::Redo),
+                Key::Again => out.push(Intent::Again),
+                Key::Advice => out.push(Intent::Advice),
+                Key::PlayAdvice => out.push(Intent::PlayAdvice),
+                Key::SavePosition => out.push(Intent::SavePosition),
+                Key::Arrange => out.push(Intent::Arrange),
                 Key::KeepSpin => self.keep_spin = !self.keep_spin,
                 Key::Shoot
                 | Key::Next

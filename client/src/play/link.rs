@@ -58,6 +58,11 @@ pub trait GameLink {
     fn thinking(&self) -> bool {
         false
     }
+    /// True when the player here may take shots back (against the computer: the rules here
+    /// decide and nobody else sees the game).
+    fn takes_back(&self) -> bool {
+        false
+    }
 }
 
 /// Two players at one computer: the rules here check each command, and the screen's copy of

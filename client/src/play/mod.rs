@@ -4,20 +4,25 @@
 //! game ([`Replica`]) and a screen's state around it ([`GameFlow`]), who chooses a seat's
 //! moves when no person does ([`ComputerLink`] at one computer, [`Chooser`] online), and replays.
 
+mod advice;
 mod aim;
 mod chat;
 mod chooser;
 mod computer;
 mod controls;
+pub mod drill;
 mod dropped;
 mod event;
 mod game_flow;
+mod history;
 pub mod leave;
 mod link;
+pub mod position;
 mod replay;
 mod replica;
 mod touch;
 
+pub use advice::{measured, succeeded, Advice, Advisor, Request};
 pub use aim::{Aim, AimShare};
 pub use chat::{Chat, ChatKey, ChatLine};
 pub use chooser::Chooser;
@@ -26,6 +31,7 @@ pub use controls::{Context, Controls, Drag, InputFrame, Intent, Key, Stage};
 pub use dropped::{open_dropped, Dropped};
 pub use event::{AwayResult, GameEvent};
 pub use game_flow::{GameFlow, Turn};
+pub use history::{History, Position};
 pub use link::{GameLink, LocalLink, Shown};
 pub use replay::{ReplayOpenError, ReplayViewer};
 pub use replica::{Check, Replica};

@@ -4,8 +4,8 @@
 use ::glam::DVec2;
 use breakshot_client::play::leave::{self, LeaveAnswer};
 use breakshot_client::play::{
-    Aim, AimShare, AwayResult, Chat, ChatKey, Context, Controls, Drag, GameEvent, GameFlow,
-    GameLink, InputFrame, Intent, Key, Stage, Turn,
+    Advice, Advisor, Aim, AimShare, AwayResult, Chat, ChatKey, Context, Controls, Drag, GameEvent,
+    GameFlow, GameLink, History, InputFrame, Intent, Key, Stage, Turn,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{self, call_prompt, connection as connection_text, Connection};
@@ -49,6 +49,11 @@ pub struct GameScreen {
     told_terminal: bool,
     /// Top-down or 3-D, and the 3-D camera.
     view: TableView,
+    /// The player's shots to take back, against the computer.
+    history: History,
+    /// The computer's advice at this computer (not online): the turn it is for, the search
+    /// and, once found, the advice.
+    advice: Option<(u32, Advisor, Option<Advice>)>,
 }
 
 /// The buttons of the choices offered, in a row over the trays: off the cloth, so they
@@ -105,6 +110,8 @@ impl GameScreen {
             rematch_asked: false,
             told_terminal: false,
             view: TableView::new(),
+            history: History::new(),
+            advice: None,
         }
     }
 
@@ -294,6 +301,9 @@ impl GameScreen {
                         // The rules here say at once what the deciding side would refuse.
                         match game.check(seat, &cmd) {
                             Ok(()) => {
+                                if self.link.takes_back() {
+                                    self.history.shot(game.clone(), strike);
+                                }
                                 self.link.send(&game, seat, cmd);
                                 self.controls.shot_played();
                             }
@@ -310,6 +320,7 @@ impl GameScreen {
                     if matches!(game.phase(), Phase::Over { .. }) && !self.link.watching() =>
                 {
                     self.rematch_asked = true;
+                    self.history.clear();
                     self.link.rematch()
                 }
                 // Leaving an online game in play keeps the seat only for a while: ask first.
@@ -324,11 +335,78 @@ impl GameScreen {
                     return Step::Stay;
                 }
                 (Intent::Back, _) => return Step::Open(Start::Menu),
+                (Intent::Advice, Some(_))
+                    if self.flow.connection == Connection::Offline && !self.link.watching() =>
+                {
+                    let level = breakshot_shared::ai::Level::new(3);
+                    self.advice = Some((game.turn(), Advisor::for_game(&game, level), None));
+                }
+                (Intent::PlayAdvice, Some(_)) => {
+                    if let Some((_, _, Some(advice))) = &self.advice {
+                        self.controls.aim = Aim::from_strike(&advice.strike);
+                    }
+                }
+                (Intent::Undo | Intent::Redo | Intent::Again, _) if self.link.takes_back() => {
+                    self.take_back(&game, intent)
+                }
                 _ => {}
             }
         }
         self.refresh_prediction(&game, stage);
+        self.think_advice(&game);
         Step::Stay
+    }
+
+    /// Moves the advice's search on a few simulations; says the advice once found. Advice
+    /// for an earlier turn is dropped.
+    fn think_advice(&mut self, game: &Game) {
+        let Some((turn, advisor, found)) = &mut self.advice else {
+            return;
+        };
+        if *turn != game.turn() {
+            self.advice = None;
+            return;
+        }
+        if found.is_some() {
+            return;
+        }
+        self.flow.message = match advisor.step(6) {
+            None => format!(
+                "The computer is thinking ({:.0} %)",
+                100.0 * advisor.fraction()
+            ),
+            Some(Ok(advice)) => {
+                *found = Some(advice.clone());
+                let level = breakshot_shared::ai::Level::new(3);
+                format!("Advice: {}  |  J: play it", advice.summary(level))
+            }
+            Some(Err(why)) => format!("No advice: {why}"),
+        };
+    }
+
+    /// Undo, redo or again against the computer: the table goes back to the replica's own
+    /// game before the player's shot (the computer's shots after it go too).
+    fn take_back(&mut self, game: &Game, intent: Intent) {
+        let to = match intent {
+            Intent::Undo => self.history.undo(game.clone()),
+            Intent::Redo => self.history.redo(game.clone()),
+            _ => self.history.again(game.clone()),
+        };
+        let Some(to) = to else {
+            self.flow.message = "No shot to take back or play again".into();
+            return;
+        };
+        // A command the computer sent on the table left behind is stale.
+        while self.link.poll().is_some() {}
+        self.flow.handle(GameEvent::Started(Box::new(to.game)));
+        if let (Intent::Again, Some(strike)) = (intent, to.strike) {
+            self.controls.aim = Aim::from_strike(&strike);
+        }
+        self.flow.message = format!(
+            "Taken back: {} shots behind, {} ahead  (U undo, Y redo, B again)",
+            self.history.behind(),
+            self.history.ahead()
+        );
     }
 
     /// Feeds a frame's keys to the open chat line, and sends the line on Enter.
@@ -637,6 +715,11 @@ impl GameScreen {
             "Mouse: aim, drag back: shoot  |  Space: shoot  |  W/S: elevation  |  V: 3-D  |  A G P L: aids  |  T: chat  |  Esc: leave"
         } else {
             "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  V: 3-D view  |  A G P L: aids  |  Esc: leave"
+        };
+        let keys = if self.link.takes_back() {
+            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  V: 3-D  |  A G P L: aids  |  U undo  Y redo  B again  |  I advice  J play it  |  Esc: leave"
+        } else {
+            keys
         };
         let message = self.flow.message.as_str();
         let footer = match (self.link.watching(), message.is_empty()) {

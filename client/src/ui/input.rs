@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use breakshot_client::play::{InputFrame, Key, TwoFingers};
 
-const KEYS: [(KeyCode, Key); 28] = [
+const KEYS: [(KeyCode, Key); 35] = [
     (KeyCode::Space, Key::Shoot),
     (KeyCode::A, Key::AimLine),
     (KeyCode::G, Key::GhostBall),
@@ -40,6 +40,13 @@ const KEYS: [(KeyCode, Key); 28] = [
     (KeyCode::M, Key::Mute),
     (KeyCode::LeftBracket, Key::VolumeDown),
     (KeyCode::RightBracket, Key::VolumeUp),
+    (KeyCode::U, Key::Undo),
+    (KeyCode::Y, Key::Redo),
+    (KeyCode::B, Key::Again),
+    (KeyCode::I, Key::Advice),
+    (KeyCode::J, Key::PlayAdvice),
+    (KeyCode::O, Key::SavePosition),
+    (KeyCode::F, Key::Arrange),
 ];
 
 /// −1, 0 or 1 as one key or the other is held.

@@ -13,7 +13,7 @@ mod menu;
 #[cfg(target_arch = "wasm32")]
 pub mod page_game;
 mod panel;
-mod practice;
+pub(crate) mod practice;
 mod replay;
 mod snooker;
 mod speaker;

@@ -1,19 +1,45 @@
 //! The practice screen: a practice table of the rules, played through the local link.
 
+use breakshot_client::play::drill::{Drill, Score};
+use breakshot_client::play::position;
 use breakshot_client::play::{
-    Aim, Context, Controls, Drag, GameFlow, GameLink, InputFrame, Intent, Key, LocalLink, Stage,
+    Advice, Advisor, Aim, Context, Controls, Drag, GameEvent, GameFlow, GameLink, History,
+    InputFrame, Intent, Key, LocalLink, Position, Request, Stage,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::Connection;
 use breakshot_client::view::{Frame, Layout, Orientations, Playback, Rect};
-use breakshot_shared::hash::hash_hex;
-use breakshot_shared::physics::{Shot, Simulator};
+use breakshot_shared::ai::Level;
+use breakshot_shared::hash::{hash_hex, state_hash};
+use breakshot_shared::physics::{MotionState, Shot, Simulator};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Variant};
 use breakshot_shared::scene::Scene;
 use macroquad::prelude::*;
 
 use super::table_view::TableView;
 use super::{draw, panel, trays, Start, Step};
+
+/// The drill the command line asked for, taken by the next practice screen (the window's
+/// screens run on another thread than the one that reads the command line).
+static DRILL: std::sync::Mutex<Option<Drill>> = std::sync::Mutex::new(None);
+
+/// Makes the next practice screen play `drill` (its scene is the table it opens with). The
+/// page has no command line to name one.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn offer_drill(drill: Drill) {
+    if let Ok(mut offered) = DRILL.lock() {
+        *offered = Some(drill);
+    }
+}
+
+/// A drill being played: its start, and the score so far (the remembered one to begin).
+struct DrillRun {
+    drill: Drill,
+    start: Game,
+    score: Score,
+    /// The trajectory of the attempt playing (the replica plays it back).
+    attempt: Option<breakshot_shared::physics::Outcome>,
+}
 
 pub struct PracticeScreen {
     /// Where the table's commands are checked; a reset starts its first table again.
@@ -38,7 +64,32 @@ pub struct PracticeScreen {
     /// How each ball is turned, for drawing.
     turns: Orientations,
     view: TableView,
+    /// The tables before each shot, for undo, redo and again.
+    history: History,
+    /// The hash of the table at rest last reported (`BREAKSHOT_REPORT`).
+    reported: Option<u64>,
+    /// The computer's advice being searched, a few simulations a frame.
+    advisor: Option<Advisor>,
+    /// The advice found for the table shown, with its predicted paths.
+    advice: Option<(Advice, Prediction)>,
+    /// Whose noise the advice's chance is for (I again on an advice: the next level).
+    advice_level: Level,
+    /// The last shot pocketed nothing: I then advises on the table it was played from.
+    missed: bool,
+    /// Setting up the position (F): the mouse drags any ball instead of aiming.
+    arranging: bool,
+    /// The ball being dragged while arranging.
+    moving: Option<usize>,
+    /// Where it would go.
+    drag_to: Option<::glam::DVec2>,
+    /// The drill played, if any: each shot is an attempt, judged, then the table is set up
+    /// again.
+    drill: Option<DrillRun>,
 }
+
+/// Simulations the advice's search may run each frame: the window keeps drawing while it
+/// thinks, natively and in the browser alike (one takes well under a millisecond).
+const ADVICE_PER_FRAME: usize = 6;
 
 impl PracticeScreen {
     pub fn new(scene: Option<Scene>, seed: u64) -> anyhow::Result<PracticeScreen> {
@@ -54,6 +105,19 @@ impl PracticeScreen {
             .unwrap_or_default();
         let ids = game.ball_ids();
         let frame = Frame::new(game.table(), game.balls());
+        let offered = DRILL.lock().ok().and_then(|mut d| d.take());
+        let drill = offered.map(|drill| DrillRun {
+            score: super::data_dir()
+                .map(|d| breakshot_client::memory::drill_score(&d, &drill.name))
+                .unwrap_or_default(),
+            drill,
+            start: game.clone(),
+            attempt: None,
+        });
+        let message = match &drill {
+            Some(run) => format!("Drill: {}  |  {}", run.drill.name, run.score.line()),
+            None => "Aim with the mouse, pull back or press Space to shoot".into(),
+        };
         let mut link = LocalLink::from_game(game);
         let mut flow = GameFlow::new(Connection::Offline);
         while let Some(event) = link.poll() {
@@ -70,11 +134,21 @@ impl PracticeScreen {
             sim: Simulator::new(),
             predicted: None,
             debug: false,
-            message: "Aim with the mouse, pull back or press Space to shoot".into(),
+            message,
             shots: 0,
             frame_ms: 0.0,
             turns: Orientations::new(),
             view: TableView::new(),
+            history: History::new(),
+            reported: None,
+            advisor: None,
+            advice: None,
+            advice_level: Level::new(3),
+            missed: false,
+            arranging: false,
+            moving: None,
+            drag_to: None,
+            drill,
         })
     }
 
@@ -92,7 +166,7 @@ impl PracticeScreen {
     }
 
     fn stage(&self) -> Stage {
-        if self.busy() {
+        if self.busy() || self.arranging {
             Stage::Watching
         } else if self.placing {
             Stage::InHand
@@ -111,6 +185,7 @@ impl PracticeScreen {
         let mut accepted = false;
         while let Some(event) = self.link.poll() {
             if let breakshot_client::play::GameEvent::Refused(why) = &event {
+                super::report(&format!("practice refused: {why}"));
                 self.message = why.clone();
             } else {
                 accepted = true;
@@ -125,6 +200,8 @@ impl PracticeScreen {
         let Some(game) = self.game().cloned() else {
             return Step::Open(Start::Menu);
         };
+        // Before Space can skip the shot: a skipped shot has ended too.
+        let was_busy = self.busy();
         let layout = self.layout();
         let cue = game.balls()[game.cue_ball()].pos;
         let r = game.params().ball_radius;
@@ -141,6 +218,12 @@ impl PracticeScreen {
         if self.busy() && input.pressed.contains(&Key::Shoot) {
             self.flow.skip();
         }
+        if let Some(dropped) = input.dropped.last() {
+            self.open_dropped(dropped);
+        }
+        if self.arranging && !self.busy() {
+            self.arrange(input, &layout, &game);
+        }
         let intents = self.controls.update(input, &ctx, &|p| {
             game.legal_cue_placement(p.to_array()).is_ok()
         });
@@ -148,6 +231,12 @@ impl PracticeScreen {
             match intent {
                 Intent::Shoot(strike) => {
                     if self.send(Command::Shot { strike, call: None }) {
+                        self.history.shot(game.clone(), strike);
+                        if let Some(run) = self.drill.as_mut() {
+                            run.attempt = self.flow.shot().map(|pb| pb.outcome().clone());
+                        }
+                        self.advice = None;
+                        self.advisor = None;
                         self.shots += 1;
                         self.placing = false;
                         self.controls.shot_played();
@@ -175,19 +264,298 @@ impl PracticeScreen {
                     while let Some(event) = self.link.poll() {
                         self.flow.handle(event);
                     }
+                    self.history.clear();
                     self.message = "Table reset".into();
                 }
+                Intent::Undo => {
+                    let to = self.history.undo(game.clone());
+                    self.restore(to, false, "Shot taken back", "No shot to take back");
+                }
+                Intent::Redo => {
+                    let to = self.history.redo(game.clone());
+                    self.restore(to, false, "Shot played again", "No shot to play again");
+                }
+                Intent::Again => {
+                    let to = self.history.again(game.clone());
+                    self.restore(to, true, "The last shot set up again", "No shot yet");
+                }
                 Intent::Back => return Step::Open(Start::Menu),
+                Intent::Advice if !self.busy() => self.ask_advice(&game),
+                Intent::SavePosition => self.save(&game),
+                Intent::Arrange => {
+                    self.arranging = !self.arranging;
+                    self.moving = None;
+                    super::report(&format!("practice arranging {}", self.arranging));
+                    self.message = if self.arranging {
+                        "Setting up: drag any ball; off the cloth takes it off; N puts the next one back at the mouse; F: done".into()
+                    } else {
+                        "Position set: aim and shoot".into()
+                    };
+                }
+                Intent::PlayAdvice => {
+                    if let Some((advice, _)) = &self.advice {
+                        self.controls.aim = Aim::from_strike(&advice.strike);
+                        self.message = format!(
+                            "Set: {}  |  Space plays it",
+                            advice.summary(self.advice_level)
+                        );
+                        super::report("practice advice set");
+                    }
+                }
+                Intent::Advice => {}
             }
         }
-        let was_busy = self.busy();
         self.flow.tick(input.dt);
         if was_busy && !self.busy() && self.scratched() {
             // The rules put the cue ball back: offer to move it.
             self.placing = true;
         }
+        if was_busy && !self.busy() && self.drill.is_some() {
+            self.judge_attempt();
+        } else if was_busy && !self.busy() {
+            self.missed = self.pocketed_nothing();
+            if self.missed {
+                self.message = "Missed: I shows what the computer would have played".into();
+            }
+        }
+        self.think();
         self.refresh_prediction();
+        self.report_table();
         Step::Stay
+    }
+
+    /// Arranging: a press on a ball picks it up, the release puts it down there (off the
+    /// cloth: off the table); N puts the first ball off the table back at the mouse. Each
+    /// change is the rules' `PlaceBall`, refused with their reason where a ball cannot lie.
+    fn arrange(&mut self, input: &InputFrame, layout: &Layout, game: &Game) {
+        let at = layout.to_scene(input.mouse);
+        let r = game.params().ball_radius;
+        if input.left_pressed {
+            self.moving = game.balls().iter().position(|b| {
+                b.motion != MotionState::Pocketed && (b.pos - at).length() <= 1.5 * r
+            });
+        }
+        let put = |pos: Option<[f64; 2]>, ball: usize| Command::PlaceBall {
+            ball: ball as u8,
+            pos,
+        };
+        let mut command = None;
+        let released = self.moving.filter(|_| input.left_released);
+        if let Some(ball) = released {
+            self.moving = None;
+            let on_cloth = layout.cloth.contains(input.mouse) && at.is_finite();
+            command = Some(put(on_cloth.then(|| at.to_array()), ball));
+        }
+        self.drag_to = self.moving.map(|_| at);
+        if input.pressed.contains(&Key::Next) {
+            let off = game
+                .balls()
+                .iter()
+                .position(|b| b.motion == MotionState::Pocketed);
+            match off {
+                Some(ball) => command = Some(put(Some(at.to_array()), ball)),
+                None => self.message = "Every ball of the set is on the table".into(),
+            }
+        }
+        if let Some(command) = command {
+            if self.send(command) {
+                self.history.changed(game.clone());
+                self.advice = None;
+                self.message = "Ball placed (U takes it back)".into();
+                super::report("practice ball placed");
+            }
+        }
+    }
+
+    /// O: the table as a scene file in the data directory and as a code on the clipboard.
+    fn save(&mut self, game: &Game) {
+        let (json, code) = match position::written(game) {
+            Ok(written) => written,
+            Err(why) => {
+                self.message = format!("Cannot keep this position: {why}");
+                return;
+            }
+        };
+        super::invite::copy(&code);
+        let kept = super::data_dir().map(|dir| {
+            let dir = dir.join("positions");
+            let path = dir.join(format!("{}.json", hash_hex(state_hash(game.balls()))));
+            std::fs::create_dir_all(&dir)
+                .and_then(|()| std::fs::write(&path, &json))
+                .map(|()| path)
+        });
+        self.message = match kept {
+            Some(Ok(path)) => {
+                super::report(&format!("practice saved {} {code}", path.display()));
+                format!("Kept as {} and copied as {code}", path.display())
+            }
+            Some(Err(e)) => format!("Copied as {code}; cannot write the file: {e}"),
+            None => format!("Copied as {code}"),
+        };
+    }
+
+    /// A scene file or a file holding a code dropped on the window: its table, if the rules
+    /// accept it; otherwise the reason, and the table stays as it was.
+    fn open_dropped(&mut self, bytes: &[u8]) {
+        let text = String::from_utf8_lossy(bytes);
+        match position::open(&text) {
+            Ok((_, game)) => {
+                self.ids = game.ball_ids();
+                self.frame = Frame::new(game.table(), game.balls());
+                self.link = LocalLink::from_game(game);
+                while let Some(event) = self.link.poll() {
+                    self.flow.handle(event);
+                }
+                self.history.clear();
+                self.advice = None;
+                self.advisor = None;
+                self.message = "Position opened".into();
+                super::report("practice position opened");
+            }
+            Err(why) => {
+                self.message = format!("Not opened: {why}");
+                super::report(&format!("practice position refused: {why}"));
+            }
+        }
+    }
+
+    /// A drill's attempt has played out: judged by the goal, counted, remembered, and the
+    /// drill's table set up again for the next one.
+    fn judge_attempt(&mut self) {
+        let (Some(run), Some(game)) = (self.drill.as_mut(), self.flow.game()) else {
+            return;
+        };
+        let outcome = run.attempt.take();
+        let made = outcome.is_some_and(|o| run.drill.judge(&o, game.cue_ball()));
+        run.score.attempt(made);
+        if let Some(data) = super::data_dir() {
+            let kept =
+                breakshot_client::memory::remember_drill_score(&data, &run.drill.name, &run.score);
+            if let Err(e) = kept {
+                tracing::warn!(error = %e, "cannot keep the drill's score");
+            }
+        }
+        let said = if made { "made" } else { "missed" };
+        let line = run.score.line();
+        super::report(&format!("drill {said}: {line}"));
+        let start = run.start.clone();
+        self.flow.handle(GameEvent::Started(Box::new(start)));
+        self.placing = false;
+        self.message = format!("{}: {said}  |  {line}", run.drill.name);
+    }
+
+    /// Did the last shot pocket no object ball?
+    fn pocketed_nothing(&self) -> bool {
+        let (Some(game), Some(verdict)) = (self.game(), &self.flow.last_verdict) else {
+            return false;
+        };
+        let cue = game.cue_ball();
+        verdict
+            .shot
+            .as_ref()
+            .is_some_and(|s| s.pocketed.iter().all(|&(b, _)| usize::from(b) == cue))
+    }
+
+    /// I: the computer's shot on this table (after a miss: on the table the shot was
+    /// played from, which comes back); I again once it is shown: the same at the next level.
+    fn ask_advice(&mut self, game: &Game) {
+        let mut table = game.clone();
+        if std::mem::take(&mut self.missed) {
+            let back = self.history.undo(game.clone());
+            if let Some(back) = back {
+                table = back.game.clone();
+                self.restore(Some(back), false, "Shot taken back", "");
+            }
+        } else if self.advice.is_some() {
+            let next = self.advice_level.number() % Level::MAX + 1;
+            self.advice_level = Level::new(next);
+        }
+        self.advice = None;
+        self.advisor = None;
+        match Request::for_table(&table, self.advice_level).and_then(Advisor::start) {
+            Ok(advisor) => {
+                if let Some(request) = advisor.request() {
+                    super::report(&format!(
+                        "practice advice asked: {}",
+                        request.command_line("SCENE")
+                    ));
+                }
+                self.advisor = Some(advisor);
+            }
+            Err(why) => self.message = format!("No advice: {why}"),
+        }
+    }
+
+    /// Moves the advice's search on by a frame's share; shows the advice once found.
+    fn think(&mut self) {
+        let Some(advisor) = self.advisor.as_mut() else {
+            return;
+        };
+        let Some(done) = advisor.step(ADVICE_PER_FRAME).cloned() else {
+            self.message = format!(
+                "The computer is thinking ({:.0} %)",
+                100.0 * advisor.fraction()
+            );
+            return;
+        };
+        self.advisor = None;
+        let Some(game) = self.game().cloned() else {
+            return;
+        };
+        match done {
+            Ok(advice) => {
+                let shot = game.shot_for(&advice.strike);
+                let prediction =
+                    aids::predict(&mut self.sim, &shot, game.cue_ball()).unwrap_or_default();
+                self.message = format!("{}  |  J: play it", advice.summary(self.advice_level));
+                super::report(&format!(
+                    "practice advice {} {} {} {} {}",
+                    advice.strike.speed,
+                    advice.strike.dir.x,
+                    advice.strike.dir.y,
+                    advice.p_success,
+                    advice.trials
+                ));
+                self.advice = Some((advice, prediction));
+            }
+            Err(why) => self.message = format!("No advice: {why}"),
+        }
+    }
+
+    /// Puts the table back to `to` (the replica's own game, so to the bit); with `aim`, the
+    /// cue as it was set for the shot played from there too.
+    fn restore(&mut self, to: Option<Position>, aim: bool, done: &str, none: &str) {
+        let Some(to) = to else {
+            self.message = none.into();
+            return;
+        };
+        self.flow.handle(GameEvent::Started(Box::new(to.game)));
+        if let (true, Some(strike)) = (aim, to.strike) {
+            self.controls.aim = Aim::from_strike(&strike);
+        }
+        self.placing = false;
+        self.predicted = None;
+        self.advice = None;
+        self.advisor = None;
+        self.missed = false;
+        self.message = format!(
+            "{done} ({} behind, {} ahead)",
+            self.history.behind(),
+            self.history.ahead()
+        );
+        super::report(&format!("practice {}", done.to_lowercase()));
+    }
+
+    /// Says the table's hash each time it comes to rest changed, for tests to observe.
+    fn report_table(&mut self) {
+        let Some(game) = self.game().filter(|_| !self.busy()) else {
+            return;
+        };
+        let hash = state_hash(game.balls());
+        if self.reported != Some(hash) {
+            self.reported = Some(hash);
+            super::report(&format!("practice table {}", hash_hex(hash)));
+        }
     }
 
     /// Did the last shot pocket the cue ball (which the rules then put back)?
@@ -247,6 +615,22 @@ impl PracticeScreen {
                 draw::aids(&pen, pred, self.toggles, r, object);
             }
         }
+        if let (false, Some((advice, pred))) = (busy, &self.advice) {
+            // The advised shot's paths, all of them, and the spot the cue ball plays for.
+            let all = AidToggles {
+                aim_line: true,
+                ghost_ball: true,
+                paths: true,
+            };
+            let object = pred
+                .first_hit
+                .and_then(|b| self.ids.get(b))
+                .map_or("", |s| s.as_str());
+            draw::aids(&pen, pred, all, r, object);
+            if let Some(leave) = advice.leave {
+                draw::ring(&pen, leave, r, YELLOW);
+            }
+        }
         draw::balls(
             &pen,
             &self.ids,
@@ -255,6 +639,9 @@ impl PracticeScreen {
             dragging.map(|_| cue_index),
             &self.turns,
         );
+        if let Some(to) = self.drag_to {
+            draw::ring(&pen, to, r, WHITE);
+        }
         if !busy && self.placing {
             draw::in_hand(&pen, layout.cloth, dragging, r);
         }
@@ -279,6 +666,8 @@ impl PracticeScreen {
         );
         let state = if self.busy() {
             "balls moving (Space: skip)"
+        } else if self.arranging {
+            "setting up: drag any ball (F: done)"
         } else if self.placing {
             "ball in hand: drag the cue ball"
         } else {
@@ -300,7 +689,7 @@ impl PracticeScreen {
             draw::Align::Left,
             WHITE,
         );
-        let hint = "W/S elevation  |  A G P aids  |  V view  |  L trail  |  H in hand  |  R reset  |  Esc menu";
+        let hint = "W/S elevation  |  A G P aids  |  V view  |  L trail  |  H in hand  |  U undo  Y redo  B again  |  I advice  J play it  |  F set up  O keep  |  R reset  |  Esc menu";
         draw::label_in(hint, layout.status, 16.0, draw::Align::Left, LIGHTGRAY);
         draw::label_in(
             &self.message,

@@ -468,3 +468,37 @@ mod tests {
         }
     }
 }
+
+#[cfg(test)]
+mod position_tests {
+    use crate::rules::Game;
+    use crate::scene::Scene;
+    use crate::scene_code;
+
+    /// A practice table from `json`, or the reason it is refused.
+    fn table(json: &str) -> Result<Game, String> {
+        Game::practice(&Scene::from_json(json).map_err(|e| e.to_string())?)
+            .map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn overlapping_balls_or_a_ball_off_the_cloth_are_refused_with_a_reason() {
+        let overlap =
+            table(r#"{"balls":[{"id":"cue","pos":[0.6,1.0]},{"id":"1","pos":[0.61,1.0]}]}"#);
+        let off = table(r#"{"balls":[{"id":"cue","pos":[0.6,1.0]},{"id":"1","pos":[3.0,1.0]}]}"#);
+        let why = overlap.expect_err("overlapping balls");
+        assert!(why.contains("overlap"), "{why}");
+        let why = off.expect_err("a ball off the cloth");
+        assert!(why.contains("playing surface"), "{why}");
+        // The same positions as codes: they decode, and the table refuses them the same way.
+        let fine = r#"{"balls":[{"id":"cue","pos":[0.6,1.0]},{"id":"1","pos":[0.9,1.0]}]}"#;
+        for (x, what) in [(0.61, "overlap"), (3.0, "playing surface")] {
+            let mut scene = Scene::from_json(fine).expect("a scene");
+            scene.balls[1].pos[0] = x;
+            let code = scene_code::encode(&scene).expect("a code");
+            let back = scene_code::decode(&code).expect("decodes");
+            let why = Game::practice(&back).expect_err("refused from its code");
+            assert!(why.to_string().contains(what), "{why}");
+        }
+    }
+}

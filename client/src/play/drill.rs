@@ -1,0 +1,232 @@
+//! Drills: a position with a goal the engine judges, scored over attempts. A drill file is
+//! `{"name": ..., "scene": SCENE, "goal": GOAL}`, the scene one of the simulator's
+//! (docs/scene.md) and the goal any of: `pot` (a ball's id), `pocket` (its pocket's name,
+//! `lb` `lc` `lt` `rb` `rc` `rt`), `cue_stops_in` (`[[x0, y0], [x1, y1]]`, m), and
+//! `cushions_first` (cue-ball cushions before the first ball it hits).
+
+use breakshot_shared::physics::{EventKind, MotionState, Outcome, Table};
+use breakshot_shared::rules::Game;
+use breakshot_shared::scene::Scene;
+use serde::Deserialize;
+
+/// What an attempt must do; every part given must happen.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Goal {
+    /// This ball is pocketed.
+    #[serde(default)]
+    pub pot: Option<String>,
+    /// In this pocket (with `pot`).
+    #[serde(default)]
+    pub pocket: Option<String>,
+    /// The cue ball stops inside this box, corners in scene coordinates (m).
+    #[serde(default)]
+    pub cue_stops_in: Option<[[f64; 2]; 2]>,
+    /// The cue ball touches at least this many cushions before any ball.
+    #[serde(default)]
+    pub cushions_first: Option<u32>,
+}
+
+/// A drill as shipped or written by a player.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Drill {
+    /// Its name, as the screen and the scores name it.
+    pub name: String,
+    /// The position every attempt starts from.
+    pub scene: Scene,
+    /// What an attempt must do.
+    pub goal: Goal,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawDrill {
+    name: String,
+    scene: serde_json::Value,
+    goal: Goal,
+}
+
+impl Drill {
+    /// The drill in `text`; Err names what is wrong (a goal naming a ball that is not there,
+    /// an unknown pocket, a scene the rules refuse).
+    pub fn from_json(text: &str) -> Result<Drill, String> {
+        let raw: RawDrill =
+            serde_json::from_str(text).map_err(|e| format!("invalid drill: {e}"))?;
+        let scene = Scene::from_json(&raw.scene.to_string()).map_err(|e| e.to_string())?;
+        Game::practice(&scene).map_err(|e| e.to_string())?;
+        let goal = raw.goal;
+        if goal == Goal::default() {
+            return Err("the drill's goal asks for nothing".into());
+        }
+        if let Some(ball) = &goal.pot {
+            if !scene.balls.iter().any(|b| &b.id == ball) {
+                return Err(format!(
+                    "the goal pots ball \"{ball}\", which is not on the table"
+                ));
+            }
+        }
+        if let Some(pocket) = &goal.pocket {
+            if goal.pot.is_none() {
+                return Err("the goal names a pocket but no ball to pot".into());
+            }
+            if !Table::new(scene.table)
+                .pockets
+                .iter()
+                .any(|p| p.name == pocket)
+            {
+                return Err(format!("the table has no pocket \"{pocket}\""));
+            }
+        }
+        Ok(Drill {
+            name: raw.name,
+            scene,
+            goal,
+        })
+    }
+
+    /// Whether an attempt whose shot came out as `outcome` (balls indexed as the scene's,
+    /// the cue ball `cue`) met the goal.
+    pub fn judge(&self, outcome: &Outcome, cue: usize) -> bool {
+        let goal = &self.goal;
+        let index = |id: &str| self.scene.balls.iter().position(|b| b.id == id);
+        let table = Table::new(self.scene.table);
+        let potted = goal.pot.as_deref().is_none_or(|id| {
+            let ball = index(id);
+            outcome.events.iter().any(|e| match e.kind {
+                EventKind::BallPocket { ball: b, pocket } => {
+                    Some(usize::from(b)) == ball
+                        && goal.pocket.as_deref().is_none_or(|name| {
+                            table.pockets.get(usize::from(pocket)).map(|p| p.name) == Some(name)
+                        })
+                }
+                _ => false,
+            })
+        });
+        let stopped = goal.cue_stops_in.is_none_or(|[a, b]| {
+            outcome.finals.get(cue).is_some_and(|f| {
+                f.motion != MotionState::Pocketed
+                    && (a[0].min(b[0])..=a[0].max(b[0])).contains(&f.pos.x)
+                    && (a[1].min(b[1])..=a[1].max(b[1])).contains(&f.pos.y)
+            })
+        });
+        let cushions = goal.cushions_first.is_none_or(|n| {
+            let cue = cue as u16;
+            let mut rails = 0;
+            for e in &outcome.events {
+                match e.kind {
+                    EventKind::BallCushion { ball, .. } if ball == cue => rails += 1,
+                    EventKind::BallBall { a, b } if a == cue || b == cue => break,
+                    _ => {}
+                }
+            }
+            rails >= n
+        });
+        potted && stopped && cushions
+    }
+}
+
+/// A drill's score over attempts: "7 of 10; best streak 4".
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Score {
+    /// Attempts that met the goal.
+    pub made: u32,
+    /// Attempts in all.
+    pub attempts: u32,
+    /// Made in a row, now.
+    pub streak: u32,
+    /// The longest run of made attempts.
+    pub best: u32,
+}
+
+impl Score {
+    /// Counts one attempt.
+    pub fn attempt(&mut self, made: bool) {
+        self.attempts += 1;
+        if made {
+            self.made += 1;
+            self.streak += 1;
+            self.best = self.best.max(self.streak);
+        } else {
+            self.streak = 0;
+        }
+    }
+
+    /// As the screen says it.
+    pub fn line(&self) -> String {
+        format!(
+            "{} of {}; best streak {}",
+            self.made, self.attempts, self.best
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use breakshot_shared::physics::{Simulator, Strike};
+    use glam::DVec2;
+
+    const STRAIGHT: &str = include_str!("../../drills/straight-in.json");
+
+    #[test]
+    fn the_shipped_drills_read() {
+        for text in [STRAIGHT, include_str!("../../drills/cut-to-a-zone.json")] {
+            Drill::from_json(text).expect("a drill");
+        }
+    }
+
+    #[test]
+    fn a_made_and_a_missed_attempt_are_judged_and_scored() {
+        let drill = Drill::from_json(STRAIGHT).expect("a drill");
+        let mut shot = drill.scene.to_shot().expect("a shot");
+        let cue = 0;
+        // Straight at the 1 (on the line to the top-left corner), and then wide of it.
+        let mut score = Score::default();
+        let at = DVec2::new(-0.4, 0.48).normalize();
+        for (dir, made) in [(at, true), (DVec2::from_angle(0.3).rotate(at), false)] {
+            shot.strike = Some((
+                cue,
+                Strike {
+                    speed: 2.5,
+                    dir,
+                    tip: DVec2::ZERO,
+                    elevation_deg: 0.0,
+                },
+            ));
+            let outcome = Simulator::new().run(&shot).expect("simulated").clone();
+            assert_eq!(drill.judge(&outcome, cue), made, "{dir}");
+            score.attempt(made);
+        }
+        assert_eq!(score.line(), "1 of 2; best streak 1");
+    }
+
+    #[test]
+    fn the_rules_verdict_of_a_practice_shot_is_judged_like_its_simulation() {
+        use breakshot_shared::rules::{Command, Seat};
+        let drill = Drill::from_json(STRAIGHT).expect("a drill");
+        let mut game = Game::practice(&drill.scene).expect("a table");
+        let strike = Strike {
+            speed: 2.5,
+            dir: DVec2::new(-0.4, 0.48).normalize(),
+            tip: DVec2::ZERO,
+            elevation_deg: 0.0,
+        };
+        let verdict = game
+            .apply(Seat::A, &Command::Shot { strike, call: None })
+            .expect("a shot");
+        let outcome = verdict.outcome.expect("the trajectory");
+        assert!(drill.judge(&outcome, game.cue_ball()));
+    }
+
+    #[test]
+    fn a_goal_naming_a_ball_that_is_not_there_is_refused() {
+        let bad = STRAIGHT.replace("\"pot\": \"1\"", "\"pot\": \"9\"");
+        let why = Drill::from_json(&bad).expect_err("no 9 on the table");
+        assert!(why.contains("\"9\""), "{why}");
+        let bad = STRAIGHT.replace("\"pocket\": \"lt\"", "\"pocket\": \"xx\"");
+        assert!(Drill::from_json(&bad)
+            .expect_err("no such pocket")
+            .contains("xx"));
+        assert!(Drill::from_json("{").is_err());
+    }
+}

@@ -1,0 +1,316 @@
+//! Practice that teaches, played in the window under a virtual display with `xdotool`:
+//! shots taken back and played again. The window says what it did on standard error
+//! (`BREAKSHOT_REPORT`: "report: ..." lines), which is what these tests read.
+//!
+//! Needs `xvfb-run` and `xdotool`; without them a test says why and passes.
+
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
+use std::process::{Command as Process, Output};
+use std::time::Duration;
+
+use breakshot_shared::hash::{hash_hex, state_hash};
+use breakshot_shared::rules::Game;
+use breakshot_shared::scene::Scene;
+
+const CUT: &str = include_str!("../scenes/cut-shot.json");
+
+fn find_in_path(name: &str) -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .map(|dir| dir.join(name))
+        .find(|p| p.is_file())
+}
+
+/// Runs `breakshot ARGS --screenshot OUT --frames FRAMES` under a virtual display while
+/// `xdotool` plays `keys` on its window (one xdotool command a line, `$wid` the window, a
+/// short pause before each); None if xvfb-run or xdotool is missing (the reason is printed).
+fn played(args: &[&OsStr], out: &Path, frames: u32, keys: &[&str]) -> Option<Output> {
+    let data = breakshot_testkit::scratch("teach-data");
+    played_with(args, out, frames, keys, data.path())
+}
+
+/// [`played`] with `data` as the window's data directory.
+fn played_with(
+    args: &[&OsStr],
+    out: &Path,
+    frames: u32,
+    keys: &[&str],
+    data: &Path,
+) -> Option<Output> {
+    let (Some(xvfb), Some(_)) = (find_in_path("xvfb-run"), find_in_path("xdotool")) else {
+        eprintln!("skipped: needs xvfb-run and xdotool (apt-get install xvfb xdotool)");
+        return None;
+    };
+    let mut script = format!(
+        "\"$0\" \"$@\" --screenshot \"{}\" --frames {frames} --size 1280x720 &\n\
+         pid=$!\nwid=$(xdotool search --sync --name Breakshot | head -n 1)\n",
+        out.display()
+    );
+    for key in keys {
+        script.push_str(&format!("sleep 0.3\nxdotool {key}\n"));
+    }
+    script.push_str("wait $pid\n");
+    Some(breakshot_testkit::run(
+        Process::new(xvfb)
+            .env("BREAKSHOT_DATA", data)
+            .env("BREAKSHOT_REPORT", "1")
+            .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
+            .arg(env!("CARGO_BIN_EXE_breakshot"))
+            .args(args),
+        None,
+        Duration::from_secs(300),
+    ))
+}
+
+fn assert_ran(run: &Output) {
+    assert!(
+        run.status.success(),
+        "breakshot exited with {}: {}",
+        run.status,
+        String::from_utf8_lossy(&run.stderr)
+    );
+}
+
+/// The lines the window reported on standard error.
+fn reports(run: &Output) -> Vec<String> {
+    String::from_utf8_lossy(&run.stderr)
+        .lines()
+        .filter_map(|l| l.strip_prefix("report: "))
+        .map(String::from)
+        .collect()
+}
+
+/// The hashes of the table at rest, in the order the window reported them.
+fn tables(said: &[String]) -> Vec<&str> {
+    said.iter()
+        .filter_map(|l| l.strip_prefix("practice table "))
+        .collect()
+}
+
+#[test]
+fn three_shots_taken_back_give_the_table_before_them_to_the_bit_and_again_replays_one() {
+    let dir = breakshot_testkit::scratch("teach-undo");
+    let (scene, out) = (dir.path().join("scene.json"), dir.path().join("out.png"));
+    std::fs::write(&scene, CUT).expect("scene written");
+    let args = [OsStr::new("practice"), scene.as_os_str()];
+    // Each shot is played (Space) and its playback skipped (Space again); then U three
+    // times, Y (redo the first shot), B (set it up again) and the same shot played again.
+    let key = |k: &str| format!("key --window \"$wid\" {k}");
+    let mut keys = vec!["sleep 1".to_string()];
+    for k in [
+        "space", "space", "space", "space", "space", "space", "u", "u", "u", "y", "b",
+    ]
+    .into_iter()
+    .chain(["space", "space"])
+    {
+        // Slow frames (a loaded machine, a software display) still see each press.
+        keys.extend([key(k), "sleep 0.4".to_string()]);
+    }
+    let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
+    let Some(run) = played(&args, &out, 900, &keys) else {
+        return;
+    };
+    assert_ran(&run);
+    let said = reports(&run);
+    let shots = said
+        .iter()
+        .filter(|l| {
+            l.strip_prefix("practice shot ")
+                .is_some_and(|n| n.parse::<u32>().is_ok())
+        })
+        .count();
+    let undone = said
+        .iter()
+        .filter(|l| *l == "practice shot taken back")
+        .count();
+    assert_eq!((shots, undone), (4, 3), "four shots, three undos: {said:?}");
+    let seen = tables(&said);
+    let start = Game::practice(&Scene::from_json(CUT).expect("a scene")).expect("a table");
+    let first = hash_hex(state_hash(start.balls()));
+    assert_eq!(
+        seen.first(),
+        Some(&first.as_str()),
+        "the scene's table first"
+    );
+    // The tables at rest: after three shots, three undos give the first one back to the
+    // bit; redo gives the one after the first shot, again the first, and the same strike
+    // from it the same table as the first time.
+    assert_eq!(seen.len(), 10, "{said:?}");
+    let at = |i: usize| seen[i];
+    assert_eq!(
+        [at(4), at(5), at(6)],
+        [at(2), at(1), at(0)],
+        "undone: {said:?}"
+    );
+    assert_eq!([at(7), at(8), at(9)], [at(1), at(0), at(1)], "{said:?}");
+    let distinct: std::collections::HashSet<_> = seen[..4].iter().collect();
+    assert_eq!(distinct.len(), 4, "each shot moved balls: {said:?}");
+}
+
+#[test]
+fn the_advice_shown_is_the_simulator_s_and_j_sets_the_cue_to_it() {
+    use breakshot_client::play::{Advisor, Request};
+    use breakshot_shared::ai::Level;
+    let dir = breakshot_testkit::scratch("teach-advice");
+    let (scene, out) = (dir.path().join("scene.json"), dir.path().join("out.png"));
+    std::fs::write(&scene, CUT).expect("scene written");
+    let args = [OsStr::new("practice"), scene.as_os_str()];
+    // I asks (level 3 by default); the search runs a few simulations a frame; J sets the cue.
+    let keys = [
+        "sleep 1",
+        "key --window \"$wid\" i",
+        "sleep 12",
+        "key --window \"$wid\" j",
+    ];
+    let Some(run) = played(&args, &out, 1200, &keys) else {
+        return;
+    };
+    assert_ran(&run);
+    let said = reports(&run);
+    let start = Game::practice(&Scene::from_json(CUT).expect("a scene")).expect("a table");
+    let request = Request::for_table(&start, Level::new(3)).expect("a request");
+    let mut advisor = Advisor::start(request).expect("an advisor");
+    let want = advisor
+        .step(usize::MAX)
+        .expect("done")
+        .clone()
+        .expect("advice");
+    let line = format!(
+        "practice advice {} {} {} {} {}",
+        want.strike.speed, want.strike.dir.x, want.strike.dir.y, want.p_success, want.trials
+    );
+    assert!(said.contains(&line), "{line} in {said:?}");
+    let asked = said.iter().position(|l| *l == line);
+    let set = said.iter().position(|l| l == "practice advice set");
+    assert!(
+        matches!((asked, set), (Some(a), Some(s)) if a < s),
+        "advised, then set: {said:?}"
+    );
+    if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
+        std::fs::copy(&out, keep).expect("screenshot kept");
+    }
+}
+
+#[test]
+fn a_ball_dragged_then_kept_opens_again_as_the_same_table() {
+    use breakshot_client::play::position;
+    use breakshot_client::view::{Frame, Layout};
+    let dir = breakshot_testkit::scratch("teach-position");
+    let (scene, out) = (dir.path().join("scene.json"), dir.path().join("out.png"));
+    let data = dir.path().join("data");
+    std::fs::write(&scene, CUT).expect("scene written");
+    let start = Game::practice(&Scene::from_json(CUT).expect("a scene")).expect("a table");
+    let layout = Layout::new(1280.0, 720.0, Frame::new(start.table(), start.balls()));
+    // The 8 (ball 2 of the scene) is dragged to a free spot; then O keeps the position.
+    let [fx, fy] = layout.to_screen(start.balls()[2].pos).map(f32::round);
+    let to = glam::DVec2::new(0.9, 0.9);
+    let [tx, ty] = layout.to_screen(to).map(f32::round);
+    let keys = [
+        "sleep 1".to_string(),
+        "key --window \"$wid\" f".into(),
+        format!("mousemove --window \"$wid\" {fx} {fy}"),
+        "mousedown 1".into(),
+        format!("mousemove --window \"$wid\" {tx} {ty}"),
+        "sleep 0.3".into(),
+        "mouseup 1".into(),
+        "key --window \"$wid\" o".into(),
+    ];
+    let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
+    let Some(run) = played_with(
+        &[OsStr::new("practice"), scene.as_os_str()],
+        &out,
+        600,
+        &keys,
+        &data,
+    ) else {
+        return;
+    };
+    assert_ran(&run);
+    let said = reports(&run);
+    assert!(said.iter().any(|l| l == "practice ball placed"), "{said:?}");
+    let saved = said
+        .iter()
+        .find_map(|l| l.strip_prefix("practice saved "))
+        .expect("the position kept");
+    let (path, code) = saved.rsplit_once(' ').expect("path and code");
+    let text = std::fs::read_to_string(path).expect("the scene file");
+    assert!(path.starts_with(data.to_str().expect("a path")), "{path}");
+    let (_, kept) = position::open(&text).expect("the kept file opens");
+    let (_, coded) = position::open(code).expect("the code opens");
+    // The 8 is where it was dropped (to the pixel), every other ball where it was.
+    let scale = layout.scale;
+    assert!(
+        (kept.balls()[2].pos - to).length() <= 1.5 / scale,
+        "{:?}",
+        kept.balls()[2]
+    );
+    for i in (0..start.balls().len()).filter(|&i| i != 2) {
+        assert_eq!(kept.balls()[i], start.balls()[i], "ball {i}");
+    }
+    assert_eq!(kept.ball_ids(), start.ball_ids());
+    for (a, b) in coded.balls().iter().zip(kept.balls()) {
+        assert!(
+            (a.pos - b.pos).length() < 1e-6,
+            "the code is the same table"
+        );
+    }
+}
+
+#[test]
+fn a_code_that_does_not_decode_is_refused_before_any_window_opens() {
+    for (code, says) in [("bs1.@@@", "base64"), ("bs1.AzlmdAcDY3Vl", "cut short")] {
+        let out = breakshot_testkit::run(
+            Process::new(env!("CARGO_BIN_EXE_breakshot")).args(["practice", code]),
+            None,
+            Duration::from_secs(60),
+        );
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains(says), "{code}: {err}");
+    }
+}
+
+#[test]
+fn a_drill_scores_a_made_and_a_missed_attempt_and_remembers_them() {
+    let dir = breakshot_testkit::scratch("teach-drill");
+    let (drill, out) = (dir.path().join("drill.json"), dir.path().join("out.png"));
+    let data = dir.path().join("data");
+    // The shipped straight-in drill, with the strike that makes it as the first aim.
+    let shipped: serde_json::Value =
+        serde_json::from_str(include_str!("../drills/straight-in.json")).expect("a drill");
+    let mut with_aim = shipped.clone();
+    with_aim["scene"]["strike"] =
+        serde_json::json!({"ball": "cue", "speed": 2.5, "dir": [-0.640184, 0.768221]});
+    std::fs::write(&drill, with_aim.to_string()).expect("drill written");
+    let key = |k: &str| format!("key --window \"$wid\" {k}");
+    let keys = [
+        "sleep 1".to_string(),
+        key("space"),
+        key("space"),
+        // The aim turned away from the 1 for the second attempt.
+        "keydown --window \"$wid\" Left".into(),
+        "sleep 2.5".into(),
+        "keyup --window \"$wid\" Left".into(),
+        key("space"),
+        key("space"),
+    ];
+    let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
+    let args = [OsStr::new("practice"), drill.as_os_str()];
+    let Some(run) = played_with(&args, &out, 900, &keys, &data) else {
+        return;
+    };
+    assert_ran(&run);
+    let said = reports(&run);
+    let drills: Vec<&String> = said.iter().filter(|l| l.starts_with("drill ")).collect();
+    assert_eq!(
+        drills,
+        [
+            "drill made: 1 of 1; best streak 1",
+            "drill missed: 1 of 2; best streak 1"
+        ],
+        "{said:?}"
+    );
+    let kept = std::fs::read_to_string(data.join("drill-straight-in")).expect("the score kept");
+    assert_eq!(kept.trim(), "1 2 1");
+}
