@@ -116,7 +116,9 @@ fn three_shots_taken_back_give_the_table_before_them_to_the_bit_and_again_replay
     let shots = said
         .iter()
         .filter(|l| {
+            // "practice shot N dir=… tip=… elevation=…"
             l.strip_prefix("practice shot ")
+                .and_then(|rest| rest.split_whitespace().next())
                 .is_some_and(|n| n.parse::<u32>().is_ok())
         })
         .count();
@@ -288,10 +290,12 @@ fn a_drill_scores_a_made_and_a_missed_attempt_and_remembers_them() {
         "sleep 1".to_string(),
         key("space"),
         key("space"),
-        // The aim turned away from the 1 for the second attempt.
-        "keydown --window \"$wid\" Left".into(),
+        // The aim turned away from the 1 for the second attempt, clockwise: off the left
+        // rail and away from the corner the 1 stands by (turned the other way, the cue
+        // ball can come off the top rail onto the 1 and pot it).
+        "keydown --window \"$wid\" Right".into(),
         "sleep 2.5".into(),
-        "keyup --window \"$wid\" Left".into(),
+        "keyup --window \"$wid\" Right".into(),
         key("space"),
         key("space"),
     ];
