@@ -206,6 +206,43 @@ pub struct Layout {
     pub notice: Rect,
 }
 
+/// The table, its cloth `cloth_m` metres across and down the screen with `rail` metres of
+/// rail round it, fitted and centred in `area`: the scale (px/m), the outer box, the cloth.
+fn fit_table(area: Rect, cloth_m: DVec2, rail: f64) -> (f64, Rect, Rect) {
+    let outer_m = cloth_m + DVec2::splat(2.0 * rail);
+    let scale = (area.w as f64 / outer_m.x).min(area.h as f64 / outer_m.y);
+    let outer_px = outer_m * scale;
+    let outer = Rect::new(
+        area.x + 0.5 * (area.w - outer_px.x as f32),
+        area.y + 0.5 * (area.h - outer_px.y as f32),
+        outer_px.x as f32,
+        outer_px.y as f32,
+    );
+    let rail_px = (rail * scale) as f32;
+    let cloth = Rect::new(
+        outer.x + rail_px,
+        outer.y + rail_px,
+        (cloth_m.x * scale) as f32,
+        (cloth_m.y * scale) as f32,
+    );
+    (scale, outer, cloth)
+}
+
+/// The two players' names at the ends of `tray`, each `share` of its width (180 px at most),
+/// the balls between them.
+fn tray_names(tray: Rect, margin: f32, share: f32) -> [Rect; 2] {
+    let name_w = (share * tray.w).min(180.0);
+    [
+        Rect::new(tray.x + 0.5 * margin, tray.y, name_w, tray.h),
+        Rect::new(
+            tray.x + tray.w - name_w - 0.5 * margin,
+            tray.y,
+            name_w,
+            tray.h,
+        ),
+    ]
+}
+
 impl Layout {
     /// Fits the table into a window of `width` × `height` pixels, with every box of text
     /// beside it: the bar at the top, the status line, the panel, the trays, the verdict and
@@ -282,34 +319,11 @@ impl Layout {
             (panel_x - 2.0 * margin).max(10.0),
             (h - top - below).max(10.0),
         );
-        let outer_m = DVec2::new(frame.size.y + 2.0 * rail, frame.size.x + 2.0 * rail);
-        let scale = (area.w as f64 / outer_m.x).min(area.h as f64 / outer_m.y);
-        let outer_px = outer_m * scale;
-        let outer = Rect::new(
-            area.x + 0.5 * (area.w - outer_px.x as f32),
-            area.y + 0.5 * (area.h - outer_px.y as f32),
-            outer_px.x as f32,
-            outer_px.y as f32,
-        );
-        let rail_px = (rail * scale) as f32;
-        let cloth = Rect::new(
-            outer.x + rail_px,
-            outer.y + rail_px,
-            (frame.size.y * scale) as f32,
-            (frame.size.x * scale) as f32,
-        );
+        // The table's length along the screen.
+        let (scale, outer, cloth) = fit_table(area, DVec2::new(frame.size.y, frame.size.x), rail);
         let origin = DVec2::new(cloth.x as f64, cloth.y as f64);
         let tray = Rect::new(outer.x, outer.y + outer.h + margin, outer.w, tray_h);
-        let name_w = (0.28 * tray.w).min(180.0);
-        let tray_names = [
-            Rect::new(tray.x + 0.5 * margin, tray.y, name_w, tray_h),
-            Rect::new(
-                tray.x + tray.w - name_w - 0.5 * margin,
-                tray.y,
-                name_w,
-                tray_h,
-            ),
-        ];
+        let tray_names = tray_names(tray, margin, 0.28);
         let notice = Rect::new(area.x, tray.y + tray_h + 0.5 * margin, area.w, notice_h);
         let verdict_y = notice.y + notice_h + 0.5 * margin;
         let verdict = Rect::new(

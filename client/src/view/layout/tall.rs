@@ -45,67 +45,20 @@ pub(super) fn layout(w: f32, h: f32, frame: Frame, edges: Edges) -> Layout {
     let tray_h = (0.045 * h).clamp(30.0, 50.0);
     let rail = if frame.rails { RAIL_WIDTH } else { 0.0 };
 
-    let status = Rect::new(
-        margin,
-        hud.h + 0.5 * margin,
-        (w - 2.0 * margin).max(10.0),
-        status_h,
-    );
-    let panel = Rect::new(
-        margin,
-        footer.y - 0.5 * margin - panel_h,
-        (w - 2.0 * margin).max(10.0),
-        panel_h,
-    );
-    let verdict = Rect::new(
-        margin,
-        panel.y - 0.5 * margin - verdict_h,
-        (w - 2.0 * margin).max(10.0),
-        verdict_h,
-    );
-    let notice = Rect::new(
-        margin,
-        verdict.y - 0.5 * margin - row_h,
-        (w - 2.0 * margin).max(10.0),
-        row_h,
-    );
+    // Every box below runs the window's width, margin to margin.
+    let row = |y: f32, h: f32| Rect::new(margin, y, (w - 2.0 * margin).max(10.0), h);
+    let status = row(hud.h + 0.5 * margin, status_h);
+    let panel = row(footer.y - 0.5 * margin - panel_h, panel_h);
+    let verdict = row(panel.y - 0.5 * margin - verdict_h, verdict_h);
+    let notice = row(verdict.y - 0.5 * margin - row_h, row_h);
     let tray_y = notice.y - 0.5 * margin - tray_h;
     let top = status.y + status_h + 0.5 * margin;
-    let area = Rect::new(
-        margin,
-        top,
-        (w - 2.0 * margin).max(10.0),
-        (tray_y - 0.5 * margin - top).max(10.0),
-    );
+    let area = row(top, (tray_y - 0.5 * margin - top).max(10.0));
     // Turned: the table's width across the screen, its length down it.
-    let outer_m = DVec2::new(frame.size.x + 2.0 * rail, frame.size.y + 2.0 * rail);
-    let scale = (area.w as f64 / outer_m.x).min(area.h as f64 / outer_m.y);
-    let outer_px = outer_m * scale;
-    let outer = Rect::new(
-        area.x + 0.5 * (area.w - outer_px.x as f32),
-        area.y + 0.5 * (area.h - outer_px.y as f32),
-        outer_px.x as f32,
-        outer_px.y as f32,
-    );
-    let rail_px = (rail * scale) as f32;
-    let cloth = Rect::new(
-        outer.x + rail_px,
-        outer.y + rail_px,
-        (frame.size.x * scale) as f32,
-        (frame.size.y * scale) as f32,
-    );
+    let (scale, outer, cloth) = super::fit_table(area, frame.size, rail);
     // The tray runs the window's width (the turned table is narrower than the rack).
-    let tray = Rect::new(margin, tray_y, (w - 2.0 * margin).max(10.0), tray_h);
-    let name_w = (0.2 * tray.w).min(180.0);
-    let tray_names = [
-        Rect::new(tray.x + 0.5 * margin, tray.y, name_w, tray_h),
-        Rect::new(
-            tray.x + tray.w - name_w - 0.5 * margin,
-            tray.y,
-            name_w,
-            tray_h,
-        ),
-    ];
+    let tray = row(tray_y, tray_h);
+    let tray_names = super::tray_names(tray, margin, 0.2);
 
     // The panel, left to right: the tip face, the side view and the power bar, each under
     // its title.
