@@ -61,6 +61,15 @@ pub enum GameEvent {
     },
     /// A line said in the room (`from` is empty for the server's notices).
     Chat(ChatLine),
+    /// A rated game ended: `seat`'s rating went from `before` to `after` (Glicko-2, rounded).
+    Rated {
+        /// The seat rated.
+        seat: Seat,
+        /// The rating before the game.
+        before: i32,
+        /// The rating after it.
+        after: i32,
+    },
     /// Where `seat`, to shoot on `turn`, is aiming now.
     Aim {
         /// The turn being aimed.
@@ -191,6 +200,20 @@ pub(crate) fn game_events(msg: &ServerMessage, me: Option<Seat>) -> Vec<GameEven
         ServerMessage::Reject { reason } => {
             vec![GameEvent::Connection(Connection::Closed(reason.clone()))]
         }
+        ServerMessage::Rated {
+            seat,
+            before,
+            after,
+        } => vec![GameEvent::Rated {
+            seat: *seat,
+            before: *before,
+            after: *after,
+        }],
+        // The server's own notice, said in the room like its other notices.
+        ServerMessage::Draining { message } => vec![GameEvent::Chat(ChatLine {
+            from: String::new(),
+            text: format!("Server: {message}"),
+        })],
         _ => Vec::new(),
     }
 }
@@ -247,5 +270,32 @@ mod tests {
             Connection::WaitingForOpponent
         );
         assert_eq!(opponent_state(&[None, None], None), Connection::Connected);
+    }
+
+    #[test]
+    fn a_rating_and_a_drain_reach_the_game_screen() {
+        let rated = ServerMessage::Rated {
+            seat: Seat::B,
+            before: 1500,
+            after: 1338,
+        };
+        assert_eq!(
+            game_events(&rated, Some(Seat::A)),
+            [GameEvent::Rated {
+                seat: Seat::B,
+                before: 1500,
+                after: 1338
+            }]
+        );
+        let drain = ServerMessage::Draining {
+            message: "your game goes on to its end".into(),
+        };
+        match &game_events(&drain, Some(Seat::A))[..] {
+            [GameEvent::Chat(line)] => {
+                assert!(line.from.is_empty(), "a notice, not a player's line");
+                assert!(line.text.contains("your game goes on"), "{}", line.text);
+            }
+            other => panic!("a drain should be said in the room, got {other:?}"),
+        }
     }
 }

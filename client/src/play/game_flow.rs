@@ -77,6 +77,8 @@ pub struct GameFlow {
     pub ended_away: Option<AwayResult>,
     /// The players' names, by seat, once the server has said them.
     pub names: [Option<String>; 2],
+    /// The players' ratings, by seat, once a rated game has ended here.
+    pub ratings: [Option<i32>; 2],
     /// The room's chat.
     pub chat: Chat,
     /// The last aim the shooter showed: (turn, seat, strike).
@@ -111,6 +113,7 @@ impl GameFlow {
             before_shot: None,
             ended_away: None,
             names: [None, None],
+            ratings: [None, None],
             chat: Chat::default(),
             opponent_aim: None,
         }
@@ -218,6 +221,18 @@ impl GameFlow {
                 self.names[usize::from(*seat == Seat::B)] = Some(name.clone());
             }
             GameEvent::Chat(line) => self.chat.heard(&line.from, &line.text),
+            GameEvent::Rated {
+                seat,
+                before,
+                after,
+            } => {
+                self.ratings[usize::from(*seat == Seat::B)] = Some(*after);
+                let who = crate::view::hud::named(&seat.to_string(), &self.names);
+                self.chat.heard(
+                    "",
+                    &format!("{who}'s rating: {before} -> {after} ({:+})", after - before),
+                );
+            }
             GameEvent::Aim { turn, seat, strike } => {
                 self.opponent_aim = Some((*turn, *seat, *strike));
             }
@@ -352,6 +367,23 @@ mod tests {
         let game = flow.game().expect("a game").clone();
         link.send(&game, seat, command);
         drain(link, flow);
+    }
+
+    #[test]
+    fn a_rated_game_s_end_puts_the_new_rating_beside_the_name_and_says_the_change() {
+        let (_, mut flow) = local();
+        flow.handle(GameEvent::Seated {
+            seat: Seat::B,
+            name: "ben".into(),
+        });
+        flow.handle(GameEvent::Rated {
+            seat: Seat::B,
+            before: 1500,
+            after: 1338,
+        });
+        assert_eq!(flow.ratings, [None, Some(1338)]);
+        let said: Vec<String> = flow.chat.lines().map(|l| l.text.clone()).collect();
+        assert_eq!(said, ["ben's rating: 1500 -> 1338 (-162)"]);
     }
 
     #[test]

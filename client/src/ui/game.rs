@@ -638,6 +638,7 @@ impl GameScreen {
                 shot_clock: self.flow.shown_shot_clock(),
                 connection: &self.flow.connection,
                 names: &self.flow.names,
+                ratings: &self.flow.ratings,
             },
         );
         if self.link.chats() {

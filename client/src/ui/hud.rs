@@ -17,6 +17,8 @@ pub struct HudInfo<'a> {
     pub connection: &'a Connection,
     /// The players' names, by seat, when known.
     pub names: &'a [Option<String>; 2],
+    /// The players' ratings, by seat, when known.
+    pub ratings: &'a [Option<i32>; 2],
 }
 
 pub fn game_hud(layout: &Layout, info: &HudInfo) {
@@ -48,7 +50,7 @@ pub fn game_hud(layout: &Layout, info: &HudInfo) {
     right_aligned(&pieces, rows);
 
     // The players' lines, each in its own box.
-    for (p, r) in hud::players(info.game, info.me, info.names)
+    for (p, r) in hud::players(info.game, info.me, info.names, info.ratings)
         .into_iter()
         .zip(layout.players)
     {

@@ -93,6 +93,7 @@ impl ReplayScreen {
                 shot_clock: None,
                 connection: &Connection::Offline,
                 names: v.players(),
+                ratings: &[None, None],
             },
         );
         let state = if v.at_end() && v.shot().is_none() {

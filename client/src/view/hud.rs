@@ -67,14 +67,23 @@ pub fn variant_name(v: Variant) -> &'static str {
 }
 
 /// Both players' lines, by name once known (with the seat's letter), with their groups
-/// once the table is closed; `me` is marked "(you)".
-pub fn players(game: &Game, me: Option<Seat>, names: &[Option<String>; 2]) -> [PlayerLine; 2] {
+/// once the table is closed, and their ratings once a rated game has ended; `me` is marked
+/// "(you)".
+pub fn players(
+    game: &Game,
+    me: Option<Seat>,
+    names: &[Option<String>; 2],
+    ratings: &[Option<i32>; 2],
+) -> [PlayerLine; 2] {
     let line = |seat: Seat| {
-        let name = names[usize::from(seat == Seat::B)].as_ref();
-        let mut text = match name {
+        let k = usize::from(seat == Seat::B);
+        let mut text = match &names[k] {
             Some(name) => format!("{name} ({})", if seat == Seat::A { "A" } else { "B" }),
             None => seat.to_string(),
         };
+        if let Some(rating) = ratings[k] {
+            text.push_str(&format!(" {rating}"));
+        }
         if me == Some(seat) {
             text.push_str(" (you)");
         }
@@ -344,7 +353,7 @@ mod tests {
     #[test]
     fn a_new_game_shows_the_breaker_and_an_open_table() {
         let g = eight();
-        let [a, b] = players(&g, Some(Seat::B), &[None, None]);
+        let [a, b] = players(&g, Some(Seat::B), &[None, None], &[None, None]);
         assert!(a.to_move && !b.to_move);
         assert_eq!(a.text, "Player A: open table");
         assert_eq!(b.text, "Player B (you): open table");
@@ -373,15 +382,29 @@ mod tests {
     #[test]
     fn players_are_named_once_the_server_says_their_names() {
         let g = eight();
-        let [a, b] = players(&g, Some(Seat::A), &[Some("ann".into()), None]);
+        let [a, b] = players(
+            &g,
+            Some(Seat::A),
+            &[Some("ann".into()), None],
+            &[None, None],
+        );
         assert_eq!(a.text, "ann (A) (you): open table");
         assert_eq!(b.text, "Player B: open table");
     }
 
     #[test]
+    fn a_rating_stands_beside_the_name_once_known() {
+        let g = eight();
+        let names = [Some("ann".into()), Some("ben".into())];
+        let [a, b] = players(&g, Some(Seat::B), &names, &[Some(1662), None]);
+        assert_eq!(a.text, "ann (A) 1662: open table");
+        assert_eq!(b.text, "ben (B) (you): open table");
+    }
+
+    #[test]
     fn three_cushion_shows_each_ball_and_score_against_the_race() {
         let mut g = Game::new(Variant::ThreeCushion { race: 10 }, Settings::offline(), 3);
-        let [a, b] = players(&g, Some(Seat::A), &[None, None]);
+        let [a, b] = players(&g, Some(Seat::A), &[None, None], &[None, None]);
         assert_eq!(a.text, "Player A (you): white, 0 of 10");
         assert_eq!(b.text, "Player B: yellow, 0 of 10");
         assert_eq!(status(&g, &NO_NAMES), "Player A to shoot");
@@ -397,7 +420,9 @@ mod tests {
         let v = g
             .apply(Seat::A, &Command::Concede)
             .expect("concede is allowed");
-        assert!(players(&g, None, &[None, None]).iter().all(|p| !p.to_move));
+        assert!(players(&g, None, &[None, None], &[None, None])
+            .iter()
+            .all(|p| !p.to_move));
         assert!(status(&g, &NO_NAMES).starts_with("Game over: "));
         let lines = verdict_lines(&v, &NO_NAMES);
         assert_eq!(
