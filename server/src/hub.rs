@@ -973,6 +973,24 @@ impl Hub {
         }
     }
 
+    /// Whether the server holds the most rooms it may.
+    fn full(&self) -> bool {
+        self.room_count() >= self.config.limits.max_rooms.min(MAX_ROOMS)
+    }
+
+    /// While the server drains, a new game is refused (and counted as a drain refusal).
+    fn refuse_while_draining(&mut self, conn: ConnId) -> Option<Vec<Output>> {
+        if !self.draining {
+            return None;
+        }
+        self.drain_refusals += 1;
+        Some(error(
+            conn,
+            ErrorCode::ServerBusy,
+            "this server is shutting down and opens no new games; try another",
+        ))
+    }
+
     fn create(
         &mut self,
         now: Instant,
@@ -980,15 +998,10 @@ impl Hub {
         rules: RoomRules,
         name: String,
     ) -> Vec<Output> {
-        if self.draining {
-            self.drain_refusals += 1;
-            return error(
-                conn,
-                ErrorCode::ServerBusy,
-                "this server is shutting down and opens no new games; try another",
-            );
+        if let Some(refused) = self.refuse_while_draining(conn) {
+            return refused;
         }
-        if self.room_count() >= self.config.limits.max_rooms.min(MAX_ROOMS) {
+        if self.full() {
             return error(conn, ErrorCode::ServerBusy, "the server is full; try later");
         }
         let addr = self.conns.get(&conn).map(|c| c.addr);

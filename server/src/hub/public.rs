@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use breakshot_shared::protocol::limits::{MAX_ROOMS, QUEUE_TIMEOUT};
+use breakshot_shared::protocol::limits::QUEUE_TIMEOUT;
 use breakshot_shared::protocol::{AimAid, ErrorCode, Role, RoomCode, ServerMessage};
 use breakshot_shared::rules::{Phase, Seat, Settings, Variant};
 
@@ -113,13 +113,8 @@ impl Hub {
         mode: Settings,
         name: String,
     ) -> Vec<Output> {
-        if self.draining {
-            self.drain_refusals += 1;
-            return error(
-                conn,
-                ErrorCode::ServerBusy,
-                "this server is shutting down and opens no new games; try another",
-            );
+        if let Some(refused) = self.refuse_while_draining(conn) {
+            return refused;
         }
         let (Some(key), Some(source)) =
             (self.player_of(conn), self.conns.get(&conn).map(|c| c.addr))
@@ -167,7 +162,7 @@ impl Hub {
             ));
         }
         for found in self.queues.pairs(now) {
-            if self.room_count() >= self.config.limits.max_rooms.min(MAX_ROOMS) {
+            if self.full() {
                 for conn in [found.a.conn, found.b.conn] {
                     out.push(send(
                         conn,

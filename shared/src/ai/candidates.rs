@@ -466,38 +466,52 @@ fn safeties(view: &View, cue: DVec2, r: f64) -> Vec<Candidate> {
     balls.sort_by(|a, b| (a.1 - cue).length().total_cmp(&(b.1 - cue).length()));
     let mut out = Vec::new();
     for (ball, ob) in balls.into_iter().take(4) {
-        let to = ob - cue;
-        let d = to.length();
-        if d < 1e-9 {
-            continue;
-        }
-        let u = to / d;
-        let side = DVec2::new(-u.y, u.x);
+        let d = (ob - cue).length();
         for frac in [-0.8, -0.45, 0.0, 0.45, 0.8] {
-            let contact =
-                ob + side * (frac * 2.0 * r) - u * (2.0 * r * libm::sqrt(1.0 - frac * frac));
+            let Some(contact) = contact_at(cue, ob, frac, r) else {
+                continue;
+            };
             if !reachable(layout, cue, contact, ball) {
                 continue;
             }
             let dir = (contact - cue).normalize_or_zero();
             for speed in [0.5 + 0.3 * d, 1.2 + 0.4 * d, 2.5] {
                 for height in [0.0, -0.3] {
-                    out.push(Candidate {
-                        strike: Strike {
-                            speed,
-                            dir,
-                            tip: DVec2::new(0.0, height),
-                            elevation_deg: 0.0,
-                        },
-                        call: nearest_pocket(layout, ob),
-                        kind: Kind::Safety,
-                        prior: 0.0,
-                    });
+                    out.push(safety(dir, speed, height, nearest_pocket(layout, ob)));
                 }
             }
         }
     }
     out
+}
+
+/// Where the cue ball's centre is when it meets the ball at `ob`, coming from `cue` and
+/// taking `frac` of a full ball on its left (negative: on its right); None when the two
+/// centres are one.
+pub(super) fn contact_at(cue: DVec2, ob: DVec2, frac: f64, r: f64) -> Option<DVec2> {
+    let to = ob - cue;
+    let d = to.length();
+    if d < 1e-9 {
+        return None;
+    }
+    let u = to / d;
+    let side = DVec2::new(-u.y, u.x);
+    Some(ob + side * (frac * 2.0 * r) - u * (2.0 * r * libm::sqrt(1.0 - frac * frac)))
+}
+
+/// A safety played along `dir` at `speed`, with the tip `height` above centre.
+pub(super) fn safety(dir: DVec2, speed: f64, height: f64, call: Option<u8>) -> Candidate {
+    Candidate {
+        strike: Strike {
+            speed,
+            dir,
+            tip: DVec2::new(0.0, height),
+            elevation_deg: 0.0,
+        },
+        call,
+        kind: Kind::Safety,
+        prior: 0.0,
+    }
 }
 
 /// One-rail kicks at each legal ball: the cue ball aimed at the ball's mirror image in a rail.

@@ -12,9 +12,8 @@
 
 use glam::DVec2;
 
-use super::candidates::{Candidate, Kind, View};
+use super::candidates::{self, Candidate, View};
 use super::geometry::Layout;
-use crate::physics::Strike;
 use crate::rules::snooker::frame::{self, Snooker};
 use crate::rules::{Choice, Game, Phase};
 
@@ -170,33 +169,17 @@ pub(super) fn safeties(view: &View<'_>) -> Vec<Candidate> {
     });
     let mut out = Vec::new();
     for (ball, ob) in balls.into_iter().take(SAFETY_BALLS) {
-        let to = ob - cue;
-        let d = to.length();
-        if d < 1e-9 {
-            continue;
-        }
-        let u = to / d;
-        let side = DVec2::new(-u.y, u.x);
         for frac in THIN.iter().flat_map(|&f| [f, -f]) {
-            let contact =
-                ob + side * (frac * 2.0 * r) - u * (2.0 * r * libm::sqrt(1.0 - frac * frac));
+            let Some(contact) = candidates::contact_at(cue, ob, frac, r) else {
+                continue;
+            };
             if !layout.clear(cue, contact, &[0, ball]) {
                 continue;
             }
             let dir = (contact - cue).normalize_or_zero();
             for speed in SAFETY_SPEEDS {
                 for height in [0.0, -0.2] {
-                    out.push(Candidate {
-                        strike: Strike {
-                            speed,
-                            dir,
-                            tip: DVec2::new(0.0, height),
-                            elevation_deg: 0.0,
-                        },
-                        call: None,
-                        kind: Kind::Safety,
-                        prior: 0.0,
-                    });
+                    out.push(candidates::safety(dir, speed, height, None));
                 }
             }
         }

@@ -128,25 +128,10 @@ pub(super) fn first_contact(c: &Octic, t_max: f64, touch: Touch) -> Option<f64> 
 mod tests {
     use super::*;
 
-    const TOUCH: Touch = Touch {
-        speed: 1e-15,
-        accel: 1e-12,
-    };
+    const TOUCH: Touch = super::super::roots::TEST_TOUCH;
 
     fn from_roots(roots: &[f64]) -> Octic {
-        let mut c = [0.0; 9];
-        c[0] = 1.0;
-        for &r in roots {
-            let mut next = [0.0; 9];
-            for i in 0..9 {
-                if i + 1 < 9 {
-                    next[i + 1] += c[i];
-                }
-                next[i] -= r * c[i];
-            }
-            c = next;
-        }
-        c
+        super::super::roots::poly_from_roots(roots, 1.0)
     }
 
     #[test]

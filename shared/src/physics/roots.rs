@@ -402,34 +402,44 @@ pub fn first_contact(c: &Poly, t_max: f64, touch: Touch) -> Option<f64> {
     None
 }
 
+/// The coefficients (lowest power first) of scale·Π(t − r) over `roots`: the polynomials
+/// the root finders' tests know the roots of.
+#[cfg(test)]
+pub(crate) fn poly_from_roots<const N: usize>(roots: &[f64], scale: f64) -> [f64; N] {
+    let mut c = [0.0; N];
+    c[0] = scale;
+    for &r in roots {
+        let mut next = [0.0; N];
+        for i in 0..N {
+            if i + 1 < N {
+                next[i + 1] += c[i];
+            }
+            next[i] -= r * c[i];
+        }
+        c = next;
+    }
+    c
+}
+
+/// Contact tolerances tight enough that the tests' roots are found to rounding.
+#[cfg(test)]
+pub(crate) const TEST_TOUCH: Touch = Touch {
+    speed: 1e-15,
+    accel: 1e-12,
+};
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    const TOUCH: Touch = Touch {
-        speed: 1e-15,
-        accel: 1e-12,
-    };
+    const TOUCH: Touch = TEST_TOUCH;
 
     fn first_contact(c: &Poly, t_max: f64) -> Option<f64> {
         super::first_contact(c, t_max, TOUCH)
     }
 
     fn from_roots(roots: &[f64], scale: f64) -> Poly {
-        // Expand scale·Π(t − r).
-        let mut c = [0.0; 5];
-        c[0] = scale;
-        for &r in roots {
-            let mut next = [0.0; 5];
-            for i in 0..5 {
-                if i + 1 < 5 {
-                    next[i + 1] += c[i];
-                }
-                next[i] -= r * c[i];
-            }
-            c = next;
-        }
-        c
+        poly_from_roots(roots, scale)
     }
 
     #[test]

@@ -39,6 +39,41 @@ fn index(seat: Seat) -> usize {
     }
 }
 
+/// One move a contestant chose, with what it cost.
+pub struct Move {
+    /// The command.
+    pub command: Command,
+    /// Simulations the choice ran.
+    pub simulations: usize,
+    /// Processor seconds the choice took (wall seconds where the processor's are unknown).
+    pub seconds: f64,
+}
+
+impl Contestant {
+    /// This contestant's move in `game` (None: it has none), timed; `ghost` is the ghost's
+    /// own random stream.
+    pub fn choose(self, game: &Game, ghost: &mut Rng, seed: u64) -> Option<Move> {
+        let start = Instant::now();
+        let cpu_start = cpu_seconds();
+        let (command, simulations) = match self {
+            Contestant::Computer(player) => {
+                let d = ai::plan(game, &player, seed)?;
+                (ai::execute(d.command, player.noise, seed), d.simulations)
+            }
+            Contestant::Ghost => (ai::ghost_move(game, ghost)?, 0),
+        };
+        let seconds = match (cpu_start, cpu_seconds()) {
+            (Some(a), Some(b)) => b - a,
+            _ => start.elapsed().as_secs_f64(),
+        };
+        Some(Move {
+            command,
+            simulations,
+            seconds,
+        })
+    }
+}
+
 /// Plays one game of `variant` from `seed`: `a` sits in seat A (which breaks), `b` in B.
 pub fn play(variant: Variant, a: Contestant, b: Contestant, seed: u64) -> GameRecord {
     let mut game = Game::new(variant, Settings::offline(), seed);
@@ -51,24 +86,13 @@ pub fn play(variant: Variant, a: Contestant, b: Contestant, seed: u64) -> GameRe
         let contestant = if seat == Seat::A { a } else { b };
         let i = index(seat);
         let decision_seed = seed.wrapping_mul(1_000_003).wrapping_add(n as u64);
-        let start = Instant::now();
-        let cpu_start = cpu_seconds();
-        let (command, sims) = match contestant {
-            Contestant::Computer(player) => match ai::plan(&game, &player, decision_seed) {
-                Some(d) => (
-                    ai::execute(d.command, player.noise, decision_seed),
-                    d.simulations,
-                ),
-                None => break,
-            },
-            Contestant::Ghost => match ai::ghost_move(&game, &mut ghosts[i]) {
-                Some(c) => (c, 0),
-                None => break,
-            },
-        };
-        let elapsed = match (cpu_start, cpu_seconds()) {
-            (Some(a), Some(b)) => b - a,
-            _ => start.elapsed().as_secs_f64(),
+        let Some(Move {
+            command,
+            simulations: sims,
+            seconds: elapsed,
+        }) = contestant.choose(&game, &mut ghosts[i], decision_seed)
+        else {
+            break;
         };
         let is_shot = matches!(command, Command::Shot { .. });
         if !matches!(command, Command::Decide(_)) {

@@ -8,10 +8,10 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Context;
-use breakshot_shared::ai::{self, Level, Player, Rng};
+use breakshot_shared::ai::{Level, Player, Rng};
 use breakshot_shared::rules::{Command, Game, Seat, Settings, Variant};
 
-use super::games::{cpu_seconds, Contestant};
+use super::games::{Contestant, Move};
 use super::{parallel, quantile, Size};
 
 /// A frame stops undecided after this many commands (keeps the study bounded).
@@ -43,21 +43,13 @@ fn play(reds: u8, a: Contestant, b: Contestant, seed: u64) -> Frame {
         let i = seat.index();
         let contestant = if seat == Seat::A { a } else { b };
         let decision_seed = seed.wrapping_mul(1_000_003).wrapping_add(n as u64);
-        let start = Instant::now();
-        let cpu_start = cpu_seconds();
-        let command = match contestant {
-            Contestant::Computer(player) => match ai::plan(&game, &player, decision_seed) {
-                Some(d) => ai::execute(d.command, player.noise, decision_seed),
-                None => break,
-            },
-            Contestant::Ghost => match ai::ghost_move(&game, &mut ghosts[i]) {
-                Some(c) => c,
-                None => break,
-            },
-        };
-        let elapsed = match (cpu_start, cpu_seconds()) {
-            (Some(a), Some(b)) => b - a,
-            _ => start.elapsed().as_secs_f64(),
+        let Some(Move {
+            command,
+            seconds: elapsed,
+            ..
+        }) = contestant.choose(&game, &mut ghosts[i], decision_seed)
+        else {
+            break;
         };
         let is_shot = matches!(command, Command::Shot { .. });
         if !matches!(command, Command::Decide(_)) {
