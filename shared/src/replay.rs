@@ -240,6 +240,16 @@ pub fn format_version(bytes: &[u8]) -> Result<u32, RecordError> {
 }
 
 impl RecordEntry {
+    /// An entry of an older format, its chain still to be written ([`GameRecord::rechain`]).
+    fn unchained(seat: Seat, command: Command, hash: Option<u64>) -> RecordEntry {
+        RecordEntry {
+            seat,
+            command,
+            hash,
+            chain: 0,
+        }
+    }
+
     /// One entry on its own (a store keeps a game as its header, the record with no entries,
     /// followed by one row per entry), in the record's encoding.
     pub fn encode(&self) -> Vec<u8> {
@@ -297,6 +307,27 @@ impl GameRecord {
             self.physics,
         );
         chain_hash(0, &encode_any(&header))
+    }
+
+    /// A record of an older format in today's, its chain written: the older formats kept
+    /// neither the players' names nor the physics (the table's defaults played them).
+    fn upgraded(
+        variant: Variant,
+        settings: Settings,
+        seed: u64,
+        entries: impl IntoIterator<Item = RecordEntry>,
+    ) -> GameRecord {
+        let mut record = GameRecord {
+            version: RECORD_VERSION,
+            variant,
+            settings,
+            seed,
+            players: [None, None],
+            physics: None,
+            entries: entries.into_iter().collect(),
+        };
+        record.rechain();
+        record
     }
 
     /// Writes every entry's chain from the header on (after a change to the header, or for a

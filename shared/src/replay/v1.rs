@@ -10,7 +10,7 @@
 use glam::DVec2;
 use serde::Deserialize;
 
-use super::{GameRecord, RecordEntry, RECORD_VERSION};
+use super::{GameRecord, RecordEntry};
 use crate::physics::Strike;
 use crate::rules::{Choice, Command, Seat, Settings, Variant};
 
@@ -90,28 +90,13 @@ impl From<CommandV1> for Command {
 
 impl From<EntryV1> for RecordEntry {
     fn from(e: EntryV1) -> RecordEntry {
-        RecordEntry {
-            seat: e.seat,
-            command: e.command.into(),
-            hash: e.hash,
-            // Written by `rechain` once the whole record is converted.
-            chain: 0,
-        }
+        RecordEntry::unchained(e.seat, e.command.into(), e.hash)
     }
 }
 
 impl From<RecordV1> for GameRecord {
     fn from(r: RecordV1) -> GameRecord {
-        let mut record = GameRecord {
-            version: RECORD_VERSION,
-            variant: r.variant,
-            settings: r.settings,
-            seed: r.seed,
-            players: [None, None],
-            physics: None,
-            entries: r.entries.into_iter().map(RecordEntry::from).collect(),
-        };
-        record.rechain();
-        record
+        let entries = r.entries.into_iter().map(RecordEntry::from);
+        GameRecord::upgraded(r.variant, r.settings, r.seed, entries)
     }
 }

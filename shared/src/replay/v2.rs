@@ -9,7 +9,7 @@
 
 use serde::Deserialize;
 
-use super::{GameRecord, RecordEntry, RECORD_VERSION};
+use super::{GameRecord, RecordEntry};
 use crate::rules::{Command, Seat, Settings, Variant};
 
 /// The version this module reads.
@@ -34,28 +34,13 @@ pub(super) struct RecordV2 {
 
 impl From<EntryV2> for RecordEntry {
     fn from(e: EntryV2) -> RecordEntry {
-        RecordEntry {
-            seat: e.seat,
-            command: e.command,
-            hash: e.hash,
-            // Written by `rechain` once the whole record is converted.
-            chain: 0,
-        }
+        RecordEntry::unchained(e.seat, e.command, e.hash)
     }
 }
 
 impl From<RecordV2> for GameRecord {
     fn from(r: RecordV2) -> GameRecord {
-        let mut record = GameRecord {
-            version: RECORD_VERSION,
-            variant: r.variant,
-            settings: r.settings,
-            seed: r.seed,
-            players: [None, None],
-            physics: None,
-            entries: r.entries.into_iter().map(RecordEntry::from).collect(),
-        };
-        record.rechain();
-        record
+        let entries = r.entries.into_iter().map(RecordEntry::from);
+        GameRecord::upgraded(r.variant, r.settings, r.seed, entries)
     }
 }
