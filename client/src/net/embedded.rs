@@ -381,6 +381,10 @@ impl GameLink for Host {
         self.link.aim(turn, strike)
     }
 
+    fn report_desync(&mut self, turn: TurnId, hash: u64) {
+        self.link.report_desync(turn, hash)
+    }
+
     fn invite(&self) -> Option<&Invite> {
         Some(&self.invite)
     }

@@ -195,6 +195,12 @@ impl<P: Port> GameLink for NetLink<P> {
         self.session.send(ClientMessage::Rematch);
     }
 
+    fn report_desync(&mut self, turn: TurnId, hash: u64) {
+        // Counted by the operator (`breakshot_desyncs_reported_total`), never answered.
+        self.session
+            .send(ClientMessage::ReportDesync { turn, hash });
+    }
+
     fn chats(&self) -> bool {
         true
     }

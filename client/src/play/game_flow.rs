@@ -83,6 +83,11 @@ pub struct GameFlow {
     pub chat: Chat,
     /// The last aim the shooter showed: (turn, seat, strike).
     opponent_aim: Option<(TurnId, Seat, Strike)>,
+    /// The turn of the command accepted last, whose judgement is awaited.
+    accepted_turn: Option<TurnId>,
+    /// A shot the deciding side's hash did not confirm here, not yet reported: (its turn,
+    /// the deciding side's hash).
+    desync: Option<(TurnId, u64)>,
 }
 
 impl Shown for GameFlow {
@@ -116,6 +121,8 @@ impl GameFlow {
             ratings: [None, None],
             chat: Chat::default(),
             opponent_aim: None,
+            accepted_turn: None,
+            desync: None,
         }
     }
 
@@ -211,7 +218,19 @@ impl GameFlow {
                 }
                 return;
             }
-            GameEvent::Judged { .. } => self.last_verdict = self.pending_verdict.take(),
+            GameEvent::Judged { hash } => {
+                self.last_verdict = self.pending_verdict.take();
+                let desyncs = self.replica.desyncs();
+                self.replica.handle(&event);
+                if let (true, Some(turn), Some(hash)) = (
+                    self.replica.desyncs() > desyncs,
+                    self.accepted_turn.take(),
+                    *hash,
+                ) {
+                    self.desync = Some((turn, hash));
+                }
+                return;
+            }
             GameEvent::Refused(why) => self.message = format!("Refused: {why}"),
             GameEvent::Connection(c) => self.connection = c.clone(),
             GameEvent::ShotClock(s) => self.shot_clock = s.filter(|s| s.is_finite()),
@@ -242,12 +261,19 @@ impl GameFlow {
 
     /// Applies an accepted command to the replica; a shot starts playing at once.
     fn accepted(&mut self, turn: TurnId, seat: Seat, command: &Command) -> Option<Verdict> {
+        self.accepted_turn = Some(turn);
         if matches!(command, Command::Shot { .. }) {
             self.call = None;
             self.before_shot = self.game().cloned();
         }
         self.message = String::new();
         self.replica.accept(turn, seat, command).ok().flatten()
+    }
+
+    /// A shot whose deciding side's hash this copy of the game did not reach, once: (its
+    /// turn, the deciding side's hash), for the server's operator to count.
+    pub fn take_desync(&mut self) -> Option<(TurnId, u64)> {
+        self.desync.take()
     }
 
     /// Moves the shot being shown on, and the clocks down.

@@ -38,6 +38,9 @@ pub trait GameLink {
     /// Shows the others where this player aims on `turn` (online rooms; throttled by the
     /// caller).
     fn aim(&mut self, _turn: TurnId, _strike: Strike) {}
+    /// Tells the deciding side that its judgement of the shot on `turn` (its state hash
+    /// `hash`) was not reached here; a local game has nobody to tell.
+    fn report_desync(&mut self, _turn: TurnId, _hash: u64) {}
     /// The link a friend opens in a browser to join, when the web client is served here.
     fn web_link(&self) -> Option<String> {
         None

@@ -327,6 +327,23 @@ mod tests {
         assert_eq!(bot.desyncs(), 1);
         assert_eq!(screen.replica().desyncs(), bot.desyncs());
         assert_eq!(screen.replica().game(), bot.game());
+        // The screen reports it to the server once, with the server's hash.
+        assert_eq!(screen.take_desync(), Some((game.turn(), wrong)));
+        assert_eq!(screen.take_desync(), None);
+    }
+
+    #[test]
+    fn a_confirmed_shot_leaves_nothing_to_report() {
+        let game = new_game();
+        let mut screen = GameFlow::new(Connection::Connected);
+        screen.handle(GameEvent::Started(Box::new(game.clone())));
+        for msg in announced_break(&game, true_hash(&game)) {
+            for event in game_events(&msg, Some(Seat::A)) {
+                screen.handle(event);
+            }
+        }
+        assert_eq!(screen.replica().desyncs(), 0);
+        assert_eq!(screen.take_desync(), None);
     }
 
     #[test]

@@ -155,6 +155,9 @@ impl GameScreen {
         while let Some(event) = self.link.poll() {
             self.flow.handle(event);
         }
+        if let Some((turn, hash)) = self.flow.take_desync() {
+            self.link.report_desync(turn, hash);
+        }
         self.report();
         // A rematch asked for is answered by the next game.
         if !self
