@@ -144,26 +144,26 @@ impl Gate {
     }
 
     /// Decides on an attempt; an admitted one holds its slots until its ticket is dropped.
-    pub fn admit(&self, limits: &Limits, source: IpAddr, validated: bool) -> Entry {
+    pub fn admit(&self, limits: &Limits, source: IpAddr, validated: bool) -> Answer {
         let mut ledger = self.lock();
         match ledger.decide(limits, source, validated) {
             Decision::Admit => {
                 ledger.opened(source);
                 self.publish(&ledger);
-                Entry::Admitted(Ticket {
+                Answer::Admitted(Ticket {
                     gate: self.clone(),
                     source,
                     handshaking: true,
                 })
             }
-            Decision::Retry => Entry::Retry,
-            Decision::Refuse(why) => Entry::Refused(why),
+            Decision::Retry => Answer::Retry,
+            Decision::Refuse(why) => Answer::Refused(why),
         }
     }
 }
 
 /// The gate's answer to an attempt.
-pub enum Entry {
+pub enum Answer {
     /// Start its handshake; the ticket holds its slots.
     Admitted(Ticket),
     /// Send it a QUIC retry: it must prove its address first.
@@ -292,7 +292,7 @@ mod tests {
         let gate = Gate::new(stats.clone());
         let limits = limits();
         let admit = || match gate.admit(&limits, ip(1), false) {
-            Entry::Admitted(ticket) => ticket,
+            Answer::Admitted(ticket) => ticket,
             _ => panic!("not admitted"),
         };
         let mut connected = admit();

@@ -30,7 +30,7 @@ use crate::matchmaking::Queues;
 use crate::output::{ConnId, RoomMeta, RoomOutput, StoreOp};
 use crate::ratelimit::Bucket;
 use crate::ratings::{PlayerRating, Ratings};
-use crate::room::{ClockLeft, Entry, Room, RoomRules, Who};
+use crate::room::{ClockLeft, Entered, Room, RoomRules, Who};
 use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
 use crate::source::source_key;
 use crate::work::{Returned, RoomWork};
@@ -1076,7 +1076,7 @@ impl Hub {
 
     /// Indexes what an entry point did: `conn` is in room `code` with its role, and the
     /// connection it replaced is in no room.
-    fn entered(&mut self, conn: ConnId, code: RoomCode, entry: &Entry) {
+    fn entered(&mut self, conn: ConnId, code: RoomCode, entry: &Entered) {
         let Some(role) = entry.role else { return };
         if let Some(c) = entry.replaced.and_then(|old| self.conns.get_mut(&old)) {
             c.room = None;

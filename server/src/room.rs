@@ -107,7 +107,7 @@ fn error_to(conn: ConnId, (code, message): Refusal) -> Vec<RoomOutput> {
 /// What an entry point ([`Room::join`], [`Room::rejoin`], [`Room::spectate`]) did, so the
 /// hub updates its index from facts rather than from the messages going out.
 #[derive(Debug)]
-pub struct Entry {
+pub struct Entered {
     /// The role the connection now has in the room; `None`: it was refused.
     pub role: Option<Role>,
     /// The older connection that held the seat and is closed by `out`.
@@ -116,9 +116,9 @@ pub struct Entry {
     pub out: Vec<RoomOutput>,
 }
 
-impl Entry {
-    fn refused(conn: ConnId, refusal: Refusal) -> Entry {
-        Entry {
+impl Entered {
+    fn refused(conn: ConnId, refusal: Refusal) -> Entered {
+        Entered {
             role: None,
             replaced: None,
             out: error_to(conn, refusal),
@@ -295,9 +295,9 @@ impl Room {
     }
 
     /// Takes the free seat B.
-    pub fn join(&mut self, now: Instant, conn: ConnId, name: String, token: SeatToken) -> Entry {
+    pub fn join(&mut self, now: Instant, conn: ConnId, name: String, token: SeatToken) -> Entered {
         if self.seats[1].is_some() {
-            return Entry::refused(conn, refuse(ErrorCode::RoomFull, "both seats are taken"));
+            return Entered::refused(conn, refuse(ErrorCode::RoomFull, "both seats are taken"));
         }
         self.seats[1] = Some(SeatState {
             name: name.clone(),
@@ -332,7 +332,7 @@ impl Room {
                 snapshot: Box::new(self.snapshot(now)),
             },
         });
-        Entry {
+        Entered {
             role: Some(Role::Player(Seat::B)),
             replaced: None,
             out,
@@ -341,13 +341,13 @@ impl Room {
 
     /// Gives `seat` back to a player who proved it with its token. An older connection still
     /// holding the seat is closed.
-    pub fn rejoin(&mut self, now: Instant, conn: ConnId, seat: Seat, token: SeatToken) -> Entry {
+    pub fn rejoin(&mut self, now: Instant, conn: ConnId, seat: Seat, token: SeatToken) -> Entered {
         let mut out = Vec::new();
         let Some(state) = self.seats[seat.index()].as_mut() else {
-            return Entry::refused(conn, refuse(ErrorCode::BadToken, "no such seat"));
+            return Entered::refused(conn, refuse(ErrorCode::BadToken, "no such seat"));
         };
         if !state.digest.matches(&TokenDigest::of(&token)) {
-            return Entry::refused(conn, refuse(ErrorCode::BadToken, "unknown seat token"));
+            return Entered::refused(conn, refuse(ErrorCode::BadToken, "unknown seat token"));
         }
         let replaced = state.conn.replace(conn);
         if let Some(old) = replaced {
@@ -373,7 +373,7 @@ impl Room {
                 snapshot: Box::new(self.snapshot(now)),
             },
         });
-        Entry {
+        Entered {
             role: Some(Role::Player(seat)),
             replaced,
             out,
@@ -381,12 +381,12 @@ impl Room {
     }
 
     /// Lets `conn` watch, unless `max` spectators already do.
-    pub fn spectate(&mut self, now: Instant, conn: ConnId, max: usize) -> Entry {
+    pub fn spectate(&mut self, now: Instant, conn: ConnId, max: usize) -> Entered {
         if self.spectators.len() >= max {
-            return Entry::refused(conn, refuse(ErrorCode::RoomFull, "too many spectators"));
+            return Entered::refused(conn, refuse(ErrorCode::RoomFull, "too many spectators"));
         }
         self.spectators.insert(conn);
-        Entry {
+        Entered {
             role: Some(Role::Spectator),
             replaced: None,
             out: vec![RoomOutput::Send {

@@ -38,7 +38,7 @@ use tokio::net::TcpListener;
 use tokio::sync::mpsc::error::TrySendError;
 use tokio::sync::{watch, Notify};
 
-use crate::admission::{Entry, Gate, Refusal, Ticket};
+use crate::admission::{Answer, Gate, Refusal, Ticket};
 use crate::conn::{self, HubEvent, Outbound, Outlet};
 use crate::endings::Ending;
 use crate::hub::{Claimed, Hub, HubConfig, Output, Restored};
@@ -437,9 +437,9 @@ impl Server {
                     let source = source_key(peer.ip());
                     // A TCP handshake has proven the address already: no retry.
                     let ticket = match gate.admit(&limits, source, true) {
-                        Entry::Admitted(ticket) => ticket,
-                        Entry::Retry => continue,
-                        Entry::Refused(why) => {
+                        Answer::Admitted(ticket) => ticket,
+                        Answer::Retry => continue,
+                        Answer::Refused(why) => {
                             let counter = match why {
                                 Refusal::Full => &stats.refused,
                                 Refusal::AddressShare => &stats.refused_address,
@@ -639,15 +639,15 @@ fn admit(
 ) -> Option<(quinn::Incoming, Ticket)> {
     let source = source_key(incoming.remote_address().ip());
     match gate.admit(limits, source, incoming.remote_address_validated()) {
-        Entry::Admitted(ticket) => Some((incoming, ticket)),
-        Entry::Retry => {
+        Answer::Admitted(ticket) => Some((incoming, ticket)),
+        Answer::Retry => {
             stats.retried.fetch_add(1, Ordering::Relaxed);
             if let Err(e) = incoming.retry() {
                 e.into_incoming().ignore();
             }
             None
         }
-        Entry::Refused(why) => {
+        Answer::Refused(why) => {
             let counter = match why {
                 Refusal::Full => &stats.refused,
                 Refusal::AddressShare => &stats.refused_address,
