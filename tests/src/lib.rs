@@ -11,7 +11,7 @@ use breakshot_client::net::{Client, ClientEvent, Reconnect, Session, SessionEven
 use breakshot_client::play::{GameEvent, GameFlow, GameLink, Replica};
 use breakshot_server::webcert::WebCerts;
 use breakshot_server::{Config, Server, ServerError, Stats};
-use breakshot_shared::physics::Strike;
+use breakshot_shared::physics::{BallState, Strike};
 use breakshot_shared::protocol::{
     AimAid, ClientMessage, Invite, Role, RoomCode, ServerMessage, WebLink,
 };
@@ -267,6 +267,29 @@ impl Player {
                 bail!("waiting for {what}, got {msg:?}");
             }
         }
+    }
+
+    /// Reads messages until the server's resolution of a shot arrives: its state hash and
+    /// the table after the rules.
+    pub async fn shot_resolved(&mut self) -> Result<(u64, Vec<BallState>)> {
+        match self
+            .until("ShotResolved", |m| {
+                matches!(m, ServerMessage::ShotResolved { .. })
+            })
+            .await?
+        {
+            ServerMessage::ShotResolved { hash, balls, .. } => Ok((hash, balls)),
+            other => bail!("expected ShotResolved, got {other:?}"),
+        }
+    }
+
+    /// Reads messages until the turn passes (`TurnChanged`).
+    pub async fn turn_changed(&mut self) -> Result<()> {
+        self.until("TurnChanged", |m| {
+            matches!(m, ServerMessage::TurnChanged { .. })
+        })
+        .await
+        .map(drop)
     }
 
     /// Reads messages until an error arrives, and returns it.

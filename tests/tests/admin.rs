@@ -81,10 +81,7 @@ async fn metrics_move_during_a_game_and_a_drain_lets_it_finish() -> Result<()> {
     let game = a.game().context("a's game")?.clone();
     a.send(break_shot(&game)).await?;
     for p in [&mut a, &mut b] {
-        p.until("ShotResolved", |m| {
-            matches!(m, ServerMessage::ShotResolved { .. })
-        })
-        .await?;
+        p.shot_resolved().await?;
     }
     let (_, after) = http(admin_addr, "GET", "/metrics").await?;
     assert!(

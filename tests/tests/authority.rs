@@ -101,10 +101,7 @@ async fn bad_commands_are_refused_and_change_nothing() -> anyhow::Result<()> {
     // Nothing changed, and the right command from the right player still works.
     assert_eq!(server_game(&server, &room).await?, before);
     a.send(break_shot(&before)).await?;
-    a.until("ShotResolved", |m| {
-        matches!(m, ServerMessage::ShotResolved { .. })
-    })
-    .await?;
+    a.shot_resolved().await?;
     assert_ne!(server_game(&server, &room).await?.turn(), turn);
     server.stop().await
 }
@@ -140,11 +137,7 @@ async fn a_spectator_sees_the_game_but_cannot_act() -> anyhow::Result<()> {
 
     // The watcher sees A's break like the players do, and predicts it to the same hash.
     a.send(break_shot(&game)).await?;
-    watcher
-        .until("ShotResolved", |m| {
-            matches!(m, ServerMessage::ShotResolved { .. })
-        })
-        .await?;
+    watcher.shot_resolved().await?;
     assert_eq!(watcher.replica.confirmed(), 1);
     assert_eq!(watcher.replica.desyncs(), 0);
     server.stop().await
@@ -170,9 +163,6 @@ async fn a_malformed_frame_closes_only_that_connection() -> anyhow::Result<()> {
     // A's connection is fine and the game still takes commands.
     let game = server_game(&server, &room).await?;
     a.send(break_shot(&game)).await?;
-    a.until("ShotResolved", |m| {
-        matches!(m, ServerMessage::ShotResolved { .. })
-    })
-    .await?;
+    a.shot_resolved().await?;
     server.stop().await
 }

@@ -34,10 +34,7 @@ async fn a_dropped_player_rejoins_with_its_token_and_play_continues() -> anyhow:
     // A breaks while B is away; the seat is held.
     let game = a.game().expect("A has the game").clone();
     a.send(break_shot(&game)).await?;
-    a.until("TurnChanged", |m| {
-        matches!(m, ServerMessage::TurnChanged { .. })
-    })
-    .await?;
+    a.turn_changed().await?;
     let turn_after_break = a.game().expect("game").turn();
 
     // B comes back on a new connection with its token and sees the table as it is now.
@@ -187,10 +184,7 @@ fn a_client_killed_mid_shot_rejoins_and_gets_its_seat_back() -> anyhow::Result<(
 
     // A comes back with its token: its seat, the table after its shot, and play goes on.
     main.block_on(async {
-        b.until("TurnChanged", |m| {
-            matches!(m, ServerMessage::TurnChanged { .. })
-        })
-        .await?;
+        b.turn_changed().await?;
         let mut a2 = Player::connect(&server.invite).await?;
         a2.send(ClientMessage::Rejoin { token }).await?;
         let ServerMessage::Joined { role, snapshot, .. } = a2

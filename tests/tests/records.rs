@@ -19,23 +19,9 @@ async fn a_game_in_play_is_fetched_by_room_code_and_replays_to_the_servers_table
         bail!("no game after joining");
     };
     a.send(break_shot(game)).await?;
-    let (hash, balls) = match a
-        .until("ShotResolved", |m| {
-            matches!(m, ServerMessage::ShotResolved { .. })
-        })
-        .await?
-    {
-        ServerMessage::ShotResolved { hash, balls, .. } => (hash, balls),
-        other => bail!("expected ShotResolved, got {other:?}"),
-    };
-    a.until("TurnChanged", |m| {
-        matches!(m, ServerMessage::TurnChanged { .. })
-    })
-    .await?;
-    b.until("TurnChanged", |m| {
-        matches!(m, ServerMessage::TurnChanged { .. })
-    })
-    .await?;
+    let (hash, balls) = a.shot_resolved().await?;
+    a.turn_changed().await?;
+    b.turn_changed().await?;
 
     // A client that never joined the room.
     let fetched = fetch_record(&server.invite, &room).await?;
@@ -140,23 +126,9 @@ async fn after_a_rematch_the_first_game_is_fetched_by_its_number_and_replays() -
         bail!("no game after joining");
     };
     a.send(break_shot(game)).await?;
-    let first_hash = match a
-        .until("ShotResolved", |m| {
-            matches!(m, ServerMessage::ShotResolved { .. })
-        })
-        .await?
-    {
-        ServerMessage::ShotResolved { hash, .. } => hash,
-        other => bail!("expected ShotResolved, got {other:?}"),
-    };
-    a.until("TurnChanged", |m| {
-        matches!(m, ServerMessage::TurnChanged { .. })
-    })
-    .await?;
-    b.until("TurnChanged", |m| {
-        matches!(m, ServerMessage::TurnChanged { .. })
-    })
-    .await?;
+    let first_hash = a.shot_resolved().await?.0;
+    a.turn_changed().await?;
+    b.turn_changed().await?;
     let to_move = a.game().map(|g| g.to_move());
     let conceder = if to_move == Some(breakshot_shared::rules::Seat::A) {
         &mut a
@@ -181,10 +153,7 @@ async fn after_a_rematch_the_first_game_is_fetched_by_its_number_and_replays() -
         bail!("no game after the rematch");
     };
     a.send(break_shot(game)).await?;
-    a.until("ShotResolved", |m| {
-        matches!(m, ServerMessage::ShotResolved { .. })
-    })
-    .await?;
+    a.shot_resolved().await?;
 
     // Game 1, by its number: finished, and it replays to its end.
     let first = fetch_game(&server.invite, &room, Some(1)).await?;
