@@ -91,7 +91,7 @@ impl Game {
         };
         let stroke = Stroke::read(&outcome);
         let before = self.balls.clone();
-        let judgement = frame::judge(&m, &before, &stroke, frame::touching(&before));
+        let mut judgement = frame::judge(&m, &before, &stroke, frame::touching(&before));
         let mut finals = outcome.finals.clone();
         for &b in &stroke.off_table {
             if let Some(ball) = finals.get_mut(usize::from(b)) {
@@ -99,6 +99,13 @@ impl Game {
             }
         }
         self.balls = finals;
+        // A foul only the balls at rest show.
+        judgement.fouls.extend(frame::snookered_behind_free_ball(
+            &m,
+            &before,
+            &self.balls,
+            &judgement,
+        ));
         self.stalemate = [false; 2];
         let facts = ShotFacts::from_outcome(&outcome, self.table());
         let report = ShotReport {

@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 use crate::physics::{BallState, EventKind, MotionState, Outcome};
 
 use super::super::Seat;
-use super::table::{self, ball_name, is_colour, is_red, value, BLACK, COLOURS, CUE};
+use super::table::{self, ball_name, is_colour, is_red, value, BLACK, COLOURS, CUE, PINK};
 
 /// The lowest and highest penalty of a foul (WPBSA 3.12).
 pub const MIN_PENALTY: u32 = 4;
@@ -458,6 +458,53 @@ pub fn judge(
         respot,
         deemed,
     }
+}
+
+/// The foul of leaving the cue ball snookered behind the free ball (WPBSA Section 3 Rule
+/// 10): after a free-ball stroke that was otherwise fair and potted nothing, no ball on (every
+/// red, or the colour in sequence) can be hit at both extreme edges, and it could be but for
+/// the free ball — unless only the pink and the black remain. `after` is the table at rest.
+pub fn snookered_behind_free_ball(
+    state: &Snooker,
+    before: &[BallState],
+    after: &[BallState],
+    judgement: &Judgement,
+) -> Option<Foul> {
+    let free = state.nominated.filter(|_| state.free_ball)?;
+    if !judgement.fouls.is_empty() || !judgement.scored.is_empty() || !on_table(after, free) {
+        return None;
+    }
+    let objects: Vec<u8> = (1..table::BALL_COUNT as u8)
+        .filter(|&b| on_table(before, b))
+        .collect();
+    if objects == [PINK, BLACK] {
+        return None;
+    }
+    let (on, on_value): (Vec<u8>, u32) = match state.ball_on(before) {
+        BallOn::Red => (
+            (1..table::BALL_COUNT as u8)
+                .filter(|&b| is_red(b) && on_table(after, b))
+                .collect(),
+            1,
+        ),
+        BallOn::Sequence(c) if c != free && on_table(after, c) => (vec![c], value(c)),
+        _ => return None,
+    };
+    if on.is_empty() || !snookered(after, &on) {
+        return None;
+    }
+    let mut without_free = after.to_vec();
+    without_free[usize::from(free)].motion = MotionState::Pocketed;
+    if snookered(&without_free, &on) {
+        return None;
+    }
+    Some(Foul {
+        value: penalty(on_value, &[]),
+        what: format!(
+            "the cue ball was left snookered behind the free ball, {}",
+            ball_name(free)
+        ),
+    })
 }
 
 /// The ball the cue ball touches before the stroke, if any (within a micrometre).

@@ -416,6 +416,36 @@ fn a_free_ball_is_given_when_snookered_after_a_foul() {
 }
 
 #[test]
+fn leaving_the_cue_ball_snookered_behind_the_free_ball_is_a_foul() {
+    // As above, but Player B nudges the free ball along the line to the red: the cue ball
+    // follows and stops with the pink between it and the only red.
+    let mut g = position(&[(CUE, [0.889, 2.5]), (PINK, [0.889, 2.6]), (1, [0.889, 3.2])]);
+    g.apply(Seat::A, &shot_dir([1.0, 0.0], 0.05, [0.0, 0.0]))
+        .expect("shot");
+    g.apply(Seat::B, &Command::Decide(Choice::AcceptTable))
+        .expect("plays on");
+    g.apply(Seat::B, &Command::Decide(Choice::Nominate(PINK)))
+        .expect("nominates");
+    let before = scores(&g);
+    let v = g
+        .apply(Seat::B, &strike_at(&g, [0.889, 2.6], 0.3))
+        .expect("shot");
+    assert!(v.foul, "{:?}", v.reasons);
+    assert!(
+        v.reasons[0].contains("the cue ball was left snookered behind the free ball, the pink"),
+        "{:?}",
+        v.reasons
+    );
+    // The value of the ball on, a red: the least penalty, 4.
+    assert_eq!(scores(&g)[0], before[0] + 4);
+    // Without the pink in the way the red is in full view: the snooker is the free ball's.
+    assert!(frame::snookered(&g.balls, &[1]));
+    let mut without_pink = g.balls.clone();
+    without_pink[usize::from(PINK)] = off_table();
+    assert!(!frame::snookered(&without_pink, &[1]));
+}
+
+#[test]
 fn a_free_ball_nomination_when_not_snookered_is_refused_and_nothing_changes() {
     let mut g = position(&[(CUE, [0.889, 1.0]), (PINK, [0.3, 2.6]), (1, [0.889, 3.2])]);
     g.apply(Seat::A, &shot_dir([1.0, 0.0], 0.05, [0.0, 0.0]))
