@@ -198,6 +198,8 @@ pub struct Stroke {
     pub potted: Vec<u8>,
     /// Balls that left the table other than by a pocket.
     pub off_table: Vec<u8>,
+    /// Balls the cue ball flew over before it first touched a ball (a jump shot).
+    pub jumped_over: Vec<u8>,
 }
 
 impl Stroke {
@@ -233,6 +235,10 @@ impl Stroke {
             }
         }
         stroke.first.sort_unstable();
+        stroke.jumped_over = jumped_over(outcome, stroke.first_time);
+        // The ball first hit is met, not passed over: met in flight, the cue ball's centre
+        // is within two radii of it seen from above.
+        stroke.jumped_over.retain(|b| !stroke.first.contains(b));
         stroke
     }
 
@@ -245,6 +251,58 @@ impl Stroke {
     pub fn cue_gone(&self) -> bool {
         self.gone().any(|b| b == CUE)
     }
+}
+
+/// The balls the cue ball passed over in flight before its first contact (by `first_time`;
+/// the whole shot if it touched none): seen from above it came within two radii of their
+/// centres with no contact, so it went over them. In flight its path seen from above is
+/// straight, so each piece of flight is one segment. A cue ball that meets a ball in flight
+/// has not jumped it; one that meets it and then lands beyond it is not told apart (the
+/// rules' third kind of jump shot is not judged).
+fn jumped_over(outcome: &Outcome, first_time: Option<f64>) -> Vec<u8> {
+    let end = first_time.unwrap_or(f64::INFINITY);
+    let cue = usize::from(CUE);
+    let Some(pieces) = outcome.history.get(cue) else {
+        return Vec::new();
+    };
+    let reach = 2.0 * table::radius() - 1e-9;
+    let mut over = Vec::new();
+    for (k, piece) in pieces.iter().enumerate() {
+        if piece.t0 >= end {
+            break;
+        }
+        if piece.start.motion != MotionState::Airborne {
+            continue;
+        }
+        let next = pieces.get(k + 1).map_or(piece.t_end, |p| p.t0);
+        let t1 = next.min(piece.t_end).min(end).min(outcome.duration);
+        let a = outcome.state_at(cue, piece.t0).pos;
+        let b = outcome.state_at(cue, t1).pos;
+        for ball in 1..outcome.history.len().min(table::BALL_COUNT) {
+            // Before the cue ball's first contact every other ball lies where it was.
+            let at = outcome.state_at(ball, 0.0);
+            if matches!(at.motion, MotionState::Pocketed | MotionState::OffTable) {
+                continue;
+            }
+            let ball = ball as u8;
+            if distance_to_segment(at.pos, a, b) < reach && !over.contains(&ball) {
+                over.push(ball);
+            }
+        }
+    }
+    over
+}
+
+/// How far `p` is from the segment `a`–`b`.
+fn distance_to_segment(p: DVec2, a: DVec2, b: DVec2) -> f64 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + ab * t - p).length()
 }
 
 /// One foul of a stroke: its value and what happened ("the blue was hit first").
@@ -364,6 +422,13 @@ pub fn judge(
                 format!("push stroke: the cue ball was touching {}", ball_name(t)),
             );
         }
+    }
+    for &b in &stroke.jumped_over {
+        // A jump shot costs the value of the ball on (the WPBSA penalty section).
+        foul(
+            &[],
+            format!("jump shot: the cue ball jumped over {}", ball_name(b)),
+        );
     }
     if stroke.potted.contains(&CUE) {
         foul(&[], "in-off: the cue ball was potted".into());

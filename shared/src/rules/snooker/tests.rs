@@ -679,3 +679,33 @@ fn the_computer_nominates_a_colour_before_playing_at_it() {
     let cmd = crate::ai::decide(&g, crate::ai::Level::new(1), 5).expect("a move");
     assert!(matches!(cmd, Command::Shot { .. }), "{cmd:?}");
 }
+
+fn jump(speed: f64, elevation_deg: f64) -> Command {
+    Command::Shot {
+        strike: Strike {
+            speed,
+            dir: DVec2::new(0.0, 1.0),
+            tip: DVec2::ZERO,
+            elevation_deg,
+        },
+        call: None,
+    }
+}
+
+#[test]
+fn a_cue_ball_that_flies_over_a_ball_before_its_first_contact_is_a_jump_shot() {
+    // A red 12 cm up the table from the cue ball, another far beyond on the same line.
+    let layout = [(CUE, [0.889, 1.0]), (1, [0.889, 1.12]), (2, [0.889, 2.2])];
+    // Struck down hard at 40°, the cue ball clears the near red.
+    let mut g = position(&layout);
+    let v = g.apply(Seat::A, &jump(3.0, 40.0)).expect("shot");
+    assert!(v.foul, "{:?}", v.reasons);
+    assert_eq!(
+        v.reasons[0],
+        "Foul: jump shot: the cue ball jumped over a red, 4 to Player B"
+    );
+    // At 20° it hops but meets the near red: a fair stroke that scores nothing.
+    let mut g = position(&layout);
+    let v = g.apply(Seat::A, &jump(3.0, 20.0)).expect("shot");
+    assert!(!v.foul, "{:?}", v.reasons);
+}
