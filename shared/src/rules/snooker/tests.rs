@@ -709,3 +709,27 @@ fn a_cue_ball_that_flies_over_a_ball_before_its_first_contact_is_a_jump_shot() {
     let v = g.apply(Seat::A, &jump(3.0, 20.0)).expect("shot");
     assert!(!v.foul, "{:?}", v.reasons);
 }
+
+#[test]
+fn a_cue_ball_jumped_off_the_table_is_a_foul_and_the_next_player_has_it_in_hand() {
+    // Struck up at 45° from half a metre off the top cushion, the cue ball flies over it.
+    let mut g = position(&[(CUE, [0.889, 3.0]), (1, [0.889, 1.12])]);
+    let v = g.apply(Seat::A, &jump(4.0, 45.0)).expect("shot");
+    assert!(off(&g, CUE));
+    assert_eq!(
+        v.reasons[..2],
+        [
+            "Foul and a miss: the cue ball hit no ball, 4 to Player B".to_string(),
+            "Also: the cue ball left the table".to_string()
+        ]
+    );
+    g.apply(Seat::B, &Command::Decide(Choice::AcceptTable))
+        .expect("plays on");
+    assert!(matches!(
+        g.phase(),
+        Phase::Shooting {
+            in_hand: Some(InHand::D),
+            ..
+        }
+    ));
+}
