@@ -6,8 +6,9 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use anyhow::{anyhow, bail, Result};
-use breakshot_client::net::{Client, ClientEvent, Reconnect, Session, SessionEvent};
+use anyhow::{anyhow, bail, Context, Result};
+use breakshot_client::bot::{run, BotConfig, Report};
+use breakshot_client::net::{fetch_record, Client, ClientEvent, Reconnect, Session, SessionEvent};
 use breakshot_client::play::{GameEvent, GameFlow, GameLink, Replica};
 use breakshot_server::webcert::WebCerts;
 use breakshot_server::{Config, Server, ServerError, Stats};
@@ -15,6 +16,7 @@ use breakshot_shared::physics::{BallState, Strike};
 use breakshot_shared::protocol::{
     AimAid, ClientMessage, Invite, Role, RoomCode, ServerMessage, WebLink,
 };
+use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::Game;
 use breakshot_shared::rules::{EightBallRules, Settings, Variant};
 use tokio::sync::oneshot;
@@ -330,6 +332,29 @@ pub async fn create_room(host: &mut Player, name: &str) -> Result<RoomCode> {
         ServerMessage::Joined { snapshot, .. } => Ok(snapshot.room),
         other => bail!("expected Joined, got {other:?}"),
     }
+}
+
+/// One game between the bots of `config` through `server`, played to its end within
+/// `patience`, then the server stopped: the bots' report, checked for what every such game
+/// must give (no error, the one game completed, no desync, both players confirming every
+/// shot), and the game's record as the server stored it, checked finished.
+pub async fn bot_game(
+    server: TestServer,
+    config: &BotConfig,
+    patience: Duration,
+) -> Result<(Report, GameRecord)> {
+    let report = tokio::time::timeout(patience, run(config))
+        .await
+        .map_err(|_| anyhow!("the bots' game did not finish within {patience:?}"))?;
+    let room = report.games[0].room.clone().context("no room was opened")?;
+    let fetched = fetch_record(&server.invite, &room).await?;
+    server.stop().await?;
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert_eq!(report.games_completed, 1);
+    assert_eq!(report.desyncs, 0);
+    assert_eq!(report.confirmed, 2 * report.shots);
+    assert!(fetched.finished, "the stored game is not over");
+    Ok((report, GameRecord::decode(&fetched.bytes)?))
 }
 
 /// Two players seated in a new 8-ball room: (host in seat A, guest in seat B, room).

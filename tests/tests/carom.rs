@@ -1,13 +1,11 @@
 //! Three-cushion billiards through a real server: rooms are created and played like 8-ball
 //! and 9-ball, and every client's copy of each shot matches the server's.
 
-use breakshot_client::bot::{run, BotConfig};
-use breakshot_client::net::fetch_record;
+use breakshot_client::bot::BotConfig;
 use breakshot_server::verify::verify_dir;
 use breakshot_shared::physics::TableKind;
-use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Command, Game, Phase, Settings, Variant};
-use breakshot_tests::{scratch, TestServer, PATIENCE};
+use breakshot_tests::{bot_game, scratch, TestServer, PATIENCE};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_three_cushion_match_is_played_through_the_client_core_without_a_desync(
@@ -20,24 +18,12 @@ async fn a_three_cushion_match_is_played_through_the_client_core_without_a_desyn
         table: TableKind::Carom,
         ..Settings::offline()
     };
-    let report = tokio::time::timeout(PATIENCE, run(&config))
-        .await
-        .expect("the match never finished");
-    let room = report.games[0].room.clone().expect("a room was opened");
-    let fetched = fetch_record(&server.invite, &room).await?;
-    server.stop().await?;
-
-    assert!(report.errors.is_empty(), "{:?}", report.errors);
-    assert_eq!(report.games_completed, 1);
+    let (report, record) = bot_game(server, &config, PATIENCE).await?;
     assert!(report.shots > 1, "{:?}", report.games);
-    assert_eq!(report.desyncs, 0);
-    // Both players simulated every shot and the server confirmed each one.
-    assert_eq!(report.confirmed, 2 * report.shots);
 
     // The record is a three-cushion match on the carom table, judged shot by shot by the
     // three-cushion rules: every shot either scored (the shooter plays on) or passed the
     // inning, and the balls never went in hand.
-    let record = GameRecord::decode(&fetched.bytes)?;
     assert_eq!(record.variant, Variant::ThreeCushion { race: 1 });
     let mut game = Game::new(record.variant, record.settings, record.seed);
     assert_eq!(game.table(), TableKind::Carom);

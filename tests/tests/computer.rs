@@ -3,18 +3,15 @@
 
 use std::time::{Duration, Instant};
 
-use breakshot_client::bot::{run, BotConfig};
-use breakshot_client::net::{
-    fetch_record, EmbeddedServer, Host, HostOptions, NetLink, SeatedComputer, Session,
-};
+use breakshot_client::bot::BotConfig;
+use breakshot_client::net::{EmbeddedServer, Host, HostOptions, NetLink, SeatedComputer, Session};
 use breakshot_client::play::{GameEvent, GameFlow, GameLink, Turn};
 use breakshot_client::view::hud::Connection;
 use breakshot_server::Config;
 use breakshot_shared::ai::{self, Level};
 use breakshot_shared::protocol::{AimAid, ClientMessage};
-use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Command, Game, Phase, Seat, Settings, Variant};
-use breakshot_tests::{eight_ball, scratch, TestServer, PATIENCE};
+use breakshot_tests::{bot_game, eight_ball, scratch, TestServer, PATIENCE};
 
 /// One game of `variant`: the computer player at level 1 opens the room, the ghost-ball bot
 /// joins. Every command the computer sent was accepted, both players confirmed every shot,
@@ -25,23 +22,11 @@ async fn computer_against_ghost(variant: Variant, name: &str) -> anyhow::Result<
     let mut config = BotConfig::new(server.invite.clone(), 1);
     config.variant = variant;
     config.levels = [Some(Level::new(1)), None];
-    let report = tokio::time::timeout(4 * PATIENCE, run(&config))
-        .await
-        .expect("the game never finished");
-    let room = report.games[0].room.clone().expect("a room was opened");
-    let fetched = fetch_record(&server.invite, &room).await?;
-    server.stop().await?;
-
-    assert!(report.errors.is_empty(), "{:?}", report.errors);
-    assert_eq!(report.games_completed, 1);
+    let (report, record) = bot_game(server, &config, 4 * PATIENCE).await?;
     assert_eq!(
         report.games[0].refused[0], 0,
         "the computer made a refused move"
     );
-    assert_eq!(report.desyncs, 0);
-    assert_eq!(report.confirmed, 2 * report.shots);
-    let record = GameRecord::decode(&fetched.bytes)?;
-    assert!(fetched.finished);
     let mut game = Game::new(record.variant, record.settings, record.seed);
     let mut computer_shots = 0;
     for e in &record.entries {

@@ -1,11 +1,9 @@
 //! Whole games between bots through a real server.
 
 use breakshot_client::bot::{run, BotConfig};
-use breakshot_client::net::fetch_record;
 use breakshot_server::verify::verify_dir;
-use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Command, Game, Phase, Settings, Variant};
-use breakshot_tests::{scratch, TestServer, PATIENCE};
+use breakshot_tests::{bot_game, scratch, TestServer, PATIENCE};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn two_bots_play_a_full_eight_ball_game_and_every_hash_agrees() -> anyhow::Result<()> {
@@ -45,19 +43,9 @@ async fn a_nine_ball_game_with_called_shots_is_played_through_the_client_core() 
         call_every_shot: true,
         ..Settings::offline()
     };
-    let report = run(&config).await;
-    let room = report.games[0].room.clone().expect("a room was opened");
-    let fetched = fetch_record(&server.invite, &room).await?;
-    server.stop().await?;
-
-    assert!(report.errors.is_empty(), "{:?}", report.errors);
-    assert_eq!(report.games_completed, 1);
-    assert_eq!(report.desyncs, 0);
-    assert_eq!(report.confirmed, 2 * report.shots);
+    let (report, record) = bot_game(server, &config, PATIENCE).await?;
     // The rules asked for a pocket on every shot after the break, the players named one,
     // and the server accepted each: the game ended by the rules, not by a concession.
-    let record = GameRecord::decode(&fetched.bytes)?;
-    assert!(fetched.finished);
     let mut game = Game::new(record.variant, record.settings, record.seed);
     let mut called = 0;
     for e in &record.entries {

@@ -4,14 +4,12 @@
 
 use std::time::Duration;
 
-use breakshot_client::bot::{run, BotConfig};
-use breakshot_client::net::fetch_record;
+use breakshot_client::bot::BotConfig;
 use breakshot_server::verify::verify_dir;
 use breakshot_shared::physics::TableKind;
-use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::snooker::frame::{MAX_PENALTY, MIN_PENALTY};
 use breakshot_shared::rules::{Command, Game, Phase, Variant};
-use breakshot_tests::{scratch, TestServer};
+use breakshot_tests::{bot_game, scratch, TestServer};
 
 /// A frame of 15 reds between two bots takes a few hundred strokes: more than one
 /// game's usual patience.
@@ -25,23 +23,10 @@ async fn two_bots_play_a_whole_frame_of_snooker_through_the_server_without_a_des
     let mut config = BotConfig::new(server.invite.clone(), 1);
     let variant = Variant::snooker();
     config.variant = variant;
-    let report = tokio::time::timeout(FRAME_PATIENCE, run(&config))
-        .await
-        .expect("the frame never finished");
-    let room = report.games[0].room.clone().expect("a room was opened");
-    let fetched = fetch_record(&server.invite, &room).await?;
-    server.stop().await?;
-
-    assert!(report.errors.is_empty(), "{:?}", report.errors);
-    assert_eq!(report.games_completed, 1);
-    assert_eq!(report.desyncs, 0);
-    // Both players simulated every stroke and the server confirmed each one.
-    assert_eq!(report.confirmed, 2 * report.shots);
+    let (report, record) = bot_game(server, &config, FRAME_PATIENCE).await?;
 
     // The record is a frame on the snooker table; replayed by the rules, the scores only
     // grow, a fair stroke by the striker's pots, a foul by 4 to 7 to the other player.
-    let record = GameRecord::decode(&fetched.bytes)?;
-    assert!(fetched.finished);
     assert_eq!(record.variant, variant);
     let mut game = Game::new(record.variant, record.settings, record.seed);
     assert_eq!(game.table(), TableKind::Snooker);
