@@ -12,7 +12,7 @@ use super::chat::Chat;
 use super::controls::Stage;
 use super::event::{AwayResult, GameEvent};
 use super::link::Shown;
-use super::replica::Replica;
+use super::replica::{Check, Replica};
 use crate::view::hud::Connection;
 use crate::view::Playback;
 
@@ -83,8 +83,6 @@ pub struct GameFlow {
     pub chat: Chat,
     /// The last aim the shooter showed: (turn, seat, strike).
     opponent_aim: Option<(TurnId, Seat, Strike)>,
-    /// The turn of the command accepted last, whose judgement is awaited.
-    accepted_turn: Option<TurnId>,
     /// A shot the deciding side's hash did not confirm here, not yet reported: (its turn,
     /// the deciding side's hash).
     desync: Option<(TurnId, u64)>,
@@ -121,7 +119,6 @@ impl GameFlow {
             ratings: [None, None],
             chat: Chat::default(),
             opponent_aim: None,
-            accepted_turn: None,
             desync: None,
         }
     }
@@ -218,16 +215,10 @@ impl GameFlow {
                 }
                 return;
             }
-            GameEvent::Judged { hash } => {
+            GameEvent::Judged { .. } => {
                 self.last_verdict = self.pending_verdict.take();
-                let desyncs = self.replica.desyncs();
-                self.replica.handle(&event);
-                if let (true, Some(turn), Some(hash)) = (
-                    self.replica.desyncs() > desyncs,
-                    self.accepted_turn.take(),
-                    *hash,
-                ) {
-                    self.desync = Some((turn, hash));
+                if let Some(Check::Desync { turn, server, .. }) = self.replica.handle(&event) {
+                    self.desync = Some((turn, server));
                 }
                 return;
             }
@@ -261,7 +252,6 @@ impl GameFlow {
 
     /// Applies an accepted command to the replica; a shot starts playing at once.
     fn accepted(&mut self, turn: TurnId, seat: Seat, command: &Command) -> Option<Verdict> {
-        self.accepted_turn = Some(turn);
         if matches!(command, Command::Shot { .. }) {
             self.call = None;
             self.before_shot = self.game().cloned();
