@@ -415,15 +415,22 @@ fn a_free_ball_is_given_when_snookered_after_a_foul() {
     assert!(!v.foul, "{:?}", v.reasons);
 }
 
-#[test]
-fn leaving_the_cue_ball_snookered_behind_the_free_ball_is_a_foul() {
-    // As above, but Player B nudges the free ball along the line to the red: the cue ball
-    // follows and stops with the pink between it and the only red.
-    let mut g = position(&[(CUE, [0.889, 2.5]), (PINK, [0.889, 2.6]), (1, [0.889, 3.2])]);
+/// `balls` laid out, Player A taps the cue ball into nothing (a foul) and Player B plays on.
+fn played_on_after_a_miss(balls: &[(u8, [f64; 2])]) -> Game {
+    let mut g = position(balls);
     g.apply(Seat::A, &shot_dir([1.0, 0.0], 0.05, [0.0, 0.0]))
         .expect("shot");
     g.apply(Seat::B, &Command::Decide(Choice::AcceptTable))
         .expect("plays on");
+    g
+}
+
+#[test]
+fn leaving_the_cue_ball_snookered_behind_the_free_ball_is_a_foul() {
+    // As above, but Player B nudges the free ball along the line to the red: the cue ball
+    // follows and stops with the pink between it and the only red.
+    let mut g =
+        played_on_after_a_miss(&[(CUE, [0.889, 2.5]), (PINK, [0.889, 2.6]), (1, [0.889, 3.2])]);
     g.apply(Seat::B, &Command::Decide(Choice::Nominate(PINK)))
         .expect("nominates");
     let before = scores(&g);
@@ -447,11 +454,8 @@ fn leaving_the_cue_ball_snookered_behind_the_free_ball_is_a_foul() {
 
 #[test]
 fn a_free_ball_nomination_when_not_snookered_is_refused_and_nothing_changes() {
-    let mut g = position(&[(CUE, [0.889, 1.0]), (PINK, [0.3, 2.6]), (1, [0.889, 3.2])]);
-    g.apply(Seat::A, &shot_dir([1.0, 0.0], 0.05, [0.0, 0.0]))
-        .expect("shot");
-    g.apply(Seat::B, &Command::Decide(Choice::AcceptTable))
-        .expect("plays on");
+    let mut g =
+        played_on_after_a_miss(&[(CUE, [0.889, 1.0]), (PINK, [0.3, 2.6]), (1, [0.889, 3.2])]);
     let before = g.clone();
     let err = g.apply(Seat::B, &Command::Decide(Choice::Nominate(PINK)));
     assert_eq!(
