@@ -1,13 +1,26 @@
 //! Drills: a position with a goal the engine judges, scored over attempts. A drill file is
 //! `{"name": ..., "scene": SCENE, "goal": GOAL}`, the scene one of the simulator's
 //! (docs/scene.md) and the goal any of: `pot` (a ball's id), `pocket` (its pocket's name,
-//! `lb` `lc` `lt` `rb` `rc` `rt`), `cue_stops_in` (`[[x0, y0], [x1, y1]]`, m), and
-//! `cushions_first` (cue-ball cushions before the first ball it hits).
+//! `lb` `lc` `lt` `rb` `rc` `rt`), `cue_stops_in` (`[[x0, y0], [x1, y1]]`, m),
+//! `cushions_first` (cue-ball cushions before the first ball it hits) and `point` (a
+//! three-cushion point: both object balls, three cushions before the second). A drill may
+//! carry an `example`, a strike in the scene's format that makes it: the screen shows it
+//! when asked, and the tests play every shipped drill's to prove it can be made.
 
-use breakshot_shared::physics::{EventKind, MotionState, Outcome, Table};
+use breakshot_shared::physics::{EventKind, MotionState, Outcome, Strike, Table};
+use breakshot_shared::rules::three_cushion::{self, CaromFacts};
 use breakshot_shared::rules::Game;
-use breakshot_shared::scene::Scene;
+use breakshot_shared::scene::{Scene, SceneStrike};
 use serde::Deserialize;
+
+/// The drills that ship with the game, as their files (`client/drills/`), in the order the
+/// menu lists them.
+pub const SHIPPED: [&str; 4] = [
+    include_str!("../../drills/straight-in.json"),
+    include_str!("../../drills/cut-angles.json"),
+    include_str!("../../drills/cut-to-a-zone.json"),
+    include_str!("../../drills/three-cushion-corner.json"),
+];
 
 /// What an attempt must do; every part given must happen.
 #[derive(Clone, Debug, Default, PartialEq, Deserialize)]
@@ -25,6 +38,10 @@ pub struct Goal {
     /// The cue ball touches at least this many cushions before any ball.
     #[serde(default)]
     pub cushions_first: Option<u32>,
+    /// The cue ball scores a three-cushion point: it touches both object balls and at
+    /// least three cushions before the second.
+    #[serde(default)]
+    pub point: bool,
 }
 
 /// A drill as shipped or written by a player.
@@ -36,6 +53,8 @@ pub struct Drill {
     pub scene: Scene,
     /// What an attempt must do.
     pub goal: Goal,
+    /// A strike that makes it, on the cue ball, if the drill's author gave one.
+    pub example: Option<Strike>,
 }
 
 #[derive(Deserialize)]
@@ -44,6 +63,8 @@ struct RawDrill {
     name: String,
     scene: serde_json::Value,
     goal: Goal,
+    #[serde(default)]
+    example: Option<SceneStrike>,
 }
 
 impl Drill {
@@ -53,7 +74,9 @@ impl Drill {
         let raw: RawDrill =
             serde_json::from_str(text).map_err(|e| format!("invalid drill: {e}"))?;
         let scene = Scene::from_json(&raw.scene.to_string()).map_err(|e| e.to_string())?;
-        Game::practice(&scene).map_err(|e| e.to_string())?;
+        let cue = Game::practice(&scene)
+            .map_err(|e| e.to_string())?
+            .cue_ball();
         let goal = raw.goal;
         if goal == Goal::default() {
             return Err("the drill's goal asks for nothing".into());
@@ -77,11 +100,44 @@ impl Drill {
                 return Err(format!("the table has no pocket \"{pocket}\""));
             }
         }
+        if goal.point && scene.balls.len() != 3 {
+            return Err(format!(
+                "a three-cushion point needs the cue ball and two object balls, not {} balls",
+                scene.balls.len()
+            ));
+        }
+        let example = match raw.example {
+            None => None,
+            Some(strike) => {
+                if strike.ball != scene.balls[cue].id {
+                    return Err(format!(
+                        "the example strikes \"{}\", not the cue ball \"{}\"",
+                        strike.ball, scene.balls[cue].id
+                    ));
+                }
+                let with = Scene {
+                    strike: Some(strike),
+                    ..scene.clone()
+                };
+                let shot = with.to_shot().map_err(|e| format!("the example: {e}"))?;
+                shot.strike.map(|(_, s)| s)
+            }
+        };
         Ok(Drill {
             name: raw.name,
             scene,
             goal,
+            example,
         })
+    }
+
+    /// The shipped drills, read (a shipped drill that does not read is a bug the tests
+    /// catch, so here it is left out rather than stopping the menu).
+    pub fn shipped() -> Vec<Drill> {
+        SHIPPED
+            .iter()
+            .filter_map(|text| Drill::from_json(text).ok())
+            .collect()
     }
 
     /// Whether an attempt whose shot came out as `outcome` (balls indexed as the scene's,
@@ -121,7 +177,11 @@ impl Drill {
             }
             rails >= n
         });
-        potted && stopped && cushions
+        let point = !goal.point || {
+            let facts = CaromFacts::from_outcome(outcome, cue as u8);
+            three_cushion::judge(&facts, cue as u8, None, false).point
+        };
+        potted && stopped && cushions && point
     }
 }
 
@@ -168,11 +228,45 @@ mod tests {
 
     const STRAIGHT: &str = include_str!("../../drills/straight-in.json");
 
+    /// Every drill that ships reads, its example makes it, and the goal is not met by any
+    /// shot at all: the example turned by up to three degrees either way misses some.
     #[test]
-    fn the_shipped_drills_read() {
-        for text in [STRAIGHT, include_str!("../../drills/cut-to-a-zone.json")] {
-            Drill::from_json(text).expect("a drill");
+    fn every_shipped_drill_can_be_made_and_missed() {
+        let drills = Drill::shipped();
+        assert_eq!(drills.len(), SHIPPED.len(), "every shipped drill reads");
+        let mut sim = Simulator::new();
+        for drill in drills {
+            let cue = Game::practice(&drill.scene).expect("a table").cue_ball();
+            let example = drill
+                .example
+                .unwrap_or_else(|| panic!("{}: an example", drill.name));
+            let mut shot = drill.scene.to_shot().expect("a shot");
+            let mut made = |strike: Strike| {
+                shot.strike = Some((cue, strike));
+                drill.judge(sim.run(&shot).expect("simulated"), cue)
+            };
+            assert!(made(example), "{}: the example makes it", drill.name);
+            let missed = (-15..=15).filter(|k| {
+                let turn = (0.2 * f64::from(*k)).to_radians();
+                let dir = DVec2::from_angle(turn).rotate(example.dir);
+                !made(Strike { dir, ..example })
+            });
+            assert!(
+                missed.count() > 10,
+                "{}: turning the cue misses",
+                drill.name
+            );
         }
+    }
+
+    #[test]
+    fn a_drill_s_example_must_strike_its_cue_ball_and_a_point_needs_three_balls() {
+        let bad = STRAIGHT.replace("\"ball\": \"cue\"", "\"ball\": \"1\"");
+        let why = Drill::from_json(&bad).expect_err("the example strikes the 1");
+        assert!(why.contains("not the cue ball"), "{why}");
+        let bad = STRAIGHT.replace("\"pocket\": \"lt\"", "\"pocket\": \"lt\", \"point\": true");
+        let why = Drill::from_json(&bad).expect_err("a point with one object ball");
+        assert!(why.contains("two object balls"), "{why}");
     }
 
     #[test]
