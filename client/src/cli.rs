@@ -320,17 +320,15 @@ fn prepare(cli: &Cli) -> anyhow::Result<ui::Start> {
             let drill = serde_json::from_str::<serde_json::Value>(&text)
                 .ok()
                 .filter(|v| v.get("goal").is_some());
-            let scene = if drill.is_some() {
+            if drill.is_some() {
                 let drill = breakshot_client::play::drill::Drill::from_json(&text)
                     .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-                let scene = drill.scene.clone();
-                ui::practice::offer_drill(drill);
-                scene
+                ui::Start::Drill(Box::new(drill))
             } else {
-                breakshot_client::play::position::read(&text)
-                    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
-            };
-            ui::Start::Practice(Some(Box::new(scene)))
+                let scene = breakshot_client::play::position::read(&text)
+                    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+                ui::Start::Practice(Some(Box::new(scene)))
+            }
         }
         Some(Command::Local { game, .. }) => ui::Start::Local(game.variant()?),
         Some(Command::VsComputer {

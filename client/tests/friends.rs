@@ -29,7 +29,7 @@ const BREAKSHOT: &str = env!("CARGO_BIN_EXE_breakshot");
 
 /// The menu's buttons, in order, as `ui/menu.rs` lists them; "Watch a replay" is the one
 /// before "Quit".
-const MENU_BUTTONS: usize = 9;
+const MENU_BUTTONS: usize = 10;
 const WATCH_A_REPLAY: usize = MENU_BUTTONS - 2;
 
 fn middle(r: &Rect) -> (f32, f32) {

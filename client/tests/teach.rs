@@ -318,3 +318,48 @@ fn a_drill_scores_a_made_and_a_missed_attempt_and_remembers_them() {
     let kept = std::fs::read_to_string(data.join("drill-straight-in")).expect("the score kept");
     assert_eq!(kept.trim(), "1 2 1");
 }
+
+/// The menu's *Drills* lists the shipped drills; the three-cushion one opens on the carom
+/// table, I sets its example on the cue, and the example, played, scores the attempt.
+#[test]
+fn the_menu_s_drills_open_a_drill_whose_example_makes_it() {
+    use breakshot_client::view::menu_buttons;
+    let dir = breakshot_testkit::scratch("teach-menu-drill");
+    let (out, data) = (dir.path().join("out.png"), dir.path().join("data"));
+    let shipped = breakshot_client::play::drill::Drill::shipped();
+    let corner = shipped
+        .iter()
+        .position(|d| d.scene.table == breakshot_shared::physics::TableKind::Carom)
+        .expect("a three-cushion drill ships");
+    // The menu's third button is *Drills*; the page lists the drills, then *Back*.
+    let click = |r: breakshot_client::view::Rect| {
+        let [x, y] = r.center();
+        format!("mousemove --window \"$wid\" {x} {y} click 1")
+    };
+    let keys = [
+        "sleep 1".to_string(),
+        click(menu_buttons(1280.0, 720.0, 10)[2]),
+        "sleep 0.5".into(),
+        click(menu_buttons(1280.0, 720.0, shipped.len() + 1)[corner]),
+        "sleep 1".into(),
+        "key --window \"$wid\" i".into(),
+        "key --window \"$wid\" space".into(),
+        "sleep 1".into(),
+        "key --window \"$wid\" space".into(),
+    ];
+    let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
+    let Some(run) = played_with(&[], &out, 700, &keys, &data) else {
+        return;
+    };
+    assert_ran(&run);
+    let said = reports(&run);
+    let name = &shipped[corner].name;
+    for line in [
+        "screen practice".to_owned(),
+        format!("practice drill {name}"),
+        "practice drill example set".to_owned(),
+        "drill made: 1 of 1; best streak 1".to_owned(),
+    ] {
+        assert!(said.contains(&line), "{line:?} not in {said:?}");
+    }
+}

@@ -108,7 +108,7 @@ fn open_practice<'b>(browser: &'b breakshot_testkit::browser::Browser, link: &st
         let png = page.screenshot_png().expect("a screenshot");
         std::fs::write(Path::new(&dir).join("web-menu.png"), png).expect("saved");
     }
-    let buttons = menu_buttons(phone.width as f32, phone.height as f32, 3);
+    let buttons = menu_buttons(phone.width as f32, phone.height as f32, 4);
     let [x, y] = buttons[0].center();
     // A slow machine may take the tap before the menu's first frame: tap again, as a
     // person would, a few times.

@@ -936,7 +936,7 @@ fn the_menu_fits_a_small_window() {
     assert_ran(&run);
     let pic = picture_sized(&out, (640, 480));
     const FILL: Rgb = [24, 104, 74];
-    let buttons = breakshot_client::view::menu_buttons(640.0, 480.0, 9);
+    let buttons = breakshot_client::view::menu_buttons(640.0, 480.0, 10);
     for b in &buttons {
         let mid = b.y + 0.5 * b.h;
         // The button is drawn, and no letter reaches its sides.
@@ -977,7 +977,7 @@ fn resume_game_in_the_menu_takes_the_remembered_seat_back() {
         .expect("the seat remembered");
 
     // The menu, in a real window: click its first button, "Resume game".
-    let first = breakshot_client::view::menu_buttons(1280.0, 720.0, 9)[0];
+    let first = breakshot_client::view::menu_buttons(1280.0, 720.0, 10)[0];
     let (x, y) = (first.x + 0.5 * first.w, first.y + 0.5 * first.h);
     let script = format!(
         "\"$0\" --data \"$1\" --size 1280x720 & \

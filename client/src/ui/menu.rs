@@ -8,6 +8,7 @@ use macroquad::prelude::*;
 
 use super::{draw, Start, Step};
 
+mod drills;
 #[cfg(not(target_arch = "wasm32"))]
 mod replays;
 
@@ -17,6 +18,7 @@ mod replays;
 enum Item {
     Resume,
     Practice,
+    Drills,
     Local,
     Computer,
     Host,
@@ -27,9 +29,10 @@ enum Item {
 }
 
 #[cfg(not(target_arch = "wasm32"))]
-const ITEMS: [(Item, &str); 9] = [
+const ITEMS: [(Item, &str); 10] = [
     (Item::Resume, "Resume game"),
     (Item::Practice, "Practice"),
+    (Item::Drills, "Drills"),
     (Item::Computer, "Play the computer"),
     (Item::Local, "Two players, one computer"),
     (Item::Lobby, "Find a game"),
@@ -40,9 +43,10 @@ const ITEMS: [(Item, &str); 9] = [
 ];
 
 #[cfg(target_arch = "wasm32")]
-const ITEMS: [(Item, &str); 4] = [
+const ITEMS: [(Item, &str); 5] = [
     (Item::Join, "Join the game of the link"),
     (Item::Practice, "Practice"),
+    (Item::Drills, "Drills"),
     (Item::Computer, "Play the computer"),
     (Item::Local, "Two players, one device"),
 ];
@@ -136,6 +140,8 @@ pub struct MenuScreen {
     /// The page for watching a game again, when open.
     #[cfg(not(target_arch = "wasm32"))]
     replays: Option<Box<replays::ReplayPage>>,
+    /// The page of drills, when open.
+    drills: Option<drills::DrillsPage>,
     /// Where the mouse was at the last update (input is read in `ui/input.rs` only).
     mouse: [f32; 2],
 }
@@ -151,6 +157,7 @@ impl MenuScreen {
             message,
             #[cfg(not(target_arch = "wasm32"))]
             replays: None,
+            drills: None,
             mouse: [-1.0, -1.0],
         }
     }
@@ -195,6 +202,14 @@ impl MenuScreen {
             }
             return Step::Stay;
         }
+        if let Some(page) = &mut self.drills {
+            match page.update(input) {
+                drills::PageStep::Stay => {}
+                drills::PageStep::Back => self.drills = None,
+                drills::PageStep::Play(drill) => return Step::Open(Start::Drill(drill)),
+            }
+            return Step::Stay;
+        }
         if input.pressed.contains(&Key::Back) {
             return Step::Quit;
         }
@@ -209,6 +224,7 @@ impl MenuScreen {
         };
         match item {
             Item::Practice => return Step::Open(Start::Practice(None)),
+            Item::Drills => self.drills = Some(drills::DrillsPage::open()),
             Item::Local => {
                 return Step::Open(Start::Local(Variant::EightBall(EightBallRules::Wpa)))
             }
@@ -249,6 +265,9 @@ impl MenuScreen {
         #[cfg(not(target_arch = "wasm32"))]
         if let Some(page) = &self.replays {
             return page.draw(self.mouse);
+        }
+        if let Some(page) = &self.drills {
+            return page.draw();
         }
         let (w, h) = (screen_width(), screen_height());
         let title = "BREAKSHOT";

@@ -45,6 +45,8 @@ const FPS: f64 = 60.0;
 pub enum Start {
     Menu,
     Practice(Option<Box<Scene>>),
+    /// A drill: its position, each shot an attempt scored against its goal.
+    Drill(Box<breakshot_client::play::drill::Drill>),
     Replay(Box<ReplayViewer>),
     /// Two players at this computer.
     Local(Variant),
@@ -157,6 +159,7 @@ fn open(start: Start, seed: Option<u64>) -> anyhow::Result<Screen> {
             scene.map(|s| *s),
             seed,
         )?)),
+        Start::Drill(drill) => Screen::Practice(Box::new(practice::PracticeScreen::drill(*drill)?)),
     };
     report(match screen {
         Screen::Menu(_) => "screen menu",

@@ -19,19 +19,6 @@ use macroquad::prelude::*;
 use super::table_view::TableView;
 use super::{draw, panel, trays, Start, Step};
 
-/// The drill the command line asked for, taken by the next practice screen (the window's
-/// screens run on another thread than the one that reads the command line).
-static DRILL: std::sync::Mutex<Option<Drill>> = std::sync::Mutex::new(None);
-
-/// Makes the next practice screen play `drill` (its scene is the table it opens with). The
-/// page has no command line to name one.
-#[cfg(not(target_arch = "wasm32"))]
-pub fn offer_drill(drill: Drill) {
-    if let Ok(mut offered) = DRILL.lock() {
-        *offered = Some(drill);
-    }
-}
-
 /// A drill being played: its start, and the score so far (the remembered one to begin).
 struct DrillRun {
     drill: Drill,
@@ -92,7 +79,21 @@ pub struct PracticeScreen {
 const ADVICE_PER_FRAME: usize = 6;
 
 impl PracticeScreen {
+    /// Practice on `scene`, or on a rack from `seed` when there is none.
     pub fn new(scene: Option<Scene>, seed: u64) -> anyhow::Result<PracticeScreen> {
+        PracticeScreen::open(scene, None, seed)
+    }
+
+    /// `drill` played: each shot an attempt, the table set up again after it.
+    pub fn drill(drill: Drill) -> anyhow::Result<PracticeScreen> {
+        PracticeScreen::open(Some(drill.scene.clone()), Some(drill), 0)
+    }
+
+    fn open(
+        scene: Option<Scene>,
+        drill: Option<Drill>,
+        seed: u64,
+    ) -> anyhow::Result<PracticeScreen> {
         let game = match &scene {
             Some(s) => Game::practice(s)?,
             None => Game::practice_rack(Variant::EightBall(EightBallRules::Wpa), seed)?,
@@ -105,8 +106,10 @@ impl PracticeScreen {
             .unwrap_or_default();
         let ids = game.ball_ids();
         let frame = Frame::new(game.table(), game.balls());
-        let offered = DRILL.lock().ok().and_then(|mut d| d.take());
-        let drill = offered.map(|drill| DrillRun {
+        if let Some(drill) = &drill {
+            super::report(&format!("practice drill {}", drill.name));
+        }
+        let drill = drill.map(|drill| DrillRun {
             score: super::data_dir()
                 .map(|d| breakshot_client::memory::drill_score(&d, &drill.name))
                 .unwrap_or_default(),
@@ -458,7 +461,22 @@ impl PracticeScreen {
 
     /// I: the computer's shot on this table (after a miss: on the table the shot was
     /// played from, which comes back); I again once it is shown: the same at the next level.
+    /// In a drill that carries an example, the example is set on the cue instead: the
+    /// computer's search judges pots alone, and a drill asks for more (a zone, cushions, a
+    /// three-cushion point).
     fn ask_advice(&mut self, game: &Game) {
+        if let Some(example) = self.drill.as_ref().and_then(|run| run.drill.example) {
+            self.controls.aim = Aim::from_strike(&example);
+            self.message = format!(
+                "A way to make it: {:.1} m/s at {:.1} deg, tip ({:.2}, {:.2})  |  Space plays it",
+                example.speed,
+                libm::atan2(example.dir.y, example.dir.x).to_degrees(),
+                example.tip.x,
+                example.tip.y
+            );
+            super::report("practice drill example set");
+            return;
+        }
         let mut table = game.clone();
         if std::mem::take(&mut self.missed) {
             let back = self.history.undo(game.clone());
