@@ -194,6 +194,47 @@ fn the_advice_shown_is_the_simulator_s_and_j_sets_the_cue_to_it() {
     }
 }
 
+/// A shot that pockets nothing, then I: the shot is taken back, and the advice says the
+/// chance the missed shot had beside the computer's own.
+#[test]
+fn after_a_miss_the_advice_says_what_the_shot_missed_was_worth() {
+    let dir = breakshot_testkit::scratch("teach-miss");
+    let (scene, out) = (dir.path().join("scene.json"), dir.path().join("out.png"));
+    // The cue set to roll softly into the open cloth: it meets no ball.
+    let mut soft: serde_json::Value = serde_json::from_str(CUT).expect("a scene");
+    soft["strike"] = serde_json::json!({"ball": "cue", "speed": 0.8, "dir": [1.0, 0.0]});
+    std::fs::write(&scene, soft.to_string()).expect("scene written");
+    let args = [OsStr::new("practice"), scene.as_os_str()];
+    let keys = [
+        "sleep 1",
+        "key --window \"$wid\" space",
+        "sleep 1",
+        "key --window \"$wid\" space",
+        "sleep 1",
+        "key --window \"$wid\" i",
+        "sleep 14",
+    ];
+    let Some(run) = played(&args, &out, 1500, &keys) else {
+        return;
+    };
+    assert_ran(&run);
+    let said = reports(&run);
+    let at = |line: &str| said.iter().position(|l| l.starts_with(line));
+    let missed = at("practice missed");
+    let back = at("practice shot taken back");
+    let measured = at("practice advice after a miss: that shot ");
+    assert!(
+        matches!((missed, back, measured), (Some(m), Some(b), Some(a)) if m < b && b < a),
+        "missed, taken back, then advised with the shot's chance: {said:?}"
+    );
+    let line = &said[measured.expect("measured")];
+    let trials = breakshot_client::play::PLAYED_TRIALS;
+    assert!(line.ends_with(&format!(" of {trials}")), "{line}");
+    if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
+        std::fs::copy(&out, keep).expect("screenshot kept");
+    }
+}
+
 #[test]
 fn a_ball_dragged_then_kept_opens_again_as_the_same_table() {
     use breakshot_client::play::position;

@@ -92,18 +92,50 @@ pub struct Advice {
     pub pots: Option<(String, String)>,
     /// Where the cue ball stops played as meant: the position it plays for.
     pub leave: Option<DVec2>,
+    /// Asked after a miss: the chance the shot the player chose had, under the same noise.
+    pub played: Option<Chance>,
 }
 
-impl Advice {
-    /// The chance's standard error from its trials, as Agresti and Coull's interval gives
-    /// it (two successes and two failures added), so that 16 of 16 is not quoted as certain.
+/// A share of trials that succeeded.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Chance {
+    /// Successes over trials.
+    pub share: f64,
+    /// How many trials.
+    pub trials: usize,
+}
+
+impl Chance {
+    /// The share's standard error, as Agresti and Coull's interval gives it (two successes
+    /// and two failures added), so that 16 of 16 is not quoted as certain.
     pub fn error(&self) -> f64 {
         let n = self.trials as f64 + 4.0;
-        let p = (self.p_success * self.trials as f64 + 2.0) / n;
+        let p = (self.share * self.trials as f64 + 2.0) / n;
         libm::sqrt(p * (1.0 - p) / n)
     }
 
-    /// One line for the screen.
+    /// "71 ± 9 %".
+    pub fn percent(&self) -> String {
+        format!("{:.0} ± {:.0} %", 100.0 * self.share, 100.0 * self.error())
+    }
+}
+
+impl Advice {
+    /// The advised shot's chance.
+    pub fn chance(&self) -> Chance {
+        Chance {
+            share: self.p_success,
+            trials: self.trials,
+        }
+    }
+
+    /// The chance's standard error ([`Chance::error`]).
+    pub fn error(&self) -> f64 {
+        self.chance().error()
+    }
+
+    /// One line for the screen; after a miss it begins with the chance the shot played had
+    /// ("That shot: 31 ± 6 %; the computer's Safety: 84 ± 9 % ...").
     pub fn summary(&self, level: Level) -> String {
         let s = &self.strike;
         let angle = libm::atan2(s.dir.y, s.dir.x).to_degrees();
@@ -111,10 +143,13 @@ impl Advice {
             Some((ball, pocket)) => format!("{:?} the {ball} into the {pocket}", self.kind),
             None => format!("{:?}", self.kind),
         };
+        let aim = match &self.played {
+            Some(played) => format!("That shot: {}; the computer's {aim}", played.percent()),
+            None => aim,
+        };
         format!(
-            "{aim}: {:.0} ± {:.0} % at level {}  |  {:.1} m/s at {angle:.1} deg, tip ({:.2}, {:.2}), elevation {:.0} deg",
-            100.0 * self.p_success,
-            100.0 * self.error(),
+            "{aim}: {} at level {}  |  {:.1} m/s at {angle:.1} deg, tip ({:.2}, {:.2}), elevation {:.0} deg",
+            self.chance().percent(),
             level.number(),
             s.speed,
             s.tip.x,
@@ -124,11 +159,87 @@ impl Advice {
     }
 }
 
+/// The level advice asked again is for: the next, after the last the first (I again on an
+/// advice shown).
+pub fn next_level(level: Level) -> Level {
+    Level::new(level.number() % Level::MAX + 1)
+}
+
 /// The search for one table's advice, stepped.
 pub struct Advisor {
     search: Search,
     level: Level,
+    /// After a miss: the shot played, measured before the search runs.
+    played: Option<Measure>,
     done: Option<Result<Advice, String>>,
+}
+
+/// Trials the chance of a shot played is measured over: more than the search gives its
+/// own candidates, as it is the one number the player compares with the advice.
+pub const PLAYED_TRIALS: usize = 64;
+
+/// The chance of one strike under a level's noise, measured in steps: `trials` strikes
+/// perturbed by a generator from `seed`, each a success as [`succeeded`] counts one.
+pub struct Measure {
+    shot: Shot,
+    strike: Strike,
+    targets: Vec<u8>,
+    level: Level,
+    rng: Rng,
+    sim: Simulator,
+    trials: usize,
+    run: usize,
+    made: usize,
+}
+
+impl Measure {
+    /// Measures `strike` on `shot`'s cue ball, ball 0 (the pool practice tables').
+    pub fn new(
+        shot: &Shot,
+        strike: Strike,
+        targets: &[u8],
+        level: Level,
+        trials: usize,
+        seed: u64,
+    ) -> Measure {
+        Measure {
+            shot: shot.clone(),
+            strike,
+            targets: targets.to_vec(),
+            level,
+            rng: Rng::new(seed),
+            sim: Simulator::new(),
+            trials,
+            run: 0,
+            made: 0,
+        }
+    }
+
+    /// Runs at most `simulations` more trials; the chance once all have run.
+    pub fn step(&mut self, simulations: usize) -> Option<Chance> {
+        let upto = self.trials.min(self.run.saturating_add(simulations));
+        while self.run < upto {
+            let mut s = self.shot.clone();
+            s.strike = Some((0, self.level.noise().perturb(&self.strike, &mut self.rng)));
+            if self
+                .sim
+                .run(&s)
+                .is_ok_and(|o| succeeded(o, &s, &self.targets))
+            {
+                self.made += 1;
+            }
+            self.run += 1;
+        }
+        (self.run == self.trials).then(|| Chance {
+            share: self.made as f64 / self.trials.max(1) as f64,
+            trials: self.trials,
+        })
+    }
+
+    /// The share of the trials run, 0 to 1.
+    fn fraction(&self) -> f64 {
+        self.run as f64 / self.trials.max(1) as f64
+    }
 }
 
 /// What is searched: a practice table's scene (as `breakshot-sim suggest`), or a rules
@@ -159,8 +270,35 @@ impl Advisor {
                 cue,
                 search,
             },
+            played: None,
             done: None,
         })
+    }
+
+    /// Starts advising on `request`, the table a shot was missed from, with `played` (the
+    /// strike missed) measured first under the same level's noise, so the advice can say
+    /// what that shot's chance was beside its own. The cue ball must be the scene's ball 0
+    /// (as on every pool practice table); on another table the shot played is not measured.
+    pub fn after_miss(request: Request, played: Strike) -> Result<Advisor, String> {
+        let (shot, cue, targets) = request.indices()?;
+        let targets: Vec<u8> = targets
+            .iter()
+            .filter_map(|&t| u8::try_from(t).ok())
+            .collect();
+        let level = request.level;
+        let seed = request.seed;
+        let mut advisor = Advisor::start(request)?;
+        if cue == 0 {
+            advisor.played = Some(Measure::new(
+                &shot,
+                played,
+                &targets,
+                level,
+                PLAYED_TRIALS,
+                seed,
+            ));
+        }
+        Ok(advisor)
     }
 
     /// Starts advising the player to move in a rules game (a local game, against the
@@ -173,6 +311,7 @@ impl Advisor {
                 game: Box::new(game.clone()),
                 search: Thinking::plan(game, &Player::from(level), seed),
             },
+            played: None,
             done: None,
         }
     }
@@ -186,7 +325,15 @@ impl Advisor {
     }
 
     /// Runs at most `simulations` more of the search; the advice once it is found.
-    pub fn step(&mut self, simulations: usize) -> Option<&Result<Advice, String>> {
+    pub fn step(&mut self, mut simulations: usize) -> Option<&Result<Advice, String>> {
+        let mut that_shot = None;
+        if let Some(measure) = &mut self.played {
+            let before = measure.run;
+            that_shot = measure.step(simulations);
+            simulations = simulations.saturating_sub(measure.run - before);
+            // Nothing is searched before the shot played is measured.
+            that_shot?;
+        }
         if self.done.is_none() {
             let trials = self.level.schedule().samples[2];
             self.done = match &mut self.search {
@@ -209,6 +356,7 @@ impl Advisor {
                             kind: found.kind,
                             pots,
                             leave,
+                            played: that_shot,
                         }))
                     }
                     Poll::Ready(Err(why)) => Some(Err(why.clone())),
@@ -233,6 +381,7 @@ impl Advisor {
                             kind: kind.unwrap_or(Kind::Safety),
                             pots,
                             leave,
+                            played: None,
                         }))
                     }
                     Poll::Ready(Some(other)) => Some(Err(format!(
@@ -249,9 +398,15 @@ impl Advisor {
 
     /// The share of the search done, 0 to 1.
     pub fn fraction(&self) -> f64 {
-        match &self.search {
+        let search = match &self.search {
             Search::Scene { search, .. } => search.fraction(),
             Search::Game { search, .. } => search.fraction(),
+        };
+        match &self.played {
+            // The measure's trials and the search's share the bar by halves.
+            Some(m) if m.fraction() < 1.0 => 0.5 * m.fraction(),
+            Some(_) => 0.5 + 0.5 * search,
+            None => search,
         }
     }
 }
@@ -297,16 +452,8 @@ pub fn measured(
     trials: usize,
     seed: u64,
 ) -> f64 {
-    let mut rng = Rng::new(seed);
-    let mut sim = Simulator::new();
-    let made = (0..trials)
-        .filter(|_| {
-            let mut s = shot.clone();
-            s.strike = Some((0, level.noise().perturb(&strike, &mut rng)));
-            sim.run(&s).is_ok_and(|o| succeeded(o, &s, targets))
-        })
-        .count();
-    made as f64 / trials.max(1) as f64
+    let mut measure = Measure::new(shot, strike, targets, level, trials, seed);
+    measure.step(usize::MAX).map_or(0.0, |c| c.share)
 }
 
 #[cfg(test)]
@@ -400,6 +547,51 @@ mod tests {
         }
     }
 
+    /// After a miss, the advice says the chance the shot missed had, measured under the
+    /// same noise as `measured` measures it, and advises as it would have anyway.
+    #[test]
+    fn after_a_miss_the_shot_played_is_measured_beside_the_advice() {
+        let level = Level::new(3);
+        let request = Request::for_table(&table(), level).expect("a request");
+        let plain = Advisor::start(request.clone())
+            .expect("an advisor")
+            .step(usize::MAX)
+            .expect("done")
+            .clone()
+            .expect("advice");
+        // The player's shot: the advised one, a degree off.
+        let strike = Strike {
+            dir: DVec2::from_angle(1f64.to_radians()).rotate(plain.strike.dir),
+            ..plain.strike
+        };
+        let mut advisor = Advisor::after_miss(request.clone(), strike).expect("an advisor");
+        let mut steps = 0;
+        let advice = loop {
+            steps += 1;
+            assert!(steps < 100_000, "the search ends");
+            if let Some(done) = advisor.step(5) {
+                break done.clone().expect("advice");
+            }
+        };
+        assert!(
+            steps > PLAYED_TRIALS / 5,
+            "the trials were stepped too: {steps}"
+        );
+        let (shot, _, targets) = request.indices().expect("indices");
+        let targets: Vec<u8> = targets.iter().map(|&t| t as u8).collect();
+        let p = measured(&shot, strike, &targets, level, PLAYED_TRIALS, request.seed);
+        let played = advice.played.expect("the shot played measured");
+        assert_eq!((played.share, played.trials), (p, PLAYED_TRIALS));
+        assert!(p < 1.0, "a degree off misses sometimes: {p}");
+        assert_eq!(advice.strike, plain.strike);
+        assert_eq!(advice.p_success, plain.p_success);
+        let line = advice.summary(level);
+        assert!(
+            line.starts_with(&format!("That shot: {:.0} ± ", 100.0 * p)),
+            "{line}"
+        );
+    }
+
     #[test]
     fn a_rules_game_s_advice_is_the_computer_s_plan_for_the_player_to_move() {
         use breakshot_shared::rules::{EightBallRules, Settings, Variant};
@@ -423,6 +615,19 @@ mod tests {
         assert_eq!(advice.strike, strike);
         assert_eq!(Some(advice.p_success), plan.p_success);
         assert_eq!(advice.kind, Kind::Break);
+    }
+
+    #[test]
+    fn asking_again_goes_through_every_level_and_round() {
+        let mut level = Level::new(3);
+        let mut seen = Vec::new();
+        for _ in 0..Level::MAX {
+            level = next_level(level);
+            seen.push(level.number());
+        }
+        seen.sort_unstable();
+        assert_eq!(seen, (1..=Level::MAX).collect::<Vec<_>>());
+        assert_eq!(level.number(), 3, "back where it began");
     }
 
     #[test]

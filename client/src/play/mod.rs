@@ -22,7 +22,9 @@ mod replay;
 mod replica;
 mod touch;
 
-pub use advice::{measured, succeeded, Advice, Advisor, Request};
+pub use advice::{
+    measured, next_level, succeeded, Advice, Advisor, Chance, Measure, Request, PLAYED_TRIALS,
+};
 pub use aim::{Aim, AimShare};
 pub use chat::{Chat, ChatKey, ChatLine};
 pub use chooser::Chooser;

@@ -4,13 +4,14 @@
 use ::glam::DVec2;
 use breakshot_client::play::leave::{self, LeaveAnswer};
 use breakshot_client::play::{
-    Advice, Advisor, Aim, AimShare, AwayResult, Chat, ChatKey, Context, Controls, Drag, GameEvent,
-    GameFlow, GameLink, History, InputFrame, Intent, Key, Stage, Turn,
+    next_level, Advice, Advisor, Aim, AimShare, AwayResult, Chat, ChatKey, Context, Controls, Drag,
+    GameEvent, GameFlow, GameLink, History, InputFrame, Intent, Key, Stage, Turn,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{self, call_prompt, connection as connection_text, Connection};
 use breakshot_client::view::snooker as view_snooker;
 use breakshot_client::view::{tray, Frame, Layout, Orientations, Playback, Rect};
+use breakshot_shared::ai::Level;
 use breakshot_shared::hash::hash_hex;
 use breakshot_shared::physics::{Shot, Simulator, Table};
 use breakshot_shared::protocol::limits::RECONNECT_WINDOW;
@@ -54,6 +55,9 @@ pub struct GameScreen {
     /// The computer's advice at this computer (not online): the turn it is for, the search
     /// and, once found, the advice.
     advice: Option<(u32, Advisor, Option<Advice>)>,
+    /// Whose noise the advice's chance is for: 3 to begin, the next each time I is pressed
+    /// on an advice shown.
+    advice_level: Level,
 }
 
 /// The buttons of the choices offered, in a row over the trays: off the cloth, so they
@@ -112,6 +116,7 @@ impl GameScreen {
             view: TableView::new(),
             history: History::new(),
             advice: None,
+            advice_level: Level::new(3),
         }
     }
 
@@ -341,7 +346,12 @@ impl GameScreen {
                 (Intent::Advice, Some(_))
                     if self.flow.connection == Connection::Offline && !self.link.watching() =>
                 {
-                    let level = breakshot_shared::ai::Level::new(3);
+                    let shown =
+                        matches!(&self.advice, Some((turn, _, Some(_))) if *turn == game.turn());
+                    if shown {
+                        self.advice_level = next_level(self.advice_level);
+                    }
+                    let level = self.advice_level;
                     self.advice = Some((game.turn(), Advisor::for_game(&game, level), None));
                 }
                 (Intent::PlayAdvice, Some(_)) => {
@@ -380,8 +390,10 @@ impl GameScreen {
             ),
             Some(Ok(advice)) => {
                 *found = Some(advice.clone());
-                let level = breakshot_shared::ai::Level::new(3);
-                format!("Advice: {}  |  J: play it", advice.summary(level))
+                format!(
+                    "Advice: {}  |  J: play it, I: the next level",
+                    advice.summary(self.advice_level)
+                )
             }
             Some(Err(why)) => format!("No advice: {why}"),
         };

@@ -3,8 +3,8 @@
 use breakshot_client::play::drill::{Drill, Score};
 use breakshot_client::play::position;
 use breakshot_client::play::{
-    Advice, Advisor, Aim, Context, Controls, Drag, GameEvent, GameFlow, GameLink, History,
-    InputFrame, Intent, Key, LocalLink, Position, Request, Stage,
+    next_level, Advice, Advisor, Aim, Context, Controls, Drag, GameEvent, GameFlow, GameLink,
+    History, InputFrame, Intent, Key, LocalLink, Position, Request, Stage,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::Connection;
@@ -318,6 +318,7 @@ impl PracticeScreen {
         } else if was_busy && !self.busy() {
             self.missed = self.pocketed_nothing();
             if self.missed {
+                super::report("practice missed");
                 self.message = "Missed: I shows what the computer would have played".into();
             }
         }
@@ -478,19 +479,25 @@ impl PracticeScreen {
             return;
         }
         let mut table = game.clone();
+        let mut missed = None;
         if std::mem::take(&mut self.missed) {
             let back = self.history.undo(game.clone());
             if let Some(back) = back {
                 table = back.game.clone();
+                missed = back.strike;
                 self.restore(Some(back), false, "Shot taken back", "");
             }
         } else if self.advice.is_some() {
-            let next = self.advice_level.number() % Level::MAX + 1;
-            self.advice_level = Level::new(next);
+            self.advice_level = next_level(self.advice_level);
         }
         self.advice = None;
         self.advisor = None;
-        match Request::for_table(&table, self.advice_level).and_then(Advisor::start) {
+        // After a miss the shot missed is measured too, for "that shot: 31 %" beside the advice.
+        let start = |request| match missed {
+            Some(strike) => Advisor::after_miss(request, strike),
+            None => Advisor::start(request),
+        };
+        match Request::for_table(&table, self.advice_level).and_then(start) {
             Ok(advisor) => {
                 if let Some(request) = advisor.request() {
                     super::report(&format!(
@@ -534,6 +541,12 @@ impl PracticeScreen {
                     advice.p_success,
                     advice.trials
                 ));
+                if let Some(played) = advice.played {
+                    super::report(&format!(
+                        "practice advice after a miss: that shot {} of {}",
+                        played.share, played.trials
+                    ));
+                }
                 self.advice = Some((advice, prediction));
             }
             Err(why) => self.message = format!("No advice: {why}"),
