@@ -1143,6 +1143,60 @@ fn practice_places_any_ball_freely() {
     assert!(pocketed(&g, 5));
 }
 
+/// Setting up a position works on every table a practice can be on: a ball moved to a free
+/// spot, refused on another ball or off the cloth, taken off, put back, then played.
+#[test]
+fn practice_places_balls_on_the_carom_and_the_snooker_table_too() {
+    for variant in [Variant::three_cushion(), Variant::snooker()] {
+        let mut g = Game::practice_rack(variant, 1).expect("a practice table");
+        let last = (g.balls().len() - 1) as u8;
+        let cue = g.cue_ball() as u8;
+        let object = if last == cue { 0 } else { last };
+        let spot = [0.5, 1.0];
+        let place = |ball, pos| Command::PlaceBall { ball, pos };
+        g.apply(Seat::A, &place(object, Some(spot)))
+            .unwrap_or_else(|e| panic!("{variant:?}: {e}"));
+        assert_eq!(
+            g.balls()[usize::from(object)],
+            BallState::at_rest(DVec2::from(spot))
+        );
+        let r = g.params().ball_radius;
+        for bad in [Some([0.5 + r, 1.0]), Some([-0.2, 1.0])] {
+            let before = g.balls().to_vec();
+            assert!(
+                matches!(
+                    g.apply(Seat::A, &place(cue, bad)),
+                    Err(RuleError::IllegalPlacement(_))
+                ),
+                "{variant:?}: {bad:?}"
+            );
+            assert_eq!(g.balls(), before.as_slice(), "a refusal changes nothing");
+        }
+        g.apply(Seat::A, &place(object, None)).expect("taken off");
+        assert!(pocketed(&g, object));
+        g.apply(Seat::A, &place(object, Some(spot)))
+            .expect("put back");
+        // The cue ball played towards the ball placed (on the snooker table a baulk colour
+        // may be in the way: any contact will do).
+        let cue_pos = g.balls()[usize::from(cue)].pos;
+        let strike = Strike {
+            speed: 2.0,
+            dir: (DVec2::from(spot) - cue_pos).normalize(),
+            tip: DVec2::ZERO,
+            elevation_deg: 0.0,
+        };
+        let v = g
+            .apply(Seat::A, &Command::Shot { strike, call: None })
+            .unwrap_or_else(|e| panic!("{variant:?}: {e}"));
+        assert!(v.outcome.is_some(), "{variant:?}: the shot was simulated");
+        assert_ne!(
+            g.balls()[usize::from(cue)].pos,
+            cue_pos,
+            "{variant:?}: the cue ball moved"
+        );
+    }
+}
+
 #[test]
 fn practice_loads_a_scene() {
     let scene = crate::scene::Scene::from_json(
