@@ -350,9 +350,12 @@ fn a_drill_scores_a_made_and_a_missed_attempt_and_remembers_them() {
     let drills: Vec<&String> = said.iter().filter(|l| l.starts_with("drill ")).collect();
     assert_eq!(
         drills,
+        // The straight-in drill is a ladder: made, up a rung; missed, down again.
         [
             "drill made: 1 of 1; best streak 1",
-            "drill missed: 1 of 2; best streak 1"
+            "drill rung 2 of 3",
+            "drill missed: 1 of 2; best streak 1",
+            "drill rung 1 of 3"
         ],
         "{said:?}"
     );
@@ -370,7 +373,7 @@ fn the_menu_s_drills_open_a_drill_whose_example_makes_it() {
     let shipped = breakshot_client::play::drill::Drill::shipped();
     let corner = shipped
         .iter()
-        .position(|d| d.scene.table == breakshot_shared::physics::TableKind::Carom)
+        .position(|d| d.first().scene.table == breakshot_shared::physics::TableKind::Carom)
         .expect("a three-cushion drill ships");
     // The menu's third button is *Drills*; the page lists the drills, then *Back*.
     let click = |r: breakshot_client::view::Rect| {

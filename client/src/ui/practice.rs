@@ -1,6 +1,6 @@
 //! The practice screen: a practice table of the rules, played through the local link.
 
-use breakshot_client::play::drill::{Drill, Score};
+use breakshot_client::play::drill::{climb, Drill, Score};
 use breakshot_client::play::position;
 use breakshot_client::play::{
     next_level, Advice, Advisor, Aim, Context, Controls, Drag, GameEvent, GameFlow, GameLink,
@@ -19,10 +19,12 @@ use macroquad::prelude::*;
 use super::table_view::TableView;
 use super::{draw, panel, trays, Start, Step};
 
-/// A drill being played: its start, and the score so far (the remembered one to begin).
+/// A drill being played: its rungs' tables, the rung played, and the score so far (the
+/// remembered one to begin).
 struct DrillRun {
     drill: Drill,
-    start: Game,
+    starts: Vec<Game>,
+    rung: usize,
     score: Score,
     /// The trajectory of the attempt playing (the replica plays it back).
     attempt: Option<breakshot_shared::physics::Outcome>,
@@ -86,7 +88,7 @@ impl PracticeScreen {
 
     /// `drill` played: each shot an attempt, the table set up again after it.
     pub fn drill(drill: Drill) -> anyhow::Result<PracticeScreen> {
-        PracticeScreen::open(Some(drill.scene.clone()), Some(drill), 0)
+        PracticeScreen::open(Some(drill.first().scene.clone()), Some(drill), 0)
     }
 
     fn open(
@@ -109,14 +111,22 @@ impl PracticeScreen {
         if let Some(drill) = &drill {
             super::report(&format!("practice drill {}", drill.name));
         }
-        let drill = drill.map(|drill| DrillRun {
-            score: super::data_dir()
-                .map(|d| breakshot_client::memory::drill_score(&d, &drill.name))
-                .unwrap_or_default(),
-            drill,
-            start: game.clone(),
-            attempt: None,
-        });
+        let drill = match drill {
+            None => None,
+            Some(drill) => Some(DrillRun {
+                score: super::data_dir()
+                    .map(|d| breakshot_client::memory::drill_score(&d, &drill.name))
+                    .unwrap_or_default(),
+                starts: drill
+                    .rungs
+                    .iter()
+                    .map(|r| Game::practice(&r.scene))
+                    .collect::<Result<_, _>>()?,
+                rung: 0,
+                drill,
+                attempt: None,
+            }),
+        };
         let message = match &drill {
             Some(run) => format!("Drill: {}  |  {}", run.drill.name, run.score.line()),
             None => "Aim with the mouse, pull back or press Space to shoot".into(),
@@ -430,7 +440,7 @@ impl PracticeScreen {
             return;
         };
         let outcome = run.attempt.take();
-        let made = outcome.is_some_and(|o| run.drill.judge(&o, game.cue_ball()));
+        let made = outcome.is_some_and(|o| run.drill.judge(run.rung, &o, game.cue_ball()));
         run.score.attempt(made);
         if let Some(data) = super::data_dir() {
             let kept =
@@ -440,9 +450,15 @@ impl PracticeScreen {
             }
         }
         let said = if made { "made" } else { "missed" };
-        let line = run.score.line();
+        let mut line = run.score.line();
         super::report(&format!("drill {said}: {line}"));
-        let start = run.start.clone();
+        let rungs = run.starts.len();
+        if rungs > 1 {
+            run.rung = climb(run.rung, made, rungs);
+            super::report(&format!("drill rung {} of {rungs}", run.rung + 1));
+            line = format!("rung {} of {rungs}; {line}", run.rung + 1);
+        }
+        let start = run.starts[run.rung].clone();
         self.flow.handle(GameEvent::Started(Box::new(start)));
         self.placing = false;
         self.message = format!("{}: {said}  |  {line}", run.drill.name);
@@ -466,7 +482,8 @@ impl PracticeScreen {
     /// computer's search judges pots alone, and a drill asks for more (a zone, cushions, a
     /// three-cushion point).
     fn ask_advice(&mut self, game: &Game) {
-        if let Some(example) = self.drill.as_ref().and_then(|run| run.drill.example) {
+        let rung = |run: &DrillRun| run.drill.rungs.get(run.rung).and_then(|r| r.example);
+        if let Some(example) = self.drill.as_ref().and_then(rung) {
             self.controls.aim = Aim::from_strike(&example);
             self.message = format!(
                 "A way to make it: {:.1} m/s at {:.1} deg, tip ({:.2}, {:.2})  |  Space plays it",
