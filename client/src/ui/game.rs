@@ -851,11 +851,9 @@ fn draw_away_result(result: &AwayResult) {
     centred("Enter or Esc: back to the menu", 0.75 * h, 20.0, YELLOW);
 }
 
-/// The chat over the bottom-left corner of the cloth: the last lines said, and the line
-/// being typed (T opens it, Enter sends, Esc closes).
+/// The chat in its box beside the verdict, off the table: the last lines said that fit,
+/// and the line being typed (T opens it, Enter sends, Esc closes).
 fn draw_chat(layout: &Layout, chat: &Chat) {
-    let size = 18.0;
-    let step = 1.3 * size * draw::text_scale();
     let mut rows: Vec<(String, Color)> = chat.shown().map(|l| (l.shown(), WHITE)).collect();
     if let Some(typing) = chat.typing() {
         rows.push((format!("say: {typing}_"), YELLOW));
@@ -863,28 +861,14 @@ fn draw_chat(layout: &Layout, chat: &Chat) {
     if rows.is_empty() {
         return;
     }
-    let c = layout.cloth;
-    let width = rows
-        .iter()
-        .map(|(t, _)| draw::text_width(t, size))
-        .fold(0.0, f32::max)
-        .min(c.w - 16.0);
-    let top = c.y + c.h - 8.0 - step * rows.len() as f32;
-    draw_rectangle(
-        c.x + 4.0,
-        top - 4.0,
-        width + 16.0,
-        step * rows.len() as f32 + 8.0,
-        Color::new(0.0, 0.0, 0.0, 0.55),
-    );
-    for (i, (text, color)) in rows.iter().enumerate() {
-        draw::label(
-            text,
-            c.x + 12.0,
-            top + step * (i as f32 + 0.75),
-            size,
-            *color,
-        );
+    let boxes = layout.chat_rows();
+    let shown = &rows[rows.len().saturating_sub(boxes.len())..];
+    let c = layout.chat;
+    draw_rectangle(c.x, c.y, c.w, c.h, Color::new(0.0, 0.0, 0.0, 0.55));
+    // The newest line in the bottom row, the older ones over it.
+    for ((text, color), r) in shown.iter().zip(&boxes[boxes.len() - shown.len()..]) {
+        let inside = Rect::new(r.x + 6.0, r.y, r.w - 12.0, r.h);
+        draw::label_in(text, inside, 18.0, draw::Align::Left, *color);
     }
 }
 

@@ -204,7 +204,16 @@ pub struct Layout {
     /// pocket to call, the computer thinking, a replay's warnings): off the cloth, where it
     /// covers no ball.
     pub notice: Rect,
+    /// The chat: the last lines said and the line being typed, beside the notice and the
+    /// verdict, off the table.
+    pub chat: Rect,
 }
+
+/// The share of the band under the trays the notice and the verdict keep; the chat has the
+/// rest.
+const NOTICE_SHARE: f32 = 0.6;
+/// The least height of one of the chat's rows (pixels).
+const CHAT_ROW: f32 = 20.0;
 
 /// The table, its cloth `cloth_m` metres across and down the screen with `rail` metres of
 /// rail round it, fitted and centred in `area`: the scale (px/m), the outer box, the cloth.
@@ -245,8 +254,8 @@ fn tray_names(tray: Rect, margin: f32, share: f32) -> [Rect; 2] {
 
 impl Layout {
     /// Fits the table into a window of `width` × `height` pixels, with every box of text
-    /// beside it: the bar at the top, the status line, the panel, the trays, the verdict and
-    /// the hint bar, none over another.
+    /// beside it: the bar at the top, the status line, the panel, the trays, the verdict, the
+    /// chat and the hint bar, none over another.
     pub fn new(width: f32, height: f32, frame: Frame) -> Layout {
         let (w, h) = (width.max(64.0), height.max(64.0));
         let margin = (0.015 * w.min(h)).max(6.0);
@@ -324,13 +333,24 @@ impl Layout {
         let origin = DVec2::new(cloth.x as f64, cloth.y as f64);
         let tray = Rect::new(outer.x, outer.y + outer.h + margin, outer.w, tray_h);
         let tray_names = tray_names(tray, margin, 0.28);
-        let notice = Rect::new(area.x, tray.y + tray_h + 0.5 * margin, area.w, notice_h);
+        // Under the trays, the notice over the verdict on the left and the chat on the
+        // right, as far as the panel's right edge: the panel ends at the trays.
+        let text_w = NOTICE_SHARE * area.w;
+        let notice = Rect::new(area.x, tray.y + tray_h + 0.5 * margin, text_w, notice_h);
         let verdict_y = notice.y + notice_h + 0.5 * margin;
+        let band_bottom = footer.y - 0.5 * margin;
         let verdict = Rect::new(
             area.x,
             verdict_y,
-            area.w,
-            (footer.y - 0.5 * margin - verdict_y).max(10.0),
+            text_w,
+            (band_bottom - verdict_y).max(10.0),
+        );
+        let chat_x = area.x + text_w + margin;
+        let chat = Rect::new(
+            chat_x,
+            notice.y,
+            panel_x + panel_w - chat_x,
+            (band_bottom - notice.y).max(10.0),
         );
 
         // The panel, top to bottom: a title over each of the tip face, the side view and
@@ -339,7 +359,7 @@ impl Layout {
             panel_x,
             hud_h + 0.5 * margin,
             panel_w,
-            footer.y - 0.5 * margin - (hud_h + 0.5 * margin),
+            notice.y - margin - (hud_h + 0.5 * margin),
         );
         let title_h = (0.035 * h).clamp(16.0, 26.0);
         let tip_title = Rect::new(panel_x, panel.y, panel_w, title_h);
@@ -407,11 +427,12 @@ impl Layout {
             footer_rows,
             tray_names,
             notice,
+            chat,
         }
     }
 
     /// Every box the window writes text in, named, for checking that none overlaps another.
-    pub fn text_boxes(&self) -> [(&'static str, Rect); 12] {
+    pub fn text_boxes(&self) -> [(&'static str, Rect); 13] {
         [
             ("first player", self.players[0]),
             ("second player", self.players[1]),
@@ -425,7 +446,19 @@ impl Layout {
             ("notice", self.notice),
             ("verdict", self.verdict),
             ("hint bar", self.footer),
+            ("chat", self.chat),
         ]
+    }
+
+    /// The chat's rows, top to bottom: as many as its box holds at [`CHAT_ROW`] pixels or
+    /// more each (three in a 640 x 480 window), the last for the line being typed.
+    pub fn chat_rows(&self) -> Vec<Rect> {
+        let c = self.chat;
+        let n = (c.h / CHAT_ROW).floor().max(1.0) as usize;
+        let row = c.h / n as f32;
+        (0..n)
+            .map(|k| Rect::new(c.x, c.y + k as f32 * row, c.w, row))
+            .collect()
     }
 
     /// The cue elevation (degrees) the side view shows for a mouse at `px`: the angle of the
@@ -809,6 +842,23 @@ mod tests {
                     l.footer.h / l.footer_rows as f32 >= 18.0,
                     "{w}x{h}: hint rows"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn the_chat_shows_a_few_lines_in_rows_of_its_own_box() {
+        for kind in [TableKind::NineFoot, TableKind::Carom] {
+            for (w, h) in TEXT_SIZES {
+                let l = Layout::new(w, h, Frame::new(kind, &[]));
+                let rows = l.chat_rows();
+                // Two lines said and the one being typed, even in the smallest window.
+                assert!(rows.len() >= 3, "{w}x{h}: {} chat rows", rows.len());
+                for (k, r) in rows.iter().enumerate() {
+                    assert!(l.chat.holds(r), "{w}x{h}: row {k} {r:?} out of the chat");
+                    assert!(r.h >= CHAT_ROW && r.w >= 0.2 * w, "{w}x{h}: row {k} {r:?}");
+                }
+                assert!(rows.windows(2).all(|p| p[0].y + p[0].h <= p[1].y + 1e-3));
             }
         }
     }
