@@ -632,12 +632,14 @@ impl GameScreen {
         let trays = tray::trays(self.flow.shown_game().unwrap_or(game), &pocketed);
         trays::player_trays(&layout, &names, trays, &pocketed, seats, r);
         panel::panel(&layout, &self.controls.aim, Some(self.controls.keep_spin));
+        let over = matches!(game.phase(), Phase::Over { .. });
         game_hud(
             &layout,
             &HudInfo {
                 game: self.flow.shown_game().unwrap_or(game),
                 me: self.link.seat(),
-                verdict: self.flow.shown_verdict(),
+                // Once the game is over, the banner says how it ended where the verdict was.
+                verdict: self.flow.shown_verdict().filter(|_| !over),
                 shot_clock: self.flow.shown_shot_clock(),
                 connection: &self.flow.connection,
                 names: &self.flow.names,
@@ -686,33 +688,14 @@ impl GameScreen {
                 (hud::named(reason, names), 22.0, WHITE),
                 (next, 20.0, LIGHTGRAY),
             ];
-            // The box fits the widest line, and every line is shrunk to fit the cloth.
-            let room = layout.cloth.w - 40.0;
-            let scale = lines
-                .iter()
-                .map(|(t, size, _)| room / draw::text_width(t, *size).max(1.0))
-                .fold(1.0f32, f32::min);
-            let widths: Vec<f32> = lines
-                .iter()
-                .map(|(t, size, _)| draw::text_width(t, size * scale))
-                .collect();
-            let w = widths.iter().copied().fold(0.0, f32::max) + 24.0;
-            let h: f32 = lines
-                .iter()
-                .map(|(_, size, _)| size * scale * 1.3)
-                .sum::<f32>()
-                + 12.0;
-            let x0 = layout.cloth.x + 0.5 * (layout.cloth.w - w);
-            let mut y = layout.cloth.y + 0.5 * (layout.cloth.h - h);
-            draw_rectangle(x0, y, w, h, Color::new(0.0, 0.0, 0.0, 0.75));
-            y += 6.0;
-            for ((text, size, c), d) in lines.iter().zip(&widths) {
-                let size = size * scale;
-                y += size * 1.3;
-                draw::label(text, x0 + 0.5 * (w - d), y - 0.3 * size, size, *c);
+            // Under the trays, in the notice's and the verdict's place: the balls stay in view.
+            let b = layout.banner;
+            draw_rectangle(b.x, b.y, b.w, b.h, Color::new(0.0, 0.0, 0.0, 0.75));
+            for ((text, size, c), r) in lines.iter().zip(layout.banner_rows()) {
+                draw::label_in(text, r, *size, draw::Align::Centre, *c);
             }
         }
-        if self.link.thinking() {
+        if self.link.thinking() && !over {
             draw_thinking(&layout);
         }
         let keys = if self.link.chats() {

@@ -207,7 +207,14 @@ pub struct Layout {
     /// The chat: the last lines said and the line being typed, beside the notice and the
     /// verdict, off the table.
     pub chat: Rect,
+    /// The end of a finished game (who won, why, what next), in the notice's and the
+    /// verdict's place: once the game is over, they have nothing else to say, and the balls
+    /// as they lie stay in view.
+    pub banner: Rect,
 }
+
+/// The heights of the banner's lines, one to another: the headline, the reason, what next.
+const BANNER_LINES: [f32; 3] = [40.0, 22.0, 20.0];
 
 /// The share of the band under the trays the notice and the verdict keep; the chat has the
 /// rest.
@@ -235,6 +242,16 @@ fn fit_table(area: Rect, cloth_m: DVec2, rail: f64) -> (f64, Rect, Rect) {
         (cloth_m.y * scale) as f32,
     );
     (scale, outer, cloth)
+}
+
+/// The banner of a finished game: the notice and the verdict under it, as one box.
+fn banner(notice: Rect, verdict: Rect) -> Rect {
+    Rect::new(
+        notice.x,
+        notice.y,
+        notice.w.max(verdict.w),
+        verdict.y + verdict.h - notice.y,
+    )
 }
 
 /// The two players' names at the ends of `tray`, each `share` of its width (180 px at most),
@@ -428,6 +445,7 @@ impl Layout {
             tray_names,
             notice,
             chat,
+            banner: banner(notice, verdict),
         }
     }
 
@@ -448,6 +466,31 @@ impl Layout {
             ("hint bar", self.footer),
             ("chat", self.chat),
         ]
+    }
+
+    /// The boxes of text once the game is over: the banner in the notice's and the
+    /// verdict's place, the others as in [`Layout::text_boxes`].
+    pub fn game_over_text_boxes(&self) -> Vec<(&'static str, Rect)> {
+        let mut boxes: Vec<_> = self
+            .text_boxes()
+            .into_iter()
+            .filter(|(name, _)| !matches!(*name, "notice" | "verdict"))
+            .collect();
+        boxes.push(("game over banner", self.banner));
+        boxes
+    }
+
+    /// The banner's lines, top to bottom: the headline, the reason, what next, each as
+    /// high as its size calls for.
+    pub fn banner_rows(&self) -> [Rect; 3] {
+        let b = self.banner;
+        let total: f32 = BANNER_LINES.iter().sum();
+        let mut y = b.y;
+        BANNER_LINES.map(|size| {
+            let h = b.h * size / total;
+            y += h;
+            Rect::new(b.x, y - h, b.w, h)
+        })
     }
 
     /// The chat's rows, top to bottom: as many as its box holds at [`CHAT_ROW`] pixels or
@@ -765,36 +808,37 @@ mod tests {
             for (w, h) in TEXT_SIZES {
                 let l = Layout::new(w, h, Frame::new(kind, &[]));
                 let screen = Rect::new(0.0, 0.0, w, h);
-                let boxes = l.text_boxes();
-                for (i, (name, r)) in boxes.iter().enumerate() {
-                    assert!(screen.holds(r), "{w}x{h}: {name} {r:?} leaves the window");
-                    assert!(
-                        r.w >= 10.0 && r.h >= 14.0,
-                        "{w}x{h}: {name} {r:?} too small"
-                    );
-                    for (other, q) in &boxes[i + 1..] {
+                for boxes in [l.text_boxes().to_vec(), l.game_over_text_boxes()] {
+                    for (i, (name, r)) in boxes.iter().enumerate() {
+                        assert!(screen.holds(r), "{w}x{h}: {name} {r:?} leaves the window");
                         assert!(
-                            !r.overlaps(q),
-                            "{w}x{h}: {name} {r:?} overlaps {other} {q:?}"
+                            r.w >= 10.0 && r.h >= 14.0,
+                            "{w}x{h}: {name} {r:?} too small"
                         );
-                    }
-                    // No text over the table, the panel's widgets or (but the panel's
-                    // titles) the panel.
-                    assert!(!r.overlaps(&l.outer), "{w}x{h}: {name} over the table");
-                    assert!(
-                        !r.overlaps(&l.power_bar),
-                        "{w}x{h}: {name} over the power bar"
-                    );
-                    assert!(
-                        !r.overlaps(&l.elevation_view),
-                        "{w}x{h}: {name} over the side view"
-                    );
-                    let tip = l.tip_radius;
-                    let [cx, cy] = l.tip_center;
-                    let face = Rect::new(cx - tip, cy - tip, 2.0 * tip, 2.0 * tip);
-                    assert!(!r.overlaps(&face), "{w}x{h}: {name} over the tip face");
-                    if !name.ends_with("title") {
-                        assert!(!r.overlaps(&l.panel), "{w}x{h}: {name} over the panel");
+                        for (other, q) in &boxes[i + 1..] {
+                            assert!(
+                                !r.overlaps(q),
+                                "{w}x{h}: {name} {r:?} overlaps {other} {q:?}"
+                            );
+                        }
+                        // No text over the table, the panel's widgets or (but the panel's
+                        // titles) the panel.
+                        assert!(!r.overlaps(&l.outer), "{w}x{h}: {name} over the table");
+                        assert!(
+                            !r.overlaps(&l.power_bar),
+                            "{w}x{h}: {name} over the power bar"
+                        );
+                        assert!(
+                            !r.overlaps(&l.elevation_view),
+                            "{w}x{h}: {name} over the side view"
+                        );
+                        let tip = l.tip_radius;
+                        let [cx, cy] = l.tip_center;
+                        let face = Rect::new(cx - tip, cy - tip, 2.0 * tip, 2.0 * tip);
+                        assert!(!r.overlaps(&face), "{w}x{h}: {name} over the tip face");
+                        if !name.ends_with("title") {
+                            assert!(!r.overlaps(&l.panel), "{w}x{h}: {name} over the panel");
+                        }
                     }
                 }
                 for title in [l.tip_title, l.elevation_title, l.power_title] {
@@ -821,7 +865,8 @@ mod tests {
                 let r = l.px(radius);
                 let c = l.cloth;
                 let balls = Rect::new(c.x - r, c.y - r, c.w + 2.0 * r, c.h + 2.0 * r);
-                for (name, b) in l.text_boxes() {
+                let shown = l.text_boxes().into_iter().chain(l.game_over_text_boxes());
+                for (name, b) in shown {
                     assert!(
                         !b.overlaps(&balls),
                         "{w}x{h} {kind:?}: {name} {b:?} on the cloth"
@@ -859,6 +904,24 @@ mod tests {
                     assert!(r.h >= CHAT_ROW && r.w >= 0.2 * w, "{w}x{h}: row {k} {r:?}");
                 }
                 assert!(rows.windows(2).all(|p| p[0].y + p[0].h <= p[1].y + 1e-3));
+            }
+        }
+    }
+
+    #[test]
+    fn the_game_over_banner_stacks_its_lines_in_its_box_the_headline_biggest() {
+        for kind in [TableKind::NineFoot, TableKind::Carom] {
+            for (w, h) in TEXT_SIZES {
+                let l = Layout::new(w, h, Frame::new(kind, &[]));
+                let [head, reason, next] = l.banner_rows();
+                for r in [head, reason, next] {
+                    assert!(l.banner.holds(&r), "{w}x{h}: {r:?} out of the banner");
+                    assert!(r.h >= 14.0 && r.w >= 0.3 * w, "{w}x{h}: {r:?} too small");
+                }
+                assert!(head.y + head.h <= reason.y + 1e-3 && reason.y + reason.h <= next.y + 1e-3);
+                assert!(head.h > reason.h && reason.h >= next.h);
+                // It takes the notice's and the verdict's place, not another box's.
+                assert!(l.banner.holds(&l.notice) && l.banner.holds(&l.verdict));
             }
         }
     }

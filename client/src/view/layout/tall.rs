@@ -126,5 +126,6 @@ pub(super) fn layout(w: f32, h: f32, frame: Frame, edges: Edges) -> Layout {
         tray_names,
         notice,
         chat,
+        banner: super::banner(notice, verdict),
     }
 }
