@@ -493,6 +493,21 @@ impl Layout {
         })
     }
 
+    /// The rows of the game-info box: two when the bar is high enough for two lines of
+    /// text, else one.
+    pub fn game_info_rows(&self) -> Vec<Rect> {
+        let g = self.game_info;
+        if g.h >= 36.0 {
+            let half = 0.5 * g.h;
+            vec![
+                Rect::new(g.x, g.y, g.w, half),
+                Rect::new(g.x, g.y + half, g.w, half),
+            ]
+        } else {
+            vec![g]
+        }
+    }
+
     /// The chat's rows, top to bottom: as many as its box holds at [`CHAT_ROW`] pixels or
     /// more each (three in a 640 x 480 window), the last for the line being typed.
     pub fn chat_rows(&self) -> Vec<Rect> {
@@ -922,6 +937,53 @@ mod tests {
                 assert!(head.h > reason.h && reason.h >= next.h);
                 // It takes the notice's and the verdict's place, not another box's.
                 assert!(l.banner.holds(&l.notice) && l.banner.holds(&l.verdict));
+            }
+        }
+    }
+
+    /// The smallest font, in pixels, a line of the bar at the top is readable at (the
+    /// built-in font is drawn from 13-pixel glyphs).
+    const READABLE_PX: f32 = 12.0;
+
+    #[test]
+    fn the_game_info_is_readable_in_its_box_whatever_the_connection_says() {
+        use crate::view::hud::{game_info, Connection};
+        use crate::view::text;
+        use breakshot_shared::rules::{EightBallRules, Variant};
+        let states = [
+            Connection::Offline,
+            Connection::Connecting,
+            Connection::WaitingForOpponent,
+            Connection::Connected,
+            Connection::Reconnecting,
+            Connection::OpponentLeft {
+                seconds_left: 119.5,
+            },
+        ];
+        let games = [
+            Variant::EightBall(EightBallRules::Wpa),
+            Variant::NineBall,
+            Variant::ThreeCushion { race: 15 },
+        ];
+        for (w, h) in [(640.0, 480.0), (1280.0, 720.0), (720.0, 1280.0)] {
+            let l = nine_foot(w, h);
+            let rows = l.game_info_rows();
+            let scale = text::scale(h);
+            for (state, game) in states.iter().flat_map(|s| games.map(|g| (s, g))) {
+                let lines = game_info(game, Some(65.0), state, rows.len());
+                assert_eq!(lines.len(), rows.len());
+                for (pieces, r) in lines.iter().zip(&rows) {
+                    assert!(l.game_info.holds(r), "{w}x{h}: {r:?}");
+                    let line: String = pieces.iter().map(|(t, _)| t.as_str()).collect();
+                    // The size it is drawn at: 18 at most, as high as the row and no wider.
+                    let chars = line.chars().count() as f32;
+                    let px = (18.0 * scale).min(r.h).min(r.w / (chars * text::ADVANCE));
+                    assert!(px >= READABLE_PX, "{w}x{h}: {line:?} at {px} px in {r:?}");
+                    assert!(
+                        text::width(&line, px / scale, h) <= r.w,
+                        "{w}x{h}: {line:?} wider than {r:?}"
+                    );
+                }
             }
         }
     }
