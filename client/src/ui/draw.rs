@@ -387,7 +387,7 @@ pub fn debug_lines(layout: &Layout, lines: &[String]) {
 }
 
 pub fn text_scale() -> f32 {
-    (screen_height() / 720.0).clamp(1.0, 1.5)
+    breakshot_client::view::text::scale(screen_height())
 }
 
 /// A line of text for the HUD and messages, `size` as at 720 pixels high.

@@ -644,12 +644,14 @@ impl GameScreen {
         let trays = tray::trays(self.flow.shown_game().unwrap_or(game), &pocketed);
         trays::player_trays(&layout, &names, trays, &pocketed, seats, r);
         panel::panel(&layout, &self.controls.aim, Some(self.controls.keep_spin));
+        let over = matches!(game.phase(), Phase::Over { .. });
         game_hud(
             &layout,
             &HudInfo {
                 game: self.flow.shown_game().unwrap_or(game),
                 me: self.link.seat(),
-                verdict: self.flow.shown_verdict(),
+                // Once the game is over, the banner says how it ended where the verdict was.
+                verdict: self.flow.shown_verdict().filter(|_| !over),
                 shot_clock: self.flow.shown_shot_clock(),
                 connection: &self.flow.connection,
                 names: &self.flow.names,
@@ -698,33 +700,14 @@ impl GameScreen {
                 (hud::named(reason, names), 22.0, WHITE),
                 (next, 20.0, LIGHTGRAY),
             ];
-            // The box fits the widest line, and every line is shrunk to fit the cloth.
-            let room = layout.cloth.w - 40.0;
-            let scale = lines
-                .iter()
-                .map(|(t, size, _)| room / draw::text_width(t, *size).max(1.0))
-                .fold(1.0f32, f32::min);
-            let widths: Vec<f32> = lines
-                .iter()
-                .map(|(t, size, _)| draw::text_width(t, size * scale))
-                .collect();
-            let w = widths.iter().copied().fold(0.0, f32::max) + 24.0;
-            let h: f32 = lines
-                .iter()
-                .map(|(_, size, _)| size * scale * 1.3)
-                .sum::<f32>()
-                + 12.0;
-            let x0 = layout.cloth.x + 0.5 * (layout.cloth.w - w);
-            let mut y = layout.cloth.y + 0.5 * (layout.cloth.h - h);
-            draw_rectangle(x0, y, w, h, Color::new(0.0, 0.0, 0.0, 0.75));
-            y += 6.0;
-            for ((text, size, c), d) in lines.iter().zip(&widths) {
-                let size = size * scale;
-                y += size * 1.3;
-                draw::label(text, x0 + 0.5 * (w - d), y - 0.3 * size, size, *c);
+            // Under the trays, in the notice's and the verdict's place: the balls stay in view.
+            let b = layout.banner;
+            draw_rectangle(b.x, b.y, b.w, b.h, Color::new(0.0, 0.0, 0.0, 0.75));
+            for ((text, size, c), r) in lines.iter().zip(layout.banner_rows()) {
+                draw::label_in(text, r, *size, draw::Align::Centre, *c);
             }
         }
-        if self.link.thinking() {
+        if self.link.thinking() && !over {
             draw_thinking(&layout);
         }
         let keys = if self.link.chats() {
@@ -863,11 +846,9 @@ fn draw_away_result(result: &AwayResult) {
     centred("Enter or Esc: back to the menu", 0.75 * h, 20.0, YELLOW);
 }
 
-/// The chat over the bottom-left corner of the cloth: the last lines said, and the line
-/// being typed (T opens it, Enter sends, Esc closes).
+/// The chat in its box beside the verdict, off the table: the last lines said that fit,
+/// and the line being typed (T opens it, Enter sends, Esc closes).
 fn draw_chat(layout: &Layout, chat: &Chat) {
-    let size = 18.0;
-    let step = 1.3 * size * draw::text_scale();
     let mut rows: Vec<(String, Color)> = chat.shown().map(|l| (l.shown(), WHITE)).collect();
     if let Some(typing) = chat.typing() {
         rows.push((format!("say: {typing}_"), YELLOW));
@@ -875,28 +856,14 @@ fn draw_chat(layout: &Layout, chat: &Chat) {
     if rows.is_empty() {
         return;
     }
-    let c = layout.cloth;
-    let width = rows
-        .iter()
-        .map(|(t, _)| draw::text_width(t, size))
-        .fold(0.0, f32::max)
-        .min(c.w - 16.0);
-    let top = c.y + c.h - 8.0 - step * rows.len() as f32;
-    draw_rectangle(
-        c.x + 4.0,
-        top - 4.0,
-        width + 16.0,
-        step * rows.len() as f32 + 8.0,
-        Color::new(0.0, 0.0, 0.0, 0.55),
-    );
-    for (i, (text, color)) in rows.iter().enumerate() {
-        draw::label(
-            text,
-            c.x + 12.0,
-            top + step * (i as f32 + 0.75),
-            size,
-            *color,
-        );
+    let boxes = layout.chat_rows();
+    let shown = &rows[rows.len().saturating_sub(boxes.len())..];
+    let c = layout.chat;
+    draw_rectangle(c.x, c.y, c.w, c.h, Color::new(0.0, 0.0, 0.0, 0.55));
+    // The newest line in the bottom row, the older ones over it.
+    for ((text, color), r) in shown.iter().zip(&boxes[boxes.len() - shown.len()..]) {
+        let inside = Rect::new(r.x + 6.0, r.y, r.w - 12.0, r.h);
+        draw::label_in(text, inside, 18.0, draw::Align::Left, *color);
     }
 }
 

@@ -24,30 +24,22 @@ pub struct HudInfo<'a> {
 pub fn game_hud(layout: &Layout, info: &HudInfo) {
     let bar = layout.hud;
     draw_rectangle(bar.x, bar.y, bar.w, bar.h, Color::new(0.0, 0.0, 0.0, 0.5));
-    // In its box, right-aligned: the game over the shot clock (red as it runs out) and the
+    // In its box, right-aligned: the game and the shot clock (red as it runs out) over the
     // connection when the bar has room for two rows, all on one row otherwise.
-    let mut pieces = Vec::new();
-    if let Some(clock) = hud::shot_clock(info.shot_clock) {
-        let warn = info.shot_clock.is_some_and(hud::clock_running_out);
-        pieces.push((clock, if warn { RED } else { LIGHTGRAY }));
-        pieces.push(("  |  ".into(), LIGHTGRAY));
+    let rows = layout.game_info_rows();
+    let text = hud::game_info(
+        info.game.variant(),
+        info.shot_clock,
+        info.connection,
+        rows.len(),
+    );
+    for (pieces, r) in text.into_iter().zip(rows) {
+        let coloured: Vec<(String, Color)> = pieces
+            .into_iter()
+            .map(|(t, warn)| (t, if warn { RED } else { LIGHTGRAY }))
+            .collect();
+        right_aligned(&coloured, r);
     }
-    pieces.push((hud::connection(info.connection), LIGHTGRAY));
-    let variant = (hud::variant_name(info.game.variant()).to_owned(), LIGHTGRAY);
-    let info_box = layout.game_info;
-    let rows = if info_box.h >= 36.0 {
-        let half = 0.5 * info_box.h;
-        right_aligned(
-            &[variant],
-            Rect::new(info_box.x, info_box.y, info_box.w, half),
-        );
-        Rect::new(info_box.x, info_box.y + half, info_box.w, half)
-    } else {
-        pieces.insert(0, ("  |  ".into(), LIGHTGRAY));
-        pieces.insert(0, variant);
-        info_box
-    };
-    right_aligned(&pieces, rows);
 
     // The players' lines, each in its own box.
     for (p, r) in hud::players(info.game, info.me, info.names, info.ratings)

@@ -283,12 +283,42 @@ pub fn connection(c: &Connection) -> String {
         Connection::Connected => "connected".into(),
         Connection::Reconnecting => "connection lost, reconnecting...".into(),
         Connection::OpponentLeft { seconds_left } => {
+            // Short, so that it stays readable in the game-info box of a small window.
             format!(
-                "opponent left: they forfeit in {:.0} s unless they return",
+                "opponent left: forfeits in {:.0} s unless back",
                 seconds_left.ceil()
             )
         }
         Connection::Closed(why) => format!("disconnected: {why}"),
+    }
+}
+
+/// One piece of the game-info text, and whether it warns (the shot clock running out).
+pub type InfoPiece = (String, bool);
+
+/// The game-info box's text in `rows` rows (one or two), each row's pieces in order: the
+/// game, the shot clock and the connection. With two rows the connection has the second to
+/// itself, so that a long state ("opponent left: ...") is drawn at a readable size.
+pub fn game_info(
+    variant: Variant,
+    shot_clock_secs: Option<f64>,
+    connection_state: &Connection,
+    rows: usize,
+) -> Vec<Vec<InfoPiece>> {
+    let gap = || (HINT_SEPARATOR.to_owned(), false);
+    let mut first = vec![(variant_name(variant).to_owned(), false)];
+    if let Some(clock) = shot_clock(shot_clock_secs) {
+        first.push(gap());
+        let warn = shot_clock_secs.is_some_and(clock_running_out);
+        first.push((clock, warn));
+    }
+    let state = (connection(connection_state), false);
+    if rows >= 2 {
+        vec![first, vec![state]]
+    } else {
+        first.push(gap());
+        first.push(state);
+        vec![first]
     }
 }
 
@@ -497,5 +527,24 @@ mod tests {
         assert_eq!(shot_clock(None), None);
         assert!(clock_running_out(9.5) && !clock_running_out(10.5));
         assert!(connection(&Connection::OpponentLeft { seconds_left: 29.2 }).contains("30 s"));
+    }
+
+    #[test]
+    fn the_game_info_keeps_the_game_and_the_clock_apart_from_a_long_connection_state() {
+        let left = Connection::OpponentLeft { seconds_left: 41.5 };
+        let two = game_info(Variant::NineBall, Some(8.0), &left, 2);
+        let text = |row: &[InfoPiece]| row.iter().map(|(t, _)| t.as_str()).collect::<String>();
+        assert_eq!(text(&two[0]), "9-ball  |  shot clock 0:08");
+        assert_eq!(text(&two[1]), "opponent left: forfeits in 42 s unless back");
+        // Only the clock warns, and only as it runs out.
+        assert!(two[0]
+            .iter()
+            .any(|(t, warn)| *warn && t.starts_with("shot clock")));
+        assert!(game_info(Variant::NineBall, Some(50.0), &left, 2)[0]
+            .iter()
+            .all(|(_, warn)| !warn));
+        let one = game_info(Variant::NineBall, None, &Connection::Connected, 1);
+        assert_eq!(one.len(), 1);
+        assert_eq!(text(&one[0]), "9-ball  |  connected");
     }
 }

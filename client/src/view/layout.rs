@@ -204,7 +204,23 @@ pub struct Layout {
     /// pocket to call, the computer thinking, a replay's warnings): off the cloth, where it
     /// covers no ball.
     pub notice: Rect,
+    /// The chat: the last lines said and the line being typed, beside the notice and the
+    /// verdict, off the table.
+    pub chat: Rect,
+    /// The end of a finished game (who won, why, what next), in the notice's and the
+    /// verdict's place: once the game is over, they have nothing else to say, and the balls
+    /// as they lie stay in view.
+    pub banner: Rect,
 }
+
+/// The heights of the banner's lines, one to another: the headline, the reason, what next.
+const BANNER_LINES: [f32; 3] = [40.0, 22.0, 20.0];
+
+/// The share of the band under the trays the notice and the verdict keep; the chat has the
+/// rest.
+const NOTICE_SHARE: f32 = 0.6;
+/// The least height of one of the chat's rows (pixels).
+const CHAT_ROW: f32 = 20.0;
 
 /// The table, its cloth `cloth_m` metres across and down the screen with `rail` metres of
 /// rail round it, fitted and centred in `area`: the scale (px/m), the outer box, the cloth.
@@ -228,6 +244,16 @@ fn fit_table(area: Rect, cloth_m: DVec2, rail: f64) -> (f64, Rect, Rect) {
     (scale, outer, cloth)
 }
 
+/// The banner of a finished game: the notice and the verdict under it, as one box.
+fn banner(notice: Rect, verdict: Rect) -> Rect {
+    Rect::new(
+        notice.x,
+        notice.y,
+        notice.w.max(verdict.w),
+        verdict.y + verdict.h - notice.y,
+    )
+}
+
 /// The two players' names at the ends of `tray`, each `share` of its width (180 px at most),
 /// the balls between them.
 fn tray_names(tray: Rect, margin: f32, share: f32) -> [Rect; 2] {
@@ -245,8 +271,8 @@ fn tray_names(tray: Rect, margin: f32, share: f32) -> [Rect; 2] {
 
 impl Layout {
     /// Fits the table into a window of `width` × `height` pixels, with every box of text
-    /// beside it: the bar at the top, the status line, the panel, the trays, the verdict and
-    /// the hint bar, none over another.
+    /// beside it: the bar at the top, the status line, the panel, the trays, the verdict, the
+    /// chat and the hint bar, none over another.
     pub fn new(width: f32, height: f32, frame: Frame) -> Layout {
         let (w, h) = (width.max(64.0), height.max(64.0));
         let margin = (0.015 * w.min(h)).max(6.0);
@@ -324,13 +350,24 @@ impl Layout {
         let origin = DVec2::new(cloth.x as f64, cloth.y as f64);
         let tray = Rect::new(outer.x, outer.y + outer.h + margin, outer.w, tray_h);
         let tray_names = tray_names(tray, margin, 0.28);
-        let notice = Rect::new(area.x, tray.y + tray_h + 0.5 * margin, area.w, notice_h);
+        // Under the trays, the notice over the verdict on the left and the chat on the
+        // right, as far as the panel's right edge: the panel ends at the trays.
+        let text_w = NOTICE_SHARE * area.w;
+        let notice = Rect::new(area.x, tray.y + tray_h + 0.5 * margin, text_w, notice_h);
         let verdict_y = notice.y + notice_h + 0.5 * margin;
+        let band_bottom = footer.y - 0.5 * margin;
         let verdict = Rect::new(
             area.x,
             verdict_y,
-            area.w,
-            (footer.y - 0.5 * margin - verdict_y).max(10.0),
+            text_w,
+            (band_bottom - verdict_y).max(10.0),
+        );
+        let chat_x = area.x + text_w + margin;
+        let chat = Rect::new(
+            chat_x,
+            notice.y,
+            panel_x + panel_w - chat_x,
+            (band_bottom - notice.y).max(10.0),
         );
 
         // The panel, top to bottom: a title over each of the tip face, the side view and
@@ -339,7 +376,7 @@ impl Layout {
             panel_x,
             hud_h + 0.5 * margin,
             panel_w,
-            footer.y - 0.5 * margin - (hud_h + 0.5 * margin),
+            notice.y - margin - (hud_h + 0.5 * margin),
         );
         let title_h = (0.035 * h).clamp(16.0, 26.0);
         let tip_title = Rect::new(panel_x, panel.y, panel_w, title_h);
@@ -407,11 +444,13 @@ impl Layout {
             footer_rows,
             tray_names,
             notice,
+            chat,
+            banner: banner(notice, verdict),
         }
     }
 
     /// Every box the window writes text in, named, for checking that none overlaps another.
-    pub fn text_boxes(&self) -> [(&'static str, Rect); 12] {
+    pub fn text_boxes(&self) -> [(&'static str, Rect); 13] {
         [
             ("first player", self.players[0]),
             ("second player", self.players[1]),
@@ -425,7 +464,59 @@ impl Layout {
             ("notice", self.notice),
             ("verdict", self.verdict),
             ("hint bar", self.footer),
+            ("chat", self.chat),
         ]
+    }
+
+    /// The boxes of text once the game is over: the banner in the notice's and the
+    /// verdict's place, the others as in [`Layout::text_boxes`].
+    pub fn game_over_text_boxes(&self) -> Vec<(&'static str, Rect)> {
+        let mut boxes: Vec<_> = self
+            .text_boxes()
+            .into_iter()
+            .filter(|(name, _)| !matches!(*name, "notice" | "verdict"))
+            .collect();
+        boxes.push(("game over banner", self.banner));
+        boxes
+    }
+
+    /// The banner's lines, top to bottom: the headline, the reason, what next, each as
+    /// high as its size calls for.
+    pub fn banner_rows(&self) -> [Rect; 3] {
+        let b = self.banner;
+        let total: f32 = BANNER_LINES.iter().sum();
+        let mut y = b.y;
+        BANNER_LINES.map(|size| {
+            let h = b.h * size / total;
+            y += h;
+            Rect::new(b.x, y - h, b.w, h)
+        })
+    }
+
+    /// The rows of the game-info box: two when the bar is high enough for two lines of
+    /// text, else one.
+    pub fn game_info_rows(&self) -> Vec<Rect> {
+        let g = self.game_info;
+        if g.h >= 36.0 {
+            let half = 0.5 * g.h;
+            vec![
+                Rect::new(g.x, g.y, g.w, half),
+                Rect::new(g.x, g.y + half, g.w, half),
+            ]
+        } else {
+            vec![g]
+        }
+    }
+
+    /// The chat's rows, top to bottom: as many as its box holds at [`CHAT_ROW`] pixels or
+    /// more each (three in a 640 x 480 window), the last for the line being typed.
+    pub fn chat_rows(&self) -> Vec<Rect> {
+        let c = self.chat;
+        let n = (c.h / CHAT_ROW).floor().max(1.0) as usize;
+        let row = c.h / n as f32;
+        (0..n)
+            .map(|k| Rect::new(c.x, c.y + k as f32 * row, c.w, row))
+            .collect()
     }
 
     /// The cue elevation (degrees) the side view shows for a mouse at `px`: the angle of the
@@ -732,36 +823,37 @@ mod tests {
             for (w, h) in TEXT_SIZES {
                 let l = Layout::new(w, h, Frame::new(kind, &[]));
                 let screen = Rect::new(0.0, 0.0, w, h);
-                let boxes = l.text_boxes();
-                for (i, (name, r)) in boxes.iter().enumerate() {
-                    assert!(screen.holds(r), "{w}x{h}: {name} {r:?} leaves the window");
-                    assert!(
-                        r.w >= 10.0 && r.h >= 14.0,
-                        "{w}x{h}: {name} {r:?} too small"
-                    );
-                    for (other, q) in &boxes[i + 1..] {
+                for boxes in [l.text_boxes().to_vec(), l.game_over_text_boxes()] {
+                    for (i, (name, r)) in boxes.iter().enumerate() {
+                        assert!(screen.holds(r), "{w}x{h}: {name} {r:?} leaves the window");
                         assert!(
-                            !r.overlaps(q),
-                            "{w}x{h}: {name} {r:?} overlaps {other} {q:?}"
+                            r.w >= 10.0 && r.h >= 14.0,
+                            "{w}x{h}: {name} {r:?} too small"
                         );
-                    }
-                    // No text over the table, the panel's widgets or (but the panel's
-                    // titles) the panel.
-                    assert!(!r.overlaps(&l.outer), "{w}x{h}: {name} over the table");
-                    assert!(
-                        !r.overlaps(&l.power_bar),
-                        "{w}x{h}: {name} over the power bar"
-                    );
-                    assert!(
-                        !r.overlaps(&l.elevation_view),
-                        "{w}x{h}: {name} over the side view"
-                    );
-                    let tip = l.tip_radius;
-                    let [cx, cy] = l.tip_center;
-                    let face = Rect::new(cx - tip, cy - tip, 2.0 * tip, 2.0 * tip);
-                    assert!(!r.overlaps(&face), "{w}x{h}: {name} over the tip face");
-                    if !name.ends_with("title") {
-                        assert!(!r.overlaps(&l.panel), "{w}x{h}: {name} over the panel");
+                        for (other, q) in &boxes[i + 1..] {
+                            assert!(
+                                !r.overlaps(q),
+                                "{w}x{h}: {name} {r:?} overlaps {other} {q:?}"
+                            );
+                        }
+                        // No text over the table, the panel's widgets or (but the panel's
+                        // titles) the panel.
+                        assert!(!r.overlaps(&l.outer), "{w}x{h}: {name} over the table");
+                        assert!(
+                            !r.overlaps(&l.power_bar),
+                            "{w}x{h}: {name} over the power bar"
+                        );
+                        assert!(
+                            !r.overlaps(&l.elevation_view),
+                            "{w}x{h}: {name} over the side view"
+                        );
+                        let tip = l.tip_radius;
+                        let [cx, cy] = l.tip_center;
+                        let face = Rect::new(cx - tip, cy - tip, 2.0 * tip, 2.0 * tip);
+                        assert!(!r.overlaps(&face), "{w}x{h}: {name} over the tip face");
+                        if !name.ends_with("title") {
+                            assert!(!r.overlaps(&l.panel), "{w}x{h}: {name} over the panel");
+                        }
                     }
                 }
                 for title in [l.tip_title, l.elevation_title, l.power_title] {
@@ -788,7 +880,8 @@ mod tests {
                 let r = l.px(radius);
                 let c = l.cloth;
                 let balls = Rect::new(c.x - r, c.y - r, c.w + 2.0 * r, c.h + 2.0 * r);
-                for (name, b) in l.text_boxes() {
+                let shown = l.text_boxes().into_iter().chain(l.game_over_text_boxes());
+                for (name, b) in shown {
                     assert!(
                         !b.overlaps(&balls),
                         "{w}x{h} {kind:?}: {name} {b:?} on the cloth"
@@ -809,6 +902,88 @@ mod tests {
                     l.footer.h / l.footer_rows as f32 >= 18.0,
                     "{w}x{h}: hint rows"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn the_chat_shows_a_few_lines_in_rows_of_its_own_box() {
+        for kind in [TableKind::NineFoot, TableKind::Carom] {
+            for (w, h) in TEXT_SIZES {
+                let l = Layout::new(w, h, Frame::new(kind, &[]));
+                let rows = l.chat_rows();
+                // Two lines said and the one being typed, even in the smallest window.
+                assert!(rows.len() >= 3, "{w}x{h}: {} chat rows", rows.len());
+                for (k, r) in rows.iter().enumerate() {
+                    assert!(l.chat.holds(r), "{w}x{h}: row {k} {r:?} out of the chat");
+                    assert!(r.h >= CHAT_ROW && r.w >= 0.2 * w, "{w}x{h}: row {k} {r:?}");
+                }
+                assert!(rows.windows(2).all(|p| p[0].y + p[0].h <= p[1].y + 1e-3));
+            }
+        }
+    }
+
+    #[test]
+    fn the_game_over_banner_stacks_its_lines_in_its_box_the_headline_biggest() {
+        for kind in [TableKind::NineFoot, TableKind::Carom] {
+            for (w, h) in TEXT_SIZES {
+                let l = Layout::new(w, h, Frame::new(kind, &[]));
+                let [head, reason, next] = l.banner_rows();
+                for r in [head, reason, next] {
+                    assert!(l.banner.holds(&r), "{w}x{h}: {r:?} out of the banner");
+                    assert!(r.h >= 14.0 && r.w >= 0.3 * w, "{w}x{h}: {r:?} too small");
+                }
+                assert!(head.y + head.h <= reason.y + 1e-3 && reason.y + reason.h <= next.y + 1e-3);
+                assert!(head.h > reason.h && reason.h >= next.h);
+                // It takes the notice's and the verdict's place, not another box's.
+                assert!(l.banner.holds(&l.notice) && l.banner.holds(&l.verdict));
+            }
+        }
+    }
+
+    /// The smallest font, in pixels, a line of the bar at the top is readable at (the
+    /// built-in font is drawn from 13-pixel glyphs).
+    const READABLE_PX: f32 = 12.0;
+
+    #[test]
+    fn the_game_info_is_readable_in_its_box_whatever_the_connection_says() {
+        use crate::view::hud::{game_info, Connection};
+        use crate::view::text;
+        use breakshot_shared::rules::{EightBallRules, Variant};
+        let states = [
+            Connection::Offline,
+            Connection::Connecting,
+            Connection::WaitingForOpponent,
+            Connection::Connected,
+            Connection::Reconnecting,
+            Connection::OpponentLeft {
+                seconds_left: 119.5,
+            },
+        ];
+        let games = [
+            Variant::EightBall(EightBallRules::Wpa),
+            Variant::NineBall,
+            Variant::ThreeCushion { race: 15 },
+        ];
+        for (w, h) in [(640.0, 480.0), (1280.0, 720.0), (720.0, 1280.0)] {
+            let l = nine_foot(w, h);
+            let rows = l.game_info_rows();
+            let scale = text::scale(h);
+            for (state, game) in states.iter().flat_map(|s| games.map(|g| (s, g))) {
+                let lines = game_info(game, Some(65.0), state, rows.len());
+                assert_eq!(lines.len(), rows.len());
+                for (pieces, r) in lines.iter().zip(&rows) {
+                    assert!(l.game_info.holds(r), "{w}x{h}: {r:?}");
+                    let line: String = pieces.iter().map(|(t, _)| t.as_str()).collect();
+                    // The size it is drawn at: 18 at most, as high as the row and no wider.
+                    let chars = line.chars().count() as f32;
+                    let px = (18.0 * scale).min(r.h).min(r.w / (chars * text::ADVANCE));
+                    assert!(px >= READABLE_PX, "{w}x{h}: {line:?} at {px} px in {r:?}");
+                    assert!(
+                        text::width(&line, px / scale, h) <= r.w,
+                        "{w}x{h}: {line:?} wider than {r:?}"
+                    );
+                }
             }
         }
     }

@@ -13,6 +13,7 @@ mod playback;
 pub mod snooker;
 pub mod sound;
 pub mod sphere;
+pub mod text;
 mod trail;
 pub mod tray;
 

@@ -1,6 +1,7 @@
 //! The layout of a window taller than wide (a phone held upright): the table turned a
 //! quarter so that its length runs down the screen, with the tray, the verdict and the panel
-//! (tip face, side view and power bar side by side) below it.
+//! (tip face, side view and power bar side by side) below it, the chat beside the notice
+//! and the verdict.
 //!
 //! Turned, scene `x` (across the table) runs to the right and scene `y` (along it) runs up,
 //! so the end the cue ball breaks from is at the bottom, nearest the player's thumb. Like the
@@ -51,6 +52,17 @@ pub(super) fn layout(w: f32, h: f32, frame: Frame, edges: Edges) -> Layout {
     let panel = row(footer.y - 0.5 * margin - panel_h, panel_h);
     let verdict = row(panel.y - 0.5 * margin - verdict_h, verdict_h);
     let notice = row(verdict.y - 0.5 * margin - row_h, row_h);
+    // The notice over the verdict on the left, the chat beside them on the right.
+    let text_w = super::NOTICE_SHARE * notice.w;
+    let chat_x = notice.x + text_w + margin;
+    let chat = Rect::new(
+        chat_x,
+        notice.y,
+        notice.x + notice.w - chat_x,
+        verdict.y + verdict.h - notice.y,
+    );
+    let verdict = Rect::new(verdict.x, verdict.y, text_w, verdict.h);
+    let notice = Rect::new(notice.x, notice.y, text_w, notice.h);
     let tray_y = notice.y - 0.5 * margin - tray_h;
     let top = status.y + status_h + 0.5 * margin;
     let area = row(top, (tray_y - 0.5 * margin - top).max(10.0));
@@ -113,5 +125,7 @@ pub(super) fn layout(w: f32, h: f32, frame: Frame, edges: Edges) -> Layout {
         footer_rows,
         tray_names,
         notice,
+        chat,
+        banner: super::banner(notice, verdict),
     }
 }
