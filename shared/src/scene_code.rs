@@ -1,12 +1,17 @@
 //! A position as a short text code, to pass to another player or to `breakshot-sim`: the
 //! table and each ball's name and place, packed and written in URL-safe base64 after the
 //! prefix `bs1.`. Places are kept to the micrometre, which is finer than any play needs and
-//! keeps balls that touch in a scene from overlapping once decoded. A code carries the
-//! table's default physics: a scene's own physics overrides, velocities, spins and strike
-//! are not part of a position.
+//! keeps balls that touch in a scene from overlapping once decoded. A scene's own physics
+//! (its parameters, models, effects and horizon where they differ from the table's
+//! defaults) travel with it, so a shared position plays as it did; velocities, spins and
+//! the strike are not part of a position.
 //!
 //! Layout (version 1): table name length (1 byte) and its name, ball count (1 byte), then
-//! per ball its id's length (1 byte), the id, and x and y in micrometres (i32, little end).
+//! per ball its id's length (1 byte), the id, and x and y in micrometres (i32, little end);
+//! then, only when the scene's physics differ from the table's defaults, their length
+//! (u16, little end) and the differences as a JSON object in the scene format
+//! (`{"physics": {...}, "models": {...}, "effects": {...}, "horizon": ...}`, each part only
+//! when it differs).
 
 use data_encoding::BASE64URL_NOPAD;
 
@@ -37,6 +42,9 @@ pub enum CodeError {
     /// A ball's name is not text.
     #[error("a ball's name in the position code is not text")]
     Name,
+    /// The physics it carries are not a scene's.
+    #[error("the position code's physics are not valid: {0}")]
+    Physics(String),
     /// The scene cannot be written as a code (too many balls, a name too long, a place
     /// beyond ±2 km).
     #[error("the position cannot be written as a code: {0}")]
@@ -65,7 +73,46 @@ pub fn encode(scene: &Scene) -> Result<String, CodeError> {
             bytes.extend_from_slice(&(um as i32).to_le_bytes());
         }
     }
+    if let Some(physics) = own_physics(scene) {
+        let len = u16::try_from(physics.len())
+            .map_err(|_| CodeError::TooBig("its physics are too long".into()))?;
+        bytes.extend_from_slice(&len.to_le_bytes());
+        bytes.extend_from_slice(physics.as_bytes());
+    }
     Ok(format!("{PREFIX}{}", BASE64URL_NOPAD.encode(&bytes)))
+}
+
+/// What `scene` changes of its table's default physics, as a JSON object in the scene
+/// format; None when it changes nothing.
+fn own_physics(scene: &Scene) -> Option<String> {
+    let defaults = table_scene(scene.table).ok()?;
+    let value = |s: &Scene| serde_json::to_value(s).ok();
+    let (mine, theirs) = (value(scene)?, value(&defaults)?);
+    let mut own = serde_json::Map::new();
+    if let (Some(serde_json::Value::Object(mine)), Some(serde_json::Value::Object(theirs))) =
+        (mine.get("physics"), theirs.get("physics"))
+    {
+        let changed: serde_json::Map<_, _> = mine
+            .iter()
+            .filter(|(k, v)| theirs.get(*k) != Some(v))
+            .map(|(k, v)| (k.clone(), v.clone()))
+            .collect();
+        if !changed.is_empty() {
+            own.insert("physics".into(), changed.into());
+        }
+    }
+    for part in ["models", "effects", "horizon"] {
+        if let Some(v) = mine.get(part).filter(|v| theirs.get(part) != Some(*v)) {
+            own.insert(part.into(), v.clone());
+        }
+    }
+    (!own.is_empty()).then(|| serde_json::Value::Object(own).to_string())
+}
+
+/// The scene of `table` with its defaults and no balls, as a scene file naming only its
+/// table gets them.
+fn table_scene(table: TableKind) -> Result<Scene, crate::scene::SceneError> {
+    Scene::from_json(&format!("{{\"table\":\"{}\",\"balls\":[]}}", table.name()))
 }
 
 /// The scene a code gives: its table, the table's physics, the balls at rest, no strike.
@@ -93,12 +140,22 @@ pub fn decode(code: &str) -> Result<Scene, CodeError> {
             spin: [0.0; 3],
         });
     }
-    if !r.0.is_empty() {
-        return Err(CodeError::Length);
-    }
-    // The table's defaults, as a scene file that names only its table and balls gets them.
-    let mut scene = Scene::from_json(&format!("{{\"table\":\"{}\",\"balls\":[]}}", table.name()))
-        .map_err(|e| CodeError::Table(e.to_string()))?;
+    let mut scene = if r.0.is_empty() {
+        table_scene(table).map_err(|e| CodeError::Table(e.to_string()))?
+    } else {
+        // The physics it carries, read as a scene file's would be (names and types checked).
+        let len = usize::from(u16::from_le_bytes([r.byte()?, r.byte()?]));
+        let text = String::from_utf8(r.take(len)?.to_vec()).map_err(|_| CodeError::Length)?;
+        if !r.0.is_empty() {
+            return Err(CodeError::Length);
+        }
+        let mut own: serde_json::Map<String, serde_json::Value> =
+            serde_json::from_str(&text).map_err(|e| CodeError::Physics(e.to_string()))?;
+        own.insert("table".into(), table.name().into());
+        own.insert("balls".into(), serde_json::Value::Array(Vec::new()));
+        Scene::from_json(&serde_json::Value::Object(own).to_string())
+            .map_err(|e| CodeError::Physics(e.to_string()))?
+    };
     scene.balls = balls;
     Ok(scene)
 }
@@ -157,6 +214,40 @@ mod tests {
         // A decoded scene is a table the rules accept, and its code is the same again.
         Game::practice(&back).expect("a practice table");
         assert_eq!(encode(&back).expect("again"), code);
+    }
+
+    #[test]
+    fn a_scene_s_own_physics_travel_with_its_code() {
+        let scene = Scene::from_json(
+            r#"{"table": "carom", "physics": {"mu_slide": 0.25, "e_cushion": 0.7},
+                "models": {"cushion": "stronge"}, "effects": {"airborne": false},
+                "balls": [{"id": "cue", "pos": [0.6, 1.0]}, {"id": "red", "pos": [0.7, 2.0]}]}"#,
+        )
+        .expect("a scene");
+        let code = encode(&scene).expect("a code");
+        let back = decode(&code).expect("decodes");
+        assert_eq!(back.physics, scene.physics);
+        assert_eq!(back.models, scene.models);
+        assert_eq!(back.effects, scene.effects);
+        assert_eq!(back.balls, scene.balls);
+        // A scene with the table's defaults carries none: its code is as short as before.
+        let plain = Scene {
+            physics: table_scene(TableKind::Carom).expect("defaults").physics,
+            models: table_scene(TableKind::Carom).expect("defaults").models,
+            effects: table_scene(TableKind::Carom).expect("defaults").effects,
+            ..scene.clone()
+        };
+        assert!(own_physics(&plain).is_none());
+        assert!(encode(&plain).expect("a code").len() < code.len());
+        // Physics that are not a scene's are refused with the reason.
+        let mut bytes = BASE64URL_NOPAD
+            .decode(&encode(&plain).expect("a code").as_bytes()[PREFIX.len()..])
+            .expect("base64");
+        let bad = br#"{"physics": {"no_such": 1}}"#;
+        bytes.extend_from_slice(&(bad.len() as u16).to_le_bytes());
+        bytes.extend_from_slice(bad);
+        let bad = format!("{PREFIX}{}", BASE64URL_NOPAD.encode(&bytes));
+        assert!(matches!(decode(&bad), Err(CodeError::Physics(why)) if why.contains("no_such")));
     }
 
     #[test]
