@@ -426,6 +426,7 @@ fn a_host_restarted_on_its_data_says_game_resumed() {
     };
     let dir = breakshot_testkit::scratch("friends-resumed");
     let data = dir.path().join("ann");
+    // Each host window says what it shows on its standard error (`BREAKSHOT_REPORT`).
     let host = |bind: &str| {
         let mut host = Spawned::start(
             display
@@ -435,17 +436,30 @@ fn a_host_restarted_on_its_data_says_game_resumed() {
                 ])
                 .arg("--data")
                 .arg(&data)
+                .env("BREAKSHOT_REPORT", "1")
                 .stdout(Stdio::piped())
-                .stderr(Stdio::null()),
+                .stderr(Stdio::piped()),
         );
         let stdout = host.child().stdout.take().expect("the host's output");
+        let stderr = host.child().stderr.take().expect("the host's reports");
         let (line, rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
         let invite: Invite = line.trim().parse().expect("the invite is the first line");
         // The rest of the output is read, so the host never blocks on a full pipe.
         std::thread::spawn(move || std::io::copy(&mut { rest }, &mut std::io::sink()));
-        (host, invite)
+        let said = std::sync::Arc::new(std::sync::Mutex::new(Vec::<String>::new()));
+        let heard = said.clone();
+        std::thread::spawn(move || {
+            use std::io::BufRead;
+            for line in std::io::BufReader::new(stderr)
+                .lines()
+                .map_while(Result::ok)
+            {
+                heard.lock().expect("the reports").push(line);
+            }
+        });
+        (host, invite, said)
     };
-    let (first, invite) = host("127.0.0.1:0");
+    let (first, invite, _) = host("127.0.0.1:0");
     let wid = display.new_window(&[]);
     let runtime = tokio::runtime::Runtime::new().expect("a runtime");
     let mut bob = within(&runtime, "Bob's seat", async {
@@ -504,7 +518,7 @@ fn a_host_restarted_on_its_data_says_game_resumed() {
     );
     drop(bob);
     let bind = format!("127.0.0.1:{}", invite.first().port);
-    let (_again, _) = host(&bind);
+    let (_again, _, said) = host(&bind);
     let wid = display.new_window(&[]);
     let out = dir.path().join("again.png");
     let resumed = until_shown(
@@ -532,4 +546,10 @@ fn a_host_restarted_on_its_data_says_game_resumed() {
     let ids = rack.ball_ids();
     let racked = balls_not_seen(&resumed, &layout, &ids, rack.balls());
     assert!(racked.len() > 3, "the break was not kept: {racked:?} moved");
+    // And the line it shows is the one it says: "Game resumed".
+    let said = said.lock().expect("the reports").clone();
+    assert!(
+        said.iter().any(|l| l == "report: message Game resumed"),
+        "the restarted host did not say Game resumed: {said:?}"
+    );
 }

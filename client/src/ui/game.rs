@@ -38,6 +38,8 @@ pub struct GameScreen {
     frame_ms: f64,
     /// The last state told to whoever watches a page ([`super::report`]).
     reported: String,
+    /// The last line under the table told to whoever watches ("Game resumed", ...).
+    reported_message: String,
     /// The invite panel's button pressed last.
     copied: Option<invite::Copied>,
     /// How each ball is turned, for drawing.
@@ -108,6 +110,7 @@ impl GameScreen {
             debug: false,
             frame_ms: 0.0,
             reported: String::new(),
+            reported_message: String::new(),
             copied: None,
             turns: Orientations::new(),
             leaving: false,
@@ -767,7 +770,8 @@ impl GameScreen {
     }
 
     /// Tells whoever watches the page (its tests) how the game stands, when that changed: the
-    /// seat, the shots confirmed by the server's hash and the desyncs, and the end.
+    /// seat, the shots confirmed by the server's hash and the desyncs, and the end; and the
+    /// line under the table when it changes.
     fn report(&mut self) {
         let replica = self.flow.replica();
         let over = match self.flow.game().map(Game::phase) {
@@ -792,6 +796,10 @@ impl GameScreen {
         if line != self.reported {
             super::report(&line);
             self.reported = line;
+        }
+        if self.flow.message != self.reported_message {
+            self.reported_message = self.flow.message.clone();
+            super::report(&format!("message {}", self.reported_message));
         }
     }
 
