@@ -95,13 +95,15 @@ pub enum Key {
     SavePosition,
     /// Set up the position: drag any ball, take balls off and put them back (practice).
     Arrange,
+    /// Paste the clipboard into the line being typed (Ctrl+V).
+    Paste,
 }
 
 impl Key {
     /// True for the keys a line being typed uses itself (every other key types a character
     /// into it, or nothing).
     pub fn edits_text(self) -> bool {
-        matches!(self, Key::Erase | Key::Send | Key::Back)
+        matches!(self, Key::Erase | Key::Send | Key::Back | Key::Paste)
     }
 }
 
@@ -304,6 +306,7 @@ impl Controls {
                 | Key::Chat
                 | Key::Erase
                 | Key::Send
+                | Key::Paste
                 | Key::PowerUp
                 | Key::PowerDown
                 | Key::View
@@ -484,12 +487,14 @@ mod tests {
                 Key::VolumeUp,
                 Key::Erase,
                 Key::Send,
+                Key::View,
+                Key::Paste,
             ],
             typed: vec!['m', '[', ']'],
             ..InputFrame::default()
         }
         .while_typing();
-        assert_eq!(typed.pressed, [Key::Erase, Key::Send]);
+        assert_eq!(typed.pressed, [Key::Erase, Key::Send, Key::Paste]);
         assert_eq!(typed.typed, ['m', '[', ']']);
     }
     use crate::view::Frame;

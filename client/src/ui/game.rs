@@ -429,17 +429,25 @@ impl GameScreen {
 
     /// Feeds a frame's keys to the open chat line, and sends the line on Enter.
     fn type_chat(&mut self, input: &InputFrame) {
-        let keys =
-            input
-                .typed
-                .iter()
-                .map(|&c| ChatKey::Char(c))
-                .chain(input.pressed.iter().filter_map(|k| match k {
-                    Key::Erase => Some(ChatKey::Erase),
-                    Key::Send => Some(ChatKey::Send),
-                    Key::Back => Some(ChatKey::Cancel),
-                    _ => None,
-                }));
+        // Ctrl+V types the clipboard's text (its first line) into the chat line.
+        let pasted: Vec<char> = if input.pressed.contains(&Key::Paste) {
+            let text = macroquad::miniquad::window::clipboard_get().unwrap_or_default();
+            let line = text.lines().next().unwrap_or_default().to_owned();
+            line.chars().filter(|c| !c.is_control()).collect()
+        } else {
+            Vec::new()
+        };
+        let keys = input
+            .typed
+            .iter()
+            .chain(&pasted)
+            .map(|&c| ChatKey::Char(c))
+            .chain(input.pressed.iter().filter_map(|k| match k {
+                Key::Erase => Some(ChatKey::Erase),
+                Key::Send => Some(ChatKey::Send),
+                Key::Back => Some(ChatKey::Cancel),
+                _ => None,
+            }));
         for key in keys.collect::<Vec<_>>() {
             if let Some(text) = self.flow.chat.key(key) {
                 super::report(&format!("chat sent {text}"));

@@ -149,6 +149,7 @@ pub fn read(dt: f64, typing: bool) -> InputFrame {
     let (mx, my) = held.map_or((mx, my), |(at, _)| (at[0], at[1]));
     LAST.set([mx, my]);
     let (_, wheel) = mouse_wheel();
+    let control = is_key_down(KeyCode::LeftControl) || is_key_down(KeyCode::RightControl);
     let frame = InputFrame {
         mouse: [mx, my],
         // While two fingers look at the table, the first of them does not also aim.
@@ -175,12 +176,16 @@ pub fn read(dt: f64, typing: bool) -> InputFrame {
         raise_key: is_key_down(KeyCode::W) || is_key_down(KeyCode::PageUp),
         lower_key: is_key_down(KeyCode::S) || is_key_down(KeyCode::PageDown),
         // A two-finger tap switches the view, as V does.
-        pressed: KEYS
-            .iter()
-            .filter(|(code, _)| is_key_pressed(*code))
-            .map(|&(_, key)| key)
-            .chain(two_tapped.then_some(Key::View))
-            .collect(),
+        // Ctrl+V pastes, and is not also V (the view).
+        pressed: if control && is_key_pressed(KeyCode::V) {
+            vec![Key::Paste]
+        } else {
+            KEYS.iter()
+                .filter(|(code, _)| is_key_pressed(*code))
+                .map(|&(_, key)| key)
+                .chain(two_tapped.then_some(Key::View))
+                .collect()
+        },
         typed: std::iter::from_fn(get_char_pressed)
             .filter(|c| !c.is_control())
             .collect(),

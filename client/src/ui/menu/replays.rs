@@ -98,6 +98,11 @@ impl ReplayPage {
                     self.text.pop();
                 }
                 Key::Send => self.list(),
+                // An invite copied from a chat or a mail goes in whole.
+                Key::Paste => {
+                    let pasted = macroquad::miniquad::window::clipboard_get().unwrap_or_default();
+                    self.text.push_str(pasted.trim());
+                }
                 _ => {}
             }
         }
