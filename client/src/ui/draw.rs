@@ -10,7 +10,8 @@ use breakshot_client::view::aids::{self, AidToggles, PathPoint, Prediction};
 use breakshot_client::view::palette::{self, ball_look, Rgb};
 use breakshot_client::view::sphere::{self, ScreenAxes};
 use breakshot_client::view::{
-    flight, Camera, Flight, Layout, Orientations, PocketDrop, Rect, Stroke, TrailPoint, RAIL_WIDTH,
+    flight, Camera, Flight, Layout, Orientations, PocketDrop, Rect, Stroke, TrailPoint,
+    CUSHION_WIDTH,
 };
 use breakshot_shared::physics::{BallState, Table, TableKind};
 use macroquad::models::Vertex;
@@ -94,8 +95,6 @@ fn screen_axes(layout: &Layout) -> ScreenAxes {
     }
 }
 
-/// Width of the cushion rubber drawn behind the nose line (m).
-pub const CUSHION_WIDTH: f64 = 0.045;
 /// Sides of the polygon a ball is drawn as.
 const BALL_SIDES: u8 = 48;
 
@@ -185,32 +184,12 @@ fn rails(layout: &Layout, kind: TableKind) {
             color(palette::POCKET),
         );
     }
-    diamonds(layout, kind.has_pockets());
+    diamonds(layout, kind);
 }
 
-/// Sights on the wood, halfway across it (scene coordinates): every eighth of the length,
-/// every quarter of the width; a pool table has its side pockets where a carom table has
-/// its middle diamonds.
-pub fn diamond_spots(layout: &Layout, pockets: bool) -> Vec<DVec2> {
-    let (w, l) = (layout.frame.size.x, layout.frame.size.y);
-    let back = CUSHION_WIDTH + 0.5 * (RAIL_WIDTH - CUSHION_WIDTH);
-    let mut spots = Vec::new();
-    for k in (1..8).filter(|&k| k != 4 || !pockets) {
-        let y = l * k as f64 / 8.0;
-        spots.push(DVec2::new(-back, y));
-        spots.push(DVec2::new(w + back, y));
-    }
-    for k in 1..4 {
-        let x = w * k as f64 / 4.0;
-        spots.push(DVec2::new(x, -back));
-        spots.push(DVec2::new(x, l + back));
-    }
-    spots
-}
-
-fn diamonds(layout: &Layout, pockets: bool) {
+fn diamonds(layout: &Layout, kind: TableKind) {
     let size = layout.px(0.012).max(2.0);
-    for s in diamond_spots(layout, pockets) {
+    for s in layout.sights(kind) {
         let p = layout.to_screen(s);
         draw_poly(p[0], p[1], 4, size, 0.0, color(palette::DIAMOND));
     }

@@ -7,12 +7,14 @@ use ::glam::{DQuat, DVec2, DVec3};
 use breakshot_client::play::Aim;
 use breakshot_client::view::aids::{drawn_pieces, AidToggles, PathPoint, Prediction};
 use breakshot_client::view::palette::{self, ball_look, Rgb};
-use breakshot_client::view::{sphere, Camera, Layout, Orientations, TrailPoint, RAIL_WIDTH};
+use breakshot_client::view::{
+    sphere, Camera, Layout, Orientations, TrailPoint, CUSHION_WIDTH, RAIL_WIDTH,
+};
 use breakshot_shared::physics::{BallState, Params, Table, TableKind};
 use macroquad::models::Vertex;
 use macroquad::prelude::*;
 
-use super::draw::{self, Pen, Surface, CUSHION_WIDTH};
+use super::draw::{self, Pen, Surface};
 
 /// Where the light comes from (towards it): above the table, a little towards its foot.
 const LIGHT: [f64; 3] = [-0.25, -0.35, 1.0];
@@ -234,7 +236,7 @@ pub fn table(camera: &Camera, layout: &Layout, kind: TableKind) {
             let r = mouth(c, pocket.radius);
             m.disc(c.extend(h + 0.0005), r, palette::POCKET, 255);
         }
-        for s in draw::diamond_spots(layout, !t.pockets.is_empty()) {
+        for s in layout.sights(kind) {
             let d = 0.012;
             let z = h + 0.001;
             m.polygon(

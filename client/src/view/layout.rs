@@ -14,6 +14,8 @@ mod tall;
 
 /// Width of the rails drawn around the cloth (cushion and wood), in metres. Drawing only.
 pub const RAIL_WIDTH: f64 = 0.12;
+/// Width of the cushion rubber drawn behind the nose line (m).
+pub const CUSHION_WIDTH: f64 = 0.045;
 /// Margin around an open table's balls, in metres.
 const OPEN_MARGIN: f64 = 0.3;
 
@@ -550,6 +552,30 @@ impl Layout {
         (along(1.15 * r), along(to_left.min(to_top)))
     }
 
+    /// The sights on the wood of a `kind` table, halfway across it (scene coordinates):
+    /// every eighth of the length, every quarter of the width; a pool table has its side
+    /// pockets where a carom table has its middle sights.
+    pub fn sights(&self, kind: TableKind) -> Vec<DVec2> {
+        // A snooker table has no sights.
+        if kind == TableKind::Snooker {
+            return Vec::new();
+        }
+        let (w, l) = (self.frame.size.x, self.frame.size.y);
+        let back = CUSHION_WIDTH + 0.5 * (RAIL_WIDTH - CUSHION_WIDTH);
+        let mut spots = Vec::new();
+        for k in (1..8).filter(|&k| k != 4 || !kind.has_pockets()) {
+            let y = l * k as f64 / 8.0;
+            spots.push(DVec2::new(-back, y));
+            spots.push(DVec2::new(w + back, y));
+        }
+        for k in 1..4 {
+            let x = w * k as f64 / 4.0;
+            spots.push(DVec2::new(x, -back));
+            spots.push(DVec2::new(x, l + back));
+        }
+        spots
+    }
+
     /// Whether the table is turned for a tall window (its length down the screen).
     pub fn turned(&self) -> bool {
         self.turned
@@ -816,6 +842,19 @@ mod tests {
         (1920.0, 1080.0),
         (800.0, 600.0),
     ];
+
+    #[test]
+    fn pool_and_carom_rails_carry_sights_and_the_snooker_table_s_none() {
+        let count = |kind| {
+            Layout::new(1280.0, 720.0, Frame::new(kind, &[]))
+                .sights(kind)
+                .len()
+        };
+        // Seven along each long rail (six beside the side pockets), three along each end.
+        assert_eq!(count(TableKind::NineFoot), 2 * 6 + 2 * 3);
+        assert_eq!(count(TableKind::Carom), 2 * 7 + 2 * 3);
+        assert_eq!(count(TableKind::Snooker), 0);
+    }
 
     #[test]
     fn no_box_of_text_overlaps_another_or_leaves_the_window() {

@@ -19,7 +19,9 @@ pub mod tray;
 
 pub use camera::{area, Camera, Orbit, ViewKind};
 pub use flight::{flight, Flight};
-pub use layout::{menu_buttons, replay_page, Frame, Layout, Rect, ReplayPageBoxes, RAIL_WIDTH};
+pub use layout::{
+    menu_buttons, replay_page, Frame, Layout, Rect, ReplayPageBoxes, CUSHION_WIDTH, RAIL_WIDTH,
+};
 pub use orientation::Orientations;
 pub use playback::{Playback, PocketDrop, Stroke};
 pub use trail::{Trail, TrailPoint};
