@@ -161,7 +161,7 @@ const POOLTOOL_SNOOKER_SHOTS: [(&str, f64); 4] = [
     ("snooker_cushion_40_roll_side", 1e-4),
     // Struck with side, the ball squirts. This engine takes the cue's end mass as a share
     // of the ball's (1/30, pooltool's figure for a pool ball); pooltool keeps it at the pool
-    // ball's 5.67 g, so on a 140 g snooker ball it squirts 0.23° more at a quarter-tip of
+    // ball's 5.67 g, so on a 140 g snooker ball it squirts 0.23° more at 0.3 R of
     // side: 1.6 mm after 0.4 m, 4.4 mm by 1 s. The bar is 5 mm here.
     ("snooker_cushion_20_draw_side", 5e-3),
 ];
