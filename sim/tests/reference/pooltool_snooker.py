@@ -20,29 +20,13 @@ import os
 import sys
 
 import pooltool as pt
-from pooltool.physics.evolve import evolve_ball_motion
 
-# Far enough from our larger table's right and top cushions and from both tables' pockets.
+# The same evolution and the same scene physics as the pool tables' cushion shots.
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pooltool_cushions import physics, state_at  # noqa: E402
+
+# Far enough from breakshot's larger table's right and top cushions and from both tables' pockets.
 REGION = 1.4
-
-
-def state_at(ball, t):
-    """The ball's position and velocity at time t, evolved from its last event before t."""
-    last = [s for s in ball.history.states if s.t <= t][-1]
-    p = ball.params
-    rvw, _ = evolve_ball_motion(
-        last.s, last.rvw, p.R, p.m, p.u_s, p.u_sp, p.u_r, p.g, t - last.t
-    )
-    return rvw
-
-
-def physics(ball, table):
-    p = ball.params
-    return {
-        "ball_radius": p.R, "ball_mass": p.m, "gravity": p.g, "mu_slide": p.u_s,
-        "mu_roll": p.u_r, "mu_spin": p.u_sp, "e_ball": p.e_b, "e_cushion": p.e_c,
-        "f_cushion": p.f_c, "cushion_height": table.cushion_segments.linear["3"].height,
-    }
 
 
 def shot(out, name, pos, angle_deg, times, *, stick=None, vel_spin=None):
