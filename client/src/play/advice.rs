@@ -8,7 +8,7 @@ use std::task::Poll;
 use breakshot_shared::ai::{Decision, Kind, Level, Player, Rng, Suggestion, Thinking};
 use breakshot_shared::hash::state_hash;
 use breakshot_shared::physics::{EventKind, MotionState, Outcome, Shot, Simulator, Strike};
-use breakshot_shared::rules::{pocket_name, Command, Game, ShotFacts};
+use breakshot_shared::rules::{pocket_name, Command, Game, Seat, ShotFacts};
 use breakshot_shared::scene::Scene;
 use glam::DVec2;
 
@@ -181,15 +181,27 @@ pub const PLAYED_TRIALS: usize = 64;
 /// The chance of one strike under a level's noise, measured in steps: `trials` strikes
 /// perturbed by a generator from `seed`, each a success as [`succeeded`] counts one.
 pub struct Measure {
-    shot: Shot,
+    trial: Trial,
     strike: Strike,
-    targets: Vec<u8>,
     level: Level,
     rng: Rng,
     sim: Simulator,
     trials: usize,
     run: usize,
     made: usize,
+}
+
+/// What one trial plays and how it is judged.
+enum Trial {
+    /// A practice table's shot (its cue ball ball 0), a success as [`succeeded`] says.
+    Scene { shot: Box<Shot>, targets: Vec<u8> },
+    /// A rules game's stroke by `seat` with `call`: a success when the rules give no foul
+    /// and leave `seat` at the table (or give it the game).
+    Game {
+        game: Box<Game>,
+        seat: Seat,
+        call: Option<u8>,
+    },
 }
 
 impl Measure {
@@ -202,10 +214,34 @@ impl Measure {
         trials: usize,
         seed: u64,
     ) -> Measure {
-        Measure {
-            shot: shot.clone(),
-            strike,
+        let trial = Trial::Scene {
+            shot: Box::new(shot.clone()),
             targets: targets.to_vec(),
+        };
+        Measure::of(trial, strike, level, trials, seed)
+    }
+
+    /// Measures `strike` (calling `call`) played by the player to move in `game`.
+    pub fn in_game(
+        game: &Game,
+        strike: Strike,
+        call: Option<u8>,
+        level: Level,
+        trials: usize,
+        seed: u64,
+    ) -> Measure {
+        let trial = Trial::Game {
+            game: Box::new(game.clone()),
+            seat: game.to_move(),
+            call,
+        };
+        Measure::of(trial, strike, level, trials, seed)
+    }
+
+    fn of(trial: Trial, strike: Strike, level: Level, trials: usize, seed: u64) -> Measure {
+        Measure {
+            trial,
+            strike,
             level,
             rng: Rng::new(seed),
             sim: Simulator::new(),
@@ -219,15 +255,24 @@ impl Measure {
     pub fn step(&mut self, simulations: usize) -> Option<Chance> {
         let upto = self.trials.min(self.run.saturating_add(simulations));
         while self.run < upto {
-            let mut s = self.shot.clone();
-            s.strike = Some((0, self.level.noise().perturb(&self.strike, &mut self.rng)));
-            if self
-                .sim
-                .run(&s)
-                .is_ok_and(|o| succeeded(o, &s, &self.targets))
-            {
-                self.made += 1;
-            }
+            let strike = self.level.noise().perturb(&self.strike, &mut self.rng);
+            let made = match &self.trial {
+                Trial::Scene { shot, targets } => {
+                    let mut s = (**shot).clone();
+                    s.strike = Some((0, strike));
+                    self.sim.run(&s).is_ok_and(|o| succeeded(o, &s, targets))
+                }
+                Trial::Game { game, seat, call } => {
+                    game.preview(*seat, &strike, *call).is_ok_and(|v| {
+                        !v.foul
+                            && match &v.over {
+                                Some((winner, _)) => *winner == Some(*seat),
+                                None => v.next == *seat,
+                            }
+                    })
+                }
+            };
+            self.made += usize::from(made);
             self.run += 1;
         }
         (self.run == self.trials).then(|| Chance {
@@ -316,6 +361,28 @@ impl Advisor {
         }
     }
 
+    /// [`Advisor::for_game`] on the table a shot `played` (with `call`) was missed from:
+    /// that shot's chance under the same level's noise is measured first, so the advice can
+    /// say it beside its own.
+    pub fn for_game_after_miss(
+        game: &Game,
+        level: Level,
+        played: Strike,
+        call: Option<u8>,
+    ) -> Advisor {
+        let mut advisor = Advisor::for_game(game, level);
+        let seed = state_hash(game.balls());
+        advisor.played = Some(Measure::in_game(
+            game,
+            played,
+            call,
+            level,
+            PLAYED_TRIALS,
+            seed,
+        ));
+        advisor
+    }
+
     /// What was asked of a practice table (None for a rules game).
     pub fn request(&self) -> Option<&Request> {
         match &self.search {
@@ -381,7 +448,7 @@ impl Advisor {
                             kind: kind.unwrap_or(Kind::Safety),
                             pots,
                             leave,
-                            played: None,
+                            played: that_shot,
                         }))
                     }
                     Poll::Ready(Some(other)) => Some(Err(format!(
@@ -615,6 +682,44 @@ mod tests {
         assert_eq!(advice.strike, strike);
         assert_eq!(Some(advice.p_success), plan.p_success);
         assert_eq!(advice.kind, Kind::Break);
+    }
+
+    /// In a rules game, the shot missed is measured by the rules: a soft break is never a
+    /// legal one, and the advice after it is the computer's own plan.
+    #[test]
+    fn after_a_miss_in_a_rules_game_the_shot_played_is_judged_by_the_rules() {
+        use breakshot_shared::rules::{EightBallRules, Settings, Variant};
+        let game = Game::new(
+            Variant::EightBall(EightBallRules::Wpa),
+            Settings::offline(),
+            3,
+        );
+        let level = Level::new(1);
+        let soft = Strike {
+            speed: 0.5,
+            dir: DVec2::new(0.0, 1.0),
+            tip: DVec2::ZERO,
+            elevation_deg: 0.0,
+        };
+        let run = |mut advisor: Advisor| loop {
+            if let Some(done) = advisor.step(5) {
+                break done.clone().expect("advice");
+            }
+        };
+        let after = run(Advisor::for_game_after_miss(&game, level, soft, None));
+        let plain = run(Advisor::for_game(&game, level));
+        let played = after.played.expect("the shot missed measured");
+        assert_eq!((played.share, played.trials), (0.0, PLAYED_TRIALS));
+        assert_eq!(after.strike, plain.strike);
+        assert!(plain.played.is_none());
+        // The computer's break is measured as a success some of the time.
+        let good = run(Advisor::for_game_after_miss(
+            &game,
+            level,
+            plain.strike,
+            None,
+        ));
+        assert!(good.played.expect("measured").share > 0.0, "{good:?}");
     }
 
     #[test]

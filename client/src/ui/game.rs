@@ -13,7 +13,7 @@ use breakshot_client::view::snooker as view_snooker;
 use breakshot_client::view::{tray, Frame, Layout, Orientations, Playback, Rect};
 use breakshot_shared::ai::Level;
 use breakshot_shared::hash::hash_hex;
-use breakshot_shared::physics::{Shot, Simulator, Table};
+use breakshot_shared::physics::{Shot, Simulator, Strike, Table};
 use breakshot_shared::protocol::limits::RECONNECT_WINDOW;
 use breakshot_shared::protocol::Invite;
 use breakshot_shared::rules::{
@@ -60,6 +60,12 @@ pub struct GameScreen {
     /// Whose noise the advice's chance is for: 3 to begin, the next each time I is pressed
     /// on an advice shown.
     advice_level: Level,
+    /// The player's own shot against the computer, until it has played out: the turn it
+    /// was played on, the seat, the strike and the call.
+    awaiting: Option<(u32, Seat, Strike, Option<u8>)>,
+    /// The player's last shot missed (fouled or lost the turn): its strike and call, for
+    /// the advice on it.
+    missed: Option<(Strike, Option<u8>)>,
 }
 
 /// The buttons of the choices offered, in a row over the trays: off the cloth, so they
@@ -120,6 +126,8 @@ impl GameScreen {
             history: History::new(),
             advice: None,
             advice_level: Level::new(3),
+            awaiting: None,
+            missed: None,
         }
     }
 
@@ -314,6 +322,12 @@ impl GameScreen {
                             Ok(()) => {
                                 if self.link.takes_back() {
                                     self.history.shot(game.clone(), strike);
+                                    let call = match &cmd {
+                                        Command::Shot { call, .. } => *call,
+                                        _ => None,
+                                    };
+                                    self.awaiting = Some((game.turn(), seat, strike, call));
+                                    self.missed = None;
                                 }
                                 self.link.send(&game, seat, cmd);
                                 self.controls.shot_played();
@@ -346,6 +360,19 @@ impl GameScreen {
                     return Step::Stay;
                 }
                 (Intent::Back, _) => return Step::Open(Start::Menu),
+                // After a miss: the shot comes back, and the advice is for the table it was
+                // played from, with the chance the shot missed had.
+                (Intent::Advice, _) if self.missed.is_some() && self.link.takes_back() => {
+                    let Some((strike, call)) = self.missed.take() else {
+                        continue;
+                    };
+                    if let Some(back) = self.take_back(&game, Intent::Undo) {
+                        let level = self.advice_level;
+                        let advisor = Advisor::for_game_after_miss(&back, level, strike, call);
+                        self.advice = Some((back.turn(), advisor, None));
+                    }
+                    return Step::Stay;
+                }
                 (Intent::Advice, Some(_))
                     if self.flow.connection == Connection::Offline && !self.link.watching() =>
                 {
@@ -363,12 +390,13 @@ impl GameScreen {
                     }
                 }
                 (Intent::Undo | Intent::Redo | Intent::Again, _) if self.link.takes_back() => {
-                    self.take_back(&game, intent)
+                    self.take_back(&game, intent);
                 }
                 _ => {}
             }
         }
         self.refresh_prediction(&game, stage);
+        self.note_miss(&game);
         self.think_advice(&game);
         Step::Stay
     }
@@ -403,8 +431,9 @@ impl GameScreen {
     }
 
     /// Undo, redo or again against the computer: the table goes back to the replica's own
-    /// game before the player's shot (the computer's shots after it go too).
-    fn take_back(&mut self, game: &Game, intent: Intent) {
+    /// game before the player's shot (the computer's shots after it go too); the table it
+    /// went back to.
+    fn take_back(&mut self, game: &Game, intent: Intent) -> Option<Game> {
         let to = match intent {
             Intent::Undo => self.history.undo(game.clone()),
             Intent::Redo => self.history.redo(game.clone()),
@@ -412,11 +441,13 @@ impl GameScreen {
         };
         let Some(to) = to else {
             self.flow.message = "No shot to take back or play again".into();
-            return;
+            return None;
         };
         // A command the computer sent on the table left behind is stale.
         while self.link.poll().is_some() {}
+        let back = to.game.clone();
         self.flow.handle(GameEvent::Started(Box::new(to.game)));
+        self.missed = None;
         if let (Intent::Again, Some(strike)) = (intent, to.strike) {
             self.controls.aim = Aim::from_strike(&strike);
         }
@@ -425,6 +456,33 @@ impl GameScreen {
             self.history.behind(),
             self.history.ahead()
         );
+        Some(back)
+    }
+
+    /// After the player's own shot against the computer has played out: a foul, or the
+    /// turn gone, is a miss the advice can be asked about (I).
+    fn note_miss(&mut self, game: &Game) {
+        let Some((turn, seat, strike, call)) = self.awaiting else {
+            return;
+        };
+        if game.turn() == turn || self.flow.shot().is_some() {
+            return;
+        }
+        self.awaiting = None;
+        let kept = self.flow.last_verdict.as_ref().is_some_and(|v| {
+            !v.foul
+                && match &v.over {
+                    Some((winner, _)) => *winner == Some(seat),
+                    None => v.next == seat,
+                }
+        });
+        if !kept {
+            self.missed = Some((strike, call));
+            super::report("game missed");
+            self.flow.message =
+                "Missed: I takes the shot back and shows what the computer would have played"
+                    .into();
+        }
     }
 
     /// Feeds a frame's keys to the open chat line, and sends the line on Enter.
