@@ -1,7 +1,8 @@
 //! Two friends in real windows: the computer's thinking said off the cloth in a small window,
 //! an earlier game of a room watched from the menu, and the opponent's aim seen moving in the
-//! other player's window. The windows run under a virtual display of their own (Xvfb),
-//! driven with `xdotool` and photographed with ImageMagick's `import`.
+//! other player's window, top-down and in 3-D, whoever aims. The windows run under a virtual
+//! display of their own (Xvfb), driven with `xdotool` and photographed with ImageMagick's
+//! `import`.
 //!
 //! Without Xvfb, xdotool or ImageMagick each test says why and passes (CI installs them).
 #![cfg(feature = "host")]
@@ -12,7 +13,7 @@ use std::time::{Duration, Instant};
 
 use breakshot_client::net::{Client, ClientEvent, Reconnect};
 use breakshot_client::view::palette::{CLOTH, CUE_WOOD};
-use breakshot_client::view::{menu_buttons, replay_page, Frame, Layout, Rect};
+use breakshot_client::view::{area, menu_buttons, replay_page, Frame, Layout, Rect};
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, RoomCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{EightBallRules, Game, Settings, Variant};
@@ -285,22 +286,49 @@ fn the_menu_lists_a_room_s_games_and_opens_the_first_after_a_rematch() {
     drop(server);
 }
 
-/// Cloth points of `after` that differ from `before` (the two windows' layouts are the same).
-fn changed_on_cloth(before: &Picture, after: &Picture, layout: &Layout) -> usize {
-    let c = layout.cloth;
-    (0..c.w as u32)
-        .flat_map(|x| (0..c.h as u32).map(move |y| (x, y)))
+/// Points of `r` where `after` differs from `before` (the two windows' layouts are the same).
+fn changed_in(before: &Picture, after: &Picture, r: Rect) -> usize {
+    (0..r.w as u32)
+        .flat_map(|x| (0..r.h as u32).map(move |y| (x, y)))
         .filter(|&(x, y)| {
-            let (x, y) = (c.x + x as f32, c.y + y as f32);
+            let (x, y) = (r.x + x as f32, r.y + y as f32);
             !close(before.at(x, y), after.at(x, y), 40)
         })
         .count()
 }
 
-/// Ann hosts and Ben joins, each in a real window: as the player to move moves the mouse
-/// over the table, the other's window shows the cue turn with it.
+/// Where to click the first of the choice buttons `pic` shows over the trays, if any: inside
+/// the leftmost stretch of their fill (`ui/game.rs` draws them in a row there) on the
+/// tray's rows, wider than any ball that lies in a tray.
+fn first_choice(pic: &Picture, layout: &Layout) -> Option<(f32, f32)> {
+    const FILL: [u8; 3] = [30, 60, 120];
+    let t = layout.tray;
+    let run = 3.0 * layout.px(breakshot_shared::physics::Params::default().ball_radius);
+    (0..t.h as u32)
+        .map(|y| t.y + y as f32)
+        .filter_map(|y| {
+            let mut from = None;
+            for x in (0..t.w as u32).map(|x| t.x + x as f32) {
+                if close(pic.at(x, y), FILL, 25) {
+                    let start = *from.get_or_insert(x);
+                    if x - start >= run {
+                        return Some((start, y));
+                    }
+                } else {
+                    from = None;
+                }
+            }
+            None
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(x, y)| (x + 0.5 * run, y))
+}
+
+/// Ann hosts and Ben joins, each in a real window. As Ann moves the mouse over the table,
+/// Ben's window shows her cue turn with it, top-down and then in the 3-D view (V); Ann then
+/// shoots until Ben is to aim, and his cue turns in her window as he aims.
 #[test]
-fn the_opponent_s_cue_moves_in_the_other_window_as_the_player_to_move_aims() {
+fn the_opponent_s_cue_moves_in_the_other_window_in_both_views_as_either_player_aims() {
     let Some(display) = Display::start() else {
         return;
     };
@@ -332,6 +360,7 @@ fn the_opponent_s_cue_moves_in_the_other_window_as_the_player_to_move_aims() {
     );
     let windows = [ann.clone(), display.new_window(&[ann])];
     display.xdotool(&["windowmove", &windows[1], "650", "0"]);
+    const NAMES: [&str; 2] = ["ann", "ben"];
 
     // Both show the racked table (the host's invite panel has gone: Ben is seated), on
     // cloth off the line the player to move aims along.
@@ -349,13 +378,32 @@ fn the_opponent_s_cue_moves_in_the_other_window_as_the_player_to_move_aims() {
             |p| close(p.at(c.x + 0.5 * c.w, c.y + 0.25 * c.h), CLOTH, 8),
         );
     }
-    let aim_at = |wid: &str, fy: f32| {
-        let (x, y) = (c.x + 0.85 * c.w, c.y + fy * c.h);
-        display.xdotool(&["mousemove", "--window", wid, &x.to_string(), &y.to_string()]);
-        // Aims are shared every 0.1 s; a loaded machine draws a frame in about that.
-        std::thread::sleep(Duration::from_secs(2));
+    let grab = |k: usize| display.grab(&windows[k], &pictures[k]);
+    let point = |k: usize, (x, y): (f32, f32)| {
+        display.xdotool(&[
+            "mousemove",
+            "--window",
+            &windows[k],
+            &x.to_string(),
+            &y.to_string(),
+        ]);
     };
-    // Who is to move, from Ann's bar: the line of the player to move is yellow.
+    // Aims are shared every 0.1 s; a loaded machine draws a frame in about that.
+    let settle = || std::thread::sleep(Duration::from_secs(2));
+    let aim_at = |k: usize, (fx, fy): (f32, f32)| {
+        point(k, (c.x + fx * c.w, c.y + fy * c.h));
+        settle();
+    };
+    // A key for window `k` (the display has no window manager: keys go to the window under
+    // the pointer), pressed with the pointer on its bar, off the table.
+    let press = |k: usize, key: &str| {
+        point(k, (c.x + 0.5 * c.w, 0.5 * layout.hud.h));
+        std::thread::sleep(Duration::from_millis(300));
+        display.xdotool(&["key", key]);
+        settle();
+    };
+    // Who is to move, from either window's bar (Ann's line first in both): the line of the
+    // player to move is yellow.
     let to_move = |p: &Picture| {
         let yellow = |r: &Rect| {
             (0..r.w as u32).any(|x| {
@@ -365,39 +413,136 @@ fn the_opponent_s_cue_moves_in_the_other_window_as_the_player_to_move_aims() {
         };
         usize::from(!yellow(&layout.players[0]))
     };
+    // The table with its rails: wherever the cue ball lies, the cue behind it is over them.
+    let t = layout.outer;
     let cue_points = |p: &Picture| {
-        (0..c.w as u32)
-            .flat_map(|x| (0..c.h as u32).map(move |y| (x, y)))
-            .filter(|&(x, y)| close(p.at(c.x + x as f32, c.y + y as f32), CUE_WOOD, 30))
+        (0..t.w as u32)
+            .flat_map(|x| (0..t.h as u32).map(move |y| (x, y)))
+            .filter(|&(x, y)| close(p.at(t.x + x as f32, t.y + y as f32), CUE_WOOD, 30))
             .count()
     };
-    // The player to move aims up the table, then down it; the other's window is grabbed
-    // after each. (Once more if the shot clock gave the turn away meanwhile.)
-    let mut seen = Vec::new();
-    for _ in 0..2 {
-        let mover = to_move(&display.grab(&windows[0], &pictures[0]));
+    // `mover` aims at the cloth's top left corner, then at its bottom right one (from
+    // anywhere on the cloth the two are at least a right angle apart); the other's window
+    // as it was after each.
+    let watch = |mover: usize| {
         let watcher = 1 - mover;
-        aim_at(&windows[mover], 0.15);
-        let before = display.grab(&windows[watcher], &pictures[watcher]);
-        aim_at(&windows[mover], 0.85);
-        let after = display.grab(&windows[watcher], &pictures[watcher]);
-        let still = to_move(&display.grab(&windows[0], &pictures[0])) == mover;
-        let changed = changed_on_cloth(&before, &after, &layout);
-        seen.push((mover, cue_points(&before), cue_points(&after), changed));
-        if still {
+        aim_at(mover, (0.1, 0.1));
+        let before = grab(watcher);
+        aim_at(mover, (0.9, 0.9));
+        let after = grab(watcher);
+        assert_eq!(
+            to_move(&grab(0)),
+            mover,
+            "the turn left {} while they aimed",
+            NAMES[mover]
+        );
+        (before, after)
+    };
+    let top_down_cue_moved = |mover: usize| {
+        let (before, after) = watch(mover);
+        let seen = (
+            cue_points(&before),
+            cue_points(&after),
+            changed_in(&before, &after, t),
+        );
+        eprintln!(
+            "{} aims, top-down (cue points before, after, table points changed): {seen:?}",
+            NAMES[mover]
+        );
+        assert!(
+            seen.0 > 20 && seen.1 > 20,
+            "{}'s cue is not drawn in the other window: {seen:?}",
+            NAMES[mover]
+        );
+        assert!(
+            seen.2 > 100,
+            "{}'s cue did not move in the other window: {seen:?}",
+            NAMES[mover]
+        );
+    };
+
+    assert_eq!(to_move(&grab(0)), 0, "the host breaks");
+    top_down_cue_moved(0);
+
+    // Ben turns to the 3-D view: the table region is drawn anew. There Ann's cue is lit and
+    // seen in perspective, so its moving is counted as points changed over the table
+    // region, while nothing else there moves.
+    let table = area(&layout);
+    let flat = grab(1);
+    press(1, "v");
+    let tilted = grab(1);
+    let redrawn = changed_in(&flat, &tilted, table);
+    eprintln!("3-D view: {redrawn} of the table region's points redrawn");
+    assert!(
+        redrawn as f32 > 0.3 * table.w * table.h,
+        "V did not turn Ben's window to the 3-D view ({redrawn} points changed)"
+    );
+    let still = changed_in(&tilted, &grab(1), table);
+    let (before, after) = watch(0);
+    let moved = changed_in(&before, &after, table);
+    eprintln!("ann aims, 3-D: {moved} table points changed ({still} with nothing moving)");
+    assert!(
+        moved > 100 && moved > 10 * still,
+        "Ann's cue did not move in Ben's 3-D view: {moved} points changed, {still} at rest"
+    );
+
+    // Ben goes back to top-down: he aims, or picks a choice, with the mouse over the
+    // layout's table and its tray row.
+    press(1, "v");
+    // Ann shoots at the rack until Ben is to aim: a ball potted keeps her at the table, and
+    // an illegal break (the window's first power is soft) leaves him to choose how play
+    // goes on; he takes the first choice.
+    let mut turns = Vec::new();
+    loop {
+        let mover = to_move(&grab(0));
+        // Ben's window may end the shot a little later: his choices are read once it too
+        // gives him the turn.
+        let choice = (mover == 1)
+            .then(|| {
+                let ben = until_shown(
+                    &display,
+                    &windows[1],
+                    &pictures[1],
+                    Duration::from_secs(20),
+                    "Ben's turn in his window",
+                    |p| to_move(p) == 1,
+                );
+                first_choice(&ben, &layout)
+            })
+            .flatten();
+        if mover == 1 && choice.is_none() {
             break;
         }
+        assert!(
+            turns.len() < 4,
+            "Ben was not left to aim after Ann's shots and his choices: {turns:?}"
+        );
+        if let Some(button) = choice {
+            turns.push("Ben chose");
+            click(&display, &windows[1], button);
+            settle();
+            continue;
+        }
+        turns.push("Ann shot");
+        point(0, (c.x + 0.75 * c.w, c.y + 0.5 * c.h));
+        std::thread::sleep(Duration::from_secs(1));
+        display.xdotool(&["key", "space"]);
+        std::thread::sleep(Duration::from_secs(1));
+        // The shot is over when the turn passes or the cloth is still.
+        let deadline = Instant::now() + Duration::from_secs(40);
+        let mut last = grab(0);
+        loop {
+            std::thread::sleep(Duration::from_millis(500));
+            let now = grab(0);
+            if to_move(&now) == 1 || changed_in(&last, &now, c) < 5 {
+                break;
+            }
+            assert!(Instant::now() < deadline, "Ann's shot did not end in 40 s");
+            last = now;
+        }
     }
-    eprintln!("(mover, cue points before, after, cloth points changed): {seen:?}");
-    let &(_, before, after, changed) = seen.last().expect("one try");
-    assert!(
-        before > 20 && after > 20,
-        "the opponent's cue is not drawn in the other window: {seen:?}"
-    );
-    assert!(
-        changed > 100,
-        "the cue did not move in the other window: {seen:?}"
-    );
+    eprintln!("Ben is to aim after: {turns:?}");
+    top_down_cue_moved(1);
     drop((join, host));
 }
 
