@@ -235,6 +235,45 @@ fn after_a_miss_the_advice_says_what_the_shot_missed_was_worth() {
     }
 }
 
+/// Against the computer: a soft break is a foul, a miss; I takes it back and the advice
+/// says what that break was worth beside the computer's own.
+#[test]
+fn against_the_computer_a_missed_shot_is_taken_back_and_advised_on() {
+    let dir = breakshot_testkit::scratch("teach-vs-miss");
+    let out = dir.path().join("out.png");
+    let args = [
+        OsStr::new("vs-computer"),
+        OsStr::new("--level"),
+        OsStr::new("1"),
+    ];
+    // The break, its playback skipped; then I while the computer plays on.
+    let keys = [
+        "sleep 1.5",
+        "key --window \"$wid\" space",
+        "sleep 1",
+        "key --window \"$wid\" space",
+        "sleep 2",
+        "key --window \"$wid\" i",
+        "sleep 14",
+    ];
+    let Some(run) = played(&args, &out, 1500, &keys) else {
+        return;
+    };
+    assert_ran(&run);
+    let said = reports(&run);
+    let at = |line: &str| said.iter().position(|l| l.starts_with(line));
+    let missed = at("game missed");
+    let back = at("message Taken back: ");
+    let advised = at("message Advice: That shot: ");
+    assert!(
+        matches!((missed, back, advised), (Some(m), Some(b), Some(a)) if m < b && b < a),
+        "missed, taken back, then advised with the shot's chance: {said:?}"
+    );
+    if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
+        std::fs::copy(&out, keep).expect("screenshot kept");
+    }
+}
+
 #[test]
 fn a_ball_dragged_then_kept_opens_again_as_the_same_table() {
     use breakshot_client::play::position;
