@@ -1380,6 +1380,60 @@ fn m_and_the_brackets_typed_in_the_chat_line_are_said_not_taken_as_sound_keys() 
     );
 }
 
+/// A live game that ends shows "You lost" in its banner under the trays, not over the
+/// cloth: the player concedes against the computer (Esc, then C).
+#[cfg(feature = "host")]
+#[test]
+fn a_game_that_ends_shows_its_banner_off_the_cloth() {
+    let dir = breakshot_testkit::scratch("window-banner");
+    let out = dir.path().join("out.png");
+    let data = dir.path().join("data");
+    let args = [
+        "host",
+        "--computer",
+        "--level",
+        "1",
+        "--bind",
+        "127.0.0.1:0",
+        "--data",
+    ]
+    .map(OsStr::new);
+    let args = [&args[..], &[data.as_os_str()]].concat();
+    let keys = [
+        "sleep 2",
+        "key --window \"$wid\" Escape",
+        "key --window \"$wid\" c",
+    ];
+    let Some(run) = played(&args, &out, 420, &keys) else {
+        return;
+    };
+    assert_ran(&run);
+    let said = reports(&run);
+    assert!(
+        said.iter().any(|l| l.starts_with("game over")),
+        "the game ended: {said:?}"
+    );
+    let pic = picture(&out);
+    let rack = Game::new(
+        Variant::EightBall(EightBallRules::Wpa),
+        Settings::online(),
+        0,
+    );
+    let layout = Layout::new(1280.0, 720.0, Frame::new(rack.table(), rack.balls()));
+    // The headline's yellow: in the banner's box, and nowhere on the cloth.
+    let yellow = |r: breakshot_client::view::Rect| {
+        (0..r.w as u32)
+            .flat_map(|x| (0..r.h as u32).map(move |y| (x, y)))
+            .filter(|&(x, y)| close(pic.at(r.x + x as f32, r.y + y as f32), [253, 249, 0], 40))
+            .count()
+    };
+    assert!(
+        yellow(layout.banner) > 100,
+        "no headline in the banner's box"
+    );
+    assert_eq!(yellow(layout.cloth), 0, "yellow text on the cloth");
+}
+
 #[test]
 fn v_opens_the_3d_view_remembers_it_and_the_mouse_aims_through_the_camera() {
     let dir = breakshot_testkit::scratch("window-v");
