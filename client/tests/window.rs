@@ -1300,12 +1300,23 @@ fn the_3d_view_shows_a_jumping_ball_at_its_height_above_the_cloth() {
 /// `xdotool` plays `keys` on its window (one xdotool command a line, `$wid` the window, a
 /// short pause before each); None if xvfb-run or xdotool is missing (the reason is printed).
 fn played(args: &[&OsStr], out: &Path, frames: u32, keys: &[&str]) -> Option<Output> {
+    played_sized(args, out, frames, keys, (1280, 720))
+}
+
+/// [`played`] in a window of `size`.
+fn played_sized(
+    args: &[&OsStr],
+    out: &Path,
+    frames: u32,
+    keys: &[&str],
+    (w, h): (u32, u32),
+) -> Option<Output> {
     let (Some(xvfb), Some(_)) = (find_in_path("xvfb-run"), find_in_path("xdotool")) else {
         eprintln!("skipped: needs xvfb-run and xdotool (apt-get install xvfb xdotool)");
         return None;
     };
     let mut script = format!(
-        "\"$0\" \"$@\" --screenshot \"{}\" --frames {frames} --size 1280x720 &\n\
+        "\"$0\" \"$@\" --screenshot \"{}\" --frames {frames} --size {w}x{h} &\n\
          pid=$!\nwid=$(xdotool search --sync --name Breakshot | head -n 1)\n",
         out.display()
     );
@@ -1385,53 +1396,61 @@ fn m_and_the_brackets_typed_in_the_chat_line_are_said_not_taken_as_sound_keys() 
 #[cfg(feature = "host")]
 #[test]
 fn a_game_that_ends_shows_its_banner_off_the_cloth() {
-    let dir = breakshot_testkit::scratch("window-banner");
-    let out = dir.path().join("out.png");
-    let data = dir.path().join("data");
-    let args = [
-        "host",
-        "--computer",
-        "--level",
-        "1",
-        "--bind",
-        "127.0.0.1:0",
-        "--data",
-    ]
-    .map(OsStr::new);
-    let args = [&args[..], &[data.as_os_str()]].concat();
-    let keys = [
-        "sleep 2",
-        "key --window \"$wid\" Escape",
-        "key --window \"$wid\" c",
-    ];
-    let Some(run) = played(&args, &out, 420, &keys) else {
-        return;
-    };
-    assert_ran(&run);
-    let said = reports(&run);
-    assert!(
-        said.iter().any(|l| l.starts_with("game over")),
-        "the game ended: {said:?}"
-    );
-    let pic = picture(&out);
-    let rack = Game::new(
-        Variant::EightBall(EightBallRules::Wpa),
-        Settings::online(),
-        0,
-    );
-    let layout = Layout::new(1280.0, 720.0, Frame::new(rack.table(), rack.balls()));
-    // The headline's yellow: in the banner's box, and nowhere on the cloth.
-    let yellow = |r: breakshot_client::view::Rect| {
-        (0..r.w as u32)
-            .flat_map(|x| (0..r.h as u32).map(move |y| (x, y)))
-            .filter(|&(x, y)| close(pic.at(r.x + x as f32, r.y + y as f32), [253, 249, 0], 40))
-            .count()
-    };
-    assert!(
-        yellow(layout.banner) > 100,
-        "no headline in the banner's box"
-    );
-    assert_eq!(yellow(layout.cloth), 0, "yellow text on the cloth");
+    // Small, common and tall windows.
+    for size in [(640, 480), (1280, 720), (720, 1280)] {
+        let dir = breakshot_testkit::scratch("window-banner");
+        let out = dir.path().join("out.png");
+        let data = dir.path().join("data");
+        let args = [
+            "host",
+            "--computer",
+            "--level",
+            "1",
+            "--bind",
+            "127.0.0.1:0",
+            "--data",
+        ]
+        .map(OsStr::new);
+        let args = [&args[..], &[data.as_os_str()]].concat();
+        let keys = [
+            "sleep 2",
+            "key --window \"$wid\" Escape",
+            "key --window \"$wid\" c",
+        ];
+        let Some(run) = played_sized(&args, &out, 420, &keys, size) else {
+            return;
+        };
+        assert_ran(&run);
+        let said = reports(&run);
+        assert!(
+            said.iter().any(|l| l.starts_with("game over")),
+            "{size:?}: the game ended: {said:?}"
+        );
+        let pic = picture_sized(&out, size);
+        let rack = Game::new(
+            Variant::EightBall(EightBallRules::Wpa),
+            Settings::online(),
+            0,
+        );
+        let (w, h) = (size.0 as f32, size.1 as f32);
+        let layout = Layout::new(w, h, Frame::new(rack.table(), rack.balls()));
+        // The headline's yellow: in the banner's box, and nowhere on the cloth.
+        let yellow = |r: breakshot_client::view::Rect| {
+            (0..r.w as u32)
+                .flat_map(|x| (0..r.h as u32).map(move |y| (x, y)))
+                .filter(|&(x, y)| close(pic.at(r.x + x as f32, r.y + y as f32), [253, 249, 0], 40))
+                .count()
+        };
+        assert!(
+            yellow(layout.banner) > 50,
+            "{size:?}: no headline in the banner's box"
+        );
+        assert_eq!(
+            yellow(layout.cloth),
+            0,
+            "{size:?}: yellow text on the cloth"
+        );
+    }
 }
 
 #[test]
