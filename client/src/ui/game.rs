@@ -753,17 +753,8 @@ impl GameScreen {
         if let Phase::Over { reason, .. } = game.phase() {
             let names = &self.flow.names;
             let banner = hud::game_over_banner(game, self.link.seat(), names).unwrap_or_default();
-            let next = if self.link.watching() {
-                "Esc: menu".to_owned()
-            } else if self.rematch_asked && self.flow.connection != Connection::Offline {
-                let other = self.link.seat().map(Seat::other).map_or_else(
-                    || "the other player".to_owned(),
-                    |s| hud::named(&s.to_string(), names),
-                );
-                format!("Rematch asked: waiting for {other} to accept  -  Esc: menu")
-            } else {
-                "R: rematch, Esc: menu".to_owned()
-            };
+            let asked = self.rematch_asked && self.flow.connection != Connection::Offline;
+            let next = hud::after_the_game(self.link.watching(), asked, self.link.seat(), names);
             let lines = [
                 (banner, 40.0, YELLOW),
                 (hud::named(reason, names), 22.0, WHITE),

@@ -166,6 +166,27 @@ pub fn named(text: &str, names: &[Option<String>; 2]) -> String {
     out
 }
 
+/// The line under a finished game's banner: what the player can do next. `asked`: this
+/// player asked for a rematch the other has not answered yet (online).
+pub fn after_the_game(
+    watching: bool,
+    asked: bool,
+    me: Option<Seat>,
+    names: &[Option<String>; 2],
+) -> String {
+    if watching {
+        "Esc: menu".to_owned()
+    } else if asked {
+        let other = me.map(Seat::other).map_or_else(
+            || "the other player".to_owned(),
+            |s| named(&s.to_string(), names),
+        );
+        format!("Rematch asked: waiting for {other} to accept  -  Esc: menu")
+    } else {
+        "R: rematch, Esc: menu".to_owned()
+    }
+}
+
 /// The banner of a game that is over, for the player in `me`'s seat: "You won" or "You
 /// lost"; for someone watching (or two players at one computer), who won, by name.
 pub fn game_over_banner(
@@ -370,6 +391,21 @@ mod tests {
         );
     }
     use super::*;
+
+    #[test]
+    fn after_a_game_the_line_names_whom_a_rematch_waits_for() {
+        let names = [Some("ann".to_owned()), Some("ben".to_owned())];
+        assert_eq!(
+            after_the_game(false, true, Some(Seat::A), &names),
+            "Rematch asked: waiting for ben to accept  -  Esc: menu"
+        );
+        assert!(after_the_game(false, true, Some(Seat::B), &names).contains("for ann to"));
+        assert_eq!(
+            after_the_game(false, false, Some(Seat::A), &names),
+            "R: rematch, Esc: menu"
+        );
+        assert_eq!(after_the_game(true, true, None, &names), "Esc: menu");
+    }
     use breakshot_shared::rules::{Command, EightBallRules, Settings};
 
     fn eight() -> Game {
