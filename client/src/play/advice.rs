@@ -8,7 +8,7 @@ use std::task::Poll;
 use breakshot_shared::ai::{Decision, Kind, Level, Player, Rng, Suggestion, Thinking};
 use breakshot_shared::hash::state_hash;
 use breakshot_shared::physics::{EventKind, MotionState, Outcome, Shot, Simulator, Strike};
-use breakshot_shared::rules::{pocket_name, Command, Game, Seat, ShotFacts};
+use breakshot_shared::rules::{pocket_name, Command, Game, ShotFacts};
 use breakshot_shared::scene::Scene;
 use glam::DVec2;
 
@@ -195,13 +195,9 @@ pub struct Measure {
 enum Trial {
     /// A practice table's shot (its cue ball ball 0), a success as [`succeeded`] says.
     Scene { shot: Box<Shot>, targets: Vec<u8> },
-    /// A rules game's stroke by `seat` with `call`: a success when the rules give no foul
-    /// and leave `seat` at the table (or give it the game).
-    Game {
-        game: Box<Game>,
-        seat: Seat,
-        call: Option<u8>,
-    },
+    /// A rules game's stroke by the player to move with `call`: a success as the computer
+    /// counts one ([`Verdict::succeeded_for`](breakshot_shared::rules::Verdict::succeeded_for)).
+    Game { game: Box<Game>, call: Option<u8> },
 }
 
 impl Measure {
@@ -232,7 +228,6 @@ impl Measure {
     ) -> Measure {
         let trial = Trial::Game {
             game: Box::new(game.clone()),
-            seat: game.to_move(),
             call,
         };
         Measure::of(trial, strike, level, trials, seed)
@@ -262,14 +257,10 @@ impl Measure {
                     s.strike = Some((0, strike));
                     self.sim.run(&s).is_ok_and(|o| succeeded(o, &s, targets))
                 }
-                Trial::Game { game, seat, call } => {
-                    game.preview(*seat, &strike, *call).is_ok_and(|v| {
-                        !v.foul
-                            && match &v.over {
-                                Some((winner, _)) => *winner == Some(*seat),
-                                None => v.next == *seat,
-                            }
-                    })
+                Trial::Game { game, call } => {
+                    let seat = game.to_move();
+                    game.preview(seat, &strike, *call)
+                        .is_ok_and(|v| v.succeeded_for(seat))
                 }
             };
             self.made += usize::from(made);

@@ -469,13 +469,11 @@ impl GameScreen {
             return;
         }
         self.awaiting = None;
-        let kept = self.flow.last_verdict.as_ref().is_some_and(|v| {
-            !v.foul
-                && match &v.over {
-                    Some((winner, _)) => *winner == Some(seat),
-                    None => v.next == seat,
-                }
-        });
+        let kept = self
+            .flow
+            .last_verdict
+            .as_ref()
+            .is_some_and(|v| v.succeeded_for(seat));
         if !kept {
             self.missed = Some((strike, call));
             super::report("game missed");

@@ -136,17 +136,8 @@ impl<'a> GameJudge<'a> {
         }
         Played {
             value: value::value(&g, self.me, sigma),
-            success: succeeded(&verdict, shooter),
+            success: verdict.succeeded_for(shooter),
         }
-    }
-}
-
-/// Whether a shot `seat` played did what it was meant to: won the game, or kept the turn
-/// without a foul.
-fn succeeded(verdict: &Verdict, seat: Seat) -> bool {
-    match &verdict.over {
-        Some((winner, _)) => *winner == Some(seat),
-        None => !verdict.foul && verdict.next == seat,
     }
 }
 
@@ -166,7 +157,7 @@ impl Judge for GameJudge<'_> {
             && g.balls()
                 .first()
                 .is_some_and(|b| b.motion != MotionState::Pocketed);
-        let success = succeeded(&verdict, self.me);
+        let success = verdict.succeeded_for(self.me);
         let value = if keeps {
             self.look_ahead(&g).await
         } else {

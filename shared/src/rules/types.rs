@@ -335,6 +335,17 @@ pub struct Verdict {
     pub outcome: Option<Outcome>,
 }
 
+impl Verdict {
+    /// Whether a shot `seat` played did what a shot is meant to: won the game, or kept the
+    /// turn without a foul (what the computer's chance of success counts).
+    pub fn succeeded_for(&self, seat: Seat) -> bool {
+        match &self.over {
+            Some((winner, _)) => *winner == Some(seat),
+            None => !self.foul && self.next == seat,
+        }
+    }
+}
+
 /// Why a command was refused. Nothing changed.
 #[derive(Clone, Debug, PartialEq, Eq, Error, Serialize, Deserialize)]
 pub enum RuleError {
