@@ -72,6 +72,21 @@ fn assert_ran(run: &Output) {
     );
 }
 
+/// Where the first report starting with each of `starts` stands; the reports must hold
+/// them all, each after the one before.
+fn in_order<const N: usize>(said: &[String], starts: [&str; N]) -> [usize; N] {
+    let mut from = 0;
+    starts.map(|start| {
+        let at = said[from..]
+            .iter()
+            .position(|l| l.starts_with(start))
+            .map(|k| from + k)
+            .unwrap_or_else(|| panic!("{start:?} after report {from} in {said:?}"));
+        from = at + 1;
+        at
+    })
+}
+
 /// The lines the window reported on standard error.
 fn reports(run: &Output) -> Vec<String> {
     String::from_utf8_lossy(&run.stderr)
@@ -219,15 +234,15 @@ fn after_a_miss_the_advice_says_what_the_shot_missed_was_worth() {
     };
     assert_ran(&run);
     let said = reports(&run);
-    let at = |line: &str| said.iter().position(|l| l.starts_with(line));
-    let missed = at("practice missed");
-    let back = at("practice shot taken back");
-    let measured = at("practice advice after a miss: that shot ");
-    assert!(
-        matches!((missed, back, measured), (Some(m), Some(b), Some(a)) if m < b && b < a),
-        "missed, taken back, then advised with the shot's chance: {said:?}"
+    let [.., measured] = in_order(
+        &said,
+        [
+            "practice missed",
+            "practice shot taken back",
+            "practice advice after a miss: that shot ",
+        ],
     );
-    let line = &said[measured.expect("measured")];
+    let line = &said[measured];
     let trials = breakshot_client::play::PLAYED_TRIALS;
     assert!(line.ends_with(&format!(" of {trials}")), "{line}");
     if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
@@ -261,13 +276,13 @@ fn against_the_computer_a_missed_shot_is_taken_back_and_advised_on() {
     };
     assert_ran(&run);
     let said = reports(&run);
-    let at = |line: &str| said.iter().position(|l| l.starts_with(line));
-    let missed = at("game missed");
-    let back = at("message Taken back: ");
-    let advised = at("message Advice: That shot: ");
-    assert!(
-        matches!((missed, back, advised), (Some(m), Some(b), Some(a)) if m < b && b < a),
-        "missed, taken back, then advised with the shot's chance: {said:?}"
+    in_order(
+        &said,
+        [
+            "game missed",
+            "message Taken back: ",
+            "message Advice: That shot: ",
+        ],
     );
     if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
         std::fs::copy(&out, keep).expect("screenshot kept");

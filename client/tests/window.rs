@@ -1338,6 +1338,24 @@ fn played_sized(
     ))
 }
 
+/// `breakshot host` against the computer at level 1 on a free loopback port, its data in
+/// `data`: a real server and a game that starts at once.
+fn hosting_the_computer(data: &Path) -> Vec<std::ffi::OsString> {
+    [
+        "host",
+        "--computer",
+        "--level",
+        "1",
+        "--bind",
+        "127.0.0.1:0",
+        "--data",
+    ]
+    .map(std::ffi::OsString::from)
+    .into_iter()
+    .chain([data.as_os_str().to_owned()])
+    .collect()
+}
+
 /// The lines the window reported on standard error.
 fn reports(run: &Output) -> Vec<String> {
     String::from_utf8_lossy(&run.stderr)
@@ -1353,17 +1371,8 @@ fn m_and_the_brackets_typed_in_the_chat_line_are_said_not_taken_as_sound_keys() 
     let dir = breakshot_testkit::scratch("window-chat");
     let out = dir.path().join("out.png");
     let data = dir.path().join("data");
-    let args = [
-        "host",
-        "--computer",
-        "--level",
-        "1",
-        "--bind",
-        "127.0.0.1:0",
-        "--data",
-    ]
-    .map(OsStr::new);
-    let args = [&args[..], &[data.as_os_str()]].concat();
+    let args = hosting_the_computer(&data);
+    let args: Vec<&OsStr> = args.iter().map(|a| a.as_os_str()).collect();
     // T opens the chat line, "m[]" is typed and sent with Enter; then M, outside the line,
     // mutes.
     let keys = [
@@ -1401,17 +1410,8 @@ fn a_game_that_ends_shows_its_banner_off_the_cloth() {
         let dir = breakshot_testkit::scratch("window-banner");
         let out = dir.path().join("out.png");
         let data = dir.path().join("data");
-        let args = [
-            "host",
-            "--computer",
-            "--level",
-            "1",
-            "--bind",
-            "127.0.0.1:0",
-            "--data",
-        ]
-        .map(OsStr::new);
-        let args = [&args[..], &[data.as_os_str()]].concat();
+        let args = hosting_the_computer(&data);
+        let args: Vec<&OsStr> = args.iter().map(|a| a.as_os_str()).collect();
         let keys = [
             "sleep 2",
             "key --window \"$wid\" Escape",

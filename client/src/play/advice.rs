@@ -522,6 +522,17 @@ mod tests {
 
     const CUT: &str = include_str!("../../scenes/cut-shot.json");
 
+    /// `advisor` run to its advice, `per_step` simulations at a time, as the window runs it
+    /// a frame at a time; the advice and how many steps it took.
+    fn stepped(mut advisor: Advisor, per_step: usize) -> (Advice, usize) {
+        for steps in 1..100_000 {
+            if let Some(done) = advisor.step(per_step) {
+                return (done.clone().expect("advice"), steps);
+            }
+        }
+        panic!("the search does not end");
+    }
+
     fn table() -> Game {
         Game::practice(&Scene::from_json(CUT).expect("a scene")).expect("a table")
     }
@@ -544,15 +555,7 @@ mod tests {
         )
         .expect("a practice shot");
         let request = Request::for_table(&game, Level::new(2)).expect("a request");
-        let mut advisor = Advisor::start(request.clone()).expect("an advisor");
-        let mut frames = 0;
-        let advice = loop {
-            frames += 1;
-            assert!(frames < 100_000, "the search ends");
-            if let Some(done) = advisor.step(3) {
-                break done.clone().expect("advice");
-            }
-        };
+        let (advice, frames) = stepped(Advisor::start(request.clone()).expect("an advisor"), 3);
         assert!(frames > 2, "the search took several steps: {frames}");
         // What breakshot-sim suggest does with the scene file: parse it, find the balls by
         // id, and search once.
@@ -576,12 +579,10 @@ mod tests {
         for level in [2, 4] {
             let level = Level::new(level);
             let request = Request::for_table(&table(), level).expect("a request");
-            let mut advisor = Advisor::start(request.clone()).expect("an advisor");
-            let advice = advisor
-                .step(usize::MAX)
-                .expect("done")
-                .clone()
-                .expect("advice");
+            let (advice, _) = stepped(
+                Advisor::start(request.clone()).expect("an advisor"),
+                usize::MAX,
+            );
             let (shot, cue, targets) = request.indices().expect("indices");
             assert_eq!(cue, 0, "the scene's cue ball is ball 0");
             let targets: Vec<u8> = targets.iter().map(|&t| t as u8).collect();
@@ -611,26 +612,17 @@ mod tests {
     fn after_a_miss_the_shot_played_is_measured_beside_the_advice() {
         let level = Level::new(3);
         let request = Request::for_table(&table(), level).expect("a request");
-        let plain = Advisor::start(request.clone())
-            .expect("an advisor")
-            .step(usize::MAX)
-            .expect("done")
-            .clone()
-            .expect("advice");
+        let (plain, _) = stepped(
+            Advisor::start(request.clone()).expect("an advisor"),
+            usize::MAX,
+        );
         // The player's shot: the advised one, a degree off.
         let strike = Strike {
             dir: DVec2::from_angle(1f64.to_radians()).rotate(plain.strike.dir),
             ..plain.strike
         };
-        let mut advisor = Advisor::after_miss(request.clone(), strike).expect("an advisor");
-        let mut steps = 0;
-        let advice = loop {
-            steps += 1;
-            assert!(steps < 100_000, "the search ends");
-            if let Some(done) = advisor.step(5) {
-                break done.clone().expect("advice");
-            }
-        };
+        let advisor = Advisor::after_miss(request.clone(), strike).expect("an advisor");
+        let (advice, steps) = stepped(advisor, 5);
         assert!(
             steps > PLAYED_TRIALS / 5,
             "the trials were stepped too: {steps}"
@@ -659,13 +651,9 @@ mod tests {
             3,
         );
         let level = Level::new(1);
-        let mut advisor = Advisor::for_game(&game, level);
+        let advisor = Advisor::for_game(&game, level);
         assert!(advisor.request().is_none());
-        let advice = loop {
-            if let Some(done) = advisor.step(5) {
-                break done.clone().expect("advice");
-            }
-        };
+        let (advice, _) = stepped(advisor, 5);
         let plan = ai::plan(&game, &Player::from(level), state_hash(game.balls())).expect("a plan");
         let Command::Shot { strike, .. } = plan.command else {
             panic!("a shot: {plan:?}");
@@ -692,11 +680,7 @@ mod tests {
             tip: DVec2::ZERO,
             elevation_deg: 0.0,
         };
-        let run = |mut advisor: Advisor| loop {
-            if let Some(done) = advisor.step(5) {
-                break done.clone().expect("advice");
-            }
-        };
+        let run = |advisor| stepped(advisor, 5).0;
         let after = run(Advisor::for_game_after_miss(&game, level, soft, None));
         let plain = run(Advisor::for_game(&game, level));
         let played = after.played.expect("the shot missed measured");

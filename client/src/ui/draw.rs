@@ -416,6 +416,24 @@ fn cut_to_fit(text: &str, w: f32, size: f32) -> String {
         .unwrap_or_default()
 }
 
+/// A menu button's face: its fill, lighter under the mouse (`hot`), and its outline.
+pub fn button_face(r: Rect, hot: bool) {
+    let fill = if hot {
+        Color::from_rgba(40, 130, 90, 255)
+    } else {
+        Color::from_rgba(24, 104, 74, 255)
+    };
+    draw_rectangle(r.x, r.y, r.w, r.h, fill);
+    draw_rectangle_lines(
+        r.x,
+        r.y,
+        r.w,
+        r.h,
+        2.0,
+        Color::from_rgba(200, 220, 200, 255),
+    );
+}
+
 /// A line of text in the box `r`, shrunk (and if need be cut) to fit it, centred upright.
 pub fn label_in(text: &str, r: Rect, max: f32, align: Align, c: Color) {
     let size = fitted_size(text, r.w, r.h, max);

@@ -289,21 +289,7 @@ impl MenuScreen {
             size -= 1.0;
         }
         for (_, name, r) in buttons {
-            let hot = r.contains(self.mouse);
-            let fill = if hot {
-                Color::from_rgba(40, 130, 90, 255)
-            } else {
-                Color::from_rgba(24, 104, 74, 255)
-            };
-            draw_rectangle(r.x, r.y, r.w, r.h, fill);
-            draw_rectangle_lines(
-                r.x,
-                r.y,
-                r.w,
-                r.h,
-                2.0,
-                Color::from_rgba(200, 220, 200, 255),
-            );
+            draw::button_face(r, r.contains(self.mouse));
             let d = draw::text_width(name, size);
             draw::label(
                 name,

@@ -87,21 +87,7 @@ impl DrillsPage {
             })
             .fold(24.0, f32::min);
         for (r, label) in buttons {
-            let lit = r.contains(self.mouse);
-            let fill = if lit {
-                Color::from_rgba(40, 140, 100, 255)
-            } else {
-                Color::from_rgba(24, 104, 74, 255)
-            };
-            draw_rectangle(r.x, r.y, r.w, r.h, fill);
-            draw_rectangle_lines(
-                r.x,
-                r.y,
-                r.w,
-                r.h,
-                2.0,
-                Color::from_rgba(200, 220, 200, 255),
-            );
+            draw::button_face(r, r.contains(self.mouse));
             draw::label_in(&label, inside(&r), size, Align::Centre, WHITE);
         }
     }

@@ -232,20 +232,7 @@ impl ReplayPage {
         let shown = fit_end(&format!("{}_", self.text), inside.w, 18.0);
         draw::label_in(&shown, inside, 18.0, Align::Left, WHITE);
         let button = |r: breakshot_client::view::Rect, name: &str| {
-            let fill = if r.contains(mouse) {
-                Color::from_rgba(40, 130, 90, 255)
-            } else {
-                Color::from_rgba(24, 104, 74, 255)
-            };
-            draw_rectangle(r.x, r.y, r.w, r.h, fill);
-            draw_rectangle_lines(
-                r.x,
-                r.y,
-                r.w,
-                r.h,
-                2.0,
-                Color::from_rgba(200, 220, 200, 255),
-            );
+            draw::button_face(r, r.contains(mouse));
             let inside = breakshot_client::view::Rect::new(r.x + 6.0, r.y, r.w - 12.0, r.h);
             draw::label_in(name, inside, 20.0, Align::Centre, WHITE);
         };
