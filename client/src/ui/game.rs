@@ -459,13 +459,15 @@ impl GameScreen {
         Some(back)
     }
 
-    /// After the player's own shot against the computer has played out: a foul, or the
-    /// turn gone, is a miss the advice can be asked about (I).
+    /// Once the rules have judged the player's own shot against the computer: a foul, or
+    /// the turn gone, is a miss the advice can be asked about (I). Judged in the frame the
+    /// verdict comes, while the last verdict is still this shot's: the computer's answer
+    /// (a choice after a foul) comes a frame later at the soonest.
     fn note_miss(&mut self, game: &Game) {
         let Some((turn, seat, strike, call)) = self.awaiting else {
             return;
         };
-        if game.turn() == turn || self.flow.shot().is_some() {
+        if game.turn() == turn {
             return;
         }
         self.awaiting = None;
