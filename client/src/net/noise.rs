@@ -201,7 +201,7 @@ impl CryptoResolver for Resolver {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::net::MemoryTransport;
+    use crate::net::{MemoryServer, MemoryTransport};
 
     fn os_random(dest: &mut [u8]) -> Result<(), String> {
         getrandom::fill(dest).map_err(|e| e.to_string())
@@ -247,25 +247,20 @@ mod tests {
         }
 
         fn seal(&mut self, plain: &[u8]) -> Vec<u8> {
-            let mut buf = vec![0u8; MAX_MESSAGE];
-            let n = self
-                .session
-                .as_mut()
-                .unwrap()
-                .write_message(plain, &mut buf)
-                .unwrap();
-            buf.truncate(n);
-            buf
+            self.transport(|session, buf| session.write_message(plain, buf))
         }
 
         fn open(&mut self, msg: &[u8]) -> Vec<u8> {
+            self.transport(|session, buf| session.read_message(msg, buf))
+        }
+
+        /// Runs one transport-mode step into a fresh buffer, cut to what it wrote.
+        fn transport(
+            &mut self,
+            step: impl FnOnce(&mut TransportState, &mut [u8]) -> Result<usize, snow::Error>,
+        ) -> Vec<u8> {
             let mut buf = vec![0u8; MAX_MESSAGE];
-            let n = self
-                .session
-                .as_mut()
-                .unwrap()
-                .read_message(msg, &mut buf)
-                .unwrap();
+            let n = step(self.session.as_mut().unwrap(), &mut buf).unwrap();
             buf.truncate(n);
             buf
         }
@@ -340,8 +335,8 @@ mod tests {
         assert_eq!(far.closes(), 1, "the socket is closed");
     }
 
-    #[test]
-    fn a_tampered_message_ends_the_connection() {
+    /// A connection whose handshake is done, with the far end and the server's side of it.
+    fn opened() -> (Noised<MemoryTransport>, MemoryServer, Responder) {
         let server = keypair();
         let key: [u8; 32] = server.public.clone().try_into().unwrap();
         let (wire, far) = MemoryTransport::pair();
@@ -352,6 +347,12 @@ mod tests {
         let mut responder = Responder::new(&server.private);
         far.deliver(responder.answer(&far.take_written()));
         assert_eq!(noised.poll(), Some(TransportEvent::Opened));
+        (noised, far, responder)
+    }
+
+    #[test]
+    fn a_tampered_message_ends_the_connection() {
+        let (mut noised, far, mut responder) = opened();
         let mut sealed = responder.seal(b"a frame");
         sealed[0] ^= 1;
         far.deliver(sealed);
@@ -363,16 +364,7 @@ mod tests {
 
     #[test]
     fn a_long_write_is_cut_into_messages_that_fit() {
-        let server = keypair();
-        let key: [u8; 32] = server.public.clone().try_into().unwrap();
-        let (wire, far) = MemoryTransport::pair();
-        let mut noised = Noised::new(wire, key, os_random);
-        noised.open(&address(), Fingerprint([0; 32]));
-        far.accept();
-        let _ = noised.poll();
-        let mut responder = Responder::new(&server.private);
-        far.deliver(responder.answer(&far.take_written()));
-        assert_eq!(noised.poll(), Some(TransportEvent::Opened));
+        let (mut noised, far, mut responder) = opened();
         let long: Vec<u8> = (0..200_000u32).map(|i| i as u8).collect();
         noised.send(&long);
         let messages = far.take_messages();

@@ -17,6 +17,16 @@ use breakshot_shared::physics::{BallState, Table, TableKind};
 use macroquad::models::Vertex;
 use macroquad::prelude::*;
 
+/// The balls to draw: their names and states, their radius, one left out (the cue ball
+/// while it is dragged) and how each is turned.
+pub struct BallsShown<'a> {
+    pub ids: &'a [String],
+    pub states: &'a [BallState],
+    pub radius: f64,
+    pub skip: Option<usize>,
+    pub turns: &'a Orientations,
+}
+
 /// How the table and what lies on it are drawn this frame.
 pub struct Pen<'a> {
     /// The window's layout: the top-down view, and the panel, tray and HUD in both views.
@@ -48,15 +58,7 @@ pub trait Surface {
     /// The cloth, rails, cushions, diamonds and pockets, and the cue ball's trail.
     fn table(&self, pen: &Pen, kind: TableKind);
     /// The balls still on the table (and, in 3-D, those falling into pockets).
-    fn balls(
-        &self,
-        pen: &Pen,
-        ids: &[String],
-        states: &[BallState],
-        radius: f64,
-        skip: Option<usize>,
-        turns: &Orientations,
-    );
+    fn balls(&self, pen: &Pen, shown: &BallsShown);
     /// Aim line, ghost ball and predicted paths, as toggled.
     fn aids(&self, pen: &Pen, p: &Prediction, toggles: AidToggles, radius: f64, object_id: &str);
     /// A ball at `pos`, unturned.
@@ -162,27 +164,15 @@ fn rails(layout: &Layout, kind: TableKind) {
         draw_triangle(a, b, b2, color(palette::CUSHION));
         draw_triangle(a, b2, a2, color(palette::CUSHION));
     }
+    let disc = |centre: DVec2, radius: f64, sides: u8, fill: Rgb| {
+        let c = scene(centre);
+        draw_poly(c.x, c.y, sides, layout.px(radius), 0.0, color(fill));
+    };
     for jaw in &t.jaws {
-        let c = scene(jaw.center);
-        draw_poly(
-            c.x,
-            c.y,
-            24,
-            layout.px(jaw.radius),
-            0.0,
-            color(palette::CUSHION),
-        );
+        disc(jaw.center, jaw.radius, 24, palette::CUSHION);
     }
     for pocket in &t.pockets {
-        let c = scene(pocket.center);
-        draw_poly(
-            c.x,
-            c.y,
-            40,
-            layout.px(pocket.radius),
-            0.0,
-            color(palette::POCKET),
-        );
+        disc(pocket.center, pocket.radius, 40, palette::POCKET);
     }
     diamonds(layout, kind);
 }
@@ -272,16 +262,9 @@ pub fn ball_turned(id: &str, at: [f32; 2], r: f32, turn: DQuat, air: Flight, axe
 
 /// The balls still on the table, each turned as `turns` says; balls in flight are drawn
 /// after those on the cloth, so they pass over them.
-pub fn balls(
-    pen: &Pen,
-    ids: &[String],
-    states: &[BallState],
-    radius: f64,
-    skip: Option<usize>,
-    turns: &Orientations,
-) {
-    pen.surface().balls(pen, ids, states, radius, skip, turns);
-    stroke(pen, radius);
+pub fn balls(pen: &Pen, shown: &BallsShown) {
+    pen.surface().balls(pen, shown);
+    stroke(pen, shown.radius);
 }
 
 /// The cue going through where the cue ball was as the shot starts, level, slowing down.
@@ -374,6 +357,17 @@ pub fn label(text: &str, x: f32, y: f32, size: f32, c: Color) {
     draw_text(text, x, y, size * text_scale(), c);
 }
 
+/// A [`label`] centred across the window, its baseline at `y`.
+pub fn centred(text: &str, y: f32, size: f32, c: Color) {
+    label(
+        text,
+        0.5 * (screen_width() - text_width(text, size)),
+        y,
+        size,
+        c,
+    );
+}
+
 /// Width of a [`label`].
 pub fn text_width(text: &str, size: f32) -> f32 {
     measure_text(text, None, (size * text_scale()) as u16, 1.0).width
@@ -461,15 +455,14 @@ impl Surface for TopDown {
         }
     }
 
-    fn balls(
-        &self,
-        pen: &Pen,
-        ids: &[String],
-        states: &[BallState],
-        radius: f64,
-        skip: Option<usize>,
-        turns: &Orientations,
-    ) {
+    fn balls(&self, pen: &Pen, shown: &BallsShown) {
+        let BallsShown {
+            ids,
+            states,
+            radius,
+            skip,
+            turns,
+        } = *shown;
         let layout = pen.layout;
         let r = layout.px(radius);
         for in_air in [false, true] {

@@ -21,6 +21,7 @@ use breakshot_shared::rules::{
 };
 use macroquad::prelude::*;
 
+use super::draw::BallsShown;
 use super::hud::{game_hud, hint_bar, HudInfo};
 use super::table_view::TableView;
 use super::{draw, invite, panel, snooker, trays, Start, Step};
@@ -653,14 +654,14 @@ impl GameScreen {
                 .map_or("", |s| s.as_str());
             draw::aids(&pen, pred, self.shown_aids(), r, object);
         }
-        draw::balls(
-            &pen,
-            &names,
-            &balls,
-            r,
-            dragging.map(|_| game.cue_ball()),
-            &self.turns,
-        );
+        let shown = BallsShown {
+            ids: &names,
+            states: &balls,
+            radius: r,
+            skip: dragging.map(|_| game.cue_ball()),
+            turns: &self.turns,
+        };
+        draw::balls(&pen, &shown);
         let shooting = matches!(turn, Turn::Shoot { .. }) && dragging.is_none();
         if shooting {
             // In 9-ball the ball on is ringed.

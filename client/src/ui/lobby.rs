@@ -401,13 +401,7 @@ impl LobbyScreen {
         let (w, h) = (screen_width(), screen_height());
         let title = "FIND A GAME";
         let size = 48.0f32.min(0.08 * h);
-        draw::label(
-            title,
-            0.5 * (w - draw::text_width(title, size)),
-            0.1 * h,
-            size,
-            WHITE,
-        );
+        draw::centred(title, 0.1 * h, size, WHITE);
         let row_h = (0.05 * h).clamp(24.0, 44.0);
         let text_w = 0.7 * w;
         let line = |text: &str, y: f32, c: Color| {

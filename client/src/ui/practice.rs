@@ -16,6 +16,7 @@ use breakshot_shared::rules::{Command, EightBallRules, Game, Variant};
 use breakshot_shared::scene::Scene;
 use macroquad::prelude::*;
 
+use super::draw::BallsShown;
 use super::table_view::TableView;
 use super::{draw, panel, trays, Start, Step};
 
@@ -466,14 +467,21 @@ impl PracticeScreen {
 
     /// Did the last shot pocket no object ball?
     fn pocketed_nothing(&self) -> bool {
-        let (Some(game), Some(verdict)) = (self.game(), &self.flow.last_verdict) else {
-            return false;
-        };
+        self.last_pocketed()
+            .is_some_and(|mut cue| cue.all(|is_cue| is_cue))
+    }
+
+    /// For each ball the last shot pocketed, whether it was the cue ball; `None` before a
+    /// shot has been judged.
+    fn last_pocketed(&self) -> Option<impl Iterator<Item = bool> + '_> {
+        let (game, verdict) = (self.game()?, self.flow.last_verdict.as_ref()?);
         let cue = game.cue_ball();
-        verdict
-            .shot
-            .as_ref()
-            .is_some_and(|s| s.pocketed.iter().all(|&(b, _)| usize::from(b) == cue))
+        let shot = verdict.shot.as_ref()?;
+        Some(
+            shot.pocketed
+                .iter()
+                .map(move |&(b, _)| usize::from(b) == cue),
+        )
     }
 
     /// I: the computer's shot on this table (after a miss: on the table the shot was
@@ -608,14 +616,8 @@ impl PracticeScreen {
 
     /// Did the last shot pocket the cue ball (which the rules then put back)?
     fn scratched(&self) -> bool {
-        let (Some(game), Some(verdict)) = (self.game(), &self.flow.last_verdict) else {
-            return false;
-        };
-        let cue = game.cue_ball();
-        verdict
-            .shot
-            .as_ref()
-            .is_some_and(|s| s.pocketed.iter().any(|&(b, _)| usize::from(b) == cue))
+        self.last_pocketed()
+            .is_some_and(|mut cue| cue.any(|is_cue| is_cue))
     }
 
     /// Re-simulates the aids when the shot being set up changes.
@@ -679,14 +681,14 @@ impl PracticeScreen {
                 draw::ring(&pen, leave, r, YELLOW);
             }
         }
-        draw::balls(
-            &pen,
-            &self.ids,
-            &shown,
-            r,
-            dragging.map(|_| cue_index),
-            &self.turns,
-        );
+        let balls = BallsShown {
+            ids: &self.ids,
+            states: &shown,
+            radius: r,
+            skip: dragging.map(|_| cue_index),
+            turns: &self.turns,
+        };
+        draw::balls(&pen, &balls);
         if let Some(to) = self.drag_to {
             draw::ring(&pen, to, r, WHITE);
         }

@@ -6,6 +6,7 @@ use breakshot_client::view::{tray, Frame, Layout, Orientations, Playback};
 use breakshot_shared::rules::Command;
 use macroquad::prelude::*;
 
+use super::draw::BallsShown;
 use super::hud::{game_hud, hint_bar, HudInfo};
 use super::table_view::TableView;
 use super::{draw, panel, trays, Start, Step};
@@ -73,7 +74,15 @@ impl ReplayScreen {
         let ids = v.game().ball_ids();
         let pen = self.view.pen(&layout, r, v.shot(), v.game().table());
         draw::table(&pen, v.game().table());
-        draw::balls(&pen, &ids, &v.balls(), r, None, &self.turns);
+        let states = v.balls();
+        let shown = BallsShown {
+            ids: &ids,
+            states: &states,
+            radius: r,
+            skip: None,
+            turns: &self.turns,
+        };
+        draw::balls(&pen, &shown);
         let (pocketed, seats) = (v.tray(), tray::seat_names(v.players()));
         let trays = tray::trays(v.game(), &pocketed);
         trays::player_trays(&layout, &ids, trays, &pocketed, seats, r);

@@ -7,14 +7,12 @@ use ::glam::{DQuat, DVec2, DVec3};
 use breakshot_client::play::Aim;
 use breakshot_client::view::aids::{drawn_pieces, AidToggles, PathPoint, Prediction};
 use breakshot_client::view::palette::{self, ball_look, Rgb};
-use breakshot_client::view::{
-    sphere, Camera, Layout, Orientations, TrailPoint, CUSHION_WIDTH, RAIL_WIDTH,
-};
-use breakshot_shared::physics::{BallState, Params, Table, TableKind};
+use breakshot_client::view::{sphere, Camera, Layout, TrailPoint, CUSHION_WIDTH, RAIL_WIDTH};
+use breakshot_shared::physics::{Params, Table, TableKind};
 use macroquad::models::Vertex;
 use macroquad::prelude::*;
 
-use super::draw::{self, Pen, Surface};
+use super::draw::{self, BallsShown, Pen, Surface};
 
 /// Where the light comes from (towards it): above the table, a little towards its foot.
 const LIGHT: [f64; 3] = [-0.25, -0.35, 1.0];
@@ -341,21 +339,17 @@ pub fn balls(camera: &Camera, shown: &[Ball], radius: f64) {
 }
 
 /// The balls still on the table and those seen falling, as [`balls`] draws them.
-pub fn on_table<'a>(
-    ids: &'a [String],
-    states: &[BallState],
-    radius: f64,
-    skip: Option<usize>,
-    turns: &Orientations,
-) -> Vec<Ball<'a>> {
-    ids.iter()
-        .zip(states)
+fn on_table<'a>(shown: &BallsShown<'a>) -> Vec<Ball<'a>> {
+    shown
+        .ids
+        .iter()
+        .zip(shown.states)
         .enumerate()
-        .filter(|&(i, (_, s))| !s.motion.is_gone() && Some(i) != skip)
+        .filter(|&(i, (_, s))| !s.motion.is_gone() && Some(i) != shown.skip)
         .map(|(i, (id, s))| Ball {
             id,
-            centre: s.pos.extend(radius + s.lift),
-            turn: turns.get(i),
+            centre: s.pos.extend(shown.radius + s.lift),
+            turn: shown.turns.get(i),
         })
         .collect()
 }
@@ -534,24 +528,16 @@ impl Surface for Camera {
         trail(self, &pen.trail);
     }
 
-    fn balls(
-        &self,
-        pen: &Pen,
-        ids: &[String],
-        states: &[BallState],
-        radius: f64,
-        skip: Option<usize>,
-        turns: &Orientations,
-    ) {
-        let mut shown = on_table(ids, states, radius, skip, turns);
-        shown.extend(pen.drops.iter().filter_map(|d| {
+    fn balls(&self, pen: &Pen, shown: &BallsShown) {
+        let mut drawn = on_table(shown);
+        drawn.extend(pen.drops.iter().filter_map(|d| {
             Some(Ball {
-                id: ids.get(d.ball)?,
+                id: shown.ids.get(d.ball)?,
                 centre: d.centre,
-                turn: turns.get(d.ball),
+                turn: shown.turns.get(d.ball),
             })
         }));
-        balls(self, &shown, radius);
+        balls(self, &drawn, shown.radius);
     }
 
     fn aids(&self, _pen: &Pen, p: &Prediction, toggles: AidToggles, radius: f64, object_id: &str) {

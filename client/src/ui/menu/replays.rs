@@ -215,13 +215,7 @@ impl ReplayPage {
         let (w, h) = (screen_width(), screen_height());
         let title = "Watch a replay";
         let size = 40.0f32.min(0.08 * h);
-        draw::label(
-            title,
-            0.5 * (w - draw::text_width(title, size)),
-            0.16 * h,
-            size,
-            WHITE,
-        );
+        draw::centred(title, 0.16 * h, size, WHITE);
         let (boxes, first) = self.buttons();
         // The invite line, with a caret: it is where typing goes.
         let f = boxes.field;
