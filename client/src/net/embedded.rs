@@ -2,17 +2,16 @@
 //! its own thread inside this process, and the hosted game this computer plays in through
 //! the same network path as the other player.
 
+use super::background::BackgroundThread;
 use std::collections::VecDeque;
 use std::net::SocketAddr;
 use std::path::PathBuf;
-use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use breakshot_server::{Config, Server};
 use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{ClientMessage, Invite, WebLink};
 use breakshot_shared::rules::{Command, Game, Seat, Settings, TurnId};
-use tokio::sync::oneshot;
 
 use super::host::{
     host_text, interface_addresses, invite_host, lan_address, loopback_for, names_wildcard,
@@ -39,8 +38,8 @@ pub struct EmbeddedServer {
     web_link: Option<WebLink>,
     /// The server's key and certificate hashes, for a link to a page published elsewhere.
     web_trust: WebLink,
-    stop: Option<oneshot::Sender<()>>,
-    thread: Option<JoinHandle<()>>,
+    /// The server's thread, stopped when this is dropped.
+    _thread: BackgroundThread,
 }
 
 impl EmbeddedServer {
@@ -48,67 +47,58 @@ impl EmbeddedServer {
     /// (or with the reason it could not be).
     pub fn start(config: Config) -> Result<EmbeddedServer, HostError> {
         let (ready_tx, ready_rx) = std::sync::mpsc::channel();
-        let (stop, stopped) = oneshot::channel::<()>();
-        let thread = std::thread::Builder::new()
-            .name("breakshot-server".into())
-            .spawn(move || {
-                let runtime = match tokio::runtime::Builder::new_multi_thread()
-                    .worker_threads(2)
-                    .enable_all()
-                    .build()
-                {
-                    Ok(r) => r,
+        let thread = BackgroundThread::spawn("breakshot-server", move |stopped| {
+            let runtime = match tokio::runtime::Builder::new_multi_thread()
+                .worker_threads(2)
+                .enable_all()
+                .build()
+            {
+                Ok(r) => r,
+                Err(e) => {
+                    let _ = ready_tx.send(Err(HostError::Runtime(e.to_string())));
+                    return;
+                }
+            };
+            runtime.block_on(async move {
+                // The endpoint must be made inside the runtime.
+                let server = match Server::bind(&config) {
+                    Ok(s) => s,
                     Err(e) => {
-                        let _ = ready_tx.send(Err(HostError::Runtime(e.to_string())));
+                        let _ = ready_tx.send(Err(HostError::Server(e)));
                         return;
                     }
                 };
-                runtime.block_on(async move {
-                    // The endpoint must be made inside the runtime.
-                    let server = match Server::bind(&config) {
-                        Ok(s) => s,
-                        Err(e) => {
-                            let _ = ready_tx.send(Err(HostError::Server(e)));
-                            return;
-                        }
-                    };
-                    let _ = ready_tx.send(Ok((
-                        server.local_addr(),
-                        server.invite(),
-                        server.web_link(None),
-                        WebLink {
-                            cert: server.web_cert_hashes(),
-                            ..WebLink::new(server.web_key())
-                        },
-                    )));
-                    let result = server
-                        .run(async {
-                            let _ = stopped.await;
-                        })
-                        .await;
-                    if let Err(e) = result {
-                        tracing::error!(error = %e, "the embedded game server stopped");
-                    }
-                });
-            })
-            .map_err(|e| HostError::Runtime(e.to_string()))?;
+                let _ = ready_tx.send(Ok((
+                    server.local_addr(),
+                    server.invite(),
+                    server.web_link(None),
+                    WebLink {
+                        cert: server.web_cert_hashes(),
+                        ..WebLink::new(server.web_key())
+                    },
+                )));
+                let result = server
+                    .run(async {
+                        let _ = stopped.await;
+                    })
+                    .await;
+                if let Err(e) = result {
+                    tracing::error!(error = %e, "the embedded game server stopped");
+                }
+            });
+        })
+        .map_err(|e| HostError::Runtime(e.to_string()))?;
         match ready_rx.recv() {
             Ok(Ok((addr, invite, web_link, web_trust))) => Ok(EmbeddedServer {
                 addr,
                 invite,
                 web_link,
                 web_trust,
-                stop: Some(stop),
-                thread: Some(thread),
+                _thread: thread,
             }),
-            Ok(Err(e)) => {
-                let _ = thread.join();
-                Err(e)
-            }
-            Err(_) => {
-                let _ = thread.join();
-                Err(HostError::Runtime("the server thread ended".into()))
-            }
+            // The thread has ended or is ending: dropping it waits for that.
+            Ok(Err(e)) => Err(e),
+            Err(_) => Err(HostError::Runtime("the server thread ended".into())),
         }
     }
 
@@ -131,17 +121,6 @@ impl EmbeddedServer {
     pub fn loopback_invite(&self) -> Invite {
         let at = loopback_for(self.addr);
         Invite::new(host_text(at.ip()), at.port(), self.invite.fingerprint)
-    }
-}
-
-impl Drop for EmbeddedServer {
-    fn drop(&mut self) {
-        if let Some(stop) = self.stop.take() {
-            let _ = stop.send(());
-        }
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
     }
 }
 

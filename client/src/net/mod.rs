@@ -6,6 +6,8 @@
 //! hosting, the computer seated in an online room, and fetching a stored game's record.
 
 #[cfg(not(target_arch = "wasm32"))]
+mod background;
+#[cfg(not(target_arch = "wasm32"))]
 mod channel;
 #[cfg(not(target_arch = "wasm32"))]
 mod client;

@@ -3,7 +3,7 @@
 //! the server like any other player. The server needs nothing new, and the search never runs
 //! on the server's threads.
 
-use std::thread::JoinHandle;
+use super::background::BackgroundThread;
 use std::time::Duration;
 
 use breakshot_shared::ai::Level;
@@ -21,8 +21,8 @@ const STOP_GRACE: Duration = Duration::from_secs(2);
 /// whenever a game ends) until dropped.
 pub struct SeatedComputer {
     level: Level,
-    stop: Option<oneshot::Sender<()>>,
-    thread: Option<JoinHandle<()>>,
+    /// The seat's thread, stopped when this is dropped.
+    _thread: BackgroundThread,
 }
 
 impl SeatedComputer {
@@ -39,61 +39,46 @@ impl SeatedComputer {
         let Some(room) = invite.room.clone() else {
             return Err(HostError::Room(format!("{invite} names no room")));
         };
-        let (stop, stopped) = oneshot::channel::<()>();
-        let thread = std::thread::Builder::new()
-            .name("computer-seat".into())
-            .spawn(move || {
-                let runtime = match tokio::runtime::Builder::new_current_thread()
-                    .enable_all()
-                    .build()
-                {
-                    Ok(r) => r,
-                    Err(e) => {
-                        tracing::error!(error = %e, "no runtime for the computer's seat");
-                        return;
-                    }
-                };
-                runtime.block_on(async move {
-                    let (tx, rx) = oneshot::channel();
-                    let _ = tx.send(room);
-                    let chooser = Chooser::computer(level, seed);
-                    let mut bot =
-                        SeatPlayer::seated(invite, "computer".into(), chooser, RETRY_FOR).staying();
-                    if paced {
-                        bot = bot.pacing();
-                    }
-                    tokio::select! {
-                        result = bot.play(Entrance::Join(rx)) => {
-                            if let Some(e) = result.error {
-                                tracing::warn!(error = %e, "the computer left its seat");
-                            }
+        let thread = BackgroundThread::spawn("computer-seat", move |stopped| {
+            let runtime = match tokio::runtime::Builder::new_current_thread()
+                .enable_all()
+                .build()
+            {
+                Ok(r) => r,
+                Err(e) => {
+                    tracing::error!(error = %e, "no runtime for the computer's seat");
+                    return;
+                }
+            };
+            runtime.block_on(async move {
+                let (tx, rx) = oneshot::channel();
+                let _ = tx.send(room);
+                let chooser = Chooser::computer(level, seed);
+                let mut bot =
+                    SeatPlayer::seated(invite, "computer".into(), chooser, RETRY_FOR).staying();
+                if paced {
+                    bot = bot.pacing();
+                }
+                tokio::select! {
+                    result = bot.play(Entrance::Join(rx)) => {
+                        if let Some(e) = result.error {
+                            tracing::warn!(error = %e, "the computer left its seat");
                         }
-                        _ = stopped => {}
                     }
-                });
-                runtime.shutdown_timeout(STOP_GRACE);
-            })
-            .map_err(|e| HostError::Runtime(e.to_string()))?;
+                    _ = stopped => {}
+                }
+            });
+            runtime.shutdown_timeout(STOP_GRACE);
+        })
+        .map_err(|e| HostError::Runtime(e.to_string()))?;
         Ok(SeatedComputer {
             level,
-            stop: Some(stop),
-            thread: Some(thread),
+            _thread: thread,
         })
     }
 
     /// How strong it plays.
     pub fn level(&self) -> Level {
         self.level
-    }
-}
-
-impl Drop for SeatedComputer {
-    fn drop(&mut self) {
-        if let Some(stop) = self.stop.take() {
-            let _ = stop.send(());
-        }
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
     }
 }

@@ -3,8 +3,8 @@
 //! comes with the core's [`Seating`] as it stood, so the seat is known here without being
 //! worked out again.
 
+use super::background::BackgroundThread;
 use std::sync::mpsc::{self, Receiver};
-use std::thread::JoinHandle;
 use std::time::Duration;
 
 use breakshot_shared::protocol::{ClientMessage, Invite, Role, RoomCode};
@@ -25,8 +25,8 @@ pub struct Session {
     events: Receiver<(SessionEvent, Seating)>,
     /// The seat as it stood at the last event polled.
     seating: Seating,
-    stop: Option<oneshot::Sender<()>>,
-    thread: Option<JoinHandle<()>>,
+    /// The connection's thread, stopped when this is dropped.
+    _thread: BackgroundThread,
 }
 
 impl Session {
@@ -35,8 +35,7 @@ impl Session {
     pub fn connect(invite: Invite) -> Session {
         let (requests, outgoing) = unbounded_channel::<Request>();
         let (events_tx, events) = mpsc::channel();
-        let (stop, stopped) = oneshot::channel::<()>();
-        let thread = std::thread::spawn(move || {
+        let thread = BackgroundThread::spawn("breakshot-session", move |stopped| {
             let runtime = match tokio::runtime::Builder::new_current_thread()
                 .enable_all()
                 .build()
@@ -50,13 +49,14 @@ impl Session {
             };
             let (why, seating) = runtime.block_on(drive(invite, outgoing, &events_tx, stopped));
             let _ = events_tx.send((SessionEvent::Closed(why), seating));
-        });
+        })
+        // As `std::thread::spawn` does: a process that cannot start a thread cannot go on.
+        .expect("cannot start the network thread");
         Session {
             requests,
             events,
             seating: Seating::default(),
-            stop: Some(stop),
-            thread: Some(thread),
+            _thread: thread,
         }
     }
 
@@ -173,15 +173,4 @@ async fn drive(
     let seating = client.seating().clone();
     client.close(CLOSE_GRACE).await;
     ("session closed".into(), seating)
-}
-
-impl Drop for Session {
-    fn drop(&mut self) {
-        if let Some(stop) = self.stop.take() {
-            let _ = stop.send(());
-        }
-        if let Some(t) = self.thread.take() {
-            let _ = t.join();
-        }
-    }
 }
