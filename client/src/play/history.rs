@@ -61,22 +61,12 @@ impl History {
     /// Goes back one shot from `current`: the position before it, which `current` can be
     /// redone to.
     pub fn undo(&mut self, current: Game) -> Option<Position> {
-        let to = self.back.pop()?;
-        self.forward.push(Position {
-            game: current,
-            strike: to.strike,
-        });
-        Some(to)
+        step(&mut self.back, &mut self.forward, current)
     }
 
     /// Goes forward again to the position an undo left.
     pub fn redo(&mut self, current: Game) -> Option<Position> {
-        let to = self.forward.pop()?;
-        self.back.push(Position {
-            game: current,
-            strike: to.strike,
-        });
-        Some(to)
+        step(&mut self.forward, &mut self.back, current)
     }
 
     /// "Again": the position before the last shot with its strike, to play it once more.
@@ -100,6 +90,17 @@ impl History {
     pub fn ahead(&self) -> usize {
         self.forward.len()
     }
+}
+
+/// One step through the history: the position on top of `from`, with `current` (and that
+/// position's strike, which leads from one to the other) pushed on `to`.
+fn step(from: &mut Vec<Position>, to: &mut Vec<Position>, current: Game) -> Option<Position> {
+    let there = from.pop()?;
+    to.push(Position {
+        game: current,
+        strike: there.strike,
+    });
+    Some(there)
 }
 
 #[cfg(test)]

@@ -188,21 +188,17 @@ impl LobbyScreen {
         let x = w - 0.06 * w - button_w;
         let mut out = Vec::new();
         let mut y = 0.2 * h;
-        for i in 0..self.waiting.len() {
-            out.push((
-                Click::Join(i),
-                "Join",
-                Rect::new(x, y, button_w, row_h * 0.9),
-            ));
-            y += row_h;
-        }
-        y += row_h;
-        for i in 0..self.playing.len() {
-            out.push((
-                Click::Watch(i),
-                "Watch",
-                Rect::new(x, y, button_w, row_h * 0.9),
-            ));
+        let join: fn(usize) -> Click = Click::Join;
+        let lists = [
+            (self.waiting.len(), join, "Join"),
+            (self.playing.len(), Click::Watch, "Watch"),
+        ];
+        for (rows, click, label) in lists {
+            for i in 0..rows {
+                out.push((click(i), label, Rect::new(x, y, button_w, row_h * 0.9)));
+                y += row_h;
+            }
+            // A row's gap after the waiting rooms, before the games to watch.
             y += row_h;
         }
         let quick = if self.queue.is_some() {
