@@ -322,13 +322,24 @@ mod tests {
         }
     }
 
+    /// Why the straight-in drill is refused with `from` written as `to`.
+    fn refused_when(from: &str, to: &str, what: &str) -> String {
+        Drill::from_json(&STRAIGHT.replace(from, to)).expect_err(what)
+    }
+
     #[test]
     fn a_drill_s_example_must_strike_its_cue_ball_and_a_point_needs_three_balls() {
-        let bad = STRAIGHT.replace("\"ball\": \"cue\"", "\"ball\": \"1\"");
-        let why = Drill::from_json(&bad).expect_err("the example strikes the 1");
+        let why = refused_when(
+            "\"ball\": \"cue\"",
+            "\"ball\": \"1\"",
+            "the example strikes the 1",
+        );
         assert!(why.contains("not the cue ball"), "{why}");
-        let bad = STRAIGHT.replace("\"pocket\": \"lt\"", "\"pocket\": \"lt\", \"point\": true");
-        let why = Drill::from_json(&bad).expect_err("a point with one object ball");
+        let why = refused_when(
+            "\"pocket\": \"lt\"",
+            "\"pocket\": \"lt\", \"point\": true",
+            "a point with one object ball",
+        );
         assert!(why.contains("two object balls"), "{why}");
     }
 
@@ -394,20 +405,16 @@ mod tests {
         let far = &drill.rungs[2].scene;
         assert_eq!(far.table, drill.first().scene.table);
         assert_ne!(far.balls, drill.first().scene.balls);
-        let bad = STRAIGHT.replace("[1.032, 1.302]", "[0.2, 2.3]");
-        let why = Drill::from_json(&bad).expect_err("two balls on one spot");
+        let why = refused_when("[1.032, 1.302]", "[0.2, 2.3]", "two balls on one spot");
         assert!(why.starts_with("rung 3 of 3: "), "{why}");
     }
 
     #[test]
     fn a_goal_naming_a_ball_that_is_not_there_is_refused() {
-        let bad = STRAIGHT.replace("\"pot\": \"1\"", "\"pot\": \"9\"");
-        let why = Drill::from_json(&bad).expect_err("no 9 on the table");
+        let why = refused_when("\"pot\": \"1\"", "\"pot\": \"9\"", "no 9 on the table");
         assert!(why.contains("\"9\""), "{why}");
-        let bad = STRAIGHT.replace("\"pocket\": \"lt\"", "\"pocket\": \"xx\"");
-        assert!(Drill::from_json(&bad)
-            .expect_err("no such pocket")
-            .contains("xx"));
+        let why = refused_when("\"pocket\": \"lt\"", "\"pocket\": \"xx\"", "no such pocket");
+        assert!(why.contains("xx"), "{why}");
         assert!(Drill::from_json("{").is_err());
     }
 }
