@@ -601,36 +601,27 @@ impl Hub {
             Ok(msg) => msg,
             Err(e) => return error(conn, e.code(), e.to_string()),
         };
-        if matches!(msg, ClientMessage::Chat { .. }) && !state.chat.take(now) {
-            return error(
-                conn,
-                ErrorCode::RateLimited,
-                "chat is limited to a few lines at a time",
-            );
+        // The connection's own budgets: chat, lobby pages, the quick-match queue.
+        let budget = match msg {
+            ClientMessage::Chat { .. } => {
+                Some((&mut state.chat, "chat is limited to a few lines at a time"))
+            }
+            ClientMessage::ListGames { .. } | ClientMessage::Leaderboard { .. } => Some((
+                &mut state.lobby,
+                "the lobby is limited to a few pages a second",
+            )),
+            ClientMessage::QuickMatch { .. } | ClientMessage::LeaveQueue => Some((
+                &mut state.queue,
+                "joining and leaving the queue is limited; wait a little",
+            )),
+            _ => None,
+        };
+        if let Some((bucket, why)) = budget {
+            if !bucket.take(now) {
+                return error(conn, ErrorCode::RateLimited, why);
+            }
         }
         let in_room = state.room.clone();
-        let paged = matches!(
-            msg,
-            ClientMessage::ListGames { .. } | ClientMessage::Leaderboard { .. }
-        );
-        if paged && !state.lobby.take(now) {
-            return error(
-                conn,
-                ErrorCode::RateLimited,
-                "the lobby is limited to a few pages a second",
-            );
-        }
-        let queueing = matches!(
-            msg,
-            ClientMessage::QuickMatch { .. } | ClientMessage::LeaveQueue
-        );
-        if queueing && !state.queue.take(now) {
-            return error(
-                conn,
-                ErrorCode::RateLimited,
-                "joining and leaving the queue is limited; wait a little",
-            );
-        }
         let entering = matches!(
             msg,
             ClientMessage::CreateRoom { .. }

@@ -27,19 +27,24 @@ impl Transport for QuicLink {
         self.0.close(code.into(), reason.as_bytes());
     }
 
-    /// A connection that timed out had heard nothing for the idle timeout (its peer's
-    /// keep-alives stopped then); any other end is seen as it happens.
     fn last_heard(&self, now: Instant) -> Instant {
-        match self.0.close_reason() {
-            Some(quinn::ConnectionError::TimedOut) => now.checked_sub(IDLE_TIMEOUT).unwrap_or(now),
-            _ => now,
-        }
+        last_heard(&self.0, now)
     }
 
     /// Finishes the stream and waits for the peer to acknowledge all of it (or stop it).
     async fn finish(&self, send: &mut quinn::SendStream) {
         let _ = send.finish();
         let _ = send.stopped().await;
+    }
+}
+
+/// When `connection` last heard its peer, as far as `now` knows: one that timed out had heard
+/// nothing for the idle timeout (its peer's keep-alives stopped then); any other end is seen
+/// as it happens.
+pub fn last_heard(connection: &quinn::Connection, now: Instant) -> Instant {
+    match connection.close_reason() {
+        Some(quinn::ConnectionError::TimedOut) => now.checked_sub(IDLE_TIMEOUT).unwrap_or(now),
+        _ => now,
     }
 }
 

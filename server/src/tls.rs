@@ -200,18 +200,25 @@ fn chosen_alpn(offered: Option<Vec<&[u8]>>) -> Option<&'static [u8]> {
 }
 
 /// Loads the stateless-reset secret from `dir`, or makes and keeps a new one (mode 0600).
+/// A damaged file is replaced: a new secret only costs the resets of connections in flight.
 pub fn reset_key(dir: &Path) -> Result<[u8; 32], TlsError> {
-    let path = dir.join(RESET_KEY_FILE);
+    kept_secret(&dir.join(RESET_KEY_FILE), None)
+}
+
+/// Loads the 32-byte secret at `path`, or makes and keeps a new one (mode 0600) when there is
+/// none. A file of another length is replaced, or with `refuse_damaged` refused with that
+/// reason (when a new secret would break what was given out with the old one).
+pub(crate) fn kept_secret(path: &Path, refuse_damaged: Option<&str>) -> Result<[u8; 32], TlsError> {
     let io = |source| TlsError::Io {
         path: path.display().to_string(),
         source,
     };
-    match fs::read(&path) {
-        Ok(bytes) => {
-            if let Ok(key) = <[u8; 32]>::try_from(bytes.as_slice()) {
-                return Ok(key);
-            }
-        }
+    match fs::read(path) {
+        Ok(bytes) => match (<[u8; 32]>::try_from(bytes.as_slice()), refuse_damaged) {
+            (Ok(key), _) => return Ok(key),
+            (Err(_), Some(why)) => return Err(io(std::io::Error::other(why))),
+            (Err(_), None) => {}
+        },
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
         Err(e) => return Err(io(e)),
     }
@@ -219,9 +226,17 @@ pub fn reset_key(dir: &Path) -> Result<[u8; 32], TlsError> {
     getrandom::fill(&mut key).map_err(|e| io(std::io::Error::other(e.to_string())))?;
     // A damaged file is removed first, so the new one is created with mode 0600 whatever
     // mode the old one had.
-    let _ = fs::remove_file(&path);
-    write_private(&path, &key).map_err(io)?;
+    let _ = fs::remove_file(path);
+    write_private(path, &key).map_err(io)?;
     Ok(key)
+}
+
+/// Fails the test unless the file at `path` is readable by its owner only (mode 0600).
+#[cfg(test)]
+pub(crate) fn assert_private(path: &Path) {
+    use std::os::unix::fs::PermissionsExt;
+    let mode = fs::metadata(path).unwrap().permissions().mode();
+    assert_eq!(mode & 0o777, 0o600, "{}", path.display());
 }
 
 /// SHA-256 of a certificate's DER bytes, the fingerprint clients compare with the invite's.
@@ -254,11 +269,7 @@ mod tests {
         let first = Identity::load_or_create(&dir).unwrap();
         let again = Identity::load_or_create(&dir).unwrap();
         assert_eq!(first.fingerprint(), again.fingerprint());
-        let mode = fs::metadata(dir.join(KEY_FILE))
-            .unwrap()
-            .permissions()
-            .mode();
-        assert_eq!(mode & 0o777, 0o600);
+        crate::tls::assert_private(&dir.join(KEY_FILE));
     }
 
     #[test]
@@ -276,19 +287,11 @@ mod tests {
         let dir = tmp.path().to_path_buf();
         let first = reset_key(&dir).unwrap();
         assert_eq!(reset_key(&dir).unwrap(), first);
-        let mode = fs::metadata(dir.join(RESET_KEY_FILE))
-            .unwrap()
-            .permissions()
-            .mode();
-        assert_eq!(mode & 0o777, 0o600);
+        crate::tls::assert_private(&dir.join(RESET_KEY_FILE));
         // A damaged file is replaced rather than trusted.
         fs::write(dir.join(RESET_KEY_FILE), b"short").unwrap();
         fs::set_permissions(dir.join(RESET_KEY_FILE), fs::Permissions::from_mode(0o644)).unwrap();
         assert_ne!(reset_key(&dir).unwrap(), first);
-        let mode = fs::metadata(dir.join(RESET_KEY_FILE))
-            .unwrap()
-            .permissions()
-            .mode();
-        assert_eq!(mode & 0o777, 0o600);
+        crate::tls::assert_private(&dir.join(RESET_KEY_FILE));
     }
 }

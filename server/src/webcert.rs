@@ -376,7 +376,6 @@ impl CurrentCertificate for WebCerts {
 
 #[cfg(test)]
 mod tests {
-    use std::os::unix::fs::PermissionsExt;
 
     use x509_parser::oid_registry::{
         OID_EC_P256, OID_KEY_TYPE_EC_PUBLIC_KEY, OID_SIG_ECDSA_WITH_SHA256,
@@ -465,11 +464,7 @@ mod tests {
         let hashes = certs.hashes();
         let again = WebCerts::load_or_create(tmp.path(), clock.clone()).unwrap();
         assert_eq!(again.hashes(), hashes);
-        let mode = fs::metadata(tmp.path().join(WEB_KEY_FILE))
-            .unwrap()
-            .permissions()
-            .mode();
-        assert_eq!(mode & 0o777, 0o600);
+        crate::tls::assert_private(&tmp.path().join(WEB_KEY_FILE));
         // A start long after both ended makes a new one and lists nothing old.
         time.advance(Duration::from_secs(30 * DAY));
         let late = WebCerts::load_or_create(tmp.path(), clock).unwrap();

@@ -21,8 +21,8 @@ use web_transport_quinn::{RecvStream, Request, SendStream, Session};
 use crate::conn::{self, HubSender, Outbound, Transport, CLOSE_PROTOCOL};
 use crate::limits::Limits;
 use crate::output::ConnId;
+use crate::quic;
 use crate::stats::Stats;
-use crate::tls::IDLE_TIMEOUT;
 
 /// How long a refused page gets to read its refusal before the connection is closed.
 const REFUSAL_GRACE: Duration = Duration::from_secs(2);
@@ -133,13 +133,9 @@ impl Transport for SessionLink {
         self.session.close(code, reason.as_bytes());
     }
 
-    /// As for a native connection: a session that timed out had heard nothing for the idle
-    /// timeout.
+    /// As for a native connection: the session lives on its QUIC connection.
     fn last_heard(&self, now: Instant) -> Instant {
-        match self.conn.close_reason() {
-            Some(quinn::ConnectionError::TimedOut) => now.checked_sub(IDLE_TIMEOUT).unwrap_or(now),
-            _ => now,
-        }
+        quic::last_heard(&self.conn, now)
     }
 
     /// Finishes the stream and waits for the page to acknowledge all of it (or stop it).

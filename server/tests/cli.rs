@@ -26,6 +26,35 @@ fn verify(data: &Path) -> Output {
     server(&[OsStr::new("verify"), OsStr::new("--data"), data.as_os_str()])
 }
 
+/// Starts `breakshot-server --bind 127.0.0.1:0 ARGS --data DATA` and reads the first
+/// `lines` lines it prints (the invite, then the web link), each within a minute.
+fn serve(args: &[&str], data: &Path, lines: usize) -> (Spawned, Vec<String>) {
+    let mut serving = Spawned::start(
+        Command::new(BIN)
+            .args(["--bind", "127.0.0.1:0"])
+            .args(args)
+            .arg("--data")
+            .arg(data)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null()),
+    );
+    let mut out: Box<dyn std::io::Read + Send> =
+        Box::new(serving.child().stdout.take().expect("piped"));
+    let mut printed = Vec::new();
+    for _ in 0..lines {
+        let (line, rest) = breakshot_testkit::read_line(out, Duration::from_secs(60));
+        printed.push(line.trim().to_owned());
+        out = Box::new(rest);
+    }
+    (serving, printed)
+}
+
+/// Stops a server started by [`serve`] with Ctrl-C and expects a clean exit within a minute.
+fn stop(mut serving: Spawned) {
+    serving.interrupt();
+    assert!(serving.wait(Duration::from_secs(60)).success());
+}
+
 /// Stores one game of two real shots, with `tamper` flipping a bit of the second hash.
 fn store_game(dir: &Path, tamper: bool) {
     let variant = Variant::EightBall(EightBallRules::Wpa);
@@ -107,44 +136,30 @@ fn verify_reports_each_game_and_fails_on_a_tampered_one() {
 #[test]
 fn the_server_prints_its_invite_first_and_stops_cleanly_on_ctrl_c() {
     let dir = breakshot_testkit::scratch("cli-serve");
-    let mut server = Spawned::start(
-        Command::new(BIN)
-            .args(["--bind", "127.0.0.1:0", "--data"])
-            .arg(dir.path())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null()),
-    );
-    let stdout = server.child().stdout.take().expect("piped");
-    let (line, _rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
-    let invite: Invite = line.trim().parse().unwrap();
+    let (server, printed) = serve(&[], dir.path(), 1);
+    let invite: Invite = printed[0].parse().unwrap();
     assert_eq!(invite.first().host, "127.0.0.1");
     assert_ne!(invite.first().port, 0);
     assert!(invite.room.is_none());
-
-    server.interrupt();
-    assert!(server.wait(Duration::from_secs(60)).success());
+    stop(server);
 }
 
 #[test]
 fn the_invite_names_the_public_host_then_the_other_instances_in_order() {
     let dir = breakshot_testkit::scratch("cli-also");
-    let mut serving = Spawned::start(
-        Command::new(BIN)
-            .args(["--bind", "127.0.0.1:0", "--host", "pool.example.org"])
-            .args([
-                "--also",
-                "b.example.org:4434",
-                "--also",
-                "[2001:db8::7]:4433",
-            ])
-            .arg("--data")
-            .arg(dir.path())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null()),
+    let (serving, printed) = serve(
+        &[
+            "--host",
+            "pool.example.org",
+            "--also",
+            "b.example.org:4434",
+            "--also",
+            "[2001:db8::7]:4433",
+        ],
+        dir.path(),
+        1,
     );
-    let stdout = serving.child().stdout.take().expect("piped");
-    let (line, _rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
-    let invite: Invite = line.trim().parse().unwrap();
+    let invite: Invite = printed[0].parse().unwrap();
     let servers: Vec<String> = invite.servers.iter().map(|s| s.to_string()).collect();
     let port = invite.first().port;
     assert_eq!(
@@ -155,8 +170,7 @@ fn the_invite_names_the_public_host_then_the_other_instances_in_order() {
             "[2001:db8::7]:4433".into()
         ]
     );
-    serving.interrupt();
-    assert!(serving.wait(Duration::from_secs(60)).success());
+    stop(serving);
 
     // An address that is not HOST:PORT is refused before anything starts.
     let out = server(&[
@@ -305,21 +319,11 @@ fn with_web_the_server_prints_its_web_link_after_the_invite() {
     let dir = breakshot_testkit::scratch("cli-web");
     let web = dir.path().join("web");
     std::fs::create_dir_all(&web).unwrap();
-    let mut serving = Spawned::start(
-        Command::new(BIN)
-            .args(["--bind", "127.0.0.1:0", "--host", "pool.example.org"])
-            .arg("--web")
-            .arg(&web)
-            .arg("--data")
-            .arg(dir.path().join("data"))
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null()),
-    );
-    let stdout = serving.child().stdout.take().expect("piped");
-    let (line, rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
-    let invite: Invite = line.trim().parse().unwrap();
-    let (line, _rest) = breakshot_testkit::read_line(rest, Duration::from_secs(60));
-    let link: WebLink = line.trim().parse().unwrap();
+    let web = web.to_str().expect("a UTF-8 scratch path");
+    let data = dir.path().join("data");
+    let (serving, printed) = serve(&["--host", "pool.example.org", "--web", web], &data, 2);
+    let invite: Invite = printed[0].parse().unwrap();
+    let link: WebLink = printed[1].parse().unwrap();
     let port = invite.first().port;
     assert_eq!(
         link.page.as_deref(),
@@ -330,53 +334,37 @@ fn with_web_the_server_prints_its_web_link_after_the_invite() {
         !link.cert.is_empty(),
         "the link carries the browsers' certificate hashes"
     );
-    serving.interrupt();
-    assert!(serving.wait(Duration::from_secs(60)).success());
+    stop(serving);
     // The key is the one kept in the data directory: the same after a restart.
-    let mut again = Spawned::start(
-        Command::new(BIN)
-            .args(["--bind", "127.0.0.1:0", "--web"])
-            .arg(&web)
-            .arg("--data")
-            .arg(dir.path().join("data"))
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null()),
-    );
-    let stdout = again.child().stdout.take().expect("piped");
-    let (_, rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
-    let (line, _rest) = breakshot_testkit::read_line(rest, Duration::from_secs(60));
-    let second: WebLink = line.trim().parse().unwrap();
+    let (again, printed) = serve(&["--web", web], &data, 2);
+    let second: WebLink = printed[1].parse().unwrap();
     assert_eq!(second.key, link.key);
-    again.interrupt();
-    assert!(again.wait(Duration::from_secs(60)).success());
+    stop(again);
 }
 
 #[test]
 fn with_web_page_the_link_opens_the_published_site_and_names_this_server() {
     use breakshot_shared::protocol::WebLink;
     let dir = breakshot_testkit::scratch("cli-web-page");
-    let mut serving = Spawned::start(
-        Command::new(BIN)
-            .args(["--bind", "127.0.0.1:0", "--host", "pool.example.org"])
-            .args(["--web-page", "https://play.example.org/breakshot"])
-            .arg("--data")
-            .arg(dir.path().join("data"))
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null()),
+    let (serving, printed) = serve(
+        &[
+            "--host",
+            "pool.example.org",
+            "--web-page",
+            "https://play.example.org/breakshot",
+        ],
+        &dir.path().join("data"),
+        2,
     );
-    let stdout = serving.child().stdout.take().expect("piped");
-    let (line, rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
-    let invite: Invite = line.trim().parse().unwrap();
-    let (line, _rest) = breakshot_testkit::read_line(rest, Duration::from_secs(60));
-    let link: WebLink = line.trim().parse().unwrap();
+    let invite: Invite = printed[0].parse().unwrap();
+    let link: WebLink = printed[1].parse().unwrap();
     assert_eq!(
         link.page.as_deref(),
         Some("https://play.example.org/breakshot/")
     );
     assert_eq!(link.server.as_ref(), Some(invite.first()));
     assert!(!link.cert.is_empty());
-    serving.interrupt();
-    assert!(serving.wait(Duration::from_secs(60)).success());
+    stop(serving);
 
     // An address that is not a page's is refused before anything starts.
     let out = server(&[OsStr::new("--web-page"), OsStr::new("play.example.org?x")]);

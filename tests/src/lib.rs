@@ -8,13 +8,16 @@ use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, bail, Context, Result};
 use breakshot_client::bot::{run, BotConfig, Report};
-use breakshot_client::net::{fetch_record, Client, ClientEvent, Reconnect, Session, SessionEvent};
+use breakshot_client::net::{
+    fetch_record, Client, ClientEvent, HostOptions, Reconnect, Session, SessionEvent,
+};
 use breakshot_client::play::{GameEvent, GameFlow, GameLink, Replica};
 use breakshot_server::webcert::WebCerts;
 use breakshot_server::{Config, Server, ServerError, Stats};
 use breakshot_shared::physics::{BallState, Strike};
 use breakshot_shared::protocol::{
-    AimAid, ClientMessage, Invite, Role, RoomCode, ServerMessage, WebLink,
+    decode_payload, payload_len, AimAid, ClientMessage, Invite, Role, RoomCode, ServerMessage,
+    WebLink, HEADER_LEN,
 };
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::Game;
@@ -285,10 +288,33 @@ impl Player {
         }
     }
 
+    /// Asks to join `room` as `name` and reads messages until `Joined`.
+    pub async fn join(&mut self, room: &RoomCode, name: &str) -> Result<ServerMessage> {
+        self.send(ClientMessage::Join {
+            room: room.clone(),
+            name: name.into(),
+        })
+        .await?;
+        self.until("Joined", |m| matches!(m, ServerMessage::Joined { .. }))
+            .await
+    }
+
     /// Reads messages until the turn passes (`TurnChanged`).
     pub async fn turn_changed(&mut self) -> Result<()> {
         self.until("TurnChanged", |m| {
             matches!(m, ServerMessage::TurnChanged { .. })
+        })
+        .await
+        .map(drop)
+    }
+
+    /// Reads messages until the turn passes or the game ends (`TurnChanged`, `GameOver`).
+    pub async fn turn_over(&mut self) -> Result<()> {
+        self.until("TurnChanged", |m| {
+            matches!(
+                m,
+                ServerMessage::TurnChanged { .. } | ServerMessage::GameOver { .. }
+            )
         })
         .await
         .map(drop)
@@ -305,6 +331,24 @@ impl Player {
     }
 }
 
+/// Reads one frame of the wire format from a raw stream and decodes it; fails after
+/// [`PATIENCE`]. For the tests that speak the protocol by hand, on any transport's stream.
+pub async fn read_message(
+    stream: &mut (impl tokio::io::AsyncRead + Unpin),
+) -> Result<ServerMessage> {
+    use tokio::io::AsyncReadExt;
+    let read = async {
+        let mut header = [0u8; HEADER_LEN];
+        stream.read_exact(&mut header).await?;
+        let mut payload = vec![0u8; payload_len(header)?];
+        stream.read_exact(&mut payload).await?;
+        anyhow::Ok(decode_payload(&payload)?)
+    };
+    tokio::time::timeout(PATIENCE, read)
+        .await
+        .map_err(|_| anyhow!("no message from the server"))?
+}
+
 /// The resident memory of this process in bytes (Linux), if it can be read.
 pub fn resident_bytes() -> Option<u64> {
     let statm = std::fs::read_to_string("/proc/self/statm").ok()?;
@@ -316,15 +360,31 @@ pub fn eight_ball() -> Variant {
     Variant::EightBall(EightBallRules::Wpa)
 }
 
-/// Creates an 8-ball room as `name` and returns its code.
-pub async fn create_room(host: &mut Player, name: &str) -> Result<RoomCode> {
-    host.send(ClientMessage::CreateRoom {
+/// Hosting as `ann` on a free port of 127.0.0.1 with its data in `data`, native players
+/// only; the rest as [`HostOptions::new`] (8-ball, the online clock, every aid): the hosting
+/// tests change only what they are about.
+pub fn hosting_here(data: std::path::PathBuf) -> HostOptions {
+    HostOptions {
+        bind: ([127, 0, 0, 1], 0).into(),
+        name: "ann".into(),
+        web: None,
+        ..HostOptions::new(data)
+    }
+}
+
+/// The message that opens an 8-ball room with no clock and every aid, as `name`.
+pub fn create_eight_ball(name: &str) -> ClientMessage {
+    ClientMessage::CreateRoom {
         variant: eight_ball(),
         mode: Settings::offline(),
         aim_aid: AimAid::Full,
         name: name.into(),
-    })
-    .await?;
+    }
+}
+
+/// Creates an 8-ball room as `name` and returns its code.
+pub async fn create_room(host: &mut Player, name: &str) -> Result<RoomCode> {
+    host.send(create_eight_ball(name)).await?;
     match host
         .until("Joined", |m| matches!(m, ServerMessage::Joined { .. }))
         .await?
@@ -370,13 +430,7 @@ pub async fn seated_pair_with(
     let mut a = Player::connect_with(invite, policy).await?;
     let room = create_room(&mut a, "alice").await?;
     let mut b = Player::connect_with(invite, policy).await?;
-    b.send(ClientMessage::Join {
-        room: room.clone(),
-        name: "bob".into(),
-    })
-    .await?;
-    b.until("Joined", |m| matches!(m, ServerMessage::Joined { .. }))
-        .await?;
+    b.join(&room, "bob").await?;
     a.until("PlayerJoined", |m| {
         matches!(m, ServerMessage::PlayerJoined { .. })
     })
@@ -412,19 +466,19 @@ pub fn poll_until(
     what: &str,
     want: impl Fn(&SessionEvent) -> bool,
 ) -> SessionEvent {
-    let start = Instant::now();
-    loop {
-        while let Some(event) = session.try_recv() {
-            if want(&event) {
-                return event;
+    poll_frames(
+        what,
+        || session.try_recv(),
+        |event| {
+            if want(event) {
+                return true;
             }
-            if let SessionEvent::Closed(why) = &event {
+            if let SessionEvent::Closed(why) = event {
                 panic!("closed while waiting for {what}: {why}");
             }
-        }
-        assert!(start.elapsed() < PATIENCE, "no {what}");
-        std::thread::sleep(Duration::from_millis(5));
-    }
+            false
+        },
+    )
 }
 
 /// Polls a game link the way a game screen does, handing every event to the screen's
@@ -435,10 +489,17 @@ pub fn poll_link_until(
     what: &str,
     want: impl Fn(&GameEvent) -> bool,
 ) -> GameEvent {
+    let next = || link.poll().inspect(|event| flow.handle(event.clone()));
+    poll_frames(what, next, want)
+}
+
+/// The frame loop of [`poll_until`] and [`poll_link_until`]: takes every event `next` has
+/// ready, then "draws" for a few milliseconds, until `want` accepts one; fails after
+/// [`PATIENCE`].
+fn poll_frames<E>(what: &str, mut next: impl FnMut() -> Option<E>, want: impl Fn(&E) -> bool) -> E {
     let start = Instant::now();
     loop {
-        while let Some(event) = link.poll() {
-            flow.handle(event.clone());
+        while let Some(event) = next() {
             if want(&event) {
                 return event;
             }

@@ -7,9 +7,11 @@ use std::time::Duration;
 
 use anyhow::{bail, Context, Result};
 use breakshot_server::admin;
-use breakshot_shared::protocol::{AimAid, ClientMessage, ErrorCode, ServerMessage};
+use breakshot_shared::protocol::{ClientMessage, ErrorCode, ServerMessage};
 use breakshot_shared::rules::Settings;
-use breakshot_tests::{break_shot, eight_ball, scratch, seated_pair, Player, TestServer};
+use breakshot_tests::{
+    break_shot, create_eight_ball, eight_ball, scratch, seated_pair, Player, TestServer,
+};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 
 /// How long the test waits for an answer before calling it stuck.
@@ -139,13 +141,7 @@ async fn metrics_move_during_a_game_and_a_drain_lets_it_finish() -> Result<()> {
     )
     .await?;
     let mut late = Player::connect(&server.invite).await?;
-    late.send(ClientMessage::CreateRoom {
-        variant: eight_ball(),
-        mode: Settings::offline(),
-        aim_aid: AimAid::Full,
-        name: "carol".into(),
-    })
-    .await?;
+    late.send(create_eight_ball("carol")).await?;
     match late.error().await? {
         ServerMessage::Error { code, message } => {
             assert_eq!(code, ErrorCode::ServerBusy);

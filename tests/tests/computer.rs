@@ -11,7 +11,7 @@ use breakshot_server::Config;
 use breakshot_shared::ai::{self, Level};
 use breakshot_shared::protocol::{AimAid, ClientMessage};
 use breakshot_shared::rules::{Command, Game, Phase, Seat, Settings, Variant};
-use breakshot_tests::{bot_game, eight_ball, scratch, TestServer, PATIENCE};
+use breakshot_tests::{bot_game, eight_ball, hosting_here, scratch, TestServer, PATIENCE};
 
 /// One game of `variant`: the computer player at level 1 opens the room, the ghost-ball bot
 /// joins. Every command the computer sent was accepted, both players confirmed every shot,
@@ -95,17 +95,8 @@ fn play_own_seat(link: &mut dyn GameLink, flow: &GameFlow, asked: &mut bool) {
 fn a_host_plays_the_seated_computer_while_a_friend_with_the_invite_watches() -> anyhow::Result<()> {
     let data = scratch("host-computer");
     let options = HostOptions {
-        bind: ([127, 0, 0, 1], 0).into(),
-        data: data.path().join("server"),
-        variant: eight_ball(),
-        settings: Settings::online(),
-        aim_aid: AimAid::Full,
-        address: None,
-        resume: true,
         computer: Some(Level::new(1)),
-        name: "ann".into(),
-        web: None,
-        web_page: None,
+        ..hosting_here(data.path().join("server"))
     };
     let mut host = Host::start(&options)?;
     assert_eq!(host.computer(), Some(Level::new(1)));

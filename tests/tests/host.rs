@@ -9,24 +9,16 @@ use breakshot_client::view::hud::Connection;
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, Role, ServerMessage};
 use breakshot_shared::rules::{Command, Seat, Settings};
 use breakshot_tests::{
-    break_shot, eight_ball, poll_link_until, poll_until, scratch, TestServer, PATIENCE,
+    break_shot, create_eight_ball, hosting_here, poll_link_until, poll_until, scratch, TestServer,
+    PATIENCE,
 };
 
 #[test]
 fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Result<()> {
     let data = scratch("host");
     let options = HostOptions {
-        bind: ([127, 0, 0, 1], 0).into(),
-        data: data.path().join("server"),
-        variant: eight_ball(),
-        settings: Settings::online(),
         aim_aid: AimAid::FirstContact,
-        address: None,
-        resume: true,
-        name: "ann".into(),
-        computer: None,
-        web: None,
-        web_page: None,
+        ..hosting_here(data.path().join("server"))
     };
     let mut host = Host::start(&options)?;
     let mut host_flow = GameFlow::new(Connection::Connecting);
@@ -120,17 +112,9 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
 fn the_invite_names_the_address_the_host_gives() -> anyhow::Result<()> {
     let data = scratch("host-address");
     let options = HostOptions {
-        bind: ([127, 0, 0, 1], 0).into(),
-        data: data.path().to_path_buf(),
-        variant: eight_ball(),
         settings: Settings::offline(),
-        aim_aid: AimAid::Full,
         address: Some("pool.example.org".into()),
-        resume: true,
-        name: "ann".into(),
-        computer: None,
-        web: None,
-        web_page: None,
+        ..hosting_here(data.path().to_path_buf())
     };
     let host = Host::start(&options)?;
     let invite = host.invite();
@@ -146,16 +130,8 @@ fn a_port_in_use_is_a_clear_error() -> anyhow::Result<()> {
     let taken = std::net::UdpSocket::bind("127.0.0.1:0")?;
     let options = HostOptions {
         bind: taken.local_addr()?,
-        data: data.path().to_path_buf(),
-        variant: eight_ball(),
         settings: Settings::offline(),
-        aim_aid: AimAid::Full,
-        address: None,
-        resume: true,
-        name: "ann".into(),
-        computer: None,
-        web: None,
-        web_page: None,
+        ..hosting_here(data.path().to_path_buf())
     };
     let Err(e) = Host::start(&options) else {
         panic!("a second server bound the same port");
@@ -174,12 +150,7 @@ fn a_session_reconnects_and_takes_its_seat_back_after_a_server_restart() -> anyh
     let addr = server.addr;
 
     let mut a = Session::connect(server.invite.clone());
-    a.send(ClientMessage::CreateRoom {
-        variant: eight_ball(),
-        mode: Settings::offline(),
-        aim_aid: AimAid::Full,
-        name: "ann".into(),
-    });
+    a.send(create_eight_ball("ann"));
     poll_until(&mut a, "Joined", |e| {
         matches!(e, SessionEvent::Message(ServerMessage::Joined { .. }))
     });

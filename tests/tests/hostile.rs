@@ -12,12 +12,12 @@ use breakshot_client::bot::{run, BotConfig};
 use breakshot_client::net::client_config;
 use breakshot_server::{Limits, Stats};
 use breakshot_shared::protocol::{
-    decode_payload, encode_frame, payload_len, reference_hash, ClientMessage, ErrorCode,
-    Fingerprint, ServerMessage, PROTOCOL_VERSION,
+    encode_frame, reference_hash, ClientMessage, ErrorCode, Fingerprint, ServerMessage,
+    PROTOCOL_VERSION,
 };
 use breakshot_tests::{
-    break_shot, create_room, hello_of, prove_of, resident_bytes, scratch, Player, TestServer,
-    PATIENCE,
+    break_shot, create_room, hello_of, prove_of, read_message, resident_bytes, scratch, Player,
+    TestServer, PATIENCE,
 };
 
 /// Half-open handshakes the test server allows before it asks for retries.
@@ -82,16 +82,7 @@ impl Raw {
 
     /// Reads one message from the server.
     async fn read(&mut self) -> Result<ServerMessage> {
-        let read = async {
-            let mut header = [0u8; 4];
-            self.recv.read_exact(&mut header).await?;
-            let mut payload = vec![0u8; payload_len(header)?];
-            self.recv.read_exact(&mut payload).await?;
-            anyhow::Ok(decode_payload(&payload)?)
-        };
-        tokio::time::timeout(PATIENCE, read)
-            .await
-            .map_err(|_| anyhow!("no message from the server"))?
+        read_message(&mut self.recv).await
     }
 
     /// Waits for the server to close the connection and returns its reason.

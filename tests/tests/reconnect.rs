@@ -65,13 +65,7 @@ async fn a_dropped_player_rejoins_with_its_token_and_play_continues() -> anyhow:
     let shot = matches!(mv, ClientMessage::Shot { .. });
     shooter.send(mv).await?;
     for p in [&mut a, &mut b2] {
-        p.until("TurnChanged", |m| {
-            matches!(
-                m,
-                ServerMessage::TurnChanged { .. } | ServerMessage::GameOver { .. }
-            )
-        })
-        .await?;
+        p.turn_over().await?;
         assert!(p.game().expect("game").turn() > turn_after_break);
     }
     assert_eq!(a.replica.desyncs() + b2.replica.desyncs(), 0);
@@ -160,13 +154,7 @@ fn a_client_killed_mid_shot_rejoins_and_gets_its_seat_back() -> anyhow::Result<(
     let token = a.client.token().expect("token");
     let mut b = main.block_on(async {
         let mut b = Player::connect(&server.invite).await?;
-        b.send(ClientMessage::Join {
-            room,
-            name: "ben".into(),
-        })
-        .await?;
-        b.until("Joined", |m| matches!(m, ServerMessage::Joined { .. }))
-            .await?;
+        b.join(&room, "ben").await?;
         anyhow::Ok(b)
     })?;
     victim.block_on(a.until("PlayerJoined", |m| {
@@ -205,13 +193,7 @@ fn a_client_killed_mid_shot_rejoins_and_gets_its_seat_back() -> anyhow::Result<(
         };
         shooter.send(mv).await?;
         for p in [&mut a2, &mut b] {
-            p.until("TurnChanged", |m| {
-                matches!(
-                    m,
-                    ServerMessage::TurnChanged { .. } | ServerMessage::GameOver { .. }
-                )
-            })
-            .await?;
+            p.turn_over().await?;
             assert!(p.game().expect("game").turn() > now.turn());
         }
         server.stop().await

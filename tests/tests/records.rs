@@ -4,10 +4,24 @@
 use anyhow::{bail, Result};
 use breakshot_client::bot::{run, BotConfig};
 use breakshot_client::net::{fetch_game, fetch_record, FetchError};
+use breakshot_shared::physics::BallState;
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, RoomCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::Phase;
 use breakshot_tests::{break_shot, scratch, seated_pair, Player, TestServer, PATIENCE};
+
+/// `a` breaks the game just joined; returns the break's hash and balls once both players
+/// have seen the turn pass.
+async fn break_and_pass(a: &mut Player, b: &mut Player) -> Result<(u64, Vec<BallState>)> {
+    let Some(game) = a.game() else {
+        bail!("no game after joining");
+    };
+    a.send(break_shot(game)).await?;
+    let resolved = a.shot_resolved().await?;
+    a.turn_changed().await?;
+    b.turn_changed().await?;
+    Ok(resolved)
+}
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_game_in_play_is_fetched_by_room_code_and_replays_to_the_servers_table() -> Result<()> {
@@ -15,13 +29,7 @@ async fn a_game_in_play_is_fetched_by_room_code_and_replays_to_the_servers_table
     let server = TestServer::start(data.path()).await?;
     let (mut a, mut b, room) = seated_pair(&server.invite).await?;
 
-    let Some(game) = a.game() else {
-        bail!("no game after joining");
-    };
-    a.send(break_shot(game)).await?;
-    let (hash, balls) = a.shot_resolved().await?;
-    a.turn_changed().await?;
-    b.turn_changed().await?;
+    let (hash, balls) = break_and_pass(&mut a, &mut b).await?;
 
     // A client that never joined the room.
     let fetched = fetch_record(&server.invite, &room).await?;
@@ -122,13 +130,7 @@ async fn after_a_rematch_the_first_game_is_fetched_by_its_number_and_replays() -
     let (mut a, mut b, room) = seated_pair(&server.invite).await?;
 
     // Game 1: a break, then whoever is to move concedes.
-    let Some(game) = a.game() else {
-        bail!("no game after joining");
-    };
-    a.send(break_shot(game)).await?;
-    let first_hash = a.shot_resolved().await?.0;
-    a.turn_changed().await?;
-    b.turn_changed().await?;
+    let first_hash = break_and_pass(&mut a, &mut b).await?.0;
     let to_move = a.game().map(|g| g.to_move());
     let conceder = if to_move == Some(breakshot_shared::rules::Seat::A) {
         &mut a

@@ -160,12 +160,7 @@ async fn rooms_per_address_and_connections_are_capped() -> Result<()> {
     }
     let mut third = Player::connect(&server.invite).await?;
     third
-        .send(ClientMessage::CreateRoom {
-            variant: breakshot_tests::eight_ball(),
-            mode: breakshot_shared::rules::Settings::offline(),
-            aim_aid: breakshot_shared::protocol::AimAid::Full,
-            name: "three".into(),
-        })
+        .send(breakshot_tests::create_eight_ball("three"))
         .await?;
     assert_eq!(error_code(&mut third).await?, ErrorCode::ServerBusy);
     // Three connections are open: a fourth is refused.

@@ -6,10 +6,10 @@ use std::time::{Duration, Instant};
 use breakshot_client::net::{NetLink, Session, SessionEvent};
 use breakshot_client::play::{Check, GameEvent, GameFlow, GameLink, Replica};
 use breakshot_client::view::hud::Connection;
-use breakshot_shared::protocol::{AimAid, ClientMessage, Role, ServerMessage};
-use breakshot_shared::rules::{Command, Seat, Settings};
+use breakshot_shared::protocol::{ClientMessage, Role, ServerMessage};
+use breakshot_shared::rules::{Command, Seat};
 use breakshot_tests::{
-    break_shot, eight_ball, poll_link_until, poll_until, scratch, TestServer, PATIENCE,
+    break_shot, create_eight_ball, poll_link_until, poll_until, scratch, TestServer, PATIENCE,
 };
 
 #[test]
@@ -22,12 +22,7 @@ fn a_polled_session_plays_and_confirms_a_shot() -> anyhow::Result<()> {
     poll_until(&mut a, "Connected", |e| {
         matches!(e, SessionEvent::Connected)
     });
-    a.send(ClientMessage::CreateRoom {
-        variant: eight_ball(),
-        mode: Settings::offline(),
-        aim_aid: AimAid::Full,
-        name: "ann".into(),
-    });
+    a.send(create_eight_ball("ann"));
     let SessionEvent::Message(ServerMessage::Joined { snapshot, .. }) =
         poll_until(&mut a, "Joined", |e| {
             matches!(e, SessionEvent::Message(ServerMessage::Joined { .. }))
@@ -82,12 +77,7 @@ fn a_network_link_gives_a_game_screen_the_server_s_events() -> anyhow::Result<()
     let server = runtime.block_on(TestServer::start(data.path()))?;
 
     let host = Session::connect(server.invite.clone());
-    host.send(ClientMessage::CreateRoom {
-        variant: eight_ball(),
-        mode: Settings::offline(),
-        aim_aid: AimAid::Full,
-        name: "ann".into(),
-    });
+    host.send(create_eight_ball("ann"));
     let mut a = NetLink::new(host);
     let mut a_flow = GameFlow::new(Connection::Connecting);
     let mut b_flow = GameFlow::new(Connection::Connecting);

@@ -9,10 +9,9 @@ use std::time::Duration;
 use anyhow::{bail, Result};
 use breakshot_server::Config;
 use breakshot_shared::protocol::web::MAX_NOISE_MESSAGE;
-use breakshot_shared::protocol::{AimAid, ClientMessage, ServerMessage};
-use breakshot_shared::rules::Settings;
+use breakshot_shared::protocol::{ClientMessage, ServerMessage};
 use breakshot_tests::web::{self, WebPlayer};
-use breakshot_tests::{eight_ball, scratch, Player, TestServer, PATIENCE};
+use breakshot_tests::{create_eight_ball, scratch, Player, TestServer, PATIENCE};
 use futures_util::SinkExt;
 use tokio::io::AsyncWriteExt;
 use tokio::net::TcpStream;
@@ -78,13 +77,7 @@ async fn a_page_creates_a_room_over_the_websocket_and_a_native_player_joins_it()
     assert_eq!(addr.port(), server.addr.port());
 
     let mut page = WebPlayer::hello(addr, &server.web_key).await?;
-    page.send(&ClientMessage::CreateRoom {
-        variant: eight_ball(),
-        mode: Settings::offline(),
-        aim_aid: AimAid::Full,
-        name: "page".into(),
-    })
-    .await?;
+    page.send(&create_eight_ball("page")).await?;
     let ServerMessage::Joined {
         snapshot, token, ..
     } = page
@@ -95,15 +88,7 @@ async fn a_page_creates_a_room_over_the_websocket_and_a_native_player_joins_it()
     };
     assert!(token.is_some());
     let mut native = Player::connect(&server.invite).await?;
-    native
-        .send(ClientMessage::Join {
-            room: snapshot.room.clone(),
-            name: "native".into(),
-        })
-        .await?;
-    native
-        .until("Joined", |m| matches!(m, ServerMessage::Joined { .. }))
-        .await?;
+    native.join(&snapshot.room, "native").await?;
     let joined = page
         .until("PlayerJoined", |m| {
             matches!(m, ServerMessage::PlayerJoined { .. })

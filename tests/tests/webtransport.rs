@@ -9,12 +9,10 @@ use std::time::{Duration, SystemTime};
 use anyhow::{anyhow, bail, Context, Result};
 use breakshot_server::webcert::{ClockRef, ManualClock};
 use breakshot_shared::protocol::web::WEBTRANSPORT_PATH;
-use breakshot_shared::protocol::{
-    decode_payload, encode_frame, payload_len, AimAid, ClientMessage, Fingerprint, Invite,
-    ServerMessage, HEADER_LEN,
+use breakshot_shared::protocol::{encode_frame, ClientMessage, Fingerprint, Invite, ServerMessage};
+use breakshot_tests::{
+    create_eight_ball, create_room, read_message, scratch, Player, TestServer, PATIENCE,
 };
-use breakshot_shared::rules::Settings;
-use breakshot_tests::{create_room, eight_ball, scratch, Player, TestServer, PATIENCE};
 use web_transport_quinn::proto::ConnectError::WrongStatus;
 use web_transport_quinn::quinn::rustls::pki_types::CertificateDer;
 use web_transport_quinn::{
@@ -73,16 +71,7 @@ impl Page {
     }
 
     async fn recv(&mut self) -> Result<ServerMessage> {
-        let read = async {
-            let mut header = [0u8; HEADER_LEN];
-            self.recv.read_exact(&mut header).await?;
-            let mut payload = vec![0u8; payload_len(header)?];
-            self.recv.read_exact(&mut payload).await?;
-            anyhow::Ok(decode_payload(&payload)?)
-        };
-        tokio::time::timeout(PATIENCE, read)
-            .await
-            .map_err(|_| anyhow!("no message from the server"))?
+        read_message(&mut self.recv).await
     }
 
     async fn until(&mut self, what: &str, want: impl Fn(&ServerMessage) -> bool) -> Result<()> {
@@ -144,13 +133,7 @@ async fn a_page_says_hello_creates_a_room_and_a_native_player_joins_it() -> Resu
     assert!(days <= 14.0, "valid {days} days");
     assert!(validity.is_valid(), "not valid now");
 
-    page.send(&ClientMessage::CreateRoom {
-        variant: eight_ball(),
-        mode: Settings::offline(),
-        aim_aid: AimAid::Full,
-        name: "page".into(),
-    })
-    .await?;
+    page.send(&create_eight_ball("page")).await?;
     let room = loop {
         match page.recv().await? {
             ServerMessage::Joined { snapshot, .. } => break snapshot.room,
@@ -159,15 +142,7 @@ async fn a_page_says_hello_creates_a_room_and_a_native_player_joins_it() -> Resu
         }
     };
     let mut native = native_sees_the_long_lived_certificate(&server.invite).await?;
-    native
-        .send(ClientMessage::Join {
-            room: room.clone(),
-            name: "native".into(),
-        })
-        .await?;
-    native
-        .until("Joined", |m| matches!(m, ServerMessage::Joined { .. }))
-        .await?;
+    native.join(&room, "native").await?;
     page.until(
         "PlayerJoined",
         |m| matches!(m, ServerMessage::PlayerJoined { name, .. } if name == "native"),

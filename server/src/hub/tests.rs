@@ -66,6 +66,11 @@ fn sent_to(out: &[Output], conn: ConnId) -> Vec<&ServerMessage> {
         .collect()
 }
 
+/// Whether `conn` was sent a message `want` accepts.
+fn got(out: &[Output], conn: ConnId, want: impl Fn(&ServerMessage) -> bool) -> bool {
+    sent_to(out, conn).into_iter().any(want)
+}
+
 fn error_code(out: &[Output], conn: ConnId) -> Option<ErrorCode> {
     sent_to(out, conn).into_iter().find_map(|m| match m {
         ServerMessage::Error { code, .. } => Some(*code),
@@ -167,9 +172,10 @@ impl World {
             },
         );
         let (_, token_b) = joined(&out, 2);
-        assert!(sent_to(&out, 1)
-            .iter()
-            .any(|m| matches!(m, ServerMessage::PlayerJoined { seat: Seat::B, .. })));
+        assert!(got(&out, 1, |m| matches!(
+            m,
+            ServerMessage::PlayerJoined { seat: Seat::B, .. }
+        )));
         (room, token_a, token_b)
     }
 
@@ -469,7 +475,7 @@ fn a_dropped_player_forfeits_only_when_the_window_runs_out() {
     w.hub.disconnected(w.now, w.now, 3);
     assert!(w.advance(WINDOW - Duration::from_millis(1)).is_empty());
     let out = w.advance(Duration::from_millis(1));
-    assert!(sent_to(&out, 1).iter().any(|m| matches!(
+    assert!(got(&out, 1, |m| matches!(
         m,
         ServerMessage::GameOver {
             winner: Some(Seat::A),
@@ -519,7 +525,7 @@ fn the_shot_clock_runs_out_but_pauses_while_a_player_is_away() {
     w.send(3, ClientMessage::Rejoin { token: token_b });
     assert!(w.advance(Duration::from_secs(19)).is_empty());
     let out = w.advance(Duration::from_secs(1));
-    assert!(sent_to(&out, 1).iter().any(|m| matches!(
+    assert!(got(&out, 1, |m| matches!(
         m,
         ServerMessage::Applied {
             seat: Seat::A,
@@ -629,7 +635,7 @@ fn the_clock_stops_when_a_silent_player_was_last_heard_and_the_opponent_is_told_
         .iter()
         .all(|o| !matches!(o, Output::Room(RoomOutput::Send { .. }))));
     let out = w.advance(Duration::from_millis(1));
-    assert!(sent_to(&out, 2).iter().any(|m| matches!(
+    assert!(got(&out, 2, |m| matches!(
         m,
         ServerMessage::Applied {
             command: Command::TimeExpired,
@@ -716,9 +722,7 @@ fn chat_is_rate_limited_and_floods_close_the_connection() {
     };
     for _ in 0..CHAT_BURST {
         let out = w.send(1, line());
-        assert!(sent_to(&out, 2)
-            .iter()
-            .any(|m| matches!(m, ServerMessage::Chat { .. })));
+        assert!(got(&out, 2, |m| matches!(m, ServerMessage::Chat { .. })));
     }
     assert_eq!(
         error_code(&w.send(1, line()), 1),
@@ -758,9 +762,10 @@ fn spectators_watch_but_cannot_act() {
     assert_eq!(w.game(&room), before);
     // They do see the players' shots.
     let out = w.send(1, break_shot(&before));
-    assert!(sent_to(&out, 3)
-        .iter()
-        .any(|m| matches!(m, ServerMessage::ShotResolved { .. })));
+    assert!(got(&out, 3, |m| matches!(
+        m,
+        ServerMessage::ShotResolved { .. }
+    )));
 }
 
 #[test]
@@ -827,7 +832,7 @@ fn a_called_pocket_is_announced_and_carried_by_the_shot() {
     }
     assert_eq!(stores(&out), 0);
     let out = w.send(1, break_shot(&w.game(&room)));
-    assert!(sent_to(&out, 2).iter().any(|m| matches!(
+    assert!(got(&out, 2, |m| matches!(
         m,
         ServerMessage::ShotAccepted {
             command: Command::Shot { call: Some(3), .. },
@@ -845,7 +850,7 @@ fn a_rematch_starts_when_both_players_ask() {
         Some(ErrorCode::Unexpected)
     );
     let out = w.send(2, ClientMessage::Concede);
-    assert!(sent_to(&out, 1).iter().any(|m| matches!(
+    assert!(got(&out, 1, |m| matches!(
         m,
         ServerMessage::GameOver {
             winner: Some(Seat::A),
@@ -933,9 +938,7 @@ fn failed_entries_spend_an_address_budget_that_refills_and_successes_are_free() 
     // One refill later, one more attempt.
     w.now += Limits::default().entry_refill;
     let out = w.send(4, ClientMessage::Spectate { room });
-    assert!(sent_to(&out, 4)
-        .iter()
-        .any(|m| matches!(m, ServerMessage::Joined { .. })));
+    assert!(got(&out, 4, |m| matches!(m, ServerMessage::Joined { .. })));
 }
 
 #[test]
@@ -1051,9 +1054,10 @@ fn a_player_away_when_the_game_ended_is_told_the_result_after_the_room_is_gone()
     // B drops; A takes the last shot (concedes here), then leaves too.
     w.hub.disconnected(w.now, w.now, 2);
     let out = w.send(1, ClientMessage::Concede);
-    assert!(sent_to(&out, 1)
-        .iter()
-        .any(|m| matches!(m, ServerMessage::GameOver { .. })));
+    assert!(got(&out, 1, |m| matches!(
+        m,
+        ServerMessage::GameOver { .. }
+    )));
     w.hub.disconnected(w.now, w.now, 1);
     w.advance(WINDOW + Duration::from_secs(1));
     assert!(w.hub.room(&room).is_none(), "the room is still open");
@@ -1116,9 +1120,10 @@ fn a_finished_room_no_longer_counts_against_its_creators_limit() {
     );
     joined(&out, 200);
     let out = w.send(100, ClientMessage::Concede);
-    assert!(sent_to(&out, 100)
-        .iter()
-        .any(|m| matches!(m, ServerMessage::GameOver { .. })));
+    assert!(got(&out, 100, |m| matches!(
+        m,
+        ServerMessage::GameOver { .. }
+    )));
     assert!(w.hub.room(&rooms[0]).is_some());
     joined(&w.send(99, create), 99);
 }
@@ -1183,18 +1188,21 @@ fn a_room_out_on_a_long_shot_holds_only_its_own_events_and_keeps_their_order() {
         RoomOutput::Store(StoreOp::Command { .. })
     ));
     let worked = super::lift(worked);
-    assert!(sent_to(&worked, 2)
-        .iter()
-        .any(|m| matches!(m, ServerMessage::ShotResolved { turn: 0, .. })));
+    assert!(got(&worked, 2, |m| matches!(
+        m,
+        ServerMessage::ShotResolved { turn: 0, .. }
+    )));
     let after = w.hub.returned(w.now, back);
     assert!(
         matches!(&after[..], [Output::Run(work)] if work.room() == &slow),
         "the held chat goes out with the room before the spectator enters: {after:?}"
     );
     let after = w.settle(after);
-    assert!(sent_to(&after, 2)
-        .iter()
-        .any(|m| matches!(m, ServerMessage::Chat { text, .. } if text == "good luck")));
+    assert!(got(
+        &after,
+        2,
+        |m| matches!(m, ServerMessage::Chat { text, .. } if text == "good luck")
+    ));
     let to_spectator = sent_to(&after, 5);
     assert!(
         matches!(&to_spectator[..], [ServerMessage::Joined { snapshot, .. }] if snapshot.game.turn() == 1),
@@ -1215,13 +1223,15 @@ fn a_player_who_leaves_while_the_room_is_out_is_seen_leaving_after_its_results()
     assert!(w.hub.disconnected(w.now, w.now, 2).is_empty());
     let (worked, back) = work.run(w.now);
     let worked = super::lift(worked);
-    assert!(sent_to(&worked, 2)
-        .iter()
-        .any(|m| matches!(m, ServerMessage::ShotResolved { .. })));
+    assert!(got(&worked, 2, |m| matches!(
+        m,
+        ServerMessage::ShotResolved { .. }
+    )));
     let after = w.hub.returned(w.now, back);
-    assert!(sent_to(&after, 1)
-        .iter()
-        .any(|m| matches!(m, ServerMessage::PlayerLeft { seat: Seat::B, .. })));
+    assert!(got(&after, 1, |m| matches!(
+        m,
+        ServerMessage::PlayerLeft { seat: Seat::B, .. }
+    )));
     // The seat is held for its window, as for any dropped player.
     assert!(w.hub.room(&room).unwrap().next_deadline().is_some());
 }

@@ -420,23 +420,29 @@ impl PgStore {
 
     /// Game `number` of `room`: its header row, if it is stored.
     pub(super) fn header(&self, room: &str, number: u32) -> Result<Option<Vec<u8>>, StoreError> {
-        let header = self.db.borrow_mut().query_opt(
-            "SELECT header FROM games WHERE room = $1 AND number = $2",
-            &[&room, &int(number)],
-        )?;
-        Ok(header.map(|row| row.get(0)))
+        self.game_column("header", room, number)
     }
 
-    /// The latest game of `room`: (number, finished).
     /// Whether game `number` of `room` is over, if it is stored.
     pub(super) fn finished(&self, room: &str, number: u32) -> Result<Option<bool>, StoreError> {
+        self.game_column("finished", room, number)
+    }
+
+    /// One column (a fixed name, never input) of game `number` of `room`, if it is stored.
+    fn game_column<T: for<'a> postgres::types::FromSql<'a>>(
+        &self,
+        column: &'static str,
+        room: &str,
+        number: u32,
+    ) -> Result<Option<T>, StoreError> {
         let row = self.db.borrow_mut().query_opt(
-            "SELECT finished FROM games WHERE room = $1 AND number = $2",
+            &format!("SELECT {column} FROM games WHERE room = $1 AND number = $2"),
             &[&room, &int(number)],
         )?;
         Ok(row.map(|r| r.get(0)))
     }
 
+    /// The latest game of `room`: (number, finished).
     pub(super) fn latest_game(&self, room: &str) -> Result<Option<(u32, bool)>, StoreError> {
         let latest = self.db.borrow_mut().query_opt(
             "SELECT number, finished FROM games WHERE room = $1 ORDER BY number DESC LIMIT 1",

@@ -308,25 +308,25 @@ impl SqliteStore {
 
     /// Game `number` of `room`: its header row, if it is stored.
     pub(super) fn header(&self, room: &str, number: u32) -> Result<Option<Vec<u8>>, StoreError> {
-        Ok(self
-            .db
-            .query_row(
-                "SELECT header FROM games WHERE room = ?1 AND number = ?2",
-                params![room, number],
-                |r| r.get(0),
-            )
-            .optional()?)
+        self.game_column("header", room, number)
     }
 
     /// Whether game `number` of `room` is over, if it is stored.
     pub(super) fn finished(&self, room: &str, number: u32) -> Result<Option<bool>, StoreError> {
+        self.game_column("finished", room, number)
+    }
+
+    /// One column (a fixed name, never input) of game `number` of `room`, if it is stored.
+    fn game_column<T: rusqlite::types::FromSql>(
+        &self,
+        column: &'static str,
+        room: &str,
+        number: u32,
+    ) -> Result<Option<T>, StoreError> {
+        let sql = format!("SELECT {column} FROM games WHERE room = ?1 AND number = ?2");
         Ok(self
             .db
-            .query_row(
-                "SELECT finished FROM games WHERE room = ?1 AND number = ?2",
-                params![room, number],
-                |r| r.get(0),
-            )
+            .query_row(&sql, params![room, number], |r| r.get(0))
             .optional()?)
     }
 

@@ -2,13 +2,12 @@
 //! data directory (`noise.key`, the 32-byte private key, mode 0600), so every web link stays
 //! valid across restarts.
 
-use std::fs;
 use std::path::Path;
 
 use snow::params::DHChoice;
 use snow::resolvers::{CryptoResolver, DefaultResolver};
 
-use crate::tls::{write_private, TlsError};
+use crate::tls::{kept_secret, TlsError};
 
 /// The key's file in the data directory.
 pub const NOISE_KEY_FILE: &str = "noise.key";
@@ -43,33 +42,19 @@ impl NoiseKey {
     /// Loads the key from `dir`, making and saving one on first start. A damaged file is an
     /// error rather than replaced: a new key would silently break every link given out.
     pub fn load_or_create(dir: &Path) -> Result<NoiseKey, TlsError> {
-        let path = dir.join(NOISE_KEY_FILE);
-        let io = |source| TlsError::Io {
-            path: path.display().to_string(),
-            source,
-        };
-        match fs::read(&path) {
-            Ok(bytes) => {
-                let private = <[u8; 32]>::try_from(bytes.as_slice()).map_err(|_| {
-                    io(std::io::Error::other(
-                        "not a 32-byte key; remove it to make a new one (web links given out stop working)",
-                    ))
-                })?;
-                return NoiseKey::from_private(private);
-            }
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-            Err(e) => return Err(io(e)),
-        }
-        let mut private = [0u8; 32];
-        getrandom::fill(&mut private).map_err(|e| io(std::io::Error::other(e.to_string())))?;
-        write_private(&path, &private).map_err(io)?;
+        let private = kept_secret(
+            &dir.join(NOISE_KEY_FILE),
+            Some(
+                "not a 32-byte key; remove it to make a new one (web links given out stop working)",
+            ),
+        )?;
         NoiseKey::from_private(private)
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use std::os::unix::fs::PermissionsExt;
+    use std::fs;
 
     use super::*;
 
@@ -80,11 +65,7 @@ mod tests {
         let again = NoiseKey::load_or_create(tmp.path()).unwrap();
         assert_eq!(first.public, again.public);
         assert_ne!(first.public, first.private);
-        let mode = fs::metadata(tmp.path().join(NOISE_KEY_FILE))
-            .unwrap()
-            .permissions()
-            .mode();
-        assert_eq!(mode & 0o777, 0o600);
+        crate::tls::assert_private(&tmp.path().join(NOISE_KEY_FILE));
         fs::write(tmp.path().join(NOISE_KEY_FILE), b"short").unwrap();
         assert!(NoiseKey::load_or_create(tmp.path()).is_err());
     }

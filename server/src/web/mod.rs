@@ -81,18 +81,14 @@ pub(crate) async fn serve(
     visit.stats.web_requests.fetch_add(1, Ordering::Relaxed);
     let with_body = head.method != "HEAD";
     if head.method != "GET" && head.method != "HEAD" {
-        let _ = tokio::time::timeout(
-            ANSWER_TIMEOUT,
-            answer(
-                &mut stream,
-                "405 Method Not Allowed",
-                "GET or HEAD only",
-                true,
-                &[("Allow", "GET, HEAD")],
-            ),
+        return refuse_with(
+            stream,
+            "405 Method Not Allowed",
+            "GET or HEAD only",
+            true,
+            &[("Allow", "GET, HEAD")],
         )
         .await;
-        return linger(stream).await;
     }
     if head.has_body() {
         return refuse(
@@ -174,10 +170,22 @@ async fn certificate_hashes(mut stream: TcpStream, certs: &WebCerts, with_body: 
 }
 
 /// Answers a short error and closes.
-async fn refuse(mut stream: TcpStream, status: &str, body: &str, with_body: bool) {
+async fn refuse(stream: TcpStream, status: &str, body: &str, with_body: bool) {
+    refuse_with(stream, status, body, with_body, &[]).await;
+}
+
+/// Answers a short error with the `extra` header lines that say what would be accepted,
+/// and closes.
+async fn refuse_with(
+    mut stream: TcpStream,
+    status: &str,
+    body: &str,
+    with_body: bool,
+    extra: &[(&str, &str)],
+) {
     let _ = tokio::time::timeout(
         ANSWER_TIMEOUT,
-        answer(&mut stream, status, body, with_body, &[]),
+        answer(&mut stream, status, body, with_body, extra),
     )
     .await;
     linger(stream).await;
@@ -222,18 +230,14 @@ async fn websocket(
         .await;
     };
     if head.header("sec-websocket-version").map(str::trim) != Some("13") {
-        let _ = tokio::time::timeout(
-            ANSWER_TIMEOUT,
-            answer(
-                &mut stream,
-                "426 Upgrade Required",
-                "WebSocket version 13 only",
-                true,
-                &[("Sec-WebSocket-Version", "13")],
-            ),
+        return refuse_with(
+            stream,
+            "426 Upgrade Required",
+            "WebSocket version 13 only",
+            true,
+            &[("Sec-WebSocket-Version", "13")],
         )
         .await;
-        return linger(stream).await;
     }
     let accept = derive_accept_key(key.as_bytes());
     let response = format!(
