@@ -32,13 +32,6 @@ pub struct GameRecord {
     pub break_and_run: bool,
 }
 
-fn index(seat: Seat) -> usize {
-    match seat {
-        Seat::A => 0,
-        Seat::B => 1,
-    }
-}
-
 /// One move a contestant chose, with what it cost.
 pub struct Move {
     /// The command.
@@ -74,26 +67,71 @@ impl Contestant {
     }
 }
 
+/// The two contestants of a game, each with its ghost's own random stream.
+pub struct Seats {
+    contestants: [Contestant; 2],
+    ghosts: [Rng; 2],
+    seed: u64,
+}
+
+impl Seats {
+    /// `a` in seat A, `b` in seat B, for the game played from `seed`.
+    pub fn new(a: Contestant, b: Contestant, seed: u64) -> Seats {
+        Seats {
+            contestants: [a, b],
+            ghosts: [Rng::new(seed ^ 0xA), Rng::new(seed ^ 0xB)],
+            seed,
+        }
+    }
+
+    /// Who is to move in `game` and the move they chose as its `n`th command (None: they
+    /// have none).
+    pub fn choose(&mut self, game: &Game, n: usize) -> Option<(Seat, Move)> {
+        let seat = game.to_move();
+        let i = seat.index();
+        let decision_seed = self.seed.wrapping_mul(1_000_003).wrapping_add(n as u64);
+        let chosen = self.contestants[i].choose(game, &mut self.ghosts[i], decision_seed)?;
+        Some((seat, chosen))
+    }
+}
+
+/// Plays game `k` of a pairing of `us` against `them`: seats alternate from one game to the
+/// next, and each pair of games shares its seed. Returns what `play` made of it and our seat.
+pub fn seated<R>(
+    us: Contestant,
+    them: Contestant,
+    k: usize,
+    salt: u64,
+    play: impl Fn(Contestant, Contestant, u64) -> R,
+) -> (R, Seat) {
+    let seed = salt.wrapping_mul(7919).wrapping_add(k as u64 / 2);
+    if k % 2 == 0 {
+        (play(us, them, seed), Seat::A)
+    } else {
+        (play(them, us, seed), Seat::B)
+    }
+}
+
 /// Plays one game of `variant` from `seed`: `a` sits in seat A (which breaks), `b` in B.
 pub fn play(variant: Variant, a: Contestant, b: Contestant, seed: u64) -> GameRecord {
     let mut game = Game::new(variant, Settings::offline(), seed);
-    let mut ghosts = [Rng::new(seed ^ 0xA), Rng::new(seed ^ 0xB)];
+    let mut seats = Seats::new(a, b, seed);
     let mut record = GameRecord::default();
     let mut opponent_shot = false;
     let breaker = game.to_move();
     for n in 0..MAX_COMMANDS {
-        let seat = game.to_move();
-        let contestant = if seat == Seat::A { a } else { b };
-        let i = index(seat);
-        let decision_seed = seed.wrapping_mul(1_000_003).wrapping_add(n as u64);
-        let Some(Move {
-            command,
-            simulations: sims,
-            seconds: elapsed,
-        }) = contestant.choose(&game, &mut ghosts[i], decision_seed)
+        let Some((
+            seat,
+            Move {
+                command,
+                simulations: sims,
+                seconds: elapsed,
+            },
+        )) = seats.choose(&game, n)
         else {
             break;
         };
+        let i = seat.index();
         let is_shot = matches!(command, Command::Shot { .. });
         if !matches!(command, Command::Decide(_)) {
             record.times[i].push(elapsed);
