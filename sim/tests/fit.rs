@@ -1,8 +1,11 @@
 //! `breakshot-sim fit` as a black box: the contract's outputs from a small recording made
 //! here, and a clear failure on a file that is not recordings.
 
+use std::path::PathBuf;
 use std::process::{Command, Output};
 use std::time::Duration;
+
+use breakshot_testkit::TempDir;
 
 /// Runs the simulator, failing the test if it has not finished within `limit`.
 fn sim(args: &[&str], limit: Duration) -> Output {
@@ -11,6 +14,16 @@ fn sim(args: &[&str], limit: Duration) -> Output {
         None,
         limit,
     )
+}
+
+/// A scratch folder `name` holding `rec.json` with `text`. Returns the folder (removed when
+/// dropped), that file's path as an argument, and an output folder `out` in it.
+fn scratch_with(name: &str, text: &str) -> (TempDir, String, PathBuf) {
+    let dir = breakshot_testkit::scratch(name);
+    let rec = dir.path().join("rec.json");
+    std::fs::write(&rec, text).expect("recording written");
+    let out = dir.path().join("out");
+    (dir, rec.to_string_lossy().into_owned(), out)
 }
 
 /// One shot in the recordings' format, in metres: the cue ball rolls 0.3 m along the
@@ -28,11 +41,8 @@ fn recording() -> String {
 
 #[test]
 fn fit_writes_the_contract_outputs() {
-    let dir = breakshot_testkit::scratch("fit-outputs");
-    let rec = dir.path().join("rec.json");
-    std::fs::write(&rec, recording()).expect("recording written");
-    let out = dir.path().join("out");
-    let (rec_s, out_s) = (rec.to_string_lossy(), out.to_string_lossy());
+    let (_dir, rec_s, out) = scratch_with("fit-outputs", &recording());
+    let out_s = out.to_string_lossy();
     let args = [
         "fit",
         &rec_s,
@@ -66,11 +76,8 @@ fn fit_writes_the_contract_outputs() {
 
 #[test]
 fn fit_refuses_what_is_not_recordings() {
-    let dir = breakshot_testkit::scratch("fit-bad");
-    let rec = dir.path().join("rec.json");
-    std::fs::write(&rec, r#"{"balls": []}"#).expect("file written");
-    let out = dir.path().join("out");
-    let (rec_s, out_s) = (rec.to_string_lossy(), out.to_string_lossy());
+    let (_dir, rec_s, out) = scratch_with("fit-bad", r#"{"balls": []}"#);
+    let out_s = out.to_string_lossy();
     let o = sim(&["fit", &rec_s, "--out", &out_s], Duration::from_secs(60));
     assert_eq!(o.status.code(), Some(1));
     let err = String::from_utf8_lossy(&o.stderr);
@@ -88,10 +95,7 @@ fn fit_refuses_what_is_not_recordings() {
 
 #[test]
 fn fit_starts_from_the_parameters_named_and_writes_its_own() {
-    let dir = breakshot_testkit::scratch("fit-start");
-    let rec = dir.path().join("rec.json");
-    std::fs::write(&rec, recording()).expect("recording written");
-    let rec_s = rec.to_string_lossy().into_owned();
+    let (dir, rec_s, _) = scratch_with("fit-start", &recording());
     let fit = |out: &str, extra: &[&str]| {
         let out = dir.path().join(out);
         let out_s = out.to_string_lossy().into_owned();
@@ -141,11 +145,8 @@ fn fit_starts_from_the_parameters_named_and_writes_its_own() {
 
 #[test]
 fn folds_need_two_and_the_shared_fit() {
-    let dir = breakshot_testkit::scratch("fit-folds");
-    let rec = dir.path().join("rec.json");
-    std::fs::write(&rec, recording()).expect("recording written");
-    let out = dir.path().join("out");
-    let (rec_s, out_s) = (rec.to_string_lossy(), out.to_string_lossy());
+    let (_dir, rec_s, out) = scratch_with("fit-folds", &recording());
+    let out_s = out.to_string_lossy();
     for extra in [
         &["--folds", "1"][..],
         &["--folds", "2", "--strikes-only"][..],
