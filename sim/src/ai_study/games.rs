@@ -42,6 +42,19 @@ pub struct Move {
     pub seconds: f64,
 }
 
+impl Move {
+    /// Whether the move is a stroke (not a placement or an answer to a choice).
+    pub fn is_shot(&self) -> bool {
+        matches!(self.command, Command::Shot { .. })
+    }
+
+    /// Whether its time counts among the decision times: strokes and placements do,
+    /// answers to the rules' choices do not.
+    pub fn is_timed(&self) -> bool {
+        !matches!(self.command, Command::Decide(_))
+    }
+}
+
 impl Contestant {
     /// This contestant's move in `game` (None: it has none), timed; `ghost` is the ghost's
     /// own random stream.
@@ -120,28 +133,20 @@ pub fn play(variant: Variant, a: Contestant, b: Contestant, seed: u64) -> GameRe
     let mut opponent_shot = false;
     let breaker = game.to_move();
     for n in 0..MAX_COMMANDS {
-        let Some((
-            seat,
-            Move {
-                command,
-                simulations: sims,
-                seconds: elapsed,
-            },
-        )) = seats.choose(&game, n)
-        else {
+        let Some((seat, chosen)) = seats.choose(&game, n) else {
             break;
         };
         let i = seat.index();
-        let is_shot = matches!(command, Command::Shot { .. });
-        if !matches!(command, Command::Decide(_)) {
-            record.times[i].push(elapsed);
-            record.sims[i].push(sims);
+        let is_shot = chosen.is_shot();
+        if chosen.is_timed() {
+            record.times[i].push(chosen.seconds);
+            record.sims[i].push(chosen.simulations);
         }
         let breaking = game.is_break();
         if is_shot && seat != breaker {
             opponent_shot = true;
         }
-        let verdict = match game.apply(seat, &command) {
+        let verdict = match game.apply(seat, &chosen.command) {
             Ok(v) => v,
             // A refused command would be a bug in a player: the other seat wins.
             Err(_) => {

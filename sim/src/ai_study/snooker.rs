@@ -9,9 +9,9 @@ use std::time::Instant;
 
 use anyhow::Context;
 use breakshot_shared::ai::{Level, Player};
-use breakshot_shared::rules::{Command, Game, Seat, Settings, Variant};
+use breakshot_shared::rules::{Game, Seat, Settings, Variant};
 
-use super::games::{seated, Contestant, Move, Seats};
+use super::games::{seated, Contestant, Seats};
 use super::{parallel, quantile, Size};
 
 /// A frame stops undecided after this many commands (keeps the study bounded).
@@ -39,24 +39,16 @@ fn play(reds: u8, a: Contestant, b: Contestant, seed: u64) -> Frame {
     let mut seats = Seats::new(a, b, seed);
     let mut f = Frame::default();
     for n in 0..MAX_COMMANDS {
-        let Some((
-            seat,
-            Move {
-                command,
-                seconds: elapsed,
-                ..
-            },
-        )) = seats.choose(&game, n)
-        else {
+        let Some((seat, chosen)) = seats.choose(&game, n) else {
             break;
         };
         let i = seat.index();
-        let is_shot = matches!(command, Command::Shot { .. });
-        if !matches!(command, Command::Decide(_)) {
-            f.times[i].push(elapsed);
+        let is_shot = chosen.is_shot();
+        if chosen.is_timed() {
+            f.times[i].push(chosen.seconds);
         }
         let before = game.snooker().map_or(0, |m| m.break_points);
-        let verdict = match game.apply(seat, &command) {
+        let verdict = match game.apply(seat, &chosen.command) {
             Ok(v) => v,
             // A refused command would be a bug in a player: the other seat wins.
             Err(_) => {
