@@ -1,7 +1,7 @@
 //! `breakshot-sim fit` as a black box: the contract's outputs from a small recording made
 //! here, and a clear failure on a file that is not recordings.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::Duration;
 
@@ -24,6 +24,15 @@ fn scratch_with(name: &str, text: &str) -> (TempDir, String, PathBuf) {
     std::fs::write(&rec, text).expect("recording written");
     let out = dir.path().join("out");
     (dir, rec.to_string_lossy().into_owned(), out)
+}
+
+/// Asserts that the fit failed with exit code `code`, saying what was wrong (its error
+/// names `names`) without a panic, and wrote nothing to `out`.
+fn assert_refused(o: &Output, code: i32, names: &str, out: &Path) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(code), "{err}");
+    assert!(err.contains(names) && !err.contains("panicked"), "{err}");
+    assert!(!out.exists(), "nothing written");
 }
 
 /// One shot in the recordings' format, in metres: the cue ball rolls 0.3 m along the
@@ -79,13 +88,7 @@ fn fit_refuses_what_is_not_recordings() {
     let (_dir, rec_s, out) = scratch_with("fit-bad", r#"{"balls": []}"#);
     let out_s = out.to_string_lossy();
     let o = sim(&["fit", &rec_s, "--out", &out_s], Duration::from_secs(60));
-    assert_eq!(o.status.code(), Some(1));
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        err.contains("recordings") && !err.contains("panicked"),
-        "{err}"
-    );
-    assert!(!out.exists(), "nothing written");
+    assert_refused(&o, 1, "recordings", &out);
     let o = sim(
         &["fit", &rec_s, "--out", &out_s, "--units", "furlongs"],
         Duration::from_secs(60),
@@ -133,13 +136,7 @@ fn fit_starts_from_the_parameters_named_and_writes_its_own() {
     let bad_s = bad.to_string_lossy().into_owned();
     for arg in ["carom", bad_s.as_str()] {
         let (o, out) = fit("bad", &["--strikes-only", "--start", arg]);
-        assert_eq!(o.status.code(), Some(2), "--start {arg}");
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert!(
-            err.contains("--start") && !err.contains("panicked"),
-            "{err}"
-        );
-        assert!(!out.exists(), "nothing written");
+        assert_refused(&o, 2, "--start", &out);
     }
 }
 
@@ -164,11 +161,5 @@ fn folds_need_two_and_the_shared_fit() {
         ],
         Duration::from_secs(60),
     );
-    assert_eq!(o.status.code(), Some(1));
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        err.contains("--folds 2") && !err.contains("panicked"),
-        "{err}"
-    );
-    assert!(!out.exists(), "nothing written");
+    assert_refused(&o, 1, "--folds 2", &out);
 }
