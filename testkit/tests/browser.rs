@@ -66,11 +66,14 @@ struct Server {
 }
 
 impl Server {
-    /// The test page opened in `browser` in a small desktop window.
+    /// The test page opened in `browser` in `viewport`.
+    fn page<'b>(&self, browser: &'b Browser, viewport: Viewport) -> Page<'b> {
+        browser.open(&self.url, viewport).expect("the page opens")
+    }
+
+    /// The test page in a small desktop window.
     fn desktop_page<'b>(&self, browser: &'b Browser) -> Page<'b> {
-        browser
-            .open(&self.url, Viewport::desktop(400, 300))
-            .expect("the page opens")
+        self.page(browser, Viewport::desktop(400, 300))
     }
 
     fn start() -> Server {
@@ -208,7 +211,7 @@ fn webgl_draws_and_the_screenshot_shows_it() {
     let server = Server::start();
     let mut viewport = Viewport::desktop(400, 300);
     viewport.device_scale = 2.0;
-    let mut page = browser.open(&server.url, viewport).expect("the page opens");
+    let mut page = server.page(&browser, viewport);
     assert_eq!(
         page.eval("!!document.createElement('canvas').getContext('webgl')")
             .expect("eval"),
@@ -247,9 +250,7 @@ fn webgl_draws_and_the_screenshot_shows_it() {
 fn a_touch_drag_on_a_phone_arrives_where_it_was_sent() {
     let Some(browser) = launch() else { return };
     let server = Server::start();
-    let mut page = browser
-        .open(&server.url, Viewport::phone())
-        .expect("the page opens");
+    let mut page = server.page(&browser, Viewport::phone());
     assert_eq!(
         page.eval(
             "[innerWidth, innerHeight, navigator.maxTouchPoints > 0, 'ontouchstart' in window]"
@@ -417,12 +418,8 @@ fn a_page_on_loopback_is_a_secure_context_with_webtransport() {
 fn two_pages_both_keep_animating() {
     let Some(browser) = launch() else { return };
     let server = Server::start();
-    let mut first = browser
-        .open(&server.url, Viewport::phone())
-        .expect("the first page opens");
-    let mut second = browser
-        .open(&server.url, Viewport::phone())
-        .expect("the second page opens");
+    let mut first = server.page(&browser, Viewport::phone());
+    let mut second = server.page(&browser, Viewport::phone());
     let before = first.eval("window.frames").expect("eval");
     second
         .wait_until("window.frames > 10", WAIT)
