@@ -70,6 +70,12 @@ fn off(g: &Game, b: u8) -> bool {
 const POT_FROM: [f64; 2] = [0.5, 3.069];
 const POT_RED: [f64; 2] = [0.3, 3.269];
 
+/// A soft stroke across the table from the cue ball at `[0.889, 1.0]`, clear of every ball
+/// the tests put beside it: a foul and a miss.
+fn miss() -> Command {
+    shot_dir([1.0, 0.0], 0.3, [0.0, 0.0])
+}
+
 fn pot_red_game() -> Game {
     position(&[
         (CUE, POT_FROM),
@@ -269,9 +275,7 @@ fn a_foul_when_the_striker_needs_snookers_is_no_miss() {
 #[test]
 fn hitting_no_ball_is_a_foul_of_four_and_the_offender_may_be_made_to_play_again() {
     let mut g = position(&[(CUE, [0.889, 1.0]), (1, [0.3, 3.0])]);
-    let v = g
-        .apply(Seat::A, &shot_dir([1.0, 0.0], 0.3, [0.0, 0.0]))
-        .expect("shot");
+    let v = g.apply(Seat::A, &miss()).expect("shot");
     assert_eq!(
         v.reasons[0],
         "Foul and a miss: the cue ball hit no ball, 4 to Player B"
@@ -327,9 +331,7 @@ fn a_foul_after_a_red_before_nominating_costs_seven() {
     let mut g = position(&[(CUE, [0.889, 1.0]), (YELLOW, [0.889, 1.6]), (1, [0.3, 3.0])]);
     g.snooker.as_mut().expect("snooker").on_colour = true;
     // Hits no ball: a foul of the ball on's value, 7 as nothing was nominated.
-    let v = g
-        .apply(Seat::A, &shot_dir([1.0, 0.0], 0.3, [0.0, 0.0]))
-        .expect("shot");
+    let v = g.apply(Seat::A, &miss()).expect("shot");
     assert_eq!(
         v.reasons[0],
         "Foul and a miss: the cue ball hit no ball before a colour was nominated, 7 to Player B"
