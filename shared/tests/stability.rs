@@ -191,6 +191,16 @@ fn frozen_to_left_rail(table: TableKind, y: f64) -> [f64; 2] {
     [contact, y]
 }
 
+/// Runs `shot` (the case `what`) and checks the invariants, that it settles in fewer than
+/// `max_events` events, and that every ball stays on the table or falls into a pocket.
+fn run_on_the_table(shot: &Shot, max_events: usize, what: impl std::fmt::Debug) {
+    let out = run(shot);
+    check_invariants(shot, &out);
+    let events = out.events.len();
+    assert!(events < max_events, "{what:?}: {events} events");
+    assert_stays_on_table(shot, &out);
+}
+
 /// Every ball stays on the table or falls into a pocket, sampled every millisecond.
 fn assert_stays_on_table(shot: &Shot, out: &Outcome) {
     let table = breakshot_shared::physics::Table::new(shot.table);
@@ -276,14 +286,7 @@ fn balls_frozen_to_a_rail_and_into_the_jaws() {
             table,
             ..open_shot(balls.clone())
         };
-        let out = run(&shot);
-        check_invariants(&shot, &out);
-        assert!(
-            out.events.len() < 200,
-            "{balls:?}: {} events",
-            out.events.len()
-        );
-        assert_stays_on_table(&shot, &out);
+        run_on_the_table(&shot, 200, &balls);
     }
 }
 
@@ -468,14 +471,7 @@ fn extreme_speeds_neither_tunnel_nor_stall() {
         let mut shot = break_shot(table, 1e-4, speed, 0.003, &mut rng);
         shot.balls
             .push(ball([w - R - 0.01, R + 0.3], [0.0; 2], [0.0; 3]));
-        let out = run(&shot);
-        check_invariants(&shot, &out);
-        assert!(
-            out.events.len() < 2000,
-            "{speed}: {} events",
-            out.events.len()
-        );
-        assert_stays_on_table(&shot, &out);
+        run_on_the_table(&shot, 2000, speed);
         let _ = l;
     }
     // A crawl into a ball a picometre away: rolling at 1e-6 m/s it covers 5e-12 m.
