@@ -70,6 +70,17 @@ fn off(g: &Game, b: u8) -> bool {
 const POT_FROM: [f64; 2] = [0.5, 3.069];
 const POT_RED: [f64; 2] = [0.3, 3.269];
 
+/// Whether a shot is due with the cue ball in hand in the D.
+fn in_hand_in_the_d(g: &Game) -> bool {
+    matches!(
+        g.phase(),
+        Phase::Shooting {
+            in_hand: Some(InHand::D),
+            ..
+        }
+    )
+}
+
 /// A soft stroke across the table from the cue ball at `[0.889, 1.0]`, clear of every ball
 /// the tests put beside it: a foul and a miss.
 fn miss() -> Command {
@@ -98,13 +109,7 @@ fn the_frame_is_racked_with_the_colours_on_their_spots_and_the_cue_ball_in_hand_
         assert_eq!(g.balls()[usize::from(c)].pos, spot(c));
     }
     assert_eq!(frame::reds_left(g.balls()), 15);
-    assert!(matches!(
-        g.phase(),
-        Phase::Shooting {
-            in_hand: Some(InHand::D),
-            ..
-        }
-    ));
+    assert!(in_hand_in_the_d(&g));
     assert!(in_d(g.balls()[0].pos));
     let six = Game::new(
         Variant::Snooker {
@@ -304,13 +309,7 @@ fn an_in_off_is_a_foul_and_the_next_player_has_the_cue_ball_in_hand_in_the_d() {
     assert_eq!(v.reasons[1], "Also: in-off: the cue ball was potted");
     g.apply(Seat::B, &Command::Decide(Choice::AcceptTable))
         .expect("plays on");
-    assert!(matches!(
-        g.phase(),
-        Phase::Shooting {
-            in_hand: Some(InHand::D),
-            ..
-        }
-    ));
+    assert!(in_hand_in_the_d(&g));
 }
 
 #[test]
@@ -600,13 +599,7 @@ fn scores_tied_after_the_last_black_re_spot_the_black_and_the_next_score_decides
         .iter()
         .any(|r| r.starts_with("Scores level at 37: the black is re-spotted")));
     assert_eq!(g.balls()[usize::from(BLACK)].pos, spot(BLACK));
-    assert!(matches!(
-        g.phase(),
-        Phase::Shooting {
-            in_hand: Some(InHand::D),
-            ..
-        }
-    ));
+    assert!(in_hand_in_the_d(&g));
     // The player drawn misses everything: the foul decides the frame.
     let seat = g.to_move();
     g.apply(seat, &Command::PlaceCueBall { pos: [0.889, 0.6] })
@@ -731,11 +724,5 @@ fn a_cue_ball_jumped_off_the_table_is_a_foul_and_the_next_player_has_it_in_hand(
     );
     g.apply(Seat::B, &Command::Decide(Choice::AcceptTable))
         .expect("plays on");
-    assert!(matches!(
-        g.phase(),
-        Phase::Shooting {
-            in_hand: Some(InHand::D),
-            ..
-        }
-    ));
+    assert!(in_hand_in_the_d(&g));
 }
