@@ -115,12 +115,17 @@ pub fn ball_radius() -> f64 {
     Params::default().ball_radius
 }
 
+/// Distance between the centres of neighbouring balls in a rack.
+fn spacing() -> f64 {
+    2.0 * ball_radius() + RACK_GAP
+}
+
 /// Centres of a triangle-like rack: `rows[r]` balls in row `r`, rows `√3/2·d` apart along
 /// `+y` from the foot spot, each row centred on the long string; every ball but the apex
 /// moved off its spot by up to [`RACK_JITTER`], drawn from a stream of `seed` of its own.
 fn rack_positions(kind: TableKind, rows: &[usize], seed: u64) -> Vec<DVec2> {
     let mut jitter = SplitMix64::new(seed ^ JITTER_SALT);
-    let d = 2.0 * ball_radius() + RACK_GAP;
+    let d = spacing();
     let row_step = d * (3.0f64.sqrt() * 0.5);
     let apex = foot_spot(kind);
     let mut out = Vec::new();
@@ -341,16 +346,25 @@ mod tests {
         assert_eq!(r.next_u64(), 0x6E78_9E6A_A1B9_65F4);
     }
 
+    /// Asserts that `ball` is in the middle of a rack's third row, off it by the jitter at most.
+    fn assert_in_the_middle_of_the_third_row(ball: BallState, kind: TableKind) {
+        let (foot, row_step) = (foot_spot(kind), spacing() * (3.0f64.sqrt() * 0.5));
+        assert!((ball.pos.x - foot.x).abs() <= RACK_JITTER, "{ball:?}");
+        assert!(
+            (ball.pos.y - (foot.y + 2.0 * row_step)).abs() <= RACK_JITTER,
+            "{ball:?}"
+        );
+    }
+
     #[test]
     fn eight_ball_rack_layout() {
         let balls = eight_ball(TableKind::NineFoot, 7);
         assert_eq!(balls.len(), 16);
         assert_no_overlap(&balls);
         let foot = foot_spot(TableKind::NineFoot);
-        let row_step = (2.0 * ball_radius() + RACK_GAP) * (3.0f64.sqrt() * 0.5);
+        let row_step = spacing() * (3.0f64.sqrt() * 0.5);
         // The 8 is in the middle of the third row.
-        assert!((balls[8].pos.x - foot.x).abs() <= RACK_JITTER);
-        assert!((balls[8].pos.y - (foot.y + 2.0 * row_step)).abs() <= RACK_JITTER);
+        assert_in_the_middle_of_the_third_row(balls[8], TableKind::NineFoot);
         // A solid and a stripe on the back corners.
         let back_y = foot.y + 4.0 * row_step;
         let mut corners: Vec<usize> = (1..16)
@@ -383,9 +397,7 @@ mod tests {
         assert_no_overlap(&balls);
         let foot = foot_spot(TableKind::NineFoot);
         assert_eq!(balls[1].pos, foot);
-        let row_step = (2.0 * ball_radius() + RACK_GAP) * (3.0f64.sqrt() * 0.5);
-        assert!((balls[9].pos.x - foot.x).abs() <= RACK_JITTER);
-        assert!((balls[9].pos.y - (foot.y + 2.0 * row_step)).abs() <= RACK_JITTER);
+        assert_in_the_middle_of_the_third_row(balls[9], TableKind::NineFoot);
     }
 
     #[test]
