@@ -4,26 +4,24 @@
 mod common;
 
 use breakshot_shared::physics::{
-    BallState, Effects, EventKind, MotionState, Outcome, Shot, TableKind,
+    BallState, Effects, Event, EventKind, MotionState, Outcome, Shot, TableKind,
 };
 use common::*;
 use glam::DVec2;
 
 fn ball_ball_events(out: &Outcome) -> usize {
-    out.events
-        .iter()
-        .filter(|e| matches!(e.kind, EventKind::BallBall { .. }))
-        .count()
+    ball_ball_hits(out).count()
+}
+
+/// The ball–ball events, in order.
+fn ball_ball_hits(out: &Outcome) -> impl Iterator<Item = &Event> {
+    let hit = |e: &&Event| matches!(e.kind, EventKind::BallBall { .. });
+    out.events.iter().filter(hit)
 }
 
 /// The first piece of ball `i` that starts after the last ball–ball event.
 fn after_collisions(out: &Outcome, i: usize) -> BallState {
-    let last = out
-        .events
-        .iter()
-        .filter(|e| matches!(e.kind, EventKind::BallBall { .. }))
-        .map(|e| e.t)
-        .fold(0.0, f64::max);
+    let last = ball_ball_hits(out).map(|e| e.t).fold(0.0, f64::max);
     out.state_at(i, last)
 }
 
@@ -161,12 +159,7 @@ fn two_balls_rolling_on_one_line_meet_only_when_they_really_meet() {
         let shot = open_shot(vec![roll(0.0, back_v), roll(2.0 * R + gap, front_v)]);
         let out = run(&shot);
         check_invariants(&shot, &out);
-        let hits: Vec<f64> = out
-            .events
-            .iter()
-            .filter(|e| matches!(e.kind, EventKind::BallBall { .. }))
-            .map(|e| e.t)
-            .collect();
+        let hits: Vec<f64> = ball_ball_hits(&out).map(|e| e.t).collect();
         if back_v > front_v {
             // Equal decelerations: the gap closes at the constant speed difference, as long
             // as the front ball still rolls (it does: it rolls for v/(μr·g) ≈ 10 s).
@@ -189,6 +182,16 @@ fn frozen_to_left_rail(table: TableKind, y: f64) -> [f64; 2] {
     let contact = breakshot_shared::physics::ball_cushion::contact_distance(&shot.params);
     let _ = table;
     [contact, y]
+}
+
+/// Runs `shot` (the case `what`) and checks the invariants, that it settles in fewer than
+/// `max_events` events, and that every ball stays on the table or falls into a pocket.
+fn run_on_the_table(shot: &Shot, max_events: usize, what: impl std::fmt::Debug) {
+    let out = run(shot);
+    check_invariants(shot, &out);
+    let events = out.events.len();
+    assert!(events < max_events, "{what:?}: {events} events");
+    assert_stays_on_table(shot, &out);
 }
 
 /// Every ball stays on the table or falls into a pocket, sampled every millisecond.
@@ -276,14 +279,7 @@ fn balls_frozen_to_a_rail_and_into_the_jaws() {
             table,
             ..open_shot(balls.clone())
         };
-        let out = run(&shot);
-        check_invariants(&shot, &out);
-        assert!(
-            out.events.len() < 200,
-            "{balls:?}: {} events",
-            out.events.len()
-        );
-        assert_stays_on_table(&shot, &out);
+        run_on_the_table(&shot, 200, &balls);
     }
 }
 
@@ -302,10 +298,7 @@ fn a_ball_resting_in_the_jaws_can_be_hit() {
     };
     let out = run(&shot);
     check_invariants(&shot, &out);
-    assert!(out
-        .events
-        .iter()
-        .any(|e| matches!(e.kind, EventKind::BallBall { .. })));
+    assert!(ball_ball_hits(&out).next().is_some());
     assert!(out
         .events
         .iter()
@@ -387,11 +380,7 @@ fn collision_at_the_instant_of_a_state_change() {
     ]);
     let out = run(&shot);
     check_invariants(&shot, &out);
-    let hit = out
-        .events
-        .iter()
-        .find(|e| matches!(e.kind, EventKind::BallBall { .. }))
-        .expect("collision");
+    let hit = ball_ball_hits(&out).next().expect("collision");
     assert!((hit.t - tau).abs() < 1e-9);
     assert!(
         out.finals[1].pos.y > y + 2.0 * R + 1.0,
@@ -412,11 +401,7 @@ fn two_collisions_at_the_same_instant_on_different_balls() {
     let shot = open_shot(balls);
     let out = run(&shot);
     check_invariants(&shot, &out);
-    let hits: Vec<_> = out
-        .events
-        .iter()
-        .filter(|e| matches!(e.kind, EventKind::BallBall { .. }))
-        .collect();
+    let hits: Vec<_> = ball_ball_hits(&out).collect();
     assert_eq!(hits.len(), 2);
     assert_eq!(hits[0].t, hits[1].t);
     for k in [0, 1] {
@@ -447,12 +432,7 @@ fn equal_accelerations_and_near_double_roots() {
             // Equal decelerations: straight relative motion at 1 mm/s.
             let along = 0.005 - ((2.0 * R) * (2.0 * R) - lateral * lateral).sqrt();
             let exact = along / 1e-3;
-            let t = out
-                .events
-                .iter()
-                .find(|e| matches!(e.kind, EventKind::BallBall { .. }))
-                .expect("hit")
-                .t;
+            let t = ball_ball_hits(&out).next().expect("hit").t;
             assert!((t - exact).abs() < 1e-6, "{t} vs {exact}");
         }
     }
@@ -468,14 +448,7 @@ fn extreme_speeds_neither_tunnel_nor_stall() {
         let mut shot = break_shot(table, 1e-4, speed, 0.003, &mut rng);
         shot.balls
             .push(ball([w - R - 0.01, R + 0.3], [0.0; 2], [0.0; 3]));
-        let out = run(&shot);
-        check_invariants(&shot, &out);
-        assert!(
-            out.events.len() < 2000,
-            "{speed}: {} events",
-            out.events.len()
-        );
-        assert_stays_on_table(&shot, &out);
+        run_on_the_table(&shot, 2000, speed);
         let _ = l;
     }
     // A crawl into a ball a picometre away: rolling at 1e-6 m/s it covers 5e-12 m.

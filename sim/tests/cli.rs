@@ -20,14 +20,19 @@ fn reference(name: &str) -> String {
     format!("{}/tests/reference/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
-fn run_json(scene: &str) -> Value {
-    let out = sim(&["run", scene], None);
+/// What [`sim`] printed, as JSON, failing the test (with its stderr) if it did not succeed.
+fn sim_json(args: &[&str], stdin: Option<&str>) -> Value {
+    let out = sim(args, stdin);
     assert!(
         out.status.success(),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
     serde_json::from_slice(&out.stdout).expect("JSON result")
+}
+
+fn run_json(scene: &str) -> Value {
+    sim_json(&["run", scene], None)
 }
 
 fn expected(name: &str) -> Value {
@@ -121,13 +126,7 @@ fn off_from_pooltool(scene: &str, e: &Value) -> (Vec<(f64, f64)>, usize, usize) 
 
 /// [`off_from_pooltool`] with the cushion contacts counted up to `until` (s) only.
 fn off_from_pooltool_until(scene: &str, e: &Value, until: f64) -> (Vec<(f64, f64)>, usize, usize) {
-    let out = sim(&["run", "-", "--sample", "0.25"], Some(scene));
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let r: Value = serde_json::from_slice(&out.stdout).expect("JSON result");
+    let r = sim_json(&["run", "-", "--sample", "0.25"], Some(scene));
     let samples = r["samples"].as_array().expect("samples");
     let offs = e["samples"]
         .as_array()
@@ -262,13 +261,7 @@ fn pooltool_break_runs_to_rest_with_a_plausible_event_count() {
 #[test]
 fn result_has_the_contract_fields_and_samples() {
     let scene = r#"{"table":"open","balls":[{"id":"cue","pos":[0,0],"vel":[0,1]}]}"#;
-    let out = sim(&["run", "-", "--sample", "0.5"], Some(scene));
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let r: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let r = sim_json(&["run", "-", "--sample", "0.5"], Some(scene));
     assert_eq!(r["version"], 1);
     assert_eq!(r["events"][0]["kind"], "sliding_to_rolling");
     assert_eq!(r["events"][0]["balls"][0], "cue");
@@ -291,8 +284,7 @@ fn same_scene_same_hash_from_file_and_stdin() {
     let path = reference("stun_shot_open.scene.json");
     let a = run_json(&path);
     let text = std::fs::read_to_string(&path).expect("read");
-    let out = sim(&["run", "-"], Some(&text));
-    let b: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let b = sim_json(&["run", "-"], Some(&text));
     assert_eq!(a["hash"], b["hash"]);
     assert_eq!(a, b);
 }
@@ -309,17 +301,8 @@ fn too_many_samples_are_refused() {
 
 #[test]
 fn bench_prints_timing_json() {
-    let out = sim(
-        &[
-            "bench",
-            &reference("stun_shot_open.scene.json"),
-            "--runs",
-            "20",
-        ],
-        None,
-    );
-    assert!(out.status.success());
-    let r: Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let scene = reference("stun_shot_open.scene.json");
+    let r = sim_json(&["bench", &scene, "--runs", "20"], None);
     assert_eq!(r["runs"], 20);
     assert_eq!(r["events"], 5);
     let (min, med, p90) = (

@@ -1,8 +1,11 @@
 //! `breakshot-sim fit` as a black box: the contract's outputs from a small recording made
 //! here, and a clear failure on a file that is not recordings.
 
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::Duration;
+
+use breakshot_testkit::TempDir;
 
 /// Runs the simulator, failing the test if it has not finished within `limit`.
 fn sim(args: &[&str], limit: Duration) -> Output {
@@ -11,6 +14,25 @@ fn sim(args: &[&str], limit: Duration) -> Output {
         None,
         limit,
     )
+}
+
+/// A scratch folder `name` holding `rec.json` with `text`. Returns the folder (removed when
+/// dropped), that file's path as an argument, and an output folder `out` in it.
+fn scratch_with(name: &str, text: &str) -> (TempDir, String, PathBuf) {
+    let dir = breakshot_testkit::scratch(name);
+    let rec = dir.path().join("rec.json");
+    std::fs::write(&rec, text).expect("recording written");
+    let out = dir.path().join("out");
+    (dir, rec.to_string_lossy().into_owned(), out)
+}
+
+/// Asserts that the fit failed with exit code `code`, saying what was wrong (its error
+/// names `names`) without a panic, and wrote nothing to `out`.
+fn assert_refused(o: &Output, code: i32, names: &str, out: &Path) {
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(code), "{err}");
+    assert!(err.contains(names) && !err.contains("panicked"), "{err}");
+    assert!(!out.exists(), "nothing written");
 }
 
 /// One shot in the recordings' format, in metres: the cue ball rolls 0.3 m along the
@@ -28,11 +50,8 @@ fn recording() -> String {
 
 #[test]
 fn fit_writes_the_contract_outputs() {
-    let dir = breakshot_testkit::scratch("fit-outputs");
-    let rec = dir.path().join("rec.json");
-    std::fs::write(&rec, recording()).expect("recording written");
-    let out = dir.path().join("out");
-    let (rec_s, out_s) = (rec.to_string_lossy(), out.to_string_lossy());
+    let (_dir, rec_s, out) = scratch_with("fit-outputs", &recording());
+    let out_s = out.to_string_lossy();
     let args = [
         "fit",
         &rec_s,
@@ -66,19 +85,10 @@ fn fit_writes_the_contract_outputs() {
 
 #[test]
 fn fit_refuses_what_is_not_recordings() {
-    let dir = breakshot_testkit::scratch("fit-bad");
-    let rec = dir.path().join("rec.json");
-    std::fs::write(&rec, r#"{"balls": []}"#).expect("file written");
-    let out = dir.path().join("out");
-    let (rec_s, out_s) = (rec.to_string_lossy(), out.to_string_lossy());
+    let (_dir, rec_s, out) = scratch_with("fit-bad", r#"{"balls": []}"#);
+    let out_s = out.to_string_lossy();
     let o = sim(&["fit", &rec_s, "--out", &out_s], Duration::from_secs(60));
-    assert_eq!(o.status.code(), Some(1));
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        err.contains("recordings") && !err.contains("panicked"),
-        "{err}"
-    );
-    assert!(!out.exists(), "nothing written");
+    assert_refused(&o, 1, "recordings", &out);
     let o = sim(
         &["fit", &rec_s, "--out", &out_s, "--units", "furlongs"],
         Duration::from_secs(60),
@@ -88,10 +98,7 @@ fn fit_refuses_what_is_not_recordings() {
 
 #[test]
 fn fit_starts_from_the_parameters_named_and_writes_its_own() {
-    let dir = breakshot_testkit::scratch("fit-start");
-    let rec = dir.path().join("rec.json");
-    std::fs::write(&rec, recording()).expect("recording written");
-    let rec_s = rec.to_string_lossy().into_owned();
+    let (dir, rec_s, _) = scratch_with("fit-start", &recording());
     let fit = |out: &str, extra: &[&str]| {
         let out = dir.path().join(out);
         let out_s = out.to_string_lossy().into_owned();
@@ -129,23 +136,14 @@ fn fit_starts_from_the_parameters_named_and_writes_its_own() {
     let bad_s = bad.to_string_lossy().into_owned();
     for arg in ["carom", bad_s.as_str()] {
         let (o, out) = fit("bad", &["--strikes-only", "--start", arg]);
-        assert_eq!(o.status.code(), Some(2), "--start {arg}");
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert!(
-            err.contains("--start") && !err.contains("panicked"),
-            "{err}"
-        );
-        assert!(!out.exists(), "nothing written");
+        assert_refused(&o, 2, "--start", &out);
     }
 }
 
 #[test]
 fn folds_need_two_and_the_shared_fit() {
-    let dir = breakshot_testkit::scratch("fit-folds");
-    let rec = dir.path().join("rec.json");
-    std::fs::write(&rec, recording()).expect("recording written");
-    let out = dir.path().join("out");
-    let (rec_s, out_s) = (rec.to_string_lossy(), out.to_string_lossy());
+    let (_dir, rec_s, out) = scratch_with("fit-folds", &recording());
+    let out_s = out.to_string_lossy();
     for extra in [
         &["--folds", "1"][..],
         &["--folds", "2", "--strikes-only"][..],
@@ -163,11 +161,5 @@ fn folds_need_two_and_the_shared_fit() {
         ],
         Duration::from_secs(60),
     );
-    assert_eq!(o.status.code(), Some(1));
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(
-        err.contains("--folds 2") && !err.contains("panicked"),
-        "{err}"
-    );
-    assert!(!out.exists(), "nothing written");
+    assert_refused(&o, 1, "--folds 2", &out);
 }

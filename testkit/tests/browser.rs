@@ -12,7 +12,9 @@ use std::sync::Arc;
 use std::thread::{self, JoinHandle};
 use std::time::{Duration, Instant};
 
-use breakshot_testkit::browser::{browser_or_skip, near, Browser, Error, LaunchOptions, Viewport};
+use breakshot_testkit::browser::{
+    browser_or_skip, near, Browser, Error, LaunchOptions, Page, Viewport,
+};
 use serde_json::{json, Value};
 
 /// A page drawing a green WebGL canvas (200 × 100 CSS pixels at the top left, on white),
@@ -64,6 +66,16 @@ struct Server {
 }
 
 impl Server {
+    /// The test page opened in `browser` in `viewport`.
+    fn page<'b>(&self, browser: &'b Browser, viewport: Viewport) -> Page<'b> {
+        browser.open(&self.url, viewport).expect("the page opens")
+    }
+
+    /// The test page in a small desktop window.
+    fn desktop_page<'b>(&self, browser: &'b Browser) -> Page<'b> {
+        self.page(browser, Viewport::desktop(400, 300))
+    }
+
     fn start() -> Server {
         let listener = TcpListener::bind("127.0.0.1:0").expect("a loopback port");
         listener
@@ -141,9 +153,7 @@ const WAIT: Duration = Duration::from_secs(10);
 fn eval_returns_values_and_the_console_is_collected() {
     let Some(browser) = launch() else { return };
     let server = Server::start();
-    let mut page = browser
-        .open(&server.url, Viewport::desktop(400, 300))
-        .expect("the page opens");
+    let mut page = server.desktop_page(&browser);
     assert_eq!(page.eval("1 + 2").expect("eval"), json!(3));
     assert_eq!(
         page.eval("({ a: [1, 'two'], b: null })").expect("eval"),
@@ -176,9 +186,7 @@ fn eval_returns_values_and_the_console_is_collected() {
 fn exceptions_are_errors_and_are_reported() {
     let Some(browser) = launch() else { return };
     let server = Server::start();
-    let mut page = browser
-        .open(&server.url, Viewport::desktop(400, 300))
-        .expect("the page opens");
+    let mut page = server.desktop_page(&browser);
     match page.eval("(() => { throw new Error('nope'); })()") {
         Err(Error::Js(text)) => assert!(text.contains("Error: nope"), "{text}"),
         other => panic!("a thrown error must be Error::Js, not {other:?}"),
@@ -203,7 +211,7 @@ fn webgl_draws_and_the_screenshot_shows_it() {
     let server = Server::start();
     let mut viewport = Viewport::desktop(400, 300);
     viewport.device_scale = 2.0;
-    let mut page = browser.open(&server.url, viewport).expect("the page opens");
+    let mut page = server.page(&browser, viewport);
     assert_eq!(
         page.eval("!!document.createElement('canvas').getContext('webgl')")
             .expect("eval"),
@@ -242,9 +250,7 @@ fn webgl_draws_and_the_screenshot_shows_it() {
 fn a_touch_drag_on_a_phone_arrives_where_it_was_sent() {
     let Some(browser) = launch() else { return };
     let server = Server::start();
-    let mut page = browser
-        .open(&server.url, Viewport::phone())
-        .expect("the page opens");
+    let mut page = server.page(&browser, Viewport::phone());
     assert_eq!(
         page.eval(
             "[innerWidth, innerHeight, navigator.maxTouchPoints > 0, 'ontouchstart' in window]"
@@ -311,9 +317,7 @@ fn a_touch_drag_on_a_phone_arrives_where_it_was_sent() {
 fn clicks_drags_and_keys_reach_the_page() {
     let Some(browser) = launch() else { return };
     let server = Server::start();
-    let mut page = browser
-        .open(&server.url, Viewport::desktop(400, 300))
-        .expect("the page opens");
+    let mut page = server.desktop_page(&browser);
     page.click((50.0, 40.0)).expect("the click is sent");
     page.wait_until("seen.some(e => e.type === 'click')", WAIT)
         .expect("the click arrives");
@@ -367,9 +371,7 @@ fn clicks_drags_and_keys_reach_the_page() {
 fn waits_that_cannot_succeed_time_out_quickly_with_what_they_waited_for() {
     let Some(browser) = launch() else { return };
     let server = Server::start();
-    let mut page = browser
-        .open(&server.url, Viewport::desktop(400, 300))
-        .expect("the page opens");
+    let mut page = server.desktop_page(&browser);
     let started = Instant::now();
     let failed = page.wait_until("window.never === true", Duration::from_millis(500));
     let took = started.elapsed();
@@ -401,9 +403,7 @@ fn waits_that_cannot_succeed_time_out_quickly_with_what_they_waited_for() {
 fn a_page_on_loopback_is_a_secure_context_with_webtransport() {
     let Some(browser) = launch() else { return };
     let server = Server::start();
-    let mut page = browser
-        .open(&server.url, Viewport::desktop(400, 300))
-        .expect("the page opens");
+    let mut page = server.desktop_page(&browser);
     let found = page
         .eval("[isSecureContext, typeof WebTransport]")
         .expect("eval");
@@ -418,12 +418,8 @@ fn a_page_on_loopback_is_a_secure_context_with_webtransport() {
 fn two_pages_both_keep_animating() {
     let Some(browser) = launch() else { return };
     let server = Server::start();
-    let mut first = browser
-        .open(&server.url, Viewport::phone())
-        .expect("the first page opens");
-    let mut second = browser
-        .open(&server.url, Viewport::phone())
-        .expect("the second page opens");
+    let mut first = server.page(&browser, Viewport::phone());
+    let mut second = server.page(&browser, Viewport::phone());
     let before = first.eval("window.frames").expect("eval");
     second
         .wait_until("window.frames > 10", WAIT)
@@ -471,9 +467,7 @@ fn a_refused_page_is_an_error() {
 fn dropping_the_browser_leaves_no_process_and_no_folder() {
     let Some(browser) = launch() else { return };
     let server = Server::start();
-    let mut page = browser
-        .open(&server.url, Viewport::desktop(400, 300))
-        .expect("the page opens");
+    let mut page = server.desktop_page(&browser);
     page.wait_until("window.frames > 2", WAIT).expect("it runs");
     drop(page);
     let pid = browser.pid();

@@ -81,22 +81,27 @@ impl View<'_> {
         ball != 0 && (self.targets.is_empty() || self.targets.contains(&ball))
     }
 
+    fn may_pot(&self, ball: u8) -> bool {
+        ball != 0 && (self.pottable.is_empty() || self.pottable.contains(&ball))
+    }
+
+    /// The balls on the table, with their centres, that pass `keep`, in the layout's order.
+    fn balls_where(&self, keep: impl Fn(u8) -> bool) -> Vec<(u8, DVec2)> {
+        let balls = self.layout.balls.iter().copied();
+        balls.filter(|(b, _)| keep(*b)).collect()
+    }
+
     fn first_balls(&self) -> Vec<(u8, DVec2)> {
-        self.layout
-            .balls
-            .iter()
-            .copied()
-            .filter(|(b, _)| self.may_hit(*b))
-            .collect()
+        self.balls_where(|b| self.may_hit(b))
     }
 
     fn pottable_balls(&self) -> Vec<(u8, DVec2)> {
-        self.layout
-            .balls
-            .iter()
-            .copied()
-            .filter(|(b, _)| *b != 0 && (self.pottable.is_empty() || self.pottable.contains(b)))
-            .collect()
+        self.balls_where(|b| self.may_pot(b))
+    }
+
+    /// The balls to pot directly: those that may be hit first and count when pocketed.
+    fn first_pottable_balls(&self) -> Vec<(u8, DVec2)> {
+        self.balls_where(|b| self.may_hit(b) && self.may_pot(b))
     }
 }
 
@@ -326,10 +331,7 @@ async fn direct_routes(lab: &mut Lab, view: &View<'_>, cue: DVec2, limit: usize)
     let layout = view.layout;
     // Rank every (ball, pocket) by geometry first; only the best few are worth probing.
     let mut open = Vec::new();
-    for (ball, ob) in view.first_balls() {
-        if !view.pottable.is_empty() && !view.pottable.contains(&ball) {
-            continue;
-        }
+    for (ball, ob) in view.first_pottable_balls() {
         for pocket in &layout.pockets {
             let prior = layout.pot_chance(cue, ball, pocket, view.aim_sigma);
             if prior > 0.0 {
@@ -368,10 +370,7 @@ async fn direct_routes(lab: &mut Lab, view: &View<'_>, cue: DVec2, limit: usize)
 async fn bank_routes(lab: &mut Lab, view: &View<'_>, cue: DVec2) -> Vec<Route> {
     let layout = view.layout;
     let mut routes = Vec::new();
-    for (ball, ob) in view.first_balls() {
-        if !view.pottable.is_empty() && !view.pottable.contains(&ball) {
-            continue;
-        }
+    for (ball, ob) in view.first_pottable_balls() {
         for pocket in &layout.pockets {
             for line in rail_lines(layout) {
                 let image = mirror(pocket.center, line);

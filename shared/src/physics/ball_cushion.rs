@@ -192,22 +192,24 @@ fn han2005(vel: DVec2, spin: DVec3, normal: DVec2, params: &Params) -> (DVec2, D
 mod tests {
     use super::*;
 
+    /// A bounce off a cushion whose normal is `+y`, under the default parameters.
+    fn off_the_y_cushion(v: DVec2, w: DVec3, model: CushionModel) -> (DVec2, DVec3) {
+        bounce(v, w, DVec2::Y, model, &Params::default())
+    }
+
+    /// The ball's kinetic energy, of its travel and its spin, under the default parameters.
+    fn energy(v: DVec2, w: DVec3) -> f64 {
+        let p = Params::default();
+        0.5 * p.ball_mass * v.length_squared() + 0.5 * p.inertia() * w.length_squared()
+    }
+
     #[test]
     fn head_on_bounce_reverses_with_restitution_and_keeps_energy_bounded() {
-        let p = Params::default();
-        let (v, w) = bounce(
-            DVec2::new(0.0, -1.0),
-            DVec3::ZERO,
-            DVec2::Y,
-            CushionModel::Han2005,
-            &p,
-        );
+        let v0 = DVec2::new(0.0, -1.0);
+        let (v, w) = off_the_y_cushion(v0, DVec3::ZERO, CushionModel::Han2005);
         assert!(v.y > 0.0 && v.y < 1.0, "{v}");
         assert!(v.x.abs() < 1e-15);
-        let ke = |v: DVec2, w: DVec3| {
-            0.5 * p.ball_mass * v.length_squared() + 0.5 * p.inertia() * w.length_squared()
-        };
-        assert!(ke(v, w) <= ke(DVec2::new(0.0, -1.0), DVec3::ZERO));
+        assert!(energy(v, w) <= energy(v0, DVec3::ZERO));
     }
 
     /// The Han bounce in the cushion frame: (vx into the cushion, vy along it) and spin.
@@ -257,10 +259,6 @@ mod tests {
 
     #[test]
     fn every_model_turns_the_ball_back_and_takes_energy() {
-        let p = Params::default();
-        let ke = |v: DVec2, w: DVec3| {
-            0.5 * p.ball_mass * v.length_squared() + 0.5 * p.inertia() * w.length_squared()
-        };
         let (v0, w0) = (DVec2::new(0.6, -1.0), DVec3::new(10.0, -5.0, 40.0));
         for model in [
             CushionModel::Han2005,
@@ -268,23 +266,16 @@ mod tests {
             CushionModel::Stronge,
             CushionModel::Simple,
         ] {
-            let (v, w) = bounce(v0, w0, DVec2::Y, model, &p);
+            let (v, w) = off_the_y_cushion(v0, w0, model);
             assert!(v.y > 0.0, "{model:?}: {v}");
-            assert!(ke(v, w) <= ke(v0, w0) * 1.001, "{model:?}: {v} {w}");
+            assert!(energy(v, w) <= energy(v0, w0) * 1.001, "{model:?}: {v} {w}");
         }
     }
 
     #[test]
     fn simple_model_mirrors_normal_velocity() {
-        let p = Params::default();
-        let (v, _) = bounce(
-            DVec2::new(0.5, -1.0),
-            DVec3::ZERO,
-            DVec2::Y,
-            CushionModel::Simple,
-            &p,
-        );
-        assert!((v.y - p.e_cushion).abs() < 1e-15);
+        let (v, _) = off_the_y_cushion(DVec2::new(0.5, -1.0), DVec3::ZERO, CushionModel::Simple);
+        assert!((v.y - Params::default().e_cushion).abs() < 1e-15);
         assert_eq!(v.x, 0.5);
     }
 }

@@ -23,7 +23,7 @@ use super::airborne::{self, Flight};
 use super::ball_ball;
 use super::ball_cushion;
 use super::event::{Event, EventKind};
-use super::group_impact::{self, Scratch};
+use super::group_impact::{self, refill, Scratch};
 use super::motion::{BallState, MotionModel, MotionState, Piece};
 use super::roots;
 use super::shot::{validate, Ctx};
@@ -188,24 +188,15 @@ impl Simulator {
         for p in &self.pieces {
             self.extents.push(Extent::of(p, &ctx));
         }
-        self.own.clear();
-        self.own.resize(n, NO_OWN);
-        self.pair.clear();
-        self.pair.resize(n * n, f64::INFINITY);
-        self.solved.clear();
-        self.solved.resize(n * n, true);
-        self.since.clear();
-        self.since.resize(n * n, 0.0);
-        self.row.clear();
-        self.row.resize(n, f64::INFINITY);
-        self.arg.clear();
-        self.arg.resize(n, 0);
-        self.last.clear();
-        self.last.resize(n * n, f64::NEG_INFINITY);
-        self.held.clear();
-        self.held.resize(n * n, false);
-        self.blow.clear();
-        self.blow.resize(n * n, 0.0);
+        refill(&mut self.own, n, NO_OWN);
+        refill(&mut self.pair, n * n, f64::INFINITY);
+        refill(&mut self.solved, n * n, true);
+        refill(&mut self.since, n * n, 0.0);
+        refill(&mut self.row, n, f64::INFINITY);
+        refill(&mut self.arg, n, 0);
+        refill(&mut self.last, n * n, f64::NEG_INFINITY);
+        refill(&mut self.held, n * n, false);
+        refill(&mut self.blow, n * n, 0.0);
         for i in 0..n {
             self.predict_own(i, 0.0, &ctx);
         }
@@ -656,8 +647,7 @@ impl Simulator {
         // speed closes in `NEAR_TIME`), transitively. A ball whose path's box is out of reach
         // cannot touch (most balls, most of the time).
         let reach = 2.0 * r + CONTACT_GAP + NEAR_TIME * fastest;
-        g.positions.clear();
-        g.positions.resize(n, DVec2::INFINITY);
+        refill(&mut g.positions, n, DVec2::INFINITY);
         for k in 0..seeds {
             let b = g.balls[k];
             g.positions[b] = self.pieces[b].pos_at(t);

@@ -85,6 +85,13 @@ pub(super) struct Scratch {
     pub(super) parent: Vec<usize>,
 }
 
+/// Empties `v` and fills it with `len` copies of `x`, keeping its allocation: how the
+/// buffers reused from group to group, and from shot to shot, start afresh.
+pub(super) fn refill<T: Clone>(v: &mut Vec<T>, len: usize, x: T) {
+    v.clear();
+    v.resize(len, x);
+}
+
 /// Resolves the impact of a touching group: every contact of the group (within
 /// `CONTACT_GAP`, or what the impact closes in `NEAR_TIME`) takes part, whether or not its
 /// own collision was predicted.
@@ -99,8 +106,7 @@ pub(super) struct Scratch {
 /// velocities, so the result does not depend on how the balls are numbered. What the rounds
 /// leave is settled ([`settle`]). Each contact that took part gives one event.
 pub(super) fn group_impact(g: &mut Scratch, ctx: &Ctx) {
-    g.acted.clear();
-    g.acted.resize(g.contacts.len(), false);
+    refill(&mut g.acted, g.contacts.len(), false);
     g.normals.clear();
     for &(a, b) in &g.contacts {
         g.normals
@@ -125,8 +131,7 @@ pub(super) fn group_impact(g: &mut Scratch, ctx: &Ctx) {
             && (g.acc[a] - g.acc[b]).dot(g.normals[k]) > TOUCH_ACCEL;
         g.blow[k] = 0.0;
     }
-    g.wall_acted.clear();
-    g.wall_acted.resize(g.walls.len(), false);
+    refill(&mut g.wall_acted, g.walls.len(), false);
     // A held set met slower than a push moves as one body in the rounds too: a slow meeting
     // with it is one contact, not a wave through every contact of the set. A faster blow
     // releases it, and the wave runs through it as through any touching line.
@@ -150,8 +155,7 @@ pub(super) fn group_impact(g: &mut Scratch, ctx: &Ctx) {
         if g.active.is_empty() && !walls_approach {
             break;
         }
-        g.done.clear();
-        g.done.resize(g.active.len(), false);
+        refill(&mut g.done, g.active.len(), false);
         for first in 0..g.active.len() {
             if g.done[first] {
                 continue;
@@ -456,15 +460,13 @@ fn simultaneous_impact(g: &mut Scratch, e: f64) {
     g.vel.extend(g.states.iter().map(|s| s.vel));
     // Body n, the cushions, does not move: infinite mass.
     g.vel.push(DVec2::ZERO);
-    g.size.clear();
-    g.size.resize(n, 0.0);
+    refill(&mut g.size, n, 0.0);
     for m in 0..n {
         g.size[root(&g.parent, m)] += 1.0;
     }
     g.size.push(f64::INFINITY);
     let mut fastest: f64 = 0.0;
-    g.degree.clear();
-    g.degree.resize(n + 1, 0);
+    refill(&mut g.degree, n + 1, 0);
     g.bodies.clear();
     for (k, &(a, b)) in g.component.iter().enumerate() {
         let (a, b) = (root(&g.parent, a), root(&g.parent, b));
@@ -519,8 +521,7 @@ fn simultaneous_impact(g: &mut Scratch, e: f64) {
 pub(super) fn flight_impact(g: &mut Scratch, ctx: &Ctx) {
     g.parent.clear();
     g.parent.extend(0..=g.states.len());
-    g.acted.clear();
-    g.acted.resize(g.contacts.len(), true);
+    refill(&mut g.acted, g.contacts.len(), true);
     g.blow.iter_mut().for_each(|b| *b = 0.0);
     g.wall_acted.clear();
     for k in 0..g.contacts.len() {

@@ -10,7 +10,7 @@
 //! missed. This is slower than the quartic solver (a few dozen evaluations more), which is why
 //! only the rare jaw contacts in flight use it.
 
-use super::roots::{bracketed_root, Touch};
+use super::roots::{bracketed_root, contact_at_start, first_descent, Touch};
 
 /// A polynomial `c[0] + c[1]·τ + … + c[8]·τ⁸`.
 pub(super) type Octic = [f64; 9];
@@ -79,11 +79,8 @@ pub(super) fn first_contact(c: &Octic, t_max: f64, touch: Touch) -> Option<f64> 
     if t_max.is_nan() || t_max <= 0.0 || c.iter().any(|x| !x.is_finite()) {
         return None;
     }
-    if c[0] <= 0.0 {
-        let d0 = c[1];
-        if d0 < -touch.speed || (d0 <= touch.speed && 2.0 * c[2] < -touch.accel) {
-            return Some(0.0);
-        }
+    if contact_at_start(c, touch) {
+        return Some(0.0);
     }
     let deg = degree(c);
     if deg == 0 {
@@ -92,36 +89,8 @@ pub(super) fn first_contact(c: &Octic, t_max: f64, touch: Touch) -> Option<f64> 
     let d = derivative(c, deg);
     let mut stops = [0.0; 8];
     let count = sign_changes_in(&d, deg - 1, 0.0, t_max, &mut stops);
-    let mut a = 0.0;
-    let mut fa = c[0];
-    for b in stops[..count].iter().copied().chain([t_max]) {
-        let fb = eval(c, deg, b);
-        // On [a, b] f is monotone; it decreases when f' < 0 inside.
-        let decreasing = eval(&d, deg - 1, 0.5 * (a + b)) < 0.0 || fb < fa;
-        if decreasing {
-            if fa <= 0.0 {
-                if a == 0.0 {
-                    // Touching at the start without approaching: a contact only if `f` rises
-                    // above zero and falls back, on a later piece.
-                    a = b;
-                    fa = fb;
-                    continue;
-                }
-                return Some(a);
-            }
-            if fb <= 0.0 {
-                return Some(bracketed_root(
-                    |t| eval(c, deg, t),
-                    |t| eval(&d, deg - 1, t),
-                    a,
-                    b,
-                ));
-            }
-        }
-        a = b;
-        fa = fb;
-    }
-    None
+    let ends = stops[..count].iter().copied().chain([t_max]);
+    first_descent(c[0], ends, |t| eval(c, deg, t), |t| eval(&d, deg - 1, t))
 }
 
 #[cfg(test)]

@@ -369,23 +369,42 @@ pub fn first_contact(c: &Poly, t_max: f64, touch: Touch) -> Option<f64> {
     if t_max.is_nan() || t_max <= 0.0 {
         return None;
     }
-    if c[0] <= 0.0 {
-        let d0 = c[1];
-        if d0 < -touch.speed || (d0 <= touch.speed && 2.0 * c[2] < -touch.accel) {
-            return Some(0.0);
-        }
+    if contact_at_start(c, touch) {
+        return Some(0.0);
     }
+    let ends = CriticalPoints::new(c, 0.0, t_max).chain(std::iter::once(t_max));
+    first_descent(c[0], ends, |t| eval(c, t), |t| eval_d(c, t))
+}
+
+/// Whether `f` (coefficients lowest power first) touches at `t = 0` and is already
+/// approaching: its value is at or below zero and its speed or acceleration inward is beyond
+/// `touch`'s rounding.
+pub(super) fn contact_at_start(c: &[f64], touch: Touch) -> bool {
+    let d0 = c[1];
+    c[0] <= 0.0 && (d0 < -touch.speed || (d0 <= touch.speed && 2.0 * c[2] < -touch.accel))
+}
+
+/// The first time at which `f` is at or below zero while decreasing, given `f(0) = f0` and
+/// the `ends` of the pieces of `[0, t_max]` on which `f` is monotone (the last one `t_max`),
+/// once [`contact_at_start`] said no. One walk serves every degree of polynomial.
+pub(super) fn first_descent(
+    f0: f64,
+    ends: impl Iterator<Item = f64>,
+    f: impl Fn(f64) -> f64,
+    df: impl Fn(f64) -> f64,
+) -> Option<f64> {
     let mut a = 0.0;
-    let mut fa = c[0];
-    for b in CriticalPoints::new(c, 0.0, t_max).chain(std::iter::once(t_max)) {
-        let fb = eval(c, b);
+    let mut fa = f0;
+    for b in ends {
+        let fb = f(b);
         // On [a, b] f is monotone; it decreases when f' < 0 inside.
-        let decreasing = eval_d(c, 0.5 * (a + b)) < 0.0 || (fb < fa);
+        let decreasing = df(0.5 * (a + b)) < 0.0 || fb < fa;
         if decreasing {
             if fa <= 0.0 {
                 if a == 0.0 {
-                    // Touching at the start without approaching (judged above): a contact
-                    // only if `f` rises above zero and falls back, on a later stretch.
+                    // Touching at the start without approaching (judged by
+                    // `contact_at_start`): a contact only if `f` rises above zero and falls
+                    // back, on a later piece.
                     a = b;
                     fa = fb;
                     continue;
@@ -393,7 +412,7 @@ pub fn first_contact(c: &Poly, t_max: f64, touch: Touch) -> Option<f64> {
                 return Some(a);
             }
             if fb <= 0.0 {
-                return Some(bracketed_root(|t| eval(c, t), |t| eval_d(c, t), a, b));
+                return Some(bracketed_root(&f, &df, a, b));
             }
         }
         a = b;

@@ -236,29 +236,14 @@ pub fn reference_shots() -> Vec<ReferenceShot> {
         mechanism,
         shot,
     };
+    let cushion = |name, model| shot(name, Mechanism::Cushion(model), off_the_rails(model));
     vec![
         shot("break_9ft", Mechanism::Break, reference_shot()),
         shot("frozen_group", Mechanism::FrozenGroup, frozen_group()),
-        shot(
-            "cushion_han2005",
-            Mechanism::Cushion(CushionModel::Han2005),
-            off_the_rails(CushionModel::Han2005),
-        ),
-        shot(
-            "cushion_mathavan2010",
-            Mechanism::Cushion(CushionModel::Mathavan2010),
-            off_the_rails(CushionModel::Mathavan2010),
-        ),
-        shot(
-            "cushion_stronge",
-            Mechanism::Cushion(CushionModel::Stronge),
-            off_the_rails(CushionModel::Stronge),
-        ),
-        shot(
-            "cushion_simple",
-            Mechanism::Cushion(CushionModel::Simple),
-            off_the_rails(CushionModel::Simple),
-        ),
+        cushion("cushion_han2005", CushionModel::Han2005),
+        cushion("cushion_mathavan2010", CushionModel::Mathavan2010),
+        cushion("cushion_stronge", CushionModel::Stronge),
+        cushion("cushion_simple", CushionModel::Simple),
         shot("jaw", Mechanism::Jaw, into_the_jaw()),
         shot("jump", Mechanism::Flight, jump()),
         shot(

@@ -115,11 +115,17 @@ pub fn ball_radius() -> f64 {
     Params::default().ball_radius
 }
 
+/// Distance between the centres of neighbouring balls in a rack.
+fn spacing() -> f64 {
+    2.0 * ball_radius() + RACK_GAP
+}
+
 /// Centres of a triangle-like rack: `rows[r]` balls in row `r`, rows `√3/2·d` apart along
 /// `+y` from the foot spot, each row centred on the long string; every ball but the apex
-/// moved off its spot by up to [`RACK_JITTER`], as `jitter` draws.
-fn rack_positions(kind: TableKind, rows: &[usize], jitter: &mut SplitMix64) -> Vec<DVec2> {
-    let d = 2.0 * ball_radius() + RACK_GAP;
+/// moved off its spot by up to [`RACK_JITTER`], drawn from a stream of `seed` of its own.
+fn rack_positions(kind: TableKind, rows: &[usize], seed: u64) -> Vec<DVec2> {
+    let mut jitter = SplitMix64::new(seed ^ JITTER_SALT);
+    let d = spacing();
     let row_step = d * (3.0f64.sqrt() * 0.5);
     let apex = foot_spot(kind);
     let mut out = Vec::new();
@@ -153,11 +159,7 @@ fn pocketed() -> BallState {
 /// on the break spot.
 pub fn eight_ball(kind: TableKind, seed: u64) -> Vec<BallState> {
     let mut rng = SplitMix64::new(seed);
-    let spots = rack_positions(
-        kind,
-        &[1, 2, 3, 4, 5],
-        &mut SplitMix64::new(seed ^ JITTER_SALT),
-    );
+    let spots = rack_positions(kind, &[1, 2, 3, 4, 5], seed);
     // Spot indices: row 2 middle is 1 + 2 + 1 = 4; back corners are 10 and 14.
     let (middle, corners) = (4, [10, 14]);
     let mut solids: Vec<usize> = (1..=7).collect();
@@ -169,35 +171,41 @@ pub fn eight_ball(kind: TableKind, seed: u64) -> Vec<BallState> {
     rng.shuffle(&mut corner_balls);
     let mut rest: Vec<usize> = solids.into_iter().chain(stripes).collect();
     rng.shuffle(&mut rest);
-    let mut balls = vec![pocketed(); 16];
-    balls[0] = BallState::at_rest(break_spot(kind));
-    balls[8] = BallState::at_rest(spots[middle]);
-    balls[corner_balls[0]] = BallState::at_rest(spots[corners[0]]);
-    balls[corner_balls[1]] = BallState::at_rest(spots[corners[1]]);
-    let free = (0..spots.len()).filter(|s| *s != middle && !corners.contains(s));
-    for (spot, ball) in free.zip(rest) {
-        balls[ball] = BallState::at_rest(spots[spot]);
-    }
-    balls
+    let fixed = [
+        (8, middle),
+        (corner_balls[0], corners[0]),
+        (corner_balls[1], corners[1]),
+    ];
+    racked(kind, 16, &spots, &fixed, rest)
 }
 
 /// Ten balls (0 = cue, 1..=9) racked for 9-ball: a diamond with the 1 at the apex on the
 /// foot spot, the 9 in the centre, the rest shuffled; the cue ball on the break spot.
 pub fn nine_ball(kind: TableKind, seed: u64) -> Vec<BallState> {
     let mut rng = SplitMix64::new(seed);
-    let spots = rack_positions(
-        kind,
-        &[1, 2, 3, 2, 1],
-        &mut SplitMix64::new(seed ^ JITTER_SALT),
-    );
+    let spots = rack_positions(kind, &[1, 2, 3, 2, 1], seed);
     // Spot 0 is the apex, spot 4 the middle of the third row (the centre of the diamond).
     let mut rest: Vec<usize> = (2..=8).collect();
     rng.shuffle(&mut rest);
-    let mut balls = vec![pocketed(); 10];
+    racked(kind, 10, &spots, &[(1, 0), (9, 4)], rest)
+}
+
+/// `count` balls (index = number) racked on `spots`: the cue ball on the break spot, each
+/// `(ball, spot)` of `fixed` on its spot, the `rest` on the other spots in order; any ball
+/// left over is off the table.
+fn racked(
+    kind: TableKind,
+    count: usize,
+    spots: &[DVec2],
+    fixed: &[(usize, usize)],
+    rest: Vec<usize>,
+) -> Vec<BallState> {
+    let mut balls = vec![pocketed(); count];
     balls[0] = BallState::at_rest(break_spot(kind));
-    balls[1] = BallState::at_rest(spots[0]);
-    balls[9] = BallState::at_rest(spots[4]);
-    let free = (0..spots.len()).filter(|s| *s != 0 && *s != 4);
+    for &(ball, spot) in fixed {
+        balls[ball] = BallState::at_rest(spots[spot]);
+    }
+    let free = (0..spots.len()).filter(|s| fixed.iter().all(|&(_, f)| f != *s));
     for (spot, ball) in free.zip(rest) {
         balls[ball] = BallState::at_rest(spots[spot]);
     }
@@ -338,16 +346,25 @@ mod tests {
         assert_eq!(r.next_u64(), 0x6E78_9E6A_A1B9_65F4);
     }
 
+    /// Asserts that `ball` is in the middle of a rack's third row, off it by the jitter at most.
+    fn assert_in_the_middle_of_the_third_row(ball: BallState, kind: TableKind) {
+        let (foot, row_step) = (foot_spot(kind), spacing() * (3.0f64.sqrt() * 0.5));
+        assert!((ball.pos.x - foot.x).abs() <= RACK_JITTER, "{ball:?}");
+        assert!(
+            (ball.pos.y - (foot.y + 2.0 * row_step)).abs() <= RACK_JITTER,
+            "{ball:?}"
+        );
+    }
+
     #[test]
     fn eight_ball_rack_layout() {
         let balls = eight_ball(TableKind::NineFoot, 7);
         assert_eq!(balls.len(), 16);
         assert_no_overlap(&balls);
         let foot = foot_spot(TableKind::NineFoot);
-        let row_step = (2.0 * ball_radius() + RACK_GAP) * (3.0f64.sqrt() * 0.5);
+        let row_step = spacing() * (3.0f64.sqrt() * 0.5);
         // The 8 is in the middle of the third row.
-        assert!((balls[8].pos.x - foot.x).abs() <= RACK_JITTER);
-        assert!((balls[8].pos.y - (foot.y + 2.0 * row_step)).abs() <= RACK_JITTER);
+        assert_in_the_middle_of_the_third_row(balls[8], TableKind::NineFoot);
         // A solid and a stripe on the back corners.
         let back_y = foot.y + 4.0 * row_step;
         let mut corners: Vec<usize> = (1..16)
@@ -380,9 +397,7 @@ mod tests {
         assert_no_overlap(&balls);
         let foot = foot_spot(TableKind::NineFoot);
         assert_eq!(balls[1].pos, foot);
-        let row_step = (2.0 * ball_radius() + RACK_GAP) * (3.0f64.sqrt() * 0.5);
-        assert!((balls[9].pos.x - foot.x).abs() <= RACK_JITTER);
-        assert!((balls[9].pos.y - (foot.y + 2.0 * row_step)).abs() <= RACK_JITTER);
+        assert_in_the_middle_of_the_third_row(balls[9], TableKind::NineFoot);
     }
 
     #[test]

@@ -483,46 +483,31 @@ mod tests {
         }
     }
 
+    /// The white's judgement of an ordinary shot: not the opening, not frozen to a ball.
+    fn white_plays(touches: &[Touch]) -> Judgement {
+        judge(&facts(touches), WHITE, None, false)
+    }
+
     #[test]
     fn three_cushions_before_the_second_ball_score() {
-        let j = judge(
-            &facts(&[Ball(RED), Cushion, Cushion, Cushion, Ball(YELLOW)]),
-            WHITE,
-            None,
-            false,
-        );
+        let j = white_plays(&[Ball(RED), Cushion, Cushion, Cushion, Ball(YELLOW)]);
         assert!(j.point && !j.foul);
         assert_eq!(j.reasons[0], "Point: 3 cushions before the yellow");
         // Cushions before the first ball count too.
-        let j = judge(
-            &facts(&[Cushion, Cushion, Ball(YELLOW), Cushion, Ball(RED)]),
-            WHITE,
-            None,
-            false,
-        );
+        let j = white_plays(&[Cushion, Cushion, Ball(YELLOW), Cushion, Ball(RED)]);
         assert!(j.point, "{:?}", j.reasons);
     }
 
     #[test]
     fn two_cushions_are_not_enough() {
-        let j = judge(
-            &facts(&[Ball(YELLOW), Cushion, Cushion, Ball(RED), Cushion]),
-            WHITE,
-            None,
-            false,
-        );
+        let j = white_plays(&[Ball(YELLOW), Cushion, Cushion, Ball(RED), Cushion]);
         assert!(!j.point);
         assert_eq!(j.reasons, vec!["2 cushions before the red: no point"]);
     }
 
     #[test]
     fn cushions_after_the_second_ball_do_not_count() {
-        let j = judge(
-            &facts(&[Ball(YELLOW), Cushion, Ball(RED), Cushion, Cushion, Cushion]),
-            WHITE,
-            None,
-            false,
-        );
+        let j = white_plays(&[Ball(YELLOW), Cushion, Ball(RED), Cushion, Cushion, Cushion]);
         assert!(!j.point);
         assert_eq!(j.reasons, vec!["1 cushion before the red: no point"]);
     }
@@ -539,7 +524,7 @@ mod tests {
         let j = judge(&facts(&[Cushion]), YELLOW, None, false);
         assert_eq!(j.reasons, vec!["Missed both balls: no point"]);
         // Touching the same ball twice is still one ball.
-        let j = judge(&facts(&[Ball(RED), Cushion, Ball(RED)]), WHITE, None, false);
+        let j = white_plays(&[Ball(RED), Cushion, Ball(RED)]);
         assert_eq!(j.reasons, vec!["Missed the yellow: no point"]);
     }
 

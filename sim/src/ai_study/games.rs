@@ -32,13 +32,6 @@ pub struct GameRecord {
     pub break_and_run: bool,
 }
 
-fn index(seat: Seat) -> usize {
-    match seat {
-        Seat::A => 0,
-        Seat::B => 1,
-    }
-}
-
 /// One move a contestant chose, with what it cost.
 pub struct Move {
     /// The command.
@@ -47,6 +40,19 @@ pub struct Move {
     pub simulations: usize,
     /// Processor seconds the choice took (wall seconds where the processor's are unknown).
     pub seconds: f64,
+}
+
+impl Move {
+    /// Whether the move is a stroke (not a placement or an answer to a choice).
+    pub fn is_shot(&self) -> bool {
+        matches!(self.command, Command::Shot { .. })
+    }
+
+    /// Whether its time counts among the decision times: strokes and placements do,
+    /// answers to the rules' choices do not.
+    pub fn is_timed(&self) -> bool {
+        !matches!(self.command, Command::Decide(_))
+    }
 }
 
 impl Contestant {
@@ -74,36 +80,73 @@ impl Contestant {
     }
 }
 
+/// The two contestants of a game, each with its ghost's own random stream.
+pub struct Seats {
+    contestants: [Contestant; 2],
+    ghosts: [Rng; 2],
+    seed: u64,
+}
+
+impl Seats {
+    /// `a` in seat A, `b` in seat B, for the game played from `seed`.
+    pub fn new(a: Contestant, b: Contestant, seed: u64) -> Seats {
+        Seats {
+            contestants: [a, b],
+            ghosts: [Rng::new(seed ^ 0xA), Rng::new(seed ^ 0xB)],
+            seed,
+        }
+    }
+
+    /// Who is to move in `game` and the move they chose as its `n`th command (None: they
+    /// have none).
+    pub fn choose(&mut self, game: &Game, n: usize) -> Option<(Seat, Move)> {
+        let seat = game.to_move();
+        let i = seat.index();
+        let decision_seed = self.seed.wrapping_mul(1_000_003).wrapping_add(n as u64);
+        let chosen = self.contestants[i].choose(game, &mut self.ghosts[i], decision_seed)?;
+        Some((seat, chosen))
+    }
+}
+
+/// Plays game `k` of a pairing of `us` against `them`: seats alternate from one game to the
+/// next, and each pair of games shares its seed. Returns what `play` made of it and our seat.
+pub fn seated<R>(
+    us: Contestant,
+    them: Contestant,
+    k: usize,
+    salt: u64,
+    play: impl Fn(Contestant, Contestant, u64) -> R,
+) -> (R, Seat) {
+    let seed = salt.wrapping_mul(7919).wrapping_add(k as u64 / 2);
+    if k % 2 == 0 {
+        (play(us, them, seed), Seat::A)
+    } else {
+        (play(them, us, seed), Seat::B)
+    }
+}
+
 /// Plays one game of `variant` from `seed`: `a` sits in seat A (which breaks), `b` in B.
 pub fn play(variant: Variant, a: Contestant, b: Contestant, seed: u64) -> GameRecord {
     let mut game = Game::new(variant, Settings::offline(), seed);
-    let mut ghosts = [Rng::new(seed ^ 0xA), Rng::new(seed ^ 0xB)];
+    let mut seats = Seats::new(a, b, seed);
     let mut record = GameRecord::default();
     let mut opponent_shot = false;
     let breaker = game.to_move();
     for n in 0..MAX_COMMANDS {
-        let seat = game.to_move();
-        let contestant = if seat == Seat::A { a } else { b };
-        let i = index(seat);
-        let decision_seed = seed.wrapping_mul(1_000_003).wrapping_add(n as u64);
-        let Some(Move {
-            command,
-            simulations: sims,
-            seconds: elapsed,
-        }) = contestant.choose(&game, &mut ghosts[i], decision_seed)
-        else {
+        let Some((seat, chosen)) = seats.choose(&game, n) else {
             break;
         };
-        let is_shot = matches!(command, Command::Shot { .. });
-        if !matches!(command, Command::Decide(_)) {
-            record.times[i].push(elapsed);
-            record.sims[i].push(sims);
+        let i = seat.index();
+        let is_shot = chosen.is_shot();
+        if chosen.is_timed() {
+            record.times[i].push(chosen.seconds);
+            record.sims[i].push(chosen.simulations);
         }
         let breaking = game.is_break();
         if is_shot && seat != breaker {
             opponent_shot = true;
         }
-        let verdict = match game.apply(seat, &command) {
+        let verdict = match game.apply(seat, &chosen.command) {
             Ok(v) => v,
             // A refused command would be a bug in a player: the other seat wins.
             Err(_) => {

@@ -17,7 +17,7 @@ use anyhow::Context;
 use breakshot_shared::ai::{self, Level, Player, Rng};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Phase, Seat, Settings, Variant};
 
-use games::{play, Contestant, GameRecord};
+use games::{play, seated, Contestant, GameRecord};
 
 /// The variants the games cycle through.
 const VARIANTS: [Variant; 3] = [
@@ -118,14 +118,7 @@ pub(crate) fn parallel<T: Send>(
 fn pairing(us: Contestant, them: Contestant, games: usize, jobs: usize, salt: u64) -> Match {
     let records = parallel(games, jobs, |k| {
         let variant = VARIANTS[(k / 2) % VARIANTS.len()];
-        let seed = salt.wrapping_mul(7919).wrapping_add(k as u64 / 2);
-        let us_seat = if k % 2 == 0 { Seat::A } else { Seat::B };
-        let r = if us_seat == Seat::A {
-            play(variant, us, them, seed)
-        } else {
-            play(variant, them, us, seed)
-        };
-        (r, us_seat)
+        seated(us, them, k, salt, |a, b, seed| play(variant, a, b, seed))
     });
     let mut m = Match::default();
     for (r, seat) in &records {

@@ -8,10 +8,10 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Context;
-use breakshot_shared::ai::{Level, Player, Rng};
-use breakshot_shared::rules::{Command, Game, Seat, Settings, Variant};
+use breakshot_shared::ai::{Level, Player};
+use breakshot_shared::rules::{Game, Seat, Settings, Variant};
 
-use super::games::{Contestant, Move};
+use super::games::{seated, Contestant, Seats};
 use super::{parallel, quantile, Size};
 
 /// A frame stops undecided after this many commands (keeps the study bounded).
@@ -36,27 +36,19 @@ struct Frame {
 fn play(reds: u8, a: Contestant, b: Contestant, seed: u64) -> Frame {
     let variant = Variant::Snooker { reds, best_of: 1 };
     let mut game = Game::new(variant, Settings::offline(), seed);
-    let mut ghosts = [Rng::new(seed ^ 0xA), Rng::new(seed ^ 0xB)];
+    let mut seats = Seats::new(a, b, seed);
     let mut f = Frame::default();
     for n in 0..MAX_COMMANDS {
-        let seat = game.to_move();
-        let i = seat.index();
-        let contestant = if seat == Seat::A { a } else { b };
-        let decision_seed = seed.wrapping_mul(1_000_003).wrapping_add(n as u64);
-        let Some(Move {
-            command,
-            seconds: elapsed,
-            ..
-        }) = contestant.choose(&game, &mut ghosts[i], decision_seed)
-        else {
+        let Some((seat, chosen)) = seats.choose(&game, n) else {
             break;
         };
-        let is_shot = matches!(command, Command::Shot { .. });
-        if !matches!(command, Command::Decide(_)) {
-            f.times[i].push(elapsed);
+        let i = seat.index();
+        let is_shot = chosen.is_shot();
+        if chosen.is_timed() {
+            f.times[i].push(chosen.seconds);
         }
         let before = game.snooker().map_or(0, |m| m.break_points);
-        let verdict = match game.apply(seat, &command) {
+        let verdict = match game.apply(seat, &chosen.command) {
             Ok(v) => v,
             // A refused command would be a bug in a player: the other seat wins.
             Err(_) => {
@@ -134,14 +126,7 @@ impl Tally {
 /// `frames` frames of `us` against `them`, seats alternating.
 fn pairing(reds: u8, us: Contestant, them: Contestant, size: &Size, salt: u64) -> Tally {
     let frames = parallel(size.games, size.jobs, |k| {
-        let seed = salt.wrapping_mul(7919).wrapping_add(k as u64 / 2);
-        let us_seat = if k % 2 == 0 { Seat::A } else { Seat::B };
-        let f = if us_seat == Seat::A {
-            play(reds, us, them, seed)
-        } else {
-            play(reds, them, us, seed)
-        };
-        (f, us_seat)
+        seated(us, them, k, salt, |a, b, seed| play(reds, a, b, seed))
     });
     let mut t = Tally::default();
     for (f, seat) in &frames {

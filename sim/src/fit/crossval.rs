@@ -12,7 +12,9 @@ use breakshot_shared::physics::Params;
 
 use super::cloth::{values, RANGES};
 use super::recording::Recording;
-use super::report::{summarize, write_physics, Summary, PUBLISHED_MEDIAN};
+use super::report::{
+    strike_csv, summarize, write_physics, Summary, PUBLISHED_MEDIAN, STRIKE_CSV_HEADER,
+};
 use super::strike::StrikeFit;
 use super::{fit, rmses, Options};
 
@@ -119,25 +121,11 @@ pub fn run(
 /// its RMSE under the parameters fitted without it) and each fold's `physics-K.json`.
 pub fn write(cv: &CrossValidation, out: &Path) -> anyhow::Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    let mut csv = String::from(
-        "id,fold,rmse_m,angle_deg,speed_m_s,tip_side,tip_height,delay_s,samples,duration_s\n",
-    );
+    let mut csv = format!("id,fold,rmse_m,{STRIKE_CSV_HEADER}\n");
     for (i, rec) in cv.recordings.iter().enumerate() {
         let f = &cv.held_out[i];
-        let _ = writeln!(
-            csv,
-            "{},{},{:.6},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.2}",
-            rec.id,
-            cv.fold_of[i] + 1,
-            f.rmse,
-            f.angle_deg,
-            f.speed,
-            f.tip[0],
-            f.tip[1],
-            f.delay,
-            rec.samples(),
-            rec.end()
-        );
+        let (fold, strike) = (cv.fold_of[i] + 1, strike_csv(f, rec));
+        let _ = writeln!(csv, "{},{fold},{:.6},{strike}", rec.id, f.rmse);
     }
     std::fs::write(out.join("fit.csv"), csv).context("writing fit.csv")?;
     std::fs::write(out.join("fit.md"), markdown(cv)).context("writing fit.md")?;

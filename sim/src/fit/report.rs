@@ -7,6 +7,8 @@ use anyhow::Context;
 use breakshot_shared::physics::Params;
 
 use super::cloth::{values, RANGES};
+use super::recording::Recording;
+use super::strike::StrikeFit;
 use super::{rmses, Fit};
 
 /// The best published median RMSE over such recordings (m).
@@ -57,26 +59,31 @@ pub fn write_physics(params: &Params, path: &Path) -> anyhow::Result<()> {
     std::fs::write(path, text + "\n").with_context(|| format!("writing {}", path.display()))
 }
 
+/// The CSV columns that follow a shot's id and RMSEs, in fit.csv of a fit and of a
+/// cross-validation alike.
+pub const STRIKE_CSV_HEADER: &str =
+    "angle_deg,speed_m_s,tip_side,tip_height,delay_s,samples,duration_s";
+
+/// A shot's values for [`STRIKE_CSV_HEADER`]: its fitted strike and its recording's extent.
+pub fn strike_csv(f: &StrikeFit, rec: &Recording) -> String {
+    format!(
+        "{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.2}",
+        f.angle_deg,
+        f.speed,
+        f.tip[0],
+        f.tip[1],
+        f.delay,
+        rec.samples(),
+        rec.end()
+    )
+}
+
 fn csv(fit: &Fit) -> String {
-    let mut s = String::from(
-        "id,rmse_m,rmse_start_m,angle_deg,speed_m_s,tip_side,tip_height,delay_s,samples,duration_s\n",
-    );
+    let mut s = format!("id,rmse_m,rmse_start_m,{STRIKE_CSV_HEADER}\n");
     for (k, rec) in fit.recordings.iter().enumerate() {
         let f = &fit.fitted_fits[k];
-        let _ = writeln!(
-            s,
-            "{},{:.6},{:.6},{:.4},{:.4},{:.4},{:.4},{:.4},{},{:.2}",
-            rec.id,
-            f.rmse,
-            fit.start_fits[k].rmse,
-            f.angle_deg,
-            f.speed,
-            f.tip[0],
-            f.tip[1],
-            f.delay,
-            rec.samples(),
-            rec.end()
-        );
+        let (start, strike) = (fit.start_fits[k].rmse, strike_csv(f, rec));
+        let _ = writeln!(s, "{},{:.6},{start:.6},{strike}", rec.id, f.rmse);
     }
     s
 }

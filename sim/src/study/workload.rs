@@ -323,20 +323,10 @@ mod tests {
     #[test]
     fn every_shot_of_the_workload_is_valid() {
         let cases = workload();
-        assert!(
-            cases
-                .iter()
-                .filter(|c| c.category == Category::Break8)
-                .count()
-                >= 20
-        );
-        assert!(
-            cases
-                .iter()
-                .filter(|c| c.category == Category::Break9)
-                .count()
-                >= 20
-        );
+        for category in [Category::Break8, Category::Break9] {
+            let count = cases.iter().filter(|c| c.category == category).count();
+            assert!(count >= 20, "{count} breaks of {category:?}");
+        }
         for c in &cases {
             assert_eq!(check(&c.shot), Ok(()), "{}", c.name);
         }

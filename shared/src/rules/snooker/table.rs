@@ -277,11 +277,9 @@ fn path_clear(from: DVec2, to: DVec2, q: DVec2, r: f64) -> bool {
 /// lines: the cue ball's centre ends `2R` from the target's, `√(D² − 4R²)` along.
 pub fn both_edges_in_view(cue: DVec2, target: DVec2, blockers: &[DVec2]) -> bool {
     let r = radius();
-    let to = target - cue;
-    let dist = to.length();
-    if dist <= 2.0 * r {
+    let Some((to, dist)) = apart(cue, target) else {
         return true;
-    }
+    };
     let u = to / dist;
     let n = DVec2::new(-u.y, u.x);
     let along = (dist * dist - 4.0 * r * r).sqrt();
@@ -293,15 +291,25 @@ pub fn both_edges_in_view(cue: DVec2, target: DVec2, blockers: &[DVec2]) -> bool
     })
 }
 
+/// `target − cue` and its length, or `None` when the two balls touch: a ball the cue ball
+/// touches is in view whatever lies around.
+fn apart(cue: DVec2, target: DVec2) -> Option<(DVec2, f64)> {
+    let to = target - cue;
+    let dist = to.length();
+    if dist <= 2.0 * radius() {
+        None
+    } else {
+        Some((to, dist))
+    }
+}
+
 /// Can the cue ball at `cue` hit the ball at `target` full in the face, by a straight stroke
 /// that no ball of `blockers` obstructs (the "clear view" of the three-miss rule)?
 pub fn full_ball_in_view(cue: DVec2, target: DVec2, blockers: &[DVec2]) -> bool {
     let r = radius();
-    let to = target - cue;
-    let dist = to.length();
-    if dist <= 2.0 * r {
+    let Some((to, dist)) = apart(cue, target) else {
         return true;
-    }
+    };
     let end = cue + to * ((dist - 2.0 * r) / dist);
     blockers.iter().all(|&q| path_clear(cue, end, q, r))
 }

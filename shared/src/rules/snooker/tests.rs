@@ -70,6 +70,23 @@ fn off(g: &Game, b: u8) -> bool {
 const POT_FROM: [f64; 2] = [0.5, 3.069];
 const POT_RED: [f64; 2] = [0.3, 3.269];
 
+/// Whether a shot is due with the cue ball in hand in the D.
+fn in_hand_in_the_d(g: &Game) -> bool {
+    matches!(
+        g.phase(),
+        Phase::Shooting {
+            in_hand: Some(InHand::D),
+            ..
+        }
+    )
+}
+
+/// A soft stroke across the table from the cue ball at `[0.889, 1.0]`, clear of every ball
+/// the tests put beside it: a foul and a miss.
+fn miss() -> Command {
+    shot_dir([1.0, 0.0], 0.3, [0.0, 0.0])
+}
+
 fn pot_red_game() -> Game {
     position(&[
         (CUE, POT_FROM),
@@ -92,13 +109,7 @@ fn the_frame_is_racked_with_the_colours_on_their_spots_and_the_cue_ball_in_hand_
         assert_eq!(g.balls()[usize::from(c)].pos, spot(c));
     }
     assert_eq!(frame::reds_left(g.balls()), 15);
-    assert!(matches!(
-        g.phase(),
-        Phase::Shooting {
-            in_hand: Some(InHand::D),
-            ..
-        }
-    ));
+    assert!(in_hand_in_the_d(&g));
     assert!(in_d(g.balls()[0].pos));
     let six = Game::new(
         Variant::Snooker {
@@ -269,9 +280,7 @@ fn a_foul_when_the_striker_needs_snookers_is_no_miss() {
 #[test]
 fn hitting_no_ball_is_a_foul_of_four_and_the_offender_may_be_made_to_play_again() {
     let mut g = position(&[(CUE, [0.889, 1.0]), (1, [0.3, 3.0])]);
-    let v = g
-        .apply(Seat::A, &shot_dir([1.0, 0.0], 0.3, [0.0, 0.0]))
-        .expect("shot");
+    let v = g.apply(Seat::A, &miss()).expect("shot");
     assert_eq!(
         v.reasons[0],
         "Foul and a miss: the cue ball hit no ball, 4 to Player B"
@@ -300,13 +309,7 @@ fn an_in_off_is_a_foul_and_the_next_player_has_the_cue_ball_in_hand_in_the_d() {
     assert_eq!(v.reasons[1], "Also: in-off: the cue ball was potted");
     g.apply(Seat::B, &Command::Decide(Choice::AcceptTable))
         .expect("plays on");
-    assert!(matches!(
-        g.phase(),
-        Phase::Shooting {
-            in_hand: Some(InHand::D),
-            ..
-        }
-    ));
+    assert!(in_hand_in_the_d(&g));
 }
 
 #[test]
@@ -327,9 +330,7 @@ fn a_foul_after_a_red_before_nominating_costs_seven() {
     let mut g = position(&[(CUE, [0.889, 1.0]), (YELLOW, [0.889, 1.6]), (1, [0.3, 3.0])]);
     g.snooker.as_mut().expect("snooker").on_colour = true;
     // Hits no ball: a foul of the ball on's value, 7 as nothing was nominated.
-    let v = g
-        .apply(Seat::A, &shot_dir([1.0, 0.0], 0.3, [0.0, 0.0]))
-        .expect("shot");
+    let v = g.apply(Seat::A, &miss()).expect("shot");
     assert_eq!(
         v.reasons[0],
         "Foul and a miss: the cue ball hit no ball before a colour was nominated, 7 to Player B"
@@ -598,13 +599,7 @@ fn scores_tied_after_the_last_black_re_spot_the_black_and_the_next_score_decides
         .iter()
         .any(|r| r.starts_with("Scores level at 37: the black is re-spotted")));
     assert_eq!(g.balls()[usize::from(BLACK)].pos, spot(BLACK));
-    assert!(matches!(
-        g.phase(),
-        Phase::Shooting {
-            in_hand: Some(InHand::D),
-            ..
-        }
-    ));
+    assert!(in_hand_in_the_d(&g));
     // The player drawn misses everything: the foul decides the frame.
     let seat = g.to_move();
     g.apply(seat, &Command::PlaceCueBall { pos: [0.889, 0.6] })
@@ -729,11 +724,5 @@ fn a_cue_ball_jumped_off_the_table_is_a_foul_and_the_next_player_has_it_in_hand(
     );
     g.apply(Seat::B, &Command::Decide(Choice::AcceptTable))
         .expect("plays on");
-    assert!(matches!(
-        g.phase(),
-        Phase::Shooting {
-            in_hand: Some(InHand::D),
-            ..
-        }
-    ));
+    assert!(in_hand_in_the_d(&g));
 }
