@@ -698,3 +698,142 @@ fn a_host_restarted_on_its_data_says_game_resumed() {
         "the restarted host did not say Game resumed: {said:?}"
     );
 }
+
+/// The three window sizes the layout is made for: small, common and tall.
+const SIZES: [(u32, u32); 3] = [(640, 480), (1280, 720), (720, 1280)];
+
+/// Ann hosts and Ben joins, each in a real window of `size`, reporting what it shows; once
+/// both are seated. The windows are told apart by the order they open.
+fn ann_and_ben(
+    display: &Display,
+    dir: &Path,
+    (w, h): (u32, u32),
+) -> [(common::reported::Reported, String); 2] {
+    use common::reported::Reported;
+    let size = format!("{w}x{h}");
+    let window = |name: &str, sub: &[&str]| {
+        let mut command = Command::new(BREAKSHOT);
+        display
+            .on(&mut command)
+            .args(sub)
+            .args(["--name", name, "--size", &size, "--data"])
+            .arg(dir.join(name));
+        command
+    };
+    let (ann, invite) = Reported::host(&mut window("ann", &["host", "--bind", "127.0.0.1:0"]));
+    let ann_wid = display.new_window(&[]);
+    let ben = Reported::start(&mut window("ben", &["join", &invite.to_string()]));
+    let ben_wid = display.new_window(std::slice::from_ref(&ann_wid));
+    // Beside Ann's window, or under it, so hers is seen whole (ImageMagick grabs what the
+    // screen shows).
+    let (x, y) = if w <= 640 {
+        (w + 10, 0)
+    } else if h <= 720 {
+        (0, h)
+    } else {
+        (w, 0)
+    };
+    display.xdotool(&["windowmove", &ben_wid, &x.to_string(), &y.to_string()]);
+    for (who, window) in [("ann", &ann), ("ben", &ben)] {
+        window.wait_for(0, Duration::from_secs(60), &format!("{who} seated"), |l| {
+            l.starts_with("game playing")
+        });
+    }
+    [(ann, ann_wid), (ben, ben_wid)]
+}
+
+/// Presses `keys` in window `wid`, one after the other.
+fn keys(display: &Display, wid: &str, keys: &[&str]) {
+    for key in keys {
+        std::thread::sleep(Duration::from_millis(300));
+        display.xdotool(&["key", "--window", wid, key]);
+    }
+}
+
+/// The points of `r` in `pic` lit light grey (the letters' cores; their edges are blended
+/// with the dark box).
+fn grey_in(pic: &Picture, r: Rect) -> usize {
+    (0..r.w as u32)
+        .flat_map(|x| (0..r.h as u32).map(move |y| (x, y)))
+        .map(|(x, y)| pic.at(r.x + x as f32, r.y + y as f32))
+        .filter(|p| {
+            let (lo, hi) = (p.iter().min(), p.iter().max());
+            matches!((lo, hi), (Some(&lo), Some(&hi)) if lo > 120 && hi - lo < 25)
+        })
+        .count()
+}
+
+/// The size, in pixels, of the largest font at which `line` fits `r` in a window `height`
+/// high, at most `max` (as `ui/draw.rs` fits a line to its box).
+fn fitting_px(line: &str, r: Rect, max: f32, height: f32) -> f32 {
+    use breakshot_client::view::text;
+    let scale = text::scale(height);
+    let size = max.min(r.h / scale);
+    let wide = text::width(line, size, height);
+    size.min(size * r.w / wide.max(1.0)) * scale
+}
+
+/// After a game ends (Ann concedes), R in Ann's window says whom the rematch waits for, in
+/// words that fit the line under the result; Ben's R then starts the next game in both
+/// windows. At each of the three window sizes.
+#[test]
+fn a_rematch_asked_for_says_whom_it_waits_for_until_the_other_accepts() {
+    let Some(display) = Display::start() else {
+        return;
+    };
+    for (w, h) in SIZES {
+        let dir = breakshot_testkit::scratch("friends-rematch");
+        let [(ann, ann_wid), (ben, ben_wid)] = ann_and_ben(&display, dir.path(), (w, h));
+        let limit = Duration::from_secs(30);
+        // Escape asks whether to leave; C concedes.
+        keys(&display, &ann_wid, &["Escape", "c"]);
+        let mut over = [0; 2];
+        for (k, (who, window)) in [("ann", &ann), ("ben", &ben)].into_iter().enumerate() {
+            over[k] = window
+                .wait_for(0, limit, &format!("{w}x{h}: {who}'s game over"), |l| {
+                    l.starts_with("game over")
+                })
+                .0;
+        }
+        keys(&display, &ann_wid, &["r"]);
+        let (_, line) = ann.wait_for(over[0], limit, "the rematch asked", |l| {
+            l.starts_with("after the game Rematch")
+        });
+        let line = line.strip_prefix("after the game ").expect("matched above");
+        assert_eq!(
+            line, "Rematch asked: waiting for ben to accept  -  Esc: menu",
+            "{w}x{h}"
+        );
+        let rack = eight_ball(Settings::online(), 0);
+        let layout = Layout::new(w as f32, h as f32, Frame::new(rack.table(), rack.balls()));
+        let row = layout.banner_rows()[2];
+        // Drawn at 20 (`ui/game.rs`), shrunk to fit the row if need be: still readable.
+        let px = fitting_px(line, row, 20.0, h as f32);
+        eprintln!("{w}x{h}: the rematch line fits {row:?} at {px:.1} px");
+        assert!(
+            px >= 12.0,
+            "{w}x{h}: the rematch line fits only at {px:.1} px"
+        );
+        // And the window draws its line there: light grey letters in the row.
+        let pic = until_shown(
+            &display,
+            &ann_wid,
+            &dir.path().join("asked.png"),
+            limit,
+            "the rematch line",
+            |p| grey_in(p, row) > 30,
+        );
+        assert_eq!((pic.width, pic.height), (w, h));
+
+        keys(&display, &ben_wid, &["r"]);
+        for (k, (who, window)) in [("ann", &ann), ("ben", &ben)].into_iter().enumerate() {
+            window.wait_for(
+                over[k],
+                limit,
+                &format!("{w}x{h}: {who}'s next game"),
+                |l| l.starts_with("game playing"),
+            );
+        }
+        drop((ben, ann));
+    }
+}

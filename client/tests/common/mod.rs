@@ -29,4 +29,5 @@ pub fn bots_game(server: &EmbeddedServer) -> RoomCode {
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     report.games[0].room.clone().expect("the bots' room")
 }
+pub mod reported;
 pub mod screen;
