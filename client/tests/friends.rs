@@ -742,11 +742,24 @@ fn ann_and_ben(
     [(ann, ann_wid), (ben, ben_wid)]
 }
 
-/// Presses `keys` in window `wid`, one after the other.
+/// Presses `keys` in window `wid`, one after the other. A chord ("ctrl+v") is pressed as a
+/// keyboard does (XTEST, to the window under the pointer): sent to a window instead, its
+/// Control reaches the window as no key held and its V as the letter typed.
 fn keys(display: &Display, wid: &str, keys: &[&str]) {
     for key in keys {
         std::thread::sleep(Duration::from_millis(300));
-        display.xdotool(&["key", "--window", wid, key]);
+        if key.contains('+') {
+            display.xdotool(&["mousemove", "--window", wid, "20", "20"]);
+            std::thread::sleep(Duration::from_millis(200));
+            let (held, key) = key.split_once('+').expect("a chord");
+            display.xdotool(&["keydown", held]);
+            std::thread::sleep(Duration::from_millis(200));
+            display.xdotool(&["key", key]);
+            std::thread::sleep(Duration::from_millis(200));
+            display.xdotool(&["keyup", held]);
+        } else {
+            display.xdotool(&["key", "--window", wid, key]);
+        }
     }
 }
 
@@ -836,4 +849,70 @@ fn a_rematch_asked_for_says_whom_it_waits_for_until_the_other_accepts() {
         }
         drop((ben, ann));
     }
+}
+
+/// Ctrl+V types the clipboard's text in the chat line (T opens it) of a game, and in the
+/// replay page's invite line, in real windows; each says what was sent or listed.
+#[test]
+fn ctrl_v_pastes_the_clipboard_in_the_chat_line_and_the_replay_page_s_invite_line() {
+    use common::reported::Reported;
+    let Some(display) = Display::start() else {
+        return;
+    };
+    let dir = breakshot_testkit::scratch("friends-paste");
+    let limit = Duration::from_secs(30);
+    let chat = dir.path().join("chat.txt");
+    std::fs::write(&chat, "good shot, ann\nnot this line\n").expect("written");
+    let Some(clipboard) = display.clipboard(&chat) else {
+        return;
+    };
+    // Ann hosts against the computer: a game with a chat line.
+    let (ann, invite) = Reported::host(
+        display
+            .on(&mut Command::new(BREAKSHOT))
+            .args([
+                "host",
+                "--computer",
+                "--level",
+                "1",
+                "--bind",
+                "127.0.0.1:0",
+            ])
+            .args(["--size", "1280x720", "--data"])
+            .arg(dir.path().join("ann")),
+    );
+    let wid = display.new_window(&[]);
+    ann.wait_for(0, Duration::from_secs(60), "the game", |l| {
+        l.starts_with("game playing")
+    });
+    keys(&display, &wid, &["t", "ctrl+v", "Return"]);
+    // Its first line only.
+    ann.wait_for(0, limit, "the pasted chat line", |l| {
+        l == "chat sent good shot, ann"
+    });
+    drop(ann);
+    drop(clipboard);
+
+    // The replay page opened from the menu, its line empty (the clipboard holds no invite
+    // then); the game's invite copied, then pasted and listed with Enter.
+    let menu = Reported::start(
+        display
+            .on(&mut Command::new(BREAKSHOT))
+            .args(["--size", "1280x720", "--data"])
+            .arg(dir.path().join("menu")),
+    );
+    let wid = display.new_window(&[]);
+    std::thread::sleep(Duration::from_secs(1));
+    let buttons = menu_buttons(1280.0, 720.0, MENU_BUTTONS);
+    click(&display, &wid, middle(&buttons[WATCH_A_REPLAY]));
+    std::thread::sleep(Duration::from_secs(1));
+    let copied = dir.path().join("invite.txt");
+    std::fs::write(&copied, format!("  {invite}\n")).expect("written");
+    let Some(clipboard) = display.clipboard(&copied) else {
+        return;
+    };
+    keys(&display, &wid, &["ctrl+v", "Return"]);
+    let want = format!("replays list {invite}");
+    menu.wait_for(0, limit, "the pasted invite listed", |l| l == want);
+    drop((menu, clipboard));
 }

@@ -99,6 +99,26 @@ impl Display {
         }
     }
 
+    /// The clipboard here holding the text of file `text`, for as long as the returned
+    /// process runs (`xclip` serves it in the foreground and is stopped when dropped, so
+    /// none is left behind); None, with the reason printed, when xclip is not installed.
+    pub fn clipboard(&self, text: &Path) -> Option<Spawned> {
+        if find_in_path("xclip").is_none() {
+            eprintln!("skipped: xclip is not installed (apt-get install xclip)");
+            return None;
+        }
+        let xclip = Spawned::start(
+            self.on(&mut Command::new("xclip"))
+                .args(["-selection", "clipboard", "-quiet"])
+                .arg(text)
+                .stdout(Stdio::null())
+                .stderr(Stdio::null()),
+        );
+        // It owns the selection once it has started.
+        std::thread::sleep(Duration::from_millis(500));
+        Some(xclip)
+    }
+
     /// What window `wid` shows now, saved to `out`.
     pub fn grab(&self, wid: &str, out: &Path) -> Picture {
         let run = breakshot_testkit::run(
