@@ -11,10 +11,9 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use breakshot_client::net::{Client, ClientEvent, Reconnect};
 use breakshot_client::view::palette::{CLOTH, CUE_WOOD};
 use breakshot_client::view::{area, menu_buttons, replay_page, Frame, Layout, Rect};
-use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, RoomCode, ServerMessage};
+use breakshot_shared::protocol::{ClientMessage, Invite, RoomCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{EightBallRules, Game, Settings, Variant};
 use breakshot_testkit::Spawned;
@@ -24,6 +23,7 @@ mod common;
 #[path = "friends/display.rs"]
 mod display;
 
+use common::{next, within};
 use display::{balls_not_seen, close, Display, Picture};
 
 const BREAKSHOT: &str = env!("CARGO_BIN_EXE_breakshot");
@@ -94,12 +94,8 @@ fn in_a_small_window_the_computer_thinks_under_the_trays_and_the_rack_stays_in_v
         None,
         Duration::from_secs(120),
     );
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    let pic = Picture::read(&out);
+    common::screen::assert_ran(&run);
+    let pic = Picture::load(&out);
     assert_eq!((pic.width, pic.height), (640, 480));
     let rack = eight_ball(Settings::offline(), 4);
     let layout = Layout::new(640.0, 480.0, Frame::new(rack.table(), rack.balls()));
@@ -138,63 +134,12 @@ fn in_a_small_window_the_computer_thinks_under_the_trays_and_the_rack_stays_in_v
     assert!(white > 40, "{white} white points: no thinking line");
 }
 
-/// The next message `client` receives for which `want` holds.
-async fn next(client: &mut Client, want: impl Fn(&ServerMessage) -> bool) -> ServerMessage {
-    loop {
-        if let ClientEvent::Message(m) = client.recv().await.expect("a message") {
-            if want(&m) {
-                return m;
-            }
-        }
-    }
-}
-
-/// `f` on `runtime`, failing the test if it takes more than a minute.
-fn within<T>(
-    runtime: &tokio::runtime::Runtime,
-    what: &str,
-    f: impl std::future::Future<Output = T>,
-) -> T {
-    runtime
-        .block_on(async { tokio::time::timeout(Duration::from_secs(60), f).await })
-        .unwrap_or_else(|_| panic!("{what} did not happen within a minute"))
-}
-
 /// Alice and Bob play two games in one room on the server of `invite`: the first ends at
 /// once (Alice concedes), then both ask for a rematch. The room and the two games' seeds.
 async fn two_games(invite: &Invite) -> (RoomCode, [u64; 2]) {
-    let mut alice = Client::connect(invite.clone(), Reconnect::never())
-        .await
-        .expect("connected");
-    alice
-        .send(&ClientMessage::CreateRoom {
-            variant: Variant::EightBall(EightBallRules::Wpa),
-            mode: Settings::online(),
-            aim_aid: AimAid::Full,
-            name: "alice".into(),
-        })
-        .await
-        .expect("sent");
-    let ServerMessage::Joined { snapshot, .. } =
-        next(&mut alice, |m| matches!(m, ServerMessage::Joined { .. })).await
-    else {
-        unreachable!("matched above")
-    };
+    let (mut alice, snapshot) = common::opened_room(invite, "alice").await;
     let room = snapshot.room.clone();
-    let mut bob = Client::connect(invite.clone(), Reconnect::never())
-        .await
-        .expect("connected");
-    bob.send(&ClientMessage::Join {
-        room: room.clone(),
-        name: "bob".into(),
-    })
-    .await
-    .expect("sent");
-    let ServerMessage::Joined { snapshot, .. } =
-        next(&mut bob, |m| matches!(m, ServerMessage::Joined { .. })).await
-    else {
-        unreachable!("matched above")
-    };
+    let (mut bob, snapshot) = common::joined_room(invite, &room, "bob").await;
     let first = snapshot.game.seed();
     alice.send(&ClientMessage::Concede).await.expect("sent");
     for p in [&mut alice, &mut bob] {
@@ -608,17 +553,8 @@ fn a_host_restarted_on_its_data_says_game_resumed() {
     let wid = display.new_window(&[]);
     let runtime = tokio::runtime::Runtime::new().expect("a runtime");
     let mut bob = within(&runtime, "Bob's seat", async {
-        let mut bob = Client::connect(invite.clone(), Reconnect::never())
-            .await
-            .expect("connected");
-        bob.send(&ClientMessage::Join {
-            room: invite.room.clone().expect("the invite's room"),
-            name: "bob".into(),
-        })
-        .await
-        .expect("sent");
-        next(&mut bob, |m| matches!(m, ServerMessage::Joined { .. })).await;
-        bob
+        let room = invite.room.clone().expect("the invite's room");
+        common::joined_room(&invite, &room, "bob").await.0
     });
     let rack = eight_ball(Settings::online(), 0);
     let layout = Layout::new(1280.0, 720.0, Frame::new(rack.table(), rack.balls()));
@@ -798,8 +734,11 @@ fn a_rematch_asked_for_says_whom_it_waits_for_until_the_other_accepts() {
         let dir = breakshot_testkit::scratch("friends-rematch");
         let [(ann, ann_wid), (ben, ben_wid)] = ann_and_ben(&display, dir.path(), (w, h));
         let limit = Duration::from_secs(30);
-        // Escape asks whether to leave; C concedes.
-        keys(&display, &ann_wid, &["Escape", "c"]);
+        // Escape asks whether to leave; C concedes, once the question is up (a loaded
+        // machine may take a while to draw the frame that asks it).
+        keys(&display, &ann_wid, &["Escape"]);
+        std::thread::sleep(Duration::from_millis(1500));
+        keys(&display, &ann_wid, &["c"]);
         let mut over = [0; 2];
         for (k, (who, window)) in [("ann", &ann), ("ben", &ben)].into_iter().enumerate() {
             over[k] = window
@@ -827,13 +766,15 @@ fn a_rematch_asked_for_says_whom_it_waits_for_until_the_other_accepts() {
             px >= 12.0,
             "{w}x{h}: the rematch line fits only at {px:.1} px"
         );
-        // And the window draws its line there: light grey letters in the row.
+        // And the window draws its line there: light grey letters in the row (her window
+        // raised, in case Ben's still lies over it: ImageMagick grabs what the screen shows).
+        display.xdotool(&["windowraise", &ann_wid]);
         let pic = until_shown(
             &display,
             &ann_wid,
             &dir.path().join("asked.png"),
             limit,
-            "the rematch line",
+            &format!("{w}x{h}: the rematch line"),
             |p| grey_in(p, row) > 30,
         );
         assert_eq!((pic.width, pic.height), (w, h));
@@ -870,16 +811,10 @@ fn ctrl_v_pastes_the_clipboard_in_the_chat_line_and_the_replay_page_s_invite_lin
     let (ann, invite) = Reported::host(
         display
             .on(&mut Command::new(BREAKSHOT))
-            .args([
-                "host",
-                "--computer",
-                "--level",
-                "1",
-                "--bind",
-                "127.0.0.1:0",
-            ])
-            .args(["--size", "1280x720", "--data"])
-            .arg(dir.path().join("ann")),
+            .args(common::screen::hosting_the_computer(
+                &dir.path().join("ann"),
+            ))
+            .args(["--size", "1280x720"]),
     );
     let wid = display.new_window(&[]);
     ann.wait_for(0, Duration::from_secs(60), "the game", |l| {
