@@ -26,7 +26,7 @@ use glam::{DVec2, DVec3};
 mod common;
 
 use common::screen::{
-    assert_ran, close, find_in_path, hosting_the_computer, shaded, xvfb_run, Picture,
+    assert_ran, close, find_in_path, hosting_the_computer, reports, shaded, xvfb_run, Picture,
 };
 #[cfg(feature = "host")]
 use common::{next, within};
@@ -1125,48 +1125,17 @@ fn played(args: &[&OsStr], out: &Path, frames: u32, keys: &[&str]) -> Option<Out
     played_sized(args, out, frames, keys, (1280, 720))
 }
 
-/// [`played`] in a window of `size`.
+/// [`played`] in a window of `size`, with a fresh data directory.
 fn played_sized(
     args: &[&OsStr],
     out: &Path,
     frames: u32,
     keys: &[&str],
-    (w, h): (u32, u32),
+    size: (u32, u32),
 ) -> Option<Output> {
-    let (Some(xvfb), Some(_)) = (find_in_path("xvfb-run"), find_in_path("xdotool")) else {
-        eprintln!("skipped: needs xvfb-run and xdotool (apt-get install xvfb xdotool)");
-        return None;
-    };
-    let mut script = format!(
-        "\"$0\" \"$@\" --screenshot \"{}\" --frames {frames} --size {w}x{h} &\n\
-         pid=$!\nwid=$(xdotool search --sync --name Breakshot | head -n 1)\n",
-        out.display()
-    );
-    for key in keys {
-        script.push_str(&format!("sleep 0.3\nxdotool {key}\n"));
-    }
-    script.push_str("wait $pid\n");
     let data = breakshot_testkit::scratch("window-data");
-    Some(breakshot_testkit::run(
-        Process::new(xvfb)
-            .env("BREAKSHOT_DATA", data.path())
-            // The window tells standard error what it did ("report: ..." lines).
-            .env("BREAKSHOT_REPORT", "1")
-            .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
-            .arg(env!("CARGO_BIN_EXE_breakshot"))
-            .args(args),
-        None,
-        Duration::from_secs(120),
-    ))
-}
-
-/// The lines the window reported on standard error.
-fn reports(run: &Output) -> Vec<String> {
-    String::from_utf8_lossy(&run.stderr)
-        .lines()
-        .filter_map(|l| l.strip_prefix("report: "))
-        .map(String::from)
-        .collect()
+    let patience = Duration::from_secs(120);
+    common::screen::played(args, out, frames, keys, size, data.path(), patience)
 }
 
 #[cfg(feature = "host")]

@@ -4,6 +4,7 @@
 #[cfg(feature = "host")]
 mod served;
 #[cfg(feature = "host")]
+#[allow(unused_imports)] // not every test file uses the server
 pub use served::*;
 
 pub mod reported;

@@ -71,6 +71,54 @@ pub fn window_sized(
     ))
 }
 
+/// Runs `breakshot ARGS --screenshot OUT --frames FRAMES` in a window of `size` under a
+/// virtual display while `xdotool` plays `keys` on it (one xdotool command a line, `$wid`
+/// the window, a short pause before each), its data in `data`; None if xvfb-run or xdotool
+/// is missing (the reason is printed). Fails the test if it has not ended within `patience`.
+pub fn played(
+    args: &[&OsStr],
+    out: &Path,
+    frames: u32,
+    keys: &[&str],
+    (w, h): (u32, u32),
+    data: &Path,
+    patience: Duration,
+) -> Option<Output> {
+    let (Some(xvfb), Some(_)) = (find_in_path("xvfb-run"), find_in_path("xdotool")) else {
+        eprintln!("skipped: needs xvfb-run and xdotool (apt-get install xvfb xdotool)");
+        return None;
+    };
+    let mut script = format!(
+        "\"$0\" \"$@\" --screenshot \"{}\" --frames {frames} --size {w}x{h} &\n\
+         pid=$!\nwid=$(xdotool search --sync --name Breakshot | head -n 1)\n",
+        out.display()
+    );
+    for key in keys {
+        script.push_str(&format!("sleep 0.3\nxdotool {key}\n"));
+    }
+    script.push_str("wait $pid\n");
+    Some(breakshot_testkit::run(
+        Process::new(xvfb)
+            .env("BREAKSHOT_DATA", data)
+            // The window tells standard error what it did ("report: ..." lines).
+            .env("BREAKSHOT_REPORT", "1")
+            .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
+            .arg(env!("CARGO_BIN_EXE_breakshot"))
+            .args(args),
+        None,
+        patience,
+    ))
+}
+
+/// The lines a window that has ended reported on standard error.
+pub fn reports(run: &Output) -> Vec<String> {
+    String::from_utf8_lossy(&run.stderr)
+        .lines()
+        .filter_map(|l| l.strip_prefix("report: "))
+        .map(String::from)
+        .collect()
+}
+
 /// `breakshot host` against the computer at level 1 on a free loopback port, its data in
 /// `data`: a real server and a game that starts at once.
 pub fn hosting_the_computer(data: &Path) -> Vec<std::ffi::OsString> {
