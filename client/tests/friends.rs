@@ -11,10 +11,9 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use breakshot_client::net::{Client, ClientEvent, Reconnect};
 use breakshot_client::view::palette::{CLOTH, CUE_WOOD};
 use breakshot_client::view::{area, menu_buttons, replay_page, Frame, Layout, Rect};
-use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, RoomCode, ServerMessage};
+use breakshot_shared::protocol::{ClientMessage, Invite, RoomCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{EightBallRules, Game, Settings, Variant};
 use breakshot_testkit::Spawned;
@@ -24,6 +23,7 @@ mod common;
 #[path = "friends/display.rs"]
 mod display;
 
+use common::{next, within};
 use display::{balls_not_seen, close, Display, Picture};
 
 const BREAKSHOT: &str = env!("CARGO_BIN_EXE_breakshot");
@@ -94,12 +94,8 @@ fn in_a_small_window_the_computer_thinks_under_the_trays_and_the_rack_stays_in_v
         None,
         Duration::from_secs(120),
     );
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    let pic = Picture::read(&out);
+    common::screen::assert_ran(&run);
+    let pic = Picture::load(&out);
     assert_eq!((pic.width, pic.height), (640, 480));
     let rack = eight_ball(Settings::offline(), 4);
     let layout = Layout::new(640.0, 480.0, Frame::new(rack.table(), rack.balls()));
@@ -138,63 +134,12 @@ fn in_a_small_window_the_computer_thinks_under_the_trays_and_the_rack_stays_in_v
     assert!(white > 40, "{white} white points: no thinking line");
 }
 
-/// The next message `client` receives for which `want` holds.
-async fn next(client: &mut Client, want: impl Fn(&ServerMessage) -> bool) -> ServerMessage {
-    loop {
-        if let ClientEvent::Message(m) = client.recv().await.expect("a message") {
-            if want(&m) {
-                return m;
-            }
-        }
-    }
-}
-
-/// `f` on `runtime`, failing the test if it takes more than a minute.
-fn within<T>(
-    runtime: &tokio::runtime::Runtime,
-    what: &str,
-    f: impl std::future::Future<Output = T>,
-) -> T {
-    runtime
-        .block_on(async { tokio::time::timeout(Duration::from_secs(60), f).await })
-        .unwrap_or_else(|_| panic!("{what} did not happen within a minute"))
-}
-
 /// Alice and Bob play two games in one room on the server of `invite`: the first ends at
 /// once (Alice concedes), then both ask for a rematch. The room and the two games' seeds.
 async fn two_games(invite: &Invite) -> (RoomCode, [u64; 2]) {
-    let mut alice = Client::connect(invite.clone(), Reconnect::never())
-        .await
-        .expect("connected");
-    alice
-        .send(&ClientMessage::CreateRoom {
-            variant: Variant::EightBall(EightBallRules::Wpa),
-            mode: Settings::online(),
-            aim_aid: AimAid::Full,
-            name: "alice".into(),
-        })
-        .await
-        .expect("sent");
-    let ServerMessage::Joined { snapshot, .. } =
-        next(&mut alice, |m| matches!(m, ServerMessage::Joined { .. })).await
-    else {
-        unreachable!("matched above")
-    };
+    let (mut alice, snapshot) = common::opened_room(invite, "alice").await;
     let room = snapshot.room.clone();
-    let mut bob = Client::connect(invite.clone(), Reconnect::never())
-        .await
-        .expect("connected");
-    bob.send(&ClientMessage::Join {
-        room: room.clone(),
-        name: "bob".into(),
-    })
-    .await
-    .expect("sent");
-    let ServerMessage::Joined { snapshot, .. } =
-        next(&mut bob, |m| matches!(m, ServerMessage::Joined { .. })).await
-    else {
-        unreachable!("matched above")
-    };
+    let (mut bob, snapshot) = common::joined_room(invite, &room, "bob").await;
     let first = snapshot.game.seed();
     alice.send(&ClientMessage::Concede).await.expect("sent");
     for p in [&mut alice, &mut bob] {
@@ -608,17 +553,8 @@ fn a_host_restarted_on_its_data_says_game_resumed() {
     let wid = display.new_window(&[]);
     let runtime = tokio::runtime::Runtime::new().expect("a runtime");
     let mut bob = within(&runtime, "Bob's seat", async {
-        let mut bob = Client::connect(invite.clone(), Reconnect::never())
-            .await
-            .expect("connected");
-        bob.send(&ClientMessage::Join {
-            room: invite.room.clone().expect("the invite's room"),
-            name: "bob".into(),
-        })
-        .await
-        .expect("sent");
-        next(&mut bob, |m| matches!(m, ServerMessage::Joined { .. })).await;
-        bob
+        let room = invite.room.clone().expect("the invite's room");
+        common::joined_room(&invite, &room, "bob").await.0
     });
     let rack = eight_ball(Settings::online(), 0);
     let layout = Layout::new(1280.0, 720.0, Frame::new(rack.table(), rack.balls()));
@@ -697,4 +633,221 @@ fn a_host_restarted_on_its_data_says_game_resumed() {
         said.iter().any(|l| l == "report: message Game resumed"),
         "the restarted host did not say Game resumed: {said:?}"
     );
+}
+
+/// The three window sizes the layout is made for: small, common and tall.
+const SIZES: [(u32, u32); 3] = [(640, 480), (1280, 720), (720, 1280)];
+
+/// Ann hosts and Ben joins, each in a real window of `size`, reporting what it shows; once
+/// both are seated. The windows are told apart by the order they open.
+fn ann_and_ben(
+    display: &Display,
+    dir: &Path,
+    (w, h): (u32, u32),
+) -> [(common::reported::Reported, String); 2] {
+    use common::reported::Reported;
+    let size = format!("{w}x{h}");
+    let window = |name: &str, sub: &[&str]| {
+        let mut command = Command::new(BREAKSHOT);
+        display
+            .on(&mut command)
+            .args(sub)
+            .args(["--name", name, "--size", &size, "--data"])
+            .arg(dir.join(name));
+        command
+    };
+    let (ann, invite) = Reported::host(&mut window("ann", &["host", "--bind", "127.0.0.1:0"]));
+    let ann_wid = display.new_window(&[]);
+    let ben = Reported::start(&mut window("ben", &["join", &invite.to_string()]));
+    let ben_wid = display.new_window(std::slice::from_ref(&ann_wid));
+    // Beside Ann's window, or under it, so hers is seen whole (ImageMagick grabs what the
+    // screen shows).
+    let (x, y) = if w <= 640 {
+        (w + 10, 0)
+    } else if h <= 720 {
+        (0, h)
+    } else {
+        (w, 0)
+    };
+    display.xdotool(&["windowmove", &ben_wid, &x.to_string(), &y.to_string()]);
+    for (who, window) in [("ann", &ann), ("ben", &ben)] {
+        window.wait_for(0, Duration::from_secs(60), &format!("{who} seated"), |l| {
+            l.starts_with("game playing")
+        });
+    }
+    [(ann, ann_wid), (ben, ben_wid)]
+}
+
+/// Presses `keys` in window `wid`, one after the other. A chord ("ctrl+v") is pressed as a
+/// keyboard does (XTEST, to the window under the pointer): sent to a window instead, its
+/// Control reaches the window as no key held and its V as the letter typed.
+fn keys(display: &Display, wid: &str, keys: &[&str]) {
+    for key in keys {
+        std::thread::sleep(Duration::from_millis(300));
+        if key.contains('+') {
+            display.xdotool(&["mousemove", "--window", wid, "20", "20"]);
+            std::thread::sleep(Duration::from_millis(200));
+            let (held, key) = key.split_once('+').expect("a chord");
+            display.xdotool(&["keydown", held]);
+            std::thread::sleep(Duration::from_millis(200));
+            display.xdotool(&["key", key]);
+            std::thread::sleep(Duration::from_millis(200));
+            display.xdotool(&["keyup", held]);
+        } else {
+            display.xdotool(&["key", "--window", wid, key]);
+        }
+    }
+}
+
+/// The points of `r` in `pic` lit light grey (the letters' cores; their edges are blended
+/// with the dark box).
+fn grey_in(pic: &Picture, r: Rect) -> usize {
+    (0..r.w as u32)
+        .flat_map(|x| (0..r.h as u32).map(move |y| (x, y)))
+        .map(|(x, y)| pic.at(r.x + x as f32, r.y + y as f32))
+        .filter(|p| {
+            let (lo, hi) = (p.iter().min(), p.iter().max());
+            matches!((lo, hi), (Some(&lo), Some(&hi)) if lo > 120 && hi - lo < 25)
+        })
+        .count()
+}
+
+/// The size, in pixels, of the largest font at which `line` fits `r` in a window `height`
+/// high, at most `max` (as `ui/draw.rs` fits a line to its box).
+fn fitting_px(line: &str, r: Rect, max: f32, height: f32) -> f32 {
+    use breakshot_client::view::text;
+    let scale = text::scale(height);
+    let size = max.min(r.h / scale);
+    let wide = text::width(line, size, height);
+    size.min(size * r.w / wide.max(1.0)) * scale
+}
+
+/// After a game ends (Ann concedes), R in Ann's window says whom the rematch waits for, in
+/// words that fit the line under the result; Ben's R then starts the next game in both
+/// windows. At each of the three window sizes.
+#[test]
+fn a_rematch_asked_for_says_whom_it_waits_for_until_the_other_accepts() {
+    let Some(display) = Display::start() else {
+        return;
+    };
+    for (w, h) in SIZES {
+        let dir = breakshot_testkit::scratch("friends-rematch");
+        let [(ann, ann_wid), (ben, ben_wid)] = ann_and_ben(&display, dir.path(), (w, h));
+        let limit = Duration::from_secs(30);
+        // Escape asks whether to leave; C concedes, once the question is up (a loaded
+        // machine may take a while to draw the frame that asks it).
+        keys(&display, &ann_wid, &["Escape"]);
+        std::thread::sleep(Duration::from_millis(1500));
+        keys(&display, &ann_wid, &["c"]);
+        let mut over = [0; 2];
+        for (k, (who, window)) in [("ann", &ann), ("ben", &ben)].into_iter().enumerate() {
+            over[k] = window
+                .wait_for(0, limit, &format!("{w}x{h}: {who}'s game over"), |l| {
+                    l.starts_with("game over")
+                })
+                .0;
+        }
+        keys(&display, &ann_wid, &["r"]);
+        let (_, line) = ann.wait_for(over[0], limit, "the rematch asked", |l| {
+            l.starts_with("after the game Rematch")
+        });
+        let line = line.strip_prefix("after the game ").expect("matched above");
+        assert_eq!(
+            line, "Rematch asked: waiting for ben to accept  -  Esc: menu",
+            "{w}x{h}"
+        );
+        let rack = eight_ball(Settings::online(), 0);
+        let layout = Layout::new(w as f32, h as f32, Frame::new(rack.table(), rack.balls()));
+        let row = layout.banner_rows()[2];
+        // Drawn at 20 (`ui/game.rs`), shrunk to fit the row if need be: still readable.
+        let px = fitting_px(line, row, 20.0, h as f32);
+        eprintln!("{w}x{h}: the rematch line fits {row:?} at {px:.1} px");
+        assert!(
+            px >= 12.0,
+            "{w}x{h}: the rematch line fits only at {px:.1} px"
+        );
+        // And the window draws its line there: light grey letters in the row (her window
+        // raised, in case Ben's still lies over it: ImageMagick grabs what the screen shows).
+        display.xdotool(&["windowraise", &ann_wid]);
+        let pic = until_shown(
+            &display,
+            &ann_wid,
+            &dir.path().join("asked.png"),
+            limit,
+            &format!("{w}x{h}: the rematch line"),
+            |p| grey_in(p, row) > 30,
+        );
+        assert_eq!((pic.width, pic.height), (w, h));
+
+        keys(&display, &ben_wid, &["r"]);
+        for (k, (who, window)) in [("ann", &ann), ("ben", &ben)].into_iter().enumerate() {
+            window.wait_for(
+                over[k],
+                limit,
+                &format!("{w}x{h}: {who}'s next game"),
+                |l| l.starts_with("game playing"),
+            );
+        }
+        drop((ben, ann));
+    }
+}
+
+/// Ctrl+V types the clipboard's text in the chat line (T opens it) of a game, and in the
+/// replay page's invite line, in real windows; each says what was sent or listed.
+#[test]
+fn ctrl_v_pastes_the_clipboard_in_the_chat_line_and_the_replay_page_s_invite_line() {
+    use common::reported::Reported;
+    let Some(display) = Display::start() else {
+        return;
+    };
+    let dir = breakshot_testkit::scratch("friends-paste");
+    let limit = Duration::from_secs(30);
+    let chat = dir.path().join("chat.txt");
+    std::fs::write(&chat, "good shot, ann\nnot this line\n").expect("written");
+    let Some(clipboard) = display.clipboard(&chat) else {
+        return;
+    };
+    // Ann hosts against the computer: a game with a chat line.
+    let (ann, invite) = Reported::host(
+        display
+            .on(&mut Command::new(BREAKSHOT))
+            .args(common::screen::hosting_the_computer(
+                &dir.path().join("ann"),
+            ))
+            .args(["--size", "1280x720"]),
+    );
+    let wid = display.new_window(&[]);
+    ann.wait_for(0, Duration::from_secs(60), "the game", |l| {
+        l.starts_with("game playing")
+    });
+    keys(&display, &wid, &["t", "ctrl+v", "Return"]);
+    // Its first line only.
+    ann.wait_for(0, limit, "the pasted chat line", |l| {
+        l == "chat sent good shot, ann"
+    });
+    drop(ann);
+    drop(clipboard);
+
+    // The replay page opened from the menu, its line empty (the clipboard holds no invite
+    // then); the game's invite copied, then pasted and listed with Enter.
+    let menu = Reported::start(
+        display
+            .on(&mut Command::new(BREAKSHOT))
+            .args(["--size", "1280x720", "--data"])
+            .arg(dir.path().join("menu")),
+    );
+    let wid = display.new_window(&[]);
+    std::thread::sleep(Duration::from_secs(1));
+    let buttons = menu_buttons(1280.0, 720.0, MENU_BUTTONS);
+    click(&display, &wid, middle(&buttons[WATCH_A_REPLAY]));
+    std::thread::sleep(Duration::from_secs(1));
+    let copied = dir.path().join("invite.txt");
+    std::fs::write(&copied, format!("  {invite}\n")).expect("written");
+    let Some(clipboard) = display.clipboard(&copied) else {
+        return;
+    };
+    keys(&display, &wid, &["ctrl+v", "Return"]);
+    let want = format!("replays list {invite}");
+    menu.wait_for(0, limit, "the pasted invite listed", |l| l == want);
+    drop((menu, clipboard));
 }

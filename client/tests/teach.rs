@@ -5,7 +5,7 @@
 //! Needs `xvfb-run` and `xdotool`; without them a test says why and passes.
 
 use std::ffi::OsStr;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command as Process, Output};
 use std::time::Duration;
 
@@ -13,18 +13,15 @@ use breakshot_shared::hash::{hash_hex, state_hash};
 use breakshot_shared::rules::Game;
 use breakshot_shared::scene::Scene;
 
+mod common;
+
+use common::screen::{assert_ran, reports};
+
 const CUT: &str = include_str!("../scenes/cut-shot.json");
 
-fn find_in_path(name: &str) -> Option<PathBuf> {
-    let path = std::env::var_os("PATH")?;
-    std::env::split_paths(&path)
-        .map(|dir| dir.join(name))
-        .find(|p| p.is_file())
-}
-
-/// Runs `breakshot ARGS --screenshot OUT --frames FRAMES` under a virtual display while
-/// `xdotool` plays `keys` on its window (one xdotool command a line, `$wid` the window, a
-/// short pause before each); None if xvfb-run or xdotool is missing (the reason is printed).
+/// Runs `breakshot ARGS --screenshot OUT --frames FRAMES` at 1280x720 under a virtual
+/// display while `xdotool` plays `keys` on its window (see [`common::screen::played`]), with
+/// a fresh data directory; None if xvfb-run or xdotool is missing (the reason is printed).
 fn played(args: &[&OsStr], out: &Path, frames: u32, keys: &[&str]) -> Option<Output> {
     let data = breakshot_testkit::scratch("teach-data");
     played_with(args, out, frames, keys, data.path())
@@ -38,38 +35,8 @@ fn played_with(
     keys: &[&str],
     data: &Path,
 ) -> Option<Output> {
-    let (Some(xvfb), Some(_)) = (find_in_path("xvfb-run"), find_in_path("xdotool")) else {
-        eprintln!("skipped: needs xvfb-run and xdotool (apt-get install xvfb xdotool)");
-        return None;
-    };
-    let mut script = format!(
-        "\"$0\" \"$@\" --screenshot \"{}\" --frames {frames} --size 1280x720 &\n\
-         pid=$!\nwid=$(xdotool search --sync --name Breakshot | head -n 1)\n",
-        out.display()
-    );
-    for key in keys {
-        script.push_str(&format!("sleep 0.3\nxdotool {key}\n"));
-    }
-    script.push_str("wait $pid\n");
-    Some(breakshot_testkit::run(
-        Process::new(xvfb)
-            .env("BREAKSHOT_DATA", data)
-            .env("BREAKSHOT_REPORT", "1")
-            .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
-            .arg(env!("CARGO_BIN_EXE_breakshot"))
-            .args(args),
-        None,
-        Duration::from_secs(300),
-    ))
-}
-
-fn assert_ran(run: &Output) {
-    assert!(
-        run.status.success(),
-        "breakshot exited with {}: {}",
-        run.status,
-        String::from_utf8_lossy(&run.stderr)
-    );
+    let patience = Duration::from_secs(300);
+    common::screen::played(args, out, frames, keys, (1280, 720), data, patience)
 }
 
 /// Where the first report starting with each of `starts` stands; the reports must hold
@@ -85,15 +52,6 @@ fn in_order<const N: usize>(said: &[String], starts: [&str; N]) -> [usize; N] {
         from = at + 1;
         at
     })
-}
-
-/// The lines the window reported on standard error.
-fn reports(run: &Output) -> Vec<String> {
-    String::from_utf8_lossy(&run.stderr)
-        .lines()
-        .filter_map(|l| l.strip_prefix("report: "))
-        .map(String::from)
-        .collect()
 }
 
 /// The hashes of the table at rest, in the order the window reported them.

@@ -4,7 +4,7 @@
 //! Needs `xvfb-run`; without it the test says why and passes (CI installs it).
 
 use std::ffi::OsStr;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command as Process, Output};
 use std::time::Duration;
 
@@ -25,6 +25,12 @@ use glam::{DVec2, DVec3};
 
 mod common;
 
+use common::screen::{
+    assert_ran, close, find_in_path, hosting_the_computer, reports, shaded, xvfb_run, Picture,
+};
+#[cfg(feature = "host")]
+use common::{next, within};
+
 const SCENE: &str = r#"{
   "table": "9ft",
   "balls": [
@@ -38,81 +44,6 @@ const SCENE: &str = r#"{
   ]
 }"#;
 
-fn find_in_path(name: &str) -> Option<PathBuf> {
-    let path = std::env::var_os("PATH")?;
-    std::env::split_paths(&path)
-        .map(|dir| dir.join(name))
-        .find(|p| p.is_file())
-}
-
-/// `xvfb-run`, or None with the reason printed (the test is then skipped).
-fn xvfb_run() -> Option<PathBuf> {
-    let found = find_in_path("xvfb-run");
-    if found.is_none() {
-        eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
-    }
-    found
-}
-
-/// Fails the test unless `breakshot` exited cleanly, showing what it wrote to standard error.
-fn assert_ran(run: &Output) {
-    assert!(
-        run.status.success(),
-        "breakshot exited with {}: {}",
-        run.status,
-        String::from_utf8_lossy(&run.stderr)
-    );
-}
-
-fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
-    let file = std::fs::File::open(path).expect("screenshot written");
-    let decoder = png::Decoder::new(std::io::BufReader::new(file));
-    let mut reader = decoder.read_info().expect("a PNG");
-    let mut buf = vec![0; reader.output_buffer_size()];
-    let info = reader.next_frame(&mut buf).expect("PNG data");
-    assert_eq!(info.color_type, png::ColorType::Rgba);
-    buf.truncate(info.buffer_size());
-    (info.width, info.height, buf)
-}
-
-fn close(a: Rgb, b: Rgb, tolerance: i32) -> bool {
-    a.iter()
-        .zip(b)
-        .all(|(&x, y)| (x as i32 - y as i32).abs() <= tolerance)
-}
-
-/// Whether `got` is `want` lit more or less brightly (a ball is a shaded sphere): the same
-/// colour scaled by one factor in a plausible range, within `tolerance` per channel.
-fn shaded(got: Rgb, want: Rgb, tolerance: f32) -> bool {
-    let dot = |a: Rgb, b: Rgb| {
-        a.iter()
-            .zip(b)
-            .map(|(&x, y)| x as f32 * y as f32)
-            .sum::<f32>()
-    };
-    let k = dot(got, want) / dot(want, want).max(1.0);
-    (0.3..=1.1).contains(&k)
-        && got
-            .iter()
-            .zip(want)
-            .all(|(&x, y)| (x as f32 - k * y as f32).abs() <= tolerance)
-}
-
-/// A screenshot taken by `breakshot ARGS --screenshot` at 1280x720 under a virtual display.
-struct Picture {
-    width: u32,
-    height: u32,
-    pixels: Vec<u8>,
-}
-
-impl Picture {
-    fn at(&self, x: f32, y: f32) -> Rgb {
-        let (x, y) = (x.round() as usize, y.round() as usize);
-        let i = (y * self.width as usize + x) * 4;
-        [self.pixels[i], self.pixels[i + 1], self.pixels[i + 2]]
-    }
-}
-
 /// Runs `breakshot` under a virtual display with `args`, saving its window to `out` after four
 /// frames at 1280x720; None if there is no `xvfb-run` (the reason is printed). Fails the test
 /// if the window has not closed within two minutes.
@@ -125,49 +56,14 @@ fn window_at(args: &[&OsStr], out: &Path, frames: u32) -> Option<Output> {
     window_sized(args, out, frames, (1280, 720))
 }
 
-/// As [`window_at`], in a window of `size` pixels. The window's data directory is a fresh
-/// one (unless `args` give `--data`), so nothing the user chose before (the view, the name)
-/// changes what it shows.
+/// As [`window_at`], in a window of `size` pixels, with a fresh data directory.
 fn window_sized(args: &[&OsStr], out: &Path, frames: u32, size: (u32, u32)) -> Option<Output> {
-    let xvfb = xvfb_run()?;
-    let data = breakshot_testkit::scratch("window-data");
-    Some(breakshot_testkit::run(
-        Process::new(xvfb)
-            .env("BREAKSHOT_DATA", data.path())
-            // The window tells standard error what it did ("report: ..." lines).
-            .env("BREAKSHOT_REPORT", "1")
-            // A host serves no web client here, even where one was built beside the binary.
-            .env("BREAKSHOT_WEB", data.path().join("no-web-client"))
-            // The X authority file in the test's own folder: xvfb-run leaves nothing in /tmp,
-            // even when it is stopped.
-            .args(["-a", "-f"])
-            .arg(out.with_file_name("Xauthority"))
-            .args(["-s", "-screen 0 1280x800x24"])
-            .arg(env!("CARGO_BIN_EXE_breakshot"))
-            .args(args)
-            .arg("--screenshot")
-            .arg(out)
-            .args(["--frames", &frames.to_string()])
-            .arg(format!("--size={}x{}", size.0, size.1)),
-        None,
-        Duration::from_secs(120),
-    ))
+    common::screen::window_sized(args, out, frames, size, Duration::from_secs(120))
 }
 
 /// The screenshot `window` saved, checked to be the size asked for.
 fn picture(out: &Path) -> Picture {
-    picture_sized(out, (1280, 720))
-}
-
-/// The screenshot `window_sized` saved, checked to be `size`.
-fn picture_sized(out: &Path, size: (u32, u32)) -> Picture {
-    let (width, height, pixels) = read_png(out);
-    assert_eq!((width, height), size);
-    Picture {
-        width,
-        height,
-        pixels,
-    }
+    Picture::sized(out, (1280, 720))
 }
 
 /// Runs `breakshot` with `args` and a file `name` holding `contents`; None if there is no
@@ -370,34 +266,6 @@ fn replay_from_a_server_shows_the_fetched_games_table() {
     rack_is_drawn(&pic, &racked);
 }
 
-/// The next message `client` receives for which `want` holds.
-#[cfg(feature = "host")]
-async fn next(
-    client: &mut breakshot_client::net::Client,
-    want: impl Fn(&ServerMessage) -> bool,
-) -> ServerMessage {
-    use breakshot_client::net::ClientEvent;
-    loop {
-        if let ClientEvent::Message(m) = client.recv().await.expect("a message") {
-            if want(&m) {
-                return m;
-            }
-        }
-    }
-}
-
-/// `f` run on `runtime`; fails the test if it takes more than a minute.
-#[cfg(feature = "host")]
-fn within<T>(
-    runtime: &tokio::runtime::Runtime,
-    what: &str,
-    f: impl std::future::Future<Output = T>,
-) -> T {
-    runtime
-        .block_on(async { tokio::time::timeout(Duration::from_secs(60), f).await })
-        .unwrap_or_else(|_| panic!("{what} did not happen within a minute"))
-}
-
 /// `host` opens an online 8-ball room on the server of `invite` and Bob joins it; then Bob's
 /// connection closes and the host is told he left. The host's client, the room and Bob's seat
 /// token.
@@ -406,36 +274,8 @@ async fn left_by_bob(
     invite: &Invite,
     host: &str,
 ) -> (breakshot_client::net::Client, RoomCode, SeatToken) {
-    use breakshot_client::net::{Client, Reconnect};
-    use breakshot_shared::protocol::{AimAid, ClientMessage};
-
-    let mut hosting = Client::connect(invite.clone(), Reconnect::never())
-        .await
-        .expect("connected");
-    hosting
-        .send(&ClientMessage::CreateRoom {
-            variant: Variant::EightBall(EightBallRules::Wpa),
-            mode: Settings::online(),
-            aim_aid: AimAid::Full,
-            name: host.into(),
-        })
-        .await
-        .expect("sent");
-    let ServerMessage::Joined { snapshot, .. } =
-        next(&mut hosting, |m| matches!(m, ServerMessage::Joined { .. })).await
-    else {
-        unreachable!("matched above")
-    };
-    let mut bob = Client::connect(invite.clone(), Reconnect::never())
-        .await
-        .expect("connected");
-    bob.send(&ClientMessage::Join {
-        room: snapshot.room.clone(),
-        name: "bob".into(),
-    })
-    .await
-    .expect("sent");
-    next(&mut bob, |m| matches!(m, ServerMessage::Joined { .. })).await;
+    let (mut hosting, snapshot) = common::opened_room(invite, host).await;
+    let (bob, _) = common::joined_room(invite, &snapshot.room, "bob").await;
     let token = bob.token().expect("Bob's seat token");
     bob.close(Duration::from_millis(100)).await;
     next(&mut hosting, |m| {
@@ -451,9 +291,7 @@ async fn left_by_bob(
 #[test]
 #[cfg(feature = "host")]
 fn a_window_that_ends_is_seen_gone_at_once_not_after_the_idle_timeout() {
-    use breakshot_client::net::{Client, Reconnect};
     use breakshot_shared::protocol::limits::IDLE_TIMEOUT;
-    use breakshot_shared::protocol::{AimAid, ClientMessage};
     use std::time::Instant;
 
     if xvfb_run().is_none() {
@@ -464,23 +302,7 @@ fn a_window_that_ends_is_seen_gone_at_once_not_after_the_idle_timeout() {
     let mut invite = server.loopback_invite();
     let runtime = tokio::runtime::Runtime::new().expect("a runtime");
     let (mut alice, room) = within(&runtime, "the room", async {
-        let mut alice = Client::connect(invite.clone(), Reconnect::never())
-            .await
-            .expect("connected");
-        alice
-            .send(&ClientMessage::CreateRoom {
-                variant: Variant::EightBall(EightBallRules::Wpa),
-                mode: Settings::online(),
-                aim_aid: AimAid::Full,
-                name: "alice".into(),
-            })
-            .await
-            .expect("sent");
-        let ServerMessage::Joined { snapshot, .. } =
-            next(&mut alice, |m| matches!(m, ServerMessage::Joined { .. })).await
-        else {
-            unreachable!("matched above")
-        };
+        let (alice, snapshot) = common::opened_room(&invite, "alice").await;
         (alice, snapshot.room)
     });
     invite.room = Some(room);
@@ -934,7 +756,7 @@ fn the_menu_fits_a_small_window() {
         return;
     };
     assert_ran(&run);
-    let pic = picture_sized(&out, (640, 480));
+    let pic = Picture::sized(&out, (640, 480));
     const FILL: Rgb = [24, 104, 74];
     let buttons = breakshot_client::view::menu_buttons(640.0, 480.0, 10);
     for b in &buttons {
@@ -1027,7 +849,7 @@ fn a_wrong_fingerprint_is_said_in_words_that_fit_the_window() {
     };
     drop(server);
     assert_ran(&run);
-    let pic = picture_sized(&out, (640, 480));
+    let pic = Picture::sized(&out, (640, 480));
     let (width, height) = (pic.width, pic.height);
     // Light text rows under the headline: the reason takes two lines, and no letter touches
     // the window's right edge.
@@ -1303,66 +1125,17 @@ fn played(args: &[&OsStr], out: &Path, frames: u32, keys: &[&str]) -> Option<Out
     played_sized(args, out, frames, keys, (1280, 720))
 }
 
-/// [`played`] in a window of `size`.
+/// [`played`] in a window of `size`, with a fresh data directory.
 fn played_sized(
     args: &[&OsStr],
     out: &Path,
     frames: u32,
     keys: &[&str],
-    (w, h): (u32, u32),
+    size: (u32, u32),
 ) -> Option<Output> {
-    let (Some(xvfb), Some(_)) = (find_in_path("xvfb-run"), find_in_path("xdotool")) else {
-        eprintln!("skipped: needs xvfb-run and xdotool (apt-get install xvfb xdotool)");
-        return None;
-    };
-    let mut script = format!(
-        "\"$0\" \"$@\" --screenshot \"{}\" --frames {frames} --size {w}x{h} &\n\
-         pid=$!\nwid=$(xdotool search --sync --name Breakshot | head -n 1)\n",
-        out.display()
-    );
-    for key in keys {
-        script.push_str(&format!("sleep 0.3\nxdotool {key}\n"));
-    }
-    script.push_str("wait $pid\n");
     let data = breakshot_testkit::scratch("window-data");
-    Some(breakshot_testkit::run(
-        Process::new(xvfb)
-            .env("BREAKSHOT_DATA", data.path())
-            // The window tells standard error what it did ("report: ..." lines).
-            .env("BREAKSHOT_REPORT", "1")
-            .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
-            .arg(env!("CARGO_BIN_EXE_breakshot"))
-            .args(args),
-        None,
-        Duration::from_secs(120),
-    ))
-}
-
-/// `breakshot host` against the computer at level 1 on a free loopback port, its data in
-/// `data`: a real server and a game that starts at once.
-fn hosting_the_computer(data: &Path) -> Vec<std::ffi::OsString> {
-    [
-        "host",
-        "--computer",
-        "--level",
-        "1",
-        "--bind",
-        "127.0.0.1:0",
-        "--data",
-    ]
-    .map(std::ffi::OsString::from)
-    .into_iter()
-    .chain([data.as_os_str().to_owned()])
-    .collect()
-}
-
-/// The lines the window reported on standard error.
-fn reports(run: &Output) -> Vec<String> {
-    String::from_utf8_lossy(&run.stderr)
-        .lines()
-        .filter_map(|l| l.strip_prefix("report: "))
-        .map(String::from)
-        .collect()
+    let patience = Duration::from_secs(120);
+    common::screen::played(args, out, frames, keys, size, data.path(), patience)
 }
 
 #[cfg(feature = "host")]
@@ -1426,7 +1199,7 @@ fn a_game_that_ends_shows_its_banner_off_the_cloth() {
             said.iter().any(|l| l.starts_with("game over")),
             "{size:?}: the game ended: {said:?}"
         );
-        let pic = picture_sized(&out, size);
+        let pic = Picture::sized(&out, size);
         let rack = Game::new(
             Variant::EightBall(EightBallRules::Wpa),
             Settings::online(),
@@ -1740,7 +1513,7 @@ fn in_a_small_window_the_panel_title_fits_and_the_status_line_stays_out_of_the_p
         return;
     };
     assert_ran(&run);
-    let pic = picture_sized(&out, size);
+    let pic = Picture::sized(&out, size);
     let racked = Game::new(
         Variant::EightBall(EightBallRules::Wpa),
         Settings::offline(),

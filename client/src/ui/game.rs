@@ -41,6 +41,8 @@ pub struct GameScreen {
     reported: String,
     /// The last line under the table told to whoever watches ("Game resumed", ...).
     reported_message: String,
+    /// The line under a game's result last reported.
+    reported_after: String,
     /// The invite panel's button pressed last.
     copied: Option<invite::Copied>,
     /// How each ball is turned, for drawing.
@@ -118,6 +120,7 @@ impl GameScreen {
             frame_ms: 0.0,
             reported: String::new(),
             reported_message: String::new(),
+            reported_after: String::new(),
             copied: None,
             turns: Orientations::new(),
             leaving: false,
@@ -754,8 +757,7 @@ impl GameScreen {
         if let Phase::Over { reason, .. } = game.phase() {
             let names = &self.flow.names;
             let banner = hud::game_over_banner(game, self.link.seat(), names).unwrap_or_default();
-            let asked = self.rematch_asked && self.flow.connection != Connection::Offline;
-            let next = hud::after_the_game(self.link.watching(), asked, self.link.seat(), names);
+            let next = self.after_the_game();
             let lines = [
                 (banner, 40.0, YELLOW),
                 (hud::named(reason, names), 22.0, WHITE),
@@ -827,9 +829,21 @@ impl GameScreen {
         }
     }
 
+    /// The line under the result of a game that is over: how to go on, or whom a rematch
+    /// asked for waits for.
+    fn after_the_game(&self) -> String {
+        let asked = self.rematch_asked && self.flow.connection != Connection::Offline;
+        hud::after_the_game(
+            self.link.watching(),
+            asked,
+            self.link.seat(),
+            &self.flow.names,
+        )
+    }
+
     /// Tells whoever watches the page (its tests) how the game stands, when that changed: the
     /// seat, the shots confirmed by the server's hash and the desyncs, and the end; and the
-    /// line under the table when it changes.
+    /// line under the table and the one under a game's result when they change.
     fn report(&mut self) {
         let replica = self.flow.replica();
         let over = match self.flow.game().map(Game::phase) {
@@ -854,6 +868,17 @@ impl GameScreen {
         if line != self.reported {
             super::report(&line);
             self.reported = line;
+        }
+        let after = if over == "over" {
+            self.after_the_game()
+        } else {
+            String::new()
+        };
+        if after != self.reported_after {
+            if !after.is_empty() {
+                super::report(&format!("after the game {after}"));
+            }
+            self.reported_after = after;
         }
         if self.flow.message != self.reported_message {
             self.reported_message = self.flow.message.clone();

@@ -186,8 +186,9 @@ pub fn read(dt: f64, typing: bool) -> InputFrame {
                 .chain(two_tapped.then_some(Key::View))
                 .collect()
         },
+        // The V of a Ctrl+V comes as a letter too on X11: it pasted, it is not typed.
         typed: std::iter::from_fn(get_char_pressed)
-            .filter(|c| !c.is_control())
+            .filter(|&c| !(c.is_control() || control && c.eq_ignore_ascii_case(&'v')))
             .collect(),
         fingers,
         dropped: get_dropped_files()

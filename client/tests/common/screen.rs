@@ -1,5 +1,5 @@
-//! The window under a virtual display, for the window tests of one game (`snooker.rs`): the
-//! `breakshot` binary run under `xvfb-run` with a screenshot, and the picture it saved.
+//! The window under a virtual display: the `breakshot` binary run under `xvfb-run` with a
+//! screenshot, and the picture it saved, read pixel by pixel.
 #![allow(dead_code)]
 
 use std::ffi::OsStr;
@@ -12,12 +12,17 @@ use breakshot_client::view::palette::Rgb;
 /// The window's size in these tests.
 pub const SIZE: (u32, u32) = (1280, 720);
 
+/// The program `name` on the `PATH`, if installed.
+pub fn find_in_path(name: &str) -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path)
+        .map(|dir| dir.join(name))
+        .find(|p| p.is_file())
+}
+
 /// `xvfb-run`, or None with the reason printed (the test is then skipped).
 pub fn xvfb_run() -> Option<PathBuf> {
-    let path = std::env::var_os("PATH")?;
-    let found = std::env::split_paths(&path)
-        .map(|dir| dir.join("xvfb-run"))
-        .find(|p| p.is_file());
+    let found = find_in_path("xvfb-run");
     if found.is_none() {
         eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
     }
@@ -28,12 +33,30 @@ pub fn xvfb_run() -> Option<PathBuf> {
 /// `frames`, with a fresh data directory; None without `xvfb-run`. Fails the test if the
 /// window has not closed within `patience`.
 pub fn window(args: &[&OsStr], out: &Path, frames: u32, patience: Duration) -> Option<Output> {
+    window_sized(args, out, frames, SIZE, patience)
+}
+
+/// As [`window`], in a window of `size` pixels. The window's data directory is a fresh one
+/// (unless `args` give `--data`), so nothing the user chose before (the view, the name)
+/// changes what it shows.
+pub fn window_sized(
+    args: &[&OsStr],
+    out: &Path,
+    frames: u32,
+    (w, h): (u32, u32),
+    patience: Duration,
+) -> Option<Output> {
     let xvfb = xvfb_run()?;
     let data = breakshot_testkit::scratch("window-data");
     Some(breakshot_testkit::run(
         Process::new(xvfb)
             .env("BREAKSHOT_DATA", data.path())
-            // The X authority file in the test's own folder: nothing is left in /tmp.
+            // The window tells standard error what it did ("report: ..." lines).
+            .env("BREAKSHOT_REPORT", "1")
+            // A host serves no web client here, even where one was built beside the binary.
+            .env("BREAKSHOT_WEB", data.path().join("no-web-client"))
+            // The X authority file in the test's own folder: xvfb-run leaves nothing in /tmp,
+            // even when it is stopped.
             .args(["-a", "-f"])
             .arg(out.with_file_name("Xauthority"))
             .args(["-s", "-screen 0 1280x800x24"])
@@ -42,10 +65,76 @@ pub fn window(args: &[&OsStr], out: &Path, frames: u32, patience: Duration) -> O
             .arg("--screenshot")
             .arg(out)
             .args(["--frames", &frames.to_string()])
-            .arg(format!("--size={}x{}", SIZE.0, SIZE.1)),
+            .arg(format!("--size={w}x{h}")),
         None,
         patience,
     ))
+}
+
+/// Runs `breakshot ARGS --screenshot OUT --frames FRAMES` in a window of `size` under a
+/// virtual display while `xdotool` plays `keys` on it (one xdotool command a line, `$wid`
+/// the window, a short pause before each), its data in `data`; None if xvfb-run or xdotool
+/// is missing (the reason is printed). Fails the test if it has not ended within `patience`.
+pub fn played(
+    args: &[&OsStr],
+    out: &Path,
+    frames: u32,
+    keys: &[&str],
+    (w, h): (u32, u32),
+    data: &Path,
+    patience: Duration,
+) -> Option<Output> {
+    let (Some(xvfb), Some(_)) = (find_in_path("xvfb-run"), find_in_path("xdotool")) else {
+        eprintln!("skipped: needs xvfb-run and xdotool (apt-get install xvfb xdotool)");
+        return None;
+    };
+    let mut script = format!(
+        "\"$0\" \"$@\" --screenshot \"{}\" --frames {frames} --size {w}x{h} &\n\
+         pid=$!\nwid=$(xdotool search --sync --name Breakshot | head -n 1)\n",
+        out.display()
+    );
+    for key in keys {
+        script.push_str(&format!("sleep 0.3\nxdotool {key}\n"));
+    }
+    script.push_str("wait $pid\n");
+    Some(breakshot_testkit::run(
+        Process::new(xvfb)
+            .env("BREAKSHOT_DATA", data)
+            // The window tells standard error what it did ("report: ..." lines).
+            .env("BREAKSHOT_REPORT", "1")
+            .args(["-a", "-s", "-screen 0 1280x800x24", "sh", "-c", &script])
+            .arg(env!("CARGO_BIN_EXE_breakshot"))
+            .args(args),
+        None,
+        patience,
+    ))
+}
+
+/// The lines a window that has ended reported on standard error.
+pub fn reports(run: &Output) -> Vec<String> {
+    String::from_utf8_lossy(&run.stderr)
+        .lines()
+        .filter_map(|l| l.strip_prefix("report: "))
+        .map(String::from)
+        .collect()
+}
+
+/// `breakshot host` against the computer at level 1 on a free loopback port, its data in
+/// `data`: a real server and a game that starts at once.
+pub fn hosting_the_computer(data: &Path) -> Vec<std::ffi::OsString> {
+    [
+        "host",
+        "--computer",
+        "--level",
+        "1",
+        "--bind",
+        "127.0.0.1:0",
+        "--data",
+    ]
+    .map(std::ffi::OsString::from)
+    .into_iter()
+    .chain([data.as_os_str().to_owned()])
+    .collect()
 }
 
 /// Fails the test unless `breakshot` exited cleanly, showing what it wrote to standard error.
@@ -68,6 +157,18 @@ pub struct Picture {
 impl Picture {
     /// The PNG at `path`, checked to be the window's size.
     pub fn read(path: &Path) -> Picture {
+        Picture::sized(path, SIZE)
+    }
+
+    /// The PNG at `path`, checked to be `size`.
+    pub fn sized(path: &Path, size: (u32, u32)) -> Picture {
+        let pic = Picture::load(path);
+        assert_eq!((pic.width, pic.height), size);
+        pic
+    }
+
+    /// The PNG at `path` (8-bit RGBA), of any size.
+    pub fn load(path: &Path) -> Picture {
         let file = std::fs::File::open(path).expect("screenshot written");
         let decoder = png::Decoder::new(std::io::BufReader::new(file));
         let mut reader = decoder.read_info().expect("a PNG");
@@ -75,7 +176,6 @@ impl Picture {
         let info = reader.next_frame(&mut buf).expect("PNG data");
         assert_eq!(info.color_type, png::ColorType::Rgba);
         buf.truncate(info.buffer_size());
-        assert_eq!((info.width, info.height), SIZE);
         Picture {
             width: info.width,
             height: info.height,
@@ -97,6 +197,13 @@ impl Picture {
         (-reach..=reach)
             .any(|dx| (-reach..=reach).any(|dy| want(self.at(x + dx as f32, y + dy as f32))))
     }
+}
+
+/// Whether `a` and `b` differ by at most `tolerance` in each channel.
+pub fn close(a: Rgb, b: Rgb, tolerance: i32) -> bool {
+    a.iter()
+        .zip(b)
+        .all(|(&x, y)| (x as i32 - y as i32).abs() <= tolerance)
 }
 
 /// Whether `got` is `want` lit more or less brightly (a ball is a shaded sphere): the same

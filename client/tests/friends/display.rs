@@ -2,22 +2,17 @@
 //! photographed from outside with ImageMagick's `import`, for tests where windows live on
 //! while the test acts on them.
 
-use std::io::Read;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use breakshot_client::view::palette::{ball_look, Rgb};
+use breakshot_client::view::palette::ball_look;
 use breakshot_client::view::Layout;
 use breakshot_shared::physics::{BallState, MotionState, Params};
 use breakshot_testkit::Spawned;
 
-fn find_in_path(name: &str) -> Option<PathBuf> {
-    let path = std::env::var_os("PATH")?;
-    std::env::split_paths(&path)
-        .map(|dir| dir.join(name))
-        .find(|p| p.is_file())
-}
+use crate::common::screen::find_in_path;
+pub use crate::common::screen::{close, shaded, Picture};
 
 /// An X server of its own (Xvfb), kept from resetting when a window closes.
 pub struct Display {
@@ -63,17 +58,23 @@ impl Display {
 
     /// Runs `xdotool ARGS` here; its output. Fails the test if it fails or hangs.
     pub fn xdotool(&self, args: &[&str]) -> String {
-        let out = breakshot_testkit::run(
+        let out = self.ran(
             self.on(&mut Command::new("xdotool")).args(args),
-            None,
-            Duration::from_secs(60),
-        );
-        assert!(
-            out.status.success(),
-            "xdotool {args:?}: {}",
-            String::from_utf8_lossy(&out.stderr)
+            &format!("xdotool {args:?}"),
         );
         String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+
+    /// `command` run to its end (at most a minute); fails the test, naming `what` and showing
+    /// its standard error, unless it succeeded.
+    fn ran(&self, command: &mut Command, what: &str) -> std::process::Output {
+        let out = breakshot_testkit::run(command, None, Duration::from_secs(60));
+        assert!(
+            out.status.success(),
+            "{what}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        out
     }
 
     /// The game window opened after those of `known`, once it is shown (at most a minute).
@@ -99,21 +100,35 @@ impl Display {
         }
     }
 
+    /// The clipboard here holding the text of file `text`, for as long as the returned
+    /// process runs (`xclip` serves it in the foreground and is stopped when dropped, so
+    /// none is left behind); None, with the reason printed, when xclip is not installed.
+    pub fn clipboard(&self, text: &Path) -> Option<Spawned> {
+        if find_in_path("xclip").is_none() {
+            eprintln!("skipped: xclip is not installed (apt-get install xclip)");
+            return None;
+        }
+        let xclip = Spawned::start(
+            self.on(&mut Command::new("xclip"))
+                .args(["-selection", "clipboard", "-quiet"])
+                .arg(text)
+                .stdout(Stdio::null())
+                .stderr(Stdio::null()),
+        );
+        // It owns the selection once it has started.
+        std::thread::sleep(Duration::from_millis(500));
+        Some(xclip)
+    }
+
     /// What window `wid` shows now, saved to `out`.
     pub fn grab(&self, wid: &str, out: &Path) -> Picture {
-        let run = breakshot_testkit::run(
+        self.ran(
             self.on(&mut Command::new("import"))
                 .args(["-window", wid])
                 .arg(format!("PNG32:{}", out.display())),
-            None,
-            Duration::from_secs(60),
+            "import",
         );
-        assert!(
-            run.status.success(),
-            "import: {}",
-            String::from_utf8_lossy(&run.stderr)
-        );
-        Picture::read(out)
+        Picture::load(out)
     }
 }
 
@@ -123,63 +138,6 @@ impl Drop for Display {
         self.server.terminate();
         let _ = self.server.wait(Duration::from_secs(10));
     }
-}
-
-/// A screenshot, RGBA.
-pub struct Picture {
-    pub width: u32,
-    pub height: u32,
-    pixels: Vec<u8>,
-}
-
-impl Picture {
-    /// The PNG at `path` (8-bit RGBA).
-    pub fn read(path: &Path) -> Picture {
-        let mut bytes = Vec::new();
-        std::fs::File::open(path)
-            .and_then(|mut f| f.read_to_end(&mut bytes))
-            .expect("screenshot written");
-        let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
-        let mut reader = decoder.read_info().expect("a PNG");
-        let mut buf = vec![0; reader.output_buffer_size()];
-        let info = reader.next_frame(&mut buf).expect("PNG data");
-        assert_eq!(info.color_type, png::ColorType::Rgba);
-        buf.truncate(info.buffer_size());
-        Picture {
-            width: info.width,
-            height: info.height,
-            pixels: buf,
-        }
-    }
-
-    pub fn at(&self, x: f32, y: f32) -> Rgb {
-        let x = (x.round().max(0.0) as usize).min(self.width as usize - 1);
-        let y = (y.round().max(0.0) as usize).min(self.height as usize - 1);
-        let i = (y * self.width as usize + x) * 4;
-        [self.pixels[i], self.pixels[i + 1], self.pixels[i + 2]]
-    }
-}
-
-pub fn close(a: Rgb, b: Rgb, tolerance: i32) -> bool {
-    a.iter()
-        .zip(b)
-        .all(|(&x, y)| (x as i32 - y as i32).abs() <= tolerance)
-}
-
-/// Whether `got` is `want` lit more or less brightly (a ball is a shaded sphere).
-pub fn shaded(got: Rgb, want: Rgb, tolerance: f32) -> bool {
-    let dot = |a: Rgb, b: Rgb| {
-        a.iter()
-            .zip(b)
-            .map(|(&x, y)| x as f32 * y as f32)
-            .sum::<f32>()
-    };
-    let k = dot(got, want) / dot(want, want).max(1.0);
-    (0.3..=1.1).contains(&k)
-        && got
-            .iter()
-            .zip(want)
-            .all(|(&x, y)| (x as f32 - k * y as f32).abs() <= tolerance)
 }
 
 /// The balls of `balls` (ids `ids`) not seen in their colour, left and right of where the

@@ -126,6 +126,8 @@ impl ReplayPage {
     /// Asks the server of the invite typed for its room's latest game: its number says how
     /// many games there are.
     fn list(&mut self) {
+        // What was typed or pasted, for whoever watches (the window's tests).
+        super::super::report(&format!("replays list {}", self.text.trim()));
         let invite: Invite = match self.text.trim().parse() {
             Ok(i) => i,
             Err(e) => {
