@@ -186,7 +186,8 @@ enum Command {
         #[command(flatten)]
         name: NameArg,
     },
-    /// Two players taking turns at this computer.
+    /// Two players taking turns at this computer (I: the computer's advice; after a miss,
+    /// the shot missed beside the computer's own, the table left to the next player).
     Local {
         #[command(flatten)]
         game: GameArgs,
