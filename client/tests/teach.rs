@@ -327,6 +327,41 @@ fn in_a_local_game_for_two_a_miss_is_advised_on_beside_the_table() {
     }
 }
 
+/// Online, I is refused in a room hosted with the usual aids, and gives the computer's
+/// advice in one hosted with `--aids advice`: the room's policy decides, for every player.
+#[cfg(feature = "host")]
+#[test]
+fn online_the_advice_is_given_only_where_the_room_allows_it() {
+    let dir = breakshot_testkit::scratch("teach-online");
+    let out = dir.path().join("out.png");
+    for (aids, says) in [
+        ("full", "message No advice: this room does not allow"),
+        ("advice", "message Advice: "),
+    ] {
+        let data = dir.path().join(aids);
+        let args = [
+            "host",
+            "--computer",
+            "--bind",
+            "127.0.0.1:0",
+            "--aids",
+            aids,
+            "--data",
+        ]
+        .map(OsStr::new)
+        .into_iter()
+        .chain([data.as_os_str()])
+        .collect::<Vec<_>>();
+        let keys = ["sleep 2", "key --window \"$wid\" i", "sleep 12"];
+        let Some(run) = played(&args, &out, 1200, &keys) else {
+            return;
+        };
+        assert_ran(&run);
+        let said = reports(&run);
+        assert!(said.iter().any(|l| l.starts_with(says)), "{aids}: {said:?}");
+    }
+}
+
 #[test]
 fn a_ball_dragged_then_kept_opens_again_as_the_same_table() {
     use breakshot_client::play::position;

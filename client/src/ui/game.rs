@@ -175,6 +175,7 @@ impl GameScreen {
     fn advice_offer(&self) -> AdviceOffer {
         AdviceOffer::of(
             self.flow.connection == Connection::Offline,
+            self.flow.aim_aid,
             self.link.watching(),
             self.link.takes_back(),
         )
@@ -420,6 +421,14 @@ impl GameScreen {
                         found: None,
                         beside: false,
                     });
+                }
+                (Intent::Advice | Intent::PlayAdvice, _) if !offer.allowed() => {
+                    self.flow.message = if self.link.watching() {
+                        "No advice: a spectator does not play"
+                    } else {
+                        "No advice: this room does not allow the computer's advice (hosted without --aids advice)"
+                    }
+                    .into();
                 }
                 (Intent::PlayAdvice, Some(_)) => match &self.advice {
                     Some(Asked {
@@ -827,7 +836,11 @@ impl GameScreen {
         if self.link.thinking() && !over {
             draw_thinking(&layout);
         }
-        let keys = if self.advice_offer() == AdviceOffer::Beside {
+        let offer = self.advice_offer();
+        let keys = if self.link.chats() && offer.allowed() {
+            // Online the room's policy allows advice: every player's line says so.
+            "Mouse: aim, drag back: shoot  |  Space: shoot  |  A G P L: aids  |  I advice  J play it (this room allows it)  |  T: chat  |  Esc: leave"
+        } else if offer == AdviceOffer::Beside {
             "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  V: 3-D view  |  A G P L: aids  |  I advice  J play it  |  Esc: leave"
         } else if self.link.chats() {
             "Mouse: aim, drag back: shoot  |  Space: shoot  |  W/S: elevation  |  V: 3-D  |  A G P L: aids  |  T: chat  |  Esc: leave"
