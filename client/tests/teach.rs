@@ -360,6 +360,9 @@ fn online_the_advice_is_given_only_where_the_room_allows_it() {
         let said = reports(&run);
         assert!(said.iter().any(|l| l.starts_with(says)), "{aids}: {said:?}");
     }
+    if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
+        std::fs::copy(&out, keep).expect("screenshot kept");
+    }
 }
 
 #[test]
