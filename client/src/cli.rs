@@ -156,9 +156,9 @@ enum Command {
         /// invite (default: this computer's LAN address).
         #[arg(long, value_name = "HOST")]
         address: Option<String>,
-        /// Aiming aids allowed in the room: `full`, `first-contact` (aim line and ghost ball)
-        /// or `off`.
-        #[arg(long, value_name = "AIDS", default_value = "full", value_parser = ["full", "first-contact", "off"])]
+        /// Aiming aids allowed in the room: `full`, `first-contact` (aim line and ghost ball),
+        /// `off`, or `advice` (full, and the computer's advice, I / J, for every player).
+        #[arg(long, value_name = "AIDS", default_value = "full", value_parser = ["full", "first-contact", "off", "advice"])]
         aids: String,
         /// Open a new room even if this computer's last hosted game is unfinished (by
         /// default a restarted host goes back to it: same room, same invite).
@@ -186,7 +186,8 @@ enum Command {
         #[command(flatten)]
         name: NameArg,
     },
-    /// Two players taking turns at this computer.
+    /// Two players taking turns at this computer (I: the computer's advice; after a miss,
+    /// the shot missed beside the computer's own, the table left to the next player).
     Local {
         #[command(flatten)]
         game: GameArgs,
@@ -526,6 +527,7 @@ fn aim_aid(name: &str) -> AimAid {
     match name {
         "off" => AimAid::Off,
         "first-contact" => AimAid::FirstContact,
+        "advice" => AimAid::Advice,
         _ => AimAid::Full,
     }
 }

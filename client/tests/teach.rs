@@ -208,6 +208,18 @@ fn after_a_miss_the_advice_says_what_the_shot_missed_was_worth() {
     }
 }
 
+/// The break as the cue is first set (too soft: a foul), its playback skipped; then I,
+/// and time for the advice's search.
+const BREAK_THEN_ADVICE: [&str; 7] = [
+    "sleep 1.5",
+    "key --window \"$wid\" space",
+    "sleep 1",
+    "key --window \"$wid\" space",
+    "sleep 2",
+    "key --window \"$wid\" i",
+    "sleep 14",
+];
+
 /// Against the computer: a soft break is a foul, a miss; I takes it back and the advice
 /// says what that break was worth beside the computer's own.
 #[test]
@@ -219,17 +231,7 @@ fn against_the_computer_a_missed_shot_is_taken_back_and_advised_on() {
         OsStr::new("--level"),
         OsStr::new("1"),
     ];
-    // The break, its playback skipped; then I while the computer plays on.
-    let keys = [
-        "sleep 1.5",
-        "key --window \"$wid\" space",
-        "sleep 1",
-        "key --window \"$wid\" space",
-        "sleep 2",
-        "key --window \"$wid\" i",
-        "sleep 14",
-    ];
-    let Some(run) = played(&args, &out, 1500, &keys) else {
+    let Some(run) = played(&args, &out, 1500, &BREAK_THEN_ADVICE) else {
         return;
     };
     assert_ran(&run);
@@ -242,6 +244,80 @@ fn against_the_computer_a_missed_shot_is_taken_back_and_advised_on() {
             "message Advice: That shot: ",
         ],
     );
+    if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
+        std::fs::copy(&out, keep).expect("screenshot kept");
+    }
+}
+
+/// In a local game for two a soft break is a miss too, but the table has passed to the
+/// other player: I compares the break with the computer's own without taking it back, and
+/// the turn and the table stay as the miss left them.
+#[test]
+fn in_a_local_game_for_two_a_miss_is_advised_on_beside_the_table() {
+    let dir = breakshot_testkit::scratch("teach-local-miss");
+    let out = dir.path().join("out.png");
+    let Some(run) = played(&[OsStr::new("local")], &out, 1500, &BREAK_THEN_ADVICE) else {
+        return;
+    };
+    assert_ran(&run);
+    let said = reports(&run);
+    let [missed, beside, _] = in_order(
+        &said,
+        [
+            "game missed ",
+            "game advice beside ",
+            "message Advice: That shot: ",
+        ],
+    );
+    // "turn=N table=HASH" at the miss and once the advice is shown: the same.
+    let state = |at: usize, prefix: &str| said[at].strip_prefix(prefix).map(str::to_owned);
+    assert_eq!(
+        state(missed, "game missed "),
+        state(beside, "game advice beside "),
+        "{said:?}"
+    );
+    assert!(
+        !said.iter().any(|l| l.starts_with("message Taken back")),
+        "nothing taken back: {said:?}"
+    );
+    if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
+        std::fs::copy(&out, keep).expect("screenshot kept");
+    }
+}
+
+/// Online, I is refused in a room hosted with the usual aids, and gives the computer's
+/// advice in one hosted with `--aids advice`: the room's policy decides, for every player.
+#[cfg(feature = "host")]
+#[test]
+fn online_the_advice_is_given_only_where_the_room_allows_it() {
+    let dir = breakshot_testkit::scratch("teach-online");
+    let out = dir.path().join("out.png");
+    for (aids, says) in [
+        ("full", "message No advice: this room does not allow"),
+        ("advice", "message Advice: "),
+    ] {
+        let data = dir.path().join(aids);
+        let args = [
+            "host",
+            "--computer",
+            "--bind",
+            "127.0.0.1:0",
+            "--aids",
+            aids,
+            "--data",
+        ]
+        .map(OsStr::new)
+        .into_iter()
+        .chain([data.as_os_str()])
+        .collect::<Vec<_>>();
+        let keys = ["sleep 2", "key --window \"$wid\" i", "sleep 12"];
+        let Some(run) = played(&args, &out, 1200, &keys) else {
+            return;
+        };
+        assert_ran(&run);
+        let said = reports(&run);
+        assert!(said.iter().any(|l| l.starts_with(says)), "{aids}: {said:?}");
+    }
     if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
         std::fs::copy(&out, keep).expect("screenshot kept");
     }

@@ -5,6 +5,7 @@
 //! moves when no person does ([`ComputerLink`] at one computer, [`Chooser`] online), and replays.
 
 mod advice;
+mod advice_offer;
 mod aim;
 mod chat;
 mod chooser;
@@ -25,6 +26,7 @@ mod touch;
 pub use advice::{
     measured, next_level, succeeded, Advice, Advisor, Chance, Measure, Request, PLAYED_TRIALS,
 };
+pub use advice_offer::AdviceOffer;
 pub use aim::{Aim, AimShare};
 pub use chat::{Chat, ChatKey, ChatLine};
 pub use chooser::Chooser;

@@ -4,15 +4,15 @@
 use ::glam::DVec2;
 use breakshot_client::play::leave::{self, LeaveAnswer};
 use breakshot_client::play::{
-    next_level, Advice, Advisor, Aim, AimShare, AwayResult, Chat, ChatKey, Context, Controls, Drag,
-    GameEvent, GameFlow, GameLink, History, InputFrame, Intent, Key, Stage, Turn,
+    next_level, Advice, AdviceOffer, Advisor, Aim, AimShare, AwayResult, Chat, ChatKey, Context,
+    Controls, Drag, GameEvent, GameFlow, GameLink, History, InputFrame, Intent, Key, Stage, Turn,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{self, call_prompt, connection as connection_text, Connection};
 use breakshot_client::view::snooker as view_snooker;
 use breakshot_client::view::{tray, Frame, Layout, Orientations, Playback, Rect};
 use breakshot_shared::ai::Level;
-use breakshot_shared::hash::hash_hex;
+use breakshot_shared::hash::{hash_hex, state_hash};
 use breakshot_shared::physics::{Shot, Simulator, Strike, Table};
 use breakshot_shared::protocol::limits::RECONNECT_WINDOW;
 use breakshot_shared::protocol::Invite;
@@ -57,18 +57,28 @@ pub struct GameScreen {
     view: TableView,
     /// The player's shots to take back, against the computer.
     history: History,
-    /// The computer's advice at this computer (not online): the turn it is for, the search
-    /// and, once found, the advice.
-    advice: Option<(u32, Advisor, Option<Advice>)>,
+    /// The computer's advice asked for at this computer (not online).
+    advice: Option<Asked>,
     /// Whose noise the advice's chance is for: 3 to begin, the next each time I is pressed
     /// on an advice shown.
     advice_level: Level,
-    /// The player's own shot against the computer, until it has played out: the turn it
+    /// The shot played here where advice is offered, until it has played out: the game it
     /// was played on, the seat, the strike and the call.
-    awaiting: Option<(u32, Seat, Strike, Option<u8>)>,
-    /// The player's last shot missed (fouled or lost the turn): its strike and call, for
-    /// the advice on it.
-    missed: Option<(Strike, Option<u8>)>,
+    awaiting: Option<(Game, Seat, Strike, Option<u8>)>,
+    /// The last shot missed (fouled or lost the turn): the game it was played on, its
+    /// strike and call, for the advice on it.
+    missed: Option<(Game, Strike, Option<u8>)>,
+}
+
+/// Advice asked for: the turn it is shown on, the search and, once found, the advice.
+struct Asked {
+    turn: u32,
+    advisor: Advisor,
+    found: Option<Advice>,
+    /// It compares a miss on the table the miss was played from while the table stays as
+    /// it now is (a local game for two): it cannot be played here (J), and I asks about
+    /// the table as it stands.
+    beside: bool,
 }
 
 /// The buttons of the choices offered, in a row over the trays: off the cloth, so they
@@ -163,6 +173,16 @@ impl GameScreen {
     /// What the player here may do.
     fn turn(&self) -> Turn {
         self.flow.turn_here(self.link.seat(), self.link.watching())
+    }
+
+    /// What this game offers of the computer's advice.
+    fn advice_offer(&self) -> AdviceOffer {
+        AdviceOffer::of(
+            self.flow.connection == Connection::Offline,
+            self.flow.aim_aid,
+            self.link.watching(),
+            self.link.takes_back(),
+        )
     }
 
     /// The aids to draw: those toggled on that the room allows.
@@ -317,6 +337,7 @@ impl GameScreen {
             Turn::Shoot { seat, .. } | Turn::Decide { seat, .. } => Some(seat),
             Turn::Wait => None,
         };
+        let offer = self.advice_offer();
         for intent in intents {
             match (intent, seat) {
                 (Intent::Shoot(strike), Some(seat)) => {
@@ -326,11 +347,13 @@ impl GameScreen {
                             Ok(()) => {
                                 if self.link.takes_back() {
                                     self.history.shot(game.clone(), strike);
+                                }
+                                if offer.allowed() {
                                     let call = match &cmd {
                                         Command::Shot { call, .. } => *call,
                                         _ => None,
                                     };
-                                    self.awaiting = Some((game.turn(), seat, strike, call));
+                                    self.awaiting = Some((game.clone(), seat, strike, call));
                                     self.missed = None;
                                 }
                                 self.link.send(&game, seat, cmd);
@@ -364,35 +387,66 @@ impl GameScreen {
                     return Step::Stay;
                 }
                 (Intent::Back, _) => return Step::Open(Start::Menu),
-                // After a miss: the shot comes back, and the advice is for the table it was
-                // played from, with the chance the shot missed had.
-                (Intent::Advice, _) if self.missed.is_some() && self.link.takes_back() => {
-                    let Some((strike, call)) = self.missed.take() else {
+                // After a miss: the advice is for the table it was played from, with the
+                // chance the shot missed had. Against the computer the shot comes back
+                // first; in a game for two the table and the turn stay as they are.
+                (Intent::Advice, _) if self.missed.is_some() && offer.allowed() => {
+                    let Some((before, strike, call)) = self.missed.take() else {
                         continue;
                     };
-                    if let Some(back) = self.take_back(&game, Intent::Undo) {
-                        let level = self.advice_level;
-                        let advisor = Advisor::for_game_after_miss(&back, level, strike, call);
-                        self.advice = Some((back.turn(), advisor, None));
-                    }
+                    let beside = offer == AdviceOffer::Beside;
+                    let turn = if beside {
+                        game.turn()
+                    } else if let Some(back) = self.take_back(&game, Intent::Undo) {
+                        back.turn()
+                    } else {
+                        return Step::Stay;
+                    };
+                    let level = self.advice_level;
+                    self.advice = Some(Asked {
+                        turn,
+                        advisor: Advisor::for_game_after_miss(&before, level, strike, call),
+                        found: None,
+                        beside,
+                    });
                     return Step::Stay;
                 }
-                (Intent::Advice, Some(_))
-                    if self.flow.connection == Connection::Offline && !self.link.watching() =>
-                {
-                    let shown =
-                        matches!(&self.advice, Some((turn, _, Some(_))) if *turn == game.turn());
+                (Intent::Advice, Some(_)) if offer.allowed() => {
+                    let shown = self.advice.as_ref().is_some_and(|a| {
+                        a.turn == game.turn() && a.found.is_some() && !a.beside
+                    });
                     if shown {
                         self.advice_level = next_level(self.advice_level);
                     }
                     let level = self.advice_level;
-                    self.advice = Some((game.turn(), Advisor::for_game(&game, level), None));
+                    self.advice = Some(Asked {
+                        turn: game.turn(),
+                        advisor: Advisor::for_game(&game, level),
+                        found: None,
+                        beside: false,
+                    });
                 }
-                (Intent::PlayAdvice, Some(_)) => {
-                    if let Some((_, _, Some(advice))) = &self.advice {
-                        self.controls.aim = Aim::from_strike(&advice.strike);
+                (Intent::Advice | Intent::PlayAdvice, _) if !offer.allowed() => {
+                    self.flow.message = if self.link.watching() {
+                        "No advice: a spectator does not play"
+                    } else {
+                        "No advice: this room does not allow the computer's advice (hosted without --aids advice)"
                     }
+                    .into();
                 }
+                (Intent::PlayAdvice, Some(_)) => match &self.advice {
+                    Some(Asked {
+                        found: Some(advice),
+                        beside: false,
+                        ..
+                    }) => self.controls.aim = Aim::from_strike(&advice.strike),
+                    Some(Asked { beside: true, .. }) => {
+                        self.flow.message =
+                            "That advice is for the table the miss was played from: I asks about the table now"
+                                .into()
+                    }
+                    _ => {}
+                },
                 (Intent::Undo | Intent::Redo | Intent::Again, _) if self.link.takes_back() => {
                     self.take_back(&game, intent);
                 }
@@ -408,27 +462,33 @@ impl GameScreen {
     /// Moves the advice's search on a few simulations; says the advice once found. Advice
     /// for an earlier turn is dropped.
     fn think_advice(&mut self, game: &Game) {
-        let Some((turn, advisor, found)) = &mut self.advice else {
+        let Some(asked) = &mut self.advice else {
             return;
         };
-        if *turn != game.turn() {
+        if asked.turn != game.turn() {
             self.advice = None;
             return;
         }
-        if found.is_some() {
+        if asked.found.is_some() {
             return;
         }
-        self.flow.message = match advisor.step(6) {
+        let next = if asked.beside {
+            "I: advice on the table now"
+        } else {
+            "J: play it, I: the next level"
+        };
+        self.flow.message = match asked.advisor.step(6) {
             None => format!(
                 "The computer is thinking ({:.0} %)",
-                100.0 * advisor.fraction()
+                100.0 * asked.advisor.fraction()
             ),
             Some(Ok(advice)) => {
-                *found = Some(advice.clone());
-                format!(
-                    "Advice: {}  |  J: play it, I: the next level",
-                    advice.summary(self.advice_level)
-                )
+                asked.found = Some(advice.clone());
+                if asked.beside {
+                    // What a test compares with the miss: the table and the turn kept.
+                    super::report(&format!("game advice beside {}", table_state(game)));
+                }
+                format!("Advice: {}  |  {next}", advice.summary(self.advice_level))
             }
             Some(Err(why)) => format!("No advice: {why}"),
         };
@@ -468,24 +528,30 @@ impl GameScreen {
     /// verdict comes, while the last verdict is still this shot's: the computer's answer
     /// (a choice after a foul) comes a frame later at the soonest.
     fn note_miss(&mut self, game: &Game) {
-        let Some((turn, seat, strike, call)) = self.awaiting else {
-            return;
-        };
-        if game.turn() == turn {
+        if self
+            .awaiting
+            .as_ref()
+            .is_none_or(|(before, ..)| before.turn() == game.turn())
+        {
             return;
         }
-        self.awaiting = None;
+        let Some((before, seat, strike, call)) = self.awaiting.take() else {
+            return;
+        };
         let kept = self
             .flow
             .last_verdict
             .as_ref()
             .is_some_and(|v| v.succeeded_for(seat));
         if !kept {
-            self.missed = Some((strike, call));
-            super::report("game missed");
-            self.flow.message =
+            self.missed = Some((before, strike, call));
+            super::report(&format!("game missed {}", table_state(game)));
+            self.flow.message = if self.advice_offer() == AdviceOffer::Beside {
+                "Missed: I shows what the computer would have played there (the table stays as it is)"
+            } else {
                 "Missed: I takes the shot back and shows what the computer would have played"
-                    .into();
+            }
+            .into();
         }
     }
 
@@ -773,7 +839,13 @@ impl GameScreen {
         if self.link.thinking() && !over {
             draw_thinking(&layout);
         }
-        let keys = if self.link.chats() {
+        let offer = self.advice_offer();
+        let keys = if self.link.chats() && offer.allowed() {
+            // Online the room's policy allows advice: every player's line says so.
+            "Mouse: aim, drag back: shoot  |  Space: shoot  |  A G P L: aids  |  I advice  J play it (this room allows it)  |  T: chat  |  Esc: leave"
+        } else if offer == AdviceOffer::Beside {
+            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  V: 3-D view  |  A G P L: aids  |  I advice  J play it  |  Esc: leave"
+        } else if self.link.chats() {
             "Mouse: aim, drag back: shoot  |  Space: shoot  |  W/S: elevation  |  V: 3-D  |  A G P L: aids  |  T: chat  |  Esc: leave"
         } else {
             "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  V: 3-D view  |  A G P L: aids  |  Esc: leave"
@@ -915,6 +987,15 @@ impl GameScreen {
         }
         draw::debug_lines(layout, &lines);
     }
+}
+
+/// "turn=N table=HASH": the turn and the table's hash, as reports give them.
+fn table_state(game: &Game) -> String {
+    format!(
+        "turn={} table={}",
+        game.turn(),
+        hash_hex(state_hash(game.balls()))
+    )
 }
 
 /// The result of a game that ended while this player was away, in the middle of the window.

@@ -53,7 +53,7 @@ impl AidToggles {
         let (line, ghost, paths) = match policy {
             AimAid::Off => (false, false, false),
             AimAid::FirstContact => (true, true, false),
-            AimAid::Full => (true, true, true),
+            AimAid::Full | AimAid::Advice => (true, true, true),
         };
         AidToggles {
             aim_line: self.aim_line && line,

@@ -20,6 +20,9 @@ pub enum AimAid {
     FirstContact,
     /// Full predicted paths of the cue ball and the first object ball.
     Full,
+    /// Full paths, and the computer's advice on the table for any player who asks (I / J).
+    /// Last, so the rooms stored with the others keep their encoding.
+    Advice,
 }
 
 /// Client to server.

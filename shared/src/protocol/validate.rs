@@ -172,6 +172,39 @@ mod tests {
         }
     }
 
+    /// The aim-aid policies keep their wire (and stored) encoding as one byte, the one
+    /// added last after the others, and a value past the last is refused when decoded.
+    #[test]
+    fn each_aim_aid_is_one_byte_and_a_value_past_the_last_is_refused() {
+        use super::super::framing::{decode_payload, encode_frame, FrameError, HEADER_LEN};
+        use super::super::messages::AimAid;
+        let policies = [
+            AimAid::Off,
+            AimAid::FirstContact,
+            AimAid::Full,
+            AimAid::Advice,
+        ];
+        for (byte, policy) in policies.into_iter().enumerate() {
+            let mut message = room(Variant::NineBall, Settings::online());
+            if let ClientMessage::CreateRoom { aim_aid, .. } = &mut message {
+                *aim_aid = policy;
+            }
+            let frame = encode_frame(&message).expect("encoded");
+            let mut payload = frame[HEADER_LEN..].to_vec();
+            // The name "ann" (its length, then three bytes) follows the policy's byte.
+            let at = payload.len() - 5;
+            assert_eq!(usize::from(payload[at]), byte, "{policy:?}");
+            let back: ClientMessage = decode_payload(&payload).expect("decoded");
+            assert_eq!(back, message);
+            payload[at] = policies.len() as u8;
+            let refused = decode_payload::<ClientMessage>(&payload);
+            assert!(
+                matches!(refused, Err(FrameError::Malformed(_))),
+                "{refused:?}"
+            );
+        }
+    }
+
     /// A room for "ann" with no aim aid.
     fn room(variant: Variant, mode: Settings) -> ClientMessage {
         ClientMessage::CreateRoom {
