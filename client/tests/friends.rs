@@ -699,15 +699,15 @@ fn keys(display: &Display, wid: &str, keys: &[&str]) {
     }
 }
 
-/// The points of `r` in `pic` lit light grey (the letters' cores; their edges are blended
-/// with the dark box).
+/// The points of `r` in `pic` lit grey, well above the dark box (small letters are mostly
+/// edges blended with the box, so their cores alone are too few to count on).
 fn grey_in(pic: &Picture, r: Rect) -> usize {
     (0..r.w as u32)
         .flat_map(|x| (0..r.h as u32).map(move |y| (x, y)))
         .map(|(x, y)| pic.at(r.x + x as f32, r.y + y as f32))
         .filter(|p| {
             let (lo, hi) = (p.iter().min(), p.iter().max());
-            matches!((lo, hi), (Some(&lo), Some(&hi)) if lo > 120 && hi - lo < 25)
+            matches!((lo, hi), (Some(&lo), Some(&hi)) if lo > 80 && hi - lo < 25)
         })
         .count()
 }
@@ -724,9 +724,10 @@ fn fitting_px(line: &str, r: Rect, max: f32, height: f32) -> f32 {
 
 /// After a game ends (Ann concedes), R in Ann's window says whom the rematch waits for, in
 /// words that fit the line under the result; Ben's R then starts the next game in both
-/// windows. At each of the three window sizes.
+/// windows. At each of the three window sizes; the turn lines and verdicts both windows
+/// showed name the players.
 #[test]
-fn a_rematch_asked_for_says_whom_it_waits_for_until_the_other_accepts() {
+fn a_rematch_asked_for_says_whom_it_waits_for_until_the_other_accepts_naming_both() {
     let Some(display) = Display::start() else {
         return;
     };
@@ -788,6 +789,31 @@ fn a_rematch_asked_for_says_whom_it_waits_for_until_the_other_accepts() {
                 |l| l.starts_with("game playing"),
             );
         }
+        // Both windows word the turn lines and verdicts with the players' names, never their
+        // seats: the break, the concession and the next game's break.
+        let said: Vec<String> = [&ann, &ben].iter().flat_map(|w| w.said()).collect();
+        let worded: Vec<&String> = said
+            .iter()
+            .filter(|l| l.starts_with("status ") || l.starts_with("verdict "))
+            .collect();
+        for name in ["ann", "ben"] {
+            assert!(
+                worded.iter().any(|l| l.contains(name)),
+                "{w}x{h}: no turn line or verdict names {name}: {worded:?}"
+            );
+        }
+        assert!(
+            worded
+                .iter()
+                .any(|l| l.starts_with("status Game over") && l.contains("ann")),
+            "{w}x{h}: the game-over line does not name ann: {worded:?}"
+        );
+        assert!(
+            !worded
+                .iter()
+                .any(|l| l.contains("Player A") || l.contains("Player B")),
+            "{w}x{h}: a seat named, not a player: {worded:?}"
+        );
         drop((ben, ann));
     }
 }

@@ -41,6 +41,8 @@ pub struct GameScreen {
     reported: String,
     /// The last line under the table told to whoever watches ("Game resumed", ...).
     reported_message: String,
+    /// The turn line and the last verdict's lines as last reported.
+    reported_lines: (String, String),
     /// The line under a game's result last reported.
     reported_after: String,
     /// The invite panel's button pressed last.
@@ -130,6 +132,7 @@ impl GameScreen {
             frame_ms: 0.0,
             reported: String::new(),
             reported_message: String::new(),
+            reported_lines: Default::default(),
             reported_after: String::new(),
             copied: None,
             turns: Orientations::new(),
@@ -915,7 +918,8 @@ impl GameScreen {
 
     /// Tells whoever watches the page (its tests) how the game stands, when that changed: the
     /// seat, the shots confirmed by the server's hash and the desyncs, and the end; and the
-    /// line under the table and the one under a game's result when they change.
+    /// line under the table, the one under a game's result, the turn line and the verdict
+    /// when they change.
     fn report(&mut self) {
         let replica = self.flow.replica();
         let over = match self.flow.game().map(Game::phase) {
@@ -955,6 +959,23 @@ impl GameScreen {
         if self.flow.message != self.reported_message {
             self.reported_message = self.flow.message.clone();
             super::report(&format!("message {}", self.reported_message));
+        }
+        // The turn line over the table and the verdict's lines under it, as the HUD words
+        // them (with the players' names).
+        if let Some(game) = self.flow.shown_game().or(self.flow.game()) {
+            let status = hud::status(game, &self.flow.names);
+            let verdict = self
+                .flow
+                .shown_verdict()
+                .map(|v| hud::verdict_lines(v, &self.flow.names).join(" / "))
+                .unwrap_or_default();
+            if status != self.reported_lines.0 {
+                super::report(&format!("status {status}"));
+            }
+            if verdict != self.reported_lines.1 && !verdict.is_empty() {
+                super::report(&format!("verdict {verdict}"));
+            }
+            self.reported_lines = (status, verdict);
         }
     }
 
