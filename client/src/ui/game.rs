@@ -15,7 +15,7 @@ use breakshot_shared::ai::Level;
 use breakshot_shared::hash::{hash_hex, state_hash};
 use breakshot_shared::physics::{Shot, Simulator, Strike, Table};
 use breakshot_shared::protocol::limits::RECONNECT_WINDOW;
-use breakshot_shared::protocol::Invite;
+use breakshot_shared::protocol::{AimAid, Invite};
 use breakshot_shared::rules::{
     is_off_table, pocket_name, rack, Choice, Command, Game, Phase, Seat, Variant,
 };
@@ -860,6 +860,11 @@ impl GameScreen {
         };
         let message = self.flow.message.as_str();
         let footer = match (self.link.watching(), message.is_empty()) {
+            // A room that allows the players the computer's advice says so to those who
+            // watch it too.
+            (true, true) if self.flow.aim_aid == AimAid::Advice => {
+                "Watching: both seats are taken  |  the players may ask the computer's advice (this room allows it)  |  A G P: aids  |  T: chat  |  Esc: leave".into()
+            }
             (true, true) => {
                 "Watching: both seats are taken  |  A G P: aids  |  T: chat  |  Esc: leave".into()
             }
