@@ -335,7 +335,7 @@ impl<L: GameLink> GameLink for PlayedByComputer<L> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::play::{GameFlow, Turn};
+    use crate::play::{GameFlow, Prompt};
     use crate::view::hud::Connection;
     use breakshot_shared::rules::EightBallRules;
     use std::time::{Duration, Instant};
@@ -431,7 +431,9 @@ mod tests {
                 }
                 flow.skip();
             }
-            if let Turn::Shoot { seat, .. } | Turn::Decide { seat, .. } = flow.turn(link.seat()) {
+            if let Prompt::Shoot { seat, .. } | Prompt::Decide { seat, .. } =
+                flow.prompt(link.seat())
+            {
                 assert!(!link.thinking(), "no thinking on the player's turn");
                 // The player here moves as a level-1 computer would: legal moves.
                 let game = flow.game().expect("a game").clone();

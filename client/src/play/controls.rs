@@ -160,9 +160,10 @@ impl InputFrame {
     }
 }
 
-/// What the player may do now.
+/// What the controls may do with the cue ball now (a [`Prompt`](super::Prompt) as the mouse
+/// sees it, or practice's own placing mode).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Stage {
+pub enum CueMode {
     /// Balls are moving or it is not our turn: only toggles.
     Watching,
     /// The cue ball can be struck.
@@ -180,8 +181,8 @@ pub struct Context<'a> {
     pub cue: DVec2,
     /// The ball radius (m).
     pub radius: f64,
-    /// What the player may do now.
-    pub stage: Stage,
+    /// What the controls may do with the cue ball now.
+    pub cue_mode: CueMode,
 }
 
 /// A command from the player.
@@ -316,7 +317,7 @@ impl Controls {
                 | Key::VolumeUp => {}
             }
         }
-        if ctx.stage == Stage::Watching {
+        if ctx.cue_mode == CueMode::Watching {
             self.drag = Drag::None;
             self.last_mouse = Some(input.mouse);
             return out;
@@ -377,7 +378,8 @@ impl Controls {
                 Drag::Power
             } else if layout.elevation_view.contains(input.mouse) {
                 Drag::Elevation
-            } else if ctx.stage == Stage::InHand && (at - ctx.cue).length() <= 1.5 * ctx.radius {
+            } else if ctx.cue_mode == CueMode::InHand && (at - ctx.cue).length() <= 1.5 * ctx.radius
+            {
                 Drag::CueBall { at }
             } else if layout.outer.contains(input.mouse) {
                 Drag::PullBack { from: input.mouse }
@@ -506,12 +508,12 @@ mod tests {
         Layout::new(1280.0, 720.0, Frame::new(TableKind::NineFoot, &[]))
     }
 
-    fn ctx(layout: &Layout, stage: Stage) -> Context<'_> {
+    fn ctx(layout: &Layout, cue_mode: CueMode) -> Context<'_> {
         Context {
             layout,
             cue: DVec2::new(0.635, 0.6),
             radius: R,
-            stage,
+            cue_mode,
         }
     }
 
@@ -535,14 +537,14 @@ mod tests {
         // The first frame only learns where the mouse is; a mouse that stays put does not aim.
         c.update(
             &frame(l.to_screen(target)),
-            &ctx(&l, Stage::Aiming),
+            &ctx(&l, CueMode::Aiming),
             &anywhere,
         );
         assert_eq!(c.aim, Aim::default());
-        c.update(&frame([300.0, 300.0]), &ctx(&l, Stage::Aiming), &anywhere);
+        c.update(&frame([300.0, 300.0]), &ctx(&l, CueMode::Aiming), &anywhere);
         let out = c.update(
             &frame(l.to_screen(target)),
-            &ctx(&l, Stage::Aiming),
+            &ctx(&l, CueMode::Aiming),
             &anywhere,
         );
         assert!(out.is_empty());
@@ -553,7 +555,7 @@ mod tests {
     #[test]
     fn shift_turns_the_aim_a_tenth_as_far() {
         let l = layout();
-        let cx = ctx(&l, Stage::Aiming);
+        let cx = ctx(&l, CueMode::Aiming);
         let cue = cx.cue;
         let mut c = Controls::new(Aim::default());
         c.update(
@@ -583,20 +585,20 @@ mod tests {
         f.up_key = true;
         f.dt = 0.2;
         let (a0, p0) = (c.aim.angle, c.aim.power);
-        c.update(&f, &ctx(&l, Stage::Aiming), &anywhere);
+        c.update(&f, &ctx(&l, CueMode::Aiming), &anywhere);
         assert!((c.aim.angle - a0 - 0.2 * KEY_AIM_RATE).abs() < 1e-12);
         assert!((c.aim.power - p0 - 0.2 * KEY_POWER_RATE).abs() < 1e-12);
         let mut w = frame(outside);
         w.wheel = -2.0;
         let p1 = c.aim.power;
-        c.update(&w, &ctx(&l, Stage::Aiming), &anywhere);
+        c.update(&w, &ctx(&l, CueMode::Aiming), &anywhere);
         assert!((c.aim.power - (p1 - 2.0 * WHEEL_POWER_STEP)).abs() < 1e-6);
     }
 
     #[test]
     fn elevation_keys_raise_and_lower_the_cue_within_its_range() {
         let l = layout();
-        let cx = ctx(&l, Stage::Aiming);
+        let cx = ctx(&l, CueMode::Aiming);
         let mut c = Controls::new(Aim::default());
         let mut raise = frame([1.0, 1.0]);
         raise.raise_key = true;
@@ -624,14 +626,14 @@ mod tests {
         assert_eq!(c.aim.elevation_deg, 0.0);
         // Not while watching.
         raise.dt = 0.2;
-        c.update(&raise, &ctx(&l, Stage::Watching), &anywhere);
+        c.update(&raise, &ctx(&l, CueMode::Watching), &anywhere);
         assert_eq!(c.aim.elevation_deg, 0.0);
     }
 
     #[test]
     fn dragging_in_the_side_view_sets_the_elevation_and_the_shot_carries_it() {
         let l = layout();
-        let cx = ctx(&l, Stage::Aiming);
+        let cx = ctx(&l, CueMode::Aiming);
         let mut c = Controls::new(Aim::default());
         let (_, butt) = l.elevation_cue(40.0);
         let mut down = frame(butt);
@@ -669,10 +671,10 @@ mod tests {
         let mut c = Controls::new(Aim::default());
         let mut f = frame([1.0, 1.0]);
         f.pressed = vec![Key::Shoot];
-        let out = c.update(&f, &ctx(&l, Stage::Aiming), &anywhere);
+        let out = c.update(&f, &ctx(&l, CueMode::Aiming), &anywhere);
         assert_eq!(out, vec![Intent::Shoot(c.aim.strike())]);
         assert!(c
-            .update(&f, &ctx(&l, Stage::Watching), &anywhere)
+            .update(&f, &ctx(&l, CueMode::Watching), &anywhere)
             .is_empty());
     }
 
@@ -686,13 +688,13 @@ mod tests {
         f.up_key = true;
         f.dt = 0.0;
         for _ in 0..10 {
-            c.update(&f, &ctx(&l, Stage::Aiming), &anywhere);
+            c.update(&f, &ctx(&l, CueMode::Aiming), &anywhere);
         }
         assert!((c.aim.speed() - 11.5).abs() < 1e-9, "{}", c.aim.speed());
         f.pressed = vec![Key::PowerDown];
         f.up_key = false;
         f.shift = true;
-        c.update(&f, &ctx(&l, Stage::Aiming), &anywhere);
+        c.update(&f, &ctx(&l, CueMode::Aiming), &anywhere);
         assert!((c.aim.speed() - 11.4).abs() < 1e-9, "{}", c.aim.speed());
     }
 
@@ -705,7 +707,7 @@ mod tests {
         assert_eq!(c.aim.tip, DVec2::ZERO);
         let mut f = frame([1.0, 1.0]);
         f.pressed = vec![Key::KeepSpin];
-        c.update(&f, &ctx(&l, Stage::Watching), &anywhere);
+        c.update(&f, &ctx(&l, CueMode::Watching), &anywhere);
         assert!(c.keep_spin);
         c.aim.set_tip(DVec2::new(0.2, -0.3));
         c.shot_played();
@@ -720,17 +722,17 @@ mod tests {
         let mut f = frame([bar.x + 0.5 * bar.w, bar.y + 0.5 * bar.h]);
         f.left_pressed = true;
         f.left_released = true;
-        c.update(&f, &ctx(&l, Stage::Aiming), &anywhere);
+        c.update(&f, &ctx(&l, CueMode::Aiming), &anywhere);
         assert!((c.aim.speed() - 0.5 * MAX_SHOT_SPEED).abs() < 0.05);
         assert_eq!(c.drag, Drag::Power);
-        c.update(&frame(f.mouse), &ctx(&l, Stage::Aiming), &anywhere);
+        c.update(&frame(f.mouse), &ctx(&l, CueMode::Aiming), &anywhere);
         assert_eq!(c.drag, Drag::None);
     }
 
     #[test]
     fn power_bar_and_tip_widget_set_power_and_tip() {
         let l = layout();
-        let cx = ctx(&l, Stage::Aiming);
+        let cx = ctx(&l, CueMode::Aiming);
         let mut c = Controls::new(Aim::default());
         let bar = l.power_bar;
         let mut f = frame([bar.x + 0.5 * bar.w, bar.y + 0.25 * bar.h]);
@@ -758,7 +760,7 @@ mod tests {
     #[test]
     fn pulling_back_and_releasing_shoots_along_the_locked_aim() {
         let l = layout();
-        let cx = ctx(&l, Stage::Aiming);
+        let cx = ctx(&l, CueMode::Aiming);
         let mut c = Controls::new(Aim::default());
         let ahead = cx.cue + DVec2::new(0.3, 0.5);
         c.update(&frame([300.0, 300.0]), &cx, &anywhere);
@@ -789,7 +791,7 @@ mod tests {
     fn a_tap_on_the_table_aims_where_it_lands_in_a_wide_and_a_tall_window() {
         let tall = Layout::new(390.0, 844.0, Frame::new(TableKind::NineFoot, &[]));
         for l in [layout(), tall] {
-            let cx = ctx(&l, Stage::Aiming);
+            let cx = ctx(&l, CueMode::Aiming);
             let mut c = Controls::new(Aim::default());
             let target = cx.cue + DVec2::new(0.4, 0.9);
             // A finger lands there at once: no movement before the press.
@@ -812,7 +814,7 @@ mod tests {
     #[test]
     fn a_click_without_pulling_back_does_not_shoot() {
         let l = layout();
-        let cx = ctx(&l, Stage::Aiming);
+        let cx = ctx(&l, CueMode::Aiming);
         let mut c = Controls::new(Aim::default());
         let p = l.to_screen(cx.cue + DVec2::new(0.0, 0.5));
         let mut down = frame(p);
@@ -827,7 +829,7 @@ mod tests {
     #[test]
     fn cue_ball_in_hand_is_dragged_and_illegal_spots_are_refused() {
         let l = layout();
-        let cx = ctx(&l, Stage::InHand);
+        let cx = ctx(&l, CueMode::InHand);
         let legal = |p: DVec2| p.y < 0.635;
         for (target, placed) in [(DVec2::new(0.4, 0.5), true), (DVec2::new(0.4, 1.5), false)] {
             let mut c = Controls::new(Aim::default());
@@ -855,7 +857,7 @@ mod tests {
     #[test]
     fn the_cue_ball_cannot_be_dragged_unless_in_hand() {
         let l = layout();
-        let cx = ctx(&l, Stage::Aiming);
+        let cx = ctx(&l, CueMode::Aiming);
         let mut c = Controls::new(Aim::default());
         let mut down = frame(l.to_screen(cx.cue));
         down.left_pressed = true;
@@ -865,12 +867,12 @@ mod tests {
     }
 
     #[test]
-    fn keys_map_to_toggles_whatever_the_stage() {
+    fn keys_map_to_toggles_whatever_the_cue_mode() {
         let l = layout();
         let mut c = Controls::new(Aim::default());
         let mut f = frame([0.0, 0.0]);
         f.pressed = vec![Key::AimLine, Key::Debug, Key::Back];
-        let out = c.update(&f, &ctx(&l, Stage::Watching), &anywhere);
+        let out = c.update(&f, &ctx(&l, CueMode::Watching), &anywhere);
         assert_eq!(
             out,
             vec![

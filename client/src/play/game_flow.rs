@@ -9,16 +9,18 @@ use breakshot_shared::protocol::AimAid;
 use breakshot_shared::rules::{Choice, Command, Game, InHand, Phase, Seat, TurnId, Verdict};
 
 use super::chat::Chat;
-use super::controls::Stage;
+use super::controls::CueMode;
 use super::event::{AwayResult, GameEvent};
 use super::link::Shown;
 use super::replica::{Check, Replica};
 use crate::view::hud::Connection;
 use crate::view::Playback;
 
-/// What the player here may do now.
+/// What the screen asks of the player here now, read from the rules' [`Phase`] for one seat:
+/// wait, shoot or decide. (The rules' `Phase` is what the game waits for, whoever moves;
+/// [`CueMode`] is what the mouse may do with the cue ball.)
 #[derive(Clone, Debug, PartialEq)]
-pub enum Turn {
+pub enum Prompt {
     /// Nothing: a shot is playing, it is the opponent's turn, or the game is over.
     Wait,
     /// Shoot (placing the cue ball first if `in_hand`); `call` says a pocket must be called.
@@ -39,15 +41,15 @@ pub enum Turn {
     },
 }
 
-impl Turn {
+impl Prompt {
     /// What the controls may do on this turn: move the cue ball, strike, or only watch.
-    pub fn stage(&self) -> Stage {
+    pub fn cue_mode(&self) -> CueMode {
         match self {
-            Turn::Shoot {
+            Prompt::Shoot {
                 in_hand: Some(_), ..
-            } => Stage::InHand,
-            Turn::Shoot { .. } => Stage::Aiming,
-            Turn::Wait | Turn::Decide { .. } => Stage::Watching,
+            } => CueMode::InHand,
+            Prompt::Shoot { .. } => CueMode::Aiming,
+            Prompt::Wait | Prompt::Decide { .. } => CueMode::Watching,
         }
     }
 }
@@ -95,8 +97,8 @@ impl Shown for GameFlow {
 
     fn waits_for(&self, seat: Seat) -> bool {
         matches!(
-            self.turn(Some(seat)),
-            Turn::Shoot { .. } | Turn::Decide { .. }
+            self.prompt(Some(seat)),
+            Prompt::Shoot { .. } | Prompt::Decide { .. }
         )
     }
 }
@@ -304,38 +306,38 @@ impl GameFlow {
     }
 
     /// What `me` (None: whoever is to move) may do now.
-    pub fn turn(&self, me: Option<Seat>) -> Turn {
+    pub fn prompt(&self, me: Option<Seat>) -> Prompt {
         let Some(game) = self.game() else {
-            return Turn::Wait;
+            return Prompt::Wait;
         };
         if self.shot().is_some() {
-            return Turn::Wait;
+            return Prompt::Wait;
         }
         let seat = game.to_move();
         if me.is_some_and(|m| m != seat) {
-            return Turn::Wait;
+            return Prompt::Wait;
         }
         match game.phase() {
-            Phase::Shooting { in_hand, .. } => Turn::Shoot {
+            Phase::Shooting { in_hand, .. } => Prompt::Shoot {
                 seat,
                 in_hand: *in_hand,
                 call: game.needs_call(),
             },
-            Phase::Deciding { options } => Turn::Decide {
+            Phase::Deciding { options } => Prompt::Decide {
                 seat,
                 options: options.clone(),
             },
-            Phase::Over { .. } => Turn::Wait,
+            Phase::Over { .. } => Prompt::Wait,
         }
     }
 
-    /// What the player here may do: as [`GameFlow::turn`], but nothing until the opponent is
+    /// What the player here may do: as [`GameFlow::prompt`], but nothing until the opponent is
     /// seated, and nothing for a spectator (`watching`).
-    pub fn turn_here(&self, me: Option<Seat>, watching: bool) -> Turn {
+    pub fn prompt_here(&self, me: Option<Seat>, watching: bool) -> Prompt {
         if self.connection == Connection::WaitingForOpponent || watching {
-            Turn::Wait
+            Prompt::Wait
         } else {
-            self.turn(me)
+            self.prompt(me)
         }
     }
 
@@ -405,35 +407,39 @@ mod tests {
     #[test]
     fn nobody_here_moves_until_the_opponent_is_seated_and_a_spectator_never_does() {
         let (_, mut flow) = local();
-        let shoot = flow.turn_here(Some(Seat::A), false);
+        let shoot = flow.prompt_here(Some(Seat::A), false);
         assert!(matches!(
             shoot,
-            Turn::Shoot {
+            Prompt::Shoot {
                 seat: Seat::A,
                 in_hand: Some(_),
                 ..
             }
         ));
-        assert_eq!(shoot.stage(), Stage::InHand, "the break: cue ball in hand");
         assert_eq!(
-            flow.turn_here(Some(Seat::B), false),
-            Turn::Wait,
+            shoot.cue_mode(),
+            CueMode::InHand,
+            "the break: cue ball in hand"
+        );
+        assert_eq!(
+            flow.prompt_here(Some(Seat::B), false),
+            Prompt::Wait,
             "not B's turn"
         );
-        assert_eq!(flow.turn_here(None, true), Turn::Wait, "a spectator");
+        assert_eq!(flow.prompt_here(None, true), Prompt::Wait, "a spectator");
         flow.connection = Connection::WaitingForOpponent;
-        assert_eq!(flow.turn_here(Some(Seat::A), false), Turn::Wait);
-        assert_eq!(Turn::Wait.stage(), Stage::Watching);
+        assert_eq!(flow.prompt_here(Some(Seat::A), false), Prompt::Wait);
+        assert_eq!(Prompt::Wait.cue_mode(), CueMode::Watching);
     }
 
     #[test]
     fn a_shot_is_shown_then_the_rules_table_appears() {
         let (mut link, mut flow) = local();
-        let Turn::Shoot {
+        let Prompt::Shoot {
             seat,
             in_hand,
             call,
-        } = flow.turn(None)
+        } = flow.prompt(None)
         else {
             panic!("the breaker shoots first")
         };
@@ -443,7 +449,11 @@ mod tests {
         let cmd = flow.shot_command(strike).expect("no call on the break");
         send(&mut link, &mut flow, seat, cmd);
         assert!(flow.shot().is_some());
-        assert_eq!(flow.turn(None), Turn::Wait, "nobody moves while balls roll");
+        assert_eq!(
+            flow.prompt(None),
+            Prompt::Wait,
+            "nobody moves while balls roll"
+        );
         assert_eq!(flow.replica().desyncs(), 0);
         let rack = flow.balls();
         flow.tick(0.01);
@@ -515,8 +525,8 @@ mod tests {
     #[test]
     fn a_seat_waits_for_the_other_seats_turn() {
         let (_, flow) = local();
-        assert_eq!(flow.turn(Some(Seat::B)), Turn::Wait);
-        assert!(matches!(flow.turn(Some(Seat::A)), Turn::Shoot { .. }));
+        assert_eq!(flow.prompt(Some(Seat::B)), Prompt::Wait);
+        assert!(matches!(flow.prompt(Some(Seat::A)), Prompt::Shoot { .. }));
     }
 
     #[test]
@@ -580,8 +590,8 @@ mod tests {
         let cmd = flow.shot_command(strike).expect("no call on the break");
         send(&mut link, &mut flow, Seat::A, cmd);
         flow.skip();
-        let Turn::Shoot { seat, call, .. } = flow.turn(None) else {
-            panic!("a shot is due after the break: {:?}", flow.turn(None))
+        let Prompt::Shoot { seat, call, .. } = flow.prompt(None) else {
+            panic!("a shot is due after the break: {:?}", flow.prompt(None))
         };
         assert!(call, "every shot names a pocket");
         let gentle = Strike::at_angle(1.0, 90.0, DVec2::ZERO);
@@ -627,10 +637,10 @@ mod tests {
     fn rematch_starts_a_new_game() {
         let (mut link, mut flow) = local();
         send(&mut link, &mut flow, Seat::A, Command::Concede);
-        assert_eq!(flow.turn(None), Turn::Wait);
+        assert_eq!(flow.prompt(None), Prompt::Wait);
         link.rematch();
         drain(&mut link, &mut flow);
-        assert!(matches!(flow.turn(None), Turn::Shoot { .. }));
+        assert!(matches!(flow.prompt(None), Prompt::Shoot { .. }));
     }
 
     #[test]
@@ -668,7 +678,7 @@ mod tests {
         let lost = AwayResult::for_seat(Seat::A, Some(Seat::B), "A conceded");
         flow.handle(GameEvent::EndedAway(lost.clone()));
         assert_eq!(flow.ended_away, Some(lost.clone()));
-        assert_eq!(flow.turn(Some(Seat::A)), Turn::Wait);
+        assert_eq!(flow.prompt(Some(Seat::A)), Prompt::Wait);
         let [headline, why] = lost.lines();
         assert_eq!(headline, "You lost");
         assert!(why.ends_with("away: A conceded"), "{why}");

@@ -5,7 +5,8 @@ use ::glam::DVec2;
 use breakshot_client::play::leave::{self, LeaveAnswer};
 use breakshot_client::play::{
     next_level, Advice, AdviceOffer, Advisor, Aim, AimShare, AwayResult, Chat, ChatKey, Context,
-    Controls, Drag, GameEvent, GameFlow, GameLink, History, InputFrame, Intent, Key, Stage, Turn,
+    Controls, CueMode, Drag, GameEvent, GameFlow, GameLink, History, InputFrame, Intent, Key,
+    Prompt,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{self, call_prompt, connection as connection_text, Connection};
@@ -174,8 +175,9 @@ impl GameScreen {
     }
 
     /// What the player here may do.
-    fn turn(&self) -> Turn {
-        self.flow.turn_here(self.link.seat(), self.link.watching())
+    fn prompt(&self) -> Prompt {
+        self.flow
+            .prompt_here(self.link.seat(), self.link.watching())
     }
 
     /// What this game offers of the computer's advice.
@@ -274,17 +276,17 @@ impl GameScreen {
             return self.answer_leave(&game, input);
         }
         let layout = Self::layout(&game);
-        let turn = self.turn();
+        let prompt = self.prompt();
         let mut input = input.clone();
 
-        match &turn {
-            Turn::Decide { seat, options } if input.left_pressed => {
+        match &prompt {
+            Prompt::Decide { seat, options } if input.left_pressed => {
                 if let Some(choice) = choice_at(&layout, options, input.mouse) {
                     self.link.send(&game, *seat, Command::Decide(choice));
                 }
                 input.left_pressed = false;
             }
-            Turn::Shoot { seat, .. } if input.left_pressed => {
+            Prompt::Shoot { seat, .. } if input.left_pressed => {
                 if let Phase::Shooting { options, .. } = game.phase() {
                     if let Some(choice) = choice_at(&layout, options, input.mouse) {
                         self.link.send(&game, *seat, Command::Decide(choice));
@@ -294,13 +296,15 @@ impl GameScreen {
             }
             _ => {}
         }
-        let aiming = matches!(turn, Turn::Shoot { .. });
+        let aiming = matches!(prompt, Prompt::Shoot { .. });
         let r = game.params().ball_radius;
         let aim = self.controls.aim.dir();
         self.view.update(&input, Self::cue_spot(&game), aim, aiming);
         let mut input = self.view.pointer(&input, &layout, r);
         // Snooker: a click on a ball that may be nominated nominates it.
-        if let (Turn::Shoot { seat, .. }, Phase::Shooting { options, .. }) = (&turn, game.phase()) {
+        if let (Prompt::Shoot { seat, .. }, Phase::Shooting { options, .. }) =
+            (&prompt, game.phase())
+        {
             let at = layout.to_scene(input.mouse);
             let nomination = input
                 .left_pressed
@@ -311,7 +315,7 @@ impl GameScreen {
                 input.left_pressed = false;
             }
         }
-        if let Turn::Shoot { call: true, .. } = turn {
+        if let Prompt::Shoot { call: true, .. } = prompt {
             if input.left_pressed {
                 if let Some(p) = layout.pocket_at(&Table::new(game.table()), input.mouse) {
                     self.flow.call = Some(p);
@@ -321,24 +325,24 @@ impl GameScreen {
             }
         }
 
-        let stage = turn.stage();
+        let cue_mode = prompt.cue_mode();
         let ctx = Context {
             layout: &layout,
             cue: Self::cue_spot(&game),
             radius: game.params().ball_radius,
-            stage,
+            cue_mode,
         };
         let legal = |p: DVec2| game.legal_cue_placement([p.x, p.y]).is_ok();
         let intents = self.controls.update(&input, &ctx, &legal);
         // Online, the others see this player's cue move as they aim.
-        if stage != Stage::Watching && self.link.seat().is_some() {
+        if cue_mode != CueMode::Watching && self.link.seat().is_some() {
             if let Some(strike) = self.aim_share.offer(self.controls.aim.strike(), input.dt) {
                 self.link.aim(game.turn(), strike);
             }
         }
-        let seat = match turn {
-            Turn::Shoot { seat, .. } | Turn::Decide { seat, .. } => Some(seat),
-            Turn::Wait => None,
+        let seat = match prompt {
+            Prompt::Shoot { seat, .. } | Prompt::Decide { seat, .. } => Some(seat),
+            Prompt::Wait => None,
         };
         let offer = self.advice_offer();
         for intent in intents {
@@ -456,7 +460,7 @@ impl GameScreen {
                 _ => {}
             }
         }
-        self.refresh_prediction(&game, stage);
+        self.refresh_prediction(&game, cue_mode);
         self.note_miss(&game);
         self.think_advice(&game);
         Step::Stay
@@ -624,9 +628,9 @@ impl GameScreen {
         }
     }
 
-    fn refresh_prediction(&mut self, game: &Game, stage: Stage) {
+    fn refresh_prediction(&mut self, game: &Game, cue_mode: CueMode) {
         let cue_off = is_off_table(&game.balls()[game.cue_ball()]);
-        if stage == Stage::Watching || cue_off || !self.shown_aids().any() {
+        if cue_mode == CueMode::Watching || cue_off || !self.shown_aids().any() {
             self.predicted = None;
             return;
         }
@@ -710,7 +714,7 @@ impl GameScreen {
         let r = game.params().ball_radius;
         let balls = self.flow.balls();
         let names = game.ball_ids();
-        let turn = self.turn();
+        let prompt = self.prompt();
         let pen = self.view.pen(&layout, r, self.flow.shot(), game.table());
         draw::table(&pen, game.table());
 
@@ -734,7 +738,7 @@ impl GameScreen {
             turns: &self.turns,
         };
         draw::balls(&pen, &shown);
-        let shooting = matches!(turn, Turn::Shoot { .. }) && dragging.is_none();
+        let shooting = matches!(prompt, Prompt::Shoot { .. }) && dragging.is_none();
         if shooting {
             // In 9-ball the ball on is ringed.
             if game.variant() == Variant::NineBall {
@@ -754,10 +758,10 @@ impl GameScreen {
                 draw::label_in(warning, layout.notice, 20.0, draw::Align::Left, RED);
             }
         }
-        if let Turn::Shoot {
+        if let Prompt::Shoot {
             in_hand: Some(area),
             ..
-        } = &turn
+        } = &prompt
         {
             let (lo, hi) = game.in_hand_area(*area);
             let (a, b) = (layout.to_screen(lo), layout.to_screen(hi));
@@ -772,7 +776,7 @@ impl GameScreen {
                 draw::ball_at(&pen, "cue", cue, r);
             }
         }
-        if let Turn::Shoot { call: true, .. } = turn {
+        if let Prompt::Shoot { call: true, .. } = prompt {
             self.draw_call(&pen, game);
         }
         if shooting {
@@ -803,9 +807,9 @@ impl GameScreen {
         if self.link.chats() {
             draw_chat(&layout, &self.flow.chat);
         }
-        let options = match (&turn, game.phase()) {
-            (Turn::Decide { options, .. }, _) => options.clone(),
-            (Turn::Shoot { .. }, Phase::Shooting { options, .. }) => options.clone(),
+        let options = match (&prompt, game.phase()) {
+            (Prompt::Decide { options, .. }, _) => options.clone(),
+            (Prompt::Shoot { .. }, Phase::Shooting { options, .. }) => options.clone(),
             _ => Vec::new(),
         };
         for (choice, rect) in choice_buttons(&layout, &options) {
@@ -941,9 +945,9 @@ impl GameScreen {
             replica.desyncs(),
             // The kind only: a countdown in it would make a new line every frame.
             self.flow.connection.kind(),
-            match self.turn() {
-                Turn::Wait => "theirs",
-                Turn::Shoot { .. } | Turn::Decide { .. } => "mine",
+            match self.prompt() {
+                Prompt::Wait => "theirs",
+                Prompt::Shoot { .. } | Prompt::Decide { .. } => "mine",
             },
         );
         if line != self.reported {

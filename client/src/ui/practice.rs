@@ -3,8 +3,8 @@
 use breakshot_client::play::drill::{climb, Drill, Score};
 use breakshot_client::play::position;
 use breakshot_client::play::{
-    next_level, Advice, Advisor, Aim, Context, Controls, Drag, GameEvent, GameFlow, GameLink,
-    History, InputFrame, Intent, Key, LocalLink, Position, Request, Stage,
+    next_level, Advice, Advisor, Aim, Context, Controls, CueMode, Drag, GameEvent, GameFlow,
+    GameLink, History, InputFrame, Intent, Key, LocalLink, Position, Request,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::Connection;
@@ -179,13 +179,13 @@ impl PracticeScreen {
         Layout::new(screen_width(), screen_height(), self.frame)
     }
 
-    fn stage(&self) -> Stage {
+    fn cue_mode(&self) -> CueMode {
         if self.busy() || self.arranging {
-            Stage::Watching
+            CueMode::Watching
         } else if self.placing {
-            Stage::InHand
+            CueMode::InHand
         } else {
-            Stage::Aiming
+            CueMode::Aiming
         }
     }
 
@@ -227,7 +227,7 @@ impl PracticeScreen {
             layout: &layout,
             cue,
             radius: r,
-            stage: self.stage(),
+            cue_mode: self.cue_mode(),
         };
         if self.busy() && input.pressed.contains(&Key::Shoot) {
             self.flow.skip();

@@ -300,7 +300,7 @@ impl ViewKind {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::play::{Aim, Context, Controls, InputFrame, Stage};
+    use crate::play::{Aim, Context, Controls, CueMode, InputFrame};
     use crate::view::Frame;
     use breakshot_shared::physics::TableKind;
 
@@ -449,7 +449,7 @@ mod tests {
             layout: &l,
             cue,
             radius: R,
-            stage: Stage::Aiming,
+            cue_mode: CueMode::Aiming,
         };
         let target = DVec2::new(0.9, 1.9);
         let mut controls = Controls::new(Aim::default());
