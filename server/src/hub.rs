@@ -81,6 +81,8 @@ pub struct Restored {
     pub game: Game,
     /// The shot clock of the current turn as last stored, if the room has one.
     pub clock: Option<ClockLeft>,
+    /// A quick-match room's players (seat A's key first): its first game is rated.
+    pub rated: Option<[PlayerKey; 2]>,
 }
 
 /// Where a connection is in its handshake.
@@ -445,6 +447,7 @@ impl Hub {
             record,
             game,
             clock,
+            rated,
         } = restored;
         let rules = RoomRules {
             variant: meta.variant,
@@ -453,6 +456,23 @@ impl Hub {
             reconnect_window: self.config.limits.reconnect_window,
             max_commands: self.config.limits.max_commands(meta.variant),
         };
+        if let Some(keys) = rated {
+            // Rated as the instance that opened the room would have; a first game already
+            // over was rated then.
+            let names = meta
+                .seats
+                .clone()
+                .map(|s| s.map(|s| s.name).unwrap_or_default());
+            let settled = number != 1;
+            self.rated.insert(
+                meta.code.clone(),
+                RatedGame {
+                    keys,
+                    names,
+                    settled,
+                },
+            );
+        }
         let room = Room::restore(now, meta, rules, number, record, game, clock);
         self.index_tokens(&room);
         self.rooms.insert(room.code().clone(), room);

@@ -93,6 +93,14 @@ pub enum StoreOp {
     },
     /// The room closed on this server: a store shared with other instances lets go of it.
     Released(RoomCode),
+    /// A quick-match room: its first game is rated between these players, so a server that
+    /// restarts or takes the room over rates it as the one that opened it would have.
+    RatedRoom {
+        /// The room.
+        room: RoomCode,
+        /// The players' keys, seat A's first.
+        players: [PlayerKey; 2],
+    },
     /// A player's rating after a rated game (kept by key, the latest only).
     Rating {
         /// Who.

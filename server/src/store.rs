@@ -128,6 +128,8 @@ pub struct StoredGame {
     pub format: u32,
     /// The shot clock of its current turn as last stored, if it has one.
     pub clock: Option<StoredClock>,
+    /// A quick-match room's players (seat A's key first): its first game is rated.
+    pub rated: Option<[PlayerKey; 2]>,
 }
 
 /// A game's shot clock as the store last wrote it.
@@ -416,6 +418,12 @@ fn seat_of(number: i64) -> Option<Seat> {
         1 => Some(Seat::B),
         _ => None,
     }
+}
+
+/// The players of a rated room's row, if the room has one and both keys are keys.
+fn rated_players(a: Option<Vec<u8>>, b: Option<Vec<u8>>) -> Option<[PlayerKey; 2]> {
+    let key = |k: Option<Vec<u8>>| <[u8; 32]>::try_from(k?.as_slice()).ok().map(PlayerKey);
+    Some([key(a)?, key(b)?])
 }
 
 fn encode_meta(meta: &RoomMeta) -> Result<Vec<u8>, StoreError> {

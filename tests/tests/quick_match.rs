@@ -10,7 +10,7 @@ use breakshot_client::bot::{run, BotConfig};
 use breakshot_server::ratings::PlayerRating;
 use breakshot_server::store::{Location, Store};
 use breakshot_server::Limits;
-use breakshot_shared::protocol::{ClientMessage, ServerMessage};
+use breakshot_shared::protocol::{ClientMessage, SeatToken, ServerMessage};
 use breakshot_tests::postgres::Cluster;
 use breakshot_tests::{scratch, Player, TestServer, PATIENCE};
 use skillratings::glicko2::{glicko2, Glicko2Config, Glicko2Rating};
@@ -120,6 +120,74 @@ async fn on_postgres_the_ratings_survive_a_restart_too() -> Result<()> {
     let data = scratch("quick-match-pg");
     quick_match_rates_and_remembers(data.path(), Some(Location::Postgres(cluster.url.clone())))
         .await
+}
+
+/// Asks for a quick match of 8-ball.
+fn quick(name: &str) -> ClientMessage {
+    ClientMessage::QuickMatch {
+        variant: breakshot_tests::eight_ball(),
+        mode: breakshot_shared::rules::Settings::online(),
+        name: name.into(),
+    }
+}
+
+/// Reads until this player is seated, and returns the seat's token.
+async fn seated(p: &mut Player) -> Result<SeatToken> {
+    match p
+        .until("seated", |m| matches!(m, ServerMessage::Joined { .. }))
+        .await?
+    {
+        ServerMessage::Joined { token: Some(t), .. } => Ok(t),
+        other => bail!("expected a seat, got {other:?}"),
+    }
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_rated_game_the_server_restarted_in_is_rated_when_it_ends() -> Result<()> {
+    let data = scratch("quick-match-restart");
+    let server = TestServer::start_with(config_at(data.path(), None)).await?;
+    let mut ann = Player::connect(&server.invite).await?;
+    ann.send(quick("ann")).await?;
+    ann.until("queued", |m| matches!(m, ServerMessage::Queued { .. }))
+        .await?;
+    let mut bob = Player::connect(&server.invite).await?;
+    bob.send(quick("bob")).await?;
+    let (token_a, token_b) = (seated(&mut ann).await?, seated(&mut bob).await?);
+    server.stop().await?;
+
+    // The same data, a new server: both come back to their seats and bob concedes.
+    let server = TestServer::start_with(config_at(data.path(), None)).await?;
+    let mut rated = Vec::new();
+    let mut players = Vec::new();
+    for token in [token_a, token_b] {
+        let mut p = Player::connect(&server.invite).await?;
+        p.send(ClientMessage::Rejoin { token }).await?;
+        p.until("back in the seat", |m| {
+            matches!(m, ServerMessage::Joined { .. })
+        })
+        .await?;
+        players.push(p);
+    }
+    players[1].send(ClientMessage::Concede).await?;
+    for _ in 0..2 {
+        let told = players[0]
+            .until("the ratings", |m| matches!(m, ServerMessage::Rated { .. }))
+            .await?;
+        if let ServerMessage::Rated { before, after, .. } = told {
+            rated.push((before, after));
+        }
+    }
+    let (win, loss) = expected();
+    let shown = |r: f64| r.round() as i32;
+    assert_eq!(
+        rated,
+        [(1500, shown(win.rating)), (1500, shown(loss.rating))],
+        "seat A won, seat B lost: Glicko-2's numbers for two new players"
+    );
+    server.stop().await?;
+    let stored = Store::open(data.path())?.ratings()?;
+    assert_eq!(stored.len(), 2, "both ratings stored: {stored:?}");
+    Ok(())
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

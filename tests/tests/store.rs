@@ -6,7 +6,7 @@ use breakshot_server::output::{RoomMeta, StoreOp, StoredSeat};
 use breakshot_server::secret::TokenDigest;
 use breakshot_server::store::{unix_now, Location, Store, StoreError, DB_FILE};
 use breakshot_server::verify::verify_store;
-use breakshot_shared::protocol::{AimAid, RoomCode, ServerMessage};
+use breakshot_shared::protocol::{AimAid, PlayerKey, RoomCode, ServerMessage};
 use breakshot_shared::replay::{GameRecord, RecordEntry};
 use breakshot_shared::rules::{Command, EightBallRules, Seat, Settings, Variant};
 use breakshot_tests::postgres::Cluster;
@@ -70,11 +70,16 @@ fn games_survive_reopening_and_finished_ones_are_not_reloaded(open: &dyn Fn() ->
         winner: Some(Seat::B),
         reason: "A conceded".into(),
     };
+    let players = [PlayerKey([3; 32]), PlayerKey([4; 32])];
     {
         let mut store = open();
         let ops = [
             StoreOp::Room(meta("AAAAAAAA")),
             game("AAAAAAAA"),
+            StoreOp::RatedRoom {
+                room: RoomCode::parse("AAAAAAAA").unwrap(),
+                players,
+            },
             StoreOp::Room(meta("BBBBBBBB")),
             game("BBBBBBBB"),
         ];
@@ -90,12 +95,17 @@ fn games_survive_reopening_and_finished_ones_are_not_reloaded(open: &dyn Fn() ->
         unfinished[0].meta.seats[0].as_ref().unwrap().digest,
         TokenDigest([1; 32])
     );
+    assert_eq!(
+        unfinished[0].rated,
+        Some(players),
+        "a quick-match room comes back rated, with its players by seat"
+    );
     let all = store.all().unwrap();
     assert_eq!(
         all.iter()
-            .map(|g| (g.meta.code.as_str(), g.finished))
+            .map(|g| (g.meta.code.as_str(), g.finished, g.rated.is_some()))
             .collect::<Vec<_>>(),
-        [("AAAAAAAA", false), ("BBBBBBBB", true)]
+        [("AAAAAAAA", false, true), ("BBBBBBBB", true, false)]
     );
     let ended = store.ended_since(unix_now() - 60).unwrap();
     assert_eq!(ended.len(), 1);

@@ -231,6 +231,10 @@ impl Hub {
                 rated: true,
             },
         );
+        out.push(RoomOutput::Store(StoreOp::RatedRoom {
+            room: code.clone(),
+            players: [a.key, b.key],
+        }));
         self.rated.insert(
             code,
             RatedGame {

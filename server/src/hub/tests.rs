@@ -680,6 +680,7 @@ fn a_restored_room_gives_the_player_to_move_the_time_stored_not_a_full_clock() {
             turn: 0,
             left: Duration::from_secs(22),
         }),
+        rated: None,
     };
 
     let mut second = World::new();
@@ -704,6 +705,7 @@ fn a_restored_room_gives_the_player_to_move_the_time_stored_not_a_full_clock() {
                 turn: 7,
                 left: Duration::from_secs(22),
             }),
+            rated: None,
         },
     );
     third.greet(1);
@@ -1267,6 +1269,7 @@ fn with_a_shared_store_an_unknown_seat_is_claimed_and_its_room_rebuilt_or_refuse
         record,
         game: game.clone(),
         clock: None,
+        rated: None,
     };
     let out = other
         .hub
@@ -1479,6 +1482,75 @@ fn two_strangers_are_matched_into_one_room_and_a_concession_rates_them() {
         }
         ref other => panic!("{other:?}"),
     }
+}
+
+/// The ratings a hub's output stores, in order.
+fn ratings_stored(out: &[Output]) -> Vec<(PlayerKey, i32)> {
+    out.iter()
+        .filter_map(|o| match o {
+            Output::Room(RoomOutput::Store(StoreOp::Rating { key, rating })) => {
+                Some((*key, rating.rating.round() as i32))
+            }
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn a_rated_room_restarted_or_taken_over_is_rated_where_its_first_game_ends() {
+    let mut w = World::new();
+    greet_from(&mut w, 1, [10, 0, 0, 1]);
+    greet_from(&mut w, 2, [10, 0, 0, 2]);
+    w.send(1, quick("ann"));
+    let out = w.send(2, quick("bob"));
+    let ((room, token_a), (_, token_b)) = (joined(&out, 1), joined(&out, 2));
+    let (ann, bob) = (identity(1).public(), identity(2).public());
+    let stored = out.iter().find_map(|o| match o {
+        Output::Room(RoomOutput::Store(StoreOp::RatedRoom { room, players })) => {
+            Some((room.clone(), *players))
+        }
+        _ => None,
+    });
+    assert_eq!(
+        stored,
+        Some((room.clone(), [ann, bob])),
+        "the room is stored as rated, with its players' keys by seat"
+    );
+    // The room as the store gives it back to a restarted server or another instance.
+    let left = w.hub.room(&room).unwrap();
+    let restored = |number| Restored {
+        meta: left.meta(),
+        number,
+        record: left.record().clone(),
+        game: left.game().clone(),
+        clock: None,
+        rated: Some([ann, bob]),
+    };
+    let back_at = |number| {
+        let mut other = World::new();
+        other.hub.restore(other.now, restored(number));
+        greet_from(&mut other, 1, [10, 0, 0, 1]);
+        greet_from(&mut other, 2, [10, 0, 0, 2]);
+        other.send(1, ClientMessage::Rejoin { token: token_a });
+        other.send(2, ClientMessage::Rejoin { token: token_b });
+        let out = other.send(2, ClientMessage::Concede);
+        let told = sent_to(&out, 1)
+            .into_iter()
+            .filter(|m| matches!(m, ServerMessage::Rated { .. }))
+            .count();
+        (ratings_stored(&out), told)
+    };
+    // skillratings' own numbers for two new players, a win: 1662 and 1338.
+    assert_eq!(
+        back_at(1),
+        (vec![(ann, 1662), (bob, 1338)], 2),
+        "the first game ended on the server that brought the room back: rated there"
+    );
+    assert_eq!(
+        back_at(2),
+        (vec![], 0),
+        "a later game of the room is a friendly (the first was rated where it ended)"
+    );
 }
 
 #[test]

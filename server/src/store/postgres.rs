@@ -22,8 +22,8 @@ use breakshot_shared::protocol::RoomCode;
 use postgres::{Client, NoTls, Statement};
 
 use super::{
-    assemble, decode_meta, encode_meta, seat_number, seat_of, stored_format, unix_millis, unix_now,
-    Claim, EndedGame, StoreError, StoredClock, StoredGame,
+    assemble, decode_meta, encode_meta, rated_players, seat_number, seat_of, stored_format,
+    unix_millis, unix_now, Claim, EndedGame, StoreError, StoredClock, StoredGame,
 };
 use crate::output::StoreOp;
 use crate::secret::TokenDigest;
@@ -34,6 +34,7 @@ const MIGRATIONS: &[&str] = &[
     include_str!("../../migrations/postgres/0002_seats.sql"),
     include_str!("../../migrations/postgres/0003_clocks.sql"),
     include_str!("../../migrations/postgres/0004_ratings.sql"),
+    include_str!("../../migrations/postgres/0005_rated_rooms.sql"),
 ];
 
 /// The advisory lock key under which the schema is migrated ("BRKSHOT" in ASCII).
@@ -49,6 +50,7 @@ struct Writes {
     seat: Statement,
     clock: Statement,
     rating: Statement,
+    rated_room: Statement,
 }
 
 pub(super) struct PgStore {
@@ -128,6 +130,10 @@ impl PgStore {
                      deviation = excluded.deviation, volatility = excluded.volatility,
                      games = excluded.games",
             )?,
+            rated_room: db.prepare(
+                "INSERT INTO rated_rooms (code, player_a, player_b) VALUES ($1, $2, $3)
+                 ON CONFLICT (code) DO NOTHING",
+            )?,
         };
         Ok(PgStore {
             db: RefCell::new(db),
@@ -171,7 +177,8 @@ impl PgStore {
                 StoreOp::GameStarted { room, .. }
                 | StoreOp::Command { room, .. }
                 | StoreOp::GameEnded { room, .. }
-                | StoreOp::Clock { room, .. } => room,
+                | StoreOp::Clock { room, .. }
+                | StoreOp::RatedRoom { room, .. } => room,
                 StoreOp::Released(_) | StoreOp::Rating { .. } => continue,
             };
             if !self.own(room.as_str())? {
@@ -245,6 +252,10 @@ impl PgStore {
                     )?;
                 }
                 StoreOp::Released(_) => {}
+                StoreOp::RatedRoom { room, players } => {
+                    let [a, b] = players.map(|k| k.0.to_vec());
+                    tx.execute(&w.rated_room, &[&room.as_str(), &a, &b])?;
+                }
                 StoreOp::Rating { key, rating } => {
                     tx.execute(
                         &w.rating,
@@ -345,9 +356,10 @@ impl PgStore {
     ) -> Result<Vec<StoredGame>, StoreError> {
         let rows = self.db.borrow_mut().query(
             "SELECT r.code, r.meta, g.number, g.header, g.finished,
-                    c.turn, c.left_ms, c.running, c.at_ms
+                    c.turn, c.left_ms, c.running, c.at_ms, q.player_a, q.player_b
              FROM games g JOIN rooms r ON r.code = g.room
              LEFT JOIN clocks c ON c.room = g.room AND c.number = g.number
+             LEFT JOIN rated_rooms q ON q.code = g.room
              WHERE ($1 OR NOT g.finished) AND ($2::TEXT IS NULL OR g.room = $2)
              ORDER BY g.room COLLATE \"C\", g.number",
             &[&all, &room],
@@ -381,6 +393,7 @@ impl PgStore {
                 finished: row.get(4),
                 format: stored_format(&header),
                 clock,
+                rated: rated_players(row.get(9), row.get(10)),
             });
         }
         Ok(out)

@@ -10,8 +10,8 @@ use breakshot_shared::replay::{self, GameRecord, RecordEntry, RECORD_VERSION};
 use rusqlite::{params, Connection, OptionalExtension};
 
 use super::{
-    assemble, decode_meta, encode_meta, seat_number, seat_of, stored_format, unix_millis, unix_now,
-    EndedGame, StoreError, StoredClock, StoredGame,
+    assemble, decode_meta, encode_meta, rated_players, seat_number, seat_of, stored_format,
+    unix_millis, unix_now, EndedGame, StoreError, StoredClock, StoredGame,
 };
 use crate::output::StoreOp;
 
@@ -22,8 +22,9 @@ pub const DB_FILE: &str = "games.sqlite3";
 /// each game's whole record in `games.record`; it is migrated in place on open: the record
 /// becomes the game's header, with no command rows after it. Version 2 may hold records of
 /// format 1 (level strikes, before the cue elevation); on open they are rewritten in the
-/// current format, so a game goes on with rows of one format only.
-const SCHEMA: i64 = 3;
+/// current format, so a game goes on with rows of one format only. Version 4 adds the table of
+/// rated (quick-match) rooms.
+const SCHEMA: i64 = 4;
 
 pub(super) struct SqliteStore {
     pub(super) db: Connection,
@@ -95,6 +96,11 @@ impl SqliteStore {
                  deviation REAL NOT NULL,
                  volatility REAL NOT NULL,
                  games INTEGER NOT NULL
+             ) WITHOUT ROWID;
+             CREATE TABLE IF NOT EXISTS rated_rooms (
+                 code TEXT PRIMARY KEY REFERENCES rooms(code),
+                 player_a BLOB NOT NULL,
+                 player_b BLOB NOT NULL
              ) WITHOUT ROWID;",
         )?;
         if version < 3 {
@@ -188,6 +194,17 @@ impl SqliteStore {
                 }
                 // One server owns every room of its own SQLite file.
                 StoreOp::Released(_) => {}
+                StoreOp::RatedRoom { room, players } => {
+                    tx.prepare_cached(
+                        "INSERT INTO rated_rooms (code, player_a, player_b) VALUES (?1, ?2, ?3)
+                         ON CONFLICT(code) DO NOTHING",
+                    )?
+                    .execute(params![
+                        room.as_str(),
+                        players[0].0.as_slice(),
+                        players[1].0.as_slice()
+                    ])?;
+                }
                 StoreOp::Rating { key, rating } => {
                     tx.prepare_cached(
                         "INSERT INTO ratings (player, name, rating, deviation, volatility, games)
@@ -355,9 +372,10 @@ impl SqliteStore {
     fn games(&self, filter: &str) -> Result<Vec<StoredGame>, StoreError> {
         let sql = format!(
             "SELECT r.code, r.meta, g.number, g.header, g.finished,
-                    c.turn, c.left_ms, c.running, c.at_ms
+                    c.turn, c.left_ms, c.running, c.at_ms, q.player_a, q.player_b
              FROM games g JOIN rooms r ON r.code = g.room
-             LEFT JOIN clocks c ON c.room = g.room AND c.number = g.number {filter}
+             LEFT JOIN clocks c ON c.room = g.room AND c.number = g.number
+             LEFT JOIN rated_rooms q ON q.code = g.room {filter}
              ORDER BY g.room, g.number"
         );
         let mut stmt = self.db.prepare(&sql)?;
@@ -374,11 +392,12 @@ impl SqliteStore {
                     r.get::<_, Option<bool>>(7)?,
                     r.get::<_, Option<i64>>(8)?,
                 ),
+                rated_players(r.get(9)?, r.get(10)?),
             ))
         })?;
         let mut out = Vec::new();
         for row in rows {
-            let (code, meta, number, header, finished, clock) = row?;
+            let (code, meta, number, header, finished, clock, rated) = row?;
             let record = assemble(&header, self.entries(&code, number)?);
             let meta = decode_meta(&meta).map_err(|why| StoreError::Meta { room: code, why })?;
             out.push(StoredGame {
@@ -388,6 +407,7 @@ impl SqliteStore {
                 finished,
                 format: stored_format(&header),
                 clock,
+                rated,
             });
         }
         Ok(out)
