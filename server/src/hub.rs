@@ -792,8 +792,7 @@ impl Hub {
             (ClientMessage::Spectate { room }, None) => match self.rooms.get_mut(&room) {
                 Some(r) => {
                     let entry = r.spectate(now, conn, MAX_SPECTATORS);
-                    self.entered(conn, room, &entry);
-                    lift(entry.out)
+                    self.entered(conn, room, entry)
                 }
                 None => error(conn, ErrorCode::NoSuchRoom, format!("no room {room}")),
             },
@@ -1053,8 +1052,7 @@ impl Hub {
             let key = self.player_of(conn);
             self.lobby.seated(&code, Listed { name, key });
         }
-        self.entered(conn, code, &entry);
-        lift(entry.out)
+        self.entered(conn, code, entry)
     }
 
     /// A seat token's player comes back; with `claim`, a token no room here knows is looked
@@ -1081,18 +1079,28 @@ impl Hub {
             return error(conn, ErrorCode::NoSuchRoom, "the room is closed");
         };
         let entry = room.rejoin(now, conn, seat, token);
-        self.entered(conn, code, &entry);
-        lift(entry.out)
+        self.entered(conn, code, entry)
     }
 
     /// Indexes what an entry point did: `conn` is in room `code` with its role, and the
-    /// connection it replaced is in no room.
-    fn entered(&mut self, conn: ConnId, code: RoomCode, entry: &Entered) {
-        let Some(role) = entry.role else { return };
+    /// connection it replaced is in no room. Returns what the entry sends, with the seats'
+    /// ratings after it in a rated room.
+    fn entered(&mut self, conn: ConnId, code: RoomCode, entry: Entered) -> Vec<Output> {
+        let mut out = lift(entry.out);
+        let Some(role) = entry.role else { return out };
         if let Some(c) = entry.replaced.and_then(|old| self.conns.get_mut(&old)) {
             c.room = None;
         }
+        out.extend(self.ratings_told(conn, &code));
         self.set_room(conn, code, role);
+        out
+    }
+
+    /// The seats' ratings for `conn`, if `code` is a rated room.
+    pub(super) fn ratings_told(&self, conn: ConnId, code: &RoomCode) -> Option<Output> {
+        let game = self.rated.get(code)?;
+        let ratings = game.keys.map(|k| self.ratings.shown_or_start(&k));
+        Some(send(conn, ServerMessage::Ratings { ratings }))
     }
 
     /// A room code no open room has.

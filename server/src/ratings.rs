@@ -87,6 +87,11 @@ impl Ratings {
             .map_or_else(|| Glicko2Rating::new().rating, |r| r.rating)
     }
 
+    /// `key`'s rating as shown (rounded): theirs, or the starting one.
+    pub fn shown_or_start(&self, key: &PlayerKey) -> i32 {
+        self.or_start(key).round() as i32
+    }
+
     /// Rates a game `winner` (playing as `winner_name`) won against `loser`; returns both
     /// players' ratings before and after, winner first, to store and to tell.
     pub fn rate(

@@ -70,6 +70,8 @@ pub enum GameEvent {
         /// The rating after it.
         after: i32,
     },
+    /// The seats' ratings in a rated room (seat A's, then B's), shown beside the names.
+    Ratings([i32; 2]),
     /// Where `seat`, to shoot on `turn`, is aiming now.
     Aim {
         /// The turn being aimed.
@@ -209,6 +211,7 @@ pub(crate) fn game_events(msg: &ServerMessage, me: Option<Seat>) -> Vec<GameEven
             before: *before,
             after: *after,
         }],
+        ServerMessage::Ratings { ratings } => vec![GameEvent::Ratings(*ratings)],
         // The server's own notice, said in the room like its other notices.
         ServerMessage::Draining { message } => vec![GameEvent::Chat(ChatLine {
             from: String::new(),
@@ -286,6 +289,13 @@ mod tests {
                 before: 1500,
                 after: 1338
             }]
+        );
+        let ratings = ServerMessage::Ratings {
+            ratings: [1620, 1480],
+        };
+        assert_eq!(
+            game_events(&ratings, None),
+            [GameEvent::Ratings([1620, 1480])]
         );
         let drain = ServerMessage::Draining {
             message: "your game goes on to its end".into(),

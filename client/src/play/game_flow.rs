@@ -79,7 +79,7 @@ pub struct GameFlow {
     pub ended_away: Option<AwayResult>,
     /// The players' names, by seat, once the server has said them.
     pub names: [Option<String>; 2],
-    /// The players' ratings, by seat, once a rated game has ended here.
+    /// The players' ratings, by seat, in a rated room (told on entering, and after the game).
     pub ratings: [Option<i32>; 2],
     /// The room's chat.
     pub chat: Chat,
@@ -245,6 +245,7 @@ impl GameFlow {
                     &format!("{who}'s rating: {before} -> {after} ({:+})", after - before),
                 );
             }
+            GameEvent::Ratings(ratings) => self.ratings = ratings.map(Some),
             GameEvent::Aim { turn, seat, strike } => {
                 self.opponent_aim = Some((*turn, *seat, *strike));
             }
@@ -388,18 +389,20 @@ mod tests {
     }
 
     #[test]
-    fn a_rated_game_s_end_puts_the_new_rating_beside_the_name_and_says_the_change() {
+    fn a_rated_room_s_ratings_stand_beside_the_names_and_the_game_s_end_says_the_change() {
         let (_, mut flow) = local();
         flow.handle(GameEvent::Seated {
             seat: Seat::B,
             name: "ben".into(),
         });
+        flow.handle(GameEvent::Ratings([1500, 1500]));
+        assert_eq!(flow.ratings, [Some(1500), Some(1500)], "from the start");
         flow.handle(GameEvent::Rated {
             seat: Seat::B,
             before: 1500,
             after: 1338,
         });
-        assert_eq!(flow.ratings, [None, Some(1338)]);
+        assert_eq!(flow.ratings, [Some(1500), Some(1338)]);
         let said: Vec<String> = flow.chat.lines().map(|l| l.text.clone()).collect();
         assert_eq!(said, ["ben's rating: 1500 -> 1338 (-162)"]);
     }

@@ -42,8 +42,8 @@ pub struct GameScreen {
     reported: String,
     /// The last line under the table told to whoever watches ("Game resumed", ...).
     reported_message: String,
-    /// The turn line and the last verdict's lines as last reported.
-    reported_lines: (String, String),
+    /// The turn line, the last verdict's lines and the players' lines as last reported.
+    reported_lines: (String, String, String),
     /// The line under a game's result last reported.
     reported_after: String,
     /// The invite panel's button pressed last.
@@ -978,13 +978,21 @@ impl GameScreen {
                 .shown_verdict()
                 .map(|v| hud::verdict_lines(v, &self.flow.names).join(" / "))
                 .unwrap_or_default();
+            // The players' lines of the HUD: names, seats, ratings in a rated room.
+            let players =
+                hud::players(game, self.link.seat(), &self.flow.names, &self.flow.ratings)
+                    .map(|p| p.text)
+                    .join(" | ");
             if status != self.reported_lines.0 {
                 super::report(&format!("status {status}"));
             }
             if verdict != self.reported_lines.1 && !verdict.is_empty() {
                 super::report(&format!("verdict {verdict}"));
             }
-            self.reported_lines = (status, verdict);
+            if players != self.reported_lines.2 {
+                super::report(&format!("players {players}"));
+            }
+            self.reported_lines = (status, verdict, players);
         }
     }
 

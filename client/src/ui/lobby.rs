@@ -8,7 +8,7 @@ use std::collections::VecDeque;
 
 use breakshot_client::net::{Entry, NetLink, Port, SeatStore, Seating, Session, SessionEvent};
 use breakshot_client::play::{InputFrame, Key};
-use breakshot_client::view::{hud::variant_name, Rect};
+use breakshot_client::view::{hud::variant_name, lobby_bar, lobby_row, Rect, LOBBY_BAR};
 use breakshot_shared::protocol::{ClientMessage, GameInPlay, Invite, ServerMessage, WaitingRoom};
 use breakshot_shared::rules::{EightBallRules, Settings, Variant};
 use macroquad::prelude::*;
@@ -183,7 +183,7 @@ impl LobbyScreen {
     /// The buttons: one per row (join or watch), then the bar at the bottom.
     fn layout(&self) -> Vec<(Click, &'static str, Rect)> {
         let (w, h) = (screen_width(), screen_height());
-        let row_h = (0.05 * h).clamp(24.0, 44.0);
+        let row_h = lobby_row(h);
         let button_w = (0.14 * w).max(90.0);
         let x = w - 0.06 * w - button_w;
         let mut out = Vec::new();
@@ -206,22 +206,14 @@ impl LobbyScreen {
         } else {
             "Quick match"
         };
-        let bar = [
+        let bar: [(Click, &'static str); LOBBY_BAR] = [
             (Click::QuickMatch, quick),
             (Click::Refresh, "Refresh"),
             (Click::Previous, "< Page"),
             (Click::Next, "Page >"),
             (Click::Back, "Back"),
         ];
-        let n_bar = bar.len() as f32;
-        let bw = w / (n_bar + 1.0);
-        for (n, (click, name)) in bar.into_iter().enumerate() {
-            let r = Rect::new(
-                0.5 * bw / n_bar * (n as f32 + 1.0) + n as f32 * bw,
-                h - 1.6 * row_h,
-                bw,
-                row_h * 1.2,
-            );
+        for ((click, name), r) in bar.into_iter().zip(lobby_bar(w, h)) {
             out.push((click, name, r));
         }
         out
@@ -398,7 +390,7 @@ impl LobbyScreen {
         let title = "FIND A GAME";
         let size = 48.0f32.min(0.08 * h);
         draw::centred(title, 0.1 * h, size, WHITE);
-        let row_h = (0.05 * h).clamp(24.0, 44.0);
+        let row_h = lobby_row(h);
         let text_w = 0.7 * w;
         let line = |text: &str, y: f32, c: Color| {
             draw::label_in(

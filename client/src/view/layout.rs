@@ -656,6 +656,32 @@ pub fn menu_buttons(w: f32, h: f32, n: usize) -> Vec<Rect> {
         .collect()
 }
 
+/// How many buttons the lobby's bottom bar holds: quick match (or cancel), refresh, the
+/// previous and next pages, back.
+pub const LOBBY_BAR: usize = 5;
+
+/// The height of one of the lobby's rows in a window `h` high.
+pub fn lobby_row(h: f32) -> f32 {
+    (0.05 * h).clamp(24.0, 44.0)
+}
+
+/// The lobby's bottom bar in a `w` x `h` window: its buttons from left to right, evenly
+/// spread along the bottom.
+pub fn lobby_bar(w: f32, h: f32) -> [Rect; LOBBY_BAR] {
+    let row_h = lobby_row(h);
+    let n = LOBBY_BAR as f32;
+    let bw = w / (n + 1.0);
+    std::array::from_fn(|k| {
+        let k = k as f32;
+        Rect::new(
+            0.5 * bw / n * (k + 1.0) + k * bw,
+            h - 1.6 * row_h,
+            bw,
+            row_h * 1.2,
+        )
+    })
+}
+
 /// The boxes of the menu's page for watching a game again, in a `w` x `h` window.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReplayPageBoxes {

@@ -236,14 +236,21 @@ impl Hub {
             players: [a.key, b.key],
         }));
         self.rated.insert(
-            code,
+            code.clone(),
             RatedGame {
                 keys: [a.key, b.key],
                 names: [a.name, b.name],
                 settled: false,
             },
         );
-        lift(out)
+        let mut out = lift(out);
+        out.extend(
+            [a.conn, b.conn]
+                .map(|conn| self.ratings_told(conn, &code))
+                .into_iter()
+                .flatten(),
+        );
+        out
     }
 
     /// Rates a quick-match room's first game once it is over with a winner: both ratings

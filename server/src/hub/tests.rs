@@ -1426,6 +1426,26 @@ fn two_strangers_are_matched_into_one_room_and_a_concession_rates_them() {
         "the longer wait takes seat A"
     );
     assert_eq!(joined(2), Role::Player(Seat::B));
+    let told_ratings = |out: &[Output], conn| {
+        sent_to(out, conn).into_iter().find_map(|m| match m {
+            ServerMessage::Ratings { ratings } => Some(*ratings),
+            _ => None,
+        })
+    };
+    let room = sent_to(&out, 1)
+        .into_iter()
+        .find_map(|m| match m {
+            ServerMessage::Joined { snapshot, .. } => Some(snapshot.room.clone()),
+            _ => None,
+        })
+        .expect("a room");
+    for conn in [1, 2] {
+        assert_eq!(
+            told_ratings(&out, conn),
+            Some([1500, 1500]),
+            "both seated players see both ratings from the start"
+        );
+    }
     assert_eq!(lobby_page(&mut w, 1), (0, 1), "listed to watch");
     // Seat B concedes: a loss like any other.
     let out = w.send(2, ClientMessage::Concede);
@@ -1467,6 +1487,10 @@ fn two_strangers_are_matched_into_one_room_and_a_concession_rates_them() {
             ]
         );
     }
+    // Whoever comes to watch sees the ratings as they are now.
+    greet_from(&mut w, 3, [10, 0, 0, 3]);
+    let out = w.send(3, ClientMessage::Spectate { room });
+    assert_eq!(told_ratings(&out, 3), Some([1662, 1338]));
     // Rated once: a rematch is a friendly.
     w.send(1, ClientMessage::Rematch);
     w.send(2, ClientMessage::Rematch);
@@ -1531,7 +1555,11 @@ fn a_rated_room_restarted_or_taken_over_is_rated_where_its_first_game_ends() {
         other.hub.restore(other.now, restored(number));
         greet_from(&mut other, 1, [10, 0, 0, 1]);
         greet_from(&mut other, 2, [10, 0, 0, 2]);
-        other.send(1, ClientMessage::Rejoin { token: token_a });
+        let back = other.send(1, ClientMessage::Rejoin { token: token_a });
+        assert!(
+            got(&back, 1, |m| matches!(m, ServerMessage::Ratings { .. })),
+            "a player back in a rated room is told the ratings: {back:?}"
+        );
         other.send(2, ClientMessage::Rejoin { token: token_b });
         let out = other.send(2, ClientMessage::Concede);
         let told = sent_to(&out, 1)

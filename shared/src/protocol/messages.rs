@@ -475,6 +475,13 @@ pub enum ServerMessage {
         /// What it means for the player, readable by a person.
         message: String,
     },
+    /// The seats' ratings in a rated (quick-match) room, rounded, sent after `Joined` to
+    /// whoever enters it (its players when it opens and when they come back, watchers), so
+    /// the names carry them from the first shot. A player's first rated game starts at 1500.
+    Ratings {
+        /// Seat A's rating, then seat B's.
+        ratings: [i32; 2],
+    },
 }
 
 /// Turns a player's message into the rules command it asks for (with the turn it
