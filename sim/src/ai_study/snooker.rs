@@ -8,11 +8,10 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Context;
-use breakshot_shared::ai::{Level, Player};
 use breakshot_shared::rules::{Game, Seat, Settings, Variant};
 
 use super::games::{seated, Contestant, Seats};
-use super::{parallel, quantile, Size};
+use super::{heading, level_pairings, parallel, quantile, write, Size};
 
 /// A frame stops undecided after this many commands (keeps the study bounded).
 const MAX_COMMANDS: usize = 800;
@@ -139,25 +138,14 @@ fn pairing(reds: u8, us: Contestant, them: Contestant, size: &Size, salt: u64) -
 pub fn run(out: &Path, reds: u8, size: &Size) -> anyhow::Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let started = Instant::now();
-    let mut rows = Vec::new();
-    for &n in &size.levels {
-        let level = Contestant::Computer(Player::from(Level::new(n)));
-        eprintln!("snooker: level {n} against the simple potter…");
-        let vs_potter = pairing(reds, level, Contestant::Ghost, size, u64::from(n));
-        let vs_below = (n > 1).then(|| {
-            eprintln!("snooker: level {n} against level {}…", n - 1);
-            let below = Contestant::Computer(Player::from(Level::new(n - 1)));
-            pairing(reds, level, below, size, 100 + u64::from(n))
-        });
-        rows.push((n, vs_potter, vs_below));
-    }
-    let mut md = String::from("# Computer player study: snooker\n\n");
-    let _ = writeln!(
-        md,
-        "{} frames of {reds} reds per pairing (seats alternating, seat A breaks off); the simple potter is the ghost-ball player; {} threads; {:.0} s in all.\n",
-        size.games,
-        size.jobs,
-        started.elapsed().as_secs_f64()
+    let rows = level_pairings(size, "snooker: ", "the simple potter", |us, them, salt| {
+        pairing(reds, us, them, size, salt)
+    });
+    let mut md = heading(
+        "Computer player study: snooker",
+        &format!("{} frames of {reds} reds per pairing (seats alternating, seat A breaks off); the simple potter is the ghost-ball player", size.games),
+        size,
+        started,
     );
     let _ = writeln!(md, "| level | frames won vs simple potter | vs level below | mean break | highest break | breaks of {BIG_BREAK}+ | points per frame | fouls per frame | decision median |");
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
@@ -199,12 +187,8 @@ pub fn run(out: &Path, reds: u8, size: &Size) -> anyhow::Result<()> {
             );
         }
     }
-    let write = |name: &str, text: &str| -> anyhow::Result<()> {
-        let path = out.join(name);
-        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
-    };
-    write("snooker.md", &md)?;
-    write("snooker.csv", &csv)?;
+    write(out, "snooker.md", &md)?;
+    write(out, "snooker.csv", &csv)?;
     println!("{md}");
     Ok(())
 }
