@@ -43,9 +43,6 @@ fn play(reds: u8, a: Contestant, b: Contestant, seed: u64) -> Frame {
         };
         let i = seat.index();
         let is_shot = chosen.is_shot();
-        if chosen.is_timed() {
-            f.times[i].push(chosen.seconds);
-        }
         let before = game.snooker().map_or(0, |m| m.break_points);
         let verdict = match game.apply(seat, &chosen.command) {
             Ok(v) => v,
@@ -77,6 +74,7 @@ fn play(reds: u8, a: Contestant, b: Contestant, seed: u64) -> Frame {
             break;
         }
     }
+    f.times = seats.times;
     f
 }
 
