@@ -161,6 +161,11 @@ fn heading(title: &str, games: &str, size: &Size, started: Instant) -> String {
     )
 }
 
+/// A pairing's result as the reports show it: the share won, then the wins of those played.
+fn won(rate: f64, wins: usize, played: usize) -> String {
+    format!("{:.0}% ({wins}/{played})", 100.0 * rate)
+}
+
 /// Writes `text` into the file `name` in `out`.
 fn write(out: &Path, name: &str, text: &str) -> anyhow::Result<()> {
     let path = out.join(name);
@@ -289,10 +294,8 @@ pub fn run(out: &Path, size: Size) -> anyhow::Result<()> {
         });
         let _ = writeln!(
             md,
-            "| {n} | {:.0}% ({}/{}) | {below} | {:.0}% of {} | {:.0}% of {} | {:.3} s | {:.3} s | {:.0} |",
-            100.0 * g.win_rate(),
-            g.wins,
-            g.games,
+            "| {n} | {} | {below} | {:.0}% of {} | {:.0}% of {} | {:.3} s | {:.3} s | {:.0} |",
+            won(g.win_rate(), g.wins, g.games),
             100.0 * g.successes as f64 / g.shots.max(1) as f64,
             g.shots,
             100.0 * g.break_and_runs as f64 / g.breaks.max(1) as f64,

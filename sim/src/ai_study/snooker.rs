@@ -11,7 +11,7 @@ use anyhow::Context;
 use breakshot_shared::rules::{Game, Seat, Settings, Variant};
 
 use super::games::{seated, Contestant, Seats};
-use super::{heading, level_pairings, parallel, quantile, write, Size};
+use super::{heading, level_pairings, parallel, quantile, won, write, Size};
 
 /// A frame stops undecided after this many commands (keeps the study bounded).
 const MAX_COMMANDS: usize = 800;
@@ -149,15 +149,13 @@ pub fn run(out: &Path, reds: u8, size: &Size) -> anyhow::Result<()> {
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
     let mut csv = String::from("pairing,level,frames,wins,undecided,win_rate,breaks,mean_break,highest_break,big_breaks,points_per_frame,fouls_per_frame,strokes,median_decision_s\n");
     for (n, p, b) in &rows {
-        let below = b.as_ref().map_or("—".to_string(), |b| {
-            format!("{:.0}% ({}/{})", 100.0 * b.win_rate(), b.wins, b.frames)
-        });
+        let below = b
+            .as_ref()
+            .map_or("—".to_string(), |b| won(b.win_rate(), b.wins, b.frames));
         let _ = writeln!(
             md,
-            "| {n} | {:.0}% ({}/{}) | {below} | {:.1} | {} | {} | {:.1} | {:.1} | {:.3} s |",
-            100.0 * p.win_rate(),
-            p.wins,
-            p.frames,
+            "| {n} | {} | {below} | {:.1} | {} | {} | {:.1} | {:.1} | {:.3} s |",
+            won(p.win_rate(), p.wins, p.frames),
             p.mean_break(),
             p.breaks.iter().max().copied().unwrap_or(0),
             p.breaks.iter().filter(|&&x| x >= BIG_BREAK).count(),
