@@ -4,7 +4,7 @@
 mod common;
 
 use breakshot_shared::physics::{
-    simulate, EventKind, MotionState, Outcome, Shot, Strike, TableKind,
+    simulate, BallState, EventKind, MotionState, Outcome, Shot, Strike, TableKind,
 };
 use breakshot_shared::scene::Scene;
 use common::*;
@@ -22,6 +22,19 @@ fn jump_shot(cue: [f64; 2], others: &[[f64; 2]], speed: f64, elevation: f64) -> 
     )
 }
 
+/// `b` in the air: its centre `lift` above its height at rest, rising at `vz` (m/s).
+fn airborne(mut b: BallState, lift: f64, vz: f64) -> BallState {
+    (b.lift, b.vz, b.motion) = (lift, vz, MotionState::Airborne);
+    b
+}
+
+/// `shot`'s outcome, with the invariants checked at every event.
+fn run_checked(shot: &Shot) -> Outcome {
+    let out = run(shot);
+    invariant_figures(shot, &out);
+    out
+}
+
 fn hits(out: &Outcome, a: u16, b: u16) -> bool {
     out.events
         .iter()
@@ -32,6 +45,14 @@ fn flies(out: &Outcome, i: usize) -> bool {
     out.history[i]
         .iter()
         .any(|p| p.start.motion == MotionState::Airborne)
+}
+
+/// The index of the piece of ball `i`'s motion that begins at `t`, an event's time.
+fn piece_at(out: &Outcome, i: usize, t: f64) -> usize {
+    out.history[i]
+        .iter()
+        .position(|p| p.t0 == t)
+        .unwrap_or_else(|| panic!("ball {i} starts no new piece of motion at {t} s"))
 }
 
 /// Where the cue ball's first hop is highest, relative to where it started, and how high.
@@ -212,12 +233,8 @@ fn a_bounce_at_the_cut_off_ends_either_way() {
     // Drops whose first rebound rises the cut-off height, to rounding, and a hair either side.
     let exact = SETTLE_HEIGHT / (e * e);
     for h in [exact * (1.0 - 1e-12), exact, exact * (1.0 + 1e-12)] {
-        let mut b = ball([0.0, 0.0], [0.3, 0.0], [0.0, 0.3 / R, 0.0]);
-        b.lift = h;
-        b.motion = MotionState::Airborne;
-        let shot = Shot::new(TableKind::Open, vec![b]);
-        let out = run(&shot);
-        invariant_figures(&shot, &out);
+        let b = airborne(ball([0.0, 0.0], [0.3, 0.0], [0.0, 0.3 / R, 0.0]), h, 0.0);
+        let out = run_checked(&Shot::new(TableKind::Open, vec![b]));
         assert!(out.events.len() <= 4, "{h}: {:?}", out.events);
         assert_eq!(out.finals[0].motion, MotionState::Stationary);
     }
@@ -231,12 +248,8 @@ fn landing_on_a_cushion_nose() {
     let (w, l) = TableKind::NineFoot.size().expect("pocket table");
     let ulp = l - f64::from_bits(l.to_bits() - 1);
     for d in [0.9 * R, 0.5 * R, 1e-3 * R, 1e-9 * R, ulp, 0.0] {
-        let mut b = ball([0.5 * w, l - d], [0.0; 2], [0.0; 3]);
-        b.lift = 0.1;
-        b.motion = MotionState::Airborne;
-        let shot = Shot::new(TableKind::NineFoot, vec![b]);
-        let out = run(&shot);
-        invariant_figures(&shot, &out);
+        let b = airborne(ball([0.5 * w, l - d], [0.0; 2], [0.0; 3]), 0.1, 0.0);
+        let out = run_checked(&Shot::new(TableKind::NineFoot, vec![b]));
         assert!(
             matches!(out.events[0].kind, EventKind::BallCushion { ball: 0, .. })
                 || out.events[0].kind == EventKind::BallOffTable { ball: 0 },
@@ -310,11 +323,8 @@ fn a_ball_landing_in_a_pocket_falls_in() {
             let landing = centre + inward * (reach * pocket.radius);
             let start = landing + inward * travel;
             let vel = -inward * v;
-            let mut b = ball([start.x, start.y], [vel.x, vel.y], [0.0; 3]);
-            b.lift = h;
-            b.motion = MotionState::Airborne;
-            let shot = Shot::new(TableKind::NineFoot, vec![b]);
-            let out = run(&shot);
+            let b = airborne(ball([start.x, start.y], [vel.x, vel.y], [0.0; 3]), h, 0.0);
+            let out = run(&Shot::new(TableKind::NineFoot, vec![b]));
             let pocketed = EventKind::BallPocket {
                 ball: 0,
                 pocket: k as u8,
@@ -383,11 +393,8 @@ fn balls_in_flight_meet_the_jaws() {
         ] {
             let start = axis + inward * (table.jaws[k].radius + 2.5 * R);
             let vel = -inward * 2.0;
-            let mut b = ball([start.x, start.y], [vel.x, vel.y], [0.0; 3]);
-            (b.lift, b.vz, b.motion) = (lift, vz, MotionState::Airborne);
-            let shot = Shot::new(TableKind::NineFoot, vec![b]);
-            let out = run(&shot);
-            invariant_figures(&shot, &out);
+            let b = airborne(ball([start.x, start.y], [vel.x, vel.y], [0.0; 3]), lift, vz);
+            let out = run_checked(&Shot::new(TableKind::NineFoot, vec![b]));
             let first = out.events[0];
             let hop = out.history[0][0];
             let s = hop.state_at(first.t, R);
@@ -432,13 +439,11 @@ fn table_cushion_height() -> f64 {
 fn ball_friction_acts_in_flight() {
     let collide = |friction: bool| {
         // Falling onto the object ball from 6 cm up, at a half-ball cut, with side spin.
-        let mut flying = ball([R, -0.2], [0.0, 2.0], [0.0, 0.0, 40.0]);
-        (flying.lift, flying.vz, flying.motion) = (0.045, 0.0, MotionState::Airborne);
+        let falling = airborne(ball([R, -0.2], [0.0, 2.0], [0.0, 0.0, 40.0]), 0.045, 0.0);
         let target = ball([0.0, 0.0], [0.0; 2], [0.0; 3]);
-        let mut shot = Shot::new(TableKind::Open, vec![flying, target]);
+        let mut shot = Shot::new(TableKind::Open, vec![falling, target]);
         shot.effects.ball_friction = friction;
-        let out = run(&shot);
-        invariant_figures(&shot, &out);
+        let out = run_checked(&shot);
         let hit = out
             .events
             .iter()
@@ -446,16 +451,8 @@ fn ball_friction_acts_in_flight() {
             .expect("the balls meet in flight");
         let a = out.state_at(0, hit.t);
         let line = (out.state_at(1, hit.t).pos - a.pos).normalize();
-        let k = out.history[1]
-            .iter()
-            .position(|p| p.t0 == hit.t)
-            .expect("new piece");
-        let b = out.history[1][k].start;
-        let k = out.history[0]
-            .iter()
-            .position(|p| p.t0 == hit.t)
-            .expect("new piece");
-        let a = out.history[0][k].start;
+        let b = out.history[1][piece_at(&out, 1, hit.t)].start;
+        let a = out.history[0][piece_at(&out, 0, hit.t)].start;
         (angle_between(b.vel, line), a.spin)
     };
     let before = DVec3::new(0.0, 0.0, 40.0);
@@ -519,21 +516,16 @@ fn the_nose_has_friction_in_flight() {
     use breakshot_shared::physics::CushionModel;
     let (w, l) = TableKind::NineFoot.size().expect("pocket table");
     let along = |model: CushionModel| {
-        let mut b = ball([0.3 * w, l - 0.1], [1.0, 1.5], [0.0; 3]);
-        (b.lift, b.vz, b.motion) = (0.01, 0.3, MotionState::Airborne);
+        let b = airborne(ball([0.3 * w, l - 0.1], [1.0, 1.5], [0.0; 3]), 0.01, 0.3);
         let mut shot = Shot::new(TableKind::NineFoot, vec![b]);
         shot.models.cushion = model;
-        let out = run(&shot);
-        invariant_figures(&shot, &out);
+        let out = run_checked(&shot);
         let nose = out
             .events
             .iter()
-            .position(|e| matches!(e.kind, EventKind::BallCushion { ball: 0, .. }))
+            .find(|e| matches!(e.kind, EventKind::BallCushion { ball: 0, .. }))
             .expect("meets the nose");
-        let k = out.history[0]
-            .iter()
-            .position(|p| p.t0 == out.events[nose].t)
-            .expect("new piece");
+        let k = piece_at(&out, 0, nose.t);
         assert_eq!(out.history[0][k - 1].start.motion, MotionState::Airborne);
         out.history[0][k].start
     };

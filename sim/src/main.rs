@@ -1,6 +1,7 @@
 //! `breakshot-sim`: simulate scene files (docs/scene.md) from the command line.
 
 mod ai_study;
+mod chart;
 mod cluster_study;
 mod fit;
 mod study;

@@ -117,32 +117,12 @@ impl Level {
 
     /// How many trials the search spends on each candidate.
     pub fn schedule(self) -> Schedule {
-        match self.0 {
-            1 => Schedule {
-                samples: [1, 3, 6],
-                keep: [6, 2],
-                look_ahead: false,
-            },
-            2 => Schedule {
-                samples: [2, 5, 10],
-                keep: [8, 3],
-                look_ahead: false,
-            },
-            3 => Schedule {
-                samples: [2, 8, 16],
-                keep: [10, 4],
-                look_ahead: false,
-            },
-            4 => Schedule {
-                samples: [3, 10, 16],
-                keep: [12, 3],
-                look_ahead: true,
-            },
-            _ => Schedule {
-                samples: [5, 16, 32],
-                keep: [20, 5],
-                look_ahead: true,
-            },
+        let n = self.0;
+        Schedule {
+            samples: [[1, 3, 6], [2, 5, 10], [2, 8, 16], [3, 10, 16], [5, 16, 32]]
+                [usize::from(n - 1)],
+            keep: [[6, 2], [8, 3], [10, 4], [12, 3], [20, 5]][usize::from(n - 1)],
+            look_ahead: n >= 4,
         }
     }
 

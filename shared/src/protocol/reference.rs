@@ -161,10 +161,7 @@ fn frozen_group() -> Shot {
 
 /// One ball with running english, two rails on an 8-foot table, under `model`.
 fn off_the_rails(model: CushionModel) -> Shot {
-    let mut shot = Shot::new(
-        TableKind::EightFoot,
-        vec![BallState::at_rest(DVec2::new(0.3, 0.4))],
-    );
+    let mut shot = Shot::new(TableKind::EightFoot, at_rest(&[[0.3, 0.4]]));
     shot.models.cushion = model;
     shot.struck(0, Strike::at_angle(3.0, 63.0, DVec2::new(-0.3, 0.2)))
 }
@@ -172,21 +169,14 @@ fn off_the_rails(model: CushionModel) -> Shot {
 /// A ball sent along the bottom rail into the corner pocket's far jaw.
 fn into_the_jaw() -> Shot {
     let r = Params::default().ball_radius;
-    Shot::new(
-        TableKind::NineFoot,
-        vec![BallState::at_rest(DVec2::new(0.6, r + 0.012))],
-    )
-    .struck(0, Strike::at_angle(1.5, 180.0, DVec2::ZERO))
+    Shot::new(TableKind::NineFoot, at_rest(&[[0.6, r + 0.012]]))
+        .struck(0, Strike::at_angle(1.5, 180.0, DVec2::ZERO))
 }
 
 /// A jump over a blocker on a 9-foot table: 4 m/s at 45° of cue elevation.
 fn jump() -> Shot {
-    let blocker = BallState::at_rest(DVec2::new(0.635, 1.09));
-    Shot::new(
-        TableKind::NineFoot,
-        vec![BallState::at_rest(DVec2::new(0.635, 0.4)), blocker],
-    )
-    .struck(
+    let (cue, blocker) = ([0.635, 0.4], [0.635, 1.09]);
+    Shot::new(TableKind::NineFoot, at_rest(&[cue, blocker])).struck(
         0,
         Strike::at_angle(4.0, 90.0, DVec2::new(0.0, -0.1)).elevated(45.0),
     )
@@ -194,14 +184,7 @@ fn jump() -> Shot {
 
 /// A jump with side spin that comes down on a ball a little to its side.
 fn jump_onto_ball() -> Shot {
-    Shot::new(
-        TableKind::NineFoot,
-        vec![
-            BallState::at_rest(DVec2::new(0.635, 0.4)),
-            BallState::at_rest(DVec2::new(0.65, 0.7)),
-        ],
-    )
-    .struck(
+    Shot::new(TableKind::NineFoot, at_rest(&[[0.635, 0.4], [0.65, 0.7]])).struck(
         0,
         Strike::at_angle(2.0, 90.0, DVec2::new(0.2, 0.1)).elevated(50.0),
     )
@@ -209,24 +192,25 @@ fn jump_onto_ball() -> Shot {
 
 /// A jump towards a corner pocket that meets the nose of its jaw in the air.
 fn jump_into_the_jaw() -> Shot {
-    Shot::new(
-        TableKind::NineFoot,
-        vec![BallState::at_rest(DVec2::new(0.3, 2.2))],
-    )
-    .struck(0, Strike::at_angle(2.0, 136.0, DVec2::ZERO).elevated(35.0))
+    Shot::new(TableKind::NineFoot, at_rest(&[[0.3, 2.2]]))
+        .struck(0, Strike::at_angle(2.0, 136.0, DVec2::ZERO).elevated(35.0))
 }
 
 /// Three carom balls, a three-cushion style shot with side spin.
 fn carom() -> Shot {
     Shot::new(
         TableKind::Carom,
-        vec![
-            BallState::at_rest(DVec2::new(0.4, 0.5)),
-            BallState::at_rest(DVec2::new(0.9, 1.2)),
-            BallState::at_rest(DVec2::new(0.3, 2.2)),
-        ],
+        at_rest(&[[0.4, 0.5], [0.9, 1.2], [0.3, 2.2]]),
     )
     .struck(0, Strike::at_angle(4.0, 55.0, DVec2::new(0.3, 0.1)))
+}
+
+/// Balls at rest on the cloth at `centres` (m, scene coordinates), the struck ball first.
+fn at_rest(centres: &[[f64; 2]]) -> Vec<BallState> {
+    centres
+        .iter()
+        .map(|&[x, y]| BallState::at_rest(DVec2::new(x, y)))
+        .collect()
 }
 
 /// Every reference shot, in the order the fingerprint folds them.

@@ -59,23 +59,6 @@ fn target_name(group: Option<Group>, at_eight: bool) -> String {
     }
 }
 
-/// Judges one 8-ball shot. `before` is the table before the shot; `game.balls` already holds
-/// the balls at rest after it.
-pub(super) fn judge(
-    game: &mut Game,
-    rules: EightBallRules,
-    shooter: Seat,
-    call: Option<u8>,
-    facts: &ShotFacts,
-    before: &[BallState],
-) -> Judged {
-    if game.breaking {
-        judge_break(rules, shooter, facts)
-    } else {
-        judge_shot(game, rules, shooter, call, facts, before)
-    }
-}
-
 fn scratch_reason(facts: &ShotFacts) -> String {
     if facts.off_table.contains(&CUE) {
         "Foul: the cue ball left the table".into()
@@ -265,7 +248,9 @@ fn shoot(seat: Seat, in_hand: Option<InHand>) -> Next {
     }
 }
 
-fn judge_shot(
+/// Judges one 8-ball shot. `before` is the table before the shot; `game.balls` already holds
+/// the balls at rest after it.
+pub(super) fn judge(
     game: &mut Game,
     rules: EightBallRules,
     shooter: Seat,
@@ -273,6 +258,9 @@ fn judge_shot(
     facts: &ShotFacts,
     before: &[BallState],
 ) -> Judged {
+    if game.breaking {
+        return judge_break(rules, shooter, facts);
+    }
     let opponent = shooter.other();
     let group = game.group_of(shooter);
     let at_eight = shooting_at_eight(before, group);

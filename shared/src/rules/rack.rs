@@ -338,6 +338,12 @@ mod tests {
         }
     }
 
+    /// Asserts that `balls` are `count` balls (the cue ball among them), none overlapping another.
+    fn assert_rack(balls: &[BallState], count: usize) {
+        assert_eq!(balls.len(), count, "{balls:?}");
+        assert_no_overlap(balls);
+    }
+
     #[test]
     fn splitmix_matches_the_published_sequence() {
         // First outputs for seed 0 from the reference implementation.
@@ -359,8 +365,7 @@ mod tests {
     #[test]
     fn eight_ball_rack_layout() {
         let balls = eight_ball(TableKind::NineFoot, 7);
-        assert_eq!(balls.len(), 16);
-        assert_no_overlap(&balls);
+        assert_rack(&balls, 16);
         let foot = foot_spot(TableKind::NineFoot);
         let row_step = spacing() * (3.0f64.sqrt() * 0.5);
         // The 8 is in the middle of the third row.
@@ -393,8 +398,7 @@ mod tests {
     #[test]
     fn nine_ball_rack_layout() {
         let balls = nine_ball(TableKind::NineFoot, 3);
-        assert_eq!(balls.len(), 10);
-        assert_no_overlap(&balls);
+        assert_rack(&balls, 10);
         let foot = foot_spot(TableKind::NineFoot);
         assert_eq!(balls[1].pos, foot);
         assert_in_the_middle_of_the_third_row(balls[9], TableKind::NineFoot);

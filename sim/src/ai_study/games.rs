@@ -80,11 +80,16 @@ impl Contestant {
     }
 }
 
-/// The two contestants of a game, each with its ghost's own random stream.
+/// The two contestants of a game, each with its ghost's own random stream, and what their
+/// decisions cost.
 pub struct Seats {
     contestants: [Contestant; 2],
     ghosts: [Rng; 2],
     seed: u64,
+    /// Each seat's decision times (s) and simulations, of its timed moves only
+    /// ([`Move::is_timed`]).
+    pub times: [Vec<f64>; 2],
+    pub sims: [Vec<usize>; 2],
 }
 
 impl Seats {
@@ -94,16 +99,22 @@ impl Seats {
             contestants: [a, b],
             ghosts: [Rng::new(seed ^ 0xA), Rng::new(seed ^ 0xB)],
             seed,
+            times: Default::default(),
+            sims: Default::default(),
         }
     }
 
     /// Who is to move in `game` and the move they chose as its `n`th command (None: they
-    /// have none).
+    /// have none); a timed move's cost is kept in `times` and `sims`.
     pub fn choose(&mut self, game: &Game, n: usize) -> Option<(Seat, Move)> {
         let seat = game.to_move();
         let i = seat.index();
         let decision_seed = self.seed.wrapping_mul(1_000_003).wrapping_add(n as u64);
         let chosen = self.contestants[i].choose(game, &mut self.ghosts[i], decision_seed)?;
+        if chosen.is_timed() {
+            self.times[i].push(chosen.seconds);
+            self.sims[i].push(chosen.simulations);
+        }
         Some((seat, chosen))
     }
 }
@@ -138,10 +149,6 @@ pub fn play(variant: Variant, a: Contestant, b: Contestant, seed: u64) -> GameRe
         };
         let i = seat.index();
         let is_shot = chosen.is_shot();
-        if chosen.is_timed() {
-            record.times[i].push(chosen.seconds);
-            record.sims[i].push(chosen.simulations);
-        }
         let breaking = game.is_break();
         if is_shot && seat != breaker {
             opponent_shot = true;
@@ -168,6 +175,8 @@ pub fn play(variant: Variant, a: Contestant, b: Contestant, seed: u64) -> GameRe
         }
     }
     record.break_and_run = record.winner == Some(breaker) && !opponent_shot;
+    record.times = seats.times;
+    record.sims = seats.sims;
     record
 }
 

@@ -127,6 +127,51 @@ fn pairing(us: Contestant, them: Contestant, games: usize, jobs: usize, salt: u6
     m
 }
 
+/// Every level of `size` against the ghost-ball player and, above level 1, against the level
+/// below, as `(level, against the ghost, against the level below)`; `pairing(us, them, salt)`
+/// plays one pairing. The progress lines start with `prefix` and call the ghost `ghost`.
+fn level_pairings<T>(
+    size: &Size,
+    prefix: &str,
+    ghost: &str,
+    pairing: impl Fn(Contestant, Contestant, u64) -> T,
+) -> Vec<(u8, T, Option<T>)> {
+    let computer = |n| Contestant::Computer(Player::from(Level::new(n)));
+    size.levels
+        .iter()
+        .map(|&n| {
+            eprintln!("{prefix}level {n} against {ghost}…");
+            let vs_ghost = pairing(computer(n), Contestant::Ghost, u64::from(n));
+            let vs_below = (n > 1).then(|| {
+                eprintln!("{prefix}level {n} against level {}…", n - 1);
+                pairing(computer(n), computer(n - 1), 100 + u64::from(n))
+            });
+            (n, vs_ghost, vs_below)
+        })
+        .collect()
+}
+
+/// A report's title and the line that says how the study was run: `games` (how many, of
+/// what), the threads and the time it took since `started`.
+fn heading(title: &str, games: &str, size: &Size, started: Instant) -> String {
+    format!(
+        "# {title}\n\n{games}; {} threads; {:.0} s in all.\n\n",
+        size.jobs,
+        started.elapsed().as_secs_f64()
+    )
+}
+
+/// A pairing's result as the reports show it: the share won, then the wins of those played.
+fn won(rate: f64, wins: usize, played: usize) -> String {
+    format!("{:.0}% ({wins}/{played})", 100.0 * rate)
+}
+
+/// Writes `text` into the file `name` in `out`.
+fn write(out: &Path, name: &str, text: &str) -> anyhow::Result<()> {
+    let path = out.join(name);
+    std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
+}
+
 /// Positions to shoot from: tables met in games between ghost-ball players, a shot due and
 /// no ball in hand.
 fn positions(count: usize) -> Vec<Game> {
@@ -230,33 +275,15 @@ fn budgets() -> Vec<(String, Player)> {
 pub fn run(out: &Path, size: Size) -> anyhow::Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let started = Instant::now();
-    let mut md = String::new();
     let mut csv = String::from("pairing,level,games,wins,draws,win_rate,shots,shot_success,breaks,break_and_runs,median_decision_s,p95_decision_s,median_sims\n");
-    let mut rows = Vec::new();
-    for &n in &size.levels {
-        let level = Contestant::Computer(Player::from(Level::new(n)));
-        eprintln!("level {n} against the ghost-ball player…");
-        let vs_ghost = pairing(
-            level,
-            Contestant::Ghost,
-            size.games,
-            size.jobs,
-            u64::from(n),
-        );
-        let vs_below = (n > 1).then(|| {
-            eprintln!("level {n} against level {}…", n - 1);
-            let below = Contestant::Computer(Player::from(Level::new(n - 1)));
-            pairing(level, below, size.games, size.jobs, 100 + u64::from(n))
-        });
-        rows.push((n, vs_ghost, vs_below));
-    }
-    let _ = writeln!(md, "# Computer player study\n");
-    let _ = writeln!(
-        md,
-        "{} games per pairing (8-ball WPA, 9-ball and 8-ball bar rules in turn, breaks alternating); {} threads; {:.0} s in all.\n",
-        size.games,
-        size.jobs,
-        started.elapsed().as_secs_f64()
+    let rows = level_pairings(&size, "", "the ghost-ball player", |us, them, salt| {
+        pairing(us, them, size.games, size.jobs, salt)
+    });
+    let mut md = heading(
+        "Computer player study",
+        &format!("{} games per pairing (8-ball WPA, 9-ball and 8-ball bar rules in turn, breaks alternating)", size.games),
+        &size,
+        started,
     );
     let _ = writeln!(md, "| level | wins vs ghost-ball | wins vs level below | shot success | break-and-run | decision median | decision p95 | simulations (median) |");
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|");
@@ -267,10 +294,8 @@ pub fn run(out: &Path, size: Size) -> anyhow::Result<()> {
         });
         let _ = writeln!(
             md,
-            "| {n} | {:.0}% ({}/{}) | {below} | {:.0}% of {} | {:.0}% of {} | {:.3} s | {:.3} s | {:.0} |",
-            100.0 * g.win_rate(),
-            g.wins,
-            g.games,
+            "| {n} | {} | {below} | {:.0}% of {} | {:.0}% of {} | {:.3} s | {:.3} s | {:.0} |",
+            won(g.win_rate(), g.wins, g.games),
             100.0 * g.successes as f64 / g.shots.max(1) as f64,
             g.shots,
             100.0 * g.break_and_runs as f64 / g.breaks.max(1) as f64,
@@ -331,13 +356,9 @@ pub fn run(out: &Path, size: Size) -> anyhow::Result<()> {
             p.label, p.sims, p.success, p.median_s
         );
     }
-    let write = |name: &str, text: &str| -> anyhow::Result<()> {
-        let path = out.join(name);
-        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
-    };
-    write("computer-player.md", &md)?;
-    write("computer-player.csv", &csv)?;
-    write("strength-budget.csv", &budget_csv)?;
+    write(out, "computer-player.md", &md)?;
+    write(out, "computer-player.csv", &csv)?;
+    write(out, "strength-budget.csv", &budget_csv)?;
     let png = out.join("strength-budget.png");
     plot::draw(
         &points

@@ -4,14 +4,12 @@ use std::path::Path;
 
 use anyhow::anyhow;
 use plotters::prelude::*;
-use plotters::style::FontStyle;
 
-const FONT: &str = "sans-serif";
+use crate::chart::{canvas, register_font, FONT};
 
 /// Draws `(simulations, success)` points into a PNG at `path`.
 pub fn draw(points: &[(f64, f64)], path: &Path) -> anyhow::Result<()> {
-    plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
-        .map_err(|_| anyhow!("the embedded DejaVu Sans font is not a valid font"))?;
+    register_font()?;
     let x_max = points.iter().map(|p| p.0).fold(10.0, f64::max) * 2.0;
     let x_min = points
         .iter()
@@ -19,8 +17,7 @@ pub fn draw(points: &[(f64, f64)], path: &Path) -> anyhow::Result<()> {
         .fold(f64::INFINITY, f64::min)
         .max(1.0)
         / 2.0;
-    let root = BitMapBackend::new(path, (1000, 650)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+    let root = canvas(path, (1000, 650))?;
     let mut chart = ChartBuilder::on(&root)
         .caption(
             "Shot success against search budget (level 5 noise)",

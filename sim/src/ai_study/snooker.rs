@@ -8,11 +8,10 @@ use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Context;
-use breakshot_shared::ai::{Level, Player};
 use breakshot_shared::rules::{Game, Seat, Settings, Variant};
 
 use super::games::{seated, Contestant, Seats};
-use super::{parallel, quantile, Size};
+use super::{heading, level_pairings, parallel, quantile, won, write, Size};
 
 /// A frame stops undecided after this many commands (keeps the study bounded).
 const MAX_COMMANDS: usize = 800;
@@ -44,9 +43,6 @@ fn play(reds: u8, a: Contestant, b: Contestant, seed: u64) -> Frame {
         };
         let i = seat.index();
         let is_shot = chosen.is_shot();
-        if chosen.is_timed() {
-            f.times[i].push(chosen.seconds);
-        }
         let before = game.snooker().map_or(0, |m| m.break_points);
         let verdict = match game.apply(seat, &chosen.command) {
             Ok(v) => v,
@@ -78,6 +74,7 @@ fn play(reds: u8, a: Contestant, b: Contestant, seed: u64) -> Frame {
             break;
         }
     }
+    f.times = seats.times;
     f
 }
 
@@ -139,39 +136,26 @@ fn pairing(reds: u8, us: Contestant, them: Contestant, size: &Size, salt: u64) -
 pub fn run(out: &Path, reds: u8, size: &Size) -> anyhow::Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let started = Instant::now();
-    let mut rows = Vec::new();
-    for &n in &size.levels {
-        let level = Contestant::Computer(Player::from(Level::new(n)));
-        eprintln!("snooker: level {n} against the simple potter…");
-        let vs_potter = pairing(reds, level, Contestant::Ghost, size, u64::from(n));
-        let vs_below = (n > 1).then(|| {
-            eprintln!("snooker: level {n} against level {}…", n - 1);
-            let below = Contestant::Computer(Player::from(Level::new(n - 1)));
-            pairing(reds, level, below, size, 100 + u64::from(n))
-        });
-        rows.push((n, vs_potter, vs_below));
-    }
-    let mut md = String::from("# Computer player study: snooker\n\n");
-    let _ = writeln!(
-        md,
-        "{} frames of {reds} reds per pairing (seats alternating, seat A breaks off); the simple potter is the ghost-ball player; {} threads; {:.0} s in all.\n",
-        size.games,
-        size.jobs,
-        started.elapsed().as_secs_f64()
+    let rows = level_pairings(size, "snooker: ", "the simple potter", |us, them, salt| {
+        pairing(reds, us, them, size, salt)
+    });
+    let mut md = heading(
+        "Computer player study: snooker",
+        &format!("{} frames of {reds} reds per pairing (seats alternating, seat A breaks off); the simple potter is the ghost-ball player", size.games),
+        size,
+        started,
     );
     let _ = writeln!(md, "| level | frames won vs simple potter | vs level below | mean break | highest break | breaks of {BIG_BREAK}+ | points per frame | fouls per frame | decision median |");
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
     let mut csv = String::from("pairing,level,frames,wins,undecided,win_rate,breaks,mean_break,highest_break,big_breaks,points_per_frame,fouls_per_frame,strokes,median_decision_s\n");
     for (n, p, b) in &rows {
-        let below = b.as_ref().map_or("—".to_string(), |b| {
-            format!("{:.0}% ({}/{})", 100.0 * b.win_rate(), b.wins, b.frames)
-        });
+        let below = b
+            .as_ref()
+            .map_or("—".to_string(), |b| won(b.win_rate(), b.wins, b.frames));
         let _ = writeln!(
             md,
-            "| {n} | {:.0}% ({}/{}) | {below} | {:.1} | {} | {} | {:.1} | {:.1} | {:.3} s |",
-            100.0 * p.win_rate(),
-            p.wins,
-            p.frames,
+            "| {n} | {} | {below} | {:.1} | {} | {} | {:.1} | {:.1} | {:.3} s |",
+            won(p.win_rate(), p.wins, p.frames),
             p.mean_break(),
             p.breaks.iter().max().copied().unwrap_or(0),
             p.breaks.iter().filter(|&&x| x >= BIG_BREAK).count(),
@@ -199,12 +183,8 @@ pub fn run(out: &Path, reds: u8, size: &Size) -> anyhow::Result<()> {
             );
         }
     }
-    let write = |name: &str, text: &str| -> anyhow::Result<()> {
-        let path = out.join(name);
-        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))
-    };
-    write("snooker.md", &md)?;
-    write("snooker.csv", &csv)?;
+    write(out, "snooker.md", &md)?;
+    write(out, "snooker.csv", &csv)?;
     println!("{md}");
     Ok(())
 }

@@ -6,14 +6,13 @@ use std::path::Path;
 
 use anyhow::anyhow;
 use plotters::prelude::*;
-use plotters::style::FontStyle;
 
 use super::report::PUBLISHED_MEDIAN;
 use super::strike::Problem;
 use super::{rmses, Fit};
+use crate::chart::{register_font, FONT};
 use breakshot_shared::physics::{Models, TableKind};
 
-const FONT: &str = "sans-serif";
 /// Ball colours: the cue ball (white, drawn grey), the others yellow and red.
 const COLOURS: [RGBColor; 3] = [
     RGBColor(90, 90, 90),
@@ -26,8 +25,7 @@ fn err<E: std::fmt::Debug>(e: E) -> anyhow::Error {
 }
 
 pub fn draw(fit: &Fit, out: &Path) -> anyhow::Result<()> {
-    plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
-        .map_err(|_| anyhow!("the embedded DejaVu Sans font is not a valid font"))?;
+    register_font()?;
     paths(fit, &out.join("paths.png"))?;
     distribution(fit, &out.join("rmse.png"))
 }

@@ -422,6 +422,11 @@ mod tests {
         }
     }
 
+    /// `shot` stepped by `dt` (s), with or without the time-of-impact correction.
+    fn stepped(shot: &Shot, dt: f64, toi: bool) -> StepRun {
+        simulate(shot, FixedStep { dt, toi }).expect("the shot steps")
+    }
+
     #[test]
     fn single_ball_converges_to_the_exact_final_position() {
         let strike = Strike::at_angle(3.0, 30.0, DVec2::new(0.2, -0.3));
@@ -434,7 +439,7 @@ mod tests {
         let errors: Vec<f64> = steps
             .iter()
             .map(|&dt| {
-                let run = simulate(&shot, FixedStep { dt, toi: false }).unwrap();
+                let run = stepped(&shot, dt, false);
                 (run.trace.finals[0] - reference).length()
             })
             .collect();
@@ -460,14 +465,7 @@ mod tests {
         shot.effects = Effects::none();
         shot.horizon = Some(0.2);
         // Contact at t = 0.05 s; a step of 0.03 s finds the overlap at 0.06 s.
-        let run = simulate(
-            &shot,
-            FixedStep {
-                dt: 0.03,
-                toi: true,
-            },
-        )
-        .unwrap();
+        let run = stepped(&shot, 0.03, true);
         // Exchanged at the contact time: ball 0 stops at gap, ball 1 moves on for 0.15 s.
         let end = run.trace.finals.clone();
         assert!((end[0].x - gap).abs() < 1e-12, "{end:?}");
@@ -476,16 +474,7 @@ mod tests {
             "{end:?}"
         );
         // Without the correction the exchange happens 0.01 s late, 2 cm deeper.
-        let late = simulate(
-            &shot,
-            FixedStep {
-                dt: 0.03,
-                toi: false,
-            },
-        )
-        .unwrap()
-        .trace
-        .finals;
+        let late = stepped(&shot, 0.03, false).trace.finals;
         assert!((late[0].x - (gap + 0.02)).abs() < 1e-12, "{late:?}");
         assert_eq!(run.trace.contacts, vec![Contact::Balls(0, 1)]);
     }
@@ -507,22 +496,8 @@ mod tests {
         // 12 m/s: 0.2 m per step at 60 Hz, more than three ball diameters.
         let strike = Strike::at_angle(8.0, 90.0, DVec2::ZERO);
         let shot = open_shot(balls, Some((0, strike)));
-        let coarse = simulate(
-            &shot,
-            FixedStep {
-                dt: 1.0 / 60.0,
-                toi: true,
-            },
-        )
-        .unwrap();
-        let fine = simulate(
-            &shot,
-            FixedStep {
-                dt: 1e-4,
-                toi: true,
-            },
-        )
-        .unwrap();
+        let coarse = stepped(&shot, 1.0 / 60.0, true);
+        let fine = stepped(&shot, 1e-4, true);
         assert!(
             !coarse.trace.contacts.contains(&Contact::Balls(0, 1)),
             "tunnelled"
@@ -539,26 +514,12 @@ mod tests {
         // Straight at the middle of the x = width rail (the right side pocket is at y = l/2,
         // so aim a little off it), then straight into the bottom-left corner pocket.
         shot.strike = Some((0, Strike::at_angle(2.0, 10.0, DVec2::ZERO)));
-        let run = simulate(
-            &shot,
-            FixedStep {
-                dt: 1e-4,
-                toi: true,
-            },
-        )
-        .unwrap();
+        let run = stepped(&shot, 1e-4, true);
         assert_eq!(run.trace.contacts.first(), Some(&Contact::Cushion(0)));
         let corner = table.to_scene(table.pockets[0].center);
         shot.balls[0] = BallState::at_rest(corner + DVec2::new(0.3, 0.3));
         shot.strike = Some((0, Strike::at_angle(2.0, 225.0, DVec2::ZERO)));
-        let run = simulate(
-            &shot,
-            FixedStep {
-                dt: 1e-3,
-                toi: false,
-            },
-        )
-        .unwrap();
+        let run = stepped(&shot, 1e-3, false);
         assert_eq!(run.trace.pockets[0], Some(0));
         assert_eq!(run.trace.finals[0], corner);
     }

@@ -5,16 +5,15 @@ use std::path::Path;
 
 use anyhow::anyhow;
 use plotters::prelude::*;
-use plotters::style::FontStyle;
 
 use super::methods::Method;
 use super::report::summarize;
 use super::workload::Category;
 use super::Study;
+use crate::chart::{canvas, register_font, FONT};
 
 /// Errors below this (mm) are drawn on the axis: the reference's own error is exactly 0.
 const ERROR_FLOOR: f64 = 1e-4;
-const FONT: &str = "sans-serif";
 
 /// A point per method: (median µs per shot, mean error mm, step label).
 type Line = Vec<(f64, f64, &'static str)>;
@@ -69,8 +68,7 @@ pub fn draw(study: &Study, path: &Path) -> anyhow::Result<()> {
     let x_range = (x_min / 3.0).max(1e-3)..x_max * 3.0;
     let y_range = ERROR_FLOOR / 2.0..y_max * 5.0;
 
-    let root = BitMapBackend::new(path, (1400, 900)).into_drawing_area();
-    root.fill(&WHITE).map_err(|e| anyhow!("{e}"))?;
+    let root = canvas(path, (1400, 900))?;
     let mut chart = ChartBuilder::on(&root)
         .caption(
             "Accuracy against cost: fixed steps vs the event-based engine",
@@ -144,11 +142,4 @@ pub fn draw(study: &Study, path: &Path) -> anyhow::Result<()> {
         .map_err(|e| anyhow!("{e}"))?;
     root.present().map_err(|e| anyhow!("{e}"))?;
     Ok(())
-}
-
-/// plotters draws text with ab_glyph, which needs a font registered by name; DejaVu Sans is
-/// embedded in the binary by the `dejavu` crate, so no system font is needed.
-fn register_font() -> anyhow::Result<()> {
-    plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
-        .map_err(|_| anyhow!("the embedded DejaVu Sans font is not a valid font"))
 }

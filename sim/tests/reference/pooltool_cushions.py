@@ -40,14 +40,9 @@ def physics(ball, table):
     }
 
 
-def shot(out, name, pos, angle_deg, *, stick=None, vel_spin=None):
-    """A single cue ball on pooltool's default 7 ft table, either struck by the cue
-    (stick = (V0, a, b)) or already moving (vel_spin = (speed, spin))."""
-    table = pt.Table.default()
-    ball = pt.Ball.create("cue", xy=pos)
-    system = pt.System(table=table, balls={"cue": ball}, cue=pt.Cue(cue_ball_id="cue"))
-    d = (math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg)))
-    scene = {"table": "7ft", "physics": physics(ball, table), "models": {"cushion": "stronge"}}
+def set_off(system, ball, scene, pos, angle_deg, stick, vel_spin):
+    """Sets the cue ball at `pos` off along `angle_deg`, struck by the cue (stick = (V0, a, b))
+    or already moving (vel_spin = (speed, spin)), and gives the scene the same ball and strike."""
     if stick is not None:
         v0, a, b = stick
         system.cue.set_state(V0=v0, phi=angle_deg, a=a, b=b, theta=0.0)
@@ -56,11 +51,30 @@ def shot(out, name, pos, angle_deg, *, stick=None, vel_spin=None):
         scene["strike"] = {"ball": "cue", "speed": v0, "angle_deg": angle_deg, "tip": [-a, b]}
     else:
         speed, spin = vel_spin
+        d = (math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg)))
         vel = [speed * d[0], speed * d[1]]
         ball.state.rvw[1] = [*vel, 0.0]
         ball.state.rvw[2] = spin
         ball.state.s = pt.constants.sliding
         scene["balls"] = [{"id": "cue", "pos": list(pos), "vel": vel, "spin": list(spin)}]
+
+
+def write(out, name, scene, expected):
+    """Writes a shot as NAME.scene.json and NAME.expected.json into `out`."""
+    for suffix, data in [("scene", scene), ("expected", expected)]:
+        with open(os.path.join(out, f"{name}.{suffix}.json"), "w") as f:
+            json.dump(data, f, indent=1)
+            f.write("\n")
+
+
+def shot(out, name, pos, angle_deg, *, stick=None, vel_spin=None):
+    """A single cue ball on pooltool's default 7 ft table, either struck by the cue
+    (stick = (V0, a, b)) or already moving (vel_spin = (speed, spin))."""
+    table = pt.Table.default()
+    ball = pt.Ball.create("cue", xy=pos)
+    system = pt.System(table=table, balls={"cue": ball}, cue=pt.Cue(cue_ball_id="cue"))
+    scene = {"table": "7ft", "physics": physics(ball, table), "models": {"cushion": "stronge"}}
+    set_off(system, ball, scene, pos, angle_deg, stick, vel_spin)
     pt.simulate(system, inplace=True)
     cue = system.balls["cue"]
     counts = {}
@@ -79,10 +93,7 @@ def shot(out, name, pos, angle_deg, *, stick=None, vel_spin=None):
         "balls": {"cue": {"pos": list(cue.state.rvw[0][:2]), "rest_time": system.t}},
         "duration": system.t,
     }
-    for suffix, data in [("scene", scene), ("expected", expected)]:
-        with open(os.path.join(out, f"{name}.{suffix}.json"), "w") as f:
-            json.dump(data, f, indent=1)
-            f.write("\n")
+    write(out, name, scene, expected)
 
 
 def main(out):

@@ -14,16 +14,15 @@ as NAME.scene.json (a breakshot scene) and NAME.expected.json (the cushion conta
 position at a few times, the rest).
 """
 
-import json
 import math
 import os
 import sys
 
 import pooltool as pt
 
-# The same evolution and the same scene physics as the pool tables' cushion shots.
+# The same evolution, scene physics, set-off and files as the pool tables' cushion shots.
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from pooltool_cushions import physics, state_at  # noqa: E402
+from pooltool_cushions import physics, set_off, state_at, write  # noqa: E402
 
 # Far enough from breakshot's larger table's right and top cushions and from both tables' pockets.
 REGION = 1.4
@@ -39,22 +38,9 @@ def shot(out, name, pos, angle_deg, times, *, stick=None, vel_spin=None):
     })
     ball.params = params
     system = pt.System(table=table, balls={"cue": ball}, cue=pt.Cue(cue_ball_id="cue"))
-    d = (math.cos(math.radians(angle_deg)), math.sin(math.radians(angle_deg)))
     scene = {"table": "snooker", "physics": physics(ball, table),
              "models": {"cushion": "stronge"}}
-    if stick is not None:
-        v0, a, b = stick
-        system.cue.set_state(V0=v0, phi=angle_deg, a=a, b=b, theta=0.0)
-        # The scene's side offset has the opposite sign of pooltool's `a`.
-        scene["balls"] = [{"id": "cue", "pos": list(pos)}]
-        scene["strike"] = {"ball": "cue", "speed": v0, "angle_deg": angle_deg, "tip": [-a, b]}
-    else:
-        speed, spin = vel_spin
-        vel = [speed * d[0], speed * d[1]]
-        ball.state.rvw[1] = [*vel, 0.0]
-        ball.state.rvw[2] = spin
-        ball.state.s = pt.constants.sliding
-        scene["balls"] = [{"id": "cue", "pos": list(pos), "vel": vel, "spin": list(spin)}]
+    set_off(system, ball, scene, pos, angle_deg, stick, vel_spin)
     pt.simulate(system, inplace=True)
     cue = system.balls["cue"]
     last = times[-1]
@@ -76,10 +62,7 @@ def shot(out, name, pos, angle_deg, times, *, stick=None, vel_spin=None):
     }
     if system.t <= last:
         expected["balls"] = {"cue": {"pos": list(cue.state.rvw[0][:2]), "rest_time": system.t}}
-    for suffix, data in [("scene", scene), ("expected", expected)]:
-        with open(os.path.join(out, f"{name}.{suffix}.json"), "w") as f:
-            json.dump(data, f, indent=1)
-            f.write("\n")
+    write(out, name, scene, expected)
 
 
 def main(out):

@@ -23,6 +23,13 @@ fn facts_with(g: &Game, strike: &Strike, left: &[Departure]) -> (Vec<BallState>,
     (outcome.finals, facts)
 }
 
+/// Player A's shot `strike` from the current table of `g`, nothing called, judged with
+/// `left` reported as having left the table.
+fn judged_with(g: &mut Game, strike: &Strike, left: &[Departure]) -> Verdict {
+    let (finals, facts) = facts_with(g, strike, left);
+    g.judge_shot(Seat::A, None, finals, &facts, dummy_report())
+}
+
 fn gone(ball: u8, t: f64) -> Departure {
     Departure { ball, t }
 }
@@ -235,8 +242,7 @@ fn eight_ball_hit() -> Game {
 #[test]
 fn wpa_jumped_object_ball_is_a_foul_and_stays_off() {
     let mut g = eight_ball_hit();
-    let (finals, facts) = facts_with(&g, &HIT.strike(), &[gone(12, 0.5)]);
-    let v = g.judge_shot(Seat::A, None, finals, &facts, dummy_report());
+    let v = judged_with(&mut g, &HIT.strike(), &[gone(12, 0.5)]);
     assert_eq!(
         v.reasons[0], "Foul: the 12 left the table (it stays off)",
         "WPA 6.5, 8-ball: a ball driven off the table is a foul; only the 8 is ever spotted"
@@ -249,8 +255,7 @@ fn wpa_jumped_object_ball_is_a_foul_and_stays_off() {
     );
 
     let mut g = table(NINE, &[(0, HIT.cue), (2, HIT.object)], &[5, 9]);
-    let (finals, facts) = facts_with(&g, &HIT.strike(), &[gone(5, 0.5)]);
-    let v = g.judge_shot(Seat::A, None, finals, &facts, dummy_report());
+    let v = judged_with(&mut g, &HIT.strike(), &[gone(5, 0.5)]);
     assert_eq!(
         v.reasons[0], "Foul: the 5 left the table (it stays off)",
         "WPA 6.5, 9-ball: a ball driven off the table is a foul; only the 9 is ever spotted"
@@ -261,8 +266,7 @@ fn wpa_jumped_object_ball_is_a_foul_and_stays_off() {
 #[test]
 fn wpa_nine_jumped_off_the_table_is_spotted() {
     let mut g = table(NINE, &[(0, HIT.cue), (2, HIT.object)], &[9]);
-    let (finals, facts) = facts_with(&g, &HIT.strike(), &[gone(9, 0.5)]);
-    let v = g.judge_shot(Seat::A, None, finals, &facts, dummy_report());
+    let v = judged_with(&mut g, &HIT.strike(), &[gone(9, 0.5)]);
     assert_eq!(
         v.reasons,
         vec![
@@ -278,8 +282,7 @@ fn wpa_nine_jumped_off_the_table_is_spotted() {
 #[test]
 fn wpa_eight_jumped_off_the_table_loses_except_on_the_break() {
     let mut g = eight_ball_hit();
-    let (finals, facts) = facts_with(&g, &HIT.strike(), &[gone(8, 0.5)]);
-    let v = g.judge_shot(Seat::A, None, finals, &facts, dummy_report());
+    let v = judged_with(&mut g, &HIT.strike(), &[gone(8, 0.5)]);
     assert_eq!(
         v.over,
         Some((
@@ -295,8 +298,7 @@ fn wpa_eight_jumped_on_the_break_opponent_spots_it_or_reracks() {
     let broken = |variant| {
         let mut g = break_table(variant, KITCHEN_POT, 3);
         g.balls[8] = BallState::at_rest(DVec2::new(0.9, 1.8));
-        let (finals, facts) = facts_with(&g, &KITCHEN_POT.strike(), &[gone(8, 0.5)]);
-        let v = g.judge_shot(Seat::A, None, finals, &facts, dummy_report());
+        let v = judged_with(&mut g, &KITCHEN_POT.strike(), &[gone(8, 0.5)]);
         (g, v)
     };
     let (g, v) = broken(WPA);
@@ -339,8 +341,7 @@ fn wpa_eight_jumped_on_the_break_opponent_spots_it_or_reracks() {
 fn wpa_object_ball_jumped_on_a_legal_break_accept_in_position_or_kitchen() {
     let broken = || {
         let mut g = break_table(WPA, KITCHEN_POT, 3);
-        let (finals, facts) = facts_with(&g, &KITCHEN_POT.strike(), &[gone(12, 0.5)]);
-        let v = g.judge_shot(Seat::A, None, finals, &facts, dummy_report());
+        let v = judged_with(&mut g, &KITCHEN_POT.strike(), &[gone(12, 0.5)]);
         (g, v)
     };
     let (g, v) = broken();
@@ -375,8 +376,7 @@ fn wpa_object_ball_jumped_on_a_legal_break_accept_in_position_or_kitchen() {
 #[test]
 fn wpa_cue_ball_off_the_table_gives_ball_in_hand() {
     let mut g = eight_ball_hit();
-    let (finals, facts) = facts_with(&g, &HIT.strike(), &[gone(0, 0.5)]);
-    let v = g.judge_shot(Seat::A, None, finals, &facts, dummy_report());
+    let v = judged_with(&mut g, &HIT.strike(), &[gone(0, 0.5)]);
     assert_eq!(v.reasons[0], "Foul: the cue ball left the table");
     assert!(pocketed(&g, 0));
     assert_eq!(
@@ -386,8 +386,7 @@ fn wpa_cue_ball_off_the_table_gives_ball_in_hand() {
     );
 
     let mut g = break_table(WPA, KITCHEN_POT, 3);
-    let (finals, facts) = facts_with(&g, &KITCHEN_POT.strike(), &[gone(0, 0.5)]);
-    let v = g.judge_shot(Seat::A, None, finals, &facts, dummy_report());
+    let v = judged_with(&mut g, &KITCHEN_POT.strike(), &[gone(0, 0.5)]);
     assert_eq!(v.reasons[0], "Foul: the cue ball left the table");
     assert_eq!(
         (g.to_move(), in_hand(&g)),
@@ -396,8 +395,7 @@ fn wpa_cue_ball_off_the_table_gives_ball_in_hand() {
     );
 
     let mut g = table(NINE, &[(0, HIT.cue), (2, HIT.object)], &[9]);
-    let (finals, facts) = facts_with(&g, &HIT.strike(), &[gone(0, 0.5)]);
-    g.judge_shot(Seat::A, None, finals, &facts, dummy_report());
+    judged_with(&mut g, &HIT.strike(), &[gone(0, 0.5)]);
     assert_eq!(
         (g.to_move(), in_hand(&g)),
         (Seat::B, Some(InHand::Anywhere)),
