@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 
 use breakshot_client::bot::BotConfig;
 use breakshot_client::net::{EmbeddedServer, Host, HostOptions, NetLink, SeatedComputer, Session};
-use breakshot_client::play::{GameEvent, GameFlow, GameLink, Turn};
+use breakshot_client::play::{GameEvent, GameFlow, GameLink, Prompt};
 use breakshot_client::view::hud::Connection;
 use breakshot_server::Config;
 use breakshot_shared::ai::{self, Level};
@@ -70,14 +70,14 @@ fn play_own_seat(link: &mut dyn GameLink, flow: &GameFlow, asked: &mut bool) {
     if flow.connection != Connection::Connected {
         return;
     }
-    match flow.turn(link.seat()) {
-        Turn::Shoot { seat, .. } | Turn::Decide { seat, .. } => {
+    match flow.prompt(link.seat()) {
+        Prompt::Shoot { seat, .. } | Prompt::Decide { seat, .. } => {
             let game = flow.game().expect("a game").clone();
             let command =
                 ai::decide(&game, Level::new(1), u64::from(game.turn())).expect("the game is on");
             link.send(&game, seat, command);
         }
-        Turn::Wait
+        Prompt::Wait
             if flow
                 .game()
                 .is_some_and(|g| matches!(g.phase(), Phase::Over { .. })) =>
@@ -87,7 +87,7 @@ fn play_own_seat(link: &mut dyn GameLink, flow: &GameFlow, asked: &mut bool) {
                 *asked = true;
             }
         }
-        Turn::Wait => *asked = false,
+        Prompt::Wait => *asked = false,
     }
 }
 
