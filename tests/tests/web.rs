@@ -271,9 +271,33 @@ async fn files_are_served_byte_exact_with_their_types() -> Result<()> {
     );
     assert!(head.body.is_empty());
 
-    let post = web::request(addr, b"POST / HTTP/1.1\r\nContent-Length: 2\r\n\r\nhi").await?;
-    assert_eq!(post.status, 405);
-    assert_eq!(post.header("allow"), Some("GET, HEAD"));
+    // Refusals that name, in a header, what would be accepted.
+    let other_version = "GET /ws HTTP/1.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n\
+                         Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n\
+                         Sec-WebSocket-Version: 8\r\n\r\n";
+    for (what, request, status, header, accepted) in [
+        (
+            "a POST",
+            "POST / HTTP/1.1\r\nContent-Length: 2\r\n\r\nhi",
+            405,
+            "allow",
+            "GET, HEAD",
+        ),
+        (
+            "a WebSocket of another version",
+            other_version,
+            426,
+            "sec-websocket-version",
+            "13",
+        ),
+    ] {
+        let refused = web::request(addr, request.as_bytes()).await?;
+        assert_eq!(
+            (refused.status, refused.header(header)),
+            (status, Some(accepted)),
+            "{what}"
+        );
+    }
 
     let missing = web::get(addr, "/nope.js").await?;
     assert_eq!(missing.status, 404);
