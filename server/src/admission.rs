@@ -217,15 +217,23 @@ mod tests {
         IpAddr::from([192, 0, 2, last])
     }
 
+    /// A connection from `source`, which must be admitted, opened (still in its handshake).
+    fn open(ledger: &mut Ledger, limits: &Limits, source: IpAddr) {
+        assert_eq!(
+            ledger.decide(limits, source, false),
+            Decision::Admit,
+            "{source}"
+        );
+        ledger.opened(source);
+    }
+
     #[test]
     fn one_address_gets_only_its_share_of_handshakes_and_others_still_get_in() {
-        let limits = limits();
-        let mut ledger = Ledger::default();
+        let (limits, mut ledger) = (limits(), Ledger::default());
         let share = limits.handshakes_per_address();
         assert_eq!(share, 4);
         for _ in 0..share {
-            assert_eq!(ledger.decide(&limits, ip(1), false), Decision::Admit);
-            ledger.opened(ip(1));
+            open(&mut ledger, &limits, ip(1));
         }
         assert_eq!(
             ledger.decide(&limits, ip(1), true),
@@ -239,11 +247,9 @@ mod tests {
 
     #[test]
     fn one_address_gets_only_its_share_of_connections() {
-        let limits = limits();
-        let mut ledger = Ledger::default();
+        let (limits, mut ledger) = (limits(), Ledger::default());
         for _ in 0..limits.connections_per_address() {
-            assert_eq!(ledger.decide(&limits, ip(1), false), Decision::Admit);
-            ledger.opened(ip(1));
+            open(&mut ledger, &limits, ip(1));
             ledger.handshake_over(ip(1));
         }
         assert_eq!(
@@ -256,12 +262,9 @@ mod tests {
 
     #[test]
     fn the_totals_still_bind_many_addresses() {
-        let limits = limits();
-        let mut ledger = Ledger::default();
+        let (limits, mut ledger) = (limits(), Ledger::default());
         for i in 0..limits.max_handshakes {
-            let source = ip(u8::try_from(i).unwrap());
-            assert_eq!(ledger.decide(&limits, source, false), Decision::Admit);
-            ledger.opened(source);
+            open(&mut ledger, &limits, ip(u8::try_from(i).unwrap()));
         }
         // Handshakes are at their total: unproven addresses are asked to prove themselves.
         assert_eq!(ledger.decide(&limits, ip(200), false), Decision::Retry);

@@ -244,15 +244,17 @@ mod tests {
         }
     }
 
-    fn eight() -> (Variant, Settings) {
-        (Variant::EightBall(EightBallRules::Wpa), Settings::online())
+    /// Empty queues whose players wait at most `longest`, the 8-ball game and settings to
+    /// join them with, and the time they start at.
+    fn eight_ball_queues(longest: Duration) -> (Queues, Variant, Settings, Instant) {
+        let queues = Queues::new(longest, false);
+        let (v, m) = (Variant::EightBall(EightBallRules::Wpa), Settings::online());
+        (queues, v, m, Instant::now())
     }
 
     #[test]
     fn close_ratings_pair_at_once_far_ones_once_the_band_has_widened() {
-        let t0 = Instant::now();
-        let (v, m) = eight();
-        let mut q = Queues::new(Duration::from_secs(180), false);
+        let (mut q, v, m, t0) = eight_ball_queues(Duration::from_secs(180));
         q.join(v, m, who(1, 1500.0, 1, t0)).unwrap();
         q.join(v, m, who(2, 1900.0, 2, t0)).unwrap();
         assert_eq!(q.join(v, m, who(3, 1550.0, 3, t0)), Ok(3));
@@ -271,9 +273,7 @@ mod tests {
 
     #[test]
     fn other_settings_one_address_and_a_second_join_never_pair() {
-        let t0 = Instant::now();
-        let (v, m) = eight();
-        let mut q = Queues::new(Duration::from_secs(180), false);
+        let (mut q, v, m, t0) = eight_ball_queues(Duration::from_secs(180));
         q.join(v, m, who(1, 1500.0, 1, t0)).unwrap();
         q.join(Variant::NineBall, m, who(2, 1500.0, 2, t0)).unwrap();
         // A second key from the first player's address: not their opponent.
@@ -288,9 +288,7 @@ mod tests {
 
     #[test]
     fn leaving_and_waiting_too_long_take_a_player_out() {
-        let t0 = Instant::now();
-        let (v, m) = eight();
-        let mut q = Queues::new(Duration::from_secs(10), false);
+        let (mut q, v, m, t0) = eight_ball_queues(Duration::from_secs(10));
         q.join(v, m, who(1, 1500.0, 1, t0)).unwrap();
         q.join(v, m, who(2, 1500.0, 1, t0 + Duration::from_secs(5)))
             .unwrap();
@@ -312,9 +310,7 @@ mod tests {
 
     #[test]
     fn a_storm_of_joins_and_leaves_leaves_nothing_behind() {
-        let t0 = Instant::now();
-        let (v, m) = eight();
-        let mut q = Queues::new(Duration::from_secs(180), false);
+        let (mut q, v, m, t0) = eight_ball_queues(Duration::from_secs(180));
         for n in 0..10_000u64 {
             let _ = q.join(v, m, who(n % 50, 1500.0, (n % 7) as u8, t0));
             if n % 3 == 0 {

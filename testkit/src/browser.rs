@@ -362,9 +362,7 @@ mod tests {
     #[test]
     fn a_missing_browser_skips_unless_one_is_required() {
         skip("no Chromium here", false);
-        let failed = std::panic::catch_unwind(|| skip("no Chromium here", true));
-        let message = failed.expect_err("a required browser fails the test");
-        let message = message.downcast_ref::<String>().expect("a message");
+        let message = crate::tests::panic_message(|| skip("no Chromium here", true));
         assert!(message.contains("no Chromium here"), "{message}");
         assert!(message.contains("BREAKSHOT_REQUIRE_BROWSER=1"), "{message}");
     }

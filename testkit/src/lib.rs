@@ -88,6 +88,25 @@ pub fn run(command: &mut Command, stdin: Option<&[u8]>, limit: Duration) -> Outp
     }
 }
 
+/// [`run`] for a program that must succeed: its output, or the test fails with `failure`,
+/// how the program ended and everything it printed.
+pub fn run_ok(
+    command: &mut Command,
+    stdin: Option<&[u8]>,
+    limit: Duration,
+    failure: &str,
+) -> Output {
+    let out = run(command, stdin, limit);
+    assert!(
+        out.status.success(),
+        "{failure} ({}):\n{}{}",
+        out.status,
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
 /// A program started with [`Spawned::start`]: it and everything it started are killed when
 /// this is dropped, so a failing test leaves no process behind.
 pub struct Spawned {
@@ -234,6 +253,13 @@ fn kill_group(child: &mut Child) {
 mod tests {
     use super::*;
 
+    /// The message of the panic `f` must end in (what a failing test says).
+    pub(crate) fn panic_message<R>(f: impl FnOnce() -> R + std::panic::UnwindSafe) -> String {
+        let failed = std::panic::catch_unwind(f).map(drop);
+        let message = failed.expect_err("it fails");
+        message.downcast_ref::<String>().expect("a message").clone()
+    }
+
     #[test]
     fn a_program_that_ends_gives_its_output_and_status() {
         let out = run(
@@ -244,6 +270,25 @@ mod tests {
         assert_eq!(out.stdout, b"hello");
         assert_eq!(out.stderr, b"done\n");
         assert_eq!(out.status.code(), Some(3));
+    }
+
+    #[test]
+    fn a_program_that_must_succeed_gives_its_output_or_fails_the_test_saying_why() {
+        let limit = Duration::from_secs(30);
+        let sh = |script: &str| {
+            let mut command = Command::new("sh");
+            command.args(["-c", script]);
+            command
+        };
+        let out = run_ok(&mut sh("echo fine"), None, limit, "echo failed");
+        assert_eq!(out.stdout, b"fine\n");
+        let mut failing = sh("echo said; echo why >&2; exit 3");
+        // A Command holds no state a panic could leave half-changed.
+        let message = panic_message(std::panic::AssertUnwindSafe(move || {
+            run_ok(&mut failing, None, limit, "the shell failed")
+        }));
+        assert!(message.starts_with("the shell failed ("), "{message}");
+        assert!(message.ends_with("said\nwhy\n"), "{message}");
     }
 
     #[test]
@@ -258,7 +303,7 @@ mod tests {
 
     #[test]
     fn a_program_that_does_not_end_fails_the_test_and_is_stopped() {
-        let failed = std::panic::catch_unwind(|| {
+        let message = panic_message(|| {
             // The shell's child keeps the pipes open: the whole group must be stopped.
             run(
                 Command::new("sh").args(["-c", "sleep 600 & wait"]),
@@ -266,8 +311,6 @@ mod tests {
                 Duration::from_millis(300),
             )
         });
-        let message = failed.expect_err("the run fails");
-        let message = message.downcast_ref::<String>().expect("a message");
         assert!(message.contains("did not finish within"), "{message}");
     }
 

@@ -149,6 +149,13 @@ fn launch() -> Option<Browser> {
 
 const WAIT: Duration = Duration::from_secs(10);
 
+/// What `query` gives of the events the page has seen, once one of them is a `kind`.
+fn seen_after(page: &mut Page, kind: &str, query: &str) -> Value {
+    page.wait_until(&format!("seen.some(e => e.type === '{kind}')"), WAIT)
+        .unwrap_or_else(|e| panic!("no {kind} arrived: {e}"));
+    page.eval(query).expect("eval")
+}
+
 #[test]
 fn eval_returns_values_and_the_console_is_collected() {
     let Some(browser) = launch() else { return };
@@ -260,11 +267,11 @@ fn a_touch_drag_on_a_phone_arrives_where_it_was_sent() {
     );
     page.touch_drag((100.0, 700.0), (300.0, 200.0), 4)
         .expect("the drag is sent");
-    page.wait_until("seen.some(e => e.type === 'touchend')", WAIT)
-        .expect("the drag ends");
-    let seen = page
-        .eval("seen.filter(e => e.type.startsWith('touch'))")
-        .expect("eval");
+    let seen = seen_after(
+        &mut page,
+        "touchend",
+        "seen.filter(e => e.type.startsWith('touch'))",
+    );
     let expected = json!([
         { "type": "touchstart", "x": 100, "y": 700, "touches": 1 },
         { "type": "touchmove", "x": 150, "y": 575, "touches": 1 },
@@ -276,11 +283,11 @@ fn a_touch_drag_on_a_phone_arrives_where_it_was_sent() {
     assert_eq!(seen, expected);
     page.eval("seen.length = 0").expect("eval");
     page.tap((20.0, 30.0)).expect("the tap is sent");
-    page.wait_until("seen.some(e => e.type === 'touchend')", WAIT)
-        .expect("the tap ends");
-    let seen = page
-        .eval("seen.filter(e => e.type.startsWith('touch')).map(e => [e.type, e.x, e.y])")
-        .expect("eval");
+    let seen = seen_after(
+        &mut page,
+        "touchend",
+        "seen.filter(e => e.type.startsWith('touch')).map(e => [e.type, e.x, e.y])",
+    );
     assert_eq!(seen, json!([["touchstart", 20, 30], ["touchend", 20, 30]]));
 
     // Two fingers: put down (a touchstart for each), moved together in one event a step,
@@ -319,11 +326,11 @@ fn clicks_drags_and_keys_reach_the_page() {
     let server = Server::start();
     let mut page = server.desktop_page(&browser);
     page.click((50.0, 40.0)).expect("the click is sent");
-    page.wait_until("seen.some(e => e.type === 'click')", WAIT)
-        .expect("the click arrives");
-    let seen = page
-        .eval("seen.filter(e => e.type !== 'mousemove').map(e => [e.type, e.x, e.y])")
-        .expect("eval");
+    let seen = seen_after(
+        &mut page,
+        "click",
+        "seen.filter(e => e.type !== 'mousemove').map(e => [e.type, e.x, e.y])",
+    );
     assert_eq!(
         seen,
         json!([
@@ -335,11 +342,11 @@ fn clicks_drags_and_keys_reach_the_page() {
     page.eval("seen.length = 0").expect("eval");
     page.mouse_drag((10.0, 10.0), (110.0, 60.0), 2)
         .expect("the drag is sent");
-    page.wait_until("seen.some(e => e.type === 'mouseup')", WAIT)
-        .expect("the drag ends");
-    let seen = page
-        .eval("seen.filter(e => e.type !== 'click').map(e => [e.type, e.x, e.y, e.buttons])")
-        .expect("eval");
+    let seen = seen_after(
+        &mut page,
+        "mouseup",
+        "seen.filter(e => e.type !== 'click').map(e => [e.type, e.x, e.y, e.buttons])",
+    );
     assert_eq!(
         seen,
         json!([

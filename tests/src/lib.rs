@@ -32,7 +32,7 @@ pub const PATIENCE: Duration = Duration::from_secs(60);
 /// The seed of the test servers' randomness.
 pub const SEED: u64 = 2026;
 
-pub use breakshot_testkit::scratch;
+pub use breakshot_testkit::{scratch, TempDir};
 
 /// A handshake spoken by hand (over a raw stream): the `Hello` for `identity` ...
 pub fn hello_of(identity: &breakshot_shared::protocol::Identity) -> Result<ClientMessage> {
@@ -116,6 +116,14 @@ impl TestServer {
     /// Starts a server on a free loopback port.
     pub async fn start(data: &Path) -> Result<TestServer> {
         Self::start_at(SocketAddr::from(([127, 0, 0, 1], 0)), data).await
+    }
+
+    /// [`TestServer::start`] on a fresh [`scratch`] folder named after `name`, returned with
+    /// the server: the folder is removed when dropped, so keep it while the server runs.
+    pub async fn start_fresh(name: &str) -> Result<(TempDir, TestServer)> {
+        let data = scratch(name);
+        let server = Self::start(data.path()).await?;
+        Ok((data, server))
     }
 
     /// Starts a server on `addr`. Its room codes, tokens and game seeds come from a fixed
@@ -394,6 +402,20 @@ pub async fn create_room(host: &mut Player, name: &str) -> Result<RoomCode> {
     }
 }
 
+/// The bots' games of `config`, played to their end within `patience`: their report.
+async fn played(config: &BotConfig, patience: Duration) -> Result<Report> {
+    let games = config.games;
+    tokio::time::timeout(patience, run(config))
+        .await
+        .map_err(|_| anyhow!("the bots' {games} game(s) did not finish within {patience:?}"))
+}
+
+/// `games` games between two bots through `server`, played to their end within
+/// [`PATIENCE`]: the bots' report, unchecked (the server keeps running).
+pub async fn bot_games(server: &TestServer, games: usize) -> Result<Report> {
+    played(&BotConfig::new(server.invite.clone(), games), PATIENCE).await
+}
+
 /// One game between the bots of `config` through `server`, played to its end within
 /// `patience`, then the server stopped: the bots' report, checked for what every such game
 /// must give (no error, the one game completed, no desync, both players confirming every
@@ -403,9 +425,7 @@ pub async fn bot_game(
     config: &BotConfig,
     patience: Duration,
 ) -> Result<(Report, GameRecord)> {
-    let report = tokio::time::timeout(patience, run(config))
-        .await
-        .map_err(|_| anyhow!("the bots' game did not finish within {patience:?}"))?;
+    let report = played(config, patience).await?;
     let room = report.games[0].room.clone().context("no room was opened")?;
     let fetched = fetch_record(&server.invite, &room).await?;
     server.stop().await?;

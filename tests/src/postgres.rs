@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
-use breakshot_testkit::run;
+use breakshot_testkit::{run, run_ok};
 use tempfile::TempDir;
 
 const LIMIT: Duration = Duration::from_secs(60);
@@ -73,15 +73,11 @@ impl Cluster {
             // The scratch folder is private to root: let the postgres user through to its
             // own folder inside.
             set_mode(dir.path(), 0o711);
-            let done = run(
+            run_ok(
                 Command::new("chown").arg(format!("{user}:")).arg(&root),
                 None,
                 LIMIT,
-            );
-            assert!(
-                done.status.success(),
-                "chown: {}",
-                String::from_utf8_lossy(&done.stderr)
+                "chown",
             );
         }
         let data = root.join("data");
@@ -159,13 +155,7 @@ impl Cluster {
             None => Command::new(&exe),
         };
         command.args(args);
-        let done = run(&mut command, None, LIMIT);
-        assert!(
-            done.status.success(),
-            "{program} failed: {}{}",
-            String::from_utf8_lossy(&done.stdout),
-            String::from_utf8_lossy(&done.stderr)
-        );
+        run_ok(&mut command, None, LIMIT, &format!("{program} failed"));
     }
 }
 

@@ -174,10 +174,7 @@ pub struct Response {
 impl Response {
     /// The value of header `name` (lowercase).
     pub fn header(&self, name: &str) -> Option<&str> {
-        self.headers
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.as_str())
+        breakshot_server::web::http::header(&self.headers, name)
     }
 }
 

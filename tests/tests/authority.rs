@@ -4,7 +4,7 @@
 use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, Role, RoomCode, ServerMessage};
 use breakshot_shared::rules::{Game, Seat};
-use breakshot_tests::{break_shot, scratch, seated_pair, Player, TestServer};
+use breakshot_tests::{break_shot, seated_pair, Player, TestServer};
 use glam::DVec2;
 
 /// The game as a fresh spectator is shown it: the server's own state.
@@ -45,8 +45,7 @@ fn shot(turn: u32, speed: f64, dir: DVec2, tip: DVec2) -> ClientMessage {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn bad_commands_are_refused_and_change_nothing() -> anyhow::Result<()> {
-    let data = scratch("authority");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("authority").await?;
     let (mut a, mut b, room) = seated_pair(&server.invite).await?;
     let before = server_game(&server, &room).await?;
     let turn = before.turn();
@@ -108,8 +107,7 @@ async fn bad_commands_are_refused_and_change_nothing() -> anyhow::Result<()> {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_spectator_sees_the_game_but_cannot_act() -> anyhow::Result<()> {
-    let data = scratch("spectator");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("spectator").await?;
     let (mut a, _b, room) = seated_pair(&server.invite).await?;
 
     let mut watcher = Player::connect(&server.invite).await?;
@@ -145,8 +143,7 @@ async fn a_spectator_sees_the_game_but_cannot_act() -> anyhow::Result<()> {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_malformed_frame_closes_only_that_connection() -> anyhow::Result<()> {
-    let data = scratch("malformed");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("malformed").await?;
     let (mut a, mut b, room) = seated_pair(&server.invite).await?;
     // A length prefix over the limit.
     b.client.send_raw(&[0x7f, 0xff, 0xff, 0xff]).await?;

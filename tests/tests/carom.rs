@@ -5,13 +5,12 @@ use breakshot_client::bot::BotConfig;
 use breakshot_server::verify::verify_dir;
 use breakshot_shared::physics::TableKind;
 use breakshot_shared::rules::{Command, Game, Phase, Settings, Variant};
-use breakshot_tests::{bot_game, scratch, TestServer, PATIENCE};
+use breakshot_tests::{bot_game, TestServer, PATIENCE};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_three_cushion_match_is_played_through_the_client_core_without_a_desync(
 ) -> anyhow::Result<()> {
-    let data = scratch("three-cushion");
-    let server = TestServer::start(data.path()).await?;
+    let (data, server) = TestServer::start_fresh("three-cushion").await?;
     let mut config = BotConfig::new(server.invite.clone(), 1);
     config.variant = Variant::ThreeCushion { race: 1 };
     config.settings = Settings {

@@ -102,8 +102,7 @@ fn ms(d: Duration) -> u64 {
 
 #[tokio::test(flavor = "multi_thread")]
 async fn a_killed_client_is_seen_gone_in_seconds_and_finds_the_clock_as_it_left_it() -> Result<()> {
-    let data = scratch("drops-killed");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("drops-killed").await?;
 
     let me = std::env::current_exe()?;
     let mut child = Spawned::start(

@@ -8,15 +8,14 @@ use breakshot_shared::physics::{MotionState, Strike};
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::Command;
-use breakshot_tests::{break_shot, scratch, seated_pair, TestServer};
+use breakshot_tests::{break_shot, seated_pair, TestServer};
 
 /// The cue elevation of the jump break (degrees).
 const JUMP_DEG: f64 = 40.0;
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_jump_shot_is_played_through_the_server_with_no_desync() -> anyhow::Result<()> {
-    let data = scratch("elevation");
-    let server = TestServer::start(data.path()).await?;
+    let (data, server) = TestServer::start_fresh("elevation").await?;
     let (mut a, mut b, room) = seated_pair(&server.invite).await?;
     let game = a.game().expect("a game after joining").clone();
     let ClientMessage::Shot { turn, strike, .. } = break_shot(&game) else {

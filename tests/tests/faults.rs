@@ -5,7 +5,7 @@
 //! The server process is this test binary run again with [`CHILD`] set: it serves like
 //! `breakshot-server` (the same library, store and invite line) until it is killed.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
@@ -17,7 +17,7 @@ use breakshot_server::{Config, Limits};
 use breakshot_shared::protocol::{AimAid, ClientMessage, Invite, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::{Settings, Variant};
-use breakshot_tests::{printed_invite, scratch, serve_until_killed};
+use breakshot_tests::{printed_invite, scratch, serve_until_killed, TempDir};
 
 /// Set (to `BIND DATA`) in the server process this test starts.
 const CHILD: &str = "BREAKSHOT_FAULTS_SERVER";
@@ -75,6 +75,30 @@ fn start(bind: &str, data: &Path) -> (Child, Invite) {
     (child, invite)
 }
 
+/// Where the server process runs each time it starts: a data directory in a scratch folder,
+/// and a [`fixed_address`].
+struct Home {
+    data: PathBuf,
+    bind: String,
+    _scratch: TempDir,
+}
+
+impl Home {
+    fn new(name: &str) -> Home {
+        let folder = scratch(name);
+        Home {
+            data: folder.path().join("data"),
+            bind: fixed_address(),
+            _scratch: folder,
+        }
+    }
+
+    /// [`start`]s the server here.
+    fn start(&self) -> (Child, Invite) {
+        start(&self.bind, &self.data)
+    }
+}
+
 /// Commands stored so far, over all games.
 fn stored_commands(data: &Path) -> usize {
     verify_dir(data)
@@ -112,10 +136,8 @@ fn verify_passes(data: &Path) {
 
 #[test]
 fn killing_the_server_loses_nothing_and_players_rejoin() {
-    let scratch = scratch("faults");
-    let data = scratch.path().join("data");
-    let bind = fixed_address();
-    let (mut server, invite) = start(&bind, &data);
+    let home = Home::new("faults");
+    let (mut server, invite) = home.start();
 
     let runtime = tokio::runtime::Runtime::new().expect("runtime");
     let mut config = BotConfig::new(invite, GAMES);
@@ -133,7 +155,7 @@ fn killing_the_server_loses_nothing_and_players_rejoin() {
         );
         // Kill once a few more commands have been stored: the bots are mid-game and shots
         // are being resolved and written.
-        let stored = stored_commands(&data);
+        let stored = stored_commands(&home.data);
         if stored < seen + 8 {
             std::thread::sleep(Duration::from_millis(50));
             continue;
@@ -141,14 +163,14 @@ fn killing_the_server_loses_nothing_and_players_rejoin() {
         server.kill().expect("SIGKILL");
         server.wait().expect("reaped");
         kills += 1;
-        let before = records(&data);
-        verify_passes(&data);
+        let before = records(&home.data);
+        verify_passes(&home.data);
         seen = before.iter().map(|(_, r)| r.entries.len()).sum();
         eprintln!(
             "kill {kills} at {:.1} s: {seen} commands stored",
             started.elapsed().as_secs_f64()
         );
-        let (next, _) = start(&bind, &data);
+        let (next, _) = home.start();
         server = next;
     }
 
@@ -175,10 +197,10 @@ fn killing_the_server_loses_nothing_and_players_rejoin() {
     assert_eq!(report.games_completed as usize, GAMES);
     assert_eq!(report.desyncs, 0);
     assert!(report.rejoins > 0);
-    verify_passes(&data);
+    verify_passes(&home.data);
 
     // Every result a host was shown is in its game's stored record, in order.
-    let stored = records(&data);
+    let stored = records(&home.data);
     for game in &report.games {
         let room = game.room.as_ref().expect("room").to_string();
         let record = &stored
@@ -229,10 +251,8 @@ async fn answer(conn: &mut Channel) -> ServerMessage {
 /// it at the limit, and that game verifies too.
 #[test]
 fn the_longest_game_the_limits_allow_survives_a_kill_and_verifies() {
-    let scratch = scratch("faults-longest");
-    let data = scratch.path().join("data");
-    let bind = fixed_address();
-    let (mut server, invite) = start(&bind, &data);
+    let home = Home::new("faults-longest");
+    let (mut server, invite) = home.start();
     let limit = Limits::default().max_practice_commands;
     let runtime = tokio::runtime::Runtime::new().expect("runtime");
     let started = std::time::Instant::now();
@@ -276,13 +296,13 @@ fn the_longest_game_the_limits_allow_survives_a_kill_and_verifies() {
         limit - 2,
         started.elapsed().as_secs_f64()
     );
-    let checks = verify_dir(&data).expect("verify");
+    let checks = verify_dir(&home.data).expect("verify");
     assert_eq!(checks.len(), 1);
     assert_eq!(checks[0].commands, limit - 2);
     assert!(checks[0].result.is_ok(), "{checks:?}");
-    verify_passes(&data);
+    verify_passes(&home.data);
 
-    let (mut server, _) = start(&bind, &data);
+    let (mut server, _) = home.start();
     runtime.block_on(async {
         let endpoint = endpoint().expect("endpoint");
         let mut conn = Channel::open(&endpoint, &invite).await.expect("reconnect");
@@ -311,8 +331,8 @@ fn the_longest_game_the_limits_allow_survives_a_kill_and_verifies() {
     });
     let _ = server.kill();
     let _ = server.wait();
-    let checks = verify_dir(&data).expect("verify");
+    let checks = verify_dir(&home.data).expect("verify");
     assert_eq!(checks[0].commands, limit);
     assert!(checks[0].finished);
-    verify_passes(&data);
+    verify_passes(&home.data);
 }

@@ -1,17 +1,14 @@
 //! Whole games between bots through a real server.
 
-use breakshot_client::bot::{run, BotConfig};
+use breakshot_client::bot::BotConfig;
 use breakshot_server::verify::verify_dir;
 use breakshot_shared::rules::{Command, Game, Phase, Settings, Variant};
-use breakshot_tests::{bot_game, scratch, TestServer, PATIENCE};
+use breakshot_tests::{bot_game, bot_games, TestServer, PATIENCE};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn two_bots_play_a_full_eight_ball_game_and_every_hash_agrees() -> anyhow::Result<()> {
-    let data = scratch("full-game");
-    let server = TestServer::start(data.path()).await?;
-    let report = tokio::time::timeout(PATIENCE, run(&BotConfig::new(server.invite.clone(), 1)))
-        .await
-        .expect("the game never finished");
+    let (data, server) = TestServer::start_fresh("full-game").await?;
+    let report = bot_games(&server, 1).await?;
     server.stop().await?;
 
     assert!(report.errors.is_empty(), "{:?}", report.errors);
@@ -35,8 +32,7 @@ async fn two_bots_play_a_full_eight_ball_game_and_every_hash_agrees() -> anyhow:
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_nine_ball_game_with_called_shots_is_played_through_the_client_core() -> anyhow::Result<()>
 {
-    let data = scratch("nine-called");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("nine-called").await?;
     let mut config = BotConfig::new(server.invite.clone(), 1);
     config.variant = Variant::NineBall;
     config.settings = Settings {

@@ -192,8 +192,7 @@ async fn a_rated_game_the_server_restarted_in_is_rated_when_it_ends() -> Result<
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_published_room_is_in_the_lobby_and_a_queued_player_can_leave() -> Result<()> {
-    let data = scratch("lobby");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("lobby").await?;
     let mut host = Player::connect(&server.invite).await?;
     let room = breakshot_tests::create_room(&mut host, "ann").await?;
     host.send(ClientMessage::Publish).await?;

@@ -13,8 +13,7 @@ use breakshot_tests::{break_shot, scratch, seated_pair, Player, TestServer, PATI
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_dropped_player_rejoins_with_its_token_and_play_continues() -> anyhow::Result<()> {
-    let data = scratch("rejoin");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("rejoin").await?;
     let (mut a, b, _room) = seated_pair(&server.invite).await?;
     let token = b.client.token().expect("seat B got a token");
 
@@ -78,8 +77,7 @@ async fn a_dropped_player_rejoins_with_its_token_and_play_continues() -> anyhow:
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_server_restarted_on_its_data_loses_no_shot() -> anyhow::Result<()> {
-    let data = scratch("restart");
-    let server = TestServer::start(data.path()).await?;
+    let (data, server) = TestServer::start_fresh("restart").await?;
     let addr = server.addr;
     let invite = server.invite.clone();
     let mut config = BotConfig::new(invite, 1);
@@ -206,8 +204,7 @@ fn a_client_killed_mid_shot_rejoins_and_gets_its_seat_back() -> anyhow::Result<(
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_player_away_when_the_game_ended_is_told_the_result_after_a_restart() -> anyhow::Result<()>
 {
-    let data = scratch("ended-away");
-    let server = TestServer::start(data.path()).await?;
+    let (data, server) = TestServer::start_fresh("ended-away").await?;
     let addr = server.addr;
     let (mut a, b, room) = seated_pair(&server.invite).await?;
     let token = b.client.token().expect("seat B got a token");

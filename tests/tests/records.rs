@@ -2,13 +2,12 @@
 //! and replaying it reproduces every hash and the server's table.
 
 use anyhow::{bail, Result};
-use breakshot_client::bot::{run, BotConfig};
 use breakshot_client::net::{fetch_game, fetch_record, FetchError};
 use breakshot_shared::physics::BallState;
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, RoomCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::Phase;
-use breakshot_tests::{break_shot, scratch, seated_pair, Player, TestServer, PATIENCE};
+use breakshot_tests::{bot_games, break_shot, seated_pair, Player, TestServer};
 
 /// `a` breaks the game just joined; returns the break's hash and balls once both players
 /// have seen the turn pass.
@@ -25,8 +24,7 @@ async fn break_and_pass(a: &mut Player, b: &mut Player) -> Result<(u64, Vec<Ball
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_game_in_play_is_fetched_by_room_code_and_replays_to_the_servers_table() -> Result<()> {
-    let data = scratch("fetch-in-play");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("fetch-in-play").await?;
     let (mut a, mut b, room) = seated_pair(&server.invite).await?;
 
     let (hash, balls) = break_and_pass(&mut a, &mut b).await?;
@@ -55,11 +53,8 @@ async fn a_game_in_play_is_fetched_by_room_code_and_replays_to_the_servers_table
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_finished_bot_game_is_fetched_whole_and_every_hash_replays() -> Result<()> {
-    let data = scratch("fetch-finished");
-    let server = TestServer::start(data.path()).await?;
-    let report = tokio::time::timeout(PATIENCE, run(&BotConfig::new(server.invite.clone(), 1)))
-        .await
-        .expect("the game never finished");
+    let (_data, server) = TestServer::start_fresh("fetch-finished").await?;
+    let report = bot_games(&server, 1).await?;
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.games_completed, 1);
     let summary = &report.games[0];
@@ -84,8 +79,7 @@ async fn a_finished_bot_game_is_fetched_whole_and_every_hash_replays() -> Result
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn fetching_an_unknown_room_is_no_such_room_and_changes_nothing() -> Result<()> {
-    let data = scratch("fetch-unknown");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("fetch-unknown").await?;
     let unknown = RoomCode::parse("ZZZZZZZZ")?;
 
     let mut p = Player::connect(&server.invite).await?;
@@ -125,8 +119,7 @@ async fn fetching_an_unknown_room_is_no_such_room_and_changes_nothing() -> Resul
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn after_a_rematch_the_first_game_is_fetched_by_its_number_and_replays() -> Result<()> {
-    let data = scratch("fetch-by-number");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("fetch-by-number").await?;
     let (mut a, mut b, room) = seated_pair(&server.invite).await?;
 
     // Game 1: a break, then whoever is to move concedes.

@@ -8,10 +8,15 @@ use anyhow::Result;
 use breakshot_server::{Limits, Stats};
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, Role, RoomCode, ServerMessage};
 use breakshot_shared::rules::{Choice, Seat};
-use breakshot_tests::{break_shot, create_room, scratch, seated_pair, Player, TestServer};
+use breakshot_tests::{break_shot, create_room, scratch, seated_pair, Player, TempDir, TestServer};
 
-fn loopback() -> SocketAddr {
-    SocketAddr::from(([127, 0, 0, 1], 0))
+/// A server with `limits` on a fresh scratch folder named after `name`, returned with it.
+async fn start_limited(name: &str, limits: Limits) -> Result<(TempDir, TestServer)> {
+    let data = scratch(name);
+    let mut config = TestServer::config(SocketAddr::from(([127, 0, 0, 1], 0)), data.path());
+    config.limits = limits;
+    let server = TestServer::start_with(config).await?;
+    Ok((data, server))
 }
 
 async fn error_code(p: &mut Player) -> Result<ErrorCode> {
@@ -39,8 +44,7 @@ async fn rejoin(
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_seat_token_opens_only_its_own_room_and_seat() -> Result<()> {
-    let data = scratch("tokens");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("tokens").await?;
     let (a1, b1, room1) = seated_pair(&server.invite).await?;
     let (a2, b2, room2) = seated_pair(&server.invite).await?;
     assert_ne!(room1, room2);
@@ -67,8 +71,7 @@ async fn a_seat_token_opens_only_its_own_room_and_seat() -> Result<()> {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_spectator_cannot_send_any_game_command() -> Result<()> {
-    let data = scratch("spectator-commands");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("spectator-commands").await?;
     let (a, _b, room) = seated_pair(&server.invite).await?;
     let mut watcher = Player::connect(&server.invite).await?;
     watcher.send(ClientMessage::Spectate { room }).await?;
@@ -99,16 +102,14 @@ async fn a_spectator_cannot_send_any_game_command() -> Result<()> {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn room_entries_are_rate_limited_per_address() -> Result<()> {
-    let data = scratch("entry-rate");
-    let mut config = TestServer::config(loopback(), data.path());
-    config.limits = Limits {
+    let limits = Limits {
         entry_burst: 3,
         // Nothing is earned back during the test, so the count is exact. Successful entries
         // cost nothing; failed ones use the budget.
         entry_refill: Duration::from_secs(3_600),
         ..Limits::default()
     };
-    let server = TestServer::start_with(config).await?;
+    let (_data, server) = start_limited("entry-rate", limits).await?;
     let mut host = Player::connect(&server.invite).await?;
     let room = create_room(&mut host, "host").await?;
     // Guessing codes: each wrong guess uses an entry.
@@ -142,16 +143,14 @@ async fn room_entries_are_rate_limited_per_address() -> Result<()> {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn rooms_per_address_and_connections_are_capped() -> Result<()> {
-    let data = scratch("caps");
-    let mut config = TestServer::config(loopback(), data.path());
-    config.limits = Limits {
+    let limits = Limits {
         rooms_per_address: 2,
         max_connections: 3,
         // Every player here comes from 127.0.0.1: the total is what is tested.
         address_share: 1,
         ..Limits::default()
     };
-    let server = TestServer::start_with(config).await?;
+    let (_data, server) = start_limited("caps", limits).await?;
     let mut players = Vec::new();
     for name in ["one", "two"] {
         let mut p = Player::connect(&server.invite).await?;

@@ -9,7 +9,7 @@ use breakshot_server::verify::verify_dir;
 use breakshot_shared::physics::TableKind;
 use breakshot_shared::rules::snooker::frame::{MAX_PENALTY, MIN_PENALTY};
 use breakshot_shared::rules::{Command, Game, Phase, Variant};
-use breakshot_tests::{bot_game, scratch, TestServer};
+use breakshot_tests::{bot_game, TestServer};
 
 /// A frame of 15 reds between two bots takes a few hundred strokes: more than one
 /// game's usual patience.
@@ -18,8 +18,7 @@ const FRAME_PATIENCE: Duration = Duration::from_secs(240);
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn two_bots_play_a_whole_frame_of_snooker_through_the_server_without_a_desync(
 ) -> anyhow::Result<()> {
-    let data = scratch("snooker-frame");
-    let server = TestServer::start(data.path()).await?;
+    let (data, server) = TestServer::start_fresh("snooker-frame").await?;
     let mut config = BotConfig::new(server.invite.clone(), 1);
     let variant = Variant::snooker();
     config.variant = variant;

@@ -1,7 +1,6 @@
 //! The same store tests for both backends: SQLite in a scratch folder, and PostgreSQL in a
 //! throwaway cluster (skipped, with a message, where no PostgreSQL server is installed).
 
-use breakshot_client::bot::{run, BotConfig};
 use breakshot_server::output::{RoomMeta, StoreOp, StoredSeat};
 use breakshot_server::secret::TokenDigest;
 use breakshot_server::store::{unix_now, Location, Store, StoreError, DB_FILE};
@@ -10,7 +9,7 @@ use breakshot_shared::protocol::{AimAid, PlayerKey, RoomCode, ServerMessage};
 use breakshot_shared::replay::{GameRecord, RecordEntry};
 use breakshot_shared::rules::{Command, EightBallRules, Seat, Settings, Variant};
 use breakshot_tests::postgres::Cluster;
-use breakshot_tests::{break_shot, scratch, seated_pair, TestServer, PATIENCE};
+use breakshot_tests::{bot_games, break_shot, scratch, seated_pair, TestServer};
 
 fn meta(code: &str) -> RoomMeta {
     RoomMeta {
@@ -348,9 +347,7 @@ async fn a_server_on_postgres_keeps_every_game_there_and_verify_checks_them() ->
     let mut config = TestServer::config(([127, 0, 0, 1], 0).into(), data.path());
     config.store = location.clone();
     let server = TestServer::start_with(config.clone()).await?;
-    let report = tokio::time::timeout(PATIENCE, run(&BotConfig::new(server.invite.clone(), 2)))
-        .await
-        .expect("the games never finished");
+    let report = bot_games(&server, 2).await?;
     assert_eq!(report.games_completed, 2, "{:?}", report.errors);
     assert_eq!(report.desyncs, 0);
     let (mut a, mut b, room) = seated_pair(&server.invite).await?;

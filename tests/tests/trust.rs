@@ -8,8 +8,7 @@ use breakshot_tests::{scratch, TestServer};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_client_pinning_another_fingerprint_is_refused() -> anyhow::Result<()> {
-    let data = scratch("fingerprint");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("fingerprint").await?;
     let mut invite = server.invite.clone();
     invite.fingerprint = Fingerprint([0x42; 32]);
     let result = Channel::open(&endpoint()?, &invite).await;
@@ -28,8 +27,7 @@ async fn a_client_pinning_another_fingerprint_is_refused() -> anyhow::Result<()>
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_client_with_another_protocol_version_is_rejected_with_a_reason() -> anyhow::Result<()> {
-    let data = scratch("version");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("version").await?;
     let result = Channel::open_at(
         &endpoint()?,
         server.invite.first(),
@@ -76,8 +74,7 @@ fn silent_address() -> (std::net::UdpSocket, ServerAddress) {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn an_invite_s_addresses_are_tried_in_order() -> anyhow::Result<()> {
-    let data = scratch("addresses");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("addresses").await?;
     let (_silent, down) = silent_address();
     let mut invite = server.invite.clone();
     invite.servers.insert(0, down.clone());
@@ -98,8 +95,7 @@ async fn an_invite_s_addresses_are_tried_in_order() -> anyhow::Result<()> {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn when_no_address_lets_a_client_in_a_refusal_says_why() -> anyhow::Result<()> {
-    let data = scratch("addresses-refused");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("addresses-refused").await?;
     let (_silent, down) = silent_address();
     let mut invite = server.invite.clone();
     invite.fingerprint = Fingerprint([0x42; 32]);

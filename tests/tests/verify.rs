@@ -1,18 +1,14 @@
 //! `breakshot-server verify`: re-simulating stored games catches any change.
 
-use breakshot_client::bot::{run, BotConfig};
 use breakshot_server::store::Store;
 use breakshot_server::verify::verify_dir;
 use breakshot_shared::replay::GameRecord;
-use breakshot_tests::{scratch, TestServer, PATIENCE};
+use breakshot_tests::{bot_games, TestServer};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn verify_passes_on_stored_games_and_fails_on_a_tampered_one() -> anyhow::Result<()> {
-    let data = scratch("verify");
-    let server = TestServer::start(data.path()).await?;
-    let report = tokio::time::timeout(PATIENCE, run(&BotConfig::new(server.invite.clone(), 2)))
-        .await
-        .expect("the games never finished");
+    let (data, server) = TestServer::start_fresh("verify").await?;
+    let report = bot_games(&server, 2).await?;
     server.stop().await?;
     assert_eq!(report.games_completed, 2, "{:?}", report.errors);
 

@@ -14,7 +14,7 @@ use std::path::PathBuf;
 use std::process::Command;
 use std::time::Duration;
 
-use breakshot_testkit::run;
+use breakshot_testkit::run_ok;
 use breakshot_testkit::web::{has_wasm_target, skip_web, workspace, WASM_TARGET as TARGET};
 
 /// Skips the test with `why`, or fails it when CI requires the browser check.
@@ -96,7 +96,7 @@ fn the_browser_build_gives_the_native_bits() {
 
     let target_dir = root.join("target/web-golden");
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| OsString::from("cargo"));
-    let built = run(
+    run_ok(
         Command::new(cargo)
             .args(["build", "--release", "--locked", "--target", TARGET])
             .args(["-p", "breakshot-web-golden", "--target-dir"])
@@ -104,25 +104,17 @@ fn the_browser_build_gives_the_native_bits() {
             .current_dir(&root),
         None,
         BUILD_LIMIT,
-    );
-    assert!(
-        built.status.success(),
-        "building the wasm module failed:\n{}",
-        String::from_utf8_lossy(&built.stderr)
+        "building the wasm module failed",
     );
     let module = target_dir.join(format!("{TARGET}/release/breakshot_web_golden.wasm"));
 
-    let ran = run(
+    let ran = run_ok(
         Command::new(node)
             .arg(root.join("web/golden/run.mjs"))
             .arg(&module),
         None,
         RUN_LIMIT,
-    );
-    assert!(
-        ran.status.success(),
-        "node could not run the wasm module:\n{}",
-        String::from_utf8_lossy(&ran.stderr)
+        "node could not run the wasm module",
     );
     let text = String::from_utf8(ran.stdout).expect("the module's text is UTF-8");
     let wasm = entries(&text, "wasm");

@@ -6,12 +6,12 @@ use std::path::Path;
 use std::sync::atomic::AtomicUsize;
 use std::time::Duration;
 
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 use breakshot_server::Config;
 use breakshot_shared::protocol::web::MAX_NOISE_MESSAGE;
 use breakshot_shared::protocol::{ClientMessage, ServerMessage};
 use breakshot_tests::web::{self, WebPlayer};
-use breakshot_tests::{create_eight_ball, scratch, Player, TestServer, PATIENCE};
+use breakshot_tests::{create_eight_ball, scratch, Player, TempDir, TestServer, PATIENCE};
 use futures_util::SinkExt;
 use tokio::io::AsyncWriteExt;
 use tokio::net::TcpStream;
@@ -44,15 +44,26 @@ fn web_dir(root: &Path) -> std::path::PathBuf {
     web
 }
 
-async fn start(data: &Path) -> Result<TestServer> {
-    let mut config = TestServer::config(SocketAddr::from(([127, 0, 0, 1], 0)), &data.join("data"));
-    config.web_dir = Some(web_dir(data));
-    config.limits.handshake_timeout = HANDSHAKE;
-    start_with(config).await
+/// The configuration of a test server serving the [`web_dir`] in `folder`, its data beside it.
+fn web_config(folder: &Path) -> Config {
+    let mut config =
+        TestServer::config(SocketAddr::from(([127, 0, 0, 1], 0)), &folder.join("data"));
+    config.web_dir = Some(web_dir(folder));
+    config
 }
 
-async fn start_with(config: Config) -> Result<TestServer> {
-    TestServer::start_with(config).await
+/// A server on a fresh scratch folder named after `name`, serving the folder's [`web_dir`]
+/// with the short handshake time: the folder (keep it while the server runs), the server,
+/// and its web listener's address.
+async fn web_server(name: &str) -> Result<(TempDir, TestServer, SocketAddr)> {
+    let folder = scratch(name);
+    let mut config = web_config(folder.path());
+    config.limits.handshake_timeout = HANDSHAKE;
+    let server = TestServer::start_with(config).await?;
+    let addr = server
+        .web_addr
+        .context("the server does not serve the web")?;
+    Ok((folder, server, addr))
 }
 
 fn count(c: &AtomicUsize) -> usize {
@@ -70,9 +81,7 @@ async fn eventually(what: &str, check: impl Fn() -> bool) {
 
 #[tokio::test]
 async fn a_page_creates_a_room_over_the_websocket_and_a_native_player_joins_it() -> Result<()> {
-    let data = scratch("web-play");
-    let server = start(data.path()).await?;
-    let addr = server.web_addr.expect("serving the web");
+    let (_data, server, addr) = web_server("web-play").await?;
     // One port number for both ways in.
     assert_eq!(addr.port(), server.addr.port());
 
@@ -127,9 +136,7 @@ async fn refused_before_the_hub(server: &TestServer, failures: usize) -> Result<
 
 #[tokio::test]
 async fn bad_handshakes_close_the_socket_before_the_hub_sees_anything() -> Result<()> {
-    let data = scratch("web-handshake");
-    let server = start(data.path()).await?;
-    let addr = server.web_addr.expect("serving the web");
+    let (_data, server, addr) = web_server("web-handshake").await?;
 
     // The wrong server key: the server cannot read message 1.
     let mut ws = web::open(addr).await?;
@@ -180,9 +187,7 @@ async fn bad_handshakes_close_the_socket_before_the_hub_sees_anything() -> Resul
 
 #[tokio::test]
 async fn bad_messages_after_the_handshake_close_the_socket() -> Result<()> {
-    let data = scratch("web-after");
-    let server = start(data.path()).await?;
-    let addr = server.web_addr.expect("serving the web");
+    let (_data, server, addr) = web_server("web-after").await?;
 
     // Garbage that is no Noise message of this session.
     let mut page = WebPlayer::hello(addr, &server.web_key).await?;
@@ -220,9 +225,7 @@ async fn bad_messages_after_the_handshake_close_the_socket() -> Result<()> {
 
 #[tokio::test]
 async fn files_are_served_byte_exact_with_their_types() -> Result<()> {
-    let data = scratch("web-files");
-    let server = start(data.path()).await?;
-    let addr = server.web_addr.expect("serving the web");
+    let (_data, server, addr) = web_server("web-files").await?;
 
     let index = web::get(addr, "/?room=K7QX2M4B&key=00").await?;
     assert_eq!(index.status, 200);
@@ -268,9 +271,33 @@ async fn files_are_served_byte_exact_with_their_types() -> Result<()> {
     );
     assert!(head.body.is_empty());
 
-    let post = web::request(addr, b"POST / HTTP/1.1\r\nContent-Length: 2\r\n\r\nhi").await?;
-    assert_eq!(post.status, 405);
-    assert_eq!(post.header("allow"), Some("GET, HEAD"));
+    // Refusals that name, in a header, what would be accepted.
+    let other_version = "GET /ws HTTP/1.1\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n\
+                         Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n\
+                         Sec-WebSocket-Version: 8\r\n\r\n";
+    for (what, request, status, header, accepted) in [
+        (
+            "a POST",
+            "POST / HTTP/1.1\r\nContent-Length: 2\r\n\r\nhi",
+            405,
+            "allow",
+            "GET, HEAD",
+        ),
+        (
+            "a WebSocket of another version",
+            other_version,
+            426,
+            "sec-websocket-version",
+            "13",
+        ),
+    ] {
+        let refused = web::request(addr, request.as_bytes()).await?;
+        assert_eq!(
+            (refused.status, refused.header(header)),
+            (status, Some(accepted)),
+            "{what}"
+        );
+    }
 
     let missing = web::get(addr, "/nope.js").await?;
     assert_eq!(missing.status, 404);
@@ -287,9 +314,7 @@ async fn files_are_served_byte_exact_with_their_types() -> Result<()> {
 
 #[tokio::test]
 async fn no_path_leaves_the_web_directory() -> Result<()> {
-    let data = scratch("web-escape");
-    let server = start(data.path()).await?;
-    let addr = server.web_addr.expect("serving the web");
+    let (_data, server, addr) = web_server("web-escape").await?;
     for path in [
         "/../secret.txt",
         "/%2e%2e/secret.txt",
@@ -318,9 +343,7 @@ async fn no_path_leaves_the_web_directory() -> Result<()> {
 
 #[tokio::test]
 async fn request_heads_are_bounded_in_size_and_time() -> Result<()> {
-    let data = scratch("web-heads");
-    let server = start(data.path()).await?;
-    let addr = server.web_addr.expect("serving the web");
+    let (_data, server, addr) = web_server("web-heads").await?;
 
     let mut big = format!("GET / HTTP/1.1\r\nHost: {addr}\r\nX-Fill: ").into_bytes();
     big.extend(std::iter::repeat_n(b'a', 9 * 1024));
@@ -345,14 +368,10 @@ async fn request_heads_are_bounded_in_size_and_time() -> Result<()> {
 #[tokio::test]
 async fn tcp_connections_pass_the_same_gate() -> Result<()> {
     let data = scratch("web-gate");
-    let mut config = TestServer::config(
-        SocketAddr::from(([127, 0, 0, 1], 0)),
-        &data.path().join("data"),
-    );
-    config.web_dir = Some(web_dir(data.path()));
+    let mut config = web_config(data.path());
     config.limits.max_connections = 3;
     config.limits.address_share = 1;
-    let server = start_with(config).await?;
+    let server = TestServer::start_with(config).await?;
     let addr = server.web_addr.expect("serving the web");
     let mut held = Vec::new();
     for _ in 0..3 {
@@ -373,8 +392,7 @@ async fn tcp_connections_pass_the_same_gate() -> Result<()> {
 
 #[tokio::test]
 async fn a_server_without_web_has_no_tcp_listener() -> Result<()> {
-    let data = scratch("web-none");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("web-none").await?;
     assert!(server.web_addr.is_none());
     let tried = tokio::time::timeout(PATIENCE, TcpStream::connect(server.addr)).await?;
     assert!(tried.is_err(), "something listens on TCP {}", server.addr);
@@ -384,9 +402,7 @@ async fn a_server_without_web_has_no_tcp_listener() -> Result<()> {
 #[tokio::test]
 async fn a_quiet_page_stays_and_a_vanished_one_is_dropped_after_the_idle_timeout() -> Result<()> {
     use breakshot_shared::protocol::limits::IDLE_TIMEOUT;
-    let data = scratch("web-idle");
-    let server = start(data.path()).await?;
-    let addr = server.web_addr.expect("serving the web");
+    let (_data, server, addr) = web_server("web-idle").await?;
     let mut page = WebPlayer::hello(addr, &server.web_key).await?;
     // A page that says nothing but whose browser answers the server's pings stays.
     let quiet = tokio::time::timeout(IDLE_TIMEOUT + Duration::from_secs(2), page.recv()).await;

@@ -95,19 +95,11 @@ fn open_table(test: &str) -> Result<Option<Table>> {
 }
 
 fn whole_game(test: &str, transport: WebTransportChoice) -> Result<()> {
-    let Some(Table {
-        runtime,
-        server,
-        link,
-        room,
-        bot,
-        browser,
-        _data,
-    }) = open_table(test)?
-    else {
+    let Some(table) = open_table(test)? else {
         return Ok(());
     };
-    let mut link = link.with_room(room.clone());
+    let (runtime, browser) = (&table.runtime, &table.browser);
+    let mut link = table.link.with_room(table.room.clone());
     link.computer = Some(Level::new(1));
     link.transport = transport;
     let url = link.to_string();
@@ -125,7 +117,7 @@ fn whole_game(test: &str, transport: WebTransportChoice) -> Result<()> {
         );
     }
     let report = runtime
-        .block_on(async { tokio::time::timeout(Duration::from_secs(60), bot).await })
+        .block_on(async { tokio::time::timeout(Duration::from_secs(60), table.bot).await })
         .context("the bot did not finish after the game ended")??;
     assert!(report.errors.is_empty(), "the bot: {:?}", report.errors);
     assert_eq!(report.games_completed, 1, "the bot saw the game end");
@@ -145,7 +137,7 @@ fn whole_game(test: &str, transport: WebTransportChoice) -> Result<()> {
     assert!(resolved.len() >= 2, "both sides shot: {resolved:?}");
 
     // The server's record of the game replays to the same hashes.
-    let fetched = runtime.block_on(fetch_record(&server.invite, &room))?;
+    let fetched = runtime.block_on(fetch_record(&table.server.invite, &table.room))?;
     assert!(fetched.finished);
     let record = GameRecord::decode(&fetched.bytes)?;
     record
@@ -161,7 +153,7 @@ fn whole_game(test: &str, transport: WebTransportChoice) -> Result<()> {
     drop(page);
 
     // The same game watched again in a page: its record fetched from the server.
-    let mut replay = link.with_room(room.clone());
+    let mut replay = link.with_room(table.room.clone());
     replay.replay = true;
     replay.transport = transport;
     let mut page = browser.open(&replay.to_string(), Viewport::desktop(1280, 720))?;
@@ -174,7 +166,7 @@ fn whole_game(test: &str, transport: WebTransportChoice) -> Result<()> {
     }
     drop(page);
 
-    runtime.block_on(server.stop())?;
+    runtime.block_on(table.server.stop())?;
     Ok(())
 }
 

@@ -111,8 +111,7 @@ async fn native_sees_the_long_lived_certificate(invite: &Invite) -> Result<Playe
 
 #[tokio::test]
 async fn a_page_says_hello_creates_a_room_and_a_native_player_joins_it() -> Result<()> {
-    let data = scratch("web");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("web").await?;
     let hashes = server.web_certs.hashes();
     assert_eq!(hashes.len(), 1);
     let mut page = Page::open(&server, &hashes).await?;
@@ -157,8 +156,7 @@ async fn a_page_says_hello_creates_a_room_and_a_native_player_joins_it() -> Resu
 
 #[tokio::test]
 async fn a_page_joins_a_room_a_native_player_made() -> Result<()> {
-    let data = scratch("web");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("web").await?;
     let mut host = Player::connect(&server.invite).await?;
     let room = create_room(&mut host, "native").await?;
     let mut page = Page::open(&server, &server.web_certs.hashes()).await?;
@@ -180,8 +178,7 @@ async fn a_page_joins_a_room_a_native_player_made() -> Result<()> {
 
 #[tokio::test]
 async fn another_path_is_refused_with_404() -> Result<()> {
-    let data = scratch("web");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("web").await?;
     let refused = session(&server, "/elsewhere", &server.web_certs.hashes()).await;
     match refused {
         Err(e) => match e.downcast_ref::<ClientError>() {
@@ -209,8 +206,7 @@ async fn another_path_is_refused_with_404() -> Result<()> {
 
 #[tokio::test]
 async fn a_page_with_a_wrong_hash_is_not_connected() -> Result<()> {
-    let data = scratch("web");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("web").await?;
     // The long-lived certificate's hash is not the one h3 is shown; nor is a made-up one.
     for wrong in [server.invite.fingerprint, Fingerprint([7; 32])] {
         let e = match session(&server, WEBTRANSPORT_PATH, &[wrong]).await {
@@ -264,8 +260,7 @@ async fn a_rotation_serves_a_new_certificate_lists_the_old_and_leaves_native_pin
 
 #[tokio::test]
 async fn a_restart_keeps_the_hashes_a_link_carries() -> Result<()> {
-    let data = scratch("web");
-    let server = TestServer::start(data.path()).await?;
+    let (data, server) = TestServer::start_fresh("web").await?;
     let hashes = server.web_certs.hashes();
     let invite = server.invite.clone();
     server.stop().await?;
@@ -315,8 +310,7 @@ async fn a_session_counts_against_the_connection_limit_like_a_native_connection(
 /// one too (which is then given no more).
 #[tokio::test]
 async fn the_handshake_offers_the_streams_http3_needs() -> Result<()> {
-    let data = scratch("web");
-    let server = TestServer::start(data.path()).await?;
+    let (_data, server) = TestServer::start_fresh("web").await?;
     let native = Player::connect(&server.invite).await?;
     let conn = native.client.quic().context("not connected")?;
     for n in 0..3 {

@@ -88,6 +88,13 @@ fn create_room(mode: Settings, name: &str) -> ClientMessage {
     }
 }
 
+fn join_room(room: &RoomCode, name: &str) -> ClientMessage {
+    ClientMessage::Join {
+        room: room.clone(),
+        name: name.into(),
+    }
+}
+
 fn stores(out: &[Output]) -> usize {
     out.iter()
         .filter(|o| matches!(o, Output::Room(RoomOutput::Store(_))))
@@ -158,25 +165,33 @@ impl World {
         ));
     }
 
+    /// A new world in which [`World::pair`] has seated two players: it, the room and the
+    /// seats' tokens.
+    fn paired(settings: Settings) -> (World, RoomCode, SeatToken, SeatToken) {
+        let mut w = World::new();
+        let (room, token_a, token_b) = w.pair(settings);
+        (w, room, token_a, token_b)
+    }
+
     /// Conn 1 creates a room (seat A), conn 2 joins it (seat B).
     fn pair(&mut self, settings: Settings) -> (RoomCode, SeatToken, SeatToken) {
+        let (room, token_a, token_b, _) = self.pair_seen(settings);
+        (room, token_a, token_b)
+    }
+
+    /// [`World::pair`], with what the join sent.
+    fn pair_seen(&mut self, settings: Settings) -> (RoomCode, SeatToken, SeatToken, Vec<Output>) {
         self.greet(1);
         self.greet(2);
         let out = self.send(1, create_room(settings, "ann"));
         let (room, token_a) = joined(&out, 1);
-        let out = self.send(
-            2,
-            ClientMessage::Join {
-                room: room.clone(),
-                name: "ben".into(),
-            },
-        );
+        let out = self.send(2, join_room(&room, "ben"));
         let (_, token_b) = joined(&out, 2);
         assert!(got(&out, 1, |m| matches!(
             m,
             ServerMessage::PlayerJoined { seat: Seat::B, .. }
         )));
-        (room, token_a, token_b)
+        (room, token_a, token_b, out)
     }
 
     fn game(&self, room: &RoomCode) -> Game {
@@ -339,8 +354,7 @@ fn a_key_must_be_proved_over_this_connection_s_own_challenge() {
 
 #[test]
 fn an_accepted_shot_is_stored_before_anyone_hears_of_it_and_matches_a_replay() {
-    let mut w = World::new();
-    let (room, _, _) = w.pair(Settings::offline());
+    let (mut w, room, _, _) = World::paired(Settings::offline());
     let before = w.game(&room);
     let shot = break_shot(&before);
     let out = w.send(1, shot.clone());
@@ -400,8 +414,7 @@ fn an_accepted_shot_is_stored_before_anyone_hears_of_it_and_matches_a_replay() {
 
 #[test]
 fn refused_commands_store_nothing_and_change_nothing() {
-    let mut w = World::new();
-    let (room, _, _) = w.pair(Settings::offline());
+    let (mut w, room, _, _) = World::paired(Settings::offline());
     let before = w.game(&room);
     let good = break_shot(&before);
     let ClientMessage::Shot { strike, call, .. } = good.clone() else {
@@ -443,8 +456,7 @@ fn refused_commands_store_nothing_and_change_nothing() {
 
 #[test]
 fn a_dropped_player_forfeits_only_when_the_window_runs_out() {
-    let mut w = World::new();
-    let (_, _, token_b) = w.pair(Settings::offline());
+    let (mut w, _, _, token_b) = World::paired(Settings::offline());
     let out = w.hub.disconnected(w.now, w.now, 2);
     assert!(matches!(
         sent_to(&out, 1)[..],
@@ -493,8 +505,7 @@ fn a_dropped_player_forfeits_only_when_the_window_runs_out() {
 
 #[test]
 fn a_wrong_token_takes_no_seat() {
-    let mut w = World::new();
-    w.pair(Settings::offline());
+    let (mut w, ..) = World::paired(Settings::offline());
     w.greet(3);
     let out = w.send(
         3,
@@ -507,12 +518,7 @@ fn a_wrong_token_takes_no_seat() {
 
 #[test]
 fn the_shot_clock_runs_out_but_pauses_while_a_player_is_away() {
-    let mut w = World::new();
-    let settings = Settings {
-        shot_clock: Some(30),
-        ..Settings::offline()
-    };
-    let (room, _, token_b) = w.pair(settings);
+    let (mut w, room, _, token_b) = World::paired(clocked());
     assert!(w.advance(Duration::from_secs(10)).is_empty());
 
     // B drops with 20 s left on A's clock: the clock stops.
@@ -541,24 +547,9 @@ fn the_shot_clock_runs_out_but_pauses_while_a_player_is_away() {
 #[test]
 fn every_seat_sees_the_shot_clock_from_the_opening_break_and_after_a_return() {
     let mut w = World::new();
-    let settings = Settings {
-        shot_clock: Some(30),
-        ..Settings::offline()
-    };
-    w.greet(1);
-    w.greet(2);
-    let out = w.send(1, create_room(settings, "ann"));
-    let (room, _) = joined(&out, 1);
     // The clock starts when B sits down: the host is told so, B reads it in the snapshot.
-    let out = w.send(
-        2,
-        ClientMessage::Join {
-            room,
-            name: "ben".into(),
-        },
-    );
+    let (_, _, token_b, out) = w.pair_seen(clocked());
     assert_eq!(clock_told(&out, 1), Some(30_000));
-    let (_, token_b) = joined(&out, 2);
     let snapshot_clock = sent_to(&out, 2).iter().find_map(|m| match m {
         ServerMessage::Joined { snapshot, .. } => snapshot.shot_clock_ms,
         _ => None,
@@ -604,8 +595,7 @@ fn clocked() -> Settings {
 
 #[test]
 fn the_clock_stops_when_a_silent_player_was_last_heard_and_the_opponent_is_told_at_once() {
-    let mut w = World::new();
-    let (room, token_a, _) = w.pair(clocked());
+    let (mut w, room, token_a, _) = World::paired(clocked());
     // A, to move, falls silent after 12 s; the server finds out 5 s later (the idle
     // timeout). The clock stopped at 12 s, with 18 s left, and B hears of it at once.
     w.advance(Duration::from_secs(12));
@@ -647,8 +637,7 @@ fn the_clock_stops_when_a_silent_player_was_last_heard_and_the_opponent_is_told_
 
 #[test]
 fn a_player_who_dropped_with_seconds_left_comes_back_to_the_fair_minimum() {
-    let mut w = World::new();
-    let (_, token_a, _) = w.pair(clocked());
+    let (mut w, _, token_a, _) = World::paired(clocked());
     w.advance(Duration::from_secs(27));
     w.hub.disconnected(w.now, w.now, 1);
     w.advance(Duration::from_secs(30));
@@ -671,54 +660,35 @@ fn a_restored_room_gives_the_player_to_move_the_time_stored_not_a_full_clock() {
     let out = first.hub.disconnected(first.now, first.now, 1);
     assert_eq!(clock_stored(&out), Some((0, 22_000, false)));
     let left = first.hub.room(&room).unwrap();
-    let restored = Restored {
+    // The room as the store gives it back, with 22 s left stored for `turn`.
+    let stored = |turn| Restored {
         meta: left.meta(),
         number: left.game_number(),
         record: left.record().clone(),
         game: left.game().clone(),
         clock: Some(ClockLeft {
-            turn: 0,
+            turn,
             left: Duration::from_secs(22),
         }),
         rated: None,
     };
-
-    let mut second = World::new();
-    second.hub.restore(second.now, restored);
-    second.greet(1);
-    second.greet(2);
-    second.send(1, ClientMessage::Rejoin { token: token_a });
-    let out = second.send(2, ClientMessage::Rejoin { token: token_b });
-    assert_eq!(clock_told(&out, 1), Some(22_000));
-
+    // A server restores `room` and both players come back: what the second's return sends.
+    let back = |room: Restored| {
+        let mut w = World::new();
+        w.hub.restore(w.now, room);
+        w.greet(1);
+        w.greet(2);
+        w.send(1, ClientMessage::Rejoin { token: token_a });
+        w.send(2, ClientMessage::Rejoin { token: token_b })
+    };
+    assert_eq!(clock_told(&back(stored(0)), 1), Some(22_000));
     // A clock stored for another turn is not used: the turn gets a full clock.
-    let mut third = World::new();
-    let left = first.hub.room(&room).unwrap();
-    third.hub.restore(
-        third.now,
-        Restored {
-            meta: left.meta(),
-            number: left.game_number(),
-            record: left.record().clone(),
-            game: left.game().clone(),
-            clock: Some(ClockLeft {
-                turn: 7,
-                left: Duration::from_secs(22),
-            }),
-            rated: None,
-        },
-    );
-    third.greet(1);
-    third.greet(2);
-    third.send(1, ClientMessage::Rejoin { token: token_a });
-    let out = third.send(2, ClientMessage::Rejoin { token: token_b });
-    assert_eq!(clock_told(&out, 1), Some(30_000));
+    assert_eq!(clock_told(&back(stored(7)), 1), Some(30_000));
 }
 
 #[test]
 fn chat_is_rate_limited_and_floods_close_the_connection() {
-    let mut w = World::new();
-    w.pair(Settings::offline());
+    let (mut w, ..) = World::paired(Settings::offline());
     let line = || ClientMessage::Chat {
         text: "nice shot".into(),
     };
@@ -746,8 +716,7 @@ fn chat_is_rate_limited_and_floods_close_the_connection() {
 
 #[test]
 fn spectators_watch_but_cannot_act() {
-    let mut w = World::new();
-    let (room, _, _) = w.pair(Settings::offline());
+    let (mut w, room, _, _) = World::paired(Settings::offline());
     w.greet(3);
     let out = w.send(3, ClientMessage::Spectate { room: room.clone() });
     assert!(matches!(
@@ -772,8 +741,7 @@ fn spectators_watch_but_cannot_act() {
 
 #[test]
 fn the_shooters_aim_is_shown_to_the_others_live_and_nothing_else_changes() {
-    let mut w = World::new();
-    let (room, _, _) = w.pair(Settings::offline());
+    let (mut w, room, _, _) = World::paired(Settings::offline());
     w.greet(3);
     w.send(3, ClientMessage::Spectate { room: room.clone() });
     let before = w.game(&room);
@@ -810,8 +778,7 @@ fn the_shooters_aim_is_shown_to_the_others_live_and_nothing_else_changes() {
 
 #[test]
 fn a_called_pocket_is_announced_and_carried_by_the_shot() {
-    let mut w = World::new();
-    let (room, _, _) = w.pair(Settings::offline());
+    let (mut w, room, _, _) = World::paired(Settings::offline());
     let call = |turn| ClientMessage::CallPocket { turn, pocket: 3 };
     assert_eq!(
         error_code(&w.send(2, call(0)), 2),
@@ -845,8 +812,7 @@ fn a_called_pocket_is_announced_and_carried_by_the_shot() {
 
 #[test]
 fn a_rematch_starts_when_both_players_ask() {
-    let mut w = World::new();
-    let (room, _, _) = w.pair(Settings::offline());
+    let (mut w, room, _, _) = World::paired(Settings::offline());
     assert_eq!(
         error_code(&w.send(1, ClientMessage::Rematch), 1),
         Some(ErrorCode::Unexpected)
@@ -1051,8 +1017,7 @@ fn a_practice_session_ends_at_its_length_limit_and_its_record_stays_bounded() {
 
 #[test]
 fn a_player_away_when_the_game_ended_is_told_the_result_after_the_room_is_gone() {
-    let mut w = World::new();
-    let (room, _, token_b) = w.pair(Settings::offline());
+    let (mut w, room, _, token_b) = World::paired(Settings::offline());
     // B drops; A takes the last shot (concedes here), then leaves too.
     w.hub.disconnected(w.now, w.now, 2);
     let out = w.send(1, ClientMessage::Concede);
@@ -1113,13 +1078,7 @@ fn a_finished_room_no_longer_counts_against_its_creators_limit() {
         "no opponent yet"
     );
     w.greet(200);
-    let out = w.send(
-        200,
-        ClientMessage::Join {
-            room: rooms[0].clone(),
-            name: "ben".into(),
-        },
-    );
+    let out = w.send(200, join_room(&rooms[0], "ben"));
     joined(&out, 200);
     let out = w.send(100, ClientMessage::Concede);
     assert!(got(&out, 100, |m| matches!(
@@ -1132,8 +1091,7 @@ fn a_finished_room_no_longer_counts_against_its_creators_limit() {
 
 #[test]
 fn a_room_out_on_a_long_shot_holds_only_its_own_events_and_keeps_their_order() {
-    let mut w = World::new();
-    let (slow, _, _) = w.pair(Settings::offline());
+    let (mut w, slow, _, _) = World::paired(Settings::offline());
     w.greet(3);
     w.greet(4);
     let create = create_room(Settings::offline(), "cy");
@@ -1215,8 +1173,7 @@ fn a_room_out_on_a_long_shot_holds_only_its_own_events_and_keeps_their_order() {
 
 #[test]
 fn a_player_who_leaves_while_the_room_is_out_is_seen_leaving_after_its_results() {
-    let mut w = World::new();
-    let (room, _, _) = w.pair(Settings::offline());
+    let (mut w, room, _, _) = World::paired(Settings::offline());
     let shot = break_shot(&w.game(&room));
     let mut out = w.hub.handle(w.now, 1, shot);
     let Some(Output::Run(work)) = out.pop() else {
@@ -1354,13 +1311,7 @@ fn a_public_room_is_listed_until_it_closes_and_a_private_one_never() {
         ref other => panic!("{other:?}"),
     }
     // Once its second player comes, it is a game to watch.
-    w.send(
-        2,
-        ClientMessage::Join {
-            room: room.clone(),
-            name: "bob".into(),
-        },
-    );
+    w.send(2, join_room(&room, "bob"));
     assert_eq!(lobby_page(&mut w, 3), (0, 1));
     assert_eq!(
         error_code(&w.send(1, ClientMessage::Publish), 1),

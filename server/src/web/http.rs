@@ -22,13 +22,19 @@ pub struct Head {
     pub rest: Vec<u8>,
 }
 
+/// The first value of header `name` (lowercase) among `headers` (names lowercase, in order);
+/// for answers read back too.
+pub fn header<'a>(headers: &'a [(String, String)], name: &str) -> Option<&'a str> {
+    headers
+        .iter()
+        .find(|(n, _)| n == name)
+        .map(|(_, v)| v.as_str())
+}
+
 impl Head {
     /// The first value of header `name` (lowercase).
     pub fn header(&self, name: &str) -> Option<&str> {
-        self.headers
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|(_, v)| v.as_str())
+        header(&self.headers, name)
     }
 
     /// Whether header `name` lists `token` (comma-separated, any case).
