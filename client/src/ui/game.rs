@@ -1006,15 +1006,7 @@ impl GameScreen {
         if let Some(hash) = last_shot.map(|s| s.hash) {
             lines.push(format!("last hash {}", hash_hex(hash)));
         }
-        if let Some(p) = self.flow.shot() {
-            let o = p.outcome();
-            lines.push(format!(
-                "t {:.3} / {:.3} s, {} events",
-                p.time(),
-                o.duration,
-                o.events.len()
-            ));
-        }
+        lines.extend(self.flow.shot().map(draw::debug_shot_line));
         draw::debug_lines(layout, &lines);
     }
 }
