@@ -500,20 +500,6 @@ pub fn succeeded(outcome: &Outcome, shot: &Shot, targets: &[u8]) -> bool {
     hit && potted && !facts.scratched()
 }
 
-/// The share of `trials` strikes of `strike` under `level`'s noise (drawn from `seed`) on
-/// `shot` (its cue ball ball 0) that succeed: the chance measured, to check a quoted one.
-pub fn measured(
-    shot: &Shot,
-    strike: Strike,
-    targets: &[u8],
-    level: Level,
-    trials: usize,
-    seed: u64,
-) -> f64 {
-    let mut measure = Measure::new(shot, strike, targets, level, trials, seed);
-    measure.step(usize::MAX).map_or(0.0, |c| c.share)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -522,6 +508,12 @@ mod tests {
     use breakshot_shared::rules::Seat;
 
     const CUT: &str = include_str!("../../scenes/cut-shot.json");
+
+    /// The share of `measure`'s strikes that succeed, measured at once: the chance
+    /// measured, to check a quoted one.
+    fn measured(mut measure: Measure) -> f64 {
+        measure.step(usize::MAX).map_or(0.0, |c| c.share)
+    }
 
     /// An advisor started on `request`.
     fn started(request: &Request) -> Advisor {
@@ -590,7 +582,14 @@ mod tests {
             assert_eq!(cue, 0, "the scene's cue ball is ball 0");
             let targets: Vec<u8> = targets.iter().map(|&t| t as u8).collect();
             let trials = 400;
-            let p = measured(&shot, advice.strike, &targets, level, trials, 0xC0FFEE);
+            let p = measured(Measure::new(
+                &shot,
+                advice.strike,
+                &targets,
+                level,
+                trials,
+                0xC0FFEE,
+            ));
             let sampling = libm::sqrt(p * (1.0 - p) / trials as f64);
             let both = libm::hypot(advice.error(), sampling).max(0.02);
             eprintln!(
@@ -629,7 +628,14 @@ mod tests {
         );
         let (shot, _, targets) = request.indices().expect("indices");
         let targets: Vec<u8> = targets.iter().map(|&t| t as u8).collect();
-        let p = measured(&shot, strike, &targets, level, PLAYED_TRIALS, request.seed);
+        let p = measured(Measure::new(
+            &shot,
+            strike,
+            &targets,
+            level,
+            PLAYED_TRIALS,
+            request.seed,
+        ));
         let played = advice.played.expect("the shot played measured");
         assert_eq!((played.share, played.trials), (p, PLAYED_TRIALS));
         assert!(p < 1.0, "a degree off misses sometimes: {p}");
