@@ -15,7 +15,7 @@ use breakshot_client::view::palette::{CLOTH, CUE_WOOD};
 use breakshot_client::view::{area, menu_buttons, replay_page, Frame, Layout, Rect};
 use breakshot_shared::protocol::{ClientMessage, Invite, RoomCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
-use breakshot_shared::rules::{EightBallRules, Game, Settings, Variant};
+use breakshot_shared::rules::{Game, Settings};
 use breakshot_testkit::Spawned;
 
 #[allow(dead_code)]
@@ -23,6 +23,7 @@ mod common;
 #[path = "friends/display.rs"]
 mod display;
 
+use common::screen::eight_ball;
 use common::{next, within};
 use display::{balls_not_seen, close, Display, Picture};
 
@@ -67,10 +68,6 @@ fn until_shown(
         );
         std::thread::sleep(Duration::from_millis(500));
     }
-}
-
-fn eight_ball(settings: Settings, seed: u64) -> Game {
-    Game::new(Variant::EightBall(EightBallRules::Wpa), settings, seed)
 }
 
 /// While the computer thinks in a 640x480 window, the words say so under the trays and the
