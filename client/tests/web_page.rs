@@ -120,7 +120,7 @@ fn events(page: &mut Page<'_>) -> String {
 }
 
 fn wait_for_event(page: &mut Page<'_>, prefix: &str, limit: Duration) {
-    let condition = said_starting(&prefix);
+    let condition = said_starting(prefix);
     if let Err(e) = page.wait_until(&condition, limit) {
         panic!(
             "the page never said {prefix:?}: {e}\nits events: {}",
