@@ -8,4 +8,6 @@ pub mod bot;
 pub mod memory;
 pub mod net;
 pub mod play;
+#[cfg(test)]
+mod test_games;
 pub mod view;

@@ -20,6 +20,21 @@ fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
+/// Runs `breakshot` with `args`, checks that it refused them (exit code 2), and returns what
+/// it said.
+fn refused(args: &[&str]) -> String {
+    let out = breakshot(args);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+    err
+}
+
+/// Checks that `breakshot` refuses `args` saying `why`.
+fn refused_saying(args: &[&str], why: &str) {
+    let err = refused(args);
+    assert!(err.contains(why), "{args:?}: {err}");
+}
+
 /// A file in a scratch folder of its own, removed with the folder when dropped, even if the
 /// test fails.
 struct TempFile {
@@ -45,12 +60,9 @@ fn temp_file(name: &str, contents: &[u8]) -> TempFile {
 
 #[test]
 fn a_missing_scene_file_is_named() {
-    let out = breakshot(&["practice", "/nonexistent/scene.json"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("cannot read /nonexistent/scene.json"),
-        "{}",
-        stderr(&out)
+    refused_saying(
+        &["practice", "/nonexistent/scene.json"],
+        "cannot read /nonexistent/scene.json",
     );
 }
 
@@ -58,22 +70,13 @@ fn a_missing_scene_file_is_named() {
 fn an_invalid_scene_names_the_balls_at_fault() {
     let scene = r#"{"balls":[{"id":"cue","pos":[0.5,0.5]},{"id":"1","pos":[0.5,0.51]}]}"#;
     let path = temp_file("overlap.json", scene.as_bytes());
-    let out = breakshot(&["practice", path.path()]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = stderr(&out);
-    assert!(err.contains("\"cue\" and \"1\" overlap"), "{err}");
+    refused_saying(&["practice", path.path()], "\"cue\" and \"1\" overlap");
 }
 
 #[test]
 fn a_file_that_is_not_a_game_record_is_refused() {
     let path = temp_file("garbage.rec", b"\xff\xff\xff\xff not a record");
-    let out = breakshot(&["replay", path.path()]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("is not a game record"),
-        "{}",
-        stderr(&out)
-    );
+    refused_saying(&["replay", path.path()], "is not a game record");
 }
 
 #[test]
@@ -109,9 +112,7 @@ fn bad_options_are_refused() {
 
 #[test]
 fn a_malformed_invite_is_refused_with_what_an_invite_looks_like() {
-    let out = breakshot(&["join", "not-an-invite"]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = stderr(&out);
+    let err = refused(&["join", "not-an-invite"]);
     assert!(err.contains("\"not-an-invite\" is not an invite"), "{err}");
     assert!(err.contains("breakshot://"), "{err}");
 }
@@ -119,9 +120,7 @@ fn a_malformed_invite_is_refused_with_what_an_invite_looks_like() {
 #[test]
 fn an_invite_without_a_room_is_refused() {
     let server_only = format!("breakshot://127.0.0.1:4433#{}", "ab".repeat(32));
-    let out = breakshot(&["join", &server_only]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(stderr(&out).contains("no room"), "{}", stderr(&out));
+    refused_saying(&["join", &server_only], "no room");
 }
 
 #[test]
@@ -129,15 +128,13 @@ fn hosting_on_a_port_in_use_says_so_before_any_window_opens() {
     let taken = std::net::UdpSocket::bind("127.0.0.1:0").expect("a free port");
     let addr = taken.local_addr().expect("bound").to_string();
     let data = breakshot_testkit::scratch("cli-host");
-    let out = breakshot(&[
+    let err = refused(&[
         "host",
         "--bind",
         &addr,
         "--data",
         data.path().to_str().expect("utf-8"),
     ]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = stderr(&out);
     assert!(
         err.contains("could not start") && err.contains(&addr),
         "{err}"
@@ -147,9 +144,7 @@ fn hosting_on_a_port_in_use_says_so_before_any_window_opens() {
 
 #[test]
 fn a_short_fingerprint_is_named_once() {
-    let out = breakshot(&["join", "breakshot://127.0.0.1:4433/ABCDEFGH#abcd"]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = stderr(&out);
+    let err = refused(&["join", "breakshot://127.0.0.1:4433/ABCDEFGH#abcd"]);
     assert_eq!(
         err.matches("64 hexadecimal digits").count(),
         1,
@@ -159,32 +154,23 @@ fn a_short_fingerprint_is_named_once() {
 
 #[test]
 fn an_address_that_cannot_be_in_an_invite_is_refused() {
-    let out = breakshot(&["host", "--bind", "127.0.0.1:0", "--address", "my host:1"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("must be a host name or an IP address"),
-        "{}",
-        stderr(&out)
+    refused_saying(
+        &["host", "--bind", "127.0.0.1:0", "--address", "my host:1"],
+        "must be a host name or an IP address",
     );
 }
 
 #[test]
 fn replay_from_a_server_needs_a_server_address_and_a_room_code() {
-    let out = breakshot(&["replay", "--server", "not-a-server", "--game", "AAAAAAAA"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("is not a server address"),
-        "{}",
-        stderr(&out)
+    refused_saying(
+        &["replay", "--server", "not-a-server", "--game", "AAAAAAAA"],
+        "is not a server address",
     );
 
     let server = format!("breakshot://127.0.0.1:4433#{}", "ab".repeat(32));
-    let out = breakshot(&["replay", "--server", &server, "--game", "no!"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("is not a room code"),
-        "{}",
-        stderr(&out)
+    refused_saying(
+        &["replay", "--server", &server, "--game", "no!"],
+        "is not a room code",
     );
 
     // --server without --game, or a file and a server at once, is a usage error.
@@ -195,8 +181,7 @@ fn replay_from_a_server_needs_a_server_address_and_a_room_code() {
         ][..],
         &["replay"][..],
     ] {
-        let out = breakshot(args);
-        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        refused(args);
     }
 }
 
@@ -206,11 +191,10 @@ fn replay_of_a_game_the_server_does_not_have_is_refused() {
     let data = breakshot_testkit::scratch("cli-fetch");
     let server = common::loopback_server(data.path().to_path_buf());
     let invite = server.loopback_invite().to_string();
-    let out = breakshot(&["replay", "--server", &invite, "--game", "zzzzzzzz"]);
-    drop(server);
-    assert_eq!(out.status.code(), Some(2));
-    let err = stderr(&out);
-    assert!(err.contains("no game in room ZZZZZZZZ"), "{err}");
+    refused_saying(
+        &["replay", "--server", &invite, "--game", "zzzzzzzz"],
+        "no game in room ZZZZZZZZ",
+    );
 }
 
 #[test]
@@ -220,32 +204,25 @@ fn a_game_on_a_server_is_saved_to_a_record_file_that_replays() {
 
     let dir = breakshot_testkit::scratch("cli-save");
     let server = common::loopback_server(dir.path().join("server"));
-    let invite = server.loopback_invite();
+    let invite = server.loopback_invite().to_string();
     let room = common::bots_game(&server);
+    let save = |number: &str, file: &std::path::Path| {
+        breakshot(&[
+            "replay",
+            "--server",
+            &invite,
+            "--game",
+            room.as_str(),
+            "--number",
+            number,
+            "--save",
+            file.to_str().expect("utf-8 path"),
+        ])
+    };
     let file = dir.path().join("game.rec");
-    let out = breakshot(&[
-        "replay",
-        "--server",
-        &invite.to_string(),
-        "--game",
-        room.as_str(),
-        "--number",
-        "1",
-        "--save",
-        file.to_str().expect("utf-8 path"),
-    ]);
+    let out = save("1", &file);
     // A game the room has not reached is refused, and says how many it has.
-    let beyond = breakshot(&[
-        "replay",
-        "--server",
-        &invite.to_string(),
-        "--game",
-        room.as_str(),
-        "--number",
-        "7",
-        "--save",
-        dir.path().join("none.rec").to_str().expect("utf-8 path"),
-    ]);
+    let beyond = save("7", &dir.path().join("none.rec"));
     drop(server);
     assert_eq!(beyond.status.code(), Some(2), "{}", stderr(&beyond));
     assert!(stderr(&beyond).contains("no game 7"), "{}", stderr(&beyond));
@@ -270,12 +247,9 @@ fn a_name_that_cannot_be_shown_is_refused_before_any_window_opens() {
     let long = "x".repeat(25);
     let invite = format!("breakshot://127.0.0.1:9/ABCDEFGH#{}", "ab".repeat(32));
     for bad in ["   ", &long[..]] {
-        let out = breakshot(&["join", &invite, "--data", dir, "--name", bad]);
-        assert_eq!(out.status.code(), Some(2), "{bad:?}");
-        assert!(
-            stderr(&out).contains("a name is 1 to 24 printable characters"),
-            "{}",
-            stderr(&out)
+        refused_saying(
+            &["join", &invite, "--data", dir, "--name", bad],
+            "a name is 1 to 24 printable characters",
         );
     }
     assert!(
@@ -292,15 +266,20 @@ fn a_record_of_another_format_version_is_named_once() {
     // The format version is the record's first field, one byte while it is small.
     bytes[0] = 99;
     let path = temp_file("future.rec", &bytes);
-    let out = breakshot(&["replay", path.path()]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = stderr(&out);
+    let err = refused(&["replay", path.path()]);
     assert!(err.contains("is not a game record"), "{err}");
     assert_eq!(
         err.matches("record format version 99").count(),
         1,
         "said once: {err}"
     );
+}
+
+/// What `breakshot SUB --help` prints.
+fn help(sub: &str) -> String {
+    let out = breakshot(&[sub, "--help"]);
+    assert_eq!(out.status.code(), Some(0), "{sub} --help");
+    String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 /// Each subcommand's `--help`: the options it takes and no other, each with a line of help.
@@ -334,27 +313,13 @@ fn every_subcommand_lists_only_its_own_options_each_with_help() {
         ("practice", &["--mode", "--seed"]),
         ("replay", &["--server", "--game", "--number", "--save"]),
     ];
-    let all = [
-        "--mode",
-        "--rules",
-        "--race",
-        "--name",
-        "--bind",
-        "--address",
-        "--aids",
-        "--new",
-        "--computer",
-        "--level",
-        "--break",
-        "--seed",
-        "--server",
-        "--game",
-        "--save",
-    ];
+    // Each option of one subcommand is listed by no other.
+    let all: std::collections::BTreeSet<&str> = cases
+        .iter()
+        .flat_map(|(_, own)| own.iter().copied())
+        .collect();
     for (sub, own) in cases {
-        let out = breakshot(&[sub, "--help"]);
-        assert_eq!(out.status.code(), Some(0), "{sub} --help");
-        let help = String::from_utf8_lossy(&out.stdout).into_owned();
+        let help = help(sub);
         // Option lines read `      --name <VALUE>   help text`.
         let options: Vec<(&str, &str)> = help
             .lines()
@@ -371,7 +336,7 @@ fn every_subcommand_lists_only_its_own_options_each_with_help() {
             })
             .collect();
         let listed: Vec<&str> = options.iter().map(|(name, _)| *name).collect();
-        for option in all {
+        for &option in &all {
             assert_eq!(
                 listed.contains(&option),
                 own.contains(&option),
@@ -397,8 +362,7 @@ fn every_subcommand_lists_only_its_own_options_each_with_help() {
         ("practice", "[SCENE]", "scene file"),
         ("replay", "[FILE]", "record file"),
     ] {
-        let out = breakshot(&[sub, "--help"]);
-        let help = String::from_utf8_lossy(&out.stdout).into_owned();
+        let help = help(sub);
         let line = help
             .lines()
             .skip_while(|l| l.trim() != "Arguments:")
@@ -444,26 +408,18 @@ fn hosting_with_a_published_page_prints_a_link_to_it_naming_this_server() {
     assert!(!link.cert.is_empty(), "the certificate hashes: {line}");
 
     // An address that is not a page's is refused before anything starts.
-    let out = breakshot(&["host", "--web-page", "ftp://example.org/"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(stderr(&out).contains("https://"), "{}", stderr(&out));
+    refused_saying(&["host", "--web-page", "ftp://example.org/"], "https://");
 }
 
 #[test]
 fn a_snooker_match_of_an_even_number_of_frames_or_snooker_options_in_another_game_are_refused_with_why(
 ) {
-    let out = breakshot(&["local", "--mode", "snooker", "--best-of", "4"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("--best-of must be odd"),
-        "{}",
-        stderr(&out)
+    refused_saying(
+        &["local", "--mode", "snooker", "--best-of", "4"],
+        "--best-of must be odd",
     );
-    let out = breakshot(&["vs-computer", "--mode", "8ball", "--reds", "10"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(
-        stderr(&out).contains("set a snooker match; they mean nothing with --mode 8ball"),
-        "{}",
-        stderr(&out)
+    refused_saying(
+        &["vs-computer", "--mode", "8ball", "--reds", "10"],
+        "set a snooker match; they mean nothing with --mode 8ball",
     );
 }

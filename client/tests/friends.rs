@@ -15,7 +15,7 @@ use breakshot_client::view::palette::{CLOTH, CUE_WOOD};
 use breakshot_client::view::{area, menu_buttons, replay_page, Frame, Layout, Rect};
 use breakshot_shared::protocol::{ClientMessage, Invite, RoomCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
-use breakshot_shared::rules::{EightBallRules, Game, Settings, Variant};
+use breakshot_shared::rules::{Game, Settings};
 use breakshot_testkit::Spawned;
 
 #[allow(dead_code)]
@@ -23,10 +23,13 @@ mod common;
 #[path = "friends/display.rs"]
 mod display;
 
+use common::screen::eight_ball;
 use common::{next, within};
 use display::{balls_not_seen, close, Display, Picture};
 
 const BREAKSHOT: &str = env!("CARGO_BIN_EXE_breakshot");
+/// How long a window is given to show or say what a test waits for, on a loaded machine.
+const PATIENCE: Duration = Duration::from_secs(60);
 
 /// The menu's buttons, in order, as `ui/menu.rs` lists them; "Watch a replay" is the one
 /// before "Quit".
@@ -67,10 +70,6 @@ fn until_shown(
         );
         std::thread::sleep(Duration::from_millis(500));
     }
-}
-
-fn eight_ball(settings: Settings, seed: u64) -> Game {
-    Game::new(Variant::EightBall(EightBallRules::Wpa), settings, seed)
 }
 
 /// While the computer thinks in a 640x480 window, the words say so under the trays and the
@@ -290,7 +289,7 @@ fn the_opponent_s_cue_moves_in_the_other_window_in_both_views_as_either_player_a
             .stderr(Stdio::null()),
     );
     let stdout = host.child().stdout.take().expect("the host's output");
-    let (line, _rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
+    let (line, _rest) = breakshot_testkit::read_line(stdout, PATIENCE);
     let invite: Invite = line.trim().parse().expect("the invite is the first line");
     let ann = display.new_window(&[]);
     let join = Spawned::start(
@@ -314,14 +313,9 @@ fn the_opponent_s_cue_moves_in_the_other_window_in_both_views_as_either_player_a
     let c = layout.cloth;
     let pictures = [dir.path().join("ann.png"), dir.path().join("ben.png")];
     for (wid, out) in windows.iter().zip(&pictures) {
-        until_shown(
-            &display,
-            wid,
-            out,
-            Duration::from_secs(60),
-            "the table",
-            |p| close(p.at(c.x + 0.5 * c.w, c.y + 0.25 * c.h), CLOTH, 8),
-        );
+        until_shown(&display, wid, out, PATIENCE, "the table", |p| {
+            close(p.at(c.x + 0.5 * c.w, c.y + 0.25 * c.h), CLOTH, 8)
+        });
     }
     let grab = |k: usize| display.grab(&windows[k], &pictures[k]);
     let point = |k: usize, (x, y): (f32, f32)| {
@@ -545,7 +539,7 @@ fn game_resumed_in_a_window_of((w, h): (u32, u32)) {
         );
         let stdout = host.child().stdout.take().expect("the host's output");
         let stderr = host.child().stderr.take().expect("the host's reports");
-        let (line, rest) = breakshot_testkit::read_line(stdout, Duration::from_secs(60));
+        let (line, rest) = breakshot_testkit::read_line(stdout, PATIENCE);
         let invite: Invite = line.trim().parse().expect("the invite is the first line");
         // The rest of the output is read, so the host never blocks on a full pipe.
         std::thread::spawn(move || std::io::copy(&mut { rest }, &mut std::io::sink()));
@@ -579,14 +573,7 @@ fn game_resumed_in_a_window_of((w, h): (u32, u32)) {
     let bare = layout.to_screen(0.5 * (cue + apex) + across);
     let cloth_shown = |p: &Picture| close(p.at(bare[0], bare[1]), CLOTH, 8);
     let out = dir.path().join("ann.png");
-    let new_game = until_shown(
-        &display,
-        &wid,
-        &out,
-        Duration::from_secs(60),
-        "the table",
-        cloth_shown,
-    );
+    let new_game = until_shown(&display, &wid, &out, PATIENCE, "the table", cloth_shown);
     // A new game lists the keys across the bar.
     let keys = hint_reach(&new_game, &layout);
     assert!(
@@ -625,20 +612,13 @@ fn game_resumed_in_a_window_of((w, h): (u32, u32)) {
     let (_again, _, said) = host(&bind);
     let wid = display.new_window(&[]);
     let out = dir.path().join("again.png");
-    let resumed = until_shown(
-        &display,
-        &wid,
-        &out,
-        Duration::from_secs(60),
-        "the game",
-        |p| {
-            // The table, and a short line where the keys were.
-            cloth_shown(p) && {
-                let reach = hint_reach(p, &layout);
-                reach > 20.0 && reach < keys / 3.0
-            }
-        },
-    );
+    let resumed = until_shown(&display, &wid, &out, PATIENCE, "the game", |p| {
+        // The table, and a short line where the keys were.
+        cloth_shown(p) && {
+            let reach = hint_reach(p, &layout);
+            reach > 20.0 && reach < keys / 3.0
+        }
+    });
     let reach = hint_reach(&resumed, &layout);
     eprintln!(
         "{size}: hint bar text reaches {keys} px in a new game, {reach} px after the restart"
@@ -701,7 +681,7 @@ fn ann_and_ben(
     };
     display.xdotool(&["windowmove", &ben_wid, &x.to_string(), &y.to_string()]);
     for (who, window) in [("ann", &ann), ("ben", &ben)] {
-        window.wait_for(0, Duration::from_secs(60), &format!("{who} seated"), |l| {
+        window.wait_for(0, PATIENCE, &format!("{who} seated"), |l| {
             l.starts_with("game playing")
         });
     }
@@ -873,9 +853,7 @@ fn ctrl_v_pastes_the_clipboard_in_the_chat_line_and_the_replay_page_s_invite_lin
             .args(["--size", "1280x720"]),
     );
     let wid = display.new_window(&[]);
-    ann.wait_for(0, Duration::from_secs(60), "the game", |l| {
-        l.starts_with("game playing")
-    });
+    ann.wait_for(0, PATIENCE, "the game", |l| l.starts_with("game playing"));
     keys(&display, &wid, &["t", "ctrl+v", "Return"]);
     // Its first line only.
     ann.wait_for(0, limit, "the pasted chat line", |l| {

@@ -123,11 +123,7 @@ fn the_snooker_table_shows_its_baulk_line_the_d_and_the_six_spots() {
     };
     let scene = Scene::from_json(OPEN_SPOTS).expect("a scene");
     let shot = scene.to_shot().expect("a shot");
-    let layout = Layout::new(
-        pic.width as f32,
-        pic.height as f32,
-        Frame::new(TableKind::Snooker, &shot.balls),
-    );
+    let layout = pic.layout(Frame::new(TableKind::Snooker, &shot.balls));
     let (baulk, d) = baulk_and_d();
     assert_eq!(
         chalked(&pic, &layout, &baulk),
@@ -175,11 +171,7 @@ fn a_six_red_frame_shows_its_rack_in_colour_and_both_scores() {
         Settings::offline(),
         3,
     );
-    let layout = Layout::new(
-        pic.width as f32,
-        pic.height as f32,
-        Frame::new(game.table(), game.balls()),
-    );
+    let layout = pic.layout(Frame::new(game.table(), game.balls()));
     let ids: Vec<String> = (0..22).map(scene_id).collect();
     balls_are_drawn(&pic, &layout, &ids, game.balls(), game.params().ball_radius);
     // Six reds and the six colours on the table; the nine reds a short frame does not rack
@@ -272,11 +264,7 @@ fn a_six_red_frame_between_the_computer_and_a_bot_is_watched_in_the_window() {
 
     // The window showed the snooker table: its cloth, the baulk line and the D (where no
     // ball lies on them), and both players' lines and the status over the table.
-    let layout = Layout::new(
-        pic.width as f32,
-        pic.height as f32,
-        Frame::new(TableKind::Snooker, &[]),
-    );
+    let layout = pic.layout(Frame::new(TableKind::Snooker, &[]));
     let c = layout.cloth;
     let grid: Vec<(f32, f32)> = (1..20)
         .flat_map(|i| (1..10).map(move |j| (i as f32 / 20.0, j as f32 / 10.0)))

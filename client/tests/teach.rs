@@ -6,7 +6,7 @@
 
 use std::ffi::OsStr;
 use std::path::Path;
-use std::process::{Command as Process, Output};
+use std::process::Command as Process;
 use std::time::Duration;
 
 use breakshot_shared::hash::{hash_hex, state_hash};
@@ -21,8 +21,9 @@ const CUT: &str = include_str!("../scenes/cut-shot.json");
 
 /// Runs `breakshot ARGS --screenshot OUT --frames FRAMES` at 1280x720 under a virtual
 /// display while `xdotool` plays `keys` on its window (see [`common::screen::played`]), with
-/// a fresh data directory; None if xvfb-run or xdotool is missing (the reason is printed).
-fn played(args: &[&OsStr], out: &Path, frames: u32, keys: &[&str]) -> Option<Output> {
+/// a fresh data directory; what the window reported, once it has run to its end. None if
+/// xvfb-run or xdotool is missing (the reason is printed).
+fn played(args: &[&OsStr], out: &Path, frames: u32, keys: &[&str]) -> Option<Vec<String>> {
     let data = breakshot_testkit::scratch("teach-data");
     played_with(args, out, frames, keys, data.path())
 }
@@ -34,9 +35,27 @@ fn played_with(
     frames: u32,
     keys: &[&str],
     data: &Path,
-) -> Option<Output> {
+) -> Option<Vec<String>> {
     let patience = Duration::from_secs(300);
-    common::screen::played(args, out, frames, keys, (1280, 720), data, patience)
+    let run = common::screen::played(args, out, frames, keys, (1280, 720), data, patience)?;
+    assert_ran(&run);
+    Some(reports(&run))
+}
+
+/// [`played`] on the practice table of the scene `json`, written to `dir`, where the
+/// screenshot goes too (`out.png`).
+fn practised(dir: &Path, json: &str, frames: u32, keys: &[&str]) -> Option<Vec<String>> {
+    let scene = dir.join("scene.json");
+    std::fs::write(&scene, json).expect("scene written");
+    let args = [OsStr::new("practice"), scene.as_os_str()];
+    played(&args, &dir.join("out.png"), frames, keys)
+}
+
+/// Copies the screenshot `out` to where `BREAKSHOT_KEEP_SCREENSHOT` says, if it is set.
+fn keep_screenshot(out: &Path) {
+    if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
+        std::fs::copy(out, keep).expect("screenshot kept");
+    }
 }
 
 /// Where the first report starting with each of `starts` stands; the reports must hold
@@ -64,9 +83,6 @@ fn tables(said: &[String]) -> Vec<&str> {
 #[test]
 fn three_shots_taken_back_give_the_table_before_them_to_the_bit_and_again_replays_one() {
     let dir = breakshot_testkit::scratch("teach-undo");
-    let (scene, out) = (dir.path().join("scene.json"), dir.path().join("out.png"));
-    std::fs::write(&scene, CUT).expect("scene written");
-    let args = [OsStr::new("practice"), scene.as_os_str()];
     // Each shot is played (Space) and its playback skipped (Space again); then U three
     // times, Y (redo the first shot), B (set it up again) and the same shot played again.
     let key = |k: &str| format!("key --window \"$wid\" {k}");
@@ -81,11 +97,9 @@ fn three_shots_taken_back_give_the_table_before_them_to_the_bit_and_again_replay
         keys.extend([key(k), "sleep 0.4".to_string()]);
     }
     let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
-    let Some(run) = played(&args, &out, 900, &keys) else {
+    let Some(said) = practised(dir.path(), CUT, 900, &keys) else {
         return;
     };
-    assert_ran(&run);
-    let said = reports(&run);
     let shots = said
         .iter()
         .filter(|l| {
@@ -128,9 +142,6 @@ fn the_advice_shown_is_the_simulator_s_and_j_sets_the_cue_to_it() {
     use breakshot_client::play::{Advisor, Request};
     use breakshot_shared::ai::Level;
     let dir = breakshot_testkit::scratch("teach-advice");
-    let (scene, out) = (dir.path().join("scene.json"), dir.path().join("out.png"));
-    std::fs::write(&scene, CUT).expect("scene written");
-    let args = [OsStr::new("practice"), scene.as_os_str()];
     // I asks (level 3 by default); the search runs a few simulations a frame; J sets the cue.
     let keys = [
         "sleep 1",
@@ -138,11 +149,9 @@ fn the_advice_shown_is_the_simulator_s_and_j_sets_the_cue_to_it() {
         "sleep 12",
         "key --window \"$wid\" j",
     ];
-    let Some(run) = played(&args, &out, 1200, &keys) else {
+    let Some(said) = practised(dir.path(), CUT, 1200, &keys) else {
         return;
     };
-    assert_ran(&run);
-    let said = reports(&run);
     let start = Game::practice(&Scene::from_json(CUT).expect("a scene")).expect("a table");
     let request = Request::for_table(&start, Level::new(3)).expect("a request");
     let mut advisor = Advisor::start(request).expect("an advisor");
@@ -162,9 +171,7 @@ fn the_advice_shown_is_the_simulator_s_and_j_sets_the_cue_to_it() {
         matches!((asked, set), (Some(a), Some(s)) if a < s),
         "advised, then set: {said:?}"
     );
-    if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
-        std::fs::copy(&out, keep).expect("screenshot kept");
-    }
+    keep_screenshot(&dir.path().join("out.png"));
 }
 
 /// A shot that pockets nothing, then I: the shot is taken back, and the advice says the
@@ -172,12 +179,9 @@ fn the_advice_shown_is_the_simulator_s_and_j_sets_the_cue_to_it() {
 #[test]
 fn after_a_miss_the_advice_says_what_the_shot_missed_was_worth() {
     let dir = breakshot_testkit::scratch("teach-miss");
-    let (scene, out) = (dir.path().join("scene.json"), dir.path().join("out.png"));
     // The cue set to roll softly into the open cloth: it meets no ball.
     let mut soft: serde_json::Value = serde_json::from_str(CUT).expect("a scene");
     soft["strike"] = serde_json::json!({"ball": "cue", "speed": 0.8, "dir": [1.0, 0.0]});
-    std::fs::write(&scene, soft.to_string()).expect("scene written");
-    let args = [OsStr::new("practice"), scene.as_os_str()];
     let keys = [
         "sleep 1",
         "key --window \"$wid\" space",
@@ -187,11 +191,9 @@ fn after_a_miss_the_advice_says_what_the_shot_missed_was_worth() {
         "key --window \"$wid\" i",
         "sleep 14",
     ];
-    let Some(run) = played(&args, &out, 1500, &keys) else {
+    let Some(said) = practised(dir.path(), &soft.to_string(), 1500, &keys) else {
         return;
     };
-    assert_ran(&run);
-    let said = reports(&run);
     let [.., measured] = in_order(
         &said,
         [
@@ -203,9 +205,7 @@ fn after_a_miss_the_advice_says_what_the_shot_missed_was_worth() {
     let line = &said[measured];
     let trials = breakshot_client::play::PLAYED_TRIALS;
     assert!(line.ends_with(&format!(" of {trials}")), "{line}");
-    if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
-        std::fs::copy(&out, keep).expect("screenshot kept");
-    }
+    keep_screenshot(&dir.path().join("out.png"));
 }
 
 /// The break as the cue is first set (too soft: a foul), its playback skipped; then I,
@@ -231,11 +231,9 @@ fn against_the_computer_a_missed_shot_is_taken_back_and_advised_on() {
         OsStr::new("--level"),
         OsStr::new("1"),
     ];
-    let Some(run) = played(&args, &out, 1500, &BREAK_THEN_ADVICE) else {
+    let Some(said) = played(&args, &out, 1500, &BREAK_THEN_ADVICE) else {
         return;
     };
-    assert_ran(&run);
-    let said = reports(&run);
     in_order(
         &said,
         [
@@ -244,9 +242,7 @@ fn against_the_computer_a_missed_shot_is_taken_back_and_advised_on() {
             "message Advice: That shot: ",
         ],
     );
-    if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
-        std::fs::copy(&out, keep).expect("screenshot kept");
-    }
+    keep_screenshot(&out);
 }
 
 /// In a local game for two a soft break is a miss too, but the table has passed to the
@@ -256,11 +252,9 @@ fn against_the_computer_a_missed_shot_is_taken_back_and_advised_on() {
 fn in_a_local_game_for_two_a_miss_is_advised_on_beside_the_table() {
     let dir = breakshot_testkit::scratch("teach-local-miss");
     let out = dir.path().join("out.png");
-    let Some(run) = played(&[OsStr::new("local")], &out, 1500, &BREAK_THEN_ADVICE) else {
+    let Some(said) = played(&[OsStr::new("local")], &out, 1500, &BREAK_THEN_ADVICE) else {
         return;
     };
-    assert_ran(&run);
-    let said = reports(&run);
     let [missed, beside, _] = in_order(
         &said,
         [
@@ -280,9 +274,7 @@ fn in_a_local_game_for_two_a_miss_is_advised_on_beside_the_table() {
         !said.iter().any(|l| l.starts_with("message Taken back")),
         "nothing taken back: {said:?}"
     );
-    if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
-        std::fs::copy(&out, keep).expect("screenshot kept");
-    }
+    keep_screenshot(&out);
 }
 
 /// Online, I is refused in a room hosted with the usual aids, and gives the computer's
@@ -311,16 +303,12 @@ fn online_the_advice_is_given_only_where_the_room_allows_it() {
         .chain([data.as_os_str()])
         .collect::<Vec<_>>();
         let keys = ["sleep 2", "key --window \"$wid\" i", "sleep 12"];
-        let Some(run) = played(&args, &out, 1200, &keys) else {
+        let Some(said) = played(&args, &out, 1200, &keys) else {
             return;
         };
-        assert_ran(&run);
-        let said = reports(&run);
         assert!(said.iter().any(|l| l.starts_with(says)), "{aids}: {said:?}");
     }
-    if let Ok(keep) = std::env::var("BREAKSHOT_KEEP_SCREENSHOT") {
-        std::fs::copy(&out, keep).expect("screenshot kept");
-    }
+    keep_screenshot(&out);
 }
 
 #[test]
@@ -348,7 +336,7 @@ fn a_ball_dragged_then_kept_opens_again_as_the_same_table() {
         "key --window \"$wid\" o".into(),
     ];
     let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
-    let Some(run) = played_with(
+    let Some(said) = played_with(
         &[OsStr::new("practice"), scene.as_os_str()],
         &out,
         600,
@@ -357,8 +345,6 @@ fn a_ball_dragged_then_kept_opens_again_as_the_same_table() {
     ) else {
         return;
     };
-    assert_ran(&run);
-    let said = reports(&run);
     assert!(said.iter().any(|l| l == "practice ball placed"), "{said:?}");
     let saved = said
         .iter()
@@ -430,11 +416,9 @@ fn a_drill_scores_a_made_and_a_missed_attempt_and_remembers_them() {
     ];
     let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
     let args = [OsStr::new("practice"), drill.as_os_str()];
-    let Some(run) = played_with(&args, &out, 900, &keys, &data) else {
+    let Some(said) = played_with(&args, &out, 900, &keys, &data) else {
         return;
     };
-    assert_ran(&run);
-    let said = reports(&run);
     let drills: Vec<&String> = said.iter().filter(|l| l.starts_with("drill ")).collect();
     assert_eq!(
         drills,
@@ -480,11 +464,9 @@ fn the_menu_s_drills_open_a_drill_whose_example_makes_it() {
         "key --window \"$wid\" space".into(),
     ];
     let keys: Vec<&str> = keys.iter().map(String::as_str).collect();
-    let Some(run) = played_with(&[], &out, 700, &keys, &data) else {
+    let Some(said) = played_with(&[], &out, 700, &keys, &data) else {
         return;
     };
-    assert_ran(&run);
-    let said = reports(&run);
     let name = &shipped[corner].name;
     for line in [
         "screen practice".to_owned(),

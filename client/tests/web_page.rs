@@ -14,9 +14,9 @@ use std::time::Duration;
 use breakshot_client::view::palette::{CLOTH, CUE_BALL};
 use breakshot_client::view::{menu_buttons, Frame, Layout};
 use breakshot_shared::rules::{EightBallRules, Game, Variant};
-use breakshot_testkit::browser::{browser_or_skip, near, LaunchOptions, Page, Viewport};
+use breakshot_testkit::browser::{browser_or_skip, near, Browser, LaunchOptions, Page, Viewport};
 use breakshot_testkit::web::{bundle, skip_web};
-use breakshot_testkit::{read_line, scratch, Spawned};
+use breakshot_testkit::{read_line, scratch, Spawned, TempDir};
 
 const PATIENCE: Duration = Duration::from_secs(60);
 
@@ -36,6 +36,58 @@ fn xvfb_run() -> Option<std::path::PathBuf> {
         eprintln!("skipped: xvfb-run is not installed (apt-get install xvfb)");
     }
     found
+}
+
+/// A running `breakshot host` serving the web bundle, the invite and the link it printed, and
+/// a browser to open the link in.
+struct Hosted {
+    browser: Browser,
+    invite: String,
+    link: String,
+    // Kept to the end of the test: dropping them stops the host and removes its folder.
+    _host: Spawned,
+    _dir: TempDir,
+}
+
+/// The host for test `name`, or None with the reason printed where the bundle, `xvfb-run` or
+/// the browser is missing.
+fn hosted(name: &str) -> Option<Hosted> {
+    let bundle = match bundle() {
+        Ok(b) => b,
+        Err(why) => {
+            skip_web("web_page", &why);
+            return None;
+        }
+    };
+    let dir = scratch(name);
+    let (host, invite, link) = host(dir.path(), bundle)?;
+    let browser = browser_or_skip(LaunchOptions::default())?;
+    Some(Hosted {
+        browser,
+        invite,
+        link,
+        _host: host,
+        _dir: dir,
+    })
+}
+
+/// Saves a screenshot of `page` as `name` in the folder `BREAKSHOT_SCREENSHOTS` names, if any.
+fn keep_screenshot(page: &mut Page<'_>, name: &str) {
+    if let Ok(dir) = std::env::var("BREAKSHOT_SCREENSHOTS") {
+        let png = page.screenshot_png().expect("a screenshot");
+        std::fs::write(Path::new(&dir).join(name), png).expect("saved");
+    }
+}
+
+/// The page's condition that one of its events starts with `prefix`.
+fn said_starting(prefix: &str) -> String {
+    format!("(window.breakshotEvents || []).some(e => e.startsWith({prefix:?}))")
+}
+
+/// Where the scene's point `p` is on the screen, in the page's pixels.
+fn on_screen(layout: &Layout, p: glam::DVec2) -> (f64, f64) {
+    let [x, y] = layout.to_screen(p);
+    (x as f64, y as f64)
 }
 
 /// `breakshot host` in a window, serving `bundle`; with the invite and the link it printed.
@@ -68,7 +120,7 @@ fn events(page: &mut Page<'_>) -> String {
 }
 
 fn wait_for_event(page: &mut Page<'_>, prefix: &str, limit: Duration) {
-    let condition = format!("(window.breakshotEvents || []).some(e => e.startsWith({prefix:?}))");
+    let condition = said_starting(prefix);
     if let Err(e) = page.wait_until(&condition, limit) {
         panic!(
             "the page never said {prefix:?}: {e}\nits events: {}",
@@ -97,17 +149,18 @@ fn spans(points: &[(u32, u32)]) -> (usize, usize) {
     (most(rows), most(columns))
 }
 
-/// The page on its own (no room) on a phone, with its practice table open from the menu.
-fn open_practice<'b>(browser: &'b breakshot_testkit::browser::Browser, link: &str) -> Page<'b> {
-    let page_url = link.split('?').next().expect("the page's address");
+/// The page on its own (no room) on a phone, with its practice table open from the menu;
+/// with the table's layout and rack.
+fn open_practice(hosted: &Hosted) -> (Page<'_>, Layout, Game) {
+    let page_url = hosted.link.split('?').next().expect("the page's address");
     let phone = Viewport::phone();
-    let mut page = browser.open(page_url, phone).expect("the page opens");
+    let mut page = hosted
+        .browser
+        .open(page_url, phone)
+        .expect("the page opens");
     wait_for_event(&mut page, "screen menu", PATIENCE);
     wait_for_input(&mut page);
-    if let Ok(dir) = std::env::var("BREAKSHOT_SCREENSHOTS") {
-        let png = page.screenshot_png().expect("a screenshot");
-        std::fs::write(Path::new(&dir).join("web-menu.png"), png).expect("saved");
-    }
+    keep_screenshot(&mut page, "web-menu.png");
     let buttons = menu_buttons(phone.width as f32, phone.height as f32, 4);
     let [x, y] = buttons[0].center();
     // A slow machine may take the tap before the menu's first frame: tap again, as a
@@ -123,7 +176,8 @@ fn open_practice<'b>(browser: &'b breakshot_testkit::browser::Browser, link: &st
         events(&mut page)
     );
     std::thread::sleep(Duration::from_millis(500));
-    page
+    let (layout, practice) = phone_practice();
+    (page, layout, practice)
 }
 
 /// The practice table's layout on a phone, and its rack (the cue ball first).
@@ -151,7 +205,7 @@ struct Reported {
 /// The page's report of practice shot `n`, waiting for it at most `limit`.
 fn practice_shot(page: &mut Page<'_>, n: u32, limit: Duration) -> Result<Reported, String> {
     let prefix = format!("practice shot {n} ");
-    let condition = format!("(window.breakshotEvents || []).some(e => e.startsWith({prefix:?}))");
+    let condition = said_starting(&prefix);
     page.wait_until(&condition, limit)
         .map_err(|e| format!("no shot {n}: {e}"))?;
     let all = events(page);
@@ -191,27 +245,33 @@ fn tap_and_pull(page: &mut Page<'_>, cue: (f64, f64), aim: (f64, f64)) -> (f64, 
 
 #[test]
 fn a_friend_opens_the_hosts_link_on_a_phone_joins_and_sees_the_table() {
-    let bundle = match bundle() {
-        Ok(b) => b,
-        Err(why) => return skip_web("web_page", &why),
-    };
-    let dir = scratch("web-page-join");
-    let Some((_host, invite, link)) = host(dir.path(), bundle) else {
+    let Some(hosted) = hosted("web-page-join") else {
         return;
     };
-    assert!(invite.starts_with("breakshot://127.0.0.1:"), "{invite}");
+    assert!(
+        hosted.invite.starts_with("breakshot://127.0.0.1:"),
+        "{}",
+        hosted.invite
+    );
     // The link the invite panel shows: on the same port number, with the room and the key.
-    assert!(link.starts_with("http://127.0.0.1:"), "{link}");
-    let room = invite
+    assert!(
+        hosted.link.starts_with("http://127.0.0.1:"),
+        "{}",
+        hosted.link
+    );
+    let room = hosted
+        .invite
         .rsplit_once('/')
         .and_then(|(_, r)| r.split('#').next())
         .expect("the invite's room");
-    assert!(link.contains(&format!("room={room}")), "{link}");
-    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
-        return;
-    };
-    let mut page = browser
-        .open(&link, Viewport::phone())
+    assert!(
+        hosted.link.contains(&format!("room={room}")),
+        "{}",
+        hosted.link
+    );
+    let mut page = hosted
+        .browser
+        .open(&hosted.link, Viewport::phone())
         .expect("the page opens");
     wait_for_event(&mut page, "game playing seat=B", PATIENCE);
     let line = events(&mut page);
@@ -219,10 +279,7 @@ fn a_friend_opens_the_hosts_link_on_a_phone_joins_and_sees_the_table() {
     // Let a few frames draw the table as it stands.
     std::thread::sleep(Duration::from_millis(500));
     let shot = page.screenshot().expect("a screenshot");
-    if let Ok(dir) = std::env::var("BREAKSHOT_SCREENSHOTS") {
-        let png = page.screenshot_png().expect("a screenshot");
-        std::fs::write(Path::new(&dir).join("web-phone.png"), png).expect("saved");
-    }
+    keep_screenshot(&mut page, "web-phone.png");
     let cloth_points = shot.points(|p| near(p, CLOTH, 8));
     let cloth = cloth_points.len();
     let area = (shot.width * shot.height) as usize;
@@ -256,29 +313,18 @@ fn a_friend_opens_the_hosts_link_on_a_phone_joins_and_sees_the_table() {
 
 #[test]
 fn a_finger_aims_and_shoots_on_the_practice_table_of_a_phone() {
-    let bundle = match bundle() {
-        Ok(b) => b,
-        Err(why) => return skip_web("web_page", &why),
-    };
-    let dir = scratch("web-page-touch");
-    let Some((_host, _invite, link)) = host(dir.path(), bundle) else {
+    let Some(hosted) = hosted("web-page-touch") else {
         return;
     };
-    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
-        return;
-    };
-    let mut page = open_practice(&browser, &link);
-
     // Where the practice rack puts the cue ball and the rack on this screen (the rack's
     // order changes from rack to rack; its place and the cue ball's do not).
-    let (layout, practice) = phone_practice();
-    let point = |p: glam::DVec2| {
-        let [x, y] = layout.to_screen(p);
-        (x as f64, y as f64)
-    };
-    let cue = point(practice.balls()[0].pos);
+    let (mut page, layout, practice) = open_practice(&hosted);
+    let cue = on_screen(&layout, practice.balls()[0].pos);
     let others = &practice.balls()[1..];
-    let rack_at = point(others.iter().map(|b| b.pos).sum::<glam::DVec2>() / others.len() as f64);
+    let rack_at = on_screen(
+        &layout,
+        others.iter().map(|b| b.pos).sum::<glam::DVec2>() / others.len() as f64,
+    );
     let shot = page.screenshot().expect("a screenshot");
     let r = layout.px(breakshot_shared::physics::Params::default().ball_radius) as f64;
     let white = (0..8).any(|k| {
@@ -299,10 +345,7 @@ fn a_finger_aims_and_shoots_on_the_practice_table_of_a_phone() {
     );
     let pulled = tap_and_pull(&mut page, cue, aim);
     let shot = practice_shot(&mut page, 1, Duration::from_secs(10));
-    if let Ok(dir) = std::env::var("BREAKSHOT_SCREENSHOTS") {
-        let png = page.screenshot_png().expect("a screenshot");
-        std::fs::write(Path::new(&dir).join("web-practice.png"), png).expect("saved");
-    }
+    keep_screenshot(&mut page, "web-practice.png");
     let shot = shot.unwrap_or_else(|e| {
         panic!("no shot after aiming at {aim:?} from the cue ball at {cue:?} and pulling back to {pulled:?}: {e}\nevents: {}", events(&mut page))
     });
@@ -319,22 +362,15 @@ fn a_finger_aims_and_shoots_on_the_practice_table_of_a_phone() {
 
 #[test]
 fn a_link_with_another_key_or_a_browser_without_webgl_says_why_on_the_page() {
-    let bundle = match bundle() {
-        Ok(b) => b,
-        Err(why) => return skip_web("web_page", &why),
-    };
-    let dir = scratch("web-page-bad");
-    let Some((_host, _invite, link)) = host(dir.path(), bundle) else {
-        return;
-    };
-    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
+    let Some(hosted) = hosted("web-page-bad") else {
         return;
     };
     // The key of another server: the WebSocket's handshake fails, and the page says so.
-    let mut parsed: breakshot_shared::protocol::WebLink = link.parse().expect("a web link");
+    let mut parsed: breakshot_shared::protocol::WebLink = hosted.link.parse().expect("a web link");
     parsed.key[0] ^= 1;
     parsed.transport = breakshot_shared::protocol::WebTransportChoice::WebSocket;
-    let mut page = browser
+    let mut page = hosted
+        .browser
         .open(&parsed.to_string(), Viewport::desktop(1280, 720))
         .expect("the page opens");
     wait_for_event(
@@ -353,7 +389,7 @@ fn a_link_with_another_key_or_a_browser_without_webgl_says_why_on_the_page() {
         return;
     };
     let mut page = blind
-        .open(&link, Viewport::desktop(800, 600))
+        .open(&hosted.link, Viewport::desktop(800, 600))
         .expect("the page opens");
     let said = "(document.getElementById('status').textContent || '').includes('WebGL')";
     if let Err(e) = page.wait_until(said, PATIENCE) {
@@ -376,7 +412,7 @@ fn drop_file(page: &mut Page<'_>, bytes: &[u8]) {
 /// Drops `bytes` until the page says `said` (a drop the page was too busy to take is made
 /// again, as a person would drag the file again), a few times.
 fn dropped_until(page: &mut Page<'_>, bytes: &[u8], said: &str) {
-    let condition = format!("(window.breakshotEvents || []).some(e => e.startsWith({said:?}))");
+    let condition = said_starting(said);
     for _ in 0..4 {
         drop_file(page, bytes);
         if page.wait_until(&condition, Duration::from_secs(10)).is_ok() {
@@ -395,19 +431,12 @@ fn a_record_dropped_on_the_page_plays_back_and_anything_else_is_refused_with_a_r
     use breakshot_shared::replay::GameRecord;
     use breakshot_shared::rules::{Command, EightBallRules, Game, Settings, Variant};
 
-    let bundle = match bundle() {
-        Ok(b) => b,
-        Err(why) => return skip_web("web_page", &why),
-    };
-    let dir = scratch("web-page-drop");
-    let Some((_host, _invite, link)) = host(dir.path(), bundle) else {
+    let Some(hosted) = hosted("web-page-drop") else {
         return;
     };
-    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
-        return;
-    };
-    let page_url = link.split('?').next().expect("the page's address");
-    let mut page = browser
+    let page_url = hosted.link.split('?').next().expect("the page's address");
+    let mut page = hosted
+        .browser
         .open(page_url, Viewport::desktop(1280, 720))
         .expect("the page opens");
     wait_for_event(&mut page, "screen menu", PATIENCE);
@@ -447,19 +476,10 @@ fn changed(a: &breakshot_testkit::browser::Rgba, b: &breakshot_testkit::browser:
 
 #[test]
 fn on_a_phone_taps_set_the_tip_and_the_elevation_and_two_fingers_turn_and_pinch_the_camera() {
-    let bundle = match bundle() {
-        Ok(b) => b,
-        Err(why) => return skip_web("web_page", &why),
-    };
-    let dir = scratch("web-page-fingers");
-    let Some((_host, _invite, link)) = host(dir.path(), bundle) else {
+    let Some(hosted) = hosted("web-page-fingers") else {
         return;
     };
-    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
-        return;
-    };
-    let mut page = open_practice(&browser, &link);
-    let (layout, practice) = phone_practice();
+    let (mut page, layout, practice) = open_practice(&hosted);
     // Long enough for a frame of a loaded machine between the touch events.
     let pause = Duration::from_millis(150);
 
@@ -494,10 +514,7 @@ fn on_a_phone_taps_set_the_tip_and_the_elevation_and_two_fingers_turn_and_pinch_
         switched * 5 > pixels,
         "a two-finger tap left the view as it was ({switched} of {pixels} pixels changed)"
     );
-    if let Ok(dir) = std::env::var("BREAKSHOT_SCREENSHOTS") {
-        let png = page.screenshot_png().expect("a screenshot");
-        std::fs::write(Path::new(&dir).join("web-3d.png"), png).expect("saved");
-    }
+    keep_screenshot(&mut page, "web-3d.png");
     // Left alone, the picture stays; two fingers dragged sideways turn the camera.
     std::thread::sleep(Duration::from_millis(300));
     let still = page.screenshot().expect("a screenshot");
@@ -537,11 +554,7 @@ fn on_a_phone_taps_set_the_tip_and_the_elevation_and_two_fingers_turn_and_pinch_
         "a second two-finger tap did not go back to the view from above ({differs} of {pixels} pixels differ)"
     );
 
-    let point = |p: glam::DVec2| {
-        let [x, y] = layout.to_screen(p);
-        (x as f64, y as f64)
-    };
-    let cue = point(practice.balls()[0].pos);
+    let cue = on_screen(&layout, practice.balls()[0].pos);
     let aim = (cue.0, cue.1 - 150.0);
     tap_and_pull(&mut page, cue, aim);
     let shot = practice_shot(&mut page, 1, Duration::from_secs(10))
@@ -560,19 +573,12 @@ fn on_a_phone_taps_set_the_tip_and_the_elevation_and_two_fingers_turn_and_pinch_
 
 #[test]
 fn a_page_reloaded_during_the_game_takes_its_seat_back_under_the_name_it_was_given() {
-    let bundle = match bundle() {
-        Ok(b) => b,
-        Err(why) => return skip_web("web_page", &why),
-    };
-    let dir = scratch("web-page-reload");
-    let Some((_host, _invite, link)) = host(dir.path(), bundle) else {
+    let Some(hosted) = hosted("web-page-reload") else {
         return;
     };
-    let Some(browser) = browser_or_skip(LaunchOptions::default()) else {
-        return;
-    };
-    let named = format!("{link}&name=Ann%20Lee");
-    let mut page = browser
+    let named = format!("{}&name=Ann%20Lee", hosted.link);
+    let mut page = hosted
+        .browser
         .open(&named, Viewport::phone())
         .expect("the page opens");
     wait_for_event(&mut page, "game playing seat=B", PATIENCE);
@@ -596,7 +602,7 @@ fn a_page_reloaded_during_the_game_takes_its_seat_back_under_the_name_it_was_giv
     assert!(!again.contains("desyncs=1"), "{again}");
 
     // Opened again from the link without a name: the page remembers it.
-    page.navigate(&link).expect("the link again");
+    page.navigate(&hosted.link).expect("the link again");
     wait_for_event(&mut page, "joining as Ann Lee", PATIENCE);
     wait_for_event(&mut page, "game playing seat=B", PATIENCE);
 }

@@ -15,7 +15,7 @@ use breakshot_client::view::palette::{
 };
 use breakshot_client::view::{flight, Camera, Frame, Layout, Orbit};
 use breakshot_shared::physics::Simulator;
-use breakshot_shared::physics::{BallState, EventKind, MotionState, Params, Strike};
+use breakshot_shared::physics::{BallState, EventKind, MotionState, Outcome, Params, Shot, Strike};
 #[cfg(feature = "host")]
 use breakshot_shared::protocol::{Invite, RoomCode, SeatToken, ServerMessage};
 use breakshot_shared::replay::GameRecord;
@@ -26,7 +26,8 @@ use glam::{DVec2, DVec3};
 mod common;
 
 use common::screen::{
-    assert_ran, close, find_in_path, hosting_the_computer, reports, shaded, xvfb_run, Picture,
+    assert_ran, close, eight_ball, find_in_path, hosting_the_computer, reports, shaded, xvfb_run,
+    Picture,
 };
 #[cfg(feature = "host")]
 use common::{next, within};
@@ -90,18 +91,21 @@ fn ran_to_picture(args: &[&OsStr], out: &Path, frames: u32) -> Option<Picture> {
     Some(picture(out))
 }
 
+/// [`screenshot`] of the scene `json` saved as `name`, with the scene and its shot; None if
+/// there is no `xvfb-run`.
+fn scene_screenshot(name: &str, json: &str, args: &[&str]) -> Option<(Picture, Scene, Shot)> {
+    let pic = screenshot(name, json.as_bytes(), args)?;
+    let scene = Scene::from_json(json).expect("valid scene");
+    let shot = scene.to_shot().expect("valid shot");
+    Some((pic, scene, shot))
+}
+
 #[test]
 fn practice_screenshot_shows_cloth_and_balls_where_the_layout_puts_them() {
-    let Some(pic) = screenshot("scene.json", SCENE.as_bytes(), &["practice"]) else {
+    let Some((pic, scene, shot)) = scene_screenshot("scene.json", SCENE, &["practice"]) else {
         return;
     };
-    let scene = Scene::from_json(SCENE).expect("valid scene");
-    let shot = scene.to_shot().expect("valid shot");
-    let layout = Layout::new(
-        pic.width as f32,
-        pic.height as f32,
-        Frame::new(shot.table, &shot.balls),
-    );
+    let layout = pic.layout(Frame::new(shot.table, &shot.balls));
     let at = |x, y| pic.at(x, y);
 
     // The cloth colour fills most of the table (balls and aiming lines cover a little)...
@@ -127,11 +131,7 @@ fn practice_screenshot_shows_cloth_and_balls_where_the_layout_puts_them() {
 
 /// Every ball of `game`'s table drawn where the layout puts it.
 fn rack_is_drawn(pic: &Picture, game: &Game) {
-    let layout = Layout::new(
-        pic.width as f32,
-        pic.height as f32,
-        Frame::new(game.table(), game.balls()),
-    );
+    let layout = pic.layout(Frame::new(game.table(), game.balls()));
     let ids = game.ball_ids();
     let ids: Vec<&str> = ids.iter().map(|s| s.as_str()).collect();
     balls_are_drawn(pic, &layout, &ids, game.balls());
@@ -208,11 +208,7 @@ fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
     let pic = picture(&out);
     let (width, height) = (pic.width, pic.height);
     // The table is drawn behind the panel: cloth above it ...
-    let racked = Game::new(
-        Variant::EightBall(EightBallRules::Wpa),
-        Settings::online(),
-        0,
-    );
+    let racked = eight_ball(Settings::online(), 0);
     let layout = Layout::new(
         width as f32,
         height as f32,
@@ -238,16 +234,39 @@ fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
     assert!(yellow > 200, "{yellow} yellow pixels: no invite drawn");
 }
 
+/// The arguments of `breakshot join INVITE`, its data in `data`.
+fn joining<'a>(invite: &'a str, data: &'a Path) -> [&'a OsStr; 4] {
+    [
+        OsStr::new("join"),
+        OsStr::new(invite),
+        OsStr::new("--data"),
+        data.as_os_str(),
+    ]
+}
+
+/// A scratch folder for test `name` and a loopback server keeping its data in the folder's
+/// `server`; None (the reason printed) where xvfb-run is missing.
+#[cfg(feature = "host")]
+fn served_to_a_window(
+    name: &str,
+) -> Option<(
+    breakshot_testkit::TempDir,
+    breakshot_client::net::EmbeddedServer,
+)> {
+    xvfb_run()?;
+    let dir = breakshot_testkit::scratch(name);
+    let server = common::loopback_server(dir.path().join("server"));
+    Some((dir, server))
+}
+
 #[test]
 #[cfg(feature = "host")]
 fn replay_from_a_server_shows_the_fetched_games_table() {
     use breakshot_client::net::fetch_game_blocking;
 
-    if xvfb_run().is_none() {
+    let Some((dir, server)) = served_to_a_window("window-fetch") else {
         return;
-    }
-    let dir = breakshot_testkit::scratch("window-fetch");
-    let server = common::loopback_server(dir.path().join("server"));
+    };
     let invite = server.loopback_invite();
     // Two bots play a game on the server; its rack depends on the room's random seed.
     let room = common::bots_game(&server);
@@ -294,11 +313,9 @@ fn a_window_that_ends_is_seen_gone_at_once_not_after_the_idle_timeout() {
     use breakshot_shared::protocol::limits::IDLE_TIMEOUT;
     use std::time::Instant;
 
-    if xvfb_run().is_none() {
+    let Some((dir, server)) = served_to_a_window("window-ends") else {
         return;
-    }
-    let dir = breakshot_testkit::scratch("window-ends");
-    let server = common::loopback_server(dir.path().join("server"));
+    };
     let mut invite = server.loopback_invite();
     let runtime = tokio::runtime::Runtime::new().expect("a runtime");
     let (mut alice, room) = within(&runtime, "the room", async {
@@ -310,12 +327,7 @@ fn a_window_that_ends_is_seen_gone_at_once_not_after_the_idle_timeout() {
     let out = dir.path().join("out.png");
     let data = dir.path().join("client");
     let window = std::thread::spawn(move || {
-        let args = [
-            OsStr::new("join"),
-            OsStr::new(&text),
-            OsStr::new("--data"),
-            data.as_os_str(),
-        ];
+        let args = joining(&text, &data);
         let run = window_sized(&args, &out, 30, (640, 480));
         (run, Instant::now())
     });
@@ -350,12 +362,10 @@ fn a_game_that_ended_while_away_shows_its_result_and_forgets_the_seat() {
     use breakshot_client::net::SeatStore;
     use breakshot_shared::protocol::{ClientMessage, ServerAddress};
 
-    if xvfb_run().is_none() {
+    let Some((dir, server)) = served_to_a_window("window-away") else {
         return;
-    }
-    let dir = breakshot_testkit::scratch("window-away");
+    };
     let (data, seats) = (dir.path().join("server"), dir.path().join("client"));
-    let server = common::loopback_server(data.clone());
     let invite = server.loopback_invite();
 
     // Alice hosts, Bob joins; Bob's connection drops and Alice concedes while he is away.
@@ -386,8 +396,7 @@ fn a_game_that_ended_while_away_shows_its_result_and_forgets_the_seat() {
 
     let out = dir.path().join("out.png");
     let text = again.to_string();
-    let args = [OsStr::new("join"), OsStr::new(&text), OsStr::new("--data")];
-    let run = window(&[&args[..], &[seats.as_os_str()]].concat(), &out).expect("xvfb-run");
+    let run = window(&joining(&text, &seats), &out).expect("xvfb-run");
     drop(server);
     assert_ran(&run);
     assert_eq!(
@@ -418,11 +427,7 @@ fn a_nine_ball_game_rings_the_ball_on() {
     assert_ran(&run);
     let pic = picture(&out);
     let game = Game::new(Variant::NineBall, Settings::offline(), 3);
-    let layout = Layout::new(
-        pic.width as f32,
-        pic.height as f32,
-        Frame::new(game.table(), game.balls()),
-    );
+    let layout = pic.layout(Frame::new(game.table(), game.balls()));
     let ring = |n: usize| {
         let [x, y] = layout.to_screen(game.balls()[n].pos);
         let r = layout.px(Params::default().ball_radius) + 4.0;
@@ -471,11 +476,9 @@ fn side_view_shows(pic: &Picture, layout: &Layout, elevation_deg: f64) {
 
 #[test]
 fn a_masse_set_up_shows_its_elevation_and_its_curving_path() {
-    let Some(pic) = screenshot("masse.json", MASSE.as_bytes(), &["practice"]) else {
+    let Some((pic, _, shot)) = scene_screenshot("masse.json", MASSE, &["practice"]) else {
         return;
     };
-    let scene = Scene::from_json(MASSE).expect("valid scene");
-    let shot = scene.to_shot().expect("valid shot");
     let layout = Layout::new(1280.0, 720.0, Frame::new(shot.table, &shot.balls));
     let strike = shot.strike.expect("a strike").1;
     side_view_shows(&pic, &layout, strike.elevation_deg);
@@ -542,7 +545,27 @@ struct Jump {
     best: BallState,
 }
 
-fn jump_at_its_highest() -> Jump {
+impl Jump {
+    /// The window's screenshot of the jump's replay (`view` the options before `replay`) at
+    /// the frame the cue ball is highest; None if there is no `xvfb-run`.
+    fn shown(&self, view: &[&str]) -> Option<Picture> {
+        let args = [view, &["replay"]].concat();
+        screenshot_at("jump.rec", &self.record.encode(), &args, self.frame)
+    }
+
+    /// The layout of the 1280x720 window's table after the shot.
+    fn layout(&self) -> Layout {
+        Layout::new(
+            1280.0,
+            720.0,
+            Frame::new(self.game.table(), self.game.balls()),
+        )
+    }
+}
+
+/// The jump scene played, with the frame its cue ball is highest at; fails the test unless
+/// the ball then rises more than `radii` ball radii off the cloth.
+fn jump_at_its_highest(radii: f64) -> Jump {
     let scene = Scene::from_json(JUMP).expect("valid scene");
     let shot = scene.to_shot().expect("valid shot");
     let strike = shot.strike.expect("a strike").1;
@@ -556,6 +579,11 @@ fn jump_at_its_highest() -> Jump {
             (frame, best) = (n, cue);
         }
     }
+    assert!(
+        best.lift > radii * Params::default().ball_radius,
+        "the cue ball rises only {} m",
+        best.lift
+    );
     Jump {
         game,
         record,
@@ -568,25 +596,14 @@ fn jump_at_its_highest() -> Jump {
 
 #[test]
 fn a_replayed_jump_shows_the_ball_in_flight_bigger_with_its_shadow_on_the_cloth() {
-    let Jump {
-        game,
-        record,
-        strike,
-        frame,
-        best,
-        ..
-    } = jump_at_its_highest();
+    let jump = jump_at_its_highest(0.5);
+    let (strike, best) = (jump.strike, jump.best);
     let r_m = Params::default().ball_radius;
-    assert!(
-        best.lift > 0.5 * r_m,
-        "the cue ball rises only {} m",
-        best.lift
-    );
 
-    let Some(pic) = screenshot_at("jump.rec", &record.encode(), &["replay"], frame) else {
+    let Some(pic) = jump.shown(&[]) else {
         return;
     };
-    let layout = Layout::new(1280.0, 720.0, Frame::new(game.table(), game.balls()));
+    let layout = jump.layout();
     side_view_shows(&pic, &layout, strike.elevation_deg);
     let r = layout.px(r_m);
     let air = flight(best.lift, r_m);
@@ -629,22 +646,21 @@ fn screenshot_of(name: &str, args: &[&str], frames: u32) -> Option<Picture> {
     ran_to_picture(&args, &out, frames)
 }
 
+/// The computer at level 1 breaking rack 4 of 8-ball.
+const THE_COMPUTER_BREAKS: [&str; 7] = [
+    "vs-computer",
+    "--level",
+    "1",
+    "--break",
+    "computer",
+    "--seed",
+    "4",
+];
+
 #[test]
 fn the_computer_thinks_then_breaks_and_the_break_is_shown() {
-    let args = [
-        "vs-computer",
-        "--level",
-        "1",
-        "--break",
-        "computer",
-        "--seed",
-        "4",
-    ];
-    let rack = Game::new(
-        Variant::EightBall(EightBallRules::Wpa),
-        Settings::offline(),
-        4,
-    );
+    let args = THE_COMPUTER_BREAKS;
+    let rack = eight_ball(Settings::offline(), 4);
     let ids: Vec<String> = (0..rack.balls().len())
         .map(|n| if n == 0 { "cue".into() } else { n.to_string() })
         .collect();
@@ -705,11 +721,7 @@ fn a_three_cushion_game_shows_the_carom_table_and_its_three_balls() {
         return;
     };
     let game = Game::new(Variant::three_cushion(), Settings::offline(), 1);
-    let layout = Layout::new(
-        pic.width as f32,
-        pic.height as f32,
-        Frame::new(game.table(), game.balls()),
-    );
+    let layout = pic.layout(Frame::new(game.table(), game.balls()));
     // The cloth has the carom table's proportions.
     let c = layout.cloth;
     assert!((c.w / c.h - 2.0).abs() < 0.01, "{c:?}");
@@ -838,12 +850,7 @@ fn a_wrong_fingerprint_is_said_in_words_that_fit_the_window() {
     let out = dir.path().join("out.png");
     let text = invite.to_string();
     let data = dir.path().join("client");
-    let args = [
-        OsStr::new("join"),
-        OsStr::new(&text),
-        OsStr::new("--data"),
-        data.as_os_str(),
-    ];
+    let args = joining(&text, &data);
     let Some(run) = window_sized(&args, &out, 3, (640, 480)) else {
         return;
     };
@@ -879,12 +886,7 @@ fn a_join_to_a_port_with_no_game_gives_up_within_seconds_naming_the_address_and_
     let text = format!("breakshot://127.0.0.1:{port}/ABCDEFGH#{}", "ab".repeat(32));
     let out = dir.path().join("out.png");
     let data = dir.path().join("client");
-    let args = [
-        OsStr::new("join"),
-        OsStr::new(&text),
-        OsStr::new("--data"),
-        data.as_os_str(),
-    ];
+    let args = joining(&text, &data);
     let started = std::time::Instant::now();
     // The screenshot waits for the connection's outcome, so the run ends when it gives up.
     let Some(run) = window_sized(&args, &out, 3, (640, 480)) else {
@@ -946,20 +948,12 @@ fn balls_are_drawn_in_3d(pic: &Picture, camera: &Camera, ids: &[&str], balls: &[
 
 #[test]
 fn the_3d_view_shows_the_cloth_the_rails_and_the_balls_where_the_physics_puts_them() {
-    let Some(pic) = screenshot(
-        "scene.json",
-        SCENE.as_bytes(),
-        &["--view", "3d", "practice"],
-    ) else {
+    let Some((pic, scene, shot)) =
+        scene_screenshot("scene.json", SCENE, &["--view", "3d", "practice"])
+    else {
         return;
     };
-    let scene = Scene::from_json(SCENE).expect("valid scene");
-    let shot = scene.to_shot().expect("valid shot");
-    let layout = Layout::new(
-        pic.width as f32,
-        pic.height as f32,
-        Frame::new(shot.table, &shot.balls),
-    );
+    let layout = pic.layout(Frame::new(shot.table, &shot.balls));
     let radius = Params::default().ball_radius;
     // The window opens behind the cue ball along the scene's aim, as the camera code says.
     let camera = Orbit::default().camera(&layout, shot.balls[0].pos, Aim::default().dir(), radius);
@@ -1070,32 +1064,14 @@ fn the_window_opens_on_the_view_chosen_last_unless_told_otherwise() {
 #[test]
 fn the_3d_view_shows_a_jumping_ball_at_its_height_above_the_cloth() {
     // The jump scene replayed, as in the top-down test above.
-    let Jump {
-        game,
-        record,
-        strike,
-        start,
-        frame,
-        best,
-    } = jump_at_its_highest();
-    let radius = Params::default().ball_radius;
-    assert!(
-        best.lift > 0.8 * radius,
-        "the cue ball rises only {} m",
-        best.lift
-    );
-    let Some(pic) = screenshot_at(
-        "jump.rec",
-        &record.encode(),
-        &["--view", "3d", "replay"],
-        frame,
-    ) else {
+    let jump = jump_at_its_highest(0.8);
+    let Some(pic) = jump.shown(&["--view", "3d"]) else {
         return;
     };
     // Until the shot starts the camera looks at the cue ball along the shot.
-    let layout = Layout::new(1280.0, 720.0, Frame::new(game.table(), game.balls()));
-    let camera = Orbit::default().camera(&layout, start, strike.dir, radius);
-    let flying = best.pos.extend(radius + best.lift);
+    let radius = Params::default().ball_radius;
+    let camera = Orbit::default().camera(&jump.layout(), jump.start, jump.strike.dir, radius);
+    let flying = jump.best.pos.extend(radius + jump.best.lift);
     let [x, y] = camera.project(flying).expect("in view");
     let r = camera.pixels_at(flying, radius);
     // The ball is where its height puts it: white around its centre and near its top ...
@@ -1107,10 +1083,12 @@ fn the_3d_view_shows_a_jumping_ball_at_its_height_above_the_cloth() {
         );
     }
     // ... and not where it would be on the cloth: below it, the cloth (or the shadow).
-    let [lx, ly] = camera.project(best.pos.extend(radius)).expect("in view");
+    let [lx, ly] = camera
+        .project(jump.best.pos.extend(radius))
+        .expect("in view");
     let low = pic.at(
         lx,
-        ly + 0.6 * camera.pixels_at(best.pos.extend(radius), radius),
+        ly + 0.6 * camera.pixels_at(jump.best.pos.extend(radius), radius),
     );
     assert!(
         !glinting(low, CUE_BALL),
@@ -1138,14 +1116,26 @@ fn played_sized(
     common::screen::played(args, out, frames, keys, size, data.path(), patience)
 }
 
+/// [`played_sized`] on `breakshot host` against the computer, its data and its screenshot
+/// (`out.png`) in `dir`: what the window reported, once it has run to its end.
+#[cfg(feature = "host")]
+fn against_the_computer(
+    dir: &Path,
+    frames: u32,
+    keys: &[&str],
+    size: (u32, u32),
+) -> Option<Vec<String>> {
+    let args = hosting_the_computer(&dir.join("data"));
+    let args: Vec<&OsStr> = args.iter().map(|a| a.as_os_str()).collect();
+    let run = played_sized(&args, &dir.join("out.png"), frames, keys, size)?;
+    assert_ran(&run);
+    Some(reports(&run))
+}
+
 #[cfg(feature = "host")]
 #[test]
 fn m_and_the_brackets_typed_in_the_chat_line_are_said_not_taken_as_sound_keys() {
     let dir = breakshot_testkit::scratch("window-chat");
-    let out = dir.path().join("out.png");
-    let data = dir.path().join("data");
-    let args = hosting_the_computer(&data);
-    let args: Vec<&OsStr> = args.iter().map(|a| a.as_os_str()).collect();
     // T opens the chat line, "m[]" is typed and sent with Enter; then M, outside the line,
     // mutes.
     let keys = [
@@ -1155,11 +1145,9 @@ fn m_and_the_brackets_typed_in_the_chat_line_are_said_not_taken_as_sound_keys() 
         "key --window \"$wid\" Return",
         "key --window \"$wid\" m",
     ];
-    let Some(run) = played(&args, &out, 480, &keys) else {
+    let Some(said) = against_the_computer(dir.path(), 480, &keys, (1280, 720)) else {
         return;
     };
-    assert_ran(&run);
-    let said = reports(&run);
     let sent = said.iter().position(|l| l == "chat sent m[]");
     let muted = said.iter().position(|l| l == "sound muted");
     assert!(
@@ -1181,30 +1169,20 @@ fn a_game_that_ends_shows_its_banner_off_the_cloth() {
     // Small, common and tall windows.
     for size in [(640, 480), (1280, 720), (720, 1280)] {
         let dir = breakshot_testkit::scratch("window-banner");
-        let out = dir.path().join("out.png");
-        let data = dir.path().join("data");
-        let args = hosting_the_computer(&data);
-        let args: Vec<&OsStr> = args.iter().map(|a| a.as_os_str()).collect();
         let keys = [
             "sleep 2",
             "key --window \"$wid\" Escape",
             "key --window \"$wid\" c",
         ];
-        let Some(run) = played_sized(&args, &out, 420, &keys, size) else {
+        let Some(said) = against_the_computer(dir.path(), 420, &keys, size) else {
             return;
         };
-        assert_ran(&run);
-        let said = reports(&run);
         assert!(
             said.iter().any(|l| l.starts_with("game over")),
             "{size:?}: the game ended: {said:?}"
         );
-        let pic = Picture::sized(&out, size);
-        let rack = Game::new(
-            Variant::EightBall(EightBallRules::Wpa),
-            Settings::online(),
-            0,
-        );
+        let pic = Picture::sized(&dir.path().join("out.png"), size);
+        let rack = eight_ball(Settings::online(), 0);
         let (w, h) = (size.0 as f32, size.1 as f32);
         let layout = Layout::new(w, h, Frame::new(rack.table(), rack.balls()));
         // The headline's yellow: in the banner's box, and nowhere on the cloth.
@@ -1311,18 +1289,36 @@ fn l_shows_the_cue_ball_s_trail_after_the_shot() {
         })
         .expect("the cue ball meets the 3")
         .t;
-    let warm = [0.2, 0.5, 0.8]
-        .iter()
-        .filter(|&&dt| {
-            let [x, y] = layout.to_screen(outcome.state_at(0, contact + dt).pos);
-            let c = pic.at(x, y);
-            c[0] >= CLOTH[0] + 25 && c[1] >= c[2] + 35
-        })
-        .count();
+    let warm = on_the_trail(
+        &pic,
+        &layout,
+        &outcome,
+        0,
+        [0.2, 0.5, 0.8].map(|dt| contact + dt),
+    );
     assert!(
         warm >= 2,
         "the trail is at {warm} of 3 points after the contact"
     );
+}
+
+/// How many of ball `ball`'s places at `times` in `outcome` the picture shows in the trail's
+/// warm colour over the cloth.
+fn on_the_trail(
+    pic: &Picture,
+    layout: &Layout,
+    outcome: &Outcome,
+    ball: usize,
+    times: [f64; 3],
+) -> usize {
+    times
+        .into_iter()
+        .filter(|&t| {
+            let [x, y] = layout.to_screen(outcome.state_at(ball, t).pos);
+            let c = pic.at(x, y);
+            c[0] >= CLOTH[0] + 25 && c[1] >= c[2] + 35
+        })
+        .count()
 }
 
 #[test]
@@ -1456,14 +1452,7 @@ fn a_three_cushion_shot_struck_with_the_yellow_leaves_its_trail_on_the_yellow() 
     let layout = Layout::new(1280.0, 720.0, Frame::new(start.table(), start.balls()));
     // Where the yellow went in its shot's first 0.3 s, long gone from there: the trail's
     // warm colour over the cloth.
-    let warm = [0.1, 0.2, 0.3]
-        .iter()
-        .filter(|&&t| {
-            let [x, y] = layout.to_screen(outcome.state_at(1, t).pos);
-            let c = pic.at(x, y);
-            c[0] >= CLOTH[0] + 25 && c[1] >= c[2] + 35
-        })
-        .count();
+    let warm = on_the_trail(&pic, &layout, &outcome, 1, [0.1, 0.2, 0.3]);
     assert!(
         warm >= 2,
         "the trail is at {warm} of 3 points the yellow passed"
@@ -1497,28 +1486,18 @@ fn in_a_small_window_the_panel_title_fits_and_the_status_line_stays_out_of_the_p
     let dir = breakshot_testkit::scratch("window-small");
     let out = dir.path().join("out.png");
     let data = dir.path().join("data");
-    let args = [
-        "vs-computer",
-        "--level",
-        "1",
-        "--break",
-        "computer",
-        "--seed",
-        "4",
-        "--data",
-    ]
-    .map(OsStr::new);
+    let args: Vec<&OsStr> = THE_COMPUTER_BREAKS
+        .map(OsStr::new)
+        .into_iter()
+        .chain([OsStr::new("--data"), data.as_os_str()])
+        .collect();
     let size = (640, 480);
-    let Some(run) = window_sized(&[&args[..], &[data.as_os_str()]].concat(), &out, 4, size) else {
+    let Some(run) = window_sized(&args, &out, 4, size) else {
         return;
     };
     assert_ran(&run);
     let pic = Picture::sized(&out, size);
-    let racked = Game::new(
-        Variant::EightBall(EightBallRules::Wpa),
-        Settings::offline(),
-        0,
-    );
+    let racked = eight_ball(Settings::offline(), 0);
     let layout = Layout::new(640.0, 480.0, Frame::new(racked.table(), racked.balls()));
 
     // The status line ("Computer (level 1) to break, cue ball in hand ...") is written in

@@ -3,6 +3,7 @@
 
 use std::thread::JoinHandle;
 
+use tokio::runtime::Runtime;
 use tokio::sync::oneshot;
 
 /// A named thread given a stop signal; dropping this sends the signal and waits for the
@@ -26,6 +27,26 @@ impl BackgroundThread {
         Ok(BackgroundThread {
             stop: Some(stop),
             thread: Some(thread),
+        })
+    }
+}
+
+impl BackgroundThread {
+    /// As [`BackgroundThread::spawn`], for a body that needs a current-thread tokio runtime
+    /// of its own: `body` is given it, or where none can be made, `no_runtime` is told why.
+    pub(super) fn spawn_with_runtime(
+        name: &str,
+        no_runtime: impl FnOnce(std::io::Error) + Send + 'static,
+        body: impl FnOnce(Runtime, oneshot::Receiver<()>) + Send + 'static,
+    ) -> std::io::Result<BackgroundThread> {
+        BackgroundThread::spawn(name, move |stopped| {
+            match tokio::runtime::Builder::new_current_thread()
+                .enable_all()
+                .build()
+            {
+                Ok(runtime) => body(runtime, stopped),
+                Err(e) => no_runtime(e),
+            }
         })
     }
 }

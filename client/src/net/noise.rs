@@ -277,20 +277,31 @@ mod tests {
         }
     }
 
-    #[test]
-    fn the_handshake_opens_and_bytes_cross_encrypted_both_ways() {
-        let server = keypair();
+    /// A connection to `server` opened on a memory wire, its first message written but not
+    /// answered yet; with the far end.
+    fn opening(server: &snow::Keypair) -> (Noised<MemoryTransport>, MemoryServer) {
         let key: [u8; 32] = server.public.clone().try_into().unwrap();
         let (wire, far) = MemoryTransport::pair();
         let mut noised = Noised::new(wire, key, os_random);
         noised.open(&address(), Fingerprint([0; 32]));
         far.accept();
         assert_eq!(noised.poll(), None, "the keys are not agreed yet");
-        let mut responder = Responder::new(&server.private);
-        let msg1 = far.take_written();
-        far.deliver(responder.answer(&msg1));
-        assert_eq!(noised.poll(), Some(TransportEvent::Opened));
+        (noised, far)
+    }
 
+    /// A connection whose handshake is done, with the far end and the server's side of it.
+    fn opened() -> (Noised<MemoryTransport>, MemoryServer, Responder) {
+        let server = keypair();
+        let (mut noised, far) = opening(&server);
+        let mut responder = Responder::new(&server.private);
+        far.deliver(responder.answer(&far.take_written()));
+        assert_eq!(noised.poll(), Some(TransportEvent::Opened));
+        (noised, far, responder)
+    }
+
+    #[test]
+    fn the_handshake_opens_and_bytes_cross_encrypted_both_ways() {
+        let (mut noised, far, mut responder) = opened();
         noised.send(b"hello, server");
         let sealed = far.take_written();
         assert!(
@@ -309,12 +320,7 @@ mod tests {
     #[test]
     fn a_server_without_the_links_key_is_refused() {
         let (server, impostor) = (keypair(), keypair());
-        let key: [u8; 32] = server.public.clone().try_into().unwrap();
-        let (wire, far) = MemoryTransport::pair();
-        let mut noised = Noised::new(wire, key, os_random);
-        noised.open(&address(), Fingerprint([0; 32]));
-        far.accept();
-        assert_eq!(noised.poll(), None);
+        let (mut noised, far) = opening(&server);
         let msg1 = far.take_written();
         // The impostor cannot read message 1, so it answers with a handshake of its own.
         let mut other = builder()
@@ -333,21 +339,6 @@ mod tests {
             Some(TransportEvent::Failed(NetError::WrongKey))
         );
         assert_eq!(far.closes(), 1, "the socket is closed");
-    }
-
-    /// A connection whose handshake is done, with the far end and the server's side of it.
-    fn opened() -> (Noised<MemoryTransport>, MemoryServer, Responder) {
-        let server = keypair();
-        let key: [u8; 32] = server.public.clone().try_into().unwrap();
-        let (wire, far) = MemoryTransport::pair();
-        let mut noised = Noised::new(wire, key, os_random);
-        noised.open(&address(), Fingerprint([0; 32]));
-        far.accept();
-        let _ = noised.poll();
-        let mut responder = Responder::new(&server.private);
-        far.deliver(responder.answer(&far.take_written()));
-        assert_eq!(noised.poll(), Some(TransportEvent::Opened));
-        (noised, far, responder)
     }
 
     #[test]

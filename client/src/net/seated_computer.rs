@@ -39,37 +39,33 @@ impl SeatedComputer {
         let Some(room) = invite.room.clone() else {
             return Err(HostError::Room(format!("{invite} names no room")));
         };
-        let thread = BackgroundThread::spawn("computer-seat", move |stopped| {
-            let runtime = match tokio::runtime::Builder::new_current_thread()
-                .enable_all()
-                .build()
-            {
-                Ok(r) => r,
-                Err(e) => {
-                    tracing::error!(error = %e, "no runtime for the computer's seat");
-                    return;
-                }
-            };
-            runtime.block_on(async move {
-                let (tx, rx) = oneshot::channel();
-                let _ = tx.send(room);
-                let chooser = Chooser::computer(level, seed);
-                let mut bot =
-                    SeatPlayer::seated(invite, "computer".into(), chooser, RETRY_FOR).staying();
-                if paced {
-                    bot = bot.pacing();
-                }
-                tokio::select! {
-                    result = bot.play(Entrance::Join(rx)) => {
-                        if let Some(e) = result.error {
-                            tracing::warn!(error = %e, "the computer left its seat");
-                        }
+        let no_runtime =
+            |e: std::io::Error| tracing::error!(error = %e, "no runtime for the computer's seat");
+        let thread = BackgroundThread::spawn_with_runtime(
+            "computer-seat",
+            no_runtime,
+            move |runtime, stopped| {
+                runtime.block_on(async move {
+                    let (tx, rx) = oneshot::channel();
+                    let _ = tx.send(room);
+                    let chooser = Chooser::computer(level, seed);
+                    let mut bot =
+                        SeatPlayer::seated(invite, "computer".into(), chooser, RETRY_FOR).staying();
+                    if paced {
+                        bot = bot.pacing();
                     }
-                    _ = stopped => {}
-                }
-            });
-            runtime.shutdown_timeout(STOP_GRACE);
-        })
+                    tokio::select! {
+                        result = bot.play(Entrance::Join(rx)) => {
+                            if let Some(e) = result.error {
+                                tracing::warn!(error = %e, "the computer left its seat");
+                            }
+                        }
+                        _ = stopped => {}
+                    }
+                });
+                runtime.shutdown_timeout(STOP_GRACE);
+            },
+        )
         .map_err(|e| HostError::Runtime(e.to_string()))?;
         Ok(SeatedComputer {
             level,

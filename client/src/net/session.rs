@@ -35,21 +35,18 @@ impl Session {
     pub fn connect(invite: Invite) -> Session {
         let (requests, outgoing) = unbounded_channel::<Request>();
         let (events_tx, events) = mpsc::channel();
-        let thread = BackgroundThread::spawn("breakshot-session", move |stopped| {
-            let runtime = match tokio::runtime::Builder::new_current_thread()
-                .enable_all()
-                .build()
-            {
-                Ok(r) => r,
-                Err(e) => {
-                    let _ =
-                        events_tx.send((SessionEvent::Closed(e.to_string()), Seating::default()));
-                    return;
-                }
-            };
-            let (why, seating) = runtime.block_on(drive(invite, outgoing, &events_tx, stopped));
-            let _ = events_tx.send((SessionEvent::Closed(why), seating));
-        })
+        let failed = events_tx.clone();
+        let no_runtime = move |e: std::io::Error| {
+            let _ = failed.send((SessionEvent::Closed(e.to_string()), Seating::default()));
+        };
+        let thread = BackgroundThread::spawn_with_runtime(
+            "breakshot-session",
+            no_runtime,
+            move |runtime, stopped| {
+                let (why, seating) = runtime.block_on(drive(invite, outgoing, &events_tx, stopped));
+                let _ = events_tx.send((SessionEvent::Closed(why), seating));
+            },
+        )
         // As `std::thread::spawn` does: a process that cannot start a thread cannot go on.
         .expect("cannot start the network thread");
         Session {

@@ -500,27 +500,25 @@ pub fn succeeded(outcome: &Outcome, shot: &Shot, targets: &[u8]) -> bool {
     hit && potted && !facts.scratched()
 }
 
-/// The share of `trials` strikes of `strike` under `level`'s noise (drawn from `seed`) on
-/// `shot` (its cue ball ball 0) that succeed: the chance measured, to check a quoted one.
-pub fn measured(
-    shot: &Shot,
-    strike: Strike,
-    targets: &[u8],
-    level: Level,
-    trials: usize,
-    seed: u64,
-) -> f64 {
-    let mut measure = Measure::new(shot, strike, targets, level, trials, seed);
-    measure.step(usize::MAX).map_or(0.0, |c| c.share)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::test_games::eight_ball;
     use breakshot_shared::ai;
     use breakshot_shared::rules::Seat;
 
     const CUT: &str = include_str!("../../scenes/cut-shot.json");
+
+    /// The share of `measure`'s strikes that succeed, measured at once: the chance
+    /// measured, to check a quoted one.
+    fn measured(mut measure: Measure) -> f64 {
+        measure.step(usize::MAX).map_or(0.0, |c| c.share)
+    }
+
+    /// An advisor started on `request`.
+    fn started(request: &Request) -> Advisor {
+        Advisor::start(request.clone()).expect("an advisor")
+    }
 
     /// `advisor` run to its advice, `per_step` simulations at a time, as the window runs it
     /// a frame at a time; the advice and how many steps it took.
@@ -555,7 +553,7 @@ mod tests {
         )
         .expect("a practice shot");
         let request = Request::for_table(&game, Level::new(2)).expect("a request");
-        let (advice, frames) = stepped(Advisor::start(request.clone()).expect("an advisor"), 3);
+        let (advice, frames) = stepped(started(&request), 3);
         assert!(frames > 2, "the search took several steps: {frames}");
         // What breakshot-sim suggest does with the scene file: parse it, find the balls by
         // id, and search once.
@@ -579,15 +577,19 @@ mod tests {
         for level in [2, 4] {
             let level = Level::new(level);
             let request = Request::for_table(&table(), level).expect("a request");
-            let (advice, _) = stepped(
-                Advisor::start(request.clone()).expect("an advisor"),
-                usize::MAX,
-            );
+            let (advice, _) = stepped(started(&request), usize::MAX);
             let (shot, cue, targets) = request.indices().expect("indices");
             assert_eq!(cue, 0, "the scene's cue ball is ball 0");
             let targets: Vec<u8> = targets.iter().map(|&t| t as u8).collect();
             let trials = 400;
-            let p = measured(&shot, advice.strike, &targets, level, trials, 0xC0FFEE);
+            let p = measured(Measure::new(
+                &shot,
+                advice.strike,
+                &targets,
+                level,
+                trials,
+                0xC0FFEE,
+            ));
             let sampling = libm::sqrt(p * (1.0 - p) / trials as f64);
             let both = libm::hypot(advice.error(), sampling).max(0.02);
             eprintln!(
@@ -612,10 +614,7 @@ mod tests {
     fn after_a_miss_the_shot_played_is_measured_beside_the_advice() {
         let level = Level::new(3);
         let request = Request::for_table(&table(), level).expect("a request");
-        let (plain, _) = stepped(
-            Advisor::start(request.clone()).expect("an advisor"),
-            usize::MAX,
-        );
+        let (plain, _) = stepped(started(&request), usize::MAX);
         // The player's shot: the advised one, a degree off.
         let strike = Strike {
             dir: DVec2::from_angle(1f64.to_radians()).rotate(plain.strike.dir),
@@ -629,7 +628,14 @@ mod tests {
         );
         let (shot, _, targets) = request.indices().expect("indices");
         let targets: Vec<u8> = targets.iter().map(|&t| t as u8).collect();
-        let p = measured(&shot, strike, &targets, level, PLAYED_TRIALS, request.seed);
+        let p = measured(Measure::new(
+            &shot,
+            strike,
+            &targets,
+            level,
+            PLAYED_TRIALS,
+            request.seed,
+        ));
         let played = advice.played.expect("the shot played measured");
         assert_eq!((played.share, played.trials), (p, PLAYED_TRIALS));
         assert!(p < 1.0, "a degree off misses sometimes: {p}");
@@ -644,12 +650,7 @@ mod tests {
 
     #[test]
     fn a_rules_game_s_advice_is_the_computer_s_plan_for_the_player_to_move() {
-        use breakshot_shared::rules::{EightBallRules, Settings, Variant};
-        let game = Game::new(
-            Variant::EightBall(EightBallRules::Wpa),
-            Settings::offline(),
-            3,
-        );
+        let game = eight_ball(3);
         let level = Level::new(1);
         let advisor = Advisor::for_game(&game, level);
         assert!(advisor.request().is_none());
@@ -667,12 +668,7 @@ mod tests {
     /// legal one, and the advice after it is the computer's own plan.
     #[test]
     fn after_a_miss_in_a_rules_game_the_shot_played_is_judged_by_the_rules() {
-        use breakshot_shared::rules::{EightBallRules, Settings, Variant};
-        let game = Game::new(
-            Variant::EightBall(EightBallRules::Wpa),
-            Settings::offline(),
-            3,
-        );
+        let game = eight_ball(3);
         let level = Level::new(1);
         let soft = Strike {
             speed: 0.5,

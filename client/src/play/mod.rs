@@ -23,9 +23,7 @@ mod replay;
 mod replica;
 mod touch;
 
-pub use advice::{
-    measured, next_level, succeeded, Advice, Advisor, Chance, Measure, Request, PLAYED_TRIALS,
-};
+pub use advice::{next_level, succeeded, Advice, Advisor, Chance, Measure, Request, PLAYED_TRIALS};
 pub use advice_offer::AdviceOffer;
 pub use aim::{Aim, AimShare};
 pub use chat::{Chat, ChatKey, ChatLine};

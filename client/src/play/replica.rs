@@ -240,10 +240,10 @@ impl Replica {
 mod tests {
     use super::*;
     use crate::play::GameFlow;
+    use crate::test_games::eight_ball;
     use crate::view::hud::Connection;
     use breakshot_shared::physics::{simulations_on_this_thread, Strike};
     use breakshot_shared::protocol::Ruling;
-    use breakshot_shared::rules::{EightBallRules, Settings, Variant};
     use glam::DVec2;
 
     /// A break, as a server announces it: accepted, then resolved with `hash`.
@@ -270,14 +270,6 @@ mod tests {
         ]
     }
 
-    fn new_game() -> Game {
-        Game::new(
-            Variant::EightBall(EightBallRules::Wpa),
-            Settings::offline(),
-            4,
-        )
-    }
-
     /// The hash the deciding side computes for the break.
     fn true_hash(game: &Game) -> u64 {
         let strike = Strike::at_angle(8.0, 90.0, DVec2::ZERO);
@@ -290,7 +282,7 @@ mod tests {
 
     #[test]
     fn a_shot_is_simulated_once_and_confirmed() {
-        let game = new_game();
+        let game = eight_ball(4);
         let hash = true_hash(&game);
         let mut replica = Replica::default();
         replica.start(game.clone());
@@ -309,7 +301,7 @@ mod tests {
 
     #[test]
     fn the_screen_and_the_bot_count_desyncs_in_the_same_replica() {
-        let game = new_game();
+        let game = eight_ball(4);
         let wrong = true_hash(&game) ^ 1;
         // The bot and the tests' player feed server messages to a replica...
         let mut bot = Replica::default();
@@ -334,7 +326,7 @@ mod tests {
 
     #[test]
     fn a_confirmed_shot_leaves_nothing_to_report() {
-        let game = new_game();
+        let game = eight_ball(4);
         let mut screen = GameFlow::new(Connection::Connected);
         screen.handle(GameEvent::Started(Box::new(game.clone())));
         for msg in announced_break(&game, true_hash(&game)) {
@@ -348,7 +340,7 @@ mod tests {
 
     #[test]
     fn a_command_for_another_turn_is_ignored() {
-        let game = new_game();
+        let game = eight_ball(4);
         let mut replica = Replica::default();
         replica.start(game.clone());
         let stale = replica.accept(game.turn() + 3, Seat::A, &Command::Concede);

@@ -10,7 +10,7 @@ use breakshot_client::view::aids::{self, AidToggles, PathPoint, Prediction};
 use breakshot_client::view::palette::{self, ball_look, Rgb};
 use breakshot_client::view::sphere::{self, ScreenAxes};
 use breakshot_client::view::{
-    flight, Camera, Flight, Layout, Orientations, PocketDrop, Rect, Stroke, TrailPoint,
+    flight, Camera, Flight, Layout, Orientations, Playback, PocketDrop, Rect, Stroke, TrailPoint,
     CUSHION_WIDTH,
 };
 use breakshot_shared::physics::{BallState, Table, TableKind};
@@ -322,7 +322,17 @@ pub fn in_hand(pen: &Pen, area: Rect, dragged: Option<(DVec2, bool)>, radius: f6
 }
 
 /// How much text grows with the window, so it stays readable on large screens.
-/// The debug overlay (F3): lines of text on a dark box at the cloth's top-left corner.
+/// The F3 overlay's line for the shot being played: how far into it, and its events.
+pub fn debug_shot_line(playback: &Playback) -> String {
+    let o = playback.outcome();
+    format!(
+        "t {:.3} / {:.3} s, {} events",
+        playback.time(),
+        o.duration,
+        o.events.len()
+    )
+}
+
 /// The F3 overlay: `lines` in the tray under the table, where they cover no ball on the
 /// cloth (two to a row, small enough to fit).
 pub fn debug_lines(layout: &Layout, lines: &[String]) {

@@ -27,6 +27,8 @@ use super::hud::{game_hud, hint_bar, HudInfo};
 use super::table_view::TableView;
 use super::{draw, invite, panel, snooker, trays, Start, Step};
 
+mod keys;
+
 pub struct GameScreen {
     link: Box<dyn GameLink>,
     flow: GameFlow,
@@ -846,34 +848,17 @@ impl GameScreen {
         if self.link.thinking() && !over {
             draw_thinking(&layout);
         }
-        let offer = self.advice_offer();
-        let keys = if self.link.chats() && offer.allowed() {
-            // Online the room's policy allows advice: every player's line says so.
-            "Mouse: aim, drag back: shoot  |  Space: shoot  |  A G P L: aids  |  I advice  J play it (this room allows it)  |  T: chat  |  Esc: leave"
-        } else if offer == AdviceOffer::Beside {
-            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  V: 3-D view  |  A G P L: aids  |  I advice  J play it  |  Esc: leave"
-        } else if self.link.chats() {
-            "Mouse: aim, drag back: shoot  |  Space: shoot  |  W/S: elevation  |  V: 3-D  |  A G P L: aids  |  T: chat  |  Esc: leave"
-        } else {
-            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  V: 3-D view  |  A G P L: aids  |  Esc: leave"
-        };
-        let keys = if self.link.takes_back() {
-            "Mouse: aim, drag back: shoot  |  Space: shoot / skip  |  W/S: elevation  |  V: 3-D  |  A G P L: aids  |  U undo  Y redo  B again  |  I advice  J play it  |  Esc: leave"
-        } else {
-            keys
-        };
         let message = self.flow.message.as_str();
         let footer = match (self.link.watching(), message.is_empty()) {
             // A room that allows the players the computer's advice says so to those who
             // watch it too.
-            (true, true) if self.flow.aim_aid == AimAid::Advice => {
-                "Watching: both seats are taken  |  the players may ask the computer's advice (this room allows it)  |  A G P: aids  |  T: chat  |  Esc: leave".into()
-            }
-            (true, true) => {
-                "Watching: both seats are taken  |  A G P: aids  |  T: chat  |  Esc: leave".into()
-            }
+            (true, true) => keys::watcher_keys(self.flow.aim_aid == AimAid::Advice),
             (true, false) => format!("Watching  |  {message}"),
-            (false, true) => keys.to_string(),
+            (false, true) => keys::player_keys(
+                self.link.chats(),
+                self.advice_offer(),
+                self.link.takes_back(),
+            ),
             (false, false) => message.to_string(),
         };
         hint_bar(&layout, &footer, LIGHTGRAY);
@@ -1014,15 +999,7 @@ impl GameScreen {
         if let Some(hash) = last_shot.map(|s| s.hash) {
             lines.push(format!("last hash {}", hash_hex(hash)));
         }
-        if let Some(p) = self.flow.shot() {
-            let o = p.outcome();
-            lines.push(format!(
-                "t {:.3} / {:.3} s, {} events",
-                p.time(),
-                o.duration,
-                o.events.len()
-            ));
-        }
+        lines.extend(self.flow.shot().map(draw::debug_shot_line));
         draw::debug_lines(layout, &lines);
     }
 }

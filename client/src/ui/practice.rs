@@ -774,15 +774,7 @@ impl PracticeScreen {
             ),
             format!("last hash {}", last_hash.map_or("-".into(), hash_hex)),
         ];
-        if let Some(pb) = self.flow.shot() {
-            let o = pb.outcome();
-            lines.push(format!(
-                "t {:.3} / {:.3} s, {} events",
-                pb.time(),
-                o.duration,
-                o.events.len()
-            ));
-        }
+        lines.extend(self.flow.shot().map(draw::debug_shot_line));
         draw::debug_lines(layout, &lines);
     }
 }

@@ -8,9 +8,9 @@ use breakshot_shared::protocol::AimAid;
 use breakshot_shared::rules::{Seat, Verdict};
 use glam::DVec2;
 
-/// Points per second of shot time along a predicted path.
+/// Points per second of shot time along a ball's way (a predicted path, the trail).
 const SAMPLES_PER_SECOND: f64 = 60.0;
-/// Most points in one predicted path.
+/// Most points in one way sampled.
 const MAX_POINTS: usize = 1200;
 
 /// Which aids are shown.
@@ -196,20 +196,29 @@ pub fn prediction_of(outcome: &Outcome, cue: usize) -> Prediction {
 
 /// The ball's centre and height from the strike until it stops or falls.
 pub fn path(outcome: &Outcome, ball: usize) -> Vec<PathPoint> {
-    let end = outcome
+    path_until(outcome, ball, stop_time(outcome, ball))
+}
+
+/// Evenly spaced times from 0 to `end` (both included) to sample a ball's way at.
+pub(crate) fn sample_times(end: f64) -> impl Iterator<Item = f64> {
+    let n = ((end * SAMPLES_PER_SECOND).ceil() as usize).clamp(1, MAX_POINTS);
+    (0..=n).map(move |k| end * k as f64 / n as f64)
+}
+
+/// When ball `ball` comes to rest or falls in `outcome`; the shot's end if it never does.
+pub(crate) fn stop_time(outcome: &Outcome, ball: usize) -> f64 {
+    outcome
         .rest_time
         .get(ball)
         .copied()
         .flatten()
-        .unwrap_or(outcome.duration);
-    path_until(outcome, ball, end)
+        .unwrap_or(outcome.duration)
 }
 
 /// The ball's centre and height from the strike to time `end`, sampled evenly in time and
 /// at each of its events, so corners of the path and the bounces of a jump are exact.
 fn path_until(outcome: &Outcome, ball: usize, end: f64) -> Vec<PathPoint> {
-    let n = ((end * SAMPLES_PER_SECOND).ceil() as usize).clamp(1, MAX_POINTS);
-    let mut times: Vec<f64> = (0..=n).map(|k| end * k as f64 / n as f64).collect();
+    let mut times: Vec<f64> = sample_times(end).collect();
     let b16 = ball as u16;
     times.extend(
         outcome

@@ -406,19 +406,12 @@ mod tests {
         );
         assert_eq!(after_the_game(true, true, None, &names), "Esc: menu");
     }
+    use crate::test_games::eight_ball;
     use breakshot_shared::rules::{Command, EightBallRules, Settings};
-
-    fn eight() -> Game {
-        Game::new(
-            Variant::EightBall(EightBallRules::Wpa),
-            Settings::offline(),
-            3,
-        )
-    }
 
     #[test]
     fn a_new_game_shows_the_breaker_and_an_open_table() {
-        let g = eight();
+        let g = eight_ball(3);
         let [a, b] = players(&g, Some(Seat::B), &[None, None], &[None, None]);
         assert!(a.to_move && !b.to_move);
         assert_eq!(a.text, "Player A: open table");
@@ -447,7 +440,7 @@ mod tests {
 
     #[test]
     fn players_are_named_once_the_server_says_their_names() {
-        let g = eight();
+        let g = eight_ball(3);
         let [a, b] = players(
             &g,
             Some(Seat::A),
@@ -460,7 +453,7 @@ mod tests {
 
     #[test]
     fn a_rating_stands_beside_the_name_once_known() {
-        let g = eight();
+        let g = eight_ball(3);
         let names = [Some("ann".into()), Some("ben".into())];
         let [a, b] = players(&g, Some(Seat::B), &names, &[Some(1662), None]);
         assert_eq!(a.text, "ann (A) 1662: open table");
@@ -482,7 +475,7 @@ mod tests {
 
     #[test]
     fn a_conceded_game_is_over_for_everyone() {
-        let mut g = eight();
+        let mut g = eight_ball(3);
         let v = g
             .apply(Seat::A, &Command::Concede)
             .expect("concede is allowed");
@@ -505,7 +498,7 @@ mod tests {
             Some("ann".to_owned()),
             Some("Computer (level 3)".to_owned()),
         ];
-        let mut g = eight();
+        let mut g = eight_ball(3);
         assert!(
             status(&g, &names).starts_with("ann to break"),
             "{}",

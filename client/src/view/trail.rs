@@ -5,12 +5,9 @@
 use breakshot_shared::physics::Outcome;
 use glam::DVec2;
 
+use super::aids::{sample_times, stop_time};
 use super::playback::Playback;
 
-/// Points per second of shot time along the trail.
-const SAMPLES_PER_SECOND: f64 = 60.0;
-/// Most points in a trail.
-const MAX_POINTS: usize = 1200;
 /// How quickly a stretch of the trail fades (s of shot time).
 pub(crate) const FADE_TIME: f64 = 1.5;
 /// How faint the oldest stretch gets.
@@ -73,18 +70,9 @@ fn way(o: &Outcome, ball: usize) -> Vec<(f64, DVec2)> {
     if ball >= o.history.len() {
         return Vec::new();
     }
-    let end = o
-        .rest_time
-        .get(ball)
-        .copied()
-        .flatten()
-        .unwrap_or(o.duration);
-    let n = ((end * SAMPLES_PER_SECOND).ceil() as usize).clamp(1, MAX_POINTS);
-    (0..=n)
-        .map(|k| {
-            let t = end * k as f64 / n as f64;
-            (t, o.state_at(ball, t).pos)
-        })
+    let end = stop_time(o, ball);
+    sample_times(end)
+        .map(|t| (t, o.state_at(ball, t).pos))
         .collect()
 }
 

@@ -45,15 +45,12 @@ pub fn seat_names(names: &[Option<String>; 2]) -> [String; 2] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use breakshot_shared::rules::{EightBallRules, Settings};
+    use crate::test_games::eight_ball;
+    use breakshot_shared::rules::Settings;
 
     #[test]
     fn an_open_table_puts_every_ball_between_and_nine_ball_has_no_trays() {
-        let game = Game::new(
-            Variant::EightBall(EightBallRules::Wpa),
-            Settings::offline(),
-            1,
-        );
+        let game = eight_ball(1);
         let t = trays(&game, &[3, 12, 8]).expect("8-ball has trays");
         assert_eq!(t.between, vec![3, 12, 8]);
         assert!(t.seats.iter().all(Vec::is_empty));
@@ -66,11 +63,7 @@ mod tests {
         use breakshot_shared::ai::{self, Level};
         use breakshot_shared::rules::is_off_table;
         // A strong computer plays both seats until someone has pocketed a ball of a group.
-        let mut game = Game::new(
-            Variant::EightBall(EightBallRules::Wpa),
-            Settings::offline(),
-            3,
-        );
+        let mut game = eight_ball(3);
         for turn in 0..60 {
             if game.group_of(Seat::A).is_some() {
                 break;
@@ -112,11 +105,7 @@ mod tests {
         use breakshot_shared::rules::{Command, TurnId};
         // A strong computer plays both seats; the game just before the shot that decides
         // the groups, and that shot.
-        let mut game = Game::new(
-            Variant::EightBall(EightBallRules::Wpa),
-            Settings::offline(),
-            3,
-        );
+        let mut game = eight_ball(3);
         let (before, seat, command) = (0..60)
             .find_map(|turn| {
                 let command = ai::decide(&game, Level::new(5), turn).expect("a move");

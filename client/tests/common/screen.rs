@@ -8,6 +8,8 @@ use std::process::{Command as Process, Output};
 use std::time::Duration;
 
 use breakshot_client::view::palette::Rgb;
+use breakshot_client::view::{Frame, Layout};
+use breakshot_shared::rules::{EightBallRules, Game, Settings, Variant};
 
 /// The window's size in these tests.
 pub const SIZE: (u32, u32) = (1280, 720);
@@ -147,6 +149,12 @@ pub fn assert_ran(run: &Output) {
     );
 }
 
+/// An 8-ball game under WPA rules with `settings`, racked from `seed`: the rack a window
+/// opens on.
+pub fn eight_ball(settings: Settings, seed: u64) -> Game {
+    Game::new(Variant::EightBall(EightBallRules::Wpa), settings, seed)
+}
+
 /// A screenshot the window saved.
 pub struct Picture {
     pub width: u32,
@@ -181,6 +189,11 @@ impl Picture {
             height: info.height,
             pixels: buf,
         }
+    }
+
+    /// The layout the window puts `frame` in at this picture's size.
+    pub fn layout(&self, frame: Frame) -> Layout {
+        Layout::new(self.width as f32, self.height as f32, frame)
     }
 
     /// The colour at pixel (x, y), rounded to the nearest pixel.

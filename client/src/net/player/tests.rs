@@ -6,10 +6,11 @@ use breakshot_shared::protocol::{
     encode_frame, AimAid, ClientMessage, ErrorCode, Identity, Invite, PlayerKey, Role, RoomCode,
     SeatToken, ServerMessage, Snapshot, PROTOCOL_VERSION,
 };
-use breakshot_shared::rules::{EightBallRules, Game, Seat, Settings, Variant};
+use breakshot_shared::rules::{EightBallRules, Seat, Settings, Variant};
 
 use super::*;
 use crate::net::polled::{MemoryServer, MemoryTransport, Polled};
+use crate::test_games::eight_ball;
 
 fn ms(n: u64) -> Duration {
     Duration::from_millis(n)
@@ -48,11 +49,7 @@ fn joined(role: Role, token: Option<SeatToken>) -> ServerMessage {
         snapshot: Box::new(Snapshot {
             room: room(),
             game_number: 1,
-            game: Game::new(
-                Variant::EightBall(EightBallRules::Wpa),
-                Settings::offline(),
-                1,
-            ),
+            game: eight_ball(1),
             seats: [None, None],
             aim_aid: AimAid::Full,
             called: None,
