@@ -1254,6 +1254,14 @@ fn greet_from(w: &mut World, conn: ConnId, addr: [u8; 4]) {
     w.handshake(conn);
 }
 
+/// A hub with two players greeted (connections 1 and 2), each from an address of its own.
+fn strangers() -> World {
+    let mut w = World::new();
+    greet_from(&mut w, 1, [10, 0, 0, 1]);
+    greet_from(&mut w, 2, [10, 0, 0, 2]);
+    w
+}
+
 fn quick(name: &str) -> ClientMessage {
     ClientMessage::QuickMatch {
         variant: Variant::EightBall(EightBallRules::Wpa),
@@ -1353,9 +1361,7 @@ fn a_lobby_flood_is_rate_limited_and_costs_nothing_else() {
 
 #[test]
 fn two_strangers_are_matched_into_one_room_and_a_concession_rates_them() {
-    let mut w = World::new();
-    greet_from(&mut w, 1, [10, 0, 0, 1]);
-    greet_from(&mut w, 2, [10, 0, 0, 2]);
+    let mut w = strangers();
     let out = w.send(1, quick("ann"));
     assert!(matches!(
         sent_to(&out, 1)[..],
@@ -1473,9 +1479,7 @@ fn ratings_stored(out: &[Output]) -> Vec<(PlayerKey, i32)> {
 
 #[test]
 fn a_rated_room_restarted_or_taken_over_is_rated_where_its_first_game_ends() {
-    let mut w = World::new();
-    greet_from(&mut w, 1, [10, 0, 0, 1]);
-    greet_from(&mut w, 2, [10, 0, 0, 2]);
+    let mut w = strangers();
     w.send(1, quick("ann"));
     let out = w.send(2, quick("bob"));
     let ((room, token_a), (_, token_b)) = (joined(&out, 1), joined(&out, 2));
@@ -1502,10 +1506,8 @@ fn a_rated_room_restarted_or_taken_over_is_rated_where_its_first_game_ends() {
         rated: Some([ann, bob]),
     };
     let back_at = |number| {
-        let mut other = World::new();
+        let mut other = strangers();
         other.hub.restore(other.now, restored(number));
-        greet_from(&mut other, 1, [10, 0, 0, 1]);
-        greet_from(&mut other, 2, [10, 0, 0, 2]);
         let back = other.send(1, ClientMessage::Rejoin { token: token_a });
         assert!(
             got(&back, 1, |m| matches!(m, ServerMessage::Ratings { .. })),
@@ -1608,9 +1610,7 @@ fn the_queue_handles_leaving_dropping_waiting_too_long_and_a_second_key_at_one_a
 
 #[test]
 fn a_drain_tells_every_player_and_empties_the_queues() {
-    let mut w = World::new();
-    greet_from(&mut w, 1, [10, 0, 0, 1]);
-    greet_from(&mut w, 2, [10, 0, 0, 2]);
+    let mut w = strangers();
     w.send(1, quick("ann"));
     w.send(2, create_room(Settings::online(), "bob"));
     let out = w.hub.drain();
