@@ -200,40 +200,26 @@ enum Trial {
     Game { game: Box<Game>, call: Option<u8> },
 }
 
-impl Measure {
-    /// Measures `strike` on `shot`'s cue ball, ball 0 (the pool practice tables').
-    pub fn new(
-        shot: &Shot,
-        strike: Strike,
-        targets: &[u8],
-        level: Level,
-        trials: usize,
-        seed: u64,
-    ) -> Measure {
-        let trial = Trial::Scene {
-            shot: Box::new(shot.clone()),
+impl Trial {
+    /// `shot` on a practice table, its cue ball ball 0, a success pocketing one of `targets`.
+    fn scene(shot: &Shot, targets: &[u8]) -> Trial {
+        let shot = Box::new(shot.clone());
+        Trial::Scene {
+            shot,
             targets: targets.to_vec(),
-        };
-        Measure::of(trial, strike, level, trials, seed)
+        }
     }
 
-    /// Measures `strike` (calling `call`) played by the player to move in `game`.
-    pub fn in_game(
-        game: &Game,
-        strike: Strike,
-        call: Option<u8>,
-        level: Level,
-        trials: usize,
-        seed: u64,
-    ) -> Measure {
-        let trial = Trial::Game {
-            game: Box::new(game.clone()),
-            call,
-        };
-        Measure::of(trial, strike, level, trials, seed)
+    /// A stroke by the player to move in `game`, calling `call`.
+    fn game(game: &Game, call: Option<u8>) -> Trial {
+        let game = Box::new(game.clone());
+        Trial::Game { game, call }
     }
+}
 
-    fn of(trial: Trial, strike: Strike, level: Level, trials: usize, seed: u64) -> Measure {
+impl Measure {
+    /// Measures `strike` played as `trial` says: `trials` strikes under `level`'s noise.
+    fn new(trial: Trial, strike: Strike, level: Level, trials: usize, seed: u64) -> Measure {
         Measure {
             trial,
             strike,
@@ -326,9 +312,8 @@ impl Advisor {
         let mut advisor = Advisor::start(request)?;
         if cue == 0 {
             advisor.played = Some(Measure::new(
-                &shot,
+                Trial::scene(&shot, &targets),
                 played,
-                &targets,
                 level,
                 PLAYED_TRIALS,
                 seed,
@@ -363,10 +348,9 @@ impl Advisor {
     ) -> Advisor {
         let mut advisor = Advisor::for_game(game, level);
         let seed = state_hash(game.balls());
-        advisor.played = Some(Measure::in_game(
-            game,
+        advisor.played = Some(Measure::new(
+            Trial::game(game, call),
             played,
-            call,
             level,
             PLAYED_TRIALS,
             seed,
@@ -583,9 +567,8 @@ mod tests {
             let targets: Vec<u8> = targets.iter().map(|&t| t as u8).collect();
             let trials = 400;
             let p = measured(Measure::new(
-                &shot,
+                Trial::scene(&shot, &targets),
                 advice.strike,
-                &targets,
                 level,
                 trials,
                 0xC0FFEE,
@@ -629,9 +612,8 @@ mod tests {
         let (shot, _, targets) = request.indices().expect("indices");
         let targets: Vec<u8> = targets.iter().map(|&t| t as u8).collect();
         let p = measured(Measure::new(
-            &shot,
+            Trial::scene(&shot, &targets),
             strike,
-            &targets,
             level,
             PLAYED_TRIALS,
             request.seed,
