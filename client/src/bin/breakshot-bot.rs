@@ -6,7 +6,7 @@
 use std::process::ExitCode;
 
 use anyhow::Context;
-use breakshot_client::bot::{open_room, run, BotConfig};
+use breakshot_client::bot::{open_room, process_cpu, run, BotConfig};
 use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::Invite;
 use clap::Parser;
@@ -70,6 +70,9 @@ fn main_inner() -> anyhow::Result<bool> {
     let level = cli.level.map(Level::new);
     config.levels = [level, level.filter(|_| !cli.vs_ghost)];
     let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
+    // What the bots cost: a real client is one per machine, so a load run's own processor
+    // time says how much of its round trips may be the bots' rather than the server's.
+    let (cpu_before, started) = (process_cpu(), std::time::Instant::now());
     let report = if cli.open_room {
         config.games = 1;
         runtime.block_on(async {
@@ -88,11 +91,18 @@ fn main_inner() -> anyhow::Result<bool> {
     } else {
         runtime.block_on(run(&config))
     };
+    let wall = started.elapsed().as_secs_f64();
+    let cpu = process_cpu()
+        .zip(cpu_before)
+        .map(|(after, before)| (after - before).as_secs_f64());
     for e in &report.errors {
         eprintln!("breakshot-bot: {e}");
     }
     if cli.json {
-        println!("{}", report.to_json());
+        let mut json = report.json();
+        json["wall_s"] = serde_json::json!(wall);
+        json["cpu_s"] = serde_json::json!(cpu);
+        println!("{json}");
     } else {
         println!(
             "games completed: {} of {}",
@@ -107,6 +117,13 @@ fn main_inner() -> anyhow::Result<bool> {
             report.percentile_ms(0.5),
             report.percentile_ms(0.99)
         );
+        match cpu {
+            Some(cpu) => println!(
+                "bot process CPU: {cpu:.1} s in {wall:.1} s ({:.0} % of one core)",
+                100.0 * cpu / wall.max(1e-9)
+            ),
+            None => println!("bot process CPU: not measured on this system"),
+        }
     }
     Ok(report.games_completed as usize == config.games && report.desyncs == 0)
 }
