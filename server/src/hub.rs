@@ -457,19 +457,18 @@ impl Hub {
             max_commands: self.config.limits.max_commands(meta.variant),
         };
         if let Some(keys) = rated {
-            // Rated as the instance that opened the room would have; a first game already
-            // over was rated then.
+            // Rated as the instance that opened the room would have (only game 1 is: a room
+            // brought back at a later game was rated where its first ended).
             let names = meta
                 .seats
                 .clone()
                 .map(|s| s.map(|s| s.name).unwrap_or_default());
-            let settled = number != 1;
             self.rated.insert(
                 meta.code.clone(),
                 RatedGame {
                     keys,
                     names,
-                    settled,
+                    settled: false,
                 },
             );
         }
