@@ -915,6 +915,9 @@ impl GameScreen {
     /// line under the table, the one under a game's result, the turn line and the verdict
     /// when they change.
     fn report(&mut self) {
+        if !super::reporting() {
+            return;
+        }
         let replica = self.flow.replica();
         let over = match self.flow.game().map(Game::phase) {
             Some(Phase::Over { .. }) => "over",

@@ -101,8 +101,20 @@ pub fn report(line: &str) {
     #[cfg(target_arch = "wasm32")]
     breakshot_client::net::page::report(line);
     #[cfg(not(target_arch = "wasm32"))]
-    if std::env::var_os("BREAKSHOT_REPORT").is_some() {
+    if reporting() {
         eprintln!("report: {line}");
+    }
+}
+
+/// Whether anyone hears [`report`]: the page always; a native window only with
+/// `BREAKSHOT_REPORT` set (read once), so a screen need not word its lines for nobody.
+pub fn reporting() -> bool {
+    #[cfg(target_arch = "wasm32")]
+    return true;
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        static ON: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+        *ON.get_or_init(|| std::env::var_os("BREAKSHOT_REPORT").is_some())
     }
 }
 
