@@ -89,17 +89,36 @@ pub struct Outlet {
     pub kill: Arc<Notify>,
 }
 
-/// A bounded outgoing queue: the writer's end, the connection's end, and the kill switch.
-pub fn outlet(capacity: usize) -> (Outlet, Receiver<Outbound>, Arc<Notify>) {
-    let (tx, rx) = channel(capacity.max(1));
+/// What a connection is wired to: its id, the hub it tells what it reads, and its end of the
+/// outgoing queue the writer thread fills, with the switch that wakes it to close.
+pub struct Wiring {
+    /// The connection's id in the hub.
+    pub id: ConnId,
+    /// Where what the connection reads goes.
+    pub hub: HubSender,
+    /// The messages the writer thread hands the connection to send.
+    pub outbound: Receiver<Outbound>,
+    /// Woken when the outgoing queue is full.
+    pub kill: Arc<Notify>,
+}
+
+/// Wires connection `id` to `hub` with a bounded outgoing queue of `capacity` messages: the
+/// writer thread's end of it, and the connection's.
+pub fn wire(id: ConnId, hub: HubSender, capacity: usize) -> (Outlet, Wiring) {
+    let (tx, outbound) = channel(capacity.max(1));
     let kill = Arc::new(Notify::new());
+    let outlet = Outlet {
+        tx,
+        kill: kill.clone(),
+    };
     (
-        Outlet {
-            tx,
-            kill: kill.clone(),
+        outlet,
+        Wiring {
+            id,
+            hub,
+            outbound,
+            kill,
         },
-        rx,
-        kill,
     )
 }
 
@@ -139,19 +158,21 @@ pub trait Transport: Send + Sync {
 
 /// Runs one connection to its end over `recv` (the peer's bytes) and `send` (bytes for the
 /// peer), with `link` for what is specific to its transport. Tells the hub `Connected(id)`
-/// first and `Disconnected(id)` at the end; the caller has already registered `outbound`'s
-/// other end with the writer thread ([`outlet`]).
-#[allow(clippy::too_many_arguments)] // each is one thing the connection lives on
+/// first and `Disconnected(id)` at the end; the caller has already registered the writer's end
+/// of `wiring`'s queue with the writer thread ([`wire`]).
 pub async fn serve<T: Transport>(
-    id: ConnId,
+    wiring: Wiring,
     link: &T,
     mut recv: impl AsyncRead + Unpin + Send,
     mut send: T::Send,
-    hub: HubSender,
-    mut outbound: Receiver<Outbound>,
-    kill: Arc<Notify>,
     limits: &Limits,
 ) {
+    let Wiring {
+        id,
+        hub,
+        mut outbound,
+        kill,
+    } = wiring;
     if hub
         .send(HubEvent::Connected(id, link.remote_ip().to_canonical()))
         .is_err()

@@ -2,15 +2,10 @@
 //! run by [`conn::serve`] like any other transport.
 
 use std::net::IpAddr;
-use std::sync::Arc;
 use std::time::Instant;
 
-use tokio::sync::mpsc::Receiver;
-use tokio::sync::Notify;
-
-use crate::conn::{self, HubSender, Outbound, Transport, CLOSE_PROTOCOL};
+use crate::conn::{self, Transport, Wiring, CLOSE_PROTOCOL};
 use crate::limits::Limits;
-use crate::output::ConnId;
 use crate::tls::IDLE_TIMEOUT;
 
 /// A QUIC connection as a [`Transport`].
@@ -50,14 +45,7 @@ pub fn last_heard(connection: &quinn::Connection, now: Instant) -> Instant {
 
 /// Runs one QUIC connection to its end: waits up to `open_timeout` for the client's stream
 /// (closing the connection without one), then serves it.
-pub async fn serve(
-    id: ConnId,
-    connection: quinn::Connection,
-    hub: HubSender,
-    outbound: Receiver<Outbound>,
-    kill: Arc<Notify>,
-    limits: &Limits,
-) {
+pub async fn serve(wiring: Wiring, connection: quinn::Connection, limits: &Limits) {
     let Ok(Ok((send, recv))) =
         tokio::time::timeout(limits.open_timeout, connection.accept_bi()).await
     else {
@@ -65,5 +53,5 @@ pub async fn serve(
         return;
     };
     let link = QuicLink(connection);
-    conn::serve(id, &link, recv, send, hub, outbound, kill, limits).await;
+    conn::serve(wiring, &link, recv, send, limits).await;
 }

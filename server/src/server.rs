@@ -470,11 +470,10 @@ impl Server {
                     let Some((incoming, mut ticket)) = admit(incoming, &gate, &limits, &stats) else { continue };
                     next_id += 1;
                     let id = next_id;
-                    let (outlet, rx, kill) = conn::outlet(limits.outbound_queue);
+                    let (outlet, wiring) = conn::wire(id, hub_tx.clone(), limits.outbound_queue);
                     if writer_tx.send(WriterMsg::Register(id, outlet)).is_err() {
                         break Err(());
                     }
-                    let hub_tx = hub_tx.clone();
                     let writer_tx = writer_tx.clone();
                     let limits = limits.clone();
                     let stats = stats.clone();
@@ -487,10 +486,10 @@ impl Server {
                                 tracing::debug!(conn = id, peer = %connection.remote_address(), "connected");
                                 // One connection either way: the same gate, limits and hub.
                                 if crate::webtransport::is_web(&connection) {
-                                    crate::webtransport::serve(id, connection, hub_tx, rx, kill, &limits, &stats).await;
+                                    crate::webtransport::serve(wiring, connection, &limits, &stats).await;
                                 } else {
                                     crate::tls::native_streams(&connection);
-                                    crate::quic::serve(id, connection, hub_tx, rx, kill, &limits).await;
+                                    crate::quic::serve(wiring, connection, &limits).await;
                                 }
                             }
                             Ok(Err(e)) => tracing::debug!(conn = id, error = %e, "handshake failed"),

@@ -7,20 +7,16 @@
 
 use std::net::IpAddr;
 use std::sync::atomic::Ordering;
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use breakshot_shared::protocol::web::WEBTRANSPORT_PATH;
 use breakshot_shared::protocol::WEB_ALPN;
 use thiserror::Error;
-use tokio::sync::mpsc::Receiver;
-use tokio::sync::Notify;
 use web_transport_quinn::http::StatusCode;
 use web_transport_quinn::{RecvStream, Request, SendStream, Session};
 
-use crate::conn::{self, HubSender, Outbound, Transport, CLOSE_PROTOCOL};
+use crate::conn::{self, Transport, Wiring, CLOSE_PROTOCOL};
 use crate::limits::Limits;
-use crate::output::ConnId;
 use crate::quic;
 use crate::stats::Stats;
 
@@ -147,21 +143,12 @@ impl Transport for SessionLink {
 
 /// Runs one `h3` connection to its end: the WebTransport session and the page's stream
 /// ([`accept`]), then the same [`conn::serve`] as a native connection.
-#[allow(clippy::too_many_arguments)] // each is one thing the connection lives on
-pub async fn serve(
-    id: ConnId,
-    connection: quinn::Connection,
-    hub: HubSender,
-    outbound: Receiver<Outbound>,
-    kill: Arc<Notify>,
-    limits: &Limits,
-    stats: &Stats,
-) {
+pub async fn serve(wiring: Wiring, connection: quinn::Connection, limits: &Limits, stats: &Stats) {
     let stream = match accept(connection.clone(), limits.open_timeout).await {
         Ok(stream) => stream,
         Err(why) => {
             stats.webtransport_refused.fetch_add(1, Ordering::Relaxed);
-            tracing::debug!(conn = id, %why, "WebTransport refused");
+            tracing::debug!(conn = wiring.id, %why, "WebTransport refused");
             return;
         }
     };
@@ -170,15 +157,5 @@ pub async fn serve(
         session: stream.session,
         conn: connection,
     };
-    conn::serve(
-        id,
-        &link,
-        stream.recv,
-        stream.send,
-        hub,
-        outbound,
-        kill,
-        limits,
-    )
-    .await;
+    conn::serve(wiring, &link, stream.recv, stream.send, limits).await;
 }

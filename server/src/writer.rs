@@ -50,7 +50,7 @@ impl Attach {
         recv: impl tokio::io::AsyncRead + Unpin + Send,
         send: T::Send,
     ) {
-        let (outlet, rx, kill) = conn::outlet(self.limits.outbound_queue);
+        let (outlet, wiring) = conn::wire(self.id, self.hub, self.limits.outbound_queue);
         if self
             .writer
             .send(WriterMsg::Register(self.id, outlet))
@@ -58,7 +58,7 @@ impl Attach {
         {
             return;
         }
-        conn::serve(self.id, link, recv, send, self.hub, rx, kill, &self.limits).await;
+        conn::serve(wiring, link, recv, send, &self.limits).await;
         let _ = self.writer.send(WriterMsg::Unregister(self.id));
     }
 }

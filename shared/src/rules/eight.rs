@@ -127,17 +127,15 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Judge
                 false,
             ),
             // WPA 8-ball 3.3 (e): the breaker spots the 8 and continues, or re-breaks.
-            EightBallRules::Wpa if fouls.is_empty() => Judged {
-                reasons: vec![format!(
+            EightBallRules::Wpa if fouls.is_empty() => Judged::offer(
+                vec![format!(
                     "The 8 fell on the break: {breaker} chooses to spot it and continue, or to re-rack"
                 )],
-                foul: false,
-                next: Next::Decide {
-                    seat: breaker,
-                    options: vec![Choice::SpotEightAndContinue, Choice::Rerack],
-                    pending: Pending::EightOnBreak { foul: false },
-                },
-            },
+                false,
+                breaker,
+                vec![Choice::SpotEightAndContinue, Choice::Rerack],
+                Pending::EightOnBreak { foul: false },
+            ),
             // WPA 8-ball 3.3 (f): after a foul the opponent spots the 8 and takes the cue ball
             // in hand behind the head string, or re-racks and breaks. The 8 driven off the
             // table is a foul of its own (3.3) and is judged the same way.
@@ -151,15 +149,13 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Judge
                 reasons.push(format!(
                     "{what}: {opponent} chooses to spot it and take ball in hand behind the head string, or to re-rack"
                 ));
-                Judged {
+                Judged::offer(
                     reasons,
-                    foul: true,
-                    next: Next::Decide {
-                        seat: opponent,
-                        options: vec![Choice::SpotEightAndContinue, Choice::Rerack],
-                        pending: Pending::EightOnBreak { foul: true },
-                    },
-                }
+                    true,
+                    opponent,
+                    vec![Choice::SpotEightAndContinue, Choice::Rerack],
+                    Pending::EightOnBreak { foul: true },
+                )
             }
         };
     }
@@ -174,22 +170,20 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Judge
         reasons.push(format!(
             "{opponent} chooses to accept the table, re-rack and break, or have {breaker} break again"
         ));
-        return Judged {
+        return Judged::offer(
             reasons,
-            foul: true,
-            next: Next::Decide {
-                seat: opponent,
-                options: vec![
-                    Choice::AcceptTable,
-                    Choice::Rerack,
-                    Choice::OpponentRebreaks,
-                ],
-                pending: Pending::IllegalBreak {
-                    offender: breaker,
-                    scratched,
-                },
+            true,
+            opponent,
+            vec![
+                Choice::AcceptTable,
+                Choice::Rerack,
+                Choice::OpponentRebreaks,
+            ],
+            Pending::IllegalBreak {
+                offender: breaker,
+                scratched,
             },
-        };
+        );
     }
     if scratched {
         // WPA 8-ball: a scratch on a legal break gives the cue ball in hand behind the head
@@ -211,15 +205,13 @@ fn judge_break(rules: EightBallRules, breaker: Seat, facts: &ShotFacts) -> Judge
         reasons.push(format!(
             "{opponent} chooses to accept the table in position or take the cue ball in hand behind the head string; the table is open"
         ));
-        return Judged {
+        return Judged::offer(
             reasons,
-            foul: true,
-            next: Next::Decide {
-                seat: opponent,
-                options: vec![Choice::AcceptTable, Choice::CueBallInKitchen],
-                pending: Pending::JumpedOnBreak,
-            },
-        };
+            true,
+            opponent,
+            vec![Choice::AcceptTable, Choice::CueBallInKitchen],
+            Pending::JumpedOnBreak,
+        );
     }
     if facts.any_object_ball_pocketed() {
         Judged {

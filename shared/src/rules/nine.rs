@@ -142,15 +142,13 @@ pub(super) fn judge(
         reasons.push(format!(
             "{opponent} chooses to shoot from here or hand the table back"
         ));
-        return Judged {
+        return Judged::offer(
             reasons,
-            foul: false,
-            next: Next::Decide {
-                seat: opponent,
-                options: vec![Choice::AcceptTable, Choice::HandBack],
-                pending: Pending::PushOut { pusher: shooter },
-            },
-        };
+            false,
+            opponent,
+            vec![Choice::AcceptTable, Choice::HandBack],
+            Pending::PushOut { pusher: shooter },
+        );
     }
 
     let counts = |p: u8| !game.settings.call_every_shot || breaking || call == Some(p);

@@ -420,3 +420,25 @@ pub(super) struct Judged {
     pub(super) foul: bool,
     pub(super) next: Next,
 }
+
+impl Judged {
+    /// The shot ends in a choice: `seat` picks one of `options`, and `pending` says what the
+    /// answer settles.
+    pub(super) fn offer(
+        reasons: Vec<String>,
+        foul: bool,
+        seat: Seat,
+        options: Vec<Choice>,
+        pending: Pending,
+    ) -> Judged {
+        Judged {
+            reasons,
+            foul,
+            next: Next::Decide {
+                seat,
+                options,
+                pending,
+            },
+        }
+    }
+}
