@@ -81,20 +81,8 @@ pub enum Key {
     VolumeDown,
     /// Sound louder.
     VolumeUp,
-    /// Take the last shot back (practice, against the computer).
-    Undo,
-    /// Play again a shot taken back.
-    Redo,
-    /// Set up the last shot again: its position and its cue.
-    Again,
-    /// Ask the computer which shot it would play here.
-    Advice,
-    /// Set the cue to the shot advised.
-    PlayAdvice,
-    /// Keep the position: a scene file and a code (practice).
-    SavePosition,
-    /// Set up the position: drag any ball, take balls off and put them back (practice).
-    Arrange,
+    /// One of the tools of practice and games against the computer.
+    Tool(Tool),
     /// Paste the clipboard into the line being typed (Ctrl+V).
     Paste,
 }
@@ -202,19 +190,28 @@ pub enum Intent {
     Rerack,
     /// Back to the menu.
     Back,
+    /// Use a tool of practice or of a game against the computer.
+    Tool(Tool),
+}
+
+/// What practice and games against the computer offer beside the shot: a key each, and the
+/// same command whether the key or a button asked for it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tool {
     /// Take the last shot back.
     Undo,
     /// Play again a shot taken back.
     Redo,
-    /// Set up the last shot again.
+    /// Set up the last shot again: its position and its cue.
     Again,
-    /// Ask the computer for its shot.
+    /// Ask the computer which shot it would play here.
     Advice,
     /// Set the cue to the shot advised.
     PlayAdvice,
-    /// Keep the position as a scene file and a code.
+    /// Keep the position: a scene file and a code (practice).
     SavePosition,
-    /// Start or stop setting up the position.
+    /// Start or stop setting up the position: drag any ball, take balls off and put them
+    /// back (practice).
     Arrange,
 }
 
@@ -290,13 +287,7 @@ impl Controls {
                 Key::BallInHand => out.push(Intent::TakeBallInHand),
                 Key::Rerack => out.push(Intent::Rerack),
                 Key::Back => out.push(Intent::Back),
-                Key::Undo => out.push(Intent::Undo),
-                Key::Redo => out.push(Intent::Redo),
-                Key::Again => out.push(Intent::Again),
-                Key::Advice => out.push(Intent::Advice),
-                Key::PlayAdvice => out.push(Intent::PlayAdvice),
-                Key::SavePosition => out.push(Intent::SavePosition),
-                Key::Arrange => out.push(Intent::Arrange),
+                Key::Tool(tool) => out.push(Intent::Tool(*tool)),
                 Key::KeepSpin => self.keep_spin = !self.keep_spin,
                 Key::Shoot
                 | Key::Next

@@ -29,7 +29,7 @@ pub use aim::{Aim, AimShare};
 pub use chat::{Chat, ChatKey, ChatLine};
 pub use chooser::Chooser;
 pub use computer::{ComputerLink, PlayedByComputer};
-pub use controls::{Context, Controls, CueMode, Drag, InputFrame, Intent, Key};
+pub use controls::{Context, Controls, CueMode, Drag, InputFrame, Intent, Key, Tool};
 pub use dropped::{open_dropped, Dropped};
 pub use event::{AwayResult, GameEvent};
 pub use game_flow::{GameFlow, Prompt};

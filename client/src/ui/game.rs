@@ -6,7 +6,7 @@ use breakshot_client::play::leave::{self, LeaveAnswer};
 use breakshot_client::play::{
     next_level, Advice, AdviceOffer, Advisor, Aim, AimShare, AwayResult, Chat, ChatKey, Context,
     Controls, CueMode, Drag, GameEvent, GameFlow, GameLink, History, InputFrame, Intent, Key,
-    Prompt,
+    Prompt, Tool,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{self, call_prompt, connection as connection_text, Connection};
@@ -399,14 +399,14 @@ impl GameScreen {
                 // After a miss: the advice is for the table it was played from, with the
                 // chance the shot missed had. Against the computer the shot comes back
                 // first; in a game for two the table and the turn stay as they are.
-                (Intent::Advice, _) if self.missed.is_some() && offer.allowed() => {
+                (Intent::Tool(Tool::Advice), _) if self.missed.is_some() && offer.allowed() => {
                     let Some((before, strike, call)) = self.missed.take() else {
                         continue;
                     };
                     let beside = offer == AdviceOffer::Beside;
                     let turn = if beside {
                         game.turn()
-                    } else if let Some(back) = self.take_back(&game, Intent::Undo) {
+                    } else if let Some(back) = self.take_back(&game, Intent::Tool(Tool::Undo)) {
                         back.turn()
                     } else {
                         return Step::Stay;
@@ -420,7 +420,7 @@ impl GameScreen {
                     });
                     return Step::Stay;
                 }
-                (Intent::Advice, Some(_)) if offer.allowed() => {
+                (Intent::Tool(Tool::Advice), Some(_)) if offer.allowed() => {
                     let shown = self.advice.as_ref().is_some_and(|a| {
                         a.turn == game.turn() && a.found.is_some() && !a.beside
                     });
@@ -435,7 +435,7 @@ impl GameScreen {
                         beside: false,
                     });
                 }
-                (Intent::Advice | Intent::PlayAdvice, _) if !offer.allowed() => {
+                (Intent::Tool(Tool::Advice) | Intent::Tool(Tool::PlayAdvice), _) if !offer.allowed() => {
                     self.flow.message = if self.link.watching() {
                         "No advice: a spectator does not play"
                     } else {
@@ -443,7 +443,7 @@ impl GameScreen {
                     }
                     .into();
                 }
-                (Intent::PlayAdvice, Some(_)) => match &self.advice {
+                (Intent::Tool(Tool::PlayAdvice), Some(_)) => match &self.advice {
                     Some(Asked {
                         found: Some(advice),
                         beside: false,
@@ -456,7 +456,7 @@ impl GameScreen {
                     }
                     _ => {}
                 },
-                (Intent::Undo | Intent::Redo | Intent::Again, _) if self.link.takes_back() => {
+                (Intent::Tool(Tool::Undo) | Intent::Tool(Tool::Redo) | Intent::Tool(Tool::Again), _) if self.link.takes_back() => {
                     self.take_back(&game, intent);
                 }
                 _ => {}
@@ -508,8 +508,8 @@ impl GameScreen {
     /// went back to.
     fn take_back(&mut self, game: &Game, intent: Intent) -> Option<Game> {
         let to = match intent {
-            Intent::Undo => self.history.undo(game.clone()),
-            Intent::Redo => self.history.redo(game.clone()),
+            Intent::Tool(Tool::Undo) => self.history.undo(game.clone()),
+            Intent::Tool(Tool::Redo) => self.history.redo(game.clone()),
             _ => self.history.again(game.clone()),
         };
         let Some(to) = to else {
@@ -521,7 +521,7 @@ impl GameScreen {
         let back = to.game.clone();
         self.flow.handle(GameEvent::Started(Box::new(to.game)));
         self.missed = None;
-        if let (Intent::Again, Some(strike)) = (intent, to.strike) {
+        if let (Intent::Tool(Tool::Again), Some(strike)) = (intent, to.strike) {
             self.controls.aim = Aim::from_strike(&strike);
         }
         self.flow.message = format!(

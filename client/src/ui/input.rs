@@ -9,7 +9,7 @@ use macroquad::prelude::{
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use breakshot_client::play::{InputFrame, Key, TwoFingers};
+use breakshot_client::play::{InputFrame, Key, Tool, TwoFingers};
 
 const KEYS: [(KeyCode, Key); 35] = [
     (KeyCode::Space, Key::Shoot),
@@ -40,13 +40,13 @@ const KEYS: [(KeyCode, Key); 35] = [
     (KeyCode::M, Key::Mute),
     (KeyCode::LeftBracket, Key::VolumeDown),
     (KeyCode::RightBracket, Key::VolumeUp),
-    (KeyCode::U, Key::Undo),
-    (KeyCode::Y, Key::Redo),
-    (KeyCode::B, Key::Again),
-    (KeyCode::I, Key::Advice),
-    (KeyCode::J, Key::PlayAdvice),
-    (KeyCode::O, Key::SavePosition),
-    (KeyCode::F, Key::Arrange),
+    (KeyCode::U, Key::Tool(Tool::Undo)),
+    (KeyCode::Y, Key::Tool(Tool::Redo)),
+    (KeyCode::B, Key::Tool(Tool::Again)),
+    (KeyCode::I, Key::Tool(Tool::Advice)),
+    (KeyCode::J, Key::Tool(Tool::PlayAdvice)),
+    (KeyCode::O, Key::Tool(Tool::SavePosition)),
+    (KeyCode::F, Key::Tool(Tool::Arrange)),
 ];
 
 /// −1, 0 or 1 as one key or the other is held.

@@ -4,7 +4,7 @@ use breakshot_client::play::drill::{climb, Drill, Score};
 use breakshot_client::play::position;
 use breakshot_client::play::{
     next_level, Advice, Advisor, Aim, Context, Controls, CueMode, Drag, GameEvent, GameFlow,
-    GameLink, History, InputFrame, Intent, Key, LocalLink, Position, Request,
+    GameLink, History, InputFrame, Intent, Key, LocalLink, Position, Request, Tool,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::Connection;
@@ -281,22 +281,22 @@ impl PracticeScreen {
                     self.history.clear();
                     self.message = "Table reset".into();
                 }
-                Intent::Undo => {
+                Intent::Tool(Tool::Undo) => {
                     let to = self.history.undo(game.clone());
                     self.restore(to, false, "Shot taken back", "No shot to take back");
                 }
-                Intent::Redo => {
+                Intent::Tool(Tool::Redo) => {
                     let to = self.history.redo(game.clone());
                     self.restore(to, false, "Shot played again", "No shot to play again");
                 }
-                Intent::Again => {
+                Intent::Tool(Tool::Again) => {
                     let to = self.history.again(game.clone());
                     self.restore(to, true, "The last shot set up again", "No shot yet");
                 }
                 Intent::Back => return Step::Open(Start::Menu),
-                Intent::Advice if !self.busy() => self.ask_advice(&game),
-                Intent::SavePosition => self.save(&game),
-                Intent::Arrange => {
+                Intent::Tool(Tool::Advice) if !self.busy() => self.ask_advice(&game),
+                Intent::Tool(Tool::SavePosition) => self.save(&game),
+                Intent::Tool(Tool::Arrange) => {
                     self.arranging = !self.arranging;
                     self.moving = None;
                     super::report(&format!("practice arranging {}", self.arranging));
@@ -306,7 +306,7 @@ impl PracticeScreen {
                         "Position set: aim and shoot".into()
                     };
                 }
-                Intent::PlayAdvice => {
+                Intent::Tool(Tool::PlayAdvice) => {
                     if let Some((advice, _)) = &self.advice {
                         self.controls.aim = Aim::from_strike(&advice.strike);
                         self.message = format!(
@@ -316,7 +316,7 @@ impl PracticeScreen {
                         super::report("practice advice set");
                     }
                 }
-                Intent::Advice => {}
+                Intent::Tool(Tool::Advice) => {}
             }
         }
         self.flow.tick(input.dt);
