@@ -1,7 +1,7 @@
 //! The computer player: only legal commands, pots simple shots at the top level under its
 //! own noise, plays safe when nothing can be potted, and decides the same from the same seed.
 
-use breakshot_shared::ai::{self, Kind, Level, Player};
+use breakshot_shared::ai::{self, Kind, Level, Player, Thinking};
 use breakshot_shared::physics::{BallState, Shot, TableKind};
 use breakshot_shared::rules::{Command, EightBallRules, Game, Phase, Settings, Variant};
 use glam::DVec2;
@@ -67,7 +67,9 @@ fn plays_safe_when_no_pot_exists() {
         BallState::at_rest(DVec2::new(0.3, 0.8)),
     ];
     let shot = Shot::new(TableKind::Open, balls);
-    let found = ai::suggest(&shot, 0, &[1], Level::new(5), 3).expect("a suggestion");
+    let found = Thinking::suggest(&shot, 0, &[1], Level::new(5), 3)
+        .finish()
+        .expect("a suggestion");
     assert!(
         matches!(found.kind, Kind::Safety | Kind::Kick),
         "{:?}",

@@ -1,6 +1,6 @@
 //! `breakshot-sim suggest`: the computer player's strike for a scene (docs/scene.md).
 
-use breakshot_shared::ai::{self, Level};
+use breakshot_shared::ai::{Level, Thinking};
 use breakshot_shared::scene::Scene;
 
 /// The suggestion for `scene` as the contract's JSON object, or a one-line reason the
@@ -26,7 +26,7 @@ pub fn suggest(scene: &Scene, targets: &str, level: u8, seed: u64) -> Result<Str
         }
     }
     let shot = scene.to_shot().map_err(|e| e.to_string())?;
-    let found = ai::suggest(&shot, cue, &wanted, Level::new(level), seed)?;
+    let found = Thinking::suggest(&shot, cue, &wanted, Level::new(level), seed).finish()?;
     let s = found.strike;
     let round = |x: f64| (x * 1e9).round() / 1e9;
     let json = serde_json::json!({

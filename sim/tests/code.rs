@@ -4,7 +4,7 @@
 use std::process::{Command, Output};
 use std::time::Duration;
 
-use breakshot_shared::ai::{self, Level};
+use breakshot_shared::ai::{Level, Thinking};
 use breakshot_shared::rules::{EightBallRules, Game, Variant};
 use breakshot_shared::scene::Scene;
 use breakshot_shared::scene_code;
@@ -60,7 +60,9 @@ fn a_rack_s_code_is_printed_read_back_and_suggested_on_like_its_scene_file() {
     let v: serde_json::Value = serde_json::from_str(&said).expect("JSON");
     let shot = back.to_shot().expect("a shot");
     let index: Vec<usize> = (1..back.balls.len()).collect();
-    let want = ai::suggest(&shot, 0, &index, Level::new(1), 9).expect("a suggestion");
+    let want = Thinking::suggest(&shot, 0, &index, Level::new(1), 9)
+        .finish()
+        .expect("a suggestion");
     let speed = v["strike"]["speed"].as_f64().expect("speed");
     assert!(
         (speed - want.strike.speed).abs() < 1e-8,

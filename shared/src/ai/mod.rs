@@ -56,7 +56,7 @@ use crate::rules::{Choice, Command, Game, InHand, Phase, ShotFacts, Variant};
 pub use candidates::{Breadth, Kind};
 pub use ghost::ghost_move;
 pub use noise::{Noise, Rng, AIM_SIGMA_DEG, ELEVATION_SIGMA_DEG, SPEED_SIGMA, TIP_SIGMA_M};
-pub use scene_judge::{suggest, Suggestion};
+pub use scene_judge::Suggestion;
 pub use search::Schedule;
 pub use thinking::{Progress, Thinking};
 

@@ -12,10 +12,10 @@ use super::{estimate, Level, Player};
 use crate::physics::{BallState, MotionState, Shot, Strike};
 use crate::rules::facts::ShotFacts;
 
-/// What `suggest` found.
+/// What [`Thinking::suggest`] found.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Suggestion {
-    /// The strike on the cue ball [`suggest`] was asked about.
+    /// The strike on the cue ball the search was asked about.
     pub strike: Strike,
     /// Share of the trials under the level's noise that succeeded.
     pub p_success: f64,
@@ -23,22 +23,10 @@ pub struct Suggestion {
     pub kind: Kind,
 }
 
-/// The best strike on ball `cue` of `shot` that first hits one of `targets` and pockets one
-/// of them (ball indices into `shot.balls`). Errors name what is wrong with the request.
-/// [`Thinking::suggest`] in one call.
-pub fn suggest(
-    shot: &Shot,
-    cue: usize,
-    targets: &[usize],
-    level: Level,
-    seed: u64,
-) -> Result<Suggestion, String> {
-    Thinking::suggest(shot, cue, targets, level, seed).finish()
-}
-
 impl Thinking<Result<Suggestion, String>> {
-    /// [`suggest`] in steps: its answer is exactly what [`suggest`] returns for the same
-    /// request, however it is stepped.
+    /// The best strike on ball `cue` of `shot` that first hits one of `targets` and pockets
+    /// one of them (ball indices into `shot.balls`), as a search in steps; `.finish()` runs it
+    /// in one call. Errors name what is wrong with the request.
     pub fn suggest(
         shot: &Shot,
         cue: usize,
@@ -54,7 +42,7 @@ impl Thinking<Result<Suggestion, String>> {
     }
 }
 
-/// What [`suggest`] returns, its simulations counted on `meter`.
+/// What [`Thinking::suggest`] answers, its simulations counted on `meter`.
 async fn suggested(
     shot: &Shot,
     cue: usize,
