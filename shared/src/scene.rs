@@ -289,12 +289,7 @@ impl Scene {
             .iter()
             .enumerate()
             .map(|(i, s)| ResultBall {
-                id: self.balls[i].id.clone(),
-                pos: s.pos.to_array(),
-                vel: s.vel.to_array(),
-                spin: s.spin.to_array(),
-                z: height(s, shot),
-                state: s.motion.name().to_string(),
+                ball: self.sample_ball(i, s, shot),
                 rest_time: outcome.rest_time[i],
                 pocket: s
                     .pocket
@@ -320,17 +315,7 @@ impl Scene {
                             Sample {
                                 t,
                                 balls: (0..outcome.history.len())
-                                    .map(|i| {
-                                        let s = outcome.state_at(i, t);
-                                        SampleBall {
-                                            id: self.balls[i].id.clone(),
-                                            pos: s.pos.to_array(),
-                                            z: height(&s, shot),
-                                            vel: s.vel.to_array(),
-                                            spin: s.spin.to_array(),
-                                            state: s.motion.name().to_string(),
-                                        }
-                                    })
+                                    .map(|i| self.sample_ball(i, &outcome.state_at(i, t), shot))
                                     .collect(),
                             }
                         })
@@ -347,11 +332,19 @@ impl Scene {
             samples,
         })
     }
-}
 
-/// The height of the centre above the cloth of a ball in flight, as results show it.
-fn height(s: &BallState, shot: &Shot) -> Option<f64> {
-    (s.motion == MotionState::Airborne).then_some(shot.params.ball_radius + s.lift)
+    /// Ball `i` of the scene in state `s`, as results show it: the height of its centre
+    /// above the cloth only while it flies.
+    fn sample_ball(&self, i: usize, s: &BallState, shot: &Shot) -> SampleBall {
+        SampleBall {
+            id: self.balls[i].id.clone(),
+            pos: s.pos.to_array(),
+            z: (s.motion == MotionState::Airborne).then_some(shot.params.ball_radius + s.lift),
+            vel: s.vel.to_array(),
+            spin: s.spin.to_array(),
+            state: s.motion.name().to_string(),
+        }
+    }
 }
 
 /// What `breakshot-sim run` prints: the events, the final table and its state hash.
@@ -387,21 +380,10 @@ pub struct ResultEvent {
 /// A ball at the end of the shot.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ResultBall {
-    /// The ball's id in the scene.
-    pub id: String,
-    /// Centre on the cloth (m, scene coordinates); for a pocketed ball, where it entered the
-    /// pocket's capture circle.
-    pub pos: [f64; 2],
-    /// Height of the centre above the cloth, for a ball in flight only.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub z: Option<f64>,
-    /// Velocity of the centre (m/s).
-    pub vel: [f64; 2],
-    /// Angular velocity (rad/s) in the table frame.
-    pub spin: [f64; 3],
-    /// A motion state (`stationary`, `spinning`, `sliding`, `rolling`, `airborne`), or
-    /// `pocketed` or `off_table`.
-    pub state: String,
+    /// Its id, where it is and how it moves, as in a sample; for a pocketed ball, `pos` is
+    /// where it entered the pocket's capture circle and `state` is `pocketed`.
+    #[serde(flatten)]
+    pub ball: SampleBall,
     /// When the ball came to rest, was pocketed or left the table (s); `None` if it still
     /// moved at the horizon.
     pub rest_time: Option<f64>,
@@ -433,6 +415,7 @@ pub struct SampleBall {
     pub vel: [f64; 2],
     /// Angular velocity (rad/s) in the table frame.
     pub spin: [f64; 3],
-    /// The ball's motion state at that time, or `pocketed` or `off_table`.
+    /// A motion state (`stationary`, `spinning`, `sliding`, `rolling`, `airborne`), or
+    /// `pocketed` or `off_table`.
     pub state: String,
 }

@@ -10,9 +10,9 @@ pub(crate) const MAX_SHOT_SPEED: f64 = 12.0;
 /// Cue speed of a fresh set-up (m/s): a soft shot.
 pub(crate) const DEFAULT_SHOT_SPEED: f64 = 1.5;
 
-#[derive(Clone, Copy, Debug, PartialEq)]
 /// The shot being set up: direction, power, the tip's offset on the cue ball and the cue's
 /// elevation.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aim {
     /// Direction in the scene plane, radians from +x.
     pub angle: f64,
