@@ -545,7 +545,8 @@ mod tests {
         let shot = saved.to_shot().expect("a shot");
         let index = |id: &str| saved.balls.iter().position(|b| b.id == id).expect("a ball");
         let targets: Vec<usize> = request.targets.iter().map(|t| index(t)).collect();
-        let cli = ai::suggest(&shot, index("cue"), &targets, request.level, request.seed)
+        let cli = Thinking::suggest(&shot, index("cue"), &targets, request.level, request.seed)
+            .finish()
             .expect("a suggestion");
         assert_eq!(advice.strike, cli.strike);
         assert_eq!(advice.p_success, cli.p_success);
