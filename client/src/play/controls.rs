@@ -516,6 +516,23 @@ mod tests {
         }
     }
 
+    /// The frame in which the left button goes down at `mouse`.
+    fn press(mouse: [f32; 2]) -> InputFrame {
+        InputFrame {
+            left_pressed: true,
+            left_down: true,
+            ..frame(mouse)
+        }
+    }
+
+    /// The frame in which the left button comes up at `mouse`.
+    fn release(mouse: [f32; 2]) -> InputFrame {
+        InputFrame {
+            left_released: true,
+            ..frame(mouse)
+        }
+    }
+
     fn anywhere(_: DVec2) -> bool {
         true
     }
@@ -627,9 +644,7 @@ mod tests {
         let cx = ctx(&l, CueMode::Aiming);
         let mut c = Controls::new(Aim::default());
         let (_, butt) = l.elevation_cue(40.0);
-        let mut down = frame(butt);
-        down.left_pressed = true;
-        down.left_down = true;
+        let down = press(butt);
         c.update(&down, &cx, &anywhere);
         assert_eq!(c.drag, Drag::Elevation);
         assert!(
@@ -643,8 +658,7 @@ mod tests {
         hold.left_down = true;
         c.update(&hold, &cx, &anywhere);
         assert_eq!(c.aim.elevation_deg, 90.0);
-        let mut up = frame([bx + 30.0, by - 30.0]);
-        up.left_released = true;
+        let up = release([bx + 30.0, by - 30.0]);
         assert!(c.update(&up, &cx, &anywhere).is_empty());
         assert_eq!(c.drag, Drag::None);
         let mut f = frame([1.0, 1.0]);
@@ -726,24 +740,19 @@ mod tests {
         let cx = ctx(&l, CueMode::Aiming);
         let mut c = Controls::new(Aim::default());
         let bar = l.power_bar;
-        let mut f = frame([bar.x + 0.5 * bar.w, bar.y + 0.25 * bar.h]);
-        f.left_pressed = true;
-        f.left_down = true;
+        let f = press([bar.x + 0.5 * bar.w, bar.y + 0.25 * bar.h]);
         c.update(&f, &cx, &anywhere);
         assert!((c.aim.power - 0.75).abs() < 1e-3);
 
         // Top right of the face, far past the miscue limit: clamped onto it.
-        let mut t = frame([
+        let t = press([
             l.tip_center[0] + 0.6 * l.tip_radius,
             l.tip_center[1] - 0.6 * l.tip_radius,
         ]);
-        t.left_pressed = true;
-        t.left_down = true;
         c.update(&t, &cx, &anywhere);
         assert!((c.aim.tip.length() - 0.5).abs() < 1e-9);
         assert!(c.aim.tip.x > 0.0 && c.aim.tip.y > 0.0);
-        let mut up = frame(t.mouse);
-        up.left_released = true;
+        let up = release(t.mouse);
         assert!(c.update(&up, &cx, &anywhere).is_empty());
         assert_eq!(c.drag, Drag::None);
     }
@@ -758,9 +767,7 @@ mod tests {
         c.update(&frame(l.to_screen(ahead)), &cx, &anywhere);
         assert!(c.aim.angle != Aim::default().angle);
         let dir = c.aim.dir();
-        let mut down = frame(l.to_screen(ahead));
-        down.left_pressed = true;
-        down.left_down = true;
+        let down = press(l.to_screen(ahead));
         c.update(&down, &cx, &anywhere);
         // Pull back half of full power's distance (moving the mouse does not re-aim).
         let back = ahead - dir * 0.5 * FULL_PULL_RADII * R + dir.perp() * 0.2;
@@ -768,8 +775,7 @@ mod tests {
         hold.left_down = true;
         assert!(c.update(&hold, &cx, &anywhere).is_empty());
         assert!((c.aim.power - 0.5).abs() < 0.02, "{}", c.aim.power);
-        let mut up = frame(l.to_screen(back));
-        up.left_released = true;
+        let up = release(l.to_screen(back));
         let out = c.update(&up, &cx, &anywhere);
         assert_eq!(out.len(), 1);
         let Intent::Shoot(s) = out[0] else {
@@ -786,12 +792,9 @@ mod tests {
             let mut c = Controls::new(Aim::default());
             let target = cx.cue + DVec2::new(0.4, 0.9);
             // A finger lands there at once: no movement before the press.
-            let mut down = frame(l.to_screen(target));
-            down.left_pressed = true;
-            down.left_down = true;
+            let down = press(l.to_screen(target));
             c.update(&down, &cx, &anywhere);
-            let mut up = frame(l.to_screen(target));
-            up.left_released = true;
+            let up = release(l.to_screen(target));
             assert!(c.update(&up, &cx, &anywhere).is_empty());
             let want = (target - cx.cue).normalize();
             assert!(
@@ -808,12 +811,9 @@ mod tests {
         let cx = ctx(&l, CueMode::Aiming);
         let mut c = Controls::new(Aim::default());
         let p = l.to_screen(cx.cue + DVec2::new(0.0, 0.5));
-        let mut down = frame(p);
-        down.left_pressed = true;
-        down.left_down = true;
+        let down = press(p);
         c.update(&down, &cx, &anywhere);
-        let mut up = frame(p);
-        up.left_released = true;
+        let up = release(p);
         assert!(c.update(&up, &cx, &anywhere).is_empty());
     }
 
@@ -824,16 +824,13 @@ mod tests {
         let legal = |p: DVec2| p.y < 0.635;
         for (target, placed) in [(DVec2::new(0.4, 0.5), true), (DVec2::new(0.4, 1.5), false)] {
             let mut c = Controls::new(Aim::default());
-            let mut down = frame(l.to_screen(cx.cue));
-            down.left_pressed = true;
-            down.left_down = true;
+            let down = press(l.to_screen(cx.cue));
             c.update(&down, &cx, &legal);
             let mut mv = frame(l.to_screen(target));
             mv.left_down = true;
             c.update(&mv, &cx, &legal);
             assert!(matches!(c.drag, Drag::CueBall { at } if (at - target).length() < 1e-2));
-            let mut up = frame(l.to_screen(target));
-            up.left_released = true;
+            let up = release(l.to_screen(target));
             let out = c.update(&up, &cx, &legal);
             match out.as_slice() {
                 [Intent::PlaceCueBall(p)] => {
@@ -850,9 +847,7 @@ mod tests {
         let l = layout();
         let cx = ctx(&l, CueMode::Aiming);
         let mut c = Controls::new(Aim::default());
-        let mut down = frame(l.to_screen(cx.cue));
-        down.left_pressed = true;
-        down.left_down = true;
+        let down = press(l.to_screen(cx.cue));
         c.update(&down, &cx, &anywhere);
         assert!(matches!(c.drag, Drag::PullBack { .. }));
     }
