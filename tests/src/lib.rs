@@ -1,6 +1,7 @@
 //! What the integration tests share: an in-process server on 127.0.0.1 over real QUIC, a
 //! scratch data directory, and a scripted player on the client core (network client and replica).
 
+use std::future::Future;
 use std::net::SocketAddr;
 use std::path::Path;
 use std::sync::Arc;
@@ -205,6 +206,42 @@ impl TestServer {
     }
 }
 
+/// What reads the server's messages one at a time: a native [`Player`] or a page's
+/// [`web::WebPlayer`].
+pub trait Reads: Send {
+    /// The next message, within [`PATIENCE`].
+    fn recv(&mut self) -> impl Future<Output = Result<ServerMessage>> + Send;
+
+    /// Reads messages until one satisfies `want`, and returns it; an error or a refusal on
+    /// the way fails the wait, as does the connection's end.
+    fn until(
+        &mut self,
+        what: &str,
+        want: impl Fn(&ServerMessage) -> bool + Send,
+    ) -> impl Future<Output = Result<ServerMessage>> + Send {
+        async move {
+            loop {
+                let msg = self
+                    .recv()
+                    .await
+                    .with_context(|| format!("waiting for {what}"))?;
+                if want(&msg) {
+                    return Ok(msg);
+                }
+                if let ServerMessage::Error { .. } | ServerMessage::Reject { .. } = msg {
+                    bail!("waiting for {what}, got {msg:?}");
+                }
+            }
+        }
+    }
+}
+
+impl Reads for Player {
+    fn recv(&mut self) -> impl Future<Output = Result<ServerMessage>> + Send {
+        Player::recv(self)
+    }
+}
+
 /// A scripted client: the client core's network client (with no reconnect, so a test
 /// scripts every connection) and its replica of the game.
 pub struct Player {
@@ -262,23 +299,6 @@ impl Player {
     pub fn pull_cable(&self) {
         if let Some(quic) = self.client.quic() {
             quic.close(0u32.into(), b"cable pulled");
-        }
-    }
-
-    /// Reads messages until one satisfies `want`, and returns it.
-    pub async fn until(
-        &mut self,
-        what: &str,
-        want: impl Fn(&ServerMessage) -> bool,
-    ) -> Result<ServerMessage> {
-        loop {
-            let msg = self.recv().await?;
-            if want(&msg) {
-                return Ok(msg);
-            }
-            if let ServerMessage::Error { .. } | ServerMessage::Reject { .. } = msg {
-                bail!("waiting for {what}, got {msg:?}");
-            }
         }
     }
 

@@ -1,6 +1,7 @@
 //! A browser's way in, from Rust: a WebSocket to `/ws` with the page's side of the Noise
 //! handshake (docs/web.md), and raw HTTP requests for the web listener's tests.
 
+use std::future::Future;
 use std::net::SocketAddr;
 use std::time::Duration;
 
@@ -18,7 +19,7 @@ use tokio::net::TcpStream;
 use tokio_tungstenite::tungstenite::Message;
 use tokio_tungstenite::WebSocketStream;
 
-use crate::PATIENCE;
+use crate::{Reads, PATIENCE};
 
 /// A WebSocket to a server's `/ws`, upgraded but with no Noise message sent yet.
 pub type Socket = WebSocketStream<TcpStream>;
@@ -141,22 +142,11 @@ impl WebPlayer {
             self.buf.extend_from_slice(&plain[..n]);
         }
     }
+}
 
-    /// Reads messages until one matches `want`.
-    pub async fn until(
-        &mut self,
-        what: &str,
-        want: impl Fn(&ServerMessage) -> bool,
-    ) -> Result<ServerMessage> {
-        loop {
-            let msg = self
-                .recv()
-                .await
-                .with_context(|| format!("waiting for {what}"))?;
-            if want(&msg) {
-                return Ok(msg);
-            }
-        }
+impl Reads for WebPlayer {
+    fn recv(&mut self) -> impl Future<Output = Result<ServerMessage>> + Send {
+        WebPlayer::recv(self)
     }
 }
 

@@ -10,7 +10,7 @@ use breakshot_server::admin;
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, ServerMessage};
 use breakshot_shared::rules::Settings;
 use breakshot_tests::{
-    break_shot, create_eight_ball, eight_ball, scratch, seated_pair, Player, TestServer,
+    break_shot, create_eight_ball, eight_ball, scratch, seated_pair, Player, Reads, TestServer,
 };
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 

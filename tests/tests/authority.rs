@@ -4,7 +4,7 @@
 use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, Role, RoomCode, ServerMessage};
 use breakshot_shared::rules::{Game, Seat};
-use breakshot_tests::{break_shot, seated_pair, Player, TestServer};
+use breakshot_tests::{break_shot, seated_pair, Player, Reads, TestServer};
 use glam::DVec2;
 
 /// The game as a fresh spectator is shown it: the server's own state.

@@ -18,7 +18,7 @@ use breakshot_shared::protocol::{
 };
 use breakshot_shared::rules::{Seat, Settings};
 use breakshot_testkit::{read_line, Spawned};
-use breakshot_tests::{eight_ball, scratch, Player, TestServer, PATIENCE};
+use breakshot_tests::{eight_ball, scratch, Player, Reads, TestServer, PATIENCE};
 
 /// Set (to an invite) in the client process the first test starts.
 const CHILD: &str = "BREAKSHOT_DROPS_CLIENT";

@@ -17,7 +17,7 @@ use breakshot_shared::protocol::{
 };
 use breakshot_tests::{
     break_shot, create_room, hello_of, prove_of, read_message, resident_bytes, scratch, Player,
-    TestServer, PATIENCE,
+    Reads, TestServer, PATIENCE,
 };
 
 /// Half-open handshakes the test server allows before it asks for retries.

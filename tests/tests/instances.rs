@@ -27,8 +27,8 @@ use breakshot_shared::rules::{Game, Phase, Seat};
 use breakshot_testkit::Spawned;
 use breakshot_tests::postgres::Cluster;
 use breakshot_tests::{
-    printed_invite, scratch, seated_pair, seated_pair_with, serve_until_killed, Player, TestServer,
-    PATIENCE, SEED,
+    printed_invite, scratch, seated_pair, seated_pair_with, serve_until_killed, Player, Reads,
+    TestServer, PATIENCE, SEED,
 };
 
 /// Set (to `URL DATA`) in the instance process a test starts.

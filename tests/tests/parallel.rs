@@ -9,7 +9,7 @@ use std::sync::{Arc, Mutex};
 use breakshot_server::RoomHook;
 use breakshot_shared::protocol::{ClientMessage, RoomCode, ServerMessage};
 use breakshot_tests::{
-    break_shot, create_room, scratch, seated_pair, Player, TestServer, PATIENCE,
+    break_shot, create_room, scratch, seated_pair, Player, Reads, TestServer, PATIENCE,
 };
 
 fn resolved(m: &ServerMessage) -> bool {

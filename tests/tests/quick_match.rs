@@ -12,7 +12,7 @@ use breakshot_server::store::{Location, Store};
 use breakshot_server::Limits;
 use breakshot_shared::protocol::{ClientMessage, SeatToken, ServerMessage};
 use breakshot_tests::postgres::Cluster;
-use breakshot_tests::{scratch, Player, TestServer, PATIENCE};
+use breakshot_tests::{scratch, Player, Reads, TestServer, PATIENCE};
 use skillratings::glicko2::{glicko2, Glicko2Config, Glicko2Rating};
 use skillratings::Outcomes;
 

@@ -9,7 +9,7 @@ use breakshot_server::store::Store;
 use breakshot_shared::protocol::{ClientMessage, Role, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::Seat;
-use breakshot_tests::{break_shot, scratch, seated_pair, Player, TestServer, PATIENCE};
+use breakshot_tests::{break_shot, scratch, seated_pair, Player, Reads, TestServer, PATIENCE};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_dropped_player_rejoins_with_its_token_and_play_continues() -> anyhow::Result<()> {

@@ -7,7 +7,7 @@ use breakshot_shared::physics::BallState;
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, RoomCode, ServerMessage};
 use breakshot_shared::replay::GameRecord;
 use breakshot_shared::rules::Phase;
-use breakshot_tests::{bot_games, break_shot, seated_pair, Player, TestServer};
+use breakshot_tests::{bot_games, break_shot, seated_pair, Player, Reads, TestServer};
 
 /// `a` breaks the game just joined; returns the break's hash and balls once both players
 /// have seen the turn pass.

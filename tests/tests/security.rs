@@ -8,7 +8,9 @@ use anyhow::Result;
 use breakshot_server::{Limits, Stats};
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, Role, RoomCode, ServerMessage};
 use breakshot_shared::rules::{Choice, Seat};
-use breakshot_tests::{break_shot, create_room, scratch, seated_pair, Player, TempDir, TestServer};
+use breakshot_tests::{
+    break_shot, create_room, scratch, seated_pair, Player, Reads, TempDir, TestServer,
+};
 
 /// A server with `limits` on a fresh scratch folder named after `name`, returned with it.
 async fn start_limited(name: &str, limits: Limits) -> Result<(TempDir, TestServer)> {

@@ -9,7 +9,7 @@ use breakshot_shared::protocol::{AimAid, PlayerKey, RoomCode, ServerMessage};
 use breakshot_shared::replay::{GameRecord, RecordEntry};
 use breakshot_shared::rules::{Command, EightBallRules, Seat, Settings, Variant};
 use breakshot_tests::postgres::Cluster;
-use breakshot_tests::{bot_games, break_shot, scratch, seated_pair, TestServer};
+use breakshot_tests::{bot_games, break_shot, scratch, seated_pair, Reads, TestServer};
 
 fn meta(code: &str) -> RoomMeta {
     RoomMeta {

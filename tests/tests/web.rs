@@ -11,7 +11,7 @@ use breakshot_server::Config;
 use breakshot_shared::protocol::web::MAX_NOISE_MESSAGE;
 use breakshot_shared::protocol::{ClientMessage, ServerMessage};
 use breakshot_tests::web::{self, WebPlayer};
-use breakshot_tests::{create_eight_ball, scratch, Player, TempDir, TestServer, PATIENCE};
+use breakshot_tests::{create_eight_ball, scratch, Player, Reads, TempDir, TestServer, PATIENCE};
 use futures_util::SinkExt;
 use tokio::io::AsyncWriteExt;
 use tokio::net::TcpStream;

@@ -11,7 +11,7 @@ use breakshot_server::webcert::{ClockRef, ManualClock};
 use breakshot_shared::protocol::web::WEBTRANSPORT_PATH;
 use breakshot_shared::protocol::{encode_frame, ClientMessage, Fingerprint, Invite, ServerMessage};
 use breakshot_tests::{
-    create_eight_ball, create_room, read_message, scratch, Player, TestServer, PATIENCE,
+    create_eight_ball, create_room, read_message, scratch, Player, Reads, TestServer, PATIENCE,
 };
 use web_transport_quinn::proto::ConnectError::WrongStatus;
 use web_transport_quinn::quinn::rustls::pki_types::CertificateDer;
