@@ -4,7 +4,7 @@
 use std::net::SocketAddr;
 use std::time::Duration;
 
-use anyhow::Result;
+use anyhow::{bail, Result};
 use breakshot_server::{Limits, Stats};
 use breakshot_shared::protocol::{ClientMessage, ErrorCode, Role, RoomCode, ServerMessage};
 use breakshot_shared::rules::{Choice, Seat};
@@ -21,10 +21,12 @@ async fn start_limited(name: &str, limits: Limits) -> Result<(TempDir, TestServe
     Ok((data, server))
 }
 
-async fn error_code(p: &mut Player) -> Result<ErrorCode> {
+/// Sends `msg` and returns the code of the error the server answers it with.
+async fn refusal(p: &mut Player, msg: ClientMessage) -> Result<ErrorCode> {
+    p.send(msg).await?;
     match p.error().await? {
         ServerMessage::Error { code, .. } => Ok(code),
-        _ => unreachable!(),
+        other => bail!("expected an error, got {other:?}"),
     }
 }
 
@@ -66,8 +68,8 @@ async fn a_seat_token_opens_only_its_own_room_and_seat() -> Result<()> {
     let mut forged = tokens[1].0;
     forged.0[0] ^= 1;
     let mut p = Player::connect(&server.invite).await?;
-    p.send(ClientMessage::Rejoin { token: forged }).await?;
-    assert_eq!(error_code(&mut p).await?, ErrorCode::BadToken);
+    let rejoin = ClientMessage::Rejoin { token: forged };
+    assert_eq!(refusal(&mut p, rejoin).await?, ErrorCode::BadToken);
     server.stop().await
 }
 
@@ -96,8 +98,7 @@ async fn a_spectator_cannot_send_any_game_command() -> Result<()> {
         ClientMessage::Concede,
         ClientMessage::Rematch,
     ] {
-        watcher.send(msg).await?;
-        assert_eq!(error_code(&mut watcher).await?, ErrorCode::Spectator);
+        assert_eq!(refusal(&mut watcher, msg).await?, ErrorCode::Spectator);
     }
     server.stop().await
 }
@@ -117,29 +118,23 @@ async fn room_entries_are_rate_limited_per_address() -> Result<()> {
     // Guessing codes: each wrong guess uses an entry.
     let mut guesser = Player::connect(&server.invite).await?;
     for guess in ["22222222", "33333333", "44444444"] {
-        guesser
-            .send(ClientMessage::Join {
-                room: RoomCode::parse(guess)?,
-                name: "guess".into(),
-            })
-            .await?;
-        assert_eq!(error_code(&mut guesser).await?, ErrorCode::NoSuchRoom);
+        let join = ClientMessage::Join {
+            room: RoomCode::parse(guess)?,
+            name: "guess".into(),
+        };
+        assert_eq!(refusal(&mut guesser, join).await?, ErrorCode::NoSuchRoom);
     }
     // The budget is spent: even the right code is refused, on a new connection too.
     let mut again = Player::connect(&server.invite).await?;
-    again
-        .send(ClientMessage::Join {
-            room,
-            name: "guess".into(),
-        })
-        .await?;
-    assert_eq!(error_code(&mut again).await?, ErrorCode::RateLimited);
-    guesser
-        .send(ClientMessage::Spectate {
-            room: RoomCode::parse("55555555")?,
-        })
-        .await?;
-    assert_eq!(error_code(&mut guesser).await?, ErrorCode::RateLimited);
+    let join = ClientMessage::Join {
+        room,
+        name: "guess".into(),
+    };
+    assert_eq!(refusal(&mut again, join).await?, ErrorCode::RateLimited);
+    let watch = ClientMessage::Spectate {
+        room: RoomCode::parse("55555555")?,
+    };
+    assert_eq!(refusal(&mut guesser, watch).await?, ErrorCode::RateLimited);
     server.stop().await
 }
 
@@ -160,10 +155,8 @@ async fn rooms_per_address_and_connections_are_capped() -> Result<()> {
         players.push(p);
     }
     let mut third = Player::connect(&server.invite).await?;
-    third
-        .send(breakshot_tests::create_eight_ball("three"))
-        .await?;
-    assert_eq!(error_code(&mut third).await?, ErrorCode::ServerBusy);
+    let create = breakshot_tests::create_eight_ball("three");
+    assert_eq!(refusal(&mut third, create).await?, ErrorCode::ServerBusy);
     // Three connections are open: a fourth is refused.
     assert!(Player::connect(&server.invite).await.is_err());
     assert!(Stats::get(&server.stats.refused) >= 1);
