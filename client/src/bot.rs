@@ -11,7 +11,7 @@ use breakshot_shared::rules::{EightBallRules, Settings, TurnId, Variant};
 use tokio::sync::oneshot;
 
 pub use crate::net::RETRY_FOR;
-use crate::net::{Entrance, PlayerResult, SeatPlayer};
+use crate::net::{Entrance, PlayerResult, SeatPlayer, Tally};
 use crate::play::Chooser;
 
 #[derive(Clone, Debug)]
@@ -92,21 +92,13 @@ pub struct GameSummary {
     pub played: Option<(Instant, Instant)>,
 }
 
-#[derive(Clone, Debug, Default)]
 /// What a run of bots measured.
+#[derive(Clone, Debug, Default)]
 pub struct Report {
     /// Games both bots saw to the end.
     pub games_completed: u32,
-    /// Shots the bots took.
-    pub shots: u32,
-    /// Shots whose local prediction matched the server's hash (counted by each player).
-    pub confirmed: u32,
-    /// Shots (or commands) whose local result differed from the server's.
-    pub desyncs: u32,
-    /// Times a bot took its seat back after a drop.
-    pub rejoins: u32,
-    /// Each shot's round trip, from sending it to its result (ms).
-    pub round_trips_ms: Vec<f64>,
+    /// The shots of every bot, added up (each player counts the shots it confirmed).
+    pub tally: Tally,
     /// Each game, as the bots saw it.
     pub games: Vec<GameSummary>,
     /// What went wrong, one line per bot that failed.
@@ -116,7 +108,7 @@ pub struct Report {
 impl Report {
     /// The `q` quantile (0..=1) of the shot round trips, in milliseconds (nearest rank).
     pub fn percentile_ms(&self, q: f64) -> f64 {
-        let mut v = self.round_trips_ms.clone();
+        let mut v = self.tally.round_trips_ms.clone();
         if v.is_empty() {
             return 0.0;
         }
@@ -150,19 +142,15 @@ impl Report {
         serde_json::json!({
             "games_completed": self.games_completed,
             "peak_games": self.peak_games(),
-            "shots": self.shots,
-            "desyncs": self.desyncs,
+            "shots": self.tally.shots,
+            "desyncs": self.tally.desyncs,
             "p50_ms": round3(self.percentile_ms(0.5)),
             "p99_ms": round3(self.percentile_ms(0.99)),
         })
     }
 
     fn add(&mut self, p: PlayerResult) {
-        self.shots += p.shots;
-        self.confirmed += p.confirmed;
-        self.desyncs += p.desyncs;
-        self.rejoins += p.rejoins;
-        self.round_trips_ms.extend(p.round_trips_ms);
+        self.tally.add(p.tally);
         if let Some(e) = p.error {
             self.errors.push(e);
         }

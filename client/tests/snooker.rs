@@ -240,7 +240,7 @@ fn a_six_red_frame_between_the_computer_and_a_bot_is_watched_in_the_window() {
     drop(computer);
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.games_completed, 1, "{:?}", report.games);
-    assert_eq!(report.desyncs, 0);
+    assert_eq!(report.tally.desyncs, 0);
 
     let fetched = fetch_game_blocking(&invite, &room, None).expect("the record");
     drop(server);

@@ -451,8 +451,8 @@ pub async fn bot_game(
     server.stop().await?;
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.games_completed, 1);
-    assert_eq!(report.desyncs, 0);
-    assert_eq!(report.confirmed, 2 * report.shots);
+    assert_eq!(report.tally.desyncs, 0);
+    assert_eq!(report.tally.confirmed, 2 * report.tally.shots);
     assert!(fetched.finished, "the stored game is not over");
     Ok((report, GameRecord::decode(&fetched.bytes)?))
 }

@@ -18,7 +18,7 @@ async fn a_three_cushion_match_is_played_through_the_client_core_without_a_desyn
         ..Settings::offline()
     };
     let (report, record) = bot_game(server, &config, PATIENCE).await?;
-    assert!(report.shots > 1, "{:?}", report.games);
+    assert!(report.tally.shots > 1, "{:?}", report.games);
 
     // The record is a three-cushion match on the carom table, judged shot by shot by the
     // three-cushion rules: every shot either scored (the shooter plays on) or passed the
@@ -47,11 +47,15 @@ async fn a_three_cushion_match_is_played_through_the_client_core_without_a_desyn
             Phase::Shooting { in_hand: None, .. } | Phase::Over { .. }
         ));
     }
-    assert!(passes > 0, "no inning passed in {} shots", report.shots);
+    assert!(
+        passes > 0,
+        "no inning passed in {} shots",
+        report.tally.shots
+    );
     assert!(matches!(game.phase(), Phase::Over { .. }));
     eprintln!(
         "three-cushion over after {} shots ({points} points, {passes} innings passed): {}",
-        report.shots, report.games[0].reason
+        report.tally.shots, report.games[0].reason
     );
 
     // The stored record replays to the same hashes.

@@ -39,7 +39,7 @@ async fn computer_against_ghost(variant: Variant, name: &str) -> anyhow::Result<
     assert!(matches!(game.phase(), Phase::Over { .. }));
     eprintln!(
         "{name}: over after {} shots ({computer_shots} by the computer): {}",
-        report.shots, report.games[0].reason
+        report.tally.shots, report.games[0].reason
     );
     Ok(())
 }

@@ -188,15 +188,15 @@ fn killing_the_server_loses_nothing_and_players_rejoin() {
     eprintln!(
         "games over at {:.1} s: {} shots, {} rejoins",
         started.elapsed().as_secs_f64(),
-        report.shots,
-        report.rejoins
+        report.tally.shots,
+        report.tally.rejoins
     );
     let _ = server.kill();
     let _ = server.wait();
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.games_completed as usize, GAMES);
-    assert_eq!(report.desyncs, 0);
-    assert!(report.rejoins > 0);
+    assert_eq!(report.tally.desyncs, 0);
+    assert!(report.tally.rejoins > 0);
     verify_passes(&home.data);
 
     // Every result a host was shown is in its game's stored record, in order.

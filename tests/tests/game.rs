@@ -13,13 +13,16 @@ async fn two_bots_play_a_full_eight_ball_game_and_every_hash_agrees() -> anyhow:
 
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.games_completed, 1);
-    assert!(report.shots > 0, "{:?}", report.games);
-    assert_eq!(report.desyncs, 0);
+    assert!(report.tally.shots > 0, "{:?}", report.games);
+    assert_eq!(report.tally.desyncs, 0);
     // Both players predicted every shot and the server confirmed each prediction.
-    assert_eq!(report.confirmed, 2 * report.shots);
+    assert_eq!(report.tally.confirmed, 2 * report.tally.shots);
     let game = &report.games[0];
-    assert_eq!(game.resolved.len() as u32, report.shots);
-    eprintln!("game over after {} shots: {}", report.shots, game.reason);
+    assert_eq!(game.resolved.len() as u32, report.tally.shots);
+    eprintln!(
+        "game over after {} shots: {}",
+        report.tally.shots, game.reason
+    );
 
     // The stored record replays to the same hashes.
     let checks = verify_dir(data.path())?;
@@ -56,7 +59,7 @@ async fn a_nine_ball_game_with_called_shots_is_played_through_the_client_core() 
     assert!(matches!(game.phase(), Phase::Over { .. }));
     eprintln!(
         "9-ball over after {} shots ({called} called): {}",
-        report.shots, report.games[0].reason
+        report.tally.shots, report.games[0].reason
     );
     Ok(())
 }

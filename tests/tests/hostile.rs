@@ -368,11 +368,11 @@ async fn hostile_clients_cost_only_their_own_connections() -> Result<()> {
         .map_err(|_| anyhow!("the game beside the hostile clients never finished"))??;
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.games_completed, 1);
-    assert_eq!(report.desyncs, 0);
-    assert_eq!(report.confirmed, 2 * report.shots);
+    assert_eq!(report.tally.desyncs, 0);
+    assert_eq!(report.tally.confirmed, 2 * report.tally.shots);
     eprintln!(
         "the game beside them: {} shots, p50 {:.1} ms, p99 {:.1} ms",
-        report.shots,
+        report.tally.shots,
         report.percentile_ms(0.5),
         report.percentile_ms(0.99)
     );
@@ -454,7 +454,7 @@ async fn games_beside_floods(limits: Limits, flood: usize, games: usize) -> Resu
             .map_err(|_| anyhow!("game {game} did not finish"))?;
         assert!(report.errors.is_empty(), "game {game}: {:?}", report.errors);
         assert_eq!(report.games_completed, 1, "game {game}");
-        assert_eq!(report.desyncs, 0);
+        assert_eq!(report.tally.desyncs, 0);
         assert!(count(&stats.handshaking) <= limits.handshakes_per_address() + 2);
         peak = peak.max(resident_bytes().unwrap_or(0));
         drop(sent);

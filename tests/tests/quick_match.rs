@@ -58,12 +58,12 @@ async fn quick_match_rates_and_remembers(
         .map_err(|_| anyhow::anyhow!("the quick match never finished"))?;
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.games_completed, 1);
-    assert_eq!(report.desyncs, 0);
-    assert_eq!(report.confirmed, 2 * report.shots);
+    assert_eq!(report.tally.desyncs, 0);
+    assert_eq!(report.tally.confirmed, 2 * report.tally.shots);
     let game = &report.games[0];
     eprintln!(
         "quick match over after {} shots: {}",
-        report.shots, game.reason
+        report.tally.shots, game.reason
     );
     server.stop().await?;
 

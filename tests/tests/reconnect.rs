@@ -114,11 +114,11 @@ async fn a_server_restarted_on_its_data_loses_no_shot() -> anyhow::Result<()> {
     assert!(report.errors.is_empty(), "{:?}", report.errors);
     assert_eq!(report.games_completed, 1);
     assert!(
-        report.rejoins >= 2,
+        report.tally.rejoins >= 2,
         "both players rejoined ({} rejoins)",
-        report.rejoins
+        report.tally.rejoins
     );
-    assert_eq!(report.desyncs, 0);
+    assert_eq!(report.tally.desyncs, 0);
     // Every shot result a player saw, before and after the restart, is in the stored record
     // at its turn, with the same hash.
     let summary = &report.games[0];

@@ -69,7 +69,7 @@ async fn a_finished_bot_game_is_fetched_whole_and_every_hash_replays() -> Result
     let recorded: Vec<u64> = record.entries.iter().filter_map(|e| e.hash).collect();
     let resolved: Vec<u64> = summary.resolved.iter().map(|(_, h)| *h).collect();
     assert_eq!(recorded, resolved);
-    assert_eq!(recorded.len() as u32, report.shots);
+    assert_eq!(recorded.len() as u32, report.tally.shots);
     let replayed = record.replay()?;
     assert!(matches!(replayed.phase(), Phase::Over { .. }));
 

@@ -59,7 +59,7 @@ async fn two_bots_play_a_whole_frame_of_snooker_through_the_server_without_a_des
         panic!("the record does not end the frame: {:?}", game.phase());
     };
     assert!(winner.is_some(), "{reason}");
-    assert_eq!(strokes, report.shots);
+    assert_eq!(strokes, report.tally.shots);
     let m = game.snooker().expect("a snooker game");
     eprintln!(
         "snooker frame over after {strokes} strokes ({fouls} fouls), {}-{}: {reason}",

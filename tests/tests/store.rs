@@ -349,7 +349,7 @@ async fn a_server_on_postgres_keeps_every_game_there_and_verify_checks_them() ->
     let server = TestServer::start_with(config.clone()).await?;
     let report = bot_games(&server, 2).await?;
     assert_eq!(report.games_completed, 2, "{:?}", report.errors);
-    assert_eq!(report.desyncs, 0);
+    assert_eq!(report.tally.desyncs, 0);
     let (mut a, mut b, room) = seated_pair(&server.invite).await?;
     a.send(break_shot(a.game().expect("a game"))).await?;
     for p in [&mut a, &mut b] {

@@ -121,7 +121,7 @@ fn whole_game(test: &str, transport: WebTransportChoice) -> Result<()> {
         .context("the bot did not finish after the game ended")??;
     assert!(report.errors.is_empty(), "the bot: {:?}", report.errors);
     assert_eq!(report.games_completed, 1, "the bot saw the game end");
-    assert_eq!(report.desyncs, 0, "the bot desynced");
+    assert_eq!(report.tally.desyncs, 0, "the bot desynced");
     let line = last_game_line(&events);
     let resolved = report.games[0].resolved.clone();
     assert_eq!(

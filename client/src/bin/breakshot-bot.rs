@@ -109,9 +109,9 @@ fn main_inner() -> anyhow::Result<bool> {
             report.games_completed, config.games
         );
         println!("peak games:      {}", report.peak_games());
-        println!("shots:           {}", report.shots);
-        println!("desyncs:         {}", report.desyncs);
-        println!("rejoins:         {}", report.rejoins);
+        println!("shots:           {}", report.tally.shots);
+        println!("desyncs:         {}", report.tally.desyncs);
+        println!("rejoins:         {}", report.tally.rejoins);
         println!(
             "shot round trip: p50 {:.2} ms, p99 {:.2} ms",
             report.percentile_ms(0.5),
@@ -125,5 +125,5 @@ fn main_inner() -> anyhow::Result<bool> {
             None => println!("bot process CPU: not measured on this system"),
         }
     }
-    Ok(report.games_completed as usize == config.games && report.desyncs == 0)
+    Ok(report.games_completed as usize == config.games && report.tally.desyncs == 0)
 }

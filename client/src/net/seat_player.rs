@@ -34,6 +34,32 @@ pub(crate) enum Entrance {
     QuickMatch(ClientMessage),
 }
 
+/// What seat players count of their shots: one player's, or a whole run's added up.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Tally {
+    /// Shots taken.
+    pub shots: u32,
+    /// Shots whose local prediction matched the server's hash.
+    pub confirmed: u32,
+    /// Shots (or commands) whose local result differed from the server's.
+    pub desyncs: u32,
+    /// Times a seat was taken back after a drop.
+    pub rejoins: u32,
+    /// Each shot's round trip, from sending it to its result (ms).
+    pub round_trips_ms: Vec<f64>,
+}
+
+impl Tally {
+    /// Adds `other`'s counts to these.
+    pub fn add(&mut self, other: Tally) {
+        self.shots += other.shots;
+        self.confirmed += other.confirmed;
+        self.desyncs += other.desyncs;
+        self.rejoins += other.rejoins;
+        self.round_trips_ms.extend(other.round_trips_ms);
+    }
+}
+
 /// What one bot saw and did.
 #[derive(Debug, Default)]
 pub(crate) struct PlayerResult {
@@ -42,11 +68,7 @@ pub(crate) struct PlayerResult {
     pub(crate) began: Option<Instant>,
     pub(crate) ended: Option<Instant>,
     pub(crate) over: Option<String>,
-    pub(crate) shots: u32,
-    pub(crate) confirmed: u32,
-    pub(crate) desyncs: u32,
-    pub(crate) rejoins: u32,
-    pub(crate) round_trips_ms: Vec<f64>,
+    pub(crate) tally: Tally,
     pub(crate) resolved: Vec<(TurnId, u64)>,
     /// Commands the server refused.
     pub(crate) refused: u32,
@@ -179,8 +201,8 @@ impl SeatPlayer {
             self.result.error = Some(e.to_string());
         }
         client.close(Duration::ZERO).await;
-        self.result.confirmed = self.replica.confirmed();
-        self.result.desyncs = self.replica.desyncs();
+        self.result.tally.confirmed = self.replica.confirmed();
+        self.result.tally.desyncs = self.replica.desyncs();
         self.result
     }
 
@@ -201,7 +223,7 @@ impl SeatPlayer {
                     continue;
                 }
                 ClientEvent::Reconnected => {
-                    self.result.rejoins += 1;
+                    self.result.tally.rejoins += 1;
                     self.acted = None;
                     self.sent_shot = None;
                     continue;
@@ -239,7 +261,7 @@ impl SeatPlayer {
                 }
                 ServerMessage::ShotAccepted { seat, .. } => {
                     if Some(*seat) == me {
-                        self.result.shots += 1;
+                        self.result.tally.shots += 1;
                         self.game_shots += 1;
                     }
                     if self.pacing {
@@ -264,6 +286,7 @@ impl SeatPlayer {
                     if let Some((t, at)) = self.sent_shot {
                         if t == *turn {
                             self.result
+                                .tally
                                 .round_trips_ms
                                 .push(at.elapsed().as_secs_f64() * 1000.0);
                             self.sent_shot = None;
