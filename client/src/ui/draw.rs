@@ -8,6 +8,7 @@ use ::glam::{DQuat, DVec2};
 use breakshot_client::play::Aim;
 use breakshot_client::view::aids::{self, AidToggles, PathPoint, Prediction};
 use breakshot_client::view::palette::{self, ball_look, Rgb};
+use breakshot_client::view::snooker::{self, Markings};
 use breakshot_client::view::sphere::{self, ScreenAxes};
 use breakshot_client::view::{
     flight, Camera, Flight, Layout, Orientations, Playback, PocketDrop, Rect, Stroke, TrailPoint,
@@ -125,7 +126,32 @@ pub fn fill_rect(r: Rect, c: Color) {
 pub fn table(pen: &Pen, kind: TableKind) {
     pen.surface().table(pen, kind);
     if kind == TableKind::Snooker {
-        super::snooker::markings(pen);
+        snooker_markings(pen);
+    }
+}
+
+/// Chalk lines are drawn this wide (pixels, top-down view).
+const CHALK_WIDTH: f32 = 1.5;
+
+/// A snooker table's baulk line, D and spots (`view::snooker`'s geometry), on the cloth
+/// under the balls, in either view.
+fn snooker_markings(pen: &Pen) {
+    let Markings {
+        baulk,
+        d_arc,
+        spots,
+    } = snooker::markings();
+    let c = with_alpha(snooker::MARKING, 0.55);
+    let surface = pen.surface();
+    surface.segment(pen, baulk.0, baulk.1, CHALK_WIDTH, c);
+    for w in d_arc.windows(2) {
+        surface.segment(pen, w[0], w[1], CHALK_WIDTH, c);
+    }
+    for s in spots {
+        let ring = snooker::circle(s, snooker::SPOT_RADIUS, 12);
+        for w in ring.windows(2) {
+            surface.segment(pen, w[0], w[1], 2.0, c);
+        }
     }
 }
 

@@ -1,6 +1,9 @@
 //! Colours: the cloth, the rails and the standard pool ball colours (1 yellow, 2 blue, 3 red,
 //! 4 purple, 5 orange, 6 green, 7 maroon, 8 black; 9 to 15 are the same colours as stripes),
-//! and the three carom balls (white, yellow, red); the snooker balls' in `snooker.rs`.
+//! the three carom balls (white, yellow, red) and the snooker balls (the reds and the six
+//! colours).
+
+use breakshot_shared::rules::snooker::table;
 
 /// An sRGB colour.
 pub type Rgb = [u8; 3];
@@ -70,7 +73,7 @@ pub fn ball_look(id: &str) -> BallLook {
         "red" => return plain(CAROM_RED),
         _ => {}
     }
-    if let Some(look) = super::snooker::ball_look(id) {
+    if let Some(look) = snooker_look(id) {
         return look;
     }
     match id.parse::<u8>() {
@@ -80,6 +83,50 @@ pub fn ball_look(id: &str) -> BallLook {
             number: Some(n),
         },
         _ => plain(OTHER_BALL),
+    }
+}
+
+/// The snooker reds.
+pub const SNOOKER_RED: Rgb = [196, 22, 28];
+/// The snooker colours, yellow to black, in the order of their values.
+pub const SNOOKER_COLOURS: [Rgb; 6] = [
+    [246, 206, 40],  // yellow (the carom yellow: the same id)
+    [18, 128, 52],   // green
+    [120, 70, 32],   // brown
+    [30, 80, 200],   // blue
+    [240, 130, 170], // pink
+    [18, 18, 18],    // black
+];
+/// The look of a snooker ball by its scene id (`r1`..`r15`, `yellow`, ..., `black`), if `id`
+/// names one (the yellow's id is the carom yellow's, and looks the same).
+fn snooker_look(id: &str) -> Option<BallLook> {
+    let color = match id {
+        "green" => SNOOKER_COLOURS[1],
+        "brown" => SNOOKER_COLOURS[2],
+        "blue" => SNOOKER_COLOURS[3],
+        "pink" => SNOOKER_COLOURS[4],
+        "black" => SNOOKER_COLOURS[5],
+        _ => {
+            let n: u8 = id.strip_prefix('r')?.parse().ok()?;
+            if !table::is_red(n) {
+                return None;
+            }
+            SNOOKER_RED
+        }
+    };
+    Some(BallLook {
+        color,
+        stripe: false,
+        number: None,
+    })
+}
+
+/// The colour a ball of the snooker list is drawn in (a red, a colour, the cue ball white).
+pub fn snooker_ball_colour(ball: u8) -> Rgb {
+    match ball {
+        b if table::is_red(b) => SNOOKER_RED,
+        b if table::is_colour(b) => SNOOKER_COLOURS[usize::from(b - table::YELLOW)],
+        _ => CUE_BALL,
     }
 }
 
@@ -137,6 +184,25 @@ mod tests {
                     "{a} and {b} look alike"
                 );
             }
+        }
+    }
+
+    #[test]
+    fn every_snooker_ball_has_its_own_colour_and_none_is_the_cloth() {
+        let ids: Vec<String> = (0..22).map(table::scene_id).collect();
+        for id in &ids[1..] {
+            let look = ball_look(id);
+            assert_ne!(look.color, OTHER_BALL, "{id}");
+            assert!(look.number.is_none() && !look.stripe, "{id}");
+        }
+        assert_eq!(snooker_look("r7").map(|l| l.color), Some(SNOOKER_RED));
+        assert_eq!(snooker_look("r16"), None);
+        assert_eq!(snooker_look("x"), None);
+        let mut seen = vec![SNOOKER_RED, CLOTH];
+        for c in table::COLOURS {
+            let rgb = snooker_ball_colour(c);
+            assert!(!seen.contains(&rgb), "{c}");
+            seen.push(rgb);
         }
     }
 }

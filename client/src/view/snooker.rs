@@ -1,5 +1,4 @@
-//! What the window shows of a snooker game, computed without a window: the balls' colours,
-//! the markings on the cloth (baulk line, the D, the six spots), the scores and the words of
+//! What the window shows of a snooker game, computed without a window: the markings on the cloth (baulk line, the D, the six spots), the scores and the words of
 //! the HUD (the break, the points remaining, "snookers required"), and the nominations: a
 //! ball clicked on the cloth, or a colour's button.
 
@@ -8,54 +7,10 @@ use breakshot_shared::rules::snooker::frame::{BallOn, Snooker};
 use breakshot_shared::rules::snooker::table::{self, colour_name, COLOURS};
 use breakshot_shared::rules::{Choice, Game, Phase, Seat};
 
-use super::palette::{BallLook, Rgb};
+use super::palette::{snooker_ball_colour, Rgb};
 
-/// The reds.
-pub const RED: Rgb = [196, 22, 28];
-/// The colours, yellow to black, in the order of their values.
-pub const COLOUR_LOOKS: [Rgb; 6] = [
-    [246, 206, 40],  // yellow (the carom yellow: the same id)
-    [18, 128, 52],   // green
-    [120, 70, 32],   // brown
-    [30, 80, 200],   // blue
-    [240, 130, 170], // pink
-    [18, 18, 18],    // black
-];
 /// The markings chalked on the cloth.
 pub const MARKING: Rgb = [226, 232, 224];
-
-/// The look of a snooker ball by its scene id (`r1`..`r15`, `yellow`, ..., `black`), if `id`
-/// names one; the cue ball and the carom balls are the palette's own.
-pub fn ball_look(id: &str) -> Option<BallLook> {
-    let color = match id {
-        "green" => COLOUR_LOOKS[1],
-        "brown" => COLOUR_LOOKS[2],
-        "blue" => COLOUR_LOOKS[3],
-        "pink" => COLOUR_LOOKS[4],
-        "black" => COLOUR_LOOKS[5],
-        _ => {
-            let n: u8 = id.strip_prefix('r')?.parse().ok()?;
-            if !table::is_red(n) {
-                return None;
-            }
-            RED
-        }
-    };
-    Some(BallLook {
-        color,
-        stripe: false,
-        number: None,
-    })
-}
-
-/// The colour a ball of the snooker list is drawn in (a red, a colour, the cue ball white).
-pub fn ball_colour(ball: u8) -> Rgb {
-    match ball {
-        b if table::is_red(b) => RED,
-        b if table::is_colour(b) => COLOUR_LOOKS[usize::from(b - table::YELLOW)],
-        _ => super::palette::CUE_BALL,
-    }
-}
 
 /// The lines chalked on a snooker table, in scene coordinates (m).
 #[derive(Clone, Debug, PartialEq)]
@@ -201,7 +156,7 @@ pub fn button_text(choice: Choice) -> String {
 /// The fill of a choice's button in a snooker game: the ball's own colour for a nomination.
 pub fn button_colour(choice: Choice) -> Option<Rgb> {
     match choice {
-        Choice::Nominate(b) => Some(ball_colour(b)),
+        Choice::Nominate(b) => Some(snooker_ball_colour(b)),
         _ => None,
     }
 }
@@ -221,25 +176,6 @@ mod tests {
             Settings::offline(),
             1,
         )
-    }
-
-    #[test]
-    fn every_snooker_ball_has_its_own_colour_and_none_is_the_cloth() {
-        let ids: Vec<String> = (0..22).map(table::scene_id).collect();
-        for id in &ids[1..] {
-            let look = super::super::palette::ball_look(id);
-            assert_ne!(look.color, super::super::palette::OTHER_BALL, "{id}");
-            assert!(look.number.is_none() && !look.stripe, "{id}");
-        }
-        assert_eq!(ball_look("r7").map(|l| l.color), Some(RED));
-        assert_eq!(ball_look("r16"), None);
-        assert_eq!(ball_look("x"), None);
-        let mut seen = vec![RED, super::super::palette::CLOTH];
-        for c in COLOURS {
-            let rgb = ball_colour(c);
-            assert!(!seen.contains(&rgb), "{c}");
-            seen.push(rgb);
-        }
     }
 
     #[test]
@@ -287,7 +223,10 @@ mod tests {
         let green = game.balls()[usize::from(GREEN)].pos;
         assert_eq!(nomination_at(&game, &options, green), None);
         assert_eq!(button_text(Choice::Nominate(BLUE)), "blue");
-        assert_eq!(button_colour(Choice::Nominate(BLUE)), Some(COLOUR_LOOKS[3]));
+        assert_eq!(
+            button_colour(Choice::Nominate(BLUE)),
+            Some(super::super::palette::SNOOKER_COLOURS[3])
+        );
         assert_eq!(button_colour(Choice::AcceptTable), None);
     }
 }
