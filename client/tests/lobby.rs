@@ -1,6 +1,7 @@
 //! Two strangers in real windows find each other through a server's lobby: each opens *Find
 //! a game* from the menu and asks for a quick match; the server seats them in one rated room,
-//! and both windows show both players' ratings beside their names from the start. The
+//! and both windows show both players' ratings beside their names from the start; when the
+//! server is drained, both are told under the table that their game goes on. The
 //! windows run under a virtual display of their own (Xvfb), driven with `xdotool` and
 //! photographed with ImageMagick's `import`.
 //!
@@ -138,6 +139,24 @@ fn strangers_meet_through_the_lobby_s_quick_match_and_see_both_ratings_beside_th
             "ben's window never showed the table"
         );
         std::thread::sleep(Duration::from_millis(500));
+    }
+    // The operator drains the server (as SIGTERM or `POST /drain` would): both players are
+    // told under the table that their game goes on but no new one starts here.
+    server.stats().start_drain();
+    for (name, window, _) in &windows {
+        let (_, notice) = window.wait_for(0, limit, &format!("{name} told of the drain"), |l| {
+            l.starts_with("chat heard Server: this server is shutting down")
+        });
+        assert!(
+            notice.contains("your game goes on to its end"),
+            "{name}: {notice:?}"
+        );
+    }
+    display.grab(&windows[0].2, &dir.path().join("ann-drain.png"));
+    if let Ok(keep) = std::env::var("BREAKSHOT_SCREENSHOTS") {
+        for png in ["ben.png", "ann-drain.png"] {
+            let _ = std::fs::copy(dir.path().join(png), std::path::Path::new(&keep).join(png));
+        }
     }
     drop(windows);
     drop(server);

@@ -6,9 +6,10 @@ use super::background::BackgroundThread;
 use std::collections::VecDeque;
 use std::net::SocketAddr;
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use breakshot_server::{Config, Server};
+use breakshot_server::{Config, Server, Stats};
 use breakshot_shared::physics::Strike;
 use breakshot_shared::protocol::{ClientMessage, Invite, WebLink};
 use breakshot_shared::rules::{Command, Game, Seat, Settings, TurnId};
@@ -38,6 +39,8 @@ pub struct EmbeddedServer {
     web_link: Option<WebLink>,
     /// The server's key and certificate hashes, for a link to a page published elsewhere.
     web_trust: WebLink,
+    /// What the server counts, and its drain switch.
+    stats: Arc<Stats>,
     /// The server's thread, stopped when this is dropped.
     _thread: BackgroundThread,
 }
@@ -76,6 +79,7 @@ impl EmbeddedServer {
                         cert: server.web_cert_hashes(),
                         ..WebLink::new(server.web_key())
                     },
+                    server.stats(),
                 )));
                 let result = server
                     .run(async {
@@ -89,11 +93,12 @@ impl EmbeddedServer {
         })
         .map_err(|e| HostError::Runtime(e.to_string()))?;
         match ready_rx.recv() {
-            Ok(Ok((addr, invite, web_link, web_trust))) => Ok(EmbeddedServer {
+            Ok(Ok((addr, invite, web_link, web_trust, stats))) => Ok(EmbeddedServer {
                 addr,
                 invite,
                 web_link,
                 web_trust,
+                stats,
                 _thread: thread,
             }),
             // The thread has ended or is ending: dropping it waits for that.
@@ -115,6 +120,12 @@ impl EmbeddedServer {
     /// The page's link to the server (no room), when it serves the web client.
     pub fn web_link(&self) -> Option<&WebLink> {
         self.web_link.as_ref()
+    }
+
+    /// What the server counts; [`Stats::start_drain`] drains it as `SIGTERM` drains
+    /// `breakshot-server` (no new game, the players told, the games in play finished).
+    pub fn stats(&self) -> &Stats {
+        &self.stats
     }
 
     /// The server's invite as this computer dials it (loopback for a wildcard bind).

@@ -4,9 +4,9 @@
 use ::glam::DVec2;
 use breakshot_client::play::leave::{self, LeaveAnswer};
 use breakshot_client::play::{
-    next_level, Advice, AdviceOffer, Advisor, Aim, AimShare, AwayResult, Chat, ChatKey, Context,
-    Controls, CueMode, Drag, GameEvent, GameFlow, GameLink, History, InputFrame, Intent, Key,
-    Prompt, Tool,
+    next_level, Advice, AdviceOffer, Advisor, Aim, AimShare, AwayResult, Chat, ChatKey, ChatLine,
+    Context, Controls, CueMode, Drag, GameEvent, GameFlow, GameLink, History, InputFrame, Intent,
+    Key, Prompt, Tool,
 };
 use breakshot_client::view::aids::{self, AidToggles, Prediction};
 use breakshot_client::view::hud::{self, call_prompt, connection as connection_text, Connection};
@@ -44,6 +44,8 @@ pub struct GameScreen {
     reported: String,
     /// The last line under the table told to whoever watches ("Game resumed", ...).
     reported_message: String,
+    /// The last chat line reported (a player's, or a server's notice such as a drain).
+    reported_chat: Option<ChatLine>,
     /// The turn line, the last verdict's lines and the players' lines as last reported.
     reported_lines: (String, String, String),
     /// The line under a game's result last reported.
@@ -135,6 +137,7 @@ impl GameScreen {
             frame_ms: 0.0,
             reported: String::new(),
             reported_message: String::new(),
+            reported_chat: None,
             reported_lines: Default::default(),
             reported_after: String::new(),
             copied: None,
@@ -956,6 +959,13 @@ impl GameScreen {
         if self.flow.message != self.reported_message {
             self.reported_message = self.flow.message.clone();
             super::report(&format!("message {}", self.reported_message));
+        }
+        let heard = self.flow.chat.lines().last();
+        if heard != self.reported_chat.as_ref() {
+            self.reported_chat = heard.cloned();
+            if let Some(line) = &self.reported_chat {
+                super::report(&format!("chat heard {}", line.shown()));
+            }
         }
         // The turn line over the table and the verdict's lines under it, as the HUD words
         // them (with the players' names).
