@@ -25,7 +25,7 @@ use breakshot_shared::rules::{Game, Phase, Seat, Settings, Variant};
 
 use crate::endings::{Ending, Endings};
 use crate::limits::Limits;
-use crate::lobby::{Listed, Lobby};
+use crate::lobby::{Listed, Listing, Lobby};
 use crate::matchmaking::Queues;
 use crate::output::{ConnId, RoomMeta, RoomOutput, StoreOp};
 use crate::ratelimit::Bucket;
@@ -83,6 +83,8 @@ pub struct Restored {
     pub clock: Option<ClockLeft>,
     /// A quick-match room's players (seat A's key first): its first game is rated.
     pub rated: Option<[PlayerKey; 2]>,
+    /// A room published in the lobby, with its players' keys as far as they are known.
+    pub listed: Option<[Option<PlayerKey>; 2]>,
 }
 
 /// Where a connection is in its handshake.
@@ -448,6 +450,7 @@ impl Hub {
             game,
             clock,
             rated,
+            listed,
         } = restored;
         let rules = RoomRules {
             variant: meta.variant,
@@ -471,6 +474,28 @@ impl Hub {
                     settled: false,
                 },
             );
+        }
+        // Listed in the lobby again as it was: a quick match's room as a rated game in play,
+        // a published one waiting for its second player or in play once it came.
+        if let Some(keys) = rated.map(|keys| keys.map(Some)).or(listed) {
+            let seat = |k: usize| {
+                meta.seats[k].as_ref().map(|s| Listed {
+                    name: s.name.clone(),
+                    key: keys[k],
+                })
+            };
+            let listing = Listing {
+                variant: meta.variant,
+                mode: meta.settings,
+                host: seat(0).unwrap_or(Listed {
+                    name: String::new(),
+                    key: keys[0],
+                }),
+                guest: seat(1),
+                since: now,
+                rated: rated.is_some(),
+            };
+            self.lobby.list(meta.code.clone(), listing);
         }
         let room = Room::restore(now, meta, rules, number, record, game, clock);
         self.index_tokens(&room);
@@ -1049,7 +1074,15 @@ impl Hub {
             self.tokens
                 .insert(TokenDigest::of(&token), (code.clone(), Seat::B));
             let key = self.player_of(conn);
-            self.lobby.seated(&code, Listed { name, key });
+            if let Some(host) = self.lobby.seated(&code, Listed { name, key }) {
+                let listed = StoreOp::Listed {
+                    room: code.clone(),
+                    players: [host, key],
+                };
+                let mut out = self.entered(conn, code, entry);
+                out.insert(0, Output::Room(RoomOutput::Store(listed)));
+                return out;
+            }
         }
         self.entered(conn, code, entry)
     }

@@ -52,11 +52,12 @@ impl Lobby {
         self.rooms.contains_key(room)
     }
 
-    /// `room`'s second seat was taken: it moves from waiting to in play.
-    pub fn seated(&mut self, room: &RoomCode, guest: Listed) {
-        if let Some(l) = self.rooms.get_mut(room) {
-            l.guest = Some(guest);
-        }
+    /// `room`'s second seat was taken: it moves from waiting to in play. Returns the host's
+    /// key when the room is listed.
+    pub fn seated(&mut self, room: &RoomCode, guest: Listed) -> Option<Option<PlayerKey>> {
+        let l = self.rooms.get_mut(room)?;
+        l.guest = Some(guest);
+        Some(l.host.key)
     }
 
     /// `room` closed.

@@ -101,6 +101,15 @@ pub enum StoreOp {
         /// The players' keys, seat A's first.
         players: [PlayerKey; 2],
     },
+    /// A room listed in the lobby (its creator published it), with its players' keys as far
+    /// as they are known (seat A's first; seat B's once it is taken), so that a server that
+    /// restarts or takes the room over lists it again with their ratings.
+    Listed {
+        /// The room.
+        room: RoomCode,
+        /// The players' keys by seat.
+        players: [Option<PlayerKey>; 2],
+    },
     /// A player's rating after a rated game (kept by key, the latest only).
     Rating {
         /// Who.

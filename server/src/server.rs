@@ -742,6 +742,7 @@ fn replayed(stored: StoredGame) -> Option<Restored> {
                 game,
                 clock: stored.clock.map(|c| c.left_at(crate::store::unix_millis())),
                 rated: stored.rated,
+                listed: stored.listed,
             })
         }
         Err(e) => {

@@ -130,6 +130,8 @@ pub struct StoredGame {
     pub clock: Option<StoredClock>,
     /// A quick-match room's players (seat A's key first): its first game is rated.
     pub rated: Option<[PlayerKey; 2]>,
+    /// A room published in the lobby, with its players' keys as far as they are known.
+    pub listed: Option<[Option<PlayerKey>; 2]>,
 }
 
 /// A game's shot clock as the store last wrote it.
@@ -421,9 +423,21 @@ fn seat_of(number: i64) -> Option<Seat> {
 }
 
 /// The players of a rated room's row, if the room has one and both keys are keys.
+fn player_key(k: Option<Vec<u8>>) -> Option<PlayerKey> {
+    <[u8; 32]>::try_from(k?.as_slice()).ok().map(PlayerKey)
+}
+
 fn rated_players(a: Option<Vec<u8>>, b: Option<Vec<u8>>) -> Option<[PlayerKey; 2]> {
-    let key = |k: Option<Vec<u8>>| <[u8; 32]>::try_from(k?.as_slice()).ok().map(PlayerKey);
-    Some([key(a)?, key(b)?])
+    Some([player_key(a)?, player_key(b)?])
+}
+
+/// A listed room's players, when its row (`code`) was found.
+fn listed_players(
+    code: Option<String>,
+    a: Option<Vec<u8>>,
+    b: Option<Vec<u8>>,
+) -> Option<[Option<PlayerKey>; 2]> {
+    code.map(|_| [player_key(a), player_key(b)])
 }
 
 fn encode_meta(meta: &RoomMeta) -> Result<Vec<u8>, StoreError> {

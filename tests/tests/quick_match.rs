@@ -168,6 +168,20 @@ async fn a_rated_game_the_server_restarted_in_is_rated_when_it_ends() -> Result<
         .await?;
         players.push(p);
     }
+    // Listed again as a rated game to watch.
+    let mut finder = Player::connect(&server.invite).await?;
+    finder.send(ClientMessage::ListGames { page: 0 }).await?;
+    match finder
+        .until("the lobby", |m| matches!(m, ServerMessage::Games { .. }))
+        .await?
+    {
+        ServerMessage::Games { playing, .. } => {
+            assert_eq!(playing.len(), 1, "{playing:?}");
+            assert!(playing[0].rated);
+            assert_eq!(playing[0].names, ["ann".to_string(), "bob".to_string()]);
+        }
+        other => bail!("expected the lobby, got {other:?}"),
+    }
     players[1].send(ClientMessage::Concede).await?;
     for _ in 0..2 {
         let told = players[0]
@@ -188,6 +202,37 @@ async fn a_rated_game_the_server_restarted_in_is_rated_when_it_ends() -> Result<
     let stored = Store::open(data.path())?.ratings()?;
     assert_eq!(stored.len(), 2, "both ratings stored: {stored:?}");
     Ok(())
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_published_room_is_listed_again_by_a_server_restarted_on_its_data() -> Result<()> {
+    let data = scratch("lobby-restart");
+    let server = TestServer::start_with(config_at(data.path(), None)).await?;
+    let mut host = Player::connect(&server.invite).await?;
+    let room = breakshot_tests::create_room(&mut host, "ann").await?;
+    host.send(ClientMessage::Publish).await?;
+    host.until("the listing", |m| {
+        matches!(m, ServerMessage::Published { .. })
+    })
+    .await?;
+    server.stop().await?;
+    let server = TestServer::start_with(config_at(data.path(), None)).await?;
+    let mut finder = Player::connect(&server.invite).await?;
+    finder.send(ClientMessage::ListGames { page: 0 }).await?;
+    match finder
+        .until("the lobby", |m| matches!(m, ServerMessage::Games { .. }))
+        .await?
+    {
+        ServerMessage::Games { waiting, .. } => {
+            assert_eq!(waiting.len(), 1, "{waiting:?}");
+            assert_eq!(waiting[0].room, room);
+            assert_eq!(waiting[0].host, "ann");
+        }
+        other => bail!("expected the lobby, got {other:?}"),
+    }
+    // And a stranger joins it from there.
+    finder.join(&room, "bob").await?;
+    server.stop().await
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]

@@ -81,14 +81,34 @@ fn games_survive_reopening_and_finished_ones_are_not_reloaded(open: &dyn Fn() ->
             },
             StoreOp::Room(meta("BBBBBBBB")),
             game("BBBBBBBB"),
+            StoreOp::Room(meta("DDDDDDDD")),
+            game("DDDDDDDD"),
+            // Published while it waited, then listed again once its second player came.
+            StoreOp::Listed {
+                room: RoomCode::parse("DDDDDDDD").unwrap(),
+                players: [Some(players[0]), None],
+            },
+            StoreOp::Listed {
+                room: RoomCode::parse("DDDDDDDD").unwrap(),
+                players: [Some(players[0]), Some(players[1])],
+            },
         ];
         store.apply(&ops.iter().collect::<Vec<_>>()).unwrap();
         store.apply(&[&ended]).unwrap();
     }
     let store = open();
     let unfinished = store.unfinished().unwrap();
-    assert_eq!(unfinished.len(), 1);
+    assert_eq!(unfinished.len(), 2);
     assert_eq!(unfinished[0].meta.code.as_str(), "AAAAAAAA");
+    assert_eq!(
+        unfinished[0].listed, None,
+        "a quick match's room is not published"
+    );
+    assert_eq!(
+        unfinished[1].listed,
+        Some([Some(players[0]), Some(players[1])]),
+        "a published room comes back listed, with its players by seat as last stored"
+    );
     assert_eq!(unfinished[0].record, Ok(record.clone()));
     assert_eq!(
         unfinished[0].meta.seats[0].as_ref().unwrap().digest,
@@ -104,7 +124,11 @@ fn games_survive_reopening_and_finished_ones_are_not_reloaded(open: &dyn Fn() ->
         all.iter()
             .map(|g| (g.meta.code.as_str(), g.finished, g.rated.is_some()))
             .collect::<Vec<_>>(),
-        [("AAAAAAAA", false, true), ("BBBBBBBB", true, false)]
+        [
+            ("AAAAAAAA", false, true),
+            ("BBBBBBBB", true, false),
+            ("DDDDDDDD", false, false)
+        ]
     );
     let ended = store.ended_since(unix_now() - 60).unwrap();
     assert_eq!(ended.len(), 1);

@@ -99,7 +99,15 @@ impl Hub {
                 since: now,
                 rated: false,
             };
+            let players = [listing.host.key, None];
             self.lobby.list(code.clone(), listing);
+            return vec![
+                Output::Room(RoomOutput::Store(StoreOp::Listed {
+                    room: code.clone(),
+                    players,
+                })),
+                send(conn, ServerMessage::Published { room: code }),
+            ];
         }
         vec![send(conn, ServerMessage::Published { room: code })]
     }

@@ -671,6 +671,7 @@ fn a_restored_room_gives_the_player_to_move_the_time_stored_not_a_full_clock() {
             left: Duration::from_secs(22),
         }),
         rated: None,
+        listed: None,
     };
     // A server restores `room` and both players come back: what the second's return sends.
     let back = |room: Restored| {
@@ -1227,6 +1228,7 @@ fn with_a_shared_store_an_unknown_seat_is_claimed_and_its_room_rebuilt_or_refuse
         game: game.clone(),
         clock: None,
         rated: None,
+        listed: None,
     };
     let out = other
         .hub
@@ -1335,6 +1337,59 @@ fn a_public_room_is_listed_until_it_closes_and_a_private_one_never() {
     let out = w.hub.tick(w.now);
     w.settle(out);
     assert_eq!(w.hub.listed(), 0);
+}
+
+/// The listings a hub's output stores, in order.
+fn listings_stored(out: &[Output]) -> Vec<[Option<PlayerKey>; 2]> {
+    out.iter()
+        .filter_map(|o| match o {
+            Output::Room(RoomOutput::Store(StoreOp::Listed { players, .. })) => Some(*players),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn a_listed_room_restarted_or_taken_over_is_listed_again_as_it_was() {
+    let mut w = strangers();
+    let (ann, bob) = (identity(1).public(), identity(2).public());
+    w.send(1, create_room(Settings::online(), "ann"));
+    let out = w.send(1, ClientMessage::Publish);
+    assert_eq!(listings_stored(&out), vec![[Some(ann), None]]);
+    let Some(ServerMessage::Published { room }) = sent_to(&out, 1).first().cloned().cloned() else {
+        panic!("{out:?}");
+    };
+    // The room as the store gives it back, waiting for its second player.
+    let restored = |w: &World, listed| {
+        let left = w.hub.room(&room).unwrap();
+        Restored {
+            meta: left.meta(),
+            number: 1,
+            record: left.record().clone(),
+            game: left.game().clone(),
+            clock: None,
+            rated: None,
+            listed,
+        }
+    };
+    let mut other = strangers();
+    other
+        .hub
+        .restore(other.now, restored(&w, Some([Some(ann), None])));
+    assert_eq!(lobby_page(&mut other, 2), (1, 0), "waiting again");
+    // Once bob joins, the listing is stored again with both keys; brought back then, the
+    // room is a game to watch.
+    let out = w.send(2, join_room(&room, "bob"));
+    assert_eq!(listings_stored(&out), vec![[Some(ann), Some(bob)]]);
+    let mut other = strangers();
+    other
+        .hub
+        .restore(other.now, restored(&w, Some([Some(ann), Some(bob)])));
+    assert_eq!(lobby_page(&mut other, 1), (0, 1), "in play again");
+    // A private room stays private.
+    let mut other = strangers();
+    other.hub.restore(other.now, restored(&w, None));
+    assert_eq!(other.hub.listed(), 0);
 }
 
 #[test]
@@ -1504,10 +1559,12 @@ fn a_rated_room_restarted_or_taken_over_is_rated_where_its_first_game_ends() {
         game: left.game().clone(),
         clock: None,
         rated: Some([ann, bob]),
+        listed: None,
     };
     let back_at = |number| {
         let mut other = strangers();
         other.hub.restore(other.now, restored(number));
+        assert_eq!(other.hub.listed(), 1, "listed again as a game to watch");
         let back = other.send(1, ClientMessage::Rejoin { token: token_a });
         assert!(
             got(&back, 1, |m| matches!(m, ServerMessage::Ratings { .. })),

@@ -22,8 +22,8 @@ use breakshot_shared::protocol::RoomCode;
 use postgres::{Client, NoTls, Statement};
 
 use super::{
-    assemble, decode_meta, encode_meta, rated_players, seat_number, seat_of, stored_format,
-    unix_millis, unix_now, Claim, EndedGame, StoreError, StoredClock, StoredGame,
+    assemble, decode_meta, encode_meta, listed_players, rated_players, seat_number, seat_of,
+    stored_format, unix_millis, unix_now, Claim, EndedGame, StoreError, StoredClock, StoredGame,
 };
 use crate::output::StoreOp;
 use crate::secret::TokenDigest;
@@ -35,6 +35,7 @@ const MIGRATIONS: &[&str] = &[
     include_str!("../../migrations/postgres/0003_clocks.sql"),
     include_str!("../../migrations/postgres/0004_ratings.sql"),
     include_str!("../../migrations/postgres/0005_rated_rooms.sql"),
+    include_str!("../../migrations/postgres/0006_listed_rooms.sql"),
 ];
 
 /// The advisory lock key under which the schema is migrated ("BRKSHOT" in ASCII).
@@ -51,6 +52,7 @@ struct Writes {
     clock: Statement,
     rating: Statement,
     rated_room: Statement,
+    listed_room: Statement,
 }
 
 pub(super) struct PgStore {
@@ -134,6 +136,11 @@ impl PgStore {
                 "INSERT INTO rated_rooms (code, player_a, player_b) VALUES ($1, $2, $3)
                  ON CONFLICT (code) DO NOTHING",
             )?,
+            listed_room: db.prepare(
+                "INSERT INTO listed_rooms (code, player_a, player_b) VALUES ($1, $2, $3)
+                 ON CONFLICT (code) DO UPDATE
+                 SET player_a = excluded.player_a, player_b = excluded.player_b",
+            )?,
         };
         Ok(PgStore {
             db: RefCell::new(db),
@@ -178,7 +185,8 @@ impl PgStore {
                 | StoreOp::Command { room, .. }
                 | StoreOp::GameEnded { room, .. }
                 | StoreOp::Clock { room, .. }
-                | StoreOp::RatedRoom { room, .. } => room,
+                | StoreOp::RatedRoom { room, .. }
+                | StoreOp::Listed { room, .. } => room,
                 StoreOp::Released(_) | StoreOp::Rating { .. } => continue,
             };
             if !self.own(room.as_str())? {
@@ -255,6 +263,10 @@ impl PgStore {
                 StoreOp::RatedRoom { room, players } => {
                     let [a, b] = players.map(|k| k.0.to_vec());
                     tx.execute(&w.rated_room, &[&room.as_str(), &a, &b])?;
+                }
+                StoreOp::Listed { room, players } => {
+                    let [a, b] = players.map(|k| k.map(|k| k.0.to_vec()));
+                    tx.execute(&w.listed_room, &[&room.as_str(), &a, &b])?;
                 }
                 StoreOp::Rating { key, rating } => {
                     tx.execute(
@@ -356,10 +368,12 @@ impl PgStore {
     ) -> Result<Vec<StoredGame>, StoreError> {
         let rows = self.db.borrow_mut().query(
             "SELECT r.code, r.meta, g.number, g.header, g.finished,
-                    c.turn, c.left_ms, c.running, c.at_ms, q.player_a, q.player_b
+                    c.turn, c.left_ms, c.running, c.at_ms, q.player_a, q.player_b,
+                    l.code, l.player_a, l.player_b
              FROM games g JOIN rooms r ON r.code = g.room
              LEFT JOIN clocks c ON c.room = g.room AND c.number = g.number
              LEFT JOIN rated_rooms q ON q.code = g.room
+             LEFT JOIN listed_rooms l ON l.code = g.room
              WHERE ($1 OR NOT g.finished) AND ($2::TEXT IS NULL OR g.room = $2)
              ORDER BY g.room COLLATE \"C\", g.number",
             &[&all, &room],
@@ -394,6 +408,7 @@ impl PgStore {
                 format: stored_format(&header),
                 clock,
                 rated: rated_players(row.get(9), row.get(10)),
+                listed: listed_players(row.get(11), row.get(12), row.get(13)),
             });
         }
         Ok(out)

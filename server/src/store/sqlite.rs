@@ -10,8 +10,8 @@ use breakshot_shared::replay::{self, GameRecord, RecordEntry, RECORD_VERSION};
 use rusqlite::{params, Connection, OptionalExtension};
 
 use super::{
-    assemble, decode_meta, encode_meta, rated_players, seat_number, seat_of, stored_format,
-    unix_millis, unix_now, EndedGame, StoreError, StoredClock, StoredGame,
+    assemble, decode_meta, encode_meta, listed_players, rated_players, seat_number, seat_of,
+    stored_format, unix_millis, unix_now, EndedGame, StoreError, StoredClock, StoredGame,
 };
 use crate::output::StoreOp;
 
@@ -23,8 +23,8 @@ pub const DB_FILE: &str = "games.sqlite3";
 /// becomes the game's header, with no command rows after it. Version 2 may hold records of
 /// format 1 (level strikes, before the cue elevation); on open they are rewritten in the
 /// current format, so a game goes on with rows of one format only. Version 4 adds the table of
-/// rated (quick-match) rooms.
-const SCHEMA: i64 = 4;
+/// rated (quick-match) rooms, version 5 that of the rooms listed in the lobby.
+const SCHEMA: i64 = 5;
 
 pub(super) struct SqliteStore {
     pub(super) db: Connection,
@@ -101,6 +101,11 @@ impl SqliteStore {
                  code TEXT PRIMARY KEY REFERENCES rooms(code),
                  player_a BLOB NOT NULL,
                  player_b BLOB NOT NULL
+             ) WITHOUT ROWID;
+             CREATE TABLE IF NOT EXISTS listed_rooms (
+                 code TEXT PRIMARY KEY REFERENCES rooms(code),
+                 player_a BLOB,
+                 player_b BLOB
              ) WITHOUT ROWID;",
         )?;
         if version < 3 {
@@ -204,6 +209,15 @@ impl SqliteStore {
                         players[0].0.as_slice(),
                         players[1].0.as_slice()
                     ])?;
+                }
+                StoreOp::Listed { room, players } => {
+                    let [a, b] = players.map(|k| k.map(|k| k.0.to_vec()));
+                    tx.prepare_cached(
+                        "INSERT INTO listed_rooms (code, player_a, player_b) VALUES (?1, ?2, ?3)
+                         ON CONFLICT(code) DO UPDATE
+                         SET player_a = excluded.player_a, player_b = excluded.player_b",
+                    )?
+                    .execute(params![room.as_str(), a, b])?;
                 }
                 StoreOp::Rating { key, rating } => {
                     tx.prepare_cached(
@@ -372,10 +386,12 @@ impl SqliteStore {
     fn games(&self, filter: &str) -> Result<Vec<StoredGame>, StoreError> {
         let sql = format!(
             "SELECT r.code, r.meta, g.number, g.header, g.finished,
-                    c.turn, c.left_ms, c.running, c.at_ms, q.player_a, q.player_b
+                    c.turn, c.left_ms, c.running, c.at_ms, q.player_a, q.player_b,
+                    l.code, l.player_a, l.player_b
              FROM games g JOIN rooms r ON r.code = g.room
              LEFT JOIN clocks c ON c.room = g.room AND c.number = g.number
-             LEFT JOIN rated_rooms q ON q.code = g.room {filter}
+             LEFT JOIN rated_rooms q ON q.code = g.room
+             LEFT JOIN listed_rooms l ON l.code = g.room {filter}
              ORDER BY g.room, g.number"
         );
         let mut stmt = self.db.prepare(&sql)?;
@@ -393,11 +409,12 @@ impl SqliteStore {
                     r.get::<_, Option<i64>>(8)?,
                 ),
                 rated_players(r.get(9)?, r.get(10)?),
+                listed_players(r.get(11)?, r.get(12)?, r.get(13)?),
             ))
         })?;
         let mut out = Vec::new();
         for row in rows {
-            let (code, meta, number, header, finished, clock, rated) = row?;
+            let (code, meta, number, header, finished, clock, rated, listed) = row?;
             let record = assemble(&header, self.entries(&code, number)?);
             let meta = decode_meta(&meta).map_err(|why| StoreError::Meta { room: code, why })?;
             out.push(StoredGame {
@@ -408,6 +425,7 @@ impl SqliteStore {
                 format: stored_format(&header),
                 clock,
                 rated,
+                listed,
             });
         }
         Ok(out)
