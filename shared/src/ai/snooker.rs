@@ -333,7 +333,7 @@ mod tests {
     }
 
     #[test]
-    fn short_of_the_pack_the_computer_plays_safe_and_leaves_the_next_player_snookered_at_times() {
+    fn short_of_the_pack_the_computer_leaves_the_reds_safe_every_time_and_a_snooker_at_times() {
         let game = Game::new(
             Variant::Snooker {
                 reds: 6,
@@ -363,9 +363,20 @@ mod tests {
             let left = !verdict.foul
                 && after.to_move() != seat
                 && frame::snookered(after.balls(), &after.legal_first_balls());
+            let best = Layout::new(after.table(), after.balls()).best_pot(
+                after.balls()[0].pos,
+                &after.legal_first_balls(),
+                0.1,
+            );
             eprintln!(
-                "{start:?}: {:?} {:?} snookered {left}",
+                "{start:?}: {:?} {:?} snookered {left} best pot left {best:.2}",
                 plan.kind, verdict.reasons
+            );
+            // The reds left safe: no foul, and no pot worth trying for the next player.
+            assert!(
+                !verdict.foul && best < 0.05,
+                "from {start:?}: {:?}, the next player's best pot {best:.2}",
+                verdict.reasons
             );
             snookered += usize::from(left);
         }
