@@ -10,7 +10,9 @@ use breakshot_client::bot::{run, BotConfig};
 use breakshot_server::ratings::PlayerRating;
 use breakshot_server::store::{Location, Store};
 use breakshot_server::Limits;
-use breakshot_shared::protocol::{ClientMessage, SeatToken, ServerMessage};
+use breakshot_shared::protocol::{
+    ClientMessage, GameInPlay, RoomCode, SeatToken, ServerMessage, WaitingRoom,
+};
 use breakshot_tests::postgres::Cluster;
 use breakshot_tests::{scratch, Player, Reads, TestServer, PATIENCE};
 use skillratings::glicko2::{glicko2, Glicko2Config, Glicko2Rating};
@@ -18,6 +20,41 @@ use skillratings::Outcomes;
 
 /// Both bots connect from 127.0.0.1: the test server lets one address be paired (a public
 /// one does not; `server::matchmaking`'s tests hold that rule).
+/// Ann's room, created and published in the lobby of `server`.
+async fn published(server: &TestServer) -> Result<(Player, RoomCode)> {
+    let mut host = Player::connect(&server.invite).await?;
+    let room = breakshot_tests::create_room(&mut host, "ann").await?;
+    host.send(ClientMessage::Publish).await?;
+    host.until("the listing", |m| {
+        matches!(m, ServerMessage::Published { .. })
+    })
+    .await?;
+    Ok((host, room))
+}
+
+/// Checks that the lobby `p` is sent lists `room`, Ann's, and nothing else waiting.
+async fn assert_waiting(p: &mut Player, room: &RoomCode) -> Result<()> {
+    let (waiting, _) = lobby(p).await?;
+    assert_eq!(waiting.len(), 1, "{waiting:?}");
+    assert_eq!(&waiting[0].room, room);
+    assert_eq!(waiting[0].host, "ann");
+    Ok(())
+}
+
+/// The lobby's first page as `p` is sent it: the rooms waiting and the games in play.
+async fn lobby(p: &mut Player) -> Result<(Vec<WaitingRoom>, Vec<GameInPlay>)> {
+    p.send(ClientMessage::ListGames { page: 0 }).await?;
+    match p
+        .until("the lobby", |m| matches!(m, ServerMessage::Games { .. }))
+        .await?
+    {
+        ServerMessage::Games {
+            waiting, playing, ..
+        } => Ok((waiting, playing)),
+        other => bail!("expected the lobby, got {other:?}"),
+    }
+}
+
 fn config_at(data: &std::path::Path, store: Option<Location>) -> breakshot_server::Config {
     let mut config = TestServer::config(([127, 0, 0, 1], 0).into(), data);
     config.limits = Limits {
@@ -170,18 +207,10 @@ async fn a_rated_game_the_server_restarted_in_is_rated_when_it_ends() -> Result<
     }
     // Listed again as a rated game to watch.
     let mut finder = Player::connect(&server.invite).await?;
-    finder.send(ClientMessage::ListGames { page: 0 }).await?;
-    match finder
-        .until("the lobby", |m| matches!(m, ServerMessage::Games { .. }))
-        .await?
-    {
-        ServerMessage::Games { playing, .. } => {
-            assert_eq!(playing.len(), 1, "{playing:?}");
-            assert!(playing[0].rated);
-            assert_eq!(playing[0].names, ["ann".to_string(), "bob".to_string()]);
-        }
-        other => bail!("expected the lobby, got {other:?}"),
-    }
+    let (_, playing) = lobby(&mut finder).await?;
+    assert_eq!(playing.len(), 1, "{playing:?}");
+    assert!(playing[0].rated);
+    assert_eq!(playing[0].names, ["ann".to_string(), "bob".to_string()]);
     players[1].send(ClientMessage::Concede).await?;
     for _ in 0..2 {
         let told = players[0]
@@ -208,28 +237,11 @@ async fn a_rated_game_the_server_restarted_in_is_rated_when_it_ends() -> Result<
 async fn a_published_room_is_listed_again_by_a_server_restarted_on_its_data() -> Result<()> {
     let data = scratch("lobby-restart");
     let server = TestServer::start_with(config_at(data.path(), None)).await?;
-    let mut host = Player::connect(&server.invite).await?;
-    let room = breakshot_tests::create_room(&mut host, "ann").await?;
-    host.send(ClientMessage::Publish).await?;
-    host.until("the listing", |m| {
-        matches!(m, ServerMessage::Published { .. })
-    })
-    .await?;
+    let (_host, room) = published(&server).await?;
     server.stop().await?;
     let server = TestServer::start_with(config_at(data.path(), None)).await?;
     let mut finder = Player::connect(&server.invite).await?;
-    finder.send(ClientMessage::ListGames { page: 0 }).await?;
-    match finder
-        .until("the lobby", |m| matches!(m, ServerMessage::Games { .. }))
-        .await?
-    {
-        ServerMessage::Games { waiting, .. } => {
-            assert_eq!(waiting.len(), 1, "{waiting:?}");
-            assert_eq!(waiting[0].room, room);
-            assert_eq!(waiting[0].host, "ann");
-        }
-        other => bail!("expected the lobby, got {other:?}"),
-    }
+    assert_waiting(&mut finder, &room).await?;
     // And a stranger joins it from there.
     finder.join(&room, "bob").await?;
     server.stop().await
@@ -238,23 +250,9 @@ async fn a_published_room_is_listed_again_by_a_server_restarted_on_its_data() ->
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_published_room_is_in_the_lobby_and_a_queued_player_can_leave() -> Result<()> {
     let (_data, server) = TestServer::start_fresh("lobby").await?;
-    let mut host = Player::connect(&server.invite).await?;
-    let room = breakshot_tests::create_room(&mut host, "ann").await?;
-    host.send(ClientMessage::Publish).await?;
-    host.until("the listing", |m| {
-        matches!(m, ServerMessage::Published { .. })
-    })
-    .await?;
+    let (_host, room) = published(&server).await?;
     let mut finder = Player::connect(&server.invite).await?;
-    finder.send(ClientMessage::ListGames { page: 0 }).await?;
-    match finder.recv().await? {
-        ServerMessage::Games { waiting, .. } => {
-            assert_eq!(waiting.len(), 1);
-            assert_eq!(waiting[0].room, room);
-            assert_eq!(waiting[0].host, "ann");
-        }
-        other => bail!("expected the lobby, got {other:?}"),
-    }
+    assert_waiting(&mut finder, &room).await?;
     // A player who queues and leaves is out of the queue; one who drops is too.
     finder
         .send(ClientMessage::QuickMatch {
