@@ -432,7 +432,7 @@ pub fn collision_time(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -
 
 /// A collision between touching balls `a` and `b` of which one at least is in flight:
 /// restitution `e` along the 3-D line of centres, equal masses, then, with `friction`, the
-/// same Coulomb friction at the contact as on the cloth ([`ball_ball::friction_impulse`]),
+/// same Coulomb friction at the contact as on the cloth (`ball_ball::friction_impulse`),
 /// acting in 3-D: its vertical part goes to the balls, not to the cloth.
 pub fn collide(
     states: &mut [BallState],

@@ -96,7 +96,7 @@ fn margin(travel: f64) -> f64 {
 /// `dr`, `dv`, `da`), or `None` when it never does. Along `n = dr/|dr|` the length is at
 /// least `n·d(τ) = |dr| + u·τ + ½·w·τ²` (`u = n·dv`, `w = n·da`), so contact needs the
 /// closing `−u·τ − ½·w·τ²` to reach the gap `|dr| − distance`. The closing rates are raised
-/// by a billionth of `|dv|` and `|da|` and the gap lowered by a margin ([`margin`]), far above
+/// by a billionth of `|dv|` and `|da|` and the gap lowered by a margin (`margin`), far above
 /// their rounding, so the bound is never above a contact the solver can find in
 /// `[0, t_max]`.
 pub fn contact_bound(dr: DVec2, dv: DVec2, da: DVec2, distance: f64, t_max: f64) -> Option<f64> {

@@ -32,7 +32,7 @@
 //! - Touching ball: playing away from a touching ball that is on is no foul.
 //! - The frame ends on the last black potted, or, with only the black left, on the first
 //!   foul, if the scores then differ; tied, the black is re-spotted, the cue ball in hand
-//!   for the player drawn by lot, and the next score or foul decides. [`Command::Concede`]
+//!   for the player drawn by lot, and the next score or foul decides. [`Command::Concede`](super::Command::Concede)
 //!   concedes the frame (at any time: there is no referee to judge it unsporting); the match
 //!   is won by the first to win more than half its frames.
 //! - Out of time on a stroke: a foul of the ball on's value (at least 4); the next player

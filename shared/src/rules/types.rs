@@ -149,7 +149,7 @@ pub enum Command {
     /// Strike the cue ball. `call` is the pocket (index into the table's pockets) the
     /// shooter calls: required for the 8, and for every shot with `call_every_shot`.
     Shot {
-        /// The strike on the shooter's cue ball ([`Game::cue_ball`]).
+        /// The strike on the shooter's cue ball ([`Game::cue_ball`](super::Game::cue_ball)).
         strike: Strike,
         /// The called pocket, 0..6; `None` when nothing is called.
         call: Option<u8>,
