@@ -17,7 +17,7 @@ pub async fn fetch_record(server: &Invite, room: &RoomCode) -> Result<FetchedRec
 
 /// Fetches the record of game `game` of `room` (numbered from 1; `None`: the latest), as
 /// [`fetch_record`] does. A number the room has not reached is refused with
-/// [`ErrorCode::NoSuchGame`], whose message says how many games it has.
+/// [`ErrorCode::NoSuchGame`](breakshot_shared::protocol::ErrorCode::NoSuchGame), whose message says how many games it has.
 pub async fn fetch_game(
     server: &Invite,
     room: &RoomCode,

@@ -510,7 +510,7 @@ impl Layout {
         }
     }
 
-    /// The chat's rows, top to bottom: as many as its box holds at [`CHAT_ROW`] pixels or
+    /// The chat's rows, top to bottom: as many as its box holds at `CHAT_ROW` pixels or
     /// more each (three in a 640 x 480 window), the last for the line being typed.
     pub fn chat_rows(&self) -> Vec<Rect> {
         let c = self.chat;
