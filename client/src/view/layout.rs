@@ -665,6 +665,28 @@ pub fn lobby_row(h: f32) -> f32 {
     (0.05 * h).clamp(24.0, 44.0)
 }
 
+/// The top of the lobby's first row (its headings sit a row above it) in a window `h` high.
+pub fn lobby_top(h: f32) -> f32 {
+    0.2 * h
+}
+
+/// The buttons beside the lobby's lists in a `w` x `h` window: one for each of `waiting`
+/// rooms (join), then, after a row's gap, one for each of `playing` games (watch).
+pub fn lobby_rows(w: f32, h: f32, waiting: usize, playing: usize) -> (Vec<Rect>, Vec<Rect>) {
+    let row_h = lobby_row(h);
+    let button_w = (0.14 * w).max(90.0);
+    let x = w - 0.06 * w - button_w;
+    let column = |first: f32, rows: usize| -> Vec<Rect> {
+        (0..rows)
+            .map(|i| Rect::new(x, first + i as f32 * row_h, button_w, row_h * 0.9))
+            .collect()
+    };
+    let top = lobby_top(h);
+    let join = column(top, waiting);
+    let watch = column(top + (waiting + 1) as f32 * row_h, playing);
+    (join, watch)
+}
+
 /// The lobby's bottom bar in a `w` x `h` window: its buttons from left to right, evenly
 /// spread along the bottom.
 pub fn lobby_bar(w: f32, h: f32) -> [Rect; LOBBY_BAR] {
