@@ -197,7 +197,9 @@ fn a_page_on_the_servers_link_is_paired_by_the_lobbys_quick_match_with_a_native_
 
     let (mut page, (w, h)) = open_lobby(&served, 0);
     let quick = lobby_bar(w, h)[QUICK_MATCH];
-    tapped_until(&mut page, middle(quick), "screen game");
+    // Tapped until the page queues (a tap after that would leave the queue).
+    tapped_until(&mut page, middle(quick), "lobby queued");
+    wait_for_event(&mut page, "screen game", PATIENCE);
     let joined = within(&served.runtime, "Quinn seated", {
         next(&mut quinn, |m| matches!(m, ServerMessage::Joined { .. }))
     });

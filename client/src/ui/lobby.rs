@@ -8,7 +8,7 @@ use std::collections::VecDeque;
 use breakshot_client::net::{Entry, NetLink, Port, Seating, SessionEvent};
 use breakshot_client::play::{GameLink, InputFrame, Key};
 use breakshot_client::view::{
-    hud::variant_name, lobby_bar, lobby_row, lobby_rows, lobby_top, Rect, LOBBY_BAR,
+    hud::variant_name, lobby_bar, lobby_line, lobby_row, lobby_rows, lobby_top, Rect, LOBBY_BAR,
 };
 use breakshot_shared::protocol::{ClientMessage, GameInPlay, ServerMessage, WaitingRoom};
 use breakshot_shared::rules::{EightBallRules, Settings, Variant};
@@ -364,6 +364,7 @@ impl LobbyScreen {
                     match server.connect() {
                         Ok(mut session) => {
                             session.enter(Entry::QuickMatch(ask));
+                            report("lobby queued for a quick match");
                             self.queue = Some(Queue {
                                 session,
                                 waiting: 0,
@@ -395,15 +396,8 @@ impl LobbyScreen {
         let size = 48.0f32.min(0.08 * h);
         draw::centred(title, 0.1 * h, size, WHITE);
         let row_h = lobby_row(h);
-        let text_w = 0.7 * w;
         let line = |text: &str, y: f32, c: Color| {
-            draw::label_in(
-                text,
-                Rect::new(0.06 * w, y, text_w, row_h * 0.9),
-                22.0,
-                Align::Left,
-                c,
-            );
+            draw::label_in(text, lobby_line(w, h, y), 22.0, Align::Left, c);
         };
         let heading = Color::from_rgba(200, 220, 200, 255);
         let mut y = lobby_top(h);

@@ -670,12 +670,26 @@ pub fn lobby_top(h: f32) -> f32 {
     0.2 * h
 }
 
+/// Where the buttons beside the lobby's lists stand across a window `w` wide, and their
+/// width (at least a word's, in a narrow window).
+fn lobby_button_column(w: f32) -> (f32, f32) {
+    let button_w = (0.14 * w).max(90.0);
+    (w - 0.06 * w - button_w, button_w)
+}
+
+/// The box of a lobby's line of text at height `y` in a `w` x `h` window: from the left
+/// margin to just short of the buttons beside it.
+pub fn lobby_line(w: f32, h: f32, y: f32) -> Rect {
+    let left = 0.06 * w;
+    let (buttons, _) = lobby_button_column(w);
+    Rect::new(left, y, buttons - left - 0.01 * w, lobby_row(h) * 0.9)
+}
+
 /// The buttons beside the lobby's lists in a `w` x `h` window: one for each of `waiting`
 /// rooms (join), then, after a row's gap, one for each of `playing` games (watch).
 pub fn lobby_rows(w: f32, h: f32, waiting: usize, playing: usize) -> (Vec<Rect>, Vec<Rect>) {
     let row_h = lobby_row(h);
-    let button_w = (0.14 * w).max(90.0);
-    let x = w - 0.06 * w - button_w;
+    let (x, button_w) = lobby_button_column(w);
     let column = |first: f32, rows: usize| -> Vec<Rect> {
         (0..rows)
             .map(|i| Rect::new(x, first + i as f32 * row_h, button_w, row_h * 0.9))
