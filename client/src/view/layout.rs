@@ -1177,6 +1177,32 @@ mod tests {
     }
 
     #[test]
+    fn the_lobby_s_buttons_are_inside_the_window_apart_and_clear_of_its_lines() {
+        // A desktop, a small window and a phone held upright.
+        for (w, h) in [(1280.0, 720.0), (640.0, 480.0), (390.0, 844.0)] {
+            let screen = Rect::new(0.0, 0.0, w, h);
+            let (join, watch) = lobby_rows(w, h, 2, 3);
+            assert_eq!((join.len(), watch.len()), (2, 3));
+            // The games to watch start a row (their heading's) after the rooms to join.
+            let gap = watch[0].y - (join[1].y + join[1].h);
+            assert!(gap > lobby_row(h), "{w}x{h}: {gap}");
+            let mut all: Vec<Rect> = join.iter().chain(&watch).copied().collect();
+            all.extend(lobby_bar(w, h));
+            for (i, r) in all.iter().enumerate() {
+                assert!(screen.holds(r), "{w}x{h}: {r:?}");
+                assert!(
+                    all[i + 1..].iter().all(|q| !q.overlaps(r)),
+                    "{w}x{h}: {r:?}"
+                );
+            }
+            for row in join.iter().chain(&watch) {
+                let line = lobby_line(w, h, row.y);
+                assert!(!line.overlaps(row), "{w}x{h}: {line:?} runs under {row:?}");
+            }
+        }
+    }
+
+    #[test]
     fn the_replay_page_s_buttons_are_inside_the_window_and_apart() {
         for (w, h) in [(1280.0, 720.0), (640.0, 480.0), (400.0, 300.0)] {
             let p = replay_page(w, h, 40);
