@@ -142,6 +142,18 @@ fn seated_with(served: &Served, page: &mut Page<'_>, seat: Seat, other: &str) {
     );
 }
 
+/// Waits until the native player `client` is told that the friend took `seat`.
+fn told_of_the_friend(served: &Served, client: &mut Client, seat: Seat) {
+    let joined = within(&served.runtime, "the native player told of the friend", {
+        next(client, |m| matches!(m, ServerMessage::PlayerJoined { .. }))
+    });
+    let want = ServerMessage::PlayerJoined {
+        seat,
+        name: FRIEND.into(),
+    };
+    assert_eq!(joined, want);
+}
+
 #[test]
 fn a_page_on_the_servers_link_finds_a_public_room_in_the_lobby_and_joins_it_with_one_tap() {
     let Some(served) = served("web-lobby-join") else {
@@ -160,18 +172,7 @@ fn a_page_on_the_servers_link_finds_a_public_room_in_the_lobby_and_joins_it_with
     tapped_until(&mut page, middle(join[0]), "screen game");
     seated_with(&served, &mut page, Seat::B, "Rosa");
     // And Rosa is told her room's other seat is the friend's.
-    let joined = within(&served.runtime, "Rosa told of the friend", {
-        next(&mut rosa, |m| {
-            matches!(m, ServerMessage::PlayerJoined { .. })
-        })
-    });
-    assert_eq!(
-        joined,
-        ServerMessage::PlayerJoined {
-            seat: Seat::B,
-            name: FRIEND.into()
-        }
-    );
+    told_of_the_friend(&served, &mut rosa, Seat::B);
 }
 
 #[test]
@@ -212,24 +213,9 @@ fn a_page_on_the_servers_link_is_paired_by_the_lobbys_quick_match_with_a_native_
     };
     // The friend is in the other seat: already in the room's picture, or announced.
     let theirs = seat.other();
-    let friend = Some(FRIEND.to_owned());
-    if snapshot.seats[theirs.index()]
-        .as_ref()
-        .map(|s| s.name.clone())
-        != friend
-    {
-        let joined = within(&served.runtime, "Quinn told of the friend", {
-            next(&mut quinn, |m| {
-                matches!(m, ServerMessage::PlayerJoined { .. })
-            })
-        });
-        assert_eq!(
-            joined,
-            ServerMessage::PlayerJoined {
-                seat: theirs,
-                name: FRIEND.into()
-            }
-        );
+    let seated = snapshot.seats[theirs.index()].as_ref();
+    if seated.map(|s| s.name.as_str()) != Some(FRIEND) {
+        told_of_the_friend(&served, &mut quinn, theirs);
     }
     seated_with(&served, &mut page, theirs, "Quinn");
 }
