@@ -116,8 +116,9 @@ fn open_lobby(served: &Served, waiting: usize) -> (Page<'_>, (f32, f32)) {
 }
 
 /// Waits until the page plays in seat `seat` of a game it shares with `other`, and shows its
-/// table: the page's players line names both, and the cloth covers much of the screen.
-fn seated_with(served: &Served, page: &mut Page<'_>, seat: Seat, other: &str) {
+/// table: the page's players line names both (that line is returned), and the cloth covers
+/// much of the screen.
+fn seated_with(served: &Served, page: &mut Page<'_>, seat: Seat, other: &str) -> String {
     wait_for_event(page, &format!("game playing seat={seat:?}"), PATIENCE);
     wait_for_event(page, "players ", PATIENCE);
     let said = events(page);
@@ -140,6 +141,7 @@ fn seated_with(served: &Served, page: &mut Page<'_>, seat: Seat, other: &str) {
         cloth * 4 > area,
         "no table: the cloth covers only {cloth} of {area} pixels"
     );
+    line.clone()
 }
 
 /// Waits until the native player `client` is told that the friend took `seat`.
@@ -217,5 +219,16 @@ fn a_page_on_the_servers_link_is_paired_by_the_lobbys_quick_match_with_a_native_
     if seated.map(|s| s.name.as_str()) != Some(FRIEND) {
         told_of_the_friend(&served, &mut quinn, theirs);
     }
-    seated_with(&served, &mut page, theirs, "Quinn");
+    // A quick match is rated: both new players' ratings come (after the room) and stand
+    // beside their names.
+    let rated = "(window.breakshotEvents || [])\
+        .some(e => e.startsWith('players ') && e.split(' 1500').length == 3)";
+    if let Err(e) = page.wait_until(rated, PATIENCE) {
+        panic!("no ratings beside the names: {e}\n{}", events(&mut page));
+    }
+    let players = seated_with(&served, &mut page, theirs, "Quinn");
+    assert!(
+        players.contains("Quinn (") && players.matches(" 1500").count() == 2,
+        "{players}"
+    );
 }
