@@ -66,7 +66,7 @@ async fn fetch_replay(link: &WebLink) -> Result<ReplayViewer, String> {
         .room
         .clone()
         .ok_or("This replay link names no game: ask for the game's link")?;
-    let (invite, way) = way_to_server(link, room.clone())?;
+    let (invite, way) = way_to_server(link, Some(room.clone()))?;
     let mut polled = Polled::new(
         PlayerCore::new(
             invite,

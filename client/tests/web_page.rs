@@ -18,7 +18,12 @@ use breakshot_testkit::browser::{browser_or_skip, near, Browser, LaunchOptions, 
 use breakshot_testkit::web::{bundle, skip_web};
 use breakshot_testkit::{read_line, scratch, Spawned, TempDir};
 
-const PATIENCE: Duration = Duration::from_secs(60);
+#[allow(dead_code)]
+mod common;
+
+use common::page::{
+    events, keep_screenshot, said_starting, tapped_until, wait_for_event, wait_for_input, PATIENCE,
+};
 
 /// A ball's colours: strongly coloured, unlike the cloth, the wood and the text.
 fn coloured(p: [u8; 4]) -> bool {
@@ -71,19 +76,6 @@ fn hosted(name: &str) -> Option<Hosted> {
     })
 }
 
-/// Saves a screenshot of `page` as `name` in the folder `BREAKSHOT_SCREENSHOTS` names, if any.
-fn keep_screenshot(page: &mut Page<'_>, name: &str) {
-    if let Ok(dir) = std::env::var("BREAKSHOT_SCREENSHOTS") {
-        let png = page.screenshot_png().expect("a screenshot");
-        std::fs::write(Path::new(&dir).join(name), png).expect("saved");
-    }
-}
-
-/// The page's condition that one of its events starts with `prefix`.
-fn said_starting(prefix: &str) -> String {
-    format!("(window.breakshotEvents || []).some(e => e.startsWith({prefix:?}))")
-}
-
 /// Where the scene's point `p` is on the screen, in the page's pixels.
 fn on_screen(layout: &Layout, p: glam::DVec2) -> (f64, f64) {
     let [x, y] = layout.to_screen(p);
@@ -113,30 +105,6 @@ fn host(dir: &Path, bundle: &Path) -> Option<(Spawned, String, String)> {
     Some((host, invite.trim().to_owned(), link.trim().to_owned()))
 }
 
-fn events(page: &mut Page<'_>) -> String {
-    page.eval("JSON.stringify(window.breakshotEvents || [])")
-        .map(|v| v.as_str().unwrap_or_default().to_owned())
-        .unwrap_or_default()
-}
-
-fn wait_for_event(page: &mut Page<'_>, prefix: &str, limit: Duration) {
-    let condition = said_starting(prefix);
-    if let Err(e) = page.wait_until(&condition, limit) {
-        panic!(
-            "the page never said {prefix:?}: {e}\nits events: {}",
-            events(page)
-        );
-    }
-}
-
-/// Waits until the page takes input: the game's first screen is made before the loader
-/// installs its mouse, touch and drop handlers, so a tap sent at once would be lost.
-fn wait_for_input(page: &mut Page<'_>) {
-    if let Err(e) = page.wait_until("typeof window.ondrop === 'function'", PATIENCE) {
-        panic!("the page never took input: {e}");
-    }
-}
-
 /// The most points of `points` on one row and on one column.
 fn spans(points: &[(u32, u32)]) -> (usize, usize) {
     let mut rows = std::collections::HashMap::new();
@@ -163,18 +131,7 @@ fn open_practice(hosted: &Hosted) -> (Page<'_>, Layout, Game) {
     keep_screenshot(&mut page, "web-menu.png");
     let buttons = menu_buttons(phone.width as f32, phone.height as f32, 4);
     let [x, y] = buttons[0].center();
-    // A slow machine may take the tap before the menu's first frame: tap again, as a
-    // person would, a few times.
-    let practice = "(window.breakshotEvents || []).includes('screen practice')";
-    let opened = (0..6).any(|_| {
-        page.tap((x as f64, y as f64)).expect("a tap");
-        page.wait_until(practice, Duration::from_secs(10)).is_ok()
-    });
-    assert!(
-        opened,
-        "tapping Practice opened nothing: {}",
-        events(&mut page)
-    );
+    tapped_until(&mut page, (x as f64, y as f64), "screen practice");
     std::thread::sleep(Duration::from_millis(500));
     let (layout, practice) = phone_practice();
     (page, layout, practice)

@@ -203,6 +203,14 @@ impl Transport for PageSocket {
     }
 }
 
+/// A socket given up closes its connection: the plugin would otherwise keep it open (the
+/// browser answers the server's pings by itself), and the server a player who has left.
+impl Drop for PageSocket {
+    fn drop(&mut self) {
+        self.close();
+    }
+}
+
 /// The page's link (docs/web.md), read and parsed once.
 pub fn link() -> &'static Result<WebLink, WebLinkError> {
     static LINK: std::sync::OnceLock<Result<WebLink, WebLinkError>> = std::sync::OnceLock::new();

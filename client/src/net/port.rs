@@ -38,6 +38,26 @@ pub trait Port {
     fn seating(&self) -> &Seating;
 }
 
+/// A port chosen as the program runs (the lobby's, a `Session` natively or a
+/// [`PolledSession`] in the page) is a port.
+impl<P: Port + ?Sized> Port for Box<P> {
+    fn send(&mut self, msg: ClientMessage) -> bool {
+        (**self).send(msg)
+    }
+
+    fn enter(&mut self, entry: Entry) -> bool {
+        (**self).enter(entry)
+    }
+
+    fn try_recv(&mut self) -> Option<SessionEvent> {
+        (**self).try_recv()
+    }
+
+    fn seating(&self) -> &Seating {
+        (**self).seating()
+    }
+}
+
 /// A [`Port`] over the frame-polled driver: every [`Port::try_recv`] first advances the
 /// core to the time `clock` tells.
 pub struct PolledSession<T: Transport> {

@@ -393,8 +393,7 @@ pub fn label(text: &str, x: f32, y: f32, size: f32, c: Color) {
     draw_text(text, x, y, size * text_scale(), c);
 }
 
-/// A [`label`] centred across the window, its baseline at `y` (the native screens' pages).
-#[cfg(not(target_arch = "wasm32"))]
+/// A [`label`] centred across the window, its baseline at `y` (the pages' titles and notices).
 pub fn centred(text: &str, y: f32, size: f32, c: Color) {
     label(
         text,

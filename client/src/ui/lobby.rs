@@ -1,20 +1,28 @@
 //! *Find a game*: a server's lobby. It lists the public rooms waiting for a player (join
 //! with one click) and the games in play (watch with one click), a page at a time, and
-//! offers a quick match. The server is the invite on the clipboard, else the one whose lobby
-//! was opened last (remembered in the data directory).
+//! offers a quick match. The same screen in the window and in the page: only where the
+//! server comes from and how a connection to it is opened differ (`reach`).
 
-use breakshot_client::memory;
 use std::collections::VecDeque;
 
-use breakshot_client::net::{Entry, NetLink, Port, SeatStore, Seating, Session, SessionEvent};
-use breakshot_client::play::{InputFrame, Key};
-use breakshot_client::view::{hud::variant_name, lobby_bar, lobby_row, Rect, LOBBY_BAR};
-use breakshot_shared::protocol::{ClientMessage, GameInPlay, Invite, ServerMessage, WaitingRoom};
+use breakshot_client::net::{Entry, NetLink, Port, Seating, SessionEvent};
+use breakshot_client::play::{GameLink, InputFrame, Key};
+use breakshot_client::view::{
+    hud::variant_name, lobby_bar, lobby_line, lobby_row, lobby_rows, lobby_top, Rect, LOBBY_BAR,
+};
+use breakshot_shared::protocol::{ClientMessage, GameInPlay, ServerMessage, WaitingRoom};
 use breakshot_shared::rules::{EightBallRules, Settings, Variant};
 use macroquad::prelude::*;
 
 use super::draw::{self, Align};
-use super::{Start, Step};
+use super::{report, Start, Step};
+
+// The window's clipboard and data directory, or the page's link.
+#[cfg_attr(not(target_arch = "wasm32"), path = "lobby/native.rs")]
+#[cfg_attr(target_arch = "wasm32", path = "lobby/page.rs")]
+mod reach;
+
+use reach::Server;
 
 /// The least time between two pages asked for (the server limits them too).
 const REFRESH: f64 = 1.0;
@@ -34,7 +42,7 @@ enum Click {
 /// A session that found its match while this screen watched it: the events it read (the
 /// connection and the room joined) are handed to the game screen first, as if unread.
 struct Matched {
-    session: Session,
+    session: Box<dyn Port>,
     unread: VecDeque<SessionEvent>,
 }
 
@@ -58,7 +66,7 @@ impl Port for Matched {
 
 /// Waiting in the quick-match queue, on a connection of its own.
 struct Queue {
-    session: Session,
+    session: Box<dyn Port>,
     /// Players waiting in the queue, as the server last said.
     waiting: u32,
     /// When the wait began (seconds, the window's clock).
@@ -66,8 +74,8 @@ struct Queue {
 }
 
 pub struct LobbyScreen {
-    server: Option<Invite>,
-    session: Option<Session>,
+    server: Option<Server>,
+    session: Option<Box<dyn Port>>,
     queue: Option<Queue>,
     page: u32,
     pages: u32,
@@ -77,24 +85,6 @@ pub struct LobbyScreen {
     mouse: [f32; 2],
     /// When a page was last asked for (seconds, the window's clock).
     asked: f64,
-}
-
-/// The server to show: the invite on the clipboard, else the one remembered.
-fn server() -> Option<Invite> {
-    let clipboard =
-        macroquad::miniquad::window::clipboard_get().and_then(|t| t.trim().parse::<Invite>().ok());
-    let remembered = || crate::ui::data_dir().and_then(|d| memory::last_server(&d));
-    clipboard.or_else(remembered).map(|mut i| {
-        i.room = None;
-        i
-    })
-}
-
-/// The player's name, as the menu's other games use it.
-fn name() -> String {
-    crate::ui::data_dir()
-        .and_then(|d| memory::player_name(&d, None).ok())
-        .unwrap_or_else(|| "player".to_owned())
 }
 
 /// A rating as shown beside a name.
@@ -138,11 +128,6 @@ pub fn playing_line(g: &GameInPlay) -> String {
 
 impl LobbyScreen {
     pub fn new() -> LobbyScreen {
-        let server = server();
-        let message = match &server {
-            Some(_) => "Connecting...".to_owned(),
-            None => "Copy a server's address (breakshot://...) and press Refresh".to_owned(),
-        };
         let mut screen = LobbyScreen {
             server: None,
             session: None,
@@ -151,21 +136,38 @@ impl LobbyScreen {
             pages: 1,
             waiting: Vec::new(),
             playing: Vec::new(),
-            message,
+            message: String::new(),
             mouse: [-1.0, -1.0],
             asked: f64::NEG_INFINITY,
         };
-        screen.connect(server);
+        screen.connect();
         screen
     }
 
-    fn connect(&mut self, server: Option<Invite>) {
-        let Some(server) = server else { return };
-        if let Some(data) = crate::ui::data_dir() {
-            let _ = memory::remember_server(&data, &server);
+    /// Shows `message` on the status line (and tells whoever watches).
+    fn say(&mut self, message: String) {
+        report(&format!("lobby says {message}"));
+        self.message = message;
+    }
+
+    /// Connects to the server found (the one already found, else looks for one).
+    fn connect(&mut self) {
+        let found = match self.server.take() {
+            Some(server) => Ok(server),
+            None => Server::find(),
+        };
+        let opened = found.and_then(|server| {
+            let session = server.connect();
+            self.server = Some(server);
+            session
+        });
+        match opened {
+            Ok(session) => {
+                self.session = Some(session);
+                self.say("Connecting...".to_owned());
+            }
+            Err(why) => self.say(why),
         }
-        self.session = Some(Session::connect(server.clone()));
-        self.server = Some(server);
     }
 
     fn ask(&mut self) {
@@ -173,7 +175,7 @@ impl LobbyScreen {
         if now - self.asked < REFRESH {
             return;
         }
-        if let Some(s) = &self.session {
+        if let Some(s) = &mut self.session {
             if s.send(ClientMessage::ListGames { page: self.page }) {
                 self.asked = now;
             }
@@ -183,24 +185,19 @@ impl LobbyScreen {
     /// The buttons: one per row (join or watch), then the bar at the bottom.
     fn layout(&self) -> Vec<(Click, &'static str, Rect)> {
         let (w, h) = (screen_width(), screen_height());
-        let row_h = lobby_row(h);
-        let button_w = (0.14 * w).max(90.0);
-        let x = w - 0.06 * w - button_w;
-        let mut out = Vec::new();
-        let mut y = 0.2 * h;
-        let join: fn(usize) -> Click = Click::Join;
-        let lists = [
-            (self.waiting.len(), join, "Join"),
-            (self.playing.len(), Click::Watch, "Watch"),
-        ];
-        for (rows, click, label) in lists {
-            for i in 0..rows {
-                out.push((click(i), label, Rect::new(x, y, button_w, row_h * 0.9)));
-                y += row_h;
-            }
-            // A row's gap after the waiting rooms, before the games to watch.
-            y += row_h;
-        }
+        let (join, watch) = lobby_rows(w, h, self.waiting.len(), self.playing.len());
+        let mut out: Vec<(Click, &'static str, Rect)> = Vec::new();
+        out.extend(
+            join.into_iter()
+                .enumerate()
+                .map(|(i, r)| (Click::Join(i), "Join", r)),
+        );
+        out.extend(
+            watch
+                .into_iter()
+                .enumerate()
+                .map(|(i, r)| (Click::Watch(i), "Watch", r)),
+        );
         let quick = if self.queue.is_some() {
             "Cancel"
         } else {
@@ -222,36 +219,39 @@ impl LobbyScreen {
     pub fn update(&mut self, input: &InputFrame) -> Step {
         self.mouse = input.mouse;
         let mut connected = false;
-        if let Some(session) = &mut self.session {
-            while let Some(event) = session.try_recv() {
-                match event {
-                    SessionEvent::Connected => {
-                        self.message = String::new();
-                        connected = true;
-                    }
-                    SessionEvent::Message(ServerMessage::Games {
-                        page,
-                        pages,
-                        waiting,
-                        playing,
-                    }) => {
-                        (self.page, self.pages) = (page, pages);
-                        (self.waiting, self.playing) = (waiting, playing);
-                        if self.waiting.is_empty() && self.playing.is_empty() {
-                            self.message = "No public game right now: try a quick match".to_owned();
-                        }
-                    }
-                    SessionEvent::Message(ServerMessage::Draining { message })
-                    | SessionEvent::Message(ServerMessage::Error { message, .. }) => {
-                        self.message = message;
-                    }
-                    SessionEvent::Closed(why) => {
-                        self.message = format!("No connection: {why}");
-                        self.session = None;
-                        break;
-                    }
-                    _ => {}
+        while let Some(event) = self.session.as_mut().and_then(|s| s.try_recv()) {
+            match event {
+                SessionEvent::Connected => {
+                    self.message = String::new();
+                    connected = true;
                 }
+                SessionEvent::Message(ServerMessage::Games {
+                    page,
+                    pages,
+                    waiting,
+                    playing,
+                }) => {
+                    report(&format!(
+                        "lobby page {} of {pages}: waiting={} playing={}",
+                        page + 1,
+                        waiting.len(),
+                        playing.len()
+                    ));
+                    (self.page, self.pages) = (page, pages);
+                    (self.waiting, self.playing) = (waiting, playing);
+                    if self.waiting.is_empty() && self.playing.is_empty() {
+                        self.message = "No public game right now: try a quick match".to_owned();
+                    }
+                }
+                SessionEvent::Message(ServerMessage::Draining { message })
+                | SessionEvent::Message(ServerMessage::Error { message, .. }) => {
+                    self.say(message);
+                }
+                SessionEvent::Closed(why) => {
+                    self.say(format!("No connection: {why}"));
+                    self.session = None;
+                }
+                _ => {}
             }
         }
         if connected {
@@ -278,7 +278,7 @@ impl LobbyScreen {
     }
 
     /// Follows the wait for a quick match; once a room is joined, the game's link.
-    fn poll_queue(&mut self) -> Option<Box<dyn breakshot_client::play::GameLink>> {
+    fn poll_queue(&mut self) -> Option<Box<dyn GameLink>> {
         let queue = self.queue.as_mut()?;
         let mut unread = VecDeque::new();
         while let Some(event) = queue.session.try_recv() {
@@ -300,7 +300,7 @@ impl LobbyScreen {
                     message: reason, ..
                 })
                 | SessionEvent::Closed(reason) => {
-                    self.message = reason;
+                    self.say(reason);
                     self.queue = None;
                     return None;
                 }
@@ -312,11 +312,13 @@ impl LobbyScreen {
     }
 
     fn clicked(&mut self, click: Click) -> Step {
-        let Some(server) = self.server.clone() else {
-            if click == Click::Back {
-                return Step::Open(Start::Menu);
-            }
-            self.connect(server());
+        if click == Click::Back {
+            return Step::Open(Start::Menu);
+        }
+        let Some(server) = &self.server else {
+            // No server yet: a click looks for one again (an invite may be on the clipboard
+            // now).
+            self.connect();
             return Step::Stay;
         };
         match click {
@@ -324,53 +326,57 @@ impl LobbyScreen {
                 let Some(w) = self.waiting.get(i) else {
                     return Step::Stay;
                 };
-                let invite = Invite {
-                    room: Some(w.room.clone()),
-                    ..server
-                };
-                let seats = crate::ui::data_dir().map(|d| SeatStore::new(&d));
-                match NetLink::join(invite, &name(), seats) {
+                let invite = server.invite(w.room.clone());
+                let joined = server.connect().and_then(|session| {
+                    NetLink::joining(session, invite, &server.player_name(), server.seats())
+                        .map_err(|e| e.to_string())
+                });
+                match joined {
                     Ok(link) => return Step::Open(Start::Network(Box::new(link))),
-                    Err(e) => self.message = e.to_string(),
+                    Err(e) => self.say(e),
                 }
             }
             Click::Watch(i) => {
                 let Some(g) = self.playing.get(i) else {
                     return Step::Stay;
                 };
-                let session = Session::connect(server);
-                session.enter(Entry::Spectate {
-                    room: g.room.clone(),
-                });
-                return Step::Open(Start::Network(Box::new(NetLink::new(session))));
+                let room = g.room.clone();
+                match server.connect() {
+                    Ok(mut session) => {
+                        session.enter(Entry::Spectate { room });
+                        return Step::Open(Start::Network(Box::new(NetLink::new(session))));
+                    }
+                    Err(e) => self.say(e),
+                }
             }
             Click::QuickMatch => match self.queue.take() {
                 // Leaving the queue; closing the connection would take the player out too.
-                Some(queue) => {
+                Some(mut queue) => {
                     queue.session.send(ClientMessage::LeaveQueue);
-                    self.message = "You left the queue".into();
+                    self.say("You left the queue".into());
                 }
                 None => {
-                    let session = Session::connect(server);
-                    session.enter(Entry::QuickMatch(ClientMessage::QuickMatch {
+                    let ask = ClientMessage::QuickMatch {
                         variant: Variant::EightBall(EightBallRules::Wpa),
                         mode: Settings::online(),
-                        name: name(),
-                    }));
-                    self.queue = Some(Queue {
-                        session,
-                        waiting: 0,
-                        since: get_time(),
-                    });
+                        name: server.player_name(),
+                    };
+                    match server.connect() {
+                        Ok(mut session) => {
+                            session.enter(Entry::QuickMatch(ask));
+                            report("lobby queued for a quick match");
+                            self.queue = Some(Queue {
+                                session,
+                                waiting: 0,
+                                since: get_time(),
+                            });
+                        }
+                        Err(e) => self.say(e),
+                    }
                 }
             },
-            Click::Refresh => {
-                if self.session.is_none() {
-                    self.connect(Some(server));
-                } else {
-                    self.ask();
-                }
-            }
+            Click::Refresh if self.session.is_none() => self.connect(),
+            Click::Refresh => self.ask(),
             Click::Previous if self.page > 0 => {
                 self.page -= 1;
                 self.ask();
@@ -379,8 +385,7 @@ impl LobbyScreen {
                 self.page += 1;
                 self.ask();
             }
-            Click::Previous | Click::Next => {}
-            Click::Back => return Step::Open(Start::Menu),
+            Click::Previous | Click::Next | Click::Back => {}
         }
         Step::Stay
     }
@@ -391,19 +396,12 @@ impl LobbyScreen {
         let size = 48.0f32.min(0.08 * h);
         draw::centred(title, 0.1 * h, size, WHITE);
         let row_h = lobby_row(h);
-        let text_w = 0.7 * w;
         let line = |text: &str, y: f32, c: Color| {
-            draw::label_in(
-                text,
-                Rect::new(0.06 * w, y, text_w, row_h * 0.9),
-                22.0,
-                Align::Left,
-                c,
-            );
+            draw::label_in(text, lobby_line(w, h, y), 22.0, Align::Left, c);
         };
         let heading = Color::from_rgba(200, 220, 200, 255);
-        line("Waiting for a player", 0.2 * h - row_h, heading);
-        let mut y = 0.2 * h;
+        let mut y = lobby_top(h);
+        line("Waiting for a player", y - row_h, heading);
         for room in &self.waiting {
             line(&waiting_line(room), y, WHITE);
             y += row_h;

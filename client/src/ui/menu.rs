@@ -43,8 +43,9 @@ const ITEMS: [(Item, &str); 10] = [
 ];
 
 #[cfg(target_arch = "wasm32")]
-const ITEMS: [(Item, &str); 5] = [
+const ITEMS: [(Item, &str); 6] = [
     (Item::Join, "Join the game of the link"),
+    (Item::Lobby, "Find a game"),
     (Item::Practice, "Practice"),
     (Item::Drills, "Drills"),
     (Item::Computer, "Play the computer"),
@@ -172,13 +173,16 @@ impl MenuScreen {
     }
 
     fn buttons() -> Vec<(Item, &'static str, Rect)> {
-        // A page without a game in its link has nothing to join.
+        // A page without a game in its link has nothing to join, and one without a usable
+        // link no server whose games to find.
         #[cfg(target_arch = "wasm32")]
         let offered = |item: &&(Item, &str)| {
-            item.0 != Item::Join
-                || breakshot_client::net::page::link()
-                    .as_ref()
-                    .is_ok_and(|l| l.room.is_some())
+            let link = breakshot_client::net::page::link().as_ref();
+            match item.0 {
+                Item::Join => link.is_ok_and(|l| l.room.is_some()),
+                Item::Lobby => link.is_ok(),
+                _ => true,
+            }
         };
         #[cfg(not(target_arch = "wasm32"))]
         let offered = |_: &&(Item, &str)| true;
@@ -253,10 +257,7 @@ impl MenuScreen {
             #[cfg(target_arch = "wasm32")]
             Item::Replay => {}
             Item::Quit => return Step::Quit,
-            #[cfg(not(target_arch = "wasm32"))]
             Item::Lobby => return Step::Open(Start::Lobby),
-            #[cfg(target_arch = "wasm32")]
-            Item::Lobby => {}
         }
         Step::Stay
     }

@@ -7,7 +7,6 @@ mod game;
 mod hud;
 mod input;
 mod invite;
-#[cfg(not(target_arch = "wasm32"))]
 mod lobby;
 mod menu;
 #[cfg(target_arch = "wasm32")]
@@ -59,7 +58,6 @@ pub enum Start {
     /// A game over the network (hosted here, or joined).
     Network(Box<dyn GameLink>),
     /// A server's lobby: public games to join or watch, and quick match.
-    #[cfg(not(target_arch = "wasm32"))]
     Lobby,
 }
 
@@ -147,7 +145,6 @@ fn open(start: Start, seed: Option<u64>) -> anyhow::Result<Screen> {
     };
     let screen = match start {
         Start::Menu => Screen::Menu(menu::MenuScreen::new()),
-        #[cfg(not(target_arch = "wasm32"))]
         Start::Lobby => Screen::Lobby(Box::new(lobby::LobbyScreen::new())),
         Start::Network(link) => game(link, Connection::Connecting),
         Start::Local(variant) => game(
@@ -175,7 +172,6 @@ fn open(start: Start, seed: Option<u64>) -> anyhow::Result<Screen> {
     };
     report(match screen {
         Screen::Menu(_) => "screen menu",
-        #[cfg(not(target_arch = "wasm32"))]
         Screen::Lobby(_) => "screen lobby",
         Screen::Practice(_) => "screen practice",
         Screen::Replay(_) => "screen replay",
@@ -186,7 +182,6 @@ fn open(start: Start, seed: Option<u64>) -> anyhow::Result<Screen> {
 
 pub enum Screen {
     Menu(menu::MenuScreen),
-    #[cfg(not(target_arch = "wasm32"))]
     Lobby(Box<lobby::LobbyScreen>),
     Practice(Box<practice::PracticeScreen>),
     Replay(Box<replay::ReplayScreen>),
@@ -197,7 +192,6 @@ impl Screen {
     fn update(&mut self, input: &InputFrame) -> Step {
         match self {
             Screen::Menu(s) => s.update(input),
-            #[cfg(not(target_arch = "wasm32"))]
             Screen::Lobby(s) => s.update(input),
             Screen::Practice(s) => s.update(input),
             Screen::Replay(s) => s.update(input),
@@ -209,7 +203,6 @@ impl Screen {
     fn shot(&self) -> Option<&Playback> {
         match self {
             Screen::Menu(_) => None,
-            #[cfg(not(target_arch = "wasm32"))]
             Screen::Lobby(_) => None,
             Screen::Practice(s) => s.shot(),
             Screen::Replay(s) => s.shot(),
@@ -231,7 +224,6 @@ impl Screen {
     fn draw(&mut self) {
         match self {
             Screen::Menu(s) => s.draw(),
-            #[cfg(not(target_arch = "wasm32"))]
             Screen::Lobby(s) => s.draw(),
             Screen::Practice(s) => s.draw(),
             Screen::Replay(s) => s.draw(),

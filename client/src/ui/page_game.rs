@@ -1,6 +1,6 @@
 //! The game a page's link names (docs/web.md): joining it or watching it, the player's name,
 //! and the way to its server, WebTransport first, else the WebSocket under Noise. The page's
-//! start and its menu both open it from here.
+//! start and its menu both open it from here, and the lobby its connections to the server.
 
 use breakshot_client::net::noise::Noised;
 use breakshot_client::net::page::{self, PageSocket, Way as PageWay};
@@ -21,7 +21,7 @@ const NAME_KEY: &str = "breakshot.name";
 
 /// The player's name: the link's `name=` (kept for next time), else the name kept from an
 /// earlier visit, else [`PAGE_NAME`].
-fn player_name(link: &WebLink) -> String {
+pub(crate) fn player_name(link: &WebLink) -> String {
     if let Some(name) = &link.name {
         page::store(NAME_KEY, name);
         return name.clone();
@@ -33,17 +33,21 @@ fn player_name(link: &WebLink) -> String {
 }
 
 /// The link, read, or why it cannot be used.
-fn usable_link() -> Result<&'static WebLink, String> {
+pub(crate) fn usable_link() -> Result<&'static WebLink, String> {
     page::link()
         .as_ref()
         .map_err(|e| format!("This link is damaged ({e}): ask for a new one"))
 }
 
-/// The page's way to the game server of `link`: the invite the player core dials and the
-/// transports to try.
-type Way = WebWay<PageSocket, Noised<PageSocket>>;
+/// The page's way to the game server of `link`: WebTransport, the WebSocket, or both.
+pub(crate) type Way = WebWay<PageSocket, Noised<PageSocket>>;
 
-pub(crate) fn way_to_server(link: &WebLink, room: RoomCode) -> Result<(Invite, Way), String> {
+/// The invite the player core dials to reach the game server of `link` (and `room`, if
+/// given), and the transports to try.
+pub(crate) fn way_to_server(
+    link: &WebLink,
+    room: Option<RoomCode>,
+) -> Result<(Invite, Way), String> {
     let server = match &link.server {
         Some(server) => server.clone(),
         None => page::page_host()
@@ -68,10 +72,22 @@ pub(crate) fn way_to_server(link: &WebLink, room: RoomCode) -> Result<(Invite, W
     // native certificate's fingerprint, which it has no way to check.
     let invite = Invite {
         servers: vec![server],
-        room: Some(room),
+        room,
         fingerprint: Fingerprint([0; 32]),
     };
     Ok((invite, WebWay::new(first, fallback)))
+}
+
+/// A session to the server of `invite` over `way`, connecting at once (and again when the
+/// connection drops), advanced each time the frame loop polls it.
+pub(crate) fn session(invite: &Invite, way: Way) -> PolledSession<Way> {
+    let core = PlayerCore::new(
+        invite.clone(),
+        Reconnect::default(),
+        breakshot_client::net::for_connection(),
+        clock::now(),
+    );
+    PolledSession::new(Polled::new(core, way), clock::now)
 }
 
 /// Joins (or watches) the game of the link's room.
@@ -81,14 +97,8 @@ pub(crate) fn join_link() -> Result<Box<dyn GameLink>, String> {
         .room
         .clone()
         .ok_or("This page's link names no game: ask the host for the game's link")?;
-    let (invite, way) = way_to_server(link, room.clone())?;
-    let core = PlayerCore::new(
-        invite.clone(),
-        Reconnect::default(),
-        breakshot_client::net::for_connection(),
-        clock::now(),
-    );
-    let session = PolledSession::new(Polled::new(core, way), clock::now);
+    let (invite, way) = way_to_server(link, Some(room.clone()))?;
+    let session = session(&invite, way);
     let game: NetLink<_> = if link.watch {
         let mut session = session;
         session.enter(Entry::Spectate { room });

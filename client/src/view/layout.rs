@@ -665,6 +665,42 @@ pub fn lobby_row(h: f32) -> f32 {
     (0.05 * h).clamp(24.0, 44.0)
 }
 
+/// The top of the lobby's first row (its headings sit a row above it) in a window `h` high.
+pub fn lobby_top(h: f32) -> f32 {
+    0.2 * h
+}
+
+/// Where the buttons beside the lobby's lists stand across a window `w` wide, and their
+/// width (at least a word's, in a narrow window).
+fn lobby_button_column(w: f32) -> (f32, f32) {
+    let button_w = (0.14 * w).max(90.0);
+    (w - 0.06 * w - button_w, button_w)
+}
+
+/// The box of a lobby's line of text at height `y` in a `w` x `h` window: from the left
+/// margin to just short of the buttons beside it.
+pub fn lobby_line(w: f32, h: f32, y: f32) -> Rect {
+    let left = 0.06 * w;
+    let (buttons, _) = lobby_button_column(w);
+    Rect::new(left, y, buttons - left - 0.01 * w, lobby_row(h) * 0.9)
+}
+
+/// The buttons beside the lobby's lists in a `w` x `h` window: one for each of `waiting`
+/// rooms (join), then, after a row's gap, one for each of `playing` games (watch).
+pub fn lobby_rows(w: f32, h: f32, waiting: usize, playing: usize) -> (Vec<Rect>, Vec<Rect>) {
+    let row_h = lobby_row(h);
+    let (x, button_w) = lobby_button_column(w);
+    let column = |first: f32, rows: usize| -> Vec<Rect> {
+        (0..rows)
+            .map(|i| Rect::new(x, first + i as f32 * row_h, button_w, row_h * 0.9))
+            .collect()
+    };
+    let top = lobby_top(h);
+    let join = column(top, waiting);
+    let watch = column(top + (waiting + 1) as f32 * row_h, playing);
+    (join, watch)
+}
+
 /// The lobby's bottom bar in a `w` x `h` window: its buttons from left to right, evenly
 /// spread along the bottom.
 pub fn lobby_bar(w: f32, h: f32) -> [Rect; LOBBY_BAR] {
@@ -1137,6 +1173,32 @@ mod tests {
                 assert!(b.y >= 0.0 && b.y + b.h <= h, "{w}x{h}: {b:?}");
             }
             assert!(buttons.windows(2).all(|p| p[0].y + p[0].h < p[1].y));
+        }
+    }
+
+    #[test]
+    fn the_lobby_s_buttons_are_inside_the_window_apart_and_clear_of_its_lines() {
+        // A desktop, a small window and a phone held upright.
+        for (w, h) in [(1280.0, 720.0), (640.0, 480.0), (390.0, 844.0)] {
+            let screen = Rect::new(0.0, 0.0, w, h);
+            let (join, watch) = lobby_rows(w, h, 2, 3);
+            assert_eq!((join.len(), watch.len()), (2, 3));
+            // The games to watch start a row (their heading's) after the rooms to join.
+            let gap = watch[0].y - (join[1].y + join[1].h);
+            assert!(gap > lobby_row(h), "{w}x{h}: {gap}");
+            let mut all: Vec<Rect> = join.iter().chain(&watch).copied().collect();
+            all.extend(lobby_bar(w, h));
+            for (i, r) in all.iter().enumerate() {
+                assert!(screen.holds(r), "{w}x{h}: {r:?}");
+                assert!(
+                    all[i + 1..].iter().all(|q| !q.overlaps(r)),
+                    "{w}x{h}: {r:?}"
+                );
+            }
+            for row in join.iter().chain(&watch) {
+                let line = lobby_line(w, h, row.y);
+                assert!(!line.overlaps(row), "{w}x{h}: {line:?} runs under {row:?}");
+            }
         }
     }
 

@@ -20,8 +20,8 @@ pub mod tray;
 pub use camera::{area, Camera, Orbit, ViewKind};
 pub use flight::{flight, Flight};
 pub use layout::{
-    lobby_bar, lobby_row, menu_buttons, replay_page, Frame, Layout, Rect, ReplayPageBoxes,
-    CUSHION_WIDTH, LOBBY_BAR, RAIL_WIDTH,
+    lobby_bar, lobby_line, lobby_row, lobby_rows, lobby_top, menu_buttons, replay_page, Frame,
+    Layout, Rect, ReplayPageBoxes, CUSHION_WIDTH, LOBBY_BAR, RAIL_WIDTH,
 };
 pub use orientation::Orientations;
 pub use playback::{Playback, PocketDrop, Stroke};
