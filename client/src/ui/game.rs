@@ -284,10 +284,13 @@ impl GameScreen {
             let at = layout.to_scene(input.mouse);
             let nomination = input
                 .left_pressed
-                .then(|| view_snooker::nomination_at(&game, options, at))
+                .then(|| view_snooker::nomination_at(&game, *seat, options, at))
                 .flatten();
-            if let Some(choice) = nomination {
-                self.link.send(&game, *seat, Command::Decide(choice));
+            if let Some(answer) = nomination {
+                match answer {
+                    Ok(choice) => self.link.send(&game, *seat, Command::Decide(choice)),
+                    Err(why) => self.flow.handle(GameEvent::Refused(why)),
+                }
                 input.left_pressed = false;
             }
         }
