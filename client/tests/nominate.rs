@@ -76,6 +76,12 @@ fn pixel(p: [f32; 2]) -> [f32; 2] {
     [p[0].round(), p[1].round()]
 }
 
+/// Three places on the power bar to click: a third of its height and more.
+fn powers(layout: &Layout) -> [[f32; 2]; 3] {
+    let bar = layout.power_bar;
+    [0.35f32, 0.5, 0.7].map(|f| pixel([bar.x + 0.5 * bar.w, bar.y + (1.0 - f) * bar.h]))
+}
+
 /// The strokes worth trying from `game`: at each red on the table, towards each pocket
 /// (through the ghost ball), a pixel or so either side, at three powers.
 fn candidates(game: &Game) -> Vec<Stroke> {
@@ -88,13 +94,9 @@ fn candidates(game: &Game) -> Vec<Stroke> {
         .iter()
         .map(|p| table.to_scene(p.center))
         .collect();
-    let bar = layout.power_bar;
-    let powers =
-        [0.35f32, 0.5, 0.7].map(|f| pixel([bar.x + 0.5 * bar.w, bar.y + (1.0 - f) * bar.h]));
-    let (lo, hi) = (
-        DVec2::splat(2.0 * r),
-        2.0 * table::d_centre().x * DVec2::X + DVec2::new(-2.0 * r, 3.4),
-    );
+    let powers = powers(&layout);
+    let (w, l) = game.table().size().expect("the snooker table's size");
+    let (lo, hi) = (DVec2::splat(2.0 * r), DVec2::new(w, l) - 2.0 * r);
     let mut out = Vec::new();
     for red in (1..=table::LAST_RED).filter(|&b| !game.balls()[usize::from(b)].motion.is_gone()) {
         let at = game.balls()[usize::from(red)].pos;
@@ -157,6 +159,13 @@ fn next_stroke(game: &Game) -> (Stroke, Game) {
         .or_else(|| tried.iter().find(|(_, g)| shooting(g)))
         .cloned()
         .expect("a stroke with no foul")
+}
+
+/// Plays `stroke` in window `wid`.
+fn play(display: &Display, wid: &str, stroke: &Stroke) {
+    click(display, wid, stroke.power);
+    point(display, wid, stroke.aim);
+    display.xdotool(&["key", "space"]);
 }
 
 /// Clicks window `wid` at `at` (its pixels).
@@ -259,9 +268,7 @@ fn a_colour_is_nominated_by_a_click_on_the_ball_or_on_its_button_and_a_red_is_re
     for k in 0.. {
         assert!(k < STROKES, "no red potted in {STROKES} strokes");
         let (stroke, after) = next_stroke(&game);
-        click(&display, &wid, stroke.power);
-        point(&display, &wid, stroke.aim);
-        display.xdotool(&["key", "space"]);
+        play(&display, &wid, &stroke);
         game = after;
         let want = hud_status(&game);
         window.wait_for(0, PATIENCE, &format!("stroke {k}: {want}"), |l| {
@@ -344,6 +351,45 @@ fn a_colour_is_nominated_by_a_click_on_the_ball_or_on_its_button_and_a_red_is_re
     shown("red", "the black still ringed", &|p| {
         ringed(p, &game, BLACK) >= 9
     });
+
+    // A foul and a miss (the red hit first, the black on): the other player is offered the
+    // choices as buttons over the trays, and a click on "replace the balls" puts them back
+    // for the offender to play again.
+    let foul = Stroke {
+        power: powers(&screen)[1],
+        aim: pixel(screen.to_screen(game.balls()[usize::from(red)].pos)),
+    };
+    let before = game.clone();
+    game = played(&game, &foul).expect("the foul is a stroke the rules take");
+    let Phase::Deciding { options } = game.phase().clone() else {
+        panic!("no choice after the foul: {:?}", game.phase());
+    };
+    assert!(options.contains(&Choice::ReplaceBalls), "{options:?}");
+    play(&display, &wid, &foul);
+    let want = hud_status(&game);
+    window.wait_for(0, PATIENCE, &format!("the foul: {want}"), |l| {
+        l == format!("status {want}")
+    });
+    let screen = layout(&game);
+    let buttons = choice_buttons(&screen, &options);
+    let (_, replace) = *buttons
+        .iter()
+        .find(|(c, _)| *c == Choice::ReplaceBalls)
+        .expect("a button to replace the balls");
+    shown("choices", "the choices' buttons", &|p| {
+        buttons
+            .iter()
+            .all(|(_, r)| shaded(p.at(r.x + 3.0, r.y + 0.5 * r.h), [30, 60, 120], 30.0))
+    });
+    click(&display, &wid, middle(replace));
+    game.apply(game.to_move(), &Rules::Decide(Choice::ReplaceBalls))
+        .expect("the balls replaced");
+    assert_eq!(game.balls(), before.balls(), "the balls are not back");
+    let want = hud_status(&game);
+    window.wait_for(0, PATIENCE, &format!("the balls replaced: {want}"), |l| {
+        l == format!("status {want}")
+    });
+    assert!(want.starts_with(&format!("{seat} to shoot")), "{want}");
     drop(window);
 }
 
