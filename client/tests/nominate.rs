@@ -3,7 +3,8 @@
 //! person makes it (the cue ball dragged into the D, the power bar clicked, the cue pointed
 //! with the mouse, Space); then, on a colour, a click on the blue nominates it, the black's
 //! button in the row over the trays nominates the black, and a click on a red nominates
-//! nothing and says why. The window runs under a virtual display of its own (Xvfb), driven
+//! nothing and says why; last a foul and a miss offers the other player its choices as
+//! buttons, and a click on "replace the balls" puts them back. The window runs under a virtual display of its own (Xvfb), driven
 //! with `xdotool`, photographed with ImageMagick's `import`, and says what it shows in its
 //! `report:` lines. The strokes are found here by the same rules and physics the window
 //! plays them with, from the very pixels clicked.
