@@ -4,6 +4,7 @@
 
 pub mod aids;
 mod camera;
+mod choices;
 mod flight;
 pub mod hud;
 mod layout;
@@ -18,6 +19,7 @@ mod trail;
 pub mod tray;
 
 pub use camera::{area, Camera, Orbit, ViewKind};
+pub use choices::{choice_at, choice_buttons};
 pub use flight::{flight, Flight};
 pub use layout::{
     lobby_bar, lobby_line, lobby_row, lobby_rows, lobby_top, menu_buttons, replay_page, Frame,

@@ -5,7 +5,7 @@
 use ::glam::DVec2;
 use breakshot_shared::rules::snooker::frame::{BallOn, Snooker};
 use breakshot_shared::rules::snooker::table::{self, colour_name, COLOURS};
-use breakshot_shared::rules::{Choice, Game, Phase, Seat};
+use breakshot_shared::rules::{Choice, Command, Game, Phase, Seat};
 
 use super::palette::{snooker_ball_colour, Rgb};
 
@@ -125,20 +125,35 @@ pub fn nominable(options: &[Choice]) -> Vec<u8> {
         .collect()
 }
 
-/// The nomination a click at `at` (scene coordinates) makes: the nominable ball under it, if
-/// it is not nominated already.
-pub fn nomination_at(game: &Game, options: &[Choice], at: DVec2) -> Option<Choice> {
+/// What a click at `at` (scene coordinates) nominates while the options offer nominations:
+/// the ball under it, if it is not nominated already and not the cue ball; `Err` with the
+/// rules' reason when that ball cannot be nominated (a red when a colour is to be), so that
+/// the click is answered rather than taken for aiming.
+pub fn nomination_at(
+    game: &Game,
+    seat: Seat,
+    options: &[Choice],
+    at: DVec2,
+) -> Option<Result<Choice, String>> {
+    let offered = nominable(options);
+    if offered.is_empty() {
+        return None;
+    }
     let r = game.params().ball_radius;
     let nominated = game.snooker().and_then(|m| m.nominated);
-    nominable(options)
-        .into_iter()
-        .filter(|&b| Some(b) != nominated)
-        .find(|&b| {
-            game.balls()
-                .get(usize::from(b))
-                .is_some_and(|s| !s.motion.is_gone() && (s.pos - at).length() <= r)
-        })
-        .map(Choice::Nominate)
+    let ball = (1..game.balls().len()).find(|&b| {
+        let s = &game.balls()[b];
+        !s.motion.is_gone() && (s.pos - at).length() <= r
+    })?;
+    let ball = u8::try_from(ball).ok().filter(|&b| Some(b) != nominated)?;
+    if offered.contains(&ball) {
+        return Some(Ok(Choice::Nominate(ball)));
+    }
+    match game.check(seat, &Command::Decide(Choice::Nominate(ball))) {
+        Err(why) => Some(Err(why.to_string())),
+        // The rules would take what the options do not offer: not for a click to decide.
+        Ok(()) => None,
+    }
 }
 
 /// The words on a choice's button: a colour's name for a nomination ("blue"), the rules'
@@ -207,21 +222,28 @@ mod tests {
     }
 
     #[test]
-    fn a_click_on_a_nominable_ball_nominates_it_and_a_click_elsewhere_does_not() {
+    fn a_click_on_a_nominable_ball_nominates_it_on_another_says_why_not_and_elsewhere_aims() {
         let game = six_reds();
+        let seat = game.to_move();
         let options = [Choice::Nominate(BLUE), Choice::Nominate(BLACK)];
-        let blue = game.balls()[usize::from(BLUE)].pos;
+        let at = |ball: u8| game.balls()[usize::from(ball)].pos;
         assert_eq!(
-            nomination_at(&game, &options, blue + DVec2::new(0.01, 0.0)),
-            Some(Choice::Nominate(BLUE))
+            nomination_at(&game, seat, &options, at(BLUE) + DVec2::new(0.01, 0.0)),
+            Some(Ok(Choice::Nominate(BLUE)))
         );
         assert_eq!(
-            nomination_at(&game, &options, blue + DVec2::new(0.2, 0.0)),
+            nomination_at(&game, seat, &options, at(BLUE) + DVec2::new(0.2, 0.0)),
             None
         );
-        // The green is on the table but not offered.
-        let green = game.balls()[usize::from(GREEN)].pos;
-        assert_eq!(nomination_at(&game, &options, green), None);
+        // The green is on the table but not offered: the rules say why.
+        let Some(Err(why)) = nomination_at(&game, seat, &options, at(GREEN)) else {
+            panic!("the green nominated");
+        };
+        assert!(why.contains("green"), "{why}");
+        // The cue ball is never nominated, and with no nomination offered a click on a ball
+        // is left to aim.
+        assert_eq!(nomination_at(&game, seat, &options, at(0)), None);
+        assert_eq!(nomination_at(&game, seat, &[], at(BLUE)), None);
         assert_eq!(button_text(Choice::Nominate(BLUE)), "blue");
         assert_eq!(
             button_colour(Choice::Nominate(BLUE)),
