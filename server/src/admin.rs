@@ -183,6 +183,35 @@ pub fn metrics(stats: &Stats) -> String {
         "Time per durable store write (one group commit).",
         &stats.store_write_time,
     );
+    for (name, help, h) in [
+        (
+            "breakshot_hub_wait_seconds",
+            "From a message's frame read to the hub thread taking it up.",
+            &stats.hub_wait,
+        ),
+        (
+            "breakshot_hub_seconds",
+            "The hub thread's time on one message.",
+            &stats.hub_time,
+        ),
+        (
+            "breakshot_worker_wait_seconds",
+            "From a room lent out with a message to a worker starting on it.",
+            &stats.worker_wait,
+        ),
+        (
+            "breakshot_worker_seconds",
+            "A worker's time on one room's message (rules and simulation).",
+            &stats.worker_time,
+        ),
+        (
+            "breakshot_writer_wait_seconds",
+            "From results handed to the writer thread to the writer taking them up.",
+            &stats.writer_wait,
+        ),
+    ] {
+        histogram(&mut out, name, help, h);
+    }
     header(
         &mut out,
         "breakshot_queue_players",

@@ -825,7 +825,7 @@ fn spawn_hub(
         if stats.is_draining() {
             // The first time: every player is told, and the queues are emptied.
             let told = hub.drain();
-            if !told.is_empty() && writer.send(WriterMsg::Batch(told, None)).is_err() {
+            if !told.is_empty() && writer.send(WriterMsg::batch(told, None)).is_err() {
                 return;
             }
         }
@@ -870,6 +870,9 @@ fn spawn_hub(
             Ok(HubEvent::Message(_, _, at)) => Some(*at),
             _ => None,
         };
+        if let Some(read) = read {
+            stats.hub_wait.record(now.saturating_duration_since(read));
+        }
         let out = match event {
             Ok(HubEvent::Connected(id, addr)) => {
                 hub.connected(now, id, addr);
@@ -888,10 +891,13 @@ fn spawn_hub(
         if hub.next_deadline().is_some_and(|d| d <= now) {
             out.extend(hub.tick(now));
         }
+        if read.is_some() {
+            stats.hub_time.record(now.elapsed());
+        }
         let (work, out): (Vec<_>, Vec<_>) =
             out.into_iter().partition(|o| matches!(o, Output::Run(_)));
         // What the hub said goes to the writer before any room it lent out can answer.
-        if !out.is_empty() && writer.send(WriterMsg::Batch(out, read)).is_err() {
+        if !out.is_empty() && writer.send(WriterMsg::batch(out, read)).is_err() {
             return;
         }
         for o in work {
@@ -899,7 +905,13 @@ fn spawn_hub(
             let writer = writer.clone();
             let back = back.clone();
             let hook = workers.hook.clone();
+            let stats = stats.clone();
+            let lent = Instant::now();
             workers.pool.run(move || {
+                let started = Instant::now();
+                stats
+                    .worker_wait
+                    .record(started.saturating_duration_since(lent));
                 let code = work.room().clone();
                 let read = work.read;
                 // A panic here is a bug in a room; it must cost that room only, not the
@@ -910,12 +922,13 @@ fn spawn_hub(
                     }
                     work.run(Instant::now())
                 }));
+                stats.worker_time.record(started.elapsed());
                 match ran {
                     Ok((out, room)) => {
                         // The room's results reach the writer before the room is back at
                         // the hub, so its next results always come after these.
                         let out = out.into_iter().map(Output::Room).collect();
-                        let _ = writer.send(WriterMsg::Batch(out, Some(read)));
+                        let _ = writer.send(WriterMsg::batch(out, Some(read)));
                         let _ = back.send(HubEvent::Returned(room));
                     }
                     Err(_) => {
@@ -939,12 +952,13 @@ fn spawn_writer(
         let mut conns: BTreeMap<ConnId, Outlet> = BTreeMap::new();
         while let Ok(first) = inbox.recv() {
             // Group commit: everything already waiting goes into one transaction.
+            let taken = Instant::now();
             let mut msgs = vec![first];
             msgs.extend(inbox.try_iter());
             let ops: Vec<_> = msgs
                 .iter()
                 .filter_map(|m| match m {
-                    WriterMsg::Batch(out, _) => Some(out.iter().filter_map(|o| match o {
+                    WriterMsg::Batch { out, .. } => Some(out.iter().filter_map(|o| match o {
                         Output::Room(RoomOutput::Store(op)) => Some(op),
                         _ => None,
                     })),
@@ -970,7 +984,10 @@ fn spawn_writer(
                     WriterMsg::Unregister(id) => {
                         conns.remove(&id);
                     }
-                    WriterMsg::Batch(out, read) => {
+                    WriterMsg::Batch { out, read, handed } => {
+                        stats
+                            .writer_wait
+                            .record(taken.saturating_duration_since(handed));
                         let command = out.iter().any(|o| {
                             matches!(o, Output::Room(RoomOutput::Store(StoreOp::Command { .. })))
                         });

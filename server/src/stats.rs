@@ -33,6 +33,19 @@ pub struct Stats {
     pub command_time: Histogram,
     /// Time per durable store write (one group commit of every operation waiting).
     pub store_write_time: Histogram,
+    /// The stages of a command's time, so that a slow tail is found where it is. From a
+    /// message's frame read to the hub thread taking it up (the hub's queue).
+    pub hub_wait: Histogram,
+    /// The hub thread's time on one message, with the rules and simulation of a room it
+    /// runs itself.
+    pub hub_time: Histogram,
+    /// From a room lent out with a message to a worker thread starting on it.
+    pub worker_wait: Histogram,
+    /// A worker's time on one room's message: the rules and the simulation.
+    pub worker_time: Histogram,
+    /// From results handed to the writer thread to the writer taking them up (it may be
+    /// committing earlier ones meanwhile).
+    pub writer_wait: Histogram,
     /// Rooms whose second seat nobody has taken yet (updated by the hub about once a second).
     pub rooms_waiting: AtomicUsize,
     /// Rooms with both players seated and the game not over (likewise).

@@ -13,9 +13,25 @@ use crate::output::ConnId;
 pub(crate) enum WriterMsg {
     Register(ConnId, Outlet),
     Unregister(ConnId),
-    /// What the hub made of one event; `read` is when the message it answers was read, for
-    /// the server's time per command.
-    Batch(Vec<Output>, Option<Instant>),
+    /// What the hub (or a worker) made of one event: `read` is when the message it answers
+    /// was read, for the server's time per command, and `handed` when it was given to the
+    /// writer, for the writer's queue.
+    Batch {
+        out: Vec<Output>,
+        read: Option<Instant>,
+        handed: Instant,
+    },
+}
+
+impl WriterMsg {
+    /// A batch handed to the writer now.
+    pub(crate) fn batch(out: Vec<Output>, read: Option<Instant>) -> WriterMsg {
+        WriterMsg::Batch {
+            out,
+            read,
+            handed: Instant::now(),
+        }
+    }
 }
 
 /// A game connection about to start on some transport other than the QUIC endpoint's: its

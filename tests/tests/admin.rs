@@ -94,6 +94,17 @@ async fn metrics_move_during_a_game_and_a_drain_lets_it_finish() -> Result<()> {
         sample(&after, "breakshot_store_write_seconds_count") >= 1.0,
         "{after}"
     );
+    // Each stage of the shot's time is counted: the hub's queue and its own time for every
+    // message, a worker's for the shot it simulated, and the writer's queue.
+    for stage in [
+        "breakshot_hub_wait_seconds_count",
+        "breakshot_hub_seconds_count",
+        "breakshot_worker_wait_seconds_count",
+        "breakshot_worker_seconds_count",
+        "breakshot_writer_wait_seconds_count",
+    ] {
+        assert!(sample(&after, stage) >= 1.0, "{stage}: {after}");
+    }
 
     // A player waiting for a quick match, and a desync a client reports, are counted.
     let mut queued = Player::connect(&server.invite).await?;
