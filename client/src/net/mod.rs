@@ -70,5 +70,3 @@ pub use seats::{hosted_from, Remembered, SeatStore};
 #[cfg(not(target_arch = "wasm32"))]
 pub use session::Session;
 pub use web_way::{Using, WebWay};
-
-pub(crate) use net_link::command_message;

@@ -149,18 +149,6 @@ impl<P: Port> NetLink<P> {
     }
 }
 
-/// The message a player sends for `command` on `turn`; None for a command only the rules
-/// themselves make (the shot clock, a forfeit) or only practice allows.
-pub(crate) fn command_message(turn: TurnId, command: Command) -> Option<ClientMessage> {
-    Some(match command {
-        Command::Shot { strike, call } => ClientMessage::Shot { turn, strike, call },
-        Command::PlaceCueBall { pos } => ClientMessage::PlaceCueBall { turn, pos },
-        Command::Decide(choice) => ClientMessage::Decide { turn, choice },
-        Command::Concede => ClientMessage::Concede,
-        _ => return None,
-    })
-}
-
 impl<P: Port> GameLink for NetLink<P> {
     fn seat(&self) -> Option<Seat> {
         self.session.seating().seat()
@@ -171,7 +159,7 @@ impl<P: Port> GameLink for NetLink<P> {
     }
 
     fn send(&mut self, game: &Game, _seat: Seat, command: Command) {
-        let Some(msg) = command_message(game.turn(), command) else {
+        let Some(msg) = ClientMessage::for_command(game.turn(), command) else {
             self.events
                 .push_back(GameEvent::Refused("not available in an online game".into()));
             return;

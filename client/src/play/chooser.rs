@@ -6,8 +6,6 @@ use breakshot_shared::ai::{self, Level, Rng};
 use breakshot_shared::protocol::ClientMessage;
 use breakshot_shared::rules::Game;
 
-use crate::net::command_message;
-
 /// Picks a move for whoever is to move: a decision, a cue-ball placement or a shot.
 #[derive(Clone, Debug)]
 pub struct Chooser {
@@ -46,6 +44,6 @@ impl Chooser {
             Some(level) => ai::decide(game, level, self.rng.next_u64())?,
             None => ai::ghost_move(game, &mut self.rng)?,
         };
-        command_message(game.turn(), command)
+        ClientMessage::for_command(game.turn(), command)
     }
 }

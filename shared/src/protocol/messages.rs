@@ -168,6 +168,22 @@ pub enum ClientMessage {
     },
 }
 
+impl ClientMessage {
+    /// The message a player sends for `command` on `turn`; None for a command only the rules
+    /// themselves make (the shot clock, a forfeit) or only practice allows. Whoever chooses a
+    /// move (a person, the computer) speaks in rules' commands; this is where they become
+    /// the wire's.
+    pub fn for_command(turn: TurnId, command: Command) -> Option<ClientMessage> {
+        Some(match command {
+            Command::Shot { strike, call } => ClientMessage::Shot { turn, strike, call },
+            Command::PlaceCueBall { pos } => ClientMessage::PlaceCueBall { turn, pos },
+            Command::Decide(choice) => ClientMessage::Decide { turn, choice },
+            Command::Concede => ClientMessage::Concede,
+            _ => return None,
+        })
+    }
+}
+
 /// What a connection is in a room.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum Role {
@@ -501,5 +517,39 @@ pub fn command_of(msg: &ClientMessage, called: Option<u8>) -> Option<(Option<Tur
         ClientMessage::Decide { turn, choice } => Some((Some(*turn), Command::Decide(*choice))),
         ClientMessage::Concede => Some((None, Command::Concede)),
         _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec2;
+
+    #[test]
+    fn a_player_s_command_goes_out_as_a_message_the_server_reads_back_as_that_command() {
+        let strike = Strike::at_angle(2.0, 30.0, DVec2::new(0.1, -0.2));
+        let commands = [
+            Command::Shot {
+                strike,
+                call: Some(3),
+            },
+            Command::PlaceCueBall { pos: [0.5, 0.25] },
+            Command::Decide(Choice::PushOut),
+            Command::Concede,
+        ];
+        for command in commands {
+            let msg = ClientMessage::for_command(7, command.clone()).expect("a player's command");
+            let (turn, back) = command_of(&msg, None).expect("read back");
+            assert_eq!(back, command);
+            let expected_turn = (command != Command::Concede).then_some(7);
+            assert_eq!(turn, expected_turn, "{command:?}");
+        }
+    }
+
+    #[test]
+    fn commands_only_the_rules_make_have_no_message() {
+        for command in [Command::TimeExpired, Command::Forfeit] {
+            assert_eq!(ClientMessage::for_command(1, command), None);
+        }
     }
 }
