@@ -108,13 +108,18 @@ pub struct Report {
 impl Report {
     /// The `q` quantile (0..=1) of the shot round trips, in milliseconds (nearest rank).
     pub fn percentile_ms(&self, q: f64) -> f64 {
-        let mut v = self.tally.round_trips_ms.clone();
-        if v.is_empty() {
-            return 0.0;
-        }
-        v.sort_by(f64::total_cmp);
-        let rank = (q * v.len() as f64).ceil() as usize;
-        v[rank.clamp(1, v.len()) - 1]
+        quantile(&self.tally.round_trips_ms, q)
+    }
+
+    /// The stages of a shot as the bots saw them, each as (name, p50, p99) in ms: the way to
+    /// the server's acceptance, the whole round trip, and the bots' own replicas.
+    pub fn stages_ms(&self) -> [(&'static str, f64, f64); 3] {
+        let stage = |name, v: &[f64]| (name, quantile(v, 0.5), quantile(v, 0.99));
+        [
+            stage("accepted", &self.tally.accepted_ms),
+            stage("round trip", &self.tally.round_trips_ms),
+            stage("replica", &self.tally.replica_ms),
+        ]
     }
 
     /// The most games in play at the same moment.
@@ -137,7 +142,7 @@ impl Report {
     }
 
     /// The report's figures as one JSON object (games completed, peak games, shots,
-    /// desyncs, the round trips' p50 and p99), for `breakshot-bot --json` to add its own to.
+    /// desyncs, the round trips' p50 and p99 and those of the stages), for `breakshot-bot --json` to add its own to.
     pub fn json(&self) -> serde_json::Value {
         serde_json::json!({
             "games_completed": self.games_completed,
@@ -146,6 +151,10 @@ impl Report {
             "desyncs": self.tally.desyncs,
             "p50_ms": round3(self.percentile_ms(0.5)),
             "p99_ms": round3(self.percentile_ms(0.99)),
+            "accepted_p50_ms": round3(quantile(&self.tally.accepted_ms, 0.5)),
+            "accepted_p99_ms": round3(quantile(&self.tally.accepted_ms, 0.99)),
+            "replica_p50_ms": round3(quantile(&self.tally.replica_ms, 0.5)),
+            "replica_p99_ms": round3(quantile(&self.tally.replica_ms, 0.99)),
         })
     }
 
@@ -170,6 +179,17 @@ pub fn process_cpu() -> Option<Duration> {
     Some(Duration::from_millis(
         (ticks(11)? + ticks(12)?) * 1000 / TICKS_PER_SECOND,
     ))
+}
+
+/// The `q` quantile (0..=1) of `values` (nearest rank); 0 for none.
+fn quantile(values: &[f64], q: f64) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let rank = (q * v.len() as f64).ceil() as usize;
+    v[rank.clamp(1, v.len()) - 1]
 }
 
 fn round3(x: f64) -> f64 {
@@ -315,6 +335,19 @@ mod tests {
         };
         assert_eq!(report.peak_games(), 3);
         assert_eq!(Report::default().peak_games(), 0);
+    }
+
+    #[test]
+    fn each_stage_is_reported_by_its_nearest_rank_quantiles() {
+        let mut report = Report::default();
+        report.tally.round_trips_ms = (1..=100).map(f64::from).collect();
+        report.tally.accepted_ms = vec![3.0, 1.0, 2.0];
+        let [accepted, round_trip, replica] = report.stages_ms();
+        assert_eq!(accepted, ("accepted", 2.0, 3.0));
+        assert_eq!(round_trip, ("round trip", 50.0, 99.0));
+        // No shot seen: nothing to rank.
+        assert_eq!(replica, ("replica", 0.0, 0.0));
+        assert_eq!(report.json()["accepted_p99_ms"], 3.0);
     }
 
     #[cfg(target_os = "linux")]

@@ -112,11 +112,9 @@ fn main_inner() -> anyhow::Result<bool> {
         println!("shots:           {}", report.tally.shots);
         println!("desyncs:         {}", report.tally.desyncs);
         println!("rejoins:         {}", report.tally.rejoins);
-        println!(
-            "shot round trip: p50 {:.2} ms, p99 {:.2} ms",
-            report.percentile_ms(0.5),
-            report.percentile_ms(0.99)
-        );
+        for (stage, p50, p99) in report.stages_ms() {
+            println!("shot {stage:<11} p50 {p50:.2} ms, p99 {p99:.2} ms");
+        }
         match cpu {
             Some(cpu) => println!(
                 "bot process CPU: {cpu:.1} s in {wall:.1} s ({:.0} % of one core)",

@@ -47,6 +47,14 @@ pub struct Tally {
     pub rejoins: u32,
     /// Each shot's round trip, from sending it to its result (ms).
     pub round_trips_ms: Vec<f64>,
+    /// The first part of each round trip: from sending the shot to the server's
+    /// `ShotAccepted` (ms). The rest is the server simulating and storing it, and the
+    /// result's way back.
+    pub accepted_ms: Vec<f64>,
+    /// The bot's own share: how long its replica took over each shot it was told of
+    /// (simulating it to check the server's hash), in ms. It runs on the bot's runtime, so
+    /// every other connection of the process waits behind it.
+    pub replica_ms: Vec<f64>,
 }
 
 impl Tally {
@@ -57,6 +65,8 @@ impl Tally {
         self.desyncs += other.desyncs;
         self.rejoins += other.rejoins;
         self.round_trips_ms.extend(other.round_trips_ms);
+        self.accepted_ms.extend(other.accepted_ms);
+        self.replica_ms.extend(other.replica_ms);
     }
 }
 
@@ -96,7 +106,10 @@ pub(crate) struct SeatPlayer {
     result: PlayerResult,
     /// The turn this bot last answered, while its answer is pending.
     acted: Option<TurnId>,
-    sent_shot: Option<(TurnId, Instant)>,
+    /// Shots sent and not yet resolved, with when they were sent, oldest first: a bot that
+    /// keeps the table moves on its replica's prediction, before the server's result of its
+    /// last shot has arrived.
+    sent_shots: Vec<(TurnId, Instant)>,
     refusals: u32,
     /// Shots taken in the game being played.
     game_shots: u32,
@@ -112,6 +125,11 @@ pub(crate) struct SeatPlayer {
     /// Both seats are taken: a room still waiting for its opponent refuses every move, and a
     /// bot that opened a room for a person (or a page) waits for them to arrive.
     full: bool,
+}
+
+/// Milliseconds since `at`.
+fn ms_since(at: Instant) -> f64 {
+    at.elapsed().as_secs_f64() * 1000.0
 }
 
 /// How long a pacing player looks at the table after the balls stop, before its move.
@@ -139,7 +157,7 @@ impl SeatPlayer {
             replica: Replica::default(),
             result: PlayerResult::default(),
             acted: None,
-            sent_shot: None,
+            sent_shots: Vec::new(),
             refusals: 0,
             game_shots: 0,
             stays: false,
@@ -225,13 +243,17 @@ impl SeatPlayer {
                 ClientEvent::Reconnected => {
                     self.result.tally.rejoins += 1;
                     self.acted = None;
-                    self.sent_shot = None;
+                    self.sent_shots.clear();
                     continue;
                 }
             };
             let me = client.seating().seat();
             let desyncs = self.replica.desyncs();
+            let observing = Instant::now();
             self.replica.observe(&msg, me);
+            if matches!(msg, ServerMessage::ShotAccepted { .. }) {
+                self.result.tally.replica_ms.push(ms_since(observing));
+            }
             if self.replica.desyncs() > desyncs {
                 // The operator counts these (`breakshot_desyncs_reported_total`).
                 if let ServerMessage::ShotResolved { turn, hash, .. } = &msg {
@@ -259,10 +281,13 @@ impl SeatPlayer {
                         client.send(&ClientMessage::Rematch).await?;
                     }
                 }
-                ServerMessage::ShotAccepted { seat, .. } => {
+                ServerMessage::ShotAccepted { turn, seat, .. } => {
                     if Some(*seat) == me {
                         self.result.tally.shots += 1;
                         self.game_shots += 1;
+                    }
+                    if let Some((_, at)) = self.sent_shots.iter().find(|(t, _)| t == turn) {
+                        self.result.tally.accepted_ms.push(ms_since(*at));
                     }
                     if self.pacing {
                         let shown = self
@@ -283,15 +308,11 @@ impl SeatPlayer {
                 }
                 ServerMessage::ShotResolved { turn, hash, .. } => {
                     self.result.resolved.push((*turn, *hash));
-                    if let Some((t, at)) = self.sent_shot {
-                        if t == *turn {
-                            self.result
-                                .tally
-                                .round_trips_ms
-                                .push(at.elapsed().as_secs_f64() * 1000.0);
-                            self.sent_shot = None;
-                        }
+                    if let Some((_, at)) = self.sent_shots.iter().find(|(t, _)| t == turn) {
+                        self.result.tally.round_trips_ms.push(ms_since(*at));
                     }
+                    // This one is done, and an older one still here was refused.
+                    self.sent_shots.retain(|(t, _)| t > turn);
                 }
                 ServerMessage::GameOver { reason, .. } if self.stays => {
                     self.result.over = Some(reason.clone());
@@ -346,7 +367,11 @@ impl SeatPlayer {
                     tokio::time::sleep_until(at.into()).await;
                 }
                 if matches!(cmd, ClientMessage::Shot { .. }) {
-                    self.sent_shot = self.acted.map(|t| (t, Instant::now()));
+                    if let Some(turn) = self.acted {
+                        // A shot sent again on its turn (the first was refused) counts anew.
+                        self.sent_shots.retain(|(t, _)| *t != turn);
+                        self.sent_shots.push((turn, Instant::now()));
+                    }
                 }
                 // A message lost with the connection is answered again after the rejoin.
                 if client.send(&cmd).await.is_err() {
