@@ -110,6 +110,9 @@ pub(crate) struct SeatPlayer {
     /// keeps the table moves on its replica's prediction, before the server's result of its
     /// last shot has arrived.
     sent_shots: Vec<(TurnId, Instant)>,
+    /// The move chosen, and when to send it (after the pause to think, and once the last
+    /// shot has been seen to its end by a pacing player).
+    due: Option<(Instant, ClientMessage)>,
     refusals: u32,
     /// Shots taken in the game being played.
     game_shots: u32,
@@ -125,6 +128,14 @@ pub(crate) struct SeatPlayer {
     /// Both seats are taken: a room still waiting for its opponent refuses every move, and a
     /// bot that opened a room for a person (or a page) waits for them to arrive.
     full: bool,
+}
+
+/// Returns at `at`, or never.
+async fn until(at: Option<Instant>) {
+    match at {
+        Some(at) => tokio::time::sleep_until(at.into()).await,
+        None => std::future::pending().await,
+    }
 }
 
 /// Milliseconds since `at`.
@@ -158,6 +169,7 @@ impl SeatPlayer {
             result: PlayerResult::default(),
             acted: None,
             sent_shots: Vec::new(),
+            due: None,
             refusals: 0,
             game_shots: 0,
             stays: false,
@@ -233,7 +245,19 @@ impl SeatPlayer {
     ) -> Result<(), NetError> {
         client.enter(entry).await;
         loop {
-            let msg = match client.recv().await? {
+            // A chosen move waits for its time while the messages go on being read, so the
+            // result of the last shot is seen when it comes, not after the pause.
+            let due_at = self.due.as_ref().map(|(at, _)| *at);
+            let event = tokio::select! {
+                event = client.recv() => event?,
+                () = until(due_at) => {
+                    if let Some((_, cmd)) = self.due.take() {
+                        self.send_move(client, cmd).await;
+                    }
+                    continue;
+                }
+            };
+            let msg = match event {
                 ClientEvent::Message(msg) => msg,
                 ClientEvent::SeatGone => continue,
                 ClientEvent::Reconnecting(why) => {
@@ -243,6 +267,7 @@ impl SeatPlayer {
                 ClientEvent::Reconnected => {
                     self.result.tally.rejoins += 1;
                     self.acted = None;
+                    self.due = None;
                     self.sent_shots.clear();
                     continue;
                 }
@@ -357,27 +382,33 @@ impl SeatPlayer {
                 _ => {}
             }
             if let Some(cmd) = self.next_move(me).await {
+                let mut at = Instant::now();
                 if !self.think.is_zero() {
                     // Players do not all shoot in step: think between half and one and a
                     // half times the configured time.
                     let factor = self.pause_rng.range(0.5, 1.5);
-                    tokio::time::sleep(self.think.mul_f64(factor)).await;
+                    at += self.think.mul_f64(factor);
                 }
-                if let Some(at) = self.paced.take() {
-                    tokio::time::sleep_until(at.into()).await;
+                if let Some(paced) = self.paced.take() {
+                    at = at.max(paced);
                 }
-                if matches!(cmd, ClientMessage::Shot { .. }) {
-                    if let Some(turn) = self.acted {
-                        // A shot sent again on its turn (the first was refused) counts anew.
-                        self.sent_shots.retain(|(t, _)| *t != turn);
-                        self.sent_shots.push((turn, Instant::now()));
-                    }
-                }
-                // A message lost with the connection is answered again after the rejoin.
-                if client.send(&cmd).await.is_err() {
-                    self.acted = None;
-                }
+                self.due = Some((at, cmd));
             }
+        }
+    }
+
+    /// Sends a move whose time has come.
+    async fn send_move(&mut self, client: &mut Client, cmd: ClientMessage) {
+        if matches!(cmd, ClientMessage::Shot { .. }) {
+            if let Some(turn) = self.acted {
+                // A shot sent again on its turn (the first was refused) counts anew.
+                self.sent_shots.retain(|(t, _)| *t != turn);
+                self.sent_shots.push((turn, Instant::now()));
+            }
+        }
+        // A message lost with the connection is answered again after the rejoin.
+        if client.send(&cmd).await.is_err() {
+            self.acted = None;
         }
     }
 
