@@ -26,9 +26,16 @@
 //!   again. A miss is called when a foul failed to hit a ball on first, unless the striker
 //!   needed snookers. A third miss in a row from replaced positions with a clear view of a
 //!   ball on (a full-ball contact no ball blocks) forfeits the frame; the second is warned.
-//! - A free ball when the next player plays on and is snookered (no ball on can be hit at
-//!   both extreme edges by a straight stroke): any other ball may be nominated and acts as
-//!   the ball on, and is re-spotted when potted.
+//! - A free ball when the next player plays on and is snookered: any other ball may be
+//!   nominated and acts as the ball on, and is re-spotted when potted. Snookered follows
+//!   WPBSA Section 2 Rule 16 (the official text is reposted at
+//!   chinadaily.com.cn/sports/2007-03/23/content_835320_3.htm): no ball on can be hit at
+//!   both extreme edges by a straight stroke free of obstruction by a ball not on. The cue
+//!   ball cannot be snookered by a cushion (16(e)): on a stroke where the curved face of a
+//!   pocket jaw is met before any ball not on, the cue ball is angled, not snookered, and no
+//!   free ball is given. In hand, the cue ball is snookered only if it is so from every
+//!   position in the D where it may be placed (16(a)); the D is searched exactly but for
+//!   views open only from patches too small to hold a disc a tenth of a millimetre in radius.
 //! - Touching ball: playing away from a touching ball that is on is no foul.
 //! - The frame ends on the last black potted, or, with only the black left, on the first
 //!   foul, if the scores then differ; tied, the black is re-spotted, the cue ball in hand
@@ -37,7 +44,8 @@
 //!   is won by the first to win more than half its frames.
 //! - Out of time on a stroke: a foul of the ball on's value (at least 4); the next player
 //!   chooses as after any foul.
-//! - Not judged: snookering behind the free ball, the six-red "five misses" variant rule.
+//! - Leaving the cue ball snookered behind the free ball is a foul (WPBSA Section 3 Rule 10).
+//! - Not judged: the six-red "five misses" variant rule.
 
 pub mod frame;
 pub mod table;

@@ -593,18 +593,22 @@ fn cue_on_table(balls: &[BallState]) -> Option<&BallState> {
         .filter(|b| b.motion != MotionState::Pocketed)
 }
 
-/// Is the cue ball snookered on every ball of `on`: can no ball on be hit at both extreme
-/// edges without a ball not on in the way?
+/// Is the cue ball snookered on every ball of `on` (WPBSA 2.16): can no ball on be hit at
+/// both extreme edges without a ball not on in the way, a jaw met first being no snooker?
+/// With the cue ball in hand (off the table), snookered from every position in the D.
 pub fn snookered(balls: &[BallState], on: &[u8]) -> bool {
-    let Some(cue) = cue_on_table(balls) else {
-        return false;
-    };
-    let blockers = blockers(balls, on);
-    !on.iter().any(|&b| {
-        balls
-            .get(usize::from(b))
-            .is_some_and(|t| table::both_edges_in_view(cue.pos, t.pos, &blockers))
-    })
+    let obstacles = table::Obstacles::new(blockers(balls, on));
+    let targets: Vec<DVec2> = on
+        .iter()
+        .filter(|&&b| on_table(balls, b))
+        .filter_map(|&b| balls.get(usize::from(b)).map(|t| t.pos))
+        .collect();
+    match cue_on_table(balls) {
+        Some(cue) => targets
+            .iter()
+            .all(|&t| table::snookered_on(cue.pos, t, &obstacles)),
+        None => table::snookered_in_the_d(balls, &targets, &obstacles),
+    }
 }
 
 /// Has the cue ball a clear view of some ball on: a full-ball contact no ball not on blocks?

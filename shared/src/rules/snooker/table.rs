@@ -8,7 +8,7 @@
 
 use glam::DVec2;
 
-use crate::physics::{ball_cushion, BallState, MotionState, Params, Table, TableKind};
+use crate::physics::{ball_cushion, BallState, MotionState, Params, Shot, Table, TableKind};
 
 use super::super::rack::SplitMix64;
 
@@ -257,9 +257,9 @@ fn nearest_free(balls: &[BallState], i: usize, own: DVec2) -> DVec2 {
     own
 }
 
-/// Is the ball at `q` clear of the straight path of the cue ball's centre from `from` to
-/// `to`? Balls touching the path's end are not in the way (only overlap is).
-fn path_clear(from: DVec2, to: DVec2, q: DVec2, r: f64) -> bool {
+/// The distance from `q` to the straight path of the cue ball's centre from `from` to `to`,
+/// and where along the path (0 at `from`, 1 at `to`) its point nearest `q` lies.
+fn gap(from: DVec2, to: DVec2, q: DVec2) -> (f64, f64) {
     let along = to - from;
     let len2 = along.length_squared();
     let k = if len2 > 0.0 {
@@ -267,28 +267,214 @@ fn path_clear(from: DVec2, to: DVec2, q: DVec2, r: f64) -> bool {
     } else {
         0.0
     };
-    let nearest = from + along * k;
-    (q - nearest).length() >= 2.0 * r - 1e-9
+    ((q - (from + along * k)).length(), k)
 }
 
-/// Can the cue ball at `cue` hit the ball at `target` at both its extreme edges with straight
-/// strokes that no ball of `blockers` obstructs (WPBSA 2.16, "snookered": a ball on is in
-/// view when both its extreme edges can be hit)? The grazing strokes are the two tangent
+/// How far the cue ball's centre travels along the straight path from `from` to `to` before
+/// it comes within `reach` of `q`, or `None` if it never does. Coming to exactly `reach` (a
+/// touch) is not meeting, so a ball touching the path's end is not in the way.
+fn meets(from: DVec2, to: DVec2, q: DVec2, reach: f64) -> Option<f64> {
+    if gap(from, to, q).0 >= reach - 1e-9 {
+        return None;
+    }
+    let along = to - from;
+    let len = along.length();
+    if len == 0.0 {
+        return Some(0.0);
+    }
+    let w = q - from;
+    let proj = along.dot(w) / len;
+    let side2 = (w.length_squared() - proj * proj).max(0.0);
+    let back = (reach * reach - side2).max(0.0).sqrt();
+    Some((proj - back).clamp(0.0, len))
+}
+
+/// What a straight stroke of the cue ball may meet on its way to a ball on: the balls not on
+/// and the curved faces of the pocket jaws.
+///
+/// Straight cushion faces are left out. A straight nose is a side of the bed, which is
+/// convex, so it never lies between the cue ball and a ball on: the segment between two
+/// centres on the cloth stays on the cloth. The cue ball's disc can brush one only on the
+/// stroke at the edge of a ball on lying within a ball's width of that cushion, on the
+/// cushion's side of it; that stroke is judged by the balls alone, as the rule names the
+/// curved face as the cushion that may come first.
+#[derive(Clone, Debug)]
+pub struct Obstacles {
+    /// The centres of the balls not on: the cue ball's centre meets one `2R` from it.
+    balls: Vec<DVec2>,
+    /// Each jaw's axis, and the distance from it at which the cue ball's centre meets the
+    /// jaw's curved face.
+    jaws: Vec<(DVec2, f64)>,
+}
+
+impl Obstacles {
+    /// The balls not on at `balls` and the snooker table's twelve jaws, met where the engine
+    /// meets them in every snooker stroke: `ρ + contact` from a jaw's axis, `contact` being
+    /// the horizontal distance at which the game's cushion model touches a nose.
+    pub fn new(balls: Vec<DVec2>) -> Obstacles {
+        let shot = Shot::new(TableKind::Snooker, Vec::new());
+        let contact = ball_cushion::model_contact_distance(&shot.params, shot.models.cushion);
+        let table = Table::new(TableKind::Snooker);
+        let jaws = table
+            .jaws
+            .iter()
+            .map(|j| (table.to_scene(j.center), j.radius + contact))
+            .collect();
+        Obstacles { balls, jaws }
+    }
+
+    /// Is the straight stroke of the cue ball's centre from `cue` to `end` obstructed by a
+    /// ball not on that it meets before any jaw? WPBSA 2.16(e): "The cue-ball cannot be
+    /// snookered by a cushion. If the curved face of a cushion obstructs the cue-ball and is
+    /// closer to the cue-ball than any obstructing ball not on, the cue-ball is not
+    /// snookered." Closer is measured along the stroke: the first thing the cue ball's disc
+    /// would meet. A jaw and a ball met at the same point leave the ball obstructing.
+    fn obstruct(&self, cue: DVec2, end: DVec2) -> bool {
+        let r = radius();
+        let balls = self.balls.iter().map(|&q| meets(cue, end, q, 2.0 * r));
+        let Some(ball) = balls.flatten().reduce(f64::min) else {
+            return false;
+        };
+        let jaws = self
+            .jaws
+            .iter()
+            .map(|&(j, reach)| meets(cue, end, j, reach));
+        jaws.flatten()
+            .reduce(f64::min)
+            .is_none_or(|jaw| jaw >= ball)
+    }
+
+    /// Is every straight stroke of the cue ball from a position within `h` of `cue` to a
+    /// point within `e` of `end` obstructed as in [`Obstacles::obstruct`]? The point of
+    /// such a stroke a fraction `k` along lies within `(1 − k)·h + k·e` of the same point of
+    /// the stroke from `cue` to `end` (both ends move by no more). Sure when some ball lies
+    /// farther inside the stroke's reach than that at the stroke's point nearest it, and no
+    /// jaw comes within `max(h, e)` of the reach of the stroke up to that point: the nearby
+    /// stroke then meets the ball there or earlier, and no jaw before it.
+    fn obstruct_all_near(&self, cue: DVec2, end: DVec2, h: f64, e: f64) -> bool {
+        let r = radius();
+        self.balls.iter().any(|&q| {
+            let (d, k) = gap(cue, end, q);
+            let nearest = cue + (end - cue) * k;
+            d < 2.0 * r - ((1.0 - k) * h + k * e) - 1e-9
+                && self
+                    .jaws
+                    .iter()
+                    .all(|&(j, reach)| gap(cue, nearest, j).0 >= reach + h.max(e))
+        })
+    }
+}
+
+/// The ends of the two straight strokes of the cue ball's centre from `cue` that graze the
+/// ball at `target` at its extreme edges, or `None` when the two balls touch (a ball the cue
+/// ball touches is in view whatever lies around). The grazing strokes are the two tangent
 /// lines: the cue ball's centre ends `2R` from the target's, `√(D² − 4R²)` along.
-pub fn both_edges_in_view(cue: DVec2, target: DVec2, blockers: &[DVec2]) -> bool {
+fn edge_strokes(cue: DVec2, target: DVec2) -> Option<[DVec2; 2]> {
     let r = radius();
-    let Some((to, dist)) = apart(cue, target) else {
-        return true;
-    };
+    let (to, dist) = apart(cue, target)?;
     let u = to / dist;
     let n = DVec2::new(-u.y, u.x);
     let along = (dist * dist - 4.0 * r * r).sqrt();
     let (cos_a, sin_a) = (along / dist, 2.0 * r / dist);
-    [1.0, -1.0].into_iter().all(|side| {
-        let dir = u * cos_a + n * (side * sin_a);
-        let end = cue + dir * along;
-        blockers.iter().all(|&q| path_clear(cue, end, q, r))
+    Some([1.0, -1.0].map(|side| cue + (u * cos_a + n * (side * sin_a)) * along))
+}
+
+/// Is the cue ball at `cue` snookered on the ball at `target` (WPBSA 2.16): is a straight
+/// stroke at one of its extreme edges obstructed by a ball not on, met before any jaw? A
+/// ball on is in view when both its extreme edges can be hit free of such obstruction.
+pub fn snookered_on(cue: DVec2, target: DVec2, obstacles: &Obstacles) -> bool {
+    edge_strokes(cue, target)
+        .is_some_and(|ends| ends.iter().any(|&end| obstacles.obstruct(cue, end)))
+}
+
+/// Is the cue ball snookered on the ball at `target` from every position within `h` of `c`?
+/// Each stroke of [`snookered_on`] then starts within `h` of the one from `c`, and ends (at
+/// the tangent point on the circle of radius `2R` about the target) within `2R` times the
+/// turn of the tangent: at most `h/d` for the direction to the target and
+/// `2R·h / (d·√(d² − 4R²))` for the tangent's angle to it, `d` the least distance from the
+/// positions to the target.
+fn snookered_on_all_near(c: DVec2, h: f64, target: DVec2, obstacles: &Obstacles) -> bool {
+    let r = radius();
+    let d = (target - c).length() - h;
+    if d <= 2.0 * r {
+        return false;
+    }
+    let turn = h / d * (1.0 + 2.0 * r / (d * d - 4.0 * r * r).sqrt());
+    edge_strokes(c, target).is_some_and(|ends| {
+        ends.iter()
+            .any(|&end| obstacles.obstruct_all_near(c, end, h, 2.0 * r * turn))
     })
+}
+
+/// The radius (m) of the smallest disc of the D from which the search for a view from the
+/// cue ball in hand is sure to find one, a tenth of a millimetre: finer than a player places
+/// a ball.
+const D_SEARCH_TOLERANCE: f64 = 1e-4;
+
+/// The most squares the search of the D tries. Squares are halved only near the edges of
+/// the shadows, so they grow with the inverse of the tolerance at worst (the layouts of the
+/// tests take under a hundred); this bounds the work whatever the layout.
+const D_SEARCH_SQUARES: usize = 1 << 20;
+
+/// Is the cue ball in hand snookered: from every position on or within the lines of the D
+/// where it may be placed (clear of the other balls, all of `balls`), is it snookered on
+/// every ball at `targets` (WPBSA 2.16(a))?
+///
+/// The D is searched by squares, halved where undecided, largest first. A square is ruled
+/// out when all its positions are taken by a ball, or when [`snookered_on_all_near`] proves
+/// every position of it snookered on every ball on; the centre of each square is tried, and
+/// a placeable centre with a ball on in view ends the search: not snookered, exactly. When
+/// no centre has a view the cue ball is called snookered, which is exact but for views
+/// from small patches: a view from every point of a disc of radius [`D_SEARCH_TOLERANCE`]
+/// in the D, clear of the balls, is always found (no square holding the disc's centre can
+/// be ruled out, so they are halved until one is smaller than the disc and its centre,
+/// inside the disc, is tried). A view from no such disc may be missed, as may any view
+/// after [`D_SEARCH_SQUARES`] squares.
+pub fn snookered_in_the_d(balls: &[BallState], targets: &[DVec2], obstacles: &Obstacles) -> bool {
+    let r = radius();
+    let centre = d_centre();
+    let occupied: Vec<DVec2> = balls
+        .iter()
+        .skip(1)
+        .filter(|b| b.motion != MotionState::Pocketed)
+        .map(|b| b.pos)
+        .collect();
+    let half = 0.5 * D_RADIUS;
+    let mut squares: std::collections::VecDeque<(DVec2, f64)> = [-1.0, 1.0]
+        .map(|side| (centre + DVec2::new(side * half, -half), half))
+        .into();
+    let mut tried = 0;
+    while let Some((c, a)) = squares.pop_front() {
+        tried += 1;
+        if tried > D_SEARCH_SQUARES {
+            break;
+        }
+        let h = a * std::f64::consts::SQRT_2;
+        // The square's point nearest the D's centre.
+        let near = centre.clamp(c - a, c + a);
+        let outside = c.y - a > BAULK_LINE || (near - centre).length() > D_RADIUS;
+        let taken = occupied.iter().any(|&q| (c - q).length() + h <= 2.0 * r);
+        if outside || taken {
+            continue;
+        }
+        if in_d(c)
+            && is_free(balls, usize::from(CUE), c)
+            && targets.iter().any(|&t| !snookered_on(c, t, obstacles))
+        {
+            return false;
+        }
+        let ruled_out = targets
+            .iter()
+            .all(|&t| snookered_on_all_near(c, h, t, obstacles));
+        if ruled_out || h < D_SEARCH_TOLERANCE {
+            continue;
+        }
+        let q = 0.5 * a;
+        for (dx, dy) in [(-q, -q), (q, -q), (-q, q), (q, q)] {
+            squares.push_back((c + DVec2::new(dx, dy), q));
+        }
+    }
+    true
 }
 
 /// `target − cue` and its length, or `None` when the two balls touch: a ball the cue ball
@@ -311,7 +497,9 @@ pub fn full_ball_in_view(cue: DVec2, target: DVec2, blockers: &[DVec2]) -> bool 
         return true;
     };
     let end = cue + to * ((dist - 2.0 * r) / dist);
-    blockers.iter().all(|&q| path_clear(cue, end, q, r))
+    blockers
+        .iter()
+        .all(|&q| meets(cue, end, q, 2.0 * r).is_none())
 }
 
 /// The seat that wins the drawing of lots for the re-spotted black, from the game's seed.

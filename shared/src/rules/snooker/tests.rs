@@ -474,22 +474,149 @@ fn snookered_means_no_ball_on_can_be_hit_at_both_extreme_edges() {
     let cue = DVec2::new(0.889, 1.0);
     let target = DVec2::new(0.889, 2.0);
     // A blocker half across the line hides one edge: snookered.
-    assert!(!both_edges_in_view(
-        cue,
-        target,
-        &[DVec2::new(0.889 + 1.5 * R, 1.5)]
-    ));
+    let half_across = Obstacles::new(vec![DVec2::new(0.889 + 1.5 * R, 1.5)]);
+    assert!(snookered_on(cue, target, &half_across));
     // Far enough aside, both edges are in view.
-    assert!(both_edges_in_view(
-        cue,
-        target,
-        &[DVec2::new(0.889 + 4.1 * R, 1.5)]
-    ));
+    let aside = Obstacles::new(vec![DVec2::new(0.889 + 4.1 * R, 1.5)]);
+    assert!(!snookered_on(cue, target, &aside));
     // The same in a game: the red is on, the blue hides it.
     let g = position(&[(CUE, [0.889, 1.0]), (BLUE, [0.889, 1.5]), (1, [0.889, 2.0])]);
     assert!(frame::snookered(g.balls(), &[1]));
     let g = position(&[(CUE, [0.889, 1.0]), (BLUE, [0.3, 1.5]), (1, [0.889, 2.0])]);
     assert!(!frame::snookered(g.balls(), &[1]));
+}
+
+/// Player A, cue ball hanging in the mouth of the bottom-left corner pocket, taps it a few
+/// millimetres out along the baulk cushion (a foul and a miss) with `balls` on the table
+/// too; it stays in the jaws, the left cushion's jaw in the way of every stroke up the
+/// table. Player B plays on.
+fn played_on_from_the_jaws(balls: &[(u8, [f64; 2])]) -> (Game, Verdict) {
+    let mut layout = vec![(CUE, [0.008, 0.03])];
+    layout.extend_from_slice(balls);
+    let mut g = position(&layout);
+    let v = g
+        .apply(Seat::A, &shot_dir([1.0, 0.0], 0.03, [0.0, 0.0]))
+        .expect("shot");
+    assert!(v.foul, "{:?}", v.reasons);
+    // Still in the mouth: nearer the left cushion's line than a ball on the cloth can be.
+    let cue = g.balls[0].pos;
+    assert!(cue.x < R * 0.9 && (cue.y - 0.03).abs() < 1e-12, "{cue}");
+    let v = g
+        .apply(Seat::B, &Command::Decide(Choice::AcceptTable))
+        .expect("plays on");
+    (g, v)
+}
+
+/// Where the cue ball rests after the tap of [`played_on_from_the_jaws`].
+const IN_THE_JAWS: [f64; 2] = [0.014_283_068_445_710_145, 0.030_000_000_000_000_027];
+
+#[test]
+fn the_cue_ball_cannot_be_snookered_by_a_cushion_a_jaw_nearer_than_the_ball_not_on() {
+    // WPBSA 2.16(e). The only red lies up the left cushion, the blue on the line between:
+    // the blue hides the red, but the curved face of the jaw stands in the way first.
+    let (mut g, v) = played_on_from_the_jaws(&[(1, [0.03, 1.5]), (BLUE, [0.03, 0.8])]);
+    assert_eq!(g.balls[0].pos, DVec2::from_array(IN_THE_JAWS));
+    assert!(
+        !v.reasons.iter().any(|r| r.starts_with("Free ball")),
+        "{:?}",
+        v.reasons
+    );
+    let before = g.clone();
+    let err = g.apply(Seat::B, &Command::Decide(Choice::Nominate(BLUE)));
+    assert_eq!(
+        err,
+        Err(RuleError::InvalidChoice(
+            "no free ball: the cue ball is not snookered after a foul, and the blue cannot be nominated"
+                .into()
+        ))
+    );
+    assert_eq!(g, before);
+    // Out of the jaws, on the cloth by the cushion, the blue alone stands in the way: snookered.
+    let mut on_the_cloth = g.balls.clone();
+    on_the_cloth[0].pos.x = 0.03;
+    assert!(frame::snookered(&on_the_cloth, &[1]));
+}
+
+#[test]
+fn a_ball_not_on_nearer_than_the_jaw_snookers_the_cue_ball_in_the_jaws() {
+    // WPBSA 2.16(e) the other way: the red lies up the table beyond the jaw, and the blue,
+    // just clear of the cue ball, is met before the jaw on both strokes at its edges.
+    let jaws = DVec2::from_array(IN_THE_JAWS);
+    let at = |angle_deg: f64, dist: f64| {
+        let a = angle_deg * (std::f64::consts::PI / 180.0);
+        (jaws + DVec2::new(libm::cos(a), libm::sin(a)) * dist).to_array()
+    };
+    let (red, blue) = (at(85.0, 1.0), at(60.0, 2.0 * R + 0.001));
+    let (mut g, v) = played_on_from_the_jaws(&[(1, red), (BLUE, blue)]);
+    assert_eq!(g.balls[0].pos, jaws);
+    assert_eq!(
+        v.reasons[1],
+        "Free ball: Player B is snookered and may nominate any ball as the ball on"
+    );
+    g.apply(Seat::B, &Command::Decide(Choice::Nominate(BLUE)))
+        .expect("the blue is the free ball");
+    // Without the blue the jaw alone is in the way: angled, not snookered.
+    let mut angled = g.balls.clone();
+    angled[usize::from(BLUE)] = off_table();
+    assert!(!frame::snookered(&angled, &[1]));
+}
+
+/// Player A goes in-off into the top-left corner, missing everything, with `balls` on the
+/// table too; Player B plays on with the cue ball in hand in the D.
+fn played_on_after_an_in_off(balls: &[(u8, [f64; 2])]) -> (Game, Verdict) {
+    let mut layout = vec![(CUE, POT_FROM)];
+    layout.extend_from_slice(balls);
+    let mut g = position(&layout);
+    g.apply(Seat::A, &shot_dir([-1.0, 1.0], 1.2, [0.0, 0.0]))
+        .expect("shot");
+    assert!(off(&g, CUE));
+    let v = g
+        .apply(Seat::B, &Command::Decide(Choice::AcceptTable))
+        .expect("plays on");
+    assert!(in_hand_in_the_d(&g));
+    (g, v)
+}
+
+#[test]
+fn in_hand_the_cue_ball_is_snookered_if_obstructed_from_every_position_in_the_d() {
+    // WPBSA 2.16(a). The only red by the top cushion, the pink half a metre in front of it:
+    // from anywhere in the D some edge of the red is hidden.
+    let (mut g, v) = played_on_after_an_in_off(&[(1, [0.889, 3.5]), (PINK, [0.889, 3.0])]);
+    assert_eq!(
+        v.reasons[1],
+        "Free ball: Player B is snookered and may nominate any ball as the ball on"
+    );
+    g.apply(Seat::B, &Command::Decide(Choice::Nominate(PINK)))
+        .expect("the pink is the free ball");
+    // The D's two corners, its middle and a point on its arc: hidden from each.
+    let mut balls = g.balls.clone();
+    let c = d_centre();
+    for p in [
+        c + DVec2::new(-D_RADIUS + R, 0.0),
+        c + DVec2::new(D_RADIUS - R, 0.0),
+        c,
+        c + DVec2::new(0.0, -D_RADIUS + R),
+    ] {
+        balls[0] = BallState::at_rest(p);
+        assert!(frame::snookered(&balls, &[1]), "from {p}");
+    }
+}
+
+#[test]
+fn in_hand_the_cue_ball_is_not_snookered_if_some_position_in_the_d_gives_a_view() {
+    // WPBSA 2.16(a). The pink nearer the D: it hides the red from the middle of the D (the
+    // brown's spot among them) but not from its ends.
+    let (g, v) = played_on_after_an_in_off(&[(1, [0.889, 3.5]), (PINK, [0.889, 2.5])]);
+    assert!(
+        !v.reasons.iter().any(|r| r.starts_with("Free ball")),
+        "{:?}",
+        v.reasons
+    );
+    let mut balls = g.balls.clone();
+    balls[0] = BallState::at_rest(d_centre());
+    assert!(frame::snookered(&balls, &[1]));
+    balls[0] = BallState::at_rest(d_centre() + DVec2::new(D_RADIUS - R, 0.0));
+    assert!(!frame::snookered(&balls, &[1]));
 }
 
 #[test]
@@ -725,4 +852,56 @@ fn a_cue_ball_jumped_off_the_table_is_a_foul_and_the_next_player_has_it_in_hand(
     g.apply(Seat::B, &Command::Decide(Choice::AcceptTable))
         .expect("plays on");
     assert!(in_hand_in_the_d(&g));
+}
+
+#[test]
+fn in_hand_the_search_of_the_d_misses_no_view_a_fine_grid_finds() {
+    // WPBSA 2.16(a), the search checked against a grid of the D: on tables with one or two
+    // reds, each screened by colours put in front of it, wherever the search calls the cue
+    // ball snookered, no point of the grid has a red in view.
+    let mut rng = crate::rules::rack::SplitMix64::new(11);
+    let mut called = [0, 0];
+    for _ in 0..40 {
+        let mut balls = vec![off_table(); BALL_COUNT];
+        let mut on = Vec::new();
+        for red in 1..=1 + rng.below(2) as u8 {
+            let p = DVec2::new(0.1 + 1.578 * rng.unit(), 2.0 + 1.4 * rng.unit());
+            if is_free(&balls, usize::from(red), p) {
+                balls[usize::from(red)] = BallState::at_rest(p);
+                on.push(red);
+            }
+        }
+        for colour in COLOURS.into_iter().take(1 + rng.below(6) as usize) {
+            let Some(&red) = on.get(rng.below(on.len() as u64) as usize) else {
+                break;
+            };
+            let towards_d = (d_centre() - balls[usize::from(red)].pos).normalize();
+            let p = balls[usize::from(red)].pos
+                + towards_d * (2.0 * R + 0.002 + 0.6 * rng.unit())
+                + DVec2::new(-towards_d.y, towards_d.x) * (0.1 * (rng.unit() - 0.5));
+            if is_free(&balls, usize::from(colour), p) {
+                balls[usize::from(colour)] = BallState::at_rest(p);
+            }
+        }
+        let snookered = frame::snookered(&balls, &on);
+        called[usize::from(snookered)] += 1;
+        if !snookered {
+            continue;
+        }
+        let c = d_centre();
+        let step = 0.005;
+        for i in -60..=60 {
+            for j in -60..=0 {
+                let p = c + DVec2::new(f64::from(i), f64::from(j)) * step;
+                if !in_d(p) || !is_free(&balls, usize::from(CUE), p) {
+                    continue;
+                }
+                balls[0] = BallState::at_rest(p);
+                assert!(frame::snookered(&balls, &on), "a view from {p}");
+            }
+        }
+        balls[0] = off_table();
+    }
+    // Both answers come up.
+    assert!(called[0] > 5 && called[1] > 5, "{called:?}");
 }
