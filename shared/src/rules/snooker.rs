@@ -25,7 +25,9 @@
 //!   [`Choice::ReplaceBalls`]: the balls go back to where they were and the offender plays
 //!   again. A miss is called when a foul failed to hit a ball on first, unless the striker
 //!   needed snookers. A third miss in a row from replaced positions with a clear view of a
-//!   ball on (a full-ball contact no ball blocks) forfeits the frame; the second is warned.
+//!   ball on (a straight path to a full-ball contact that neither a ball not on nor a jaw
+//!   blocks: the WPBSA miss rule asks that "central, full-ball contact is available") forfeits
+//!   the frame; the second is warned.
 //! - A free ball when the next player plays on and is snookered: any other ball may be
 //!   nominated and acts as the ball on, and is re-spotted when potted. Snookered follows
 //!   WPBSA Section 2 Rule 16 (the official text is reposted at

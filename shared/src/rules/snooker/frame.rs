@@ -611,16 +611,17 @@ pub fn snookered(balls: &[BallState], on: &[u8]) -> bool {
     }
 }
 
-/// Has the cue ball a clear view of some ball on: a full-ball contact no ball not on blocks?
+/// Has the cue ball a clear view of some ball on: a full-ball contact that no ball not on
+/// and no jaw blocks?
 pub fn clear_view(balls: &[BallState], on: &[u8]) -> bool {
     let Some(cue) = cue_on_table(balls) else {
         return false;
     };
-    let blockers = blockers(balls, on);
+    let obstacles = table::Obstacles::new(blockers(balls, on));
     on.iter().any(|&b| {
         balls
             .get(usize::from(b))
-            .is_some_and(|t| table::full_ball_in_view(cue.pos, t.pos, &blockers))
+            .is_some_and(|t| table::full_ball_in_view(cue.pos, t.pos, &obstacles))
     })
 }
 

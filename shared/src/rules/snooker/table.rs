@@ -344,6 +344,16 @@ impl Obstacles {
             .is_none_or(|jaw| jaw >= ball)
     }
 
+    /// Does the straight stroke of the cue ball's centre from `cue` to `end` meet nothing,
+    /// neither a ball not on nor a jaw?
+    fn clear(&self, cue: DVec2, end: DVec2) -> bool {
+        let r = radius();
+        let balls = self.balls.iter().map(|&q| (q, 2.0 * r));
+        balls
+            .chain(self.jaws.iter().copied())
+            .all(|(q, reach)| meets(cue, end, q, reach).is_none())
+    }
+
     /// Is every straight stroke of the cue ball from a position within `h` of `cue` to a
     /// point within `e` of `end` obstructed as in [`Obstacles::obstruct`]? The point of
     /// such a stroke a fraction `k` along lies within `(1 − k)·h + k·e` of the same point of
@@ -490,16 +500,17 @@ fn apart(cue: DVec2, target: DVec2) -> Option<(DVec2, f64)> {
 }
 
 /// Can the cue ball at `cue` hit the ball at `target` full in the face, by a straight stroke
-/// that no ball of `blockers` obstructs (the "clear view" of the three-miss rule)?
-pub fn full_ball_in_view(cue: DVec2, target: DVec2, blockers: &[DVec2]) -> bool {
+/// that meets nothing on its way, neither a ball not on nor a jaw (the "clear view" of the
+/// three-miss rule: "a clear path in a straight line ... such that central, full-ball
+/// contact is available"; a jaw in that path leaves no such contact, however far the
+/// balls are)?
+pub fn full_ball_in_view(cue: DVec2, target: DVec2, obstacles: &Obstacles) -> bool {
     let r = radius();
     let Some((to, dist)) = apart(cue, target) else {
         return true;
     };
     let end = cue + to * ((dist - 2.0 * r) / dist);
-    blockers
-        .iter()
-        .all(|&q| meets(cue, end, q, 2.0 * r).is_none())
+    obstacles.clear(cue, end)
 }
 
 /// The seat that wins the drawing of lots for the re-spotted black, from the game's seed.

@@ -676,6 +676,39 @@ fn a_third_miss_from_a_clear_view_forfeits_the_frame_after_a_warning() {
 }
 
 #[test]
+fn three_misses_from_the_jaws_with_the_ball_on_behind_the_jaw_are_no_clear_view_and_forfeit_nothing(
+) {
+    // The only red lies up the left cushion, nothing between; the cue ball rests in the
+    // jaws of the corner, where the curved face stands in the path of a full-ball contact.
+    let red = [0.03, 1.5];
+    let mut g = position(&[(CUE, IN_THE_JAWS), (1, red)]);
+    assert!(!frame::clear_view(&g.balls, &[1]));
+    // Out of the jaws, on the cloth by the cushion, nothing is in the way.
+    let mut on_the_cloth = g.balls.clone();
+    on_the_cloth[0].pos.x = 0.03;
+    assert!(frame::clear_view(&on_the_cloth, &[1]));
+    let start = g.balls.clone();
+    // Each time Player A plays out along the bottom cushion, hitting nothing.
+    for stroke in 1..=3 {
+        let v = g.apply(Seat::A, &miss()).expect("a stroke");
+        assert!(
+            v.reasons[0].starts_with("Foul and a miss"),
+            "{:?}",
+            v.reasons
+        );
+        assert!(
+            !v.reasons.iter().any(|r| r.starts_with("Warning")),
+            "stroke {stroke}: {:?}",
+            v.reasons
+        );
+        assert_eq!(v.over, None, "stroke {stroke}");
+        g.apply(Seat::B, &Command::Decide(Choice::ReplaceBalls))
+            .expect("replace");
+        assert_eq!(g.balls, start);
+    }
+}
+
+#[test]
 fn playing_away_from_a_touching_ball_on_is_no_foul_but_pushing_it_is() {
     let red = [0.889, 1.5];
     let touching = [0.889, 1.5 - 2.0 * R];
