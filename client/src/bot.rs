@@ -108,7 +108,7 @@ pub struct Report {
 impl Report {
     /// The `q` quantile (0..=1) of the shot round trips, in milliseconds (nearest rank).
     pub fn percentile_ms(&self, q: f64) -> f64 {
-        quantile(&self.tally.round_trips_ms, q)
+        quantile(&self.tally.times.round_trip, q)
     }
 
     /// The stages of a shot as the bots saw them, each as (name, p50, p99) in ms: the way to
@@ -116,9 +116,9 @@ impl Report {
     pub fn stages_ms(&self) -> [(&'static str, f64, f64); 3] {
         let stage = |name, v: &[f64]| (name, quantile(v, 0.5), quantile(v, 0.99));
         [
-            stage("accepted", &self.tally.accepted_ms),
-            stage("round trip", &self.tally.round_trips_ms),
-            stage("replica", &self.tally.replica_ms),
+            stage("accepted", &self.tally.times.accepted),
+            stage("round trip", &self.tally.times.round_trip),
+            stage("replica", &self.tally.times.replica),
         ]
     }
 
@@ -151,10 +151,10 @@ impl Report {
             "desyncs": self.tally.desyncs,
             "p50_ms": round3(self.percentile_ms(0.5)),
             "p99_ms": round3(self.percentile_ms(0.99)),
-            "accepted_p50_ms": round3(quantile(&self.tally.accepted_ms, 0.5)),
-            "accepted_p99_ms": round3(quantile(&self.tally.accepted_ms, 0.99)),
-            "replica_p50_ms": round3(quantile(&self.tally.replica_ms, 0.5)),
-            "replica_p99_ms": round3(quantile(&self.tally.replica_ms, 0.99)),
+            "accepted_p50_ms": round3(quantile(&self.tally.times.accepted, 0.5)),
+            "accepted_p99_ms": round3(quantile(&self.tally.times.accepted, 0.99)),
+            "replica_p50_ms": round3(quantile(&self.tally.times.replica, 0.5)),
+            "replica_p99_ms": round3(quantile(&self.tally.times.replica, 0.99)),
         })
     }
 
@@ -340,8 +340,8 @@ mod tests {
     #[test]
     fn each_stage_is_reported_by_its_nearest_rank_quantiles() {
         let mut report = Report::default();
-        report.tally.round_trips_ms = (1..=100).map(f64::from).collect();
-        report.tally.accepted_ms = vec![3.0, 1.0, 2.0];
+        report.tally.times.round_trip = (1..=100).map(f64::from).collect();
+        report.tally.times.accepted = vec![3.0, 1.0, 2.0];
         let [accepted, round_trip, replica] = report.stages_ms();
         assert_eq!(accepted, ("accepted", 2.0, 3.0));
         assert_eq!(round_trip, ("round trip", 50.0, 99.0));

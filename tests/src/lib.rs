@@ -455,15 +455,12 @@ pub async fn bot_game(
     assert_eq!(report.tally.confirmed, 2 * report.tally.shots);
     // Each shot's stages as the bots measured them: every shot accepted before its result
     // came back, and simulated by both players' replicas.
-    let t = &report.tally;
-    assert_eq!(t.round_trips_ms.len(), t.shots as usize);
-    assert_eq!(t.accepted_ms.len(), t.shots as usize);
-    assert!(t
-        .accepted_ms
-        .iter()
-        .zip(&t.round_trips_ms)
-        .all(|(a, r)| a <= r));
-    assert_eq!(t.replica_ms.len(), 2 * t.shots as usize);
+    let (shots, times) = (report.tally.shots as usize, &report.tally.times);
+    assert_eq!(times.round_trip.len(), shots);
+    assert_eq!(times.accepted.len(), shots);
+    let pairs = times.accepted.iter().zip(&times.round_trip);
+    assert!(pairs.into_iter().all(|(a, r)| a <= r));
+    assert_eq!(times.replica.len(), 2 * shots);
     assert!(fetched.finished, "the stored game is not over");
     Ok((report, GameRecord::decode(&fetched.bytes)?))
 }

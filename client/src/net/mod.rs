@@ -63,7 +63,7 @@ pub use records::{fetch_game, fetch_game_blocking, fetch_record};
 #[cfg(not(target_arch = "wasm32"))]
 pub(crate) use seat_player::{Entrance, PlayerResult, SeatPlayer};
 #[cfg(not(target_arch = "wasm32"))]
-pub use seat_player::{Tally, RETRY_FOR};
+pub use seat_player::{ShotTimes, Tally, RETRY_FOR};
 #[cfg(not(target_arch = "wasm32"))]
 pub use seated_computer::SeatedComputer;
 pub use seats::{hosted_from, Remembered, SeatStore};

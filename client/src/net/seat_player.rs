@@ -45,16 +45,8 @@ pub struct Tally {
     pub desyncs: u32,
     /// Times a seat was taken back after a drop.
     pub rejoins: u32,
-    /// Each shot's round trip, from sending it to its result (ms).
-    pub round_trips_ms: Vec<f64>,
-    /// The first part of each round trip: from sending the shot to the server's
-    /// `ShotAccepted` (ms). The rest is the server simulating and storing it, and the
-    /// result's way back.
-    pub accepted_ms: Vec<f64>,
-    /// The bot's own share: how long its replica took over each shot it was told of
-    /// (simulating it to check the server's hash), in ms. It runs on the bot's runtime, so
-    /// every other connection of the process waits behind it.
-    pub replica_ms: Vec<f64>,
+    /// Each shot's times.
+    pub times: ShotTimes,
 }
 
 impl Tally {
@@ -64,10 +56,25 @@ impl Tally {
         self.confirmed += other.confirmed;
         self.desyncs += other.desyncs;
         self.rejoins += other.rejoins;
-        self.round_trips_ms.extend(other.round_trips_ms);
-        self.accepted_ms.extend(other.accepted_ms);
-        self.replica_ms.extend(other.replica_ms);
+        let times = other.times;
+        self.times.round_trip.extend(times.round_trip);
+        self.times.accepted.extend(times.accepted);
+        self.times.replica.extend(times.replica);
     }
+}
+
+/// Each shot's stages as a player measured them (ms), each in the order the shots came.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ShotTimes {
+    /// From sending the shot to its result.
+    pub round_trip: Vec<f64>,
+    /// From sending the shot to the server's `ShotAccepted`: the first part of the round
+    /// trip; the rest is the server simulating and storing it, and the result's way back.
+    pub accepted: Vec<f64>,
+    /// The player's own share: how long its replica took over each shot it was told of
+    /// (simulating it to check the server's hash). It runs on the player's runtime, so
+    /// every other connection of a load run's process waits behind it.
+    pub replica: Vec<f64>,
 }
 
 /// What one bot saw and did.
@@ -277,7 +284,7 @@ impl SeatPlayer {
             let observing = Instant::now();
             self.replica.observe(&msg, me);
             if matches!(msg, ServerMessage::ShotAccepted { .. }) {
-                self.result.tally.replica_ms.push(ms_since(observing));
+                self.result.tally.times.replica.push(ms_since(observing));
             }
             if self.replica.desyncs() > desyncs {
                 // The operator counts these (`breakshot_desyncs_reported_total`).
@@ -312,7 +319,7 @@ impl SeatPlayer {
                         self.game_shots += 1;
                     }
                     if let Some((_, at)) = self.sent_shots.iter().find(|(t, _)| t == turn) {
-                        self.result.tally.accepted_ms.push(ms_since(*at));
+                        self.result.tally.times.accepted.push(ms_since(*at));
                     }
                     if self.pacing {
                         let shown = self
@@ -334,7 +341,7 @@ impl SeatPlayer {
                 ServerMessage::ShotResolved { turn, hash, .. } => {
                     self.result.resolved.push((*turn, *hash));
                     if let Some((_, at)) = self.sent_shots.iter().find(|(t, _)| t == turn) {
-                        self.result.tally.round_trips_ms.push(ms_since(*at));
+                        self.result.tally.times.round_trip.push(ms_since(*at));
                     }
                     // This one is done, and an older one still here was refused.
                     self.sent_shots.retain(|(t, _)| t > turn);

@@ -398,13 +398,7 @@ fn a_free_ball_is_given_when_snookered_after_a_foul() {
     let v = g
         .apply(Seat::B, &Command::Decide(Choice::AcceptTable))
         .expect("plays on");
-    assert_eq!(
-        v.reasons[1],
-        "Free ball: Player B is snookered and may nominate any ball as the ball on"
-    );
-    let v = g
-        .apply(Seat::B, &Command::Decide(Choice::Nominate(PINK)))
-        .expect("nominates");
+    let v = nominate_free_ball(&mut g, &v, PINK);
     assert_eq!(
         v.reasons,
         vec!["Free ball: the pink is nominated".to_string()]
@@ -414,6 +408,29 @@ fn a_free_ball_is_given_when_snookered_after_a_foul() {
         .apply(Seat::B, &strike_at(&g, [0.889, 2.6], 0.8))
         .expect("shot");
     assert!(!v.foul, "{:?}", v.reasons);
+}
+
+/// Checks that `v`, Player B's choice to play on, gave a free ball, and nominates `ball` as
+/// it: the verdict of the nomination.
+fn nominate_free_ball(g: &mut Game, v: &Verdict, ball: u8) -> Verdict {
+    assert_eq!(
+        v.reasons[1],
+        "Free ball: Player B is snookered and may nominate any ball as the ball on"
+    );
+    g.apply(Seat::B, &Command::Decide(Choice::Nominate(ball)))
+        .expect("the free ball is nominated")
+}
+
+/// Checks that Player B's nomination of `ball` (the `name`) as a free ball is refused as
+/// there is none, and changes nothing.
+fn free_ball_refused(g: &mut Game, ball: u8, name: &str) {
+    let before = g.clone();
+    let err = g.apply(Seat::B, &Command::Decide(Choice::Nominate(ball)));
+    let why = format!(
+        "no free ball: the cue ball is not snookered after a foul, and the {name} cannot be nominated"
+    );
+    assert_eq!(err, Err(RuleError::InvalidChoice(why)));
+    assert_eq!(*g, before);
 }
 
 /// `balls` laid out, Player A taps the cue ball into nothing (a foul) and Player B plays on.
@@ -457,16 +474,7 @@ fn leaving_the_cue_ball_snookered_behind_the_free_ball_is_a_foul() {
 fn a_free_ball_nomination_when_not_snookered_is_refused_and_nothing_changes() {
     let mut g =
         played_on_after_a_miss(&[(CUE, [0.889, 1.0]), (PINK, [0.3, 2.6]), (1, [0.889, 3.2])]);
-    let before = g.clone();
-    let err = g.apply(Seat::B, &Command::Decide(Choice::Nominate(PINK)));
-    assert_eq!(
-        err,
-        Err(RuleError::InvalidChoice(
-            "no free ball: the cue ball is not snookered after a foul, and the pink cannot be nominated"
-                .into()
-        ))
-    );
-    assert_eq!(g, before);
+    free_ball_refused(&mut g, PINK, "pink");
 }
 
 #[test]
@@ -521,16 +529,7 @@ fn the_cue_ball_cannot_be_snookered_by_a_cushion_a_jaw_nearer_than_the_ball_not_
         "{:?}",
         v.reasons
     );
-    let before = g.clone();
-    let err = g.apply(Seat::B, &Command::Decide(Choice::Nominate(BLUE)));
-    assert_eq!(
-        err,
-        Err(RuleError::InvalidChoice(
-            "no free ball: the cue ball is not snookered after a foul, and the blue cannot be nominated"
-                .into()
-        ))
-    );
-    assert_eq!(g, before);
+    free_ball_refused(&mut g, BLUE, "blue");
     // Out of the jaws, on the cloth by the cushion, the blue alone stands in the way: snookered.
     let mut on_the_cloth = g.balls.clone();
     on_the_cloth[0].pos.x = 0.03;
@@ -549,12 +548,7 @@ fn a_ball_not_on_nearer_than_the_jaw_snookers_the_cue_ball_in_the_jaws() {
     let (red, blue) = (at(85.0, 1.0), at(60.0, 2.0 * R + 0.001));
     let (mut g, v) = played_on_from_the_jaws(&[(1, red), (BLUE, blue)]);
     assert_eq!(g.balls[0].pos, jaws);
-    assert_eq!(
-        v.reasons[1],
-        "Free ball: Player B is snookered and may nominate any ball as the ball on"
-    );
-    g.apply(Seat::B, &Command::Decide(Choice::Nominate(BLUE)))
-        .expect("the blue is the free ball");
+    nominate_free_ball(&mut g, &v, BLUE);
     // Without the blue the jaw alone is in the way: angled, not snookered.
     let mut angled = g.balls.clone();
     angled[usize::from(BLUE)] = off_table();
@@ -582,12 +576,7 @@ fn in_hand_the_cue_ball_is_snookered_if_obstructed_from_every_position_in_the_d(
     // WPBSA 2.16(a). The only red by the top cushion, the pink half a metre in front of it:
     // from anywhere in the D some edge of the red is hidden.
     let (mut g, v) = played_on_after_an_in_off(&[(1, [0.889, 3.5]), (PINK, [0.889, 3.0])]);
-    assert_eq!(
-        v.reasons[1],
-        "Free ball: Player B is snookered and may nominate any ball as the ball on"
-    );
-    g.apply(Seat::B, &Command::Decide(Choice::Nominate(PINK)))
-        .expect("the pink is the free ball");
+    nominate_free_ball(&mut g, &v, PINK);
     // The D's two corners, its middle and a point on its arc: hidden from each.
     let mut balls = g.balls.clone();
     let c = d_centre();
