@@ -340,12 +340,21 @@ impl Simulator {
         };
         let until = piece.t_end.min(ctx.limit);
         if piece.start.motion.is_translating() {
-            // Candidates are taken in a fixed order, the first of equal times winning; one
+            // Of equal times, the candidate first in the order pockets, rails, jaws wins
+            // (and any of them over the transition), whatever order they are tried in. One
             // whose lower bound (a closed form, see `roots::contact_bound`) is already later
             // than the best so far cannot be taken, and is not solved.
+            let rails_from = ctx.table.pockets.len();
+            let jaws_from = rails_from + ctx.table.rails.len();
+            let rank = |kind: OwnKind| match kind {
+                OwnKind::Pocket(k) => k as usize,
+                OwnKind::Rail(k) => rails_from + k as usize,
+                OwnKind::Jaw(k) => jaws_from + k as usize,
+                _ => usize::MAX,
+            };
             let consider = |best: &mut Own, t: Option<f64>, kind: OwnKind| {
                 if let Some(t) = t {
-                    if t < best.t || (t == best.t && best.kind == OwnKind::Transition) {
+                    if t < best.t || (t == best.t && rank(kind) < rank(best.kind)) {
                         *best = Own { t, kind };
                     }
                 }
@@ -357,6 +366,35 @@ impl Simulator {
             let work = &mut self.outcome.work;
             // The box holding the ball's whole path rules out most cushions and pockets.
             let Extent { lo, hi, .. } = self.extents[i];
+            if ctx.effects.cushions {
+                work.cushion_checks += (ctx.table.rails.len() + ctx.table.jaws.len()) as u64;
+                for (k, rail) in ctx.table.rails.iter().enumerate() {
+                    // The box corner deepest towards the rail.
+                    let n = rail.normal;
+                    let corner = DVec2::new(
+                        if n.x > 0.0 { lo.x } else { hi.x },
+                        if n.y > 0.0 { lo.y } else { hi.y },
+                    );
+                    if n.dot(corner - rail.a) <= ctx.contact {
+                        // The same signed distance and rates as `rail_time`'s polynomial.
+                        let dist = n.dot(p - rail.a) - ctx.contact;
+                        let bound = roots::line_bound(dist, n.dot(v), 0.5 * n.dot(acc), reach);
+                        if can_beat(&best, bound) {
+                            let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
+                            consider(&mut best, t, OwnKind::Rail(k as u8));
+                        }
+                    }
+                }
+            }
+            // Rails first: a ball that reaches one (most fast balls) can meet a pocket or a
+            // jaw only on its path up to there, a far smaller box than its whole path's.
+            let (lo, hi) = if best.t < until {
+                let (l, h) = piece.path_box(now, best.t);
+                let margin = DVec2::splat(NARROW_MARGIN);
+                (lo.max(l - margin), hi.min(h + margin))
+            } else {
+                (lo, hi)
+            };
             let near = |center: DVec2, radius: f64| {
                 (center.clamp(lo, hi) - center).length_squared() <= radius * radius
             };
@@ -381,24 +419,6 @@ impl Simulator {
                 }
             }
             if ctx.effects.cushions {
-                work.cushion_checks += (ctx.table.rails.len() + ctx.table.jaws.len()) as u64;
-                for (k, rail) in ctx.table.rails.iter().enumerate() {
-                    // The box corner deepest towards the rail.
-                    let n = rail.normal;
-                    let corner = DVec2::new(
-                        if n.x > 0.0 { lo.x } else { hi.x },
-                        if n.y > 0.0 { lo.y } else { hi.y },
-                    );
-                    if n.dot(corner - rail.a) <= ctx.contact {
-                        // The same signed distance and rates as `rail_time`'s polynomial.
-                        let dist = n.dot(p - rail.a) - ctx.contact;
-                        let bound = roots::line_bound(dist, n.dot(v), 0.5 * n.dot(acc), reach);
-                        if can_beat(&best, bound) {
-                            let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
-                            consider(&mut best, t, OwnKind::Rail(k as u8));
-                        }
-                    }
-                }
                 for (k, jaw) in ctx.table.jaws.iter().enumerate() {
                     let radius = jaw.radius + ctx.contact;
                     if near(jaw.center, radius)
@@ -776,6 +796,11 @@ impl Simulator {
         self.scratch.changed = changed;
     }
 }
+
+/// How far (m) a box narrowed to a ball's path up to an earlier time is widened: a contact
+/// the root solver finds is nearer than this to the exact one (the rounding of positions of
+/// a few metres is some 1e-15 m).
+const NARROW_MARGIN: f64 = 1e-9;
 
 /// How a ball's current piece moves, as far as pair predictions care.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
