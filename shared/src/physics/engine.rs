@@ -23,6 +23,7 @@ use super::airborne::{self, Flight};
 use super::ball_ball;
 use super::ball_cushion;
 use super::event::{Event, EventKind};
+use super::extent::{self, ball, Balls, Extent, Mobility};
 use super::group_impact::{self, refill, Scratch};
 use super::motion::{BallState, MotionModel, MotionState, Piece};
 use super::roots;
@@ -77,6 +78,9 @@ pub struct Simulator {
     row: Vec<f64>,
     /// For each ball `i` whose `row[i]` is finite, a `j` whose pair holds it.
     arg: Vec<usize>,
+    /// For each ball, the balls whose pair with it holds a time (is not infinite): a pass
+    /// over its pairs writes only these and those within reach.
+    links: Vec<Balls>,
     /// For each pair `i < j` (at `i·n + j`), when it last took part in an impact.
     last: Vec<f64>,
     /// For each pair `i < j`, whether its last impact left it held (moving as one).
@@ -194,6 +198,7 @@ impl Simulator {
         refill(&mut self.since, n * n, 0.0);
         refill(&mut self.row, n, f64::INFINITY);
         refill(&mut self.arg, n, 0);
+        refill(&mut self.links, n, 0);
         refill(&mut self.last, n * n, f64::NEG_INFINITY);
         refill(&mut self.held, n * n, false);
         refill(&mut self.blow, n * n, 0.0);
@@ -504,7 +509,13 @@ impl Simulator {
         let old = std::mem::replace(&mut self.pair[i * n + j], t);
         if t == old {
             // Most pairs stay out of reach: nothing to update.
-        } else if t <= self.row[i] {
+            return;
+        }
+        if (old == f64::INFINITY) != (t == f64::INFINITY) {
+            self.links[i] ^= ball(j);
+            self.links[j] ^= ball(i);
+        }
+        if t <= self.row[i] {
             self.row[i] = t;
             self.arg[i] = j;
         } else if old == self.row[i] {
@@ -525,7 +536,7 @@ impl Simulator {
     fn restart(&mut self, i: usize, t: f64, s: BallState, ctx: &Ctx) {
         self.start_piece(i, t, s, ctx);
         self.predict_own(i, t, ctx);
-        self.predict_pairs_of(i, t, |_| false, ctx);
+        self.predict_pairs_of(i, t, 0, ctx);
     }
 
     /// Records ball `i`'s new piece from `t` in state `s`, without predicting anything.
@@ -540,30 +551,25 @@ impl Simulator {
         };
     }
 
-    /// Re-predicts every pair of ball `i` from `t`, except with the balls `done` names.
-    fn predict_pairs_of(&mut self, i: usize, t: f64, done: impl Fn(usize) -> bool, ctx: &Ctx) {
-        // The pass over every other ball: most are dismissed by their boxes alone.
-        let a = self.extents[i];
-        let mut checks = 0;
-        for j in 0..self.extents.len() {
-            if j == i || done(j) {
-                continue;
-            }
-            let b = &self.extents[j];
+    /// Re-predicts every pair of ball `i` from `t`, except with the balls in `done`.
+    fn predict_pairs_of(&mut self, i: usize, t: f64, done: Balls, ctx: &Ctx) {
+        // The pass over every other ball: most are dismissed by their boxes alone, and a pair
+        // dismissed now that held no time before needs no writing.
+        let (meet, near) = extent::within_reach(&self.extents, i);
+        let others = !done;
+        self.outcome.work.pair_checks += u64::from((meet & others).count_ones());
+        let mut todo = (near | self.links[i]) & others;
+        while todo != 0 {
+            let j = todo.trailing_zeros() as usize;
+            todo &= todo - 1;
             let (lo, hi) = (i.min(j), i.max(j));
-            let time = if !a.may_meet(b) {
-                f64::INFINITY
+            let time = if near & ball(j) != 0 {
+                self.deferred_collision(lo, hi, t, ctx)
             } else {
-                checks += 1;
-                if a.apart(b) {
-                    f64::INFINITY
-                } else {
-                    self.deferred_collision(lo, hi, t, ctx)
-                }
+                f64::INFINITY
             };
             self.set_pair(lo, hi, time);
         }
-        self.outcome.work.pair_checks += checks;
     }
 
     fn resolve_own(&mut self, i: usize, t: f64, ctx: &Ctx) {
@@ -788,9 +794,10 @@ impl Simulator {
             self.predict_own(self.scratch.balls[k], t, ctx);
         }
         let balls = std::mem::take(&mut self.scratch.balls);
-        for (m, &k) in changed.iter().enumerate() {
-            let earlier = |j: usize| changed[..m].iter().any(|&c| balls[c] == j);
+        let mut earlier = 0;
+        for &k in &changed {
             self.predict_pairs_of(balls[k], t, earlier, ctx);
+            earlier |= ball(balls[k]);
         }
         self.scratch.balls = balls;
         self.scratch.changed = changed;
@@ -801,77 +808,6 @@ impl Simulator {
 /// the root solver finds is nearer than this to the exact one (the rounding of positions of
 /// a few metres is some 1e-15 m).
 const NARROW_MARGIN: f64 = 1e-9;
-
-/// How a ball's current piece moves, as far as pair predictions care.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Mobility {
-    /// Pocketed or off the table: it meets nothing.
-    Gone,
-    /// At rest or spinning on the spot: it meets only balls that move.
-    Still,
-    /// Sliding or rolling on the cloth.
-    Cloth,
-    /// In flight.
-    Flying,
-}
-
-/// What the pair predictions read first of a ball's current piece, kept together and apart
-/// from the piece so that a pass over every other ball stays quick.
-#[derive(Clone, Copy, Debug)]
-struct Extent {
-    mobility: Mobility,
-    /// A box holding the piece's whole path (up to the horizon), and its low corner less a
-    /// ball's diameter.
-    lo: DVec2,
-    hi: DVec2,
-    lo_reach: DVec2,
-}
-
-impl Extent {
-    fn of(p: &Piece, ctx: &Ctx) -> Extent {
-        let motion = p.start.motion;
-        let mobility = if motion.is_gone() {
-            Mobility::Gone
-        } else if motion == MotionState::Airborne {
-            Mobility::Flying
-        } else if motion.is_translating() {
-            Mobility::Cloth
-        } else {
-            Mobility::Still
-        };
-        let end = p.t_end.min(ctx.limit);
-        let (lo, hi) = if end.is_finite() || !motion.is_translating() {
-            p.path_box(p.t0, end.max(p.t0))
-        } else {
-            (DVec2::NEG_INFINITY, DVec2::INFINITY)
-        };
-        let d = 2.0 * ctx.params.ball_radius;
-        Extent {
-            mobility,
-            lo,
-            hi,
-            lo_reach: lo - DVec2::splat(d),
-        }
-    }
-
-    /// False when the balls cannot meet whatever their paths: one is gone, or neither moves.
-    #[inline]
-    fn may_meet(&self, other: &Extent) -> bool {
-        let (a, b) = (self.mobility, other.mobility);
-        !(a == Mobility::Gone
-            || b == Mobility::Gone
-            || (a == Mobility::Still && b == Mobility::Still))
-    }
-
-    /// True when the two boxes are more than a diameter apart, so the balls cannot meet.
-    #[inline]
-    fn apart(&self, other: &Extent) -> bool {
-        self.lo_reach.x > other.hi.x
-            || other.lo_reach.x > self.hi.x
-            || self.lo_reach.y > other.hi.y
-            || other.lo_reach.y > self.hi.y
-    }
-}
 
 #[derive(Clone, Copy, Debug)]
 enum Next {

@@ -7,6 +7,7 @@ pub mod ball_cushion;
 pub mod cue;
 pub mod engine;
 pub mod event;
+mod extent;
 mod group_impact;
 pub mod mathavan;
 pub mod motion;
