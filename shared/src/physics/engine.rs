@@ -22,6 +22,7 @@ use glam::{DVec2, DVec3};
 use super::airborne::{self, Flight};
 use super::ball_ball;
 use super::ball_cushion;
+use super::earliest::Earliest;
 use super::event::{Event, EventKind};
 use super::extent::{self, ball, Balls, Extent, Mobility};
 use super::group_impact::{self, refill, Scratch};
@@ -53,17 +54,16 @@ struct Own {
     kind: OwnKind,
 }
 
-const NO_OWN: Own = Own {
-    t: f64::INFINITY,
-    kind: OwnKind::Nothing,
-};
-
 /// Simulates shots, reusing its buffers so that steady-state simulation allocates nothing.
 #[derive(Default)]
 pub struct Simulator {
     table: Option<Table>,
     pieces: Vec<Piece>,
-    own: Vec<Own>,
+    /// For each ball, the time of its next own event, and which event it is.
+    own_t: Vec<f64>,
+    own: Vec<OwnKind>,
+    /// The ball with the earliest own event.
+    own_first: Earliest,
     /// For each pair `i < j`, its next collision, or while `solved` is false a lower bound on
     /// it: a pair is solved only when its bound is the earliest candidate (most never are:
     /// one of the balls changes first).
@@ -76,6 +76,8 @@ pub struct Simulator {
     /// For each ball `i`, the earliest collision among its pairs `i < j`: the loop looks
     /// for the next event over these instead of over every pair.
     row: Vec<f64>,
+    /// The ball whose row holds the earliest collision.
+    row_first: Earliest,
     /// For each ball `i` whose `row[i]` is finite, a `j` whose pair holds it.
     arg: Vec<usize>,
     /// For each ball, the balls whose pair with it holds a time (is not infinite): a pass
@@ -192,11 +194,14 @@ impl Simulator {
         for p in &self.pieces {
             self.extents.push(Extent::of(p, &ctx));
         }
-        refill(&mut self.own, n, NO_OWN);
+        refill(&mut self.own_t, n, f64::INFINITY);
+        refill(&mut self.own, n, OwnKind::Nothing);
+        self.own_first = Earliest::of(&self.own_t);
         refill(&mut self.pair, n * n, f64::INFINITY);
         refill(&mut self.solved, n * n, true);
         refill(&mut self.since, n * n, 0.0);
         refill(&mut self.row, n, f64::INFINITY);
+        self.row_first = Earliest::of(&self.row);
         refill(&mut self.arg, n, 0);
         refill(&mut self.links, n, 0);
         refill(&mut self.last, n * n, f64::NEG_INFINITY);
@@ -256,28 +261,18 @@ impl Simulator {
 
     /// The next event: the earliest own event or collision (own events first at the same
     /// instant), solving the pairs whose lower bound is the earliest candidate until the
-    /// earliest is exact. Solving changes no own event, so those are scanned once.
+    /// earliest is exact. Both earliests are kept up to date as times change ([`Earliest`]),
+    /// so nothing is scanned here.
     fn earliest(&mut self, n: usize, ctx: &Ctx) -> (f64, Next) {
-        let mut own_best = f64::INFINITY;
-        let mut own_next = Next::Pair;
-        for (i, own) in self.own.iter().enumerate() {
-            if own.t < own_best {
-                own_best = own.t;
-                own_next = Next::Own(i);
-            }
-        }
+        let (own_best, own_next) = match self.own_first.get(&self.own_t) {
+            Some((i, t)) => (t, Next::Own(i)),
+            None => (f64::INFINITY, Next::Pair),
+        };
         loop {
-            let mut best = own_best;
-            let mut first = n;
-            for (i, &t) in self.row[..n].iter().enumerate() {
-                if t < best {
-                    best = t;
-                    first = i;
-                }
-            }
-            if first == n {
-                return (own_best, own_next);
-            }
+            let (first, best) = match self.row_first.get(&self.row) {
+                Some((first, best)) if best < own_best => (first, best),
+                _ => return (own_best, own_next),
+            };
             let k = first * n + self.arg[first];
             debug_assert_eq!(self.pair[k], best);
             if !self.solved[k] {
@@ -329,10 +324,7 @@ impl Simulator {
             self.outcome.work.flight_checks += 1;
             let cushions = ctx.effects.cushions;
             let (t, flight) = airborne::next_event(piece, now, ctx.table, ctx.params, cushions);
-            self.own[i] = Own {
-                t,
-                kind: OwnKind::Flight(flight),
-            };
+            self.set_own(i, t, OwnKind::Flight(flight));
             return;
         }
         let mut best = Own {
@@ -438,7 +430,12 @@ impl Simulator {
                 }
             }
         }
-        self.own[i] = best;
+        self.set_own(i, best.t, best.kind);
+    }
+
+    fn set_own(&mut self, i: usize, t: f64, kind: OwnKind) {
+        self.own_first.set(&mut self.own_t, i, t);
+        self.own[i] = kind;
     }
 
     /// Sets the next collision of balls `i < j` from `now`.
@@ -470,7 +467,7 @@ impl Simulator {
             self.solved[k] = true;
             return self.collision_time(i, j, now, ctx);
         }
-        let until = self.own[i].t.min(self.own[j].t).min(ctx.limit);
+        let until = self.own_t[i].min(self.own_t[j]).min(ctx.limit);
         let (a, b) = (&self.pieces[i], &self.pieces[j]);
         match ball_ball::earliest_contact(a, b, now, until, ctx.params.ball_radius) {
             None => {
@@ -490,7 +487,7 @@ impl Simulator {
     fn collision_time(&mut self, i: usize, j: usize, now: f64, ctx: &Ctx) -> f64 {
         let (a, b) = (&self.pieces[i], &self.pieces[j]);
         // Either ball's own next event re-predicts this pair anyway: look no further.
-        let until = self.own[i].t.min(self.own[j].t).min(ctx.limit);
+        let until = self.own_t[i].min(self.own_t[j]).min(ctx.limit);
         let flying = Mobility::Flying;
         let t = if self.extents[i].mobility == flying || self.extents[j].mobility == flying {
             self.outcome.work.flight_checks += 1;
@@ -516,7 +513,7 @@ impl Simulator {
             self.links[j] ^= ball(i);
         }
         if t <= self.row[i] {
-            self.row[i] = t;
+            self.row_first.set(&mut self.row, i, t);
             self.arg[i] = j;
         } else if old == self.row[i] {
             let mut best = f64::INFINITY;
@@ -527,7 +524,7 @@ impl Simulator {
                     arg = i + 1 + m;
                 }
             }
-            self.row[i] = best;
+            self.row_first.set(&mut self.row, i, best);
             self.arg[i] = arg;
         }
     }
@@ -576,7 +573,7 @@ impl Simulator {
         let piece = self.pieces[i];
         let r = ctx.params.ball_radius;
         let ball = i as u16;
-        let (s, kind) = match self.own[i].kind {
+        let (s, kind) = match self.own[i] {
             OwnKind::Nothing => return,
             OwnKind::Transition => {
                 let s = piece.state_after_end(r);

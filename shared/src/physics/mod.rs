@@ -5,6 +5,7 @@ pub mod airborne;
 pub mod ball_ball;
 pub mod ball_cushion;
 pub mod cue;
+mod earliest;
 pub mod engine;
 pub mod event;
 mod extent;
