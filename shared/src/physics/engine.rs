@@ -458,7 +458,6 @@ impl Simulator {
     /// The next collision of balls `i < j` after `now`, or a lower bound on it marked
     /// unsolved, to be solved (from `now`) only if it becomes the earliest candidate. Any
     /// other value written to the pair later (a new prediction) marks it again.
-    #[inline(never)]
     fn deferred_collision(&mut self, i: usize, j: usize, now: f64, ctx: &Ctx) -> f64 {
         let n = self.row.len();
         let k = i * n + j;
