@@ -27,6 +27,7 @@ use super::event::{Event, EventKind};
 use super::extent::{self, ball, Balls, Extent, Mobility};
 use super::group_impact::{self, refill, Scratch};
 use super::motion::{BallState, MotionModel, MotionState, Piece};
+use super::mouths::Mouth;
 use super::roots;
 use super::shot::{validate, Ctx};
 use super::table::{Cushion, Table};
@@ -91,6 +92,8 @@ pub struct Simulator {
     blow: Vec<f64>,
     /// For each ball, how its current piece moves and the box holding its whole path.
     extents: Vec<Extent>,
+    /// The table's pockets, each with its jaws.
+    mouths: Vec<Mouth>,
     scratch: Scratch,
     outcome: Outcome,
 }
@@ -129,7 +132,9 @@ impl Simulator {
         let build = || Table::for_shot(shot.table, shot.effects.pockets);
         let wanted = (shot.table, shot.effects.pockets);
         if self.table.as_ref().map(|t| (t.kind, t.has_pockets())) != Some(wanted) {
-            self.table = Some(build());
+            let table = build();
+            self.mouths = Mouth::of(&table);
+            self.table = Some(table);
         }
         let table = self.table.take().unwrap_or_else(build);
         let result = self.run_on(shot, &table);
@@ -397,7 +402,14 @@ impl Simulator {
             };
             if ctx.effects.pockets {
                 work.pocket_checks += ctx.table.pockets.len() as u64;
-                for (k, pocket) in ctx.table.pockets.iter().enumerate() {
+            }
+            // A pocket and its jaws are looked at only when the path comes near their mouth.
+            for mouth in &self.mouths {
+                if !mouth.near(lo, hi, ctx.contact.max(0.0)) {
+                    continue;
+                }
+                if let (Some(k), true) = (mouth.pocket, ctx.effects.pockets) {
+                    let pocket = &ctx.table.pockets[k as usize];
                     if near(pocket.center, pocket.radius)
                         && can_beat(
                             &best,
@@ -411,12 +423,14 @@ impl Simulator {
                             now,
                             until,
                         );
-                        consider(&mut best, t, OwnKind::Pocket(k as u8));
+                        consider(&mut best, t, OwnKind::Pocket(k));
                     }
                 }
-            }
-            if ctx.effects.cushions {
-                for (k, jaw) in ctx.table.jaws.iter().enumerate() {
+                if !ctx.effects.cushions {
+                    continue;
+                }
+                for &k in &mouth.jaws {
+                    let jaw = &ctx.table.jaws[k as usize];
                     let radius = jaw.radius + ctx.contact;
                     if near(jaw.center, radius)
                         && can_beat(
@@ -425,7 +439,7 @@ impl Simulator {
                         )
                     {
                         let t = ball_cushion::jaw_time(piece, jaw, now, until, ctx.contact);
-                        consider(&mut best, t, OwnKind::Jaw(k as u8));
+                        consider(&mut best, t, OwnKind::Jaw(k));
                     }
                 }
             }

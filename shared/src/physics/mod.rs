@@ -12,6 +12,7 @@ mod extent;
 mod group_impact;
 pub mod mathavan;
 pub mod motion;
+mod mouths;
 mod octic;
 pub mod params;
 pub mod roots;
