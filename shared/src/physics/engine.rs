@@ -92,6 +92,10 @@ pub struct Simulator {
     blow: Vec<f64>,
     /// For each ball, how its current piece moves and the box holding its whole path.
     extents: Vec<Extent>,
+    /// The balls whose piece moves (on the cloth or in flight), and those not gone: a ball
+    /// that moves may meet any ball still there, one that does not only those that move.
+    moving: Balls,
+    present: Balls,
     /// The table's pockets, each with its jaws.
     mouths: Vec<Mouth>,
     scratch: Scratch,
@@ -196,8 +200,10 @@ impl Simulator {
             out.rest_time.push(at_rest.then_some(0.0));
         }
         self.extents.clear();
-        for p in &self.pieces {
-            self.extents.push(Extent::of(p, &ctx));
+        (self.moving, self.present) = (0, 0);
+        for i in 0..n {
+            self.extents.push(Extent::of(&self.pieces[i], &ctx));
+            self.note_mobility(i);
         }
         refill(&mut self.own_t, n, f64::INFINITY);
         refill(&mut self.own, n, OwnKind::Nothing);
@@ -554,6 +560,7 @@ impl Simulator {
         let piece = Piece::new(t, s, &ctx.motion);
         self.pieces[i] = piece;
         self.extents[i] = Extent::of(&piece, ctx);
+        self.note_mobility(i);
         self.outcome.history[i].push(piece);
         self.outcome.rest_time[i] = match s.motion {
             MotionState::Stationary | MotionState::Pocketed | MotionState::OffTable => Some(t),
@@ -561,11 +568,25 @@ impl Simulator {
         };
     }
 
+    /// Records ball `i`'s mobility in the sets of balls that move and that are present.
+    fn note_mobility(&mut self, i: usize) {
+        let mobility = self.extents[i].mobility;
+        let moves = matches!(mobility, Mobility::Cloth | Mobility::Flying);
+        let here = mobility != Mobility::Gone;
+        self.moving = self.moving & !ball(i) | Balls::from(moves) << i;
+        self.present = self.present & !ball(i) | Balls::from(here) << i;
+    }
+
     /// Re-predicts every pair of ball `i` from `t`, except with the balls in `done`.
     fn predict_pairs_of(&mut self, i: usize, t: f64, done: Balls, ctx: &Ctx) {
         // The pass over every other ball: most are dismissed by their boxes alone, and a pair
         // dismissed now that held no time before needs no writing.
-        let (meet, near) = extent::within_reach(&self.extents, i);
+        let meet = match self.extents[i].mobility {
+            Mobility::Gone => 0,
+            Mobility::Still => self.moving,
+            Mobility::Cloth | Mobility::Flying => self.present,
+        } & !ball(i);
+        let near = extent::within_reach(&self.extents, i) & meet;
         let others = !done;
         self.outcome.work.pair_checks += u64::from((meet & others).count_ones());
         let mut todo = (near | self.links[i]) & others;

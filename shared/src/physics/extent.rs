@@ -1,5 +1,6 @@
 //! What the pair predictions read first of each ball's current piece (how it moves, and a
-//! box holding its path), and the pass that finds, among every ball, those another may meet.
+//! box holding its path), and the pass that finds, among every ball, those within reach of
+//! another.
 
 use glam::DVec2;
 
@@ -17,7 +18,6 @@ pub(super) fn ball(i: usize) -> Balls {
 
 /// How a ball's current piece moves, as far as pair predictions care.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(u8)]
 pub(super) enum Mobility {
     /// Pocketed or off the table: it meets nothing.
     Gone,
@@ -69,16 +69,16 @@ impl Extent {
     }
 
     /// False when the balls cannot meet whatever their paths: one is gone, or neither moves.
-    /// (Every test is made, without branches: the pass runs it on every ball.)
     #[inline]
     pub(super) fn may_meet(&self, other: &Extent) -> bool {
         let (a, b) = (self.mobility, other.mobility);
-        !((a == Mobility::Gone)
-            | (b == Mobility::Gone)
-            | ((a == Mobility::Still) & (b == Mobility::Still)))
+        !(a == Mobility::Gone
+            || b == Mobility::Gone
+            || (a == Mobility::Still && b == Mobility::Still))
     }
 
     /// True when the two boxes are more than a diameter apart, so the balls cannot meet.
+    /// (Every test is made, without branches: the pass runs it on every ball.)
     #[inline]
     pub(super) fn apart(&self, other: &Extent) -> bool {
         (self.lo_reach.x > other.hi.x)
@@ -88,26 +88,16 @@ impl Extent {
     }
 }
 
-/// The balls other than `i` that ball `i` may meet ([`Extent::may_meet`]), and those of them
-/// whose boxes are within reach of its own (not [`Extent::apart`]): a few branch-free tests
-/// per ball, so that only the balls within reach are looked at further.
-pub(super) fn within_reach(extents: &[Extent], i: usize) -> (Balls, Balls) {
+/// The balls whose boxes are within reach of ball `i`'s (not [`Extent::apart`]), ball `i`
+/// among them: a few branch-free tests per ball, so that only the balls within reach are
+/// looked at further.
+pub(super) fn within_reach(extents: &[Extent], i: usize) -> Balls {
     let a = &extents[i];
-    // The mobilities of the balls that ball `i` may meet, one bit each.
-    let bit = |m: Mobility| 1u8 << m as u8;
-    let meets = match a.mobility {
-        Mobility::Gone => 0,
-        Mobility::Still => bit(Mobility::Cloth) | bit(Mobility::Flying),
-        Mobility::Cloth | Mobility::Flying => !bit(Mobility::Gone),
-    };
-    let (mut meet, mut near) = (0, 0);
+    let mut near: Balls = 0;
     // From the last ball down, so that each ball's bit is shifted into place one step at a
     // time (cheaper than a shift by its index).
     for b in extents.iter().rev() {
-        let m = meets & bit(b.mobility) != 0;
-        meet = meet << 1 | Balls::from(m);
-        near = near << 1 | Balls::from(m & !a.apart(b));
+        near = near << 1 | Balls::from(!a.apart(b));
     }
-    let others = !ball(i);
-    (meet & others, near & others)
+    near
 }
