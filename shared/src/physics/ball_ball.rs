@@ -53,6 +53,7 @@ pub fn collision_time(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -
 /// A lower bound on [`collision_time`] (with the same arguments), or `None` when that is
 /// certainly `None` ([`contact_bound`] on the same relative motion). Cheap: no root
 /// isolation.
+#[inline]
 pub fn earliest_contact(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -> Option<f64> {
     if !a.start.motion.is_translating() && !b.start.motion.is_translating() {
         return None;

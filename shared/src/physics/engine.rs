@@ -22,9 +22,12 @@ use glam::{DVec2, DVec3};
 use super::airborne::{self, Flight};
 use super::ball_ball;
 use super::ball_cushion;
+use super::earliest::Earliest;
 use super::event::{Event, EventKind};
+use super::extent::{self, ball, Balls, Extent, Mobility};
 use super::group_impact::{self, refill, Scratch};
 use super::motion::{BallState, MotionModel, MotionState, Piece};
+use super::mouths::Mouth;
 use super::roots;
 use super::shot::{validate, Ctx};
 use super::table::{Cushion, Table};
@@ -52,17 +55,16 @@ struct Own {
     kind: OwnKind,
 }
 
-const NO_OWN: Own = Own {
-    t: f64::INFINITY,
-    kind: OwnKind::Nothing,
-};
-
 /// Simulates shots, reusing its buffers so that steady-state simulation allocates nothing.
 #[derive(Default)]
 pub struct Simulator {
     table: Option<Table>,
     pieces: Vec<Piece>,
-    own: Vec<Own>,
+    /// For each ball, the time of its next own event, and which event it is.
+    own_t: Vec<f64>,
+    own: Vec<OwnKind>,
+    /// The ball with the earliest own event.
+    own_first: Earliest,
     /// For each pair `i < j`, its next collision, or while `solved` is false a lower bound on
     /// it: a pair is solved only when its bound is the earliest candidate (most never are:
     /// one of the balls changes first).
@@ -75,8 +77,13 @@ pub struct Simulator {
     /// For each ball `i`, the earliest collision among its pairs `i < j`: the loop looks
     /// for the next event over these instead of over every pair.
     row: Vec<f64>,
+    /// The ball whose row holds the earliest collision.
+    row_first: Earliest,
     /// For each ball `i` whose `row[i]` is finite, a `j` whose pair holds it.
     arg: Vec<usize>,
+    /// For each ball, the balls whose pair with it holds a time (is not infinite): a pass
+    /// over its pairs writes only these and those within reach.
+    links: Vec<Balls>,
     /// For each pair `i < j` (at `i·n + j`), when it last took part in an impact.
     last: Vec<f64>,
     /// For each pair `i < j`, whether its last impact left it held (moving as one).
@@ -85,6 +92,12 @@ pub struct Simulator {
     blow: Vec<f64>,
     /// For each ball, how its current piece moves and the box holding its whole path.
     extents: Vec<Extent>,
+    /// The balls whose piece moves (on the cloth or in flight), and those not gone: a ball
+    /// that moves may meet any ball still there, one that does not only those that move.
+    moving: Balls,
+    present: Balls,
+    /// The table's pockets, each with its jaws.
+    mouths: Vec<Mouth>,
     scratch: Scratch,
     outcome: Outcome,
 }
@@ -123,7 +136,9 @@ impl Simulator {
         let build = || Table::for_shot(shot.table, shot.effects.pockets);
         let wanted = (shot.table, shot.effects.pockets);
         if self.table.as_ref().map(|t| (t.kind, t.has_pockets())) != Some(wanted) {
-            self.table = Some(build());
+            let table = build();
+            self.mouths = Mouth::of(&table);
+            self.table = Some(table);
         }
         let table = self.table.take().unwrap_or_else(build);
         let result = self.run_on(shot, &table);
@@ -185,15 +200,21 @@ impl Simulator {
             out.rest_time.push(at_rest.then_some(0.0));
         }
         self.extents.clear();
-        for p in &self.pieces {
-            self.extents.push(Extent::of(p, &ctx));
+        (self.moving, self.present) = (0, 0);
+        for i in 0..n {
+            self.extents.push(Extent::of(&self.pieces[i], &ctx));
+            self.note_mobility(i);
         }
-        refill(&mut self.own, n, NO_OWN);
+        refill(&mut self.own_t, n, f64::INFINITY);
+        refill(&mut self.own, n, OwnKind::Nothing);
+        self.own_first = Earliest::of(&self.own_t);
         refill(&mut self.pair, n * n, f64::INFINITY);
         refill(&mut self.solved, n * n, true);
         refill(&mut self.since, n * n, 0.0);
         refill(&mut self.row, n, f64::INFINITY);
+        self.row_first = Earliest::of(&self.row);
         refill(&mut self.arg, n, 0);
+        refill(&mut self.links, n, 0);
         refill(&mut self.last, n * n, f64::NEG_INFINITY);
         refill(&mut self.held, n * n, false);
         refill(&mut self.blow, n * n, 0.0);
@@ -251,28 +272,18 @@ impl Simulator {
 
     /// The next event: the earliest own event or collision (own events first at the same
     /// instant), solving the pairs whose lower bound is the earliest candidate until the
-    /// earliest is exact. Solving changes no own event, so those are scanned once.
+    /// earliest is exact. Both earliests are kept up to date as times change ([`Earliest`]),
+    /// so nothing is scanned here.
     fn earliest(&mut self, n: usize, ctx: &Ctx) -> (f64, Next) {
-        let mut own_best = f64::INFINITY;
-        let mut own_next = Next::Pair;
-        for (i, own) in self.own.iter().enumerate() {
-            if own.t < own_best {
-                own_best = own.t;
-                own_next = Next::Own(i);
-            }
-        }
+        let (own_best, own_next) = match self.own_first.get(&self.own_t) {
+            Some((i, t)) => (t, Next::Own(i)),
+            None => (f64::INFINITY, Next::Pair),
+        };
         loop {
-            let mut best = own_best;
-            let mut first = n;
-            for (i, &t) in self.row[..n].iter().enumerate() {
-                if t < best {
-                    best = t;
-                    first = i;
-                }
-            }
-            if first == n {
-                return (own_best, own_next);
-            }
+            let (first, best) = match self.row_first.get(&self.row) {
+                Some((first, best)) if best < own_best => (first, best),
+                _ => return (own_best, own_next),
+            };
             let k = first * n + self.arg[first];
             debug_assert_eq!(self.pair[k], best);
             if !self.solved[k] {
@@ -324,10 +335,7 @@ impl Simulator {
             self.outcome.work.flight_checks += 1;
             let cushions = ctx.effects.cushions;
             let (t, flight) = airborne::next_event(piece, now, ctx.table, ctx.params, cushions);
-            self.own[i] = Own {
-                t,
-                kind: OwnKind::Flight(flight),
-            };
+            self.set_own(i, t, OwnKind::Flight(flight));
             return;
         }
         let mut best = Own {
@@ -340,12 +348,21 @@ impl Simulator {
         };
         let until = piece.t_end.min(ctx.limit);
         if piece.start.motion.is_translating() {
-            // Candidates are taken in a fixed order, the first of equal times winning; one
+            // Of equal times, the candidate first in the order pockets, rails, jaws wins
+            // (and any of them over the transition), whatever order they are tried in. One
             // whose lower bound (a closed form, see `roots::contact_bound`) is already later
             // than the best so far cannot be taken, and is not solved.
+            let rails_from = ctx.table.pockets.len();
+            let jaws_from = rails_from + ctx.table.rails.len();
+            let rank = |kind: OwnKind| match kind {
+                OwnKind::Pocket(k) => k as usize,
+                OwnKind::Rail(k) => rails_from + k as usize,
+                OwnKind::Jaw(k) => jaws_from + k as usize,
+                _ => usize::MAX,
+            };
             let consider = |best: &mut Own, t: Option<f64>, kind: OwnKind| {
                 if let Some(t) = t {
-                    if t < best.t || (t == best.t && best.kind == OwnKind::Transition) {
+                    if t < best.t || (t == best.t && rank(kind) < rank(best.kind)) {
                         *best = Own { t, kind };
                     }
                 }
@@ -357,29 +374,6 @@ impl Simulator {
             let work = &mut self.outcome.work;
             // The box holding the ball's whole path rules out most cushions and pockets.
             let Extent { lo, hi, .. } = self.extents[i];
-            let near = |center: DVec2, radius: f64| {
-                (center.clamp(lo, hi) - center).length_squared() <= radius * radius
-            };
-            if ctx.effects.pockets {
-                work.pocket_checks += ctx.table.pockets.len() as u64;
-                for (k, pocket) in ctx.table.pockets.iter().enumerate() {
-                    if near(pocket.center, pocket.radius)
-                        && can_beat(
-                            &best,
-                            roots::contact_bound(p - pocket.center, v, acc, pocket.radius, reach),
-                        )
-                    {
-                        let t = ball_cushion::circle_time(
-                            piece,
-                            pocket.center,
-                            pocket.radius,
-                            now,
-                            until,
-                        );
-                        consider(&mut best, t, OwnKind::Pocket(k as u8));
-                    }
-                }
-            }
             if ctx.effects.cushions {
                 work.cushion_checks += (ctx.table.rails.len() + ctx.table.jaws.len()) as u64;
                 for (k, rail) in ctx.table.rails.iter().enumerate() {
@@ -399,7 +393,50 @@ impl Simulator {
                         }
                     }
                 }
-                for (k, jaw) in ctx.table.jaws.iter().enumerate() {
+            }
+            // Rails first: a ball that reaches one (most fast balls) can meet a pocket or a
+            // jaw only on its path up to there, a far smaller box than its whole path's.
+            let (lo, hi) = if best.t < until {
+                let (l, h) = piece.path_box(now, best.t);
+                let margin = DVec2::splat(NARROW_MARGIN);
+                (lo.max(l - margin), hi.min(h + margin))
+            } else {
+                (lo, hi)
+            };
+            let near = |center: DVec2, radius: f64| {
+                (center.clamp(lo, hi) - center).length_squared() <= radius * radius
+            };
+            if ctx.effects.pockets {
+                work.pocket_checks += ctx.table.pockets.len() as u64;
+            }
+            // A pocket and its jaws are looked at only when the path comes near their mouth.
+            for mouth in &self.mouths {
+                if !mouth.near(lo, hi, ctx.contact.max(0.0)) {
+                    continue;
+                }
+                if let (Some(k), true) = (mouth.pocket, ctx.effects.pockets) {
+                    let pocket = &ctx.table.pockets[k as usize];
+                    if near(pocket.center, pocket.radius)
+                        && can_beat(
+                            &best,
+                            roots::contact_bound(p - pocket.center, v, acc, pocket.radius, reach),
+                        )
+                    {
+                        let t = ball_cushion::circle_time(
+                            piece,
+                            pocket.center,
+                            pocket.radius,
+                            now,
+                            until,
+                        );
+                        consider(&mut best, t, OwnKind::Pocket(k));
+                    }
+                }
+                if !ctx.effects.cushions {
+                    continue;
+                }
+                for &k in &mouth.jaws {
+                    let jaw = &ctx.table.jaws[k as usize];
                     let radius = jaw.radius + ctx.contact;
                     if near(jaw.center, radius)
                         && can_beat(
@@ -408,12 +445,17 @@ impl Simulator {
                         )
                     {
                         let t = ball_cushion::jaw_time(piece, jaw, now, until, ctx.contact);
-                        consider(&mut best, t, OwnKind::Jaw(k as u8));
+                        consider(&mut best, t, OwnKind::Jaw(k));
                     }
                 }
             }
         }
-        self.own[i] = best;
+        self.set_own(i, best.t, best.kind);
+    }
+
+    fn set_own(&mut self, i: usize, t: f64, kind: OwnKind) {
+        self.own_first.set(&mut self.own_t, i, t);
+        self.own[i] = kind;
     }
 
     /// Sets the next collision of balls `i < j` from `now`.
@@ -436,7 +478,6 @@ impl Simulator {
     /// The next collision of balls `i < j` after `now`, or a lower bound on it marked
     /// unsolved, to be solved (from `now`) only if it becomes the earliest candidate. Any
     /// other value written to the pair later (a new prediction) marks it again.
-    #[inline(never)]
     fn deferred_collision(&mut self, i: usize, j: usize, now: f64, ctx: &Ctx) -> f64 {
         let n = self.row.len();
         let k = i * n + j;
@@ -445,7 +486,7 @@ impl Simulator {
             self.solved[k] = true;
             return self.collision_time(i, j, now, ctx);
         }
-        let until = self.own[i].t.min(self.own[j].t).min(ctx.limit);
+        let until = self.own_t[i].min(self.own_t[j]).min(ctx.limit);
         let (a, b) = (&self.pieces[i], &self.pieces[j]);
         match ball_ball::earliest_contact(a, b, now, until, ctx.params.ball_radius) {
             None => {
@@ -465,7 +506,7 @@ impl Simulator {
     fn collision_time(&mut self, i: usize, j: usize, now: f64, ctx: &Ctx) -> f64 {
         let (a, b) = (&self.pieces[i], &self.pieces[j]);
         // Either ball's own next event re-predicts this pair anyway: look no further.
-        let until = self.own[i].t.min(self.own[j].t).min(ctx.limit);
+        let until = self.own_t[i].min(self.own_t[j]).min(ctx.limit);
         let flying = Mobility::Flying;
         let t = if self.extents[i].mobility == flying || self.extents[j].mobility == flying {
             self.outcome.work.flight_checks += 1;
@@ -484,8 +525,14 @@ impl Simulator {
         let old = std::mem::replace(&mut self.pair[i * n + j], t);
         if t == old {
             // Most pairs stay out of reach: nothing to update.
-        } else if t <= self.row[i] {
-            self.row[i] = t;
+            return;
+        }
+        if (old == f64::INFINITY) != (t == f64::INFINITY) {
+            self.links[i] ^= ball(j);
+            self.links[j] ^= ball(i);
+        }
+        if t <= self.row[i] {
+            self.row_first.set(&mut self.row, i, t);
             self.arg[i] = j;
         } else if old == self.row[i] {
             let mut best = f64::INFINITY;
@@ -496,7 +543,7 @@ impl Simulator {
                     arg = i + 1 + m;
                 }
             }
-            self.row[i] = best;
+            self.row_first.set(&mut self.row, i, best);
             self.arg[i] = arg;
         }
     }
@@ -505,7 +552,7 @@ impl Simulator {
     fn restart(&mut self, i: usize, t: f64, s: BallState, ctx: &Ctx) {
         self.start_piece(i, t, s, ctx);
         self.predict_own(i, t, ctx);
-        self.predict_pairs_of(i, t, |_| false, ctx);
+        self.predict_pairs_of(i, t, 0, ctx);
     }
 
     /// Records ball `i`'s new piece from `t` in state `s`, without predicting anything.
@@ -513,6 +560,7 @@ impl Simulator {
         let piece = Piece::new(t, s, &ctx.motion);
         self.pieces[i] = piece;
         self.extents[i] = Extent::of(&piece, ctx);
+        self.note_mobility(i);
         self.outcome.history[i].push(piece);
         self.outcome.rest_time[i] = match s.motion {
             MotionState::Stationary | MotionState::Pocketed | MotionState::OffTable => Some(t),
@@ -520,37 +568,46 @@ impl Simulator {
         };
     }
 
-    /// Re-predicts every pair of ball `i` from `t`, except with the balls `done` names.
-    fn predict_pairs_of(&mut self, i: usize, t: f64, done: impl Fn(usize) -> bool, ctx: &Ctx) {
-        // The pass over every other ball: most are dismissed by their boxes alone.
-        let a = self.extents[i];
-        let mut checks = 0;
-        for j in 0..self.extents.len() {
-            if j == i || done(j) {
-                continue;
-            }
-            let b = &self.extents[j];
+    /// Records ball `i`'s mobility in the sets of balls that move and that are present.
+    fn note_mobility(&mut self, i: usize) {
+        let mobility = self.extents[i].mobility;
+        let moves = matches!(mobility, Mobility::Cloth | Mobility::Flying);
+        let here = mobility != Mobility::Gone;
+        self.moving = self.moving & !ball(i) | Balls::from(moves) << i;
+        self.present = self.present & !ball(i) | Balls::from(here) << i;
+    }
+
+    /// Re-predicts every pair of ball `i` from `t`, except with the balls in `done`.
+    fn predict_pairs_of(&mut self, i: usize, t: f64, done: Balls, ctx: &Ctx) {
+        // The pass over every other ball: most are dismissed by their boxes alone, and a pair
+        // dismissed now that held no time before needs no writing.
+        let meet = match self.extents[i].mobility {
+            Mobility::Gone => 0,
+            Mobility::Still => self.moving,
+            Mobility::Cloth | Mobility::Flying => self.present,
+        } & !ball(i);
+        let near = extent::within_reach(&self.extents, i) & meet;
+        let others = !done;
+        self.outcome.work.pair_checks += u64::from((meet & others).count_ones());
+        let mut todo = (near | self.links[i]) & others;
+        while todo != 0 {
+            let j = todo.trailing_zeros() as usize;
+            todo &= todo - 1;
             let (lo, hi) = (i.min(j), i.max(j));
-            let time = if !a.may_meet(b) {
-                f64::INFINITY
+            let time = if near & ball(j) != 0 {
+                self.deferred_collision(lo, hi, t, ctx)
             } else {
-                checks += 1;
-                if a.apart(b) {
-                    f64::INFINITY
-                } else {
-                    self.deferred_collision(lo, hi, t, ctx)
-                }
+                f64::INFINITY
             };
             self.set_pair(lo, hi, time);
         }
-        self.outcome.work.pair_checks += checks;
     }
 
     fn resolve_own(&mut self, i: usize, t: f64, ctx: &Ctx) {
         let piece = self.pieces[i];
         let r = ctx.params.ball_radius;
         let ball = i as u16;
-        let (s, kind) = match self.own[i].kind {
+        let (s, kind) = match self.own[i] {
             OwnKind::Nothing => return,
             OwnKind::Transition => {
                 let s = piece.state_after_end(r);
@@ -768,85 +825,20 @@ impl Simulator {
             self.predict_own(self.scratch.balls[k], t, ctx);
         }
         let balls = std::mem::take(&mut self.scratch.balls);
-        for (m, &k) in changed.iter().enumerate() {
-            let earlier = |j: usize| changed[..m].iter().any(|&c| balls[c] == j);
+        let mut earlier = 0;
+        for &k in &changed {
             self.predict_pairs_of(balls[k], t, earlier, ctx);
+            earlier |= ball(balls[k]);
         }
         self.scratch.balls = balls;
         self.scratch.changed = changed;
     }
 }
 
-/// How a ball's current piece moves, as far as pair predictions care.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Mobility {
-    /// Pocketed or off the table: it meets nothing.
-    Gone,
-    /// At rest or spinning on the spot: it meets only balls that move.
-    Still,
-    /// Sliding or rolling on the cloth.
-    Cloth,
-    /// In flight.
-    Flying,
-}
-
-/// What the pair predictions read first of a ball's current piece, kept together and apart
-/// from the piece so that a pass over every other ball stays quick.
-#[derive(Clone, Copy, Debug)]
-struct Extent {
-    mobility: Mobility,
-    /// A box holding the piece's whole path (up to the horizon), and its low corner less a
-    /// ball's diameter.
-    lo: DVec2,
-    hi: DVec2,
-    lo_reach: DVec2,
-}
-
-impl Extent {
-    fn of(p: &Piece, ctx: &Ctx) -> Extent {
-        let motion = p.start.motion;
-        let mobility = if motion.is_gone() {
-            Mobility::Gone
-        } else if motion == MotionState::Airborne {
-            Mobility::Flying
-        } else if motion.is_translating() {
-            Mobility::Cloth
-        } else {
-            Mobility::Still
-        };
-        let end = p.t_end.min(ctx.limit);
-        let (lo, hi) = if end.is_finite() || !motion.is_translating() {
-            p.path_box(p.t0, end.max(p.t0))
-        } else {
-            (DVec2::NEG_INFINITY, DVec2::INFINITY)
-        };
-        let d = 2.0 * ctx.params.ball_radius;
-        Extent {
-            mobility,
-            lo,
-            hi,
-            lo_reach: lo - DVec2::splat(d),
-        }
-    }
-
-    /// False when the balls cannot meet whatever their paths: one is gone, or neither moves.
-    #[inline]
-    fn may_meet(&self, other: &Extent) -> bool {
-        let (a, b) = (self.mobility, other.mobility);
-        !(a == Mobility::Gone
-            || b == Mobility::Gone
-            || (a == Mobility::Still && b == Mobility::Still))
-    }
-
-    /// True when the two boxes are more than a diameter apart, so the balls cannot meet.
-    #[inline]
-    fn apart(&self, other: &Extent) -> bool {
-        self.lo_reach.x > other.hi.x
-            || other.lo_reach.x > self.hi.x
-            || self.lo_reach.y > other.hi.y
-            || other.lo_reach.y > self.hi.y
-    }
-}
+/// How far (m) a box narrowed to a ball's path up to an earlier time is widened: a contact
+/// the root solver finds is nearer than this to the exact one (the rounding of positions of
+/// a few metres is some 1e-15 m).
+const NARROW_MARGIN: f64 = 1e-9;
 
 #[derive(Clone, Copy, Debug)]
 enum Next {

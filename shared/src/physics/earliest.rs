@@ -1,0 +1,74 @@
+//! The earliest of a list of times, kept up to date as they change one at a time, so that the
+//! event loop finds it without scanning the list at every step.
+
+/// Which index holds the earliest of a list of times: the first (lowest) of equal times, and
+/// none when no time is below infinity (a NaN is never the earliest). The answer is always
+/// the one a scan from the first index would give.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct Earliest {
+    /// The index, or `usize::MAX` for none.
+    first: usize,
+}
+
+impl Earliest {
+    /// The earliest of `times`, by a scan.
+    pub(super) fn of(times: &[f64]) -> Earliest {
+        let mut best = f64::INFINITY;
+        let mut first = usize::MAX;
+        for (i, &t) in times.iter().enumerate() {
+            if t < best {
+                best = t;
+                first = i;
+            }
+        }
+        Earliest { first }
+    }
+
+    /// The index of the earliest time and that time, if any is below infinity.
+    #[inline]
+    pub(super) fn get(self, times: &[f64]) -> Option<(usize, f64)> {
+        times.get(self.first).map(|&t| (self.first, t))
+    }
+
+    /// Sets `times[i]` to `t`, keeping track of the earliest.
+    #[inline]
+    pub(super) fn set(&mut self, times: &mut [f64], i: usize, t: f64) {
+        let f = self.first;
+        let best = times.get(f).copied().unwrap_or(f64::INFINITY);
+        times[i] = t;
+        if t < best || (f != usize::MAX && t == best && i <= f) {
+            // Earlier than the earliest, or equal to it at a lower index (or the earliest
+            // itself, unchanged).
+            self.first = i;
+        } else if i == f {
+            // The earliest went later (or became NaN): any other may now be first.
+            *self = Earliest::of(times);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn always_agrees_with_a_scan() {
+        let choices = [0.5, 1.0, 2.0, f64::INFINITY, f64::NAN];
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut times = [f64::INFINITY; 6];
+        let mut earliest = Earliest::of(&times);
+        for _ in 0..20_000 {
+            let i = (next() % 6) as usize;
+            let t = choices[(next() % 5) as usize];
+            earliest.set(&mut times, i, t);
+            let scan = Earliest::of(&times);
+            assert_eq!(earliest.first, scan.first, "{times:?}");
+        }
+    }
+}
