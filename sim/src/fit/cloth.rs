@@ -3,13 +3,13 @@
 //! physically sensible range. Every trial of the parameters refits each shot's strike
 //! briefly from its last fit, since a strike tuned to one cloth is not the best on another.
 
-use breakshot_shared::physics::{Models, Params};
+use breakshot_shared::physics::{BallFriction, Models, Params};
 
 use super::recording::Recording;
 use super::strike::{self, nelder_mead, StrikeFit};
 
 /// The fitted parameters and the range each may take.
-pub const RANGES: [(&str, f64, f64); 6] = [
+pub const RANGES: [(&str, f64, f64); 7] = [
     // Ball–cloth sliding friction: 0.1–0.4 covers pool and carom cloths.
     ("mu_slide", 0.1, 0.4),
     // Rolling resistance: heated carom cloth is fast, 0.003–0.02.
@@ -21,13 +21,16 @@ pub const RANGES: [(&str, f64, f64); 6] = [
     // Cushion restitution and friction.
     ("e_cushion", 0.6, 0.98),
     ("f_cushion", 0.05, 0.4),
+    // Ball–ball friction at zero slip (the throw and spin transfer of a collision); a
+    // speed-dependent law keeps its shape, scaled to this value.
+    ("mu_ball", 0.02, 0.3),
 ];
 
 /// Nelder–Mead iterations of the strike refit inside each trial of the parameters.
 const REFIT_ITERS: u64 = 15;
 
 /// The parameters' values, in the order of [`RANGES`].
-pub fn values(p: &Params) -> [f64; 6] {
+pub fn values(p: &Params) -> [f64; 7] {
     [
         p.mu_slide,
         p.mu_roll,
@@ -35,12 +38,28 @@ pub fn values(p: &Params) -> [f64; 6] {
         p.e_ball,
         p.e_cushion,
         p.f_cushion,
+        p.ball_friction.at(0.0),
     ]
+}
+
+/// `friction` scaled so that it is `mu` at zero slip, keeping how it falls with speed.
+fn ball_friction_at_rest(friction: BallFriction, mu: f64) -> BallFriction {
+    match friction {
+        BallFriction::Constant(_) => BallFriction::Constant(mu),
+        BallFriction::SpeedDependent { a, b, c } => {
+            let scale = mu / (a + b);
+            BallFriction::SpeedDependent {
+                a: a * scale,
+                b: b * scale,
+                c,
+            }
+        }
+    }
 }
 
 /// `base` with the values `x` (clamped into their ranges), and how far outside they were.
 pub fn with_values(base: &Params, x: &[f64]) -> (Params, f64) {
-    let mut v = [0.0; 6];
+    let mut v = [0.0; 7];
     let mut excess = 0.0;
     for (k, (_, lo, hi)) in RANGES.iter().enumerate() {
         v[k] = x[k].clamp(*lo, *hi);
@@ -53,6 +72,7 @@ pub fn with_values(base: &Params, x: &[f64]) -> (Params, f64) {
         e_ball: v[3],
         e_cushion: v[4],
         f_cushion: v[5],
+        ball_friction: ball_friction_at_rest(base.ball_friction, v[6]),
         ..*base
     };
     (p, excess)

@@ -1,7 +1,9 @@
 //! Cross-validation of the fit (`fit --folds K`): the shots are dealt into K folds; for each
 //! fold the shared parameters are fitted on the other folds' shots, and the fold's own
-//! shots have only their strikes fitted under those parameters (as `--strikes-only --start
-//! FILE.json` would), so every shot's RMSE comes from constants fitted without it.
+//! shots have only their strikes fitted under those parameters, searched as hard as the
+//! fitted shots' (a strike found under the start parameters, then, once a round, searched
+//! again under the fold's constants from the last one and from scratch, as each round of the
+//! fit searches every shot), so every shot's RMSE comes from constants fitted without it.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -9,6 +11,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Context};
 use breakshot_shared::physics::Params;
+use indicatif::ProgressBar;
 
 use super::cloth::{values, RANGES};
 use super::recording::Recording;
@@ -16,7 +19,7 @@ use super::report::{
     strike_csv, summarize, write_physics, Summary, PUBLISHED_MEDIAN, STRIKE_CSV_HEADER,
 };
 use super::strike::StrikeFit;
-use super::{fit, rmses, Options};
+use super::{fit, refit_strikes, rmses, Options};
 
 /// One fold: the parameters fitted without its shots, and the RMSE of the shots they were
 /// fitted on (in-sample, for comparison).
@@ -80,16 +83,28 @@ pub fn run(
             },
             show,
         )?;
+        // The fold's shots are searched as the fitted ones were: a strike under the start
+        // parameters, then, once a round, searched again under the fold's constants, from
+        // the last one and from scratch.
         let test = fit(
             part(fold, true),
             Options {
                 fit_cloth: false,
-                start: train.fitted,
                 ..options
             },
             show,
         )?;
-        let mut shots = test.fitted_fits.into_iter();
+        let mut shots = test.start_fits;
+        for _ in 0..options.rounds {
+            shots = refit_strikes(
+                &test.recordings,
+                &train.fitted,
+                &shots,
+                &options,
+                &ProgressBar::hidden(),
+            )?;
+        }
+        let mut shots = shots.into_iter();
         for (slot, _) in held_out
             .iter_mut()
             .zip(&fold_of)

@@ -152,12 +152,36 @@ pub fn rmses(fits: &[StrikeFit]) -> Vec<f64> {
     fits.iter().map(|f| f.rmse).collect()
 }
 
-/// Runs the fit on `recordings`, showing progress when `show`.
-pub fn fit(recordings: Vec<Recording>, options: Options, show: bool) -> anyhow::Result<Fit> {
-    let models = Models {
+/// The engine's models a fit of `options` simulates with.
+fn models(options: &Options) -> Models {
+    Models {
         cushion: options.cushion,
         ..Models::default()
-    };
+    }
+}
+
+/// Each shot's strike searched again under `params`: from its `previous` strike (found under
+/// other parameters) and from scratch, the better kept. A round of the fit does this for
+/// every shot; a cross-validation for the shots it holds out, so that they are searched as
+/// hard as the shots the constants were fitted on.
+fn refit_strikes(
+    recordings: &[Recording],
+    params: &Params,
+    previous: &[StrikeFit],
+    options: &Options,
+    bar: &ProgressBar,
+) -> anyhow::Result<Vec<StrikeFit>> {
+    let models = models(options);
+    each(recordings, bar, |rec, k| {
+        let warm = strike::fit(rec, params, models, Some(&previous[k]), options.iters)?;
+        let cold = strike::fit(rec, params, models, None, options.iters)?;
+        Ok(if cold.rmse < warm.rmse { cold } else { warm })
+    })
+}
+
+/// Runs the fit on `recordings`, showing progress when `show`.
+pub fn fit(recordings: Vec<Recording>, options: Options, show: bool) -> anyhow::Result<Fit> {
+    let models = models(&options);
     let start = options.start;
     // Every start position must be valid before the long work begins.
     for rec in &recordings {
@@ -191,13 +215,7 @@ pub fn fit(recordings: Vec<Recording>, options: Options, show: bool) -> anyhow::
             let t0 = Instant::now();
             bar.set_message(format!("shared parameters, round {round}"));
             fitted = cloth::fit(&recordings, &fits, &fitted, models, CLOTH_ITERS);
-            let previous = fits.clone();
-            // Warm start from the last strike, and a full search: keep the better.
-            fits = each(&recordings, &bar, |rec, k| {
-                let warm = strike::fit(rec, &fitted, models, Some(&previous[k]), options.iters)?;
-                let cold = strike::fit(rec, &fitted, models, None, options.iters)?;
-                Ok(if cold.rmse < warm.rmse { cold } else { warm })
-            })?;
+            fits = refit_strikes(&recordings, &fitted, &fits, &options, &bar)?;
             seconds.push((format!("round {round}"), t0.elapsed().as_secs_f64()));
         }
     }
