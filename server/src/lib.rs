@@ -21,6 +21,7 @@ pub mod records;
 pub mod room;
 pub mod secret;
 pub mod server;
+pub mod soonest;
 pub mod source;
 pub mod stats;
 pub mod store;
