@@ -142,20 +142,24 @@ impl Report {
     }
 
     /// The report's figures as one JSON object (games completed, peak games, shots,
-    /// desyncs, the round trips' p50 and p99 and those of the stages), for `breakshot-bot --json` to add its own to.
+    /// desyncs, the round trips' p50 and p99 as `p50_ms` and `p99_ms`, the other stages' as
+    /// `accepted_p50_ms` and so on), for `breakshot-bot --json` to add its own to.
     pub fn json(&self) -> serde_json::Value {
-        serde_json::json!({
+        let mut json = serde_json::json!({
             "games_completed": self.games_completed,
             "peak_games": self.peak_games(),
             "shots": self.tally.shots,
             "desyncs": self.tally.desyncs,
-            "p50_ms": round3(self.percentile_ms(0.5)),
-            "p99_ms": round3(self.percentile_ms(0.99)),
-            "accepted_p50_ms": round3(quantile(&self.tally.times.accepted, 0.5)),
-            "accepted_p99_ms": round3(quantile(&self.tally.times.accepted, 0.99)),
-            "replica_p50_ms": round3(quantile(&self.tally.times.replica, 0.5)),
-            "replica_p99_ms": round3(quantile(&self.tally.times.replica, 0.99)),
-        })
+        });
+        for (stage, p50, p99) in self.stages_ms() {
+            let prefix = match stage {
+                "round trip" => String::new(),
+                other => format!("{other}_"),
+            };
+            json[format!("{prefix}p50_ms")] = round3(p50).into();
+            json[format!("{prefix}p99_ms")] = round3(p99).into();
+        }
+        json
     }
 
     fn add(&mut self, p: PlayerResult) {
@@ -347,7 +351,10 @@ mod tests {
         assert_eq!(round_trip, ("round trip", 50.0, 99.0));
         // No shot seen: nothing to rank.
         assert_eq!(replica, ("replica", 0.0, 0.0));
-        assert_eq!(report.json()["accepted_p99_ms"], 3.0);
+        let json = report.json();
+        assert_eq!(json["accepted_p99_ms"], 3.0);
+        assert_eq!(json["p50_ms"], 50.0);
+        assert_eq!(json["replica_p50_ms"], 0.0);
     }
 
     #[cfg(target_os = "linux")]

@@ -458,8 +458,8 @@ pub async fn bot_game(
     let (shots, times) = (report.tally.shots as usize, &report.tally.times);
     assert_eq!(times.round_trip.len(), shots);
     assert_eq!(times.accepted.len(), shots);
-    let pairs = times.accepted.iter().zip(&times.round_trip);
-    assert!(pairs.into_iter().all(|(a, r)| a <= r));
+    let mut pairs = times.accepted.iter().zip(&times.round_trip);
+    assert!(pairs.all(|(a, r)| a <= r));
     assert_eq!(times.replica.len(), 2 * shots);
     assert!(fetched.finished, "the stored game is not over");
     Ok((report, GameRecord::decode(&fetched.bytes)?))

@@ -406,12 +406,10 @@ impl SeatPlayer {
 
     /// Sends a move whose time has come.
     async fn send_move(&mut self, client: &mut Client, cmd: ClientMessage) {
-        if matches!(cmd, ClientMessage::Shot { .. }) {
-            if let Some(turn) = self.acted {
-                // A shot sent again on its turn (the first was refused) counts anew.
-                self.sent_shots.retain(|(t, _)| *t != turn);
-                self.sent_shots.push((turn, Instant::now()));
-            }
+        if let ClientMessage::Shot { turn, .. } = cmd {
+            // A shot sent again on its turn (the first was refused) counts anew.
+            self.sent_shots.retain(|(t, _)| *t != turn);
+            self.sent_shots.push((turn, Instant::now()));
         }
         // A message lost with the connection is answered again after the rejoin.
         if client.send(&cmd).await.is_err() {

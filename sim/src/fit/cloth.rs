@@ -42,11 +42,11 @@ pub fn values(p: &Params) -> [f64; 7] {
     ]
 }
 
-/// `friction` scaled so that it is `mu` at zero slip, keeping how it falls with speed.
+/// `friction` scaled so that it is `mu` at zero slip, keeping how it falls with speed (a
+/// law that is nothing at zero slip has no shape to keep: it becomes `mu` at every speed).
 fn ball_friction_at_rest(friction: BallFriction, mu: f64) -> BallFriction {
     match friction {
-        BallFriction::Constant(_) => BallFriction::Constant(mu),
-        BallFriction::SpeedDependent { a, b, c } => {
+        BallFriction::SpeedDependent { a, b, c } if a + b > 0.0 => {
             let scale = mu / (a + b);
             BallFriction::SpeedDependent {
                 a: a * scale,
@@ -54,6 +54,7 @@ fn ball_friction_at_rest(friction: BallFriction, mu: f64) -> BallFriction {
                 c,
             }
         }
+        _ => BallFriction::Constant(mu),
     }
 }
 
@@ -113,4 +114,32 @@ pub fn fit(
     let step: Vec<f64> = RANGES.iter().map(|(_, lo, hi)| 0.15 * (hi - lo)).collect();
     let (best, _) = nelder_mead(&cost, &x0, &step, iters);
     with_values(start, &best).0
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_ball_friction_fitted_is_its_value_at_zero_slip_and_its_law_keeps_its_shape() {
+        let pool = Params::default();
+        // The start's own value gives the start back, bit for bit.
+        assert_eq!(with_values(&pool, &values(&pool)).0, pool);
+        let mut x = values(&pool);
+        x[6] = 0.2;
+        let (p, excess) = with_values(&pool, &x);
+        assert_eq!(excess, 0.0);
+        assert!((values(&p)[6] - 0.2).abs() < 1e-15);
+        // Twice the friction at zero slip: about twice at every slip speed.
+        let ratio = |v: f64| p.ball_friction.at(v) / pool.ball_friction.at(v);
+        assert!((ratio(2.0) - ratio(0.0)).abs() < 1e-12, "{}", ratio(2.0));
+        // A law that is nothing at zero slip becomes the value at every speed, not a NaN.
+        let none = BallFriction::SpeedDependent {
+            a: 0.0,
+            b: 0.0,
+            c: 1.0,
+        };
+        let flat = ball_friction_at_rest(none, 0.1);
+        assert_eq!(flat, BallFriction::Constant(0.1));
+    }
 }
