@@ -142,12 +142,14 @@ fn the_advice_shown_is_the_simulator_s_and_j_sets_the_cue_to_it() {
     use breakshot_client::play::{Advisor, Request};
     use breakshot_shared::ai::Level;
     let dir = breakshot_testkit::scratch("teach-advice");
-    // I asks (level 3 by default); the search runs a few simulations a frame; J sets the cue.
+    // I asks (level 3 by default); the search runs a few simulations a frame; once the
+    // advice is shown, J sets the cue.
     let keys = [
         "sleep 1",
         "key --window \"$wid\" i",
-        "sleep 12",
+        "await practice advice [0-9]",
         "key --window \"$wid\" j",
+        "sleep 1",
     ];
     let Some(said) = practised(dir.path(), CUT, 1200, &keys) else {
         return;

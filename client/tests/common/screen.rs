@@ -77,6 +77,10 @@ pub fn window_sized(
 /// virtual display while `xdotool` plays `keys` on it (one xdotool command a line, `$wid`
 /// the window, a short pause before each), its data in `data`; None if xvfb-run or xdotool
 /// is missing (the reason is printed). Fails the test if it has not ended within `patience`.
+///
+/// A line `await TEXT` is no xdotool command: the script waits (at most a minute) until
+/// the window has reported a line starting with TEXT (a `grep` pattern), so a key that needs something done
+/// first is pressed after it however loaded the machine is.
 pub fn played(
     args: &[&OsStr],
     out: &Path,
@@ -90,15 +94,25 @@ pub fn played(
         eprintln!("skipped: needs xvfb-run and xdotool (apt-get install xvfb xdotool)");
         return None;
     };
+    // The window's standard error goes to a file the script can read, then to its own.
+    let log = out.with_file_name("window.log");
     let mut script = format!(
-        "\"$0\" \"$@\" --screenshot \"{}\" --frames {frames} --size {w}x{h} &\n\
+        "log=\"{}\"\n\
+         \"$0\" \"$@\" --screenshot \"{}\" --frames {frames} --size {w}x{h} 2>\"$log\" &\n\
          pid=$!\nwid=$(xdotool search --sync --name Breakshot | head -n 1)\n",
+        log.display(),
         out.display()
     );
     for key in keys {
-        script.push_str(&format!("sleep 0.3\nxdotool {key}\n"));
+        match key.strip_prefix("await ") {
+            Some(text) => script.push_str(&format!(
+                "n=0; until grep -q '^report: {text}' \"$log\" || [ $n -ge 600 ]; \
+                 do sleep 0.1; n=$((n+1)); done\n"
+            )),
+            None => script.push_str(&format!("sleep 0.3\nxdotool {key}\n")),
+        }
     }
-    script.push_str("wait $pid\n");
+    script.push_str("wait $pid; status=$?; cat \"$log\" >&2; rm -f \"$log\"; exit $status\n");
     Some(breakshot_testkit::run(
         Process::new(xvfb)
             .env("BREAKSHOT_DATA", data)
