@@ -31,6 +31,7 @@ use crate::output::{ConnId, RoomMeta, RoomOutput, StoreOp};
 use crate::ratelimit::Bucket;
 use crate::ratings::{PlayerRating, Ratings};
 use crate::room::{ClockLeft, Entered, Room, RoomRules, Who};
+use crate::rooms::Rooms;
 use crate::secret::{new_seed, new_token, Entropy, TokenDigest};
 use crate::source::source_key;
 use crate::work::{Returned, RoomWork};
@@ -144,7 +145,7 @@ enum Held {
 pub struct Hub {
     config: HubConfig,
     /// The rooms here; a room lent out with its work is in `away` instead.
-    rooms: BTreeMap<RoomCode, Room>,
+    rooms: Rooms,
     away: BTreeMap<RoomCode, VecDeque<Held>>,
     /// Who created each open room, for the rooms-per-address limit.
     creators: BTreeMap<RoomCode, IpAddr>,
@@ -244,7 +245,7 @@ impl Hub {
         Hub {
             queues: Queues::new(QUEUE_TIMEOUT, config.limits.match_one_address),
             config,
-            rooms: BTreeMap::new(),
+            rooms: Rooms::default(),
             away: BTreeMap::new(),
             creators: BTreeMap::new(),
             sources: BTreeMap::new(),
@@ -340,7 +341,7 @@ impl Hub {
         let room = *back.0;
         let code = room.code().clone();
         let mut held = self.away.remove(&code).unwrap_or_default();
-        self.rooms.insert(code.clone(), room);
+        self.rooms.insert(room);
         let mut out = Vec::new();
         while let Some(event) = held.pop_front() {
             match event {
@@ -362,7 +363,7 @@ impl Hub {
                     }
                 }
                 Held::Disconnect(conn, last_heard) => {
-                    if let Some(room) = self.rooms.get_mut(&code) {
+                    if let Some(mut room) = self.rooms.get_mut(&code) {
                         out.extend(lift(room.disconnect(now, last_heard, conn)));
                     }
                 }
@@ -499,7 +500,7 @@ impl Hub {
         }
         let room = Room::restore(now, meta, rules, number, record, game, clock);
         self.index_tokens(&room);
-        self.rooms.insert(room.code().clone(), room);
+        self.rooms.insert(room);
     }
 
     /// The store answered a claim for `conn`'s seat `token`: a room taken over is restored
@@ -603,7 +604,7 @@ impl Hub {
             return Vec::new();
         }
         match self.rooms.get_mut(&code) {
-            Some(room) => lift(room.disconnect(now, last_heard, conn)),
+            Some(mut room) => lift(room.disconnect(now, last_heard, conn)),
             None => Vec::new(),
         }
     }
@@ -813,13 +814,16 @@ impl Hub {
             }
             (ClientMessage::Join { room, name }, None) => self.join(now, conn, room, name),
             (ClientMessage::Rejoin { token }, None) => self.rejoin(now, conn, token, true),
-            (ClientMessage::Spectate { room }, None) => match self.rooms.get_mut(&room) {
-                Some(r) => {
-                    let entry = r.spectate(now, conn, MAX_SPECTATORS);
-                    self.entered(conn, room, entry)
+            (ClientMessage::Spectate { room }, None) => {
+                let entry = self
+                    .rooms
+                    .get_mut(&room)
+                    .map(|mut r| r.spectate(now, conn, MAX_SPECTATORS));
+                match entry {
+                    Some(entry) => self.entered(conn, room, entry),
+                    None => error(conn, ErrorCode::NoSuchRoom, format!("no room {room}")),
                 }
-                None => error(conn, ErrorCode::NoSuchRoom, format!("no room {room}")),
-            },
+            }
             (other, Some((code, role))) => self.lend(&code, Who { conn, role }, other, read),
             (_, None) => error(conn, ErrorCode::Unexpected, "join or create a room first"),
         }
@@ -827,7 +831,7 @@ impl Hub {
 
     /// The earliest instant at which [`Hub::tick`] has something to do.
     pub fn next_deadline(&self) -> Option<Instant> {
-        let rooms = self.rooms.values().filter_map(Room::next_deadline).min();
+        let rooms = self.rooms.next_deadline();
         rooms.into_iter().chain(self.queues.next_deadline()).min()
     }
 
@@ -835,11 +839,14 @@ impl Hub {
     /// closed rooms, keeping their seats' results; the driver calls it at [`Hub::next_deadline`].
     pub fn tick(&mut self, now: Instant) -> Vec<Output> {
         let mut out = Vec::new();
-        let mut ticked = Vec::new();
-        for room in self.rooms.values_mut() {
-            if room.next_deadline().is_some_and(|d| d <= now) || room.is_closed() {
+        // The rooms due and the rooms closed, in the order of their codes.
+        let mut ticked = self.rooms.due(now);
+        ticked.extend(self.rooms.closed());
+        ticked.sort();
+        ticked.dedup();
+        for code in &ticked {
+            if let Some(mut room) = self.rooms.get_mut(code) {
                 out.extend(lift(room.tick(now)));
-                ticked.push(room.code().clone());
             }
         }
         // A forfeit at the end of a reconnect window ends a rated game too.
@@ -847,12 +854,7 @@ impl Hub {
             out.extend(self.settle_rating(&code));
         }
         out.extend(self.match_queued(now));
-        let closed: Vec<RoomCode> = self
-            .rooms
-            .values()
-            .filter(|r| r.is_closed())
-            .map(|r| r.code().clone())
-            .collect();
+        let closed = self.rooms.closed();
         self.endings.expire(now);
         for code in closed {
             if self.config.shared_store {
@@ -891,7 +893,7 @@ impl Hub {
                     && (self.away.contains_key(*code)
                         || self
                             .rooms
-                            .get(*code)
+                            .get(code)
                             .is_some_and(|r| !matches!(r.game().phase(), Phase::Over { .. })))
             })
             .count()
@@ -1053,7 +1055,7 @@ impl Hub {
         let (room, out) = Room::create(now, code.clone(), rules, seed, conn, name, token);
         self.tokens
             .insert(TokenDigest::of(&token), (code.clone(), Seat::A));
-        self.rooms.insert(code.clone(), room);
+        self.rooms.insert(room);
         if let Some(addr) = addr {
             self.creators.insert(code.clone(), addr);
             if let Some(source) = self.sources.get_mut(&addr) {
@@ -1066,10 +1068,13 @@ impl Hub {
 
     fn join(&mut self, now: Instant, conn: ConnId, code: RoomCode, name: String) -> Vec<Output> {
         let token = new_token(self.rng.as_mut());
-        let Some(room) = self.rooms.get_mut(&code) else {
+        let Some(entry) = self
+            .rooms
+            .get_mut(&code)
+            .map(|mut room| room.join(now, conn, name.clone(), token))
+        else {
             return error(conn, ErrorCode::NoSuchRoom, format!("no room {code}"));
         };
-        let entry = room.join(now, conn, name.clone(), token);
         if entry.role.is_some() {
             self.tokens
                 .insert(TokenDigest::of(&token), (code.clone(), Seat::B));
@@ -1107,10 +1112,13 @@ impl Hub {
                 "unknown seat token (the game may be over)",
             );
         };
-        let Some(room) = self.rooms.get_mut(&code) else {
+        let Some(entry) = self
+            .rooms
+            .get_mut(&code)
+            .map(|mut room| room.rejoin(now, conn, seat, token))
+        else {
             return error(conn, ErrorCode::NoSuchRoom, "the room is closed");
         };
-        let entry = room.rejoin(now, conn, seat, token);
         self.entered(conn, code, entry)
     }
 

@@ -47,7 +47,6 @@ use crate::output::{ConnId, RoomMeta, RoomOutput, StoreOp};
 use crate::pool::{self, Pool};
 use crate::records;
 use crate::secret::{Entropy, OsEntropy, TestEntropy, TokenDigest};
-use crate::soonest::Soonest;
 use crate::source::source_key;
 use crate::stats::Stats;
 use crate::store::{Claim, EndedGame, Location, Store, StoreError, StoredGame};
@@ -821,7 +820,6 @@ fn spawn_hub(
     // The pool moves into the thread: when the hub stops, dropping it finishes the rooms'
     // work already queued (so every accepted command is stored) before the writer stops.
     let mut last_census: Option<Instant> = None;
-    let mut soonest = Soonest::default();
     std::thread::spawn(move || loop {
         stats.rooms.store(hub.room_count(), Ordering::Relaxed);
         if stats.is_draining() {
@@ -857,10 +855,13 @@ fn spawn_hub(
         }
         // The hub wakes at least once a census period, so the metrics stay current while
         // nothing happens.
-        let wait = soonest.wait(Instant::now(), CENSUS_PERIOD, || hub.next_deadline());
+        let now = Instant::now();
+        let wait = hub
+            .next_deadline()
+            .map_or(CENSUS_PERIOD, |d| d.saturating_duration_since(now))
+            .min(CENSUS_PERIOD);
         let event = events.recv_timeout(wait);
         let now = Instant::now();
-        soonest.changed();
         if event.is_ok() {
             stats.hub_queue.fetch_sub(1, Ordering::Relaxed);
         }
@@ -886,12 +887,8 @@ fn spawn_hub(
         };
         // Deadlines that passed while handling messages are handled too.
         let mut out = out;
-        if soonest
-            .at(now, || hub.next_deadline())
-            .is_some_and(|d| d <= now)
-        {
+        if hub.next_deadline().is_some_and(|d| d <= now) {
             out.extend(hub.tick(now));
-            soonest.changed();
         }
         if read.is_some() {
             stats.hub_time.record(now.elapsed());

@@ -219,7 +219,7 @@ impl Hub {
             .insert(TokenDigest::of(&token_a), (code.clone(), Seat::A));
         self.tokens
             .insert(TokenDigest::of(&token_b), (code.clone(), Seat::B));
-        self.rooms.insert(code.clone(), room);
+        self.rooms.insert(room);
         self.set_room(a.conn, code.clone(), Role::Player(Seat::A));
         self.set_room(b.conn, code.clone(), Role::Player(Seat::B));
         self.lobby.list(
