@@ -357,6 +357,7 @@ async fn play_game(
         aim_aid: AimAid::Full,
         name: host.name().to_owned(),
     };
+    let host_progress = host.progress();
     let (host_task, guest_task) = if config.quick_match {
         // No invite to a room: both wait in the queue and are paired by the server.
         let queue = |name: &str| {
@@ -375,12 +376,28 @@ async fn play_game(
             tokio::spawn(guest.play(Entrance::Join(room_rx))),
         )
     };
-    let host = host_task
-        .await
-        .unwrap_or_else(|e| PlayerResult::failed(e.to_string()));
     let guest = guest_task
         .await
         .unwrap_or_else(|e| PlayerResult::failed(e.to_string()));
+    // A room waits for its second player as long as its first stays: when the bot meant to
+    // join it never took its seat (it could not connect, or was refused), the one that
+    // opened it would wait for ever, and the run with it. (Quick match pairs whoever waits,
+    // and its queue gives up by itself.)
+    if !config.quick_match && guest.room.is_none() && !host_task.is_finished() {
+        host_task.abort();
+    }
+    let host = match host_task.await {
+        Ok(host) => host,
+        Err(e) if e.is_cancelled() => {
+            let why = format!(
+                "the opponent never took its seat ({})",
+                guest.error.as_deref().unwrap_or("it left")
+            );
+            host_progress.ended(why.clone());
+            PlayerResult::failed(why)
+        }
+        Err(e) => PlayerResult::failed(e.to_string()),
+    };
     let summary = GameSummary {
         room: host.room.clone(),
         completed: host.over.is_some() && guest.over.is_some(),
