@@ -222,6 +222,9 @@ pub async fn run(config: &BotConfig) -> Report {
         let start = config.ramp.mul_f64(g as f64 / config.games as f64);
         let (host, guest) = players(&config, g as u64);
         let progress = [host.progress(), guest.progress()];
+        for p in &progress {
+            p.begins_at(started + start);
+        }
         watched.push(progress.clone());
         tasks.push(tokio::spawn(async move {
             tokio::time::sleep(start).await;

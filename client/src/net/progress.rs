@@ -262,6 +262,12 @@ impl Progress {
         self.lock().since = Instant::now();
     }
 
+    /// It begins at `at`: until then it is not quiet, only not started (a run that spreads
+    /// its games' starts).
+    pub(crate) fn begins_at(&self, at: Instant) {
+        self.lock().since = at;
+    }
+
     /// It received `msg`.
     pub(crate) fn received(&self, msg: &ServerMessage) {
         self.lock().received = Some((Instant::now(), received_label(msg)));
@@ -412,6 +418,9 @@ mod tests {
         assert!(seen.stalled(at(15), Duration::from_secs(10)));
         seen.waiting = Waiting::Done;
         assert!(!seen.stalled(at(100), Duration::from_secs(10)));
+        // Not started yet: not quiet either.
+        let later = Seen::new("bot9a".into(), at(50));
+        assert!(!later.stalled(at(40), Duration::from_secs(10)));
     }
 
     #[test]
