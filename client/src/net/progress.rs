@@ -122,12 +122,17 @@ impl fmt::Display for Waiting {
         let kind = self.kind();
         match self {
             Waiting::OwnMove { turn, due } => {
-                let late = Instant::now().saturating_duration_since(*due);
-                write!(
-                    f,
-                    "{kind} on turn {turn} (late by {:.1} s)",
-                    late.as_secs_f64()
-                )
+                let now = Instant::now();
+                match due.checked_duration_since(now) {
+                    Some(wait) if !wait.is_zero() => {
+                        let wait = wait.as_secs_f64();
+                        write!(f, "{kind} on turn {turn} (due in {wait:.1} s)")
+                    }
+                    _ => {
+                        let late = now.saturating_duration_since(*due).as_secs_f64();
+                        write!(f, "{kind} on turn {turn} (late by {late:.1} s)")
+                    }
+                }
             }
             Waiting::ShotResult { turn }
             | Waiting::Answer { turn }
@@ -484,6 +489,29 @@ mod tests {
             Seen::new("x".into(), t0).line(at(3)),
             "x room - seat -: waits for the room's code; quiet 3.0 s; \
              last received nothing; last sent nothing"
+        );
+    }
+
+    #[test]
+    fn a_move_waiting_for_its_time_says_whether_it_is_due_or_late() {
+        let now = Instant::now();
+        let soon = Waiting::OwnMove {
+            turn: 4,
+            due: now + Duration::from_secs(60),
+        };
+        assert!(
+            soon.to_string()
+                .starts_with("its own move's time on turn 4 (due in "),
+            "{soon}"
+        );
+        let Some(past) = now.checked_sub(Duration::from_secs(5)) else {
+            return;
+        };
+        let late = Waiting::OwnMove { turn: 4, due: past };
+        assert!(
+            late.to_string()
+                .starts_with("its own move's time on turn 4 (late by "),
+            "{late}"
         );
     }
 
