@@ -11,7 +11,7 @@ use breakshot_shared::rules::{EightBallRules, Settings, TurnId, Variant};
 use tokio::sync::oneshot;
 
 pub use crate::net::RETRY_FOR;
-use crate::net::{Entrance, PlayerResult, SeatPlayer, Tally};
+use crate::net::{stalled, Entrance, PlayerResult, Progress, SeatPlayer, Seen, Tally};
 use crate::play::Chooser;
 
 #[derive(Clone, Debug)]
@@ -42,6 +42,12 @@ pub struct BotConfig {
     /// Each pair meets through quick match instead of a room's code (the server must allow
     /// pairs from one address: `Limits::match_one_address`).
     pub quick_match: bool,
+    /// The run stops after this long; the games not finished by then are reported, each
+    /// player with what it waits for and its last messages ([`Report::unfinished`]).
+    pub timeout: Option<Duration>,
+    /// Every this long, the players that have neither received nor sent anything for this
+    /// long are printed on standard error (what each waits for, its last messages).
+    pub watch: Option<Duration>,
 }
 
 impl BotConfig {
@@ -58,6 +64,8 @@ impl BotConfig {
             levels: [None, None],
             ramp: Duration::ZERO,
             quick_match: false,
+            timeout: None,
+            watch: None,
         }
     }
 }
@@ -103,6 +111,9 @@ pub struct Report {
     pub games: Vec<GameSummary>,
     /// What went wrong, one line per bot that failed.
     pub errors: Vec<String>,
+    /// The players of the games not finished when the run's time-out came, one line each:
+    /// what it waited for (or how it ended), and its last messages either way.
+    pub unfinished: Vec<String>,
 }
 
 impl Report {
@@ -202,18 +213,55 @@ fn round3(x: f64) -> f64 {
 
 /// Plays `config.games` games at once (two connections each) and reports.
 pub async fn run(config: &BotConfig) -> Report {
+    let started = Instant::now();
+    let deadline = config.timeout.map(|t| tokio::time::Instant::now() + t);
     let mut tasks = Vec::new();
+    let mut watched = Vec::new();
     for g in 0..config.games {
         let config = config.clone();
         let start = config.ramp.mul_f64(g as f64 / config.games as f64);
+        let (host, guest) = players(&config, g as u64);
+        let progress = [host.progress(), guest.progress()];
+        for p in &progress {
+            p.begins_at(started + start);
+        }
+        watched.push(progress.clone());
         tasks.push(tokio::spawn(async move {
             tokio::time::sleep(start).await;
-            play_game(&config, g as u64).await
+            play_game(&config, host, guest).await
         }));
     }
+    let watcher = config.watch.map(|every| {
+        let watched = watched.clone();
+        tokio::spawn(async move {
+            loop {
+                tokio::time::sleep(every).await;
+                let seen: Vec<Seen> = watched.iter().flatten().map(Progress::seen).collect();
+                eprint!("{}", stall_report(&seen, Instant::now(), every, started));
+            }
+        })
+    });
     let mut report = Report::default();
-    for t in tasks {
-        match t.await {
+    for (g, mut t) in tasks.into_iter().enumerate() {
+        let joined = match deadline {
+            Some(at) => match tokio::time::timeout_at(at, &mut t).await {
+                Ok(joined) => joined,
+                Err(_) => {
+                    t.abort();
+                    let now = Instant::now();
+                    // Both players: the one still waiting, and how its opponent ended.
+                    report.unfinished.extend(
+                        watched[g]
+                            .iter()
+                            .map(|p| format!("game {g}: {}", p.seen().line(now))),
+                    );
+                    report.games.push(GameSummary::default());
+                    continue;
+                }
+            },
+            None => t.await,
+        };
+        match joined {
             Ok((summary, host, guest)) => {
                 report.add(host);
                 report.add(guest);
@@ -225,8 +273,41 @@ pub async fn run(config: &BotConfig) -> Report {
             Err(e) => report.errors.push(e.to_string()),
         }
     }
+    if let Some(w) = watcher {
+        w.abort();
+    }
     report
 }
+
+/// What a watcher prints every `quiet`: the time since the run `started`, how many players
+/// are done, and the players quiet for at least `quiet` (counted by what they wait for, the
+/// longest quiet [`STALLED_SHOWN`] one line each). Nothing when no player is quiet.
+pub fn stall_report(seen: &[Seen], now: Instant, quiet: Duration, started: Instant) -> String {
+    let (quiet_ones, kinds) = stalled(seen, now, quiet);
+    if quiet_ones.is_empty() {
+        return String::new();
+    }
+    let done = seen
+        .iter()
+        .filter(|s| s.waiting == crate::net::Waiting::Done)
+        .count();
+    let kinds: Vec<String> = kinds.iter().map(|(k, n)| format!("{n} {k}")).collect();
+    let mut out = format!(
+        "at {:.0} s: {done} of {} players done; {} quiet for {:.0} s or more, waiting for: {}\n",
+        now.saturating_duration_since(started).as_secs_f64(),
+        seen.len(),
+        quiet_ones.len(),
+        quiet.as_secs_f64(),
+        kinds.join(", "),
+    );
+    for s in quiet_ones.iter().take(STALLED_SHOWN) {
+        out += &format!("  {}\n", s.line(now));
+    }
+    out
+}
+
+/// How many quiet players a watcher's report names, the longest quiet first.
+pub const STALLED_SHOWN: usize = 20;
 
 /// Opens one room as the bot that opens rooms (`config.levels[0]`), tells `opened` its code,
 /// and plays one game against whoever joins it: a person at a window, a page. The report is
@@ -259,16 +340,27 @@ pub async fn open_room(config: &BotConfig, opened: oneshot::Sender<RoomCode>) ->
     report
 }
 
-async fn play_game(config: &BotConfig, g: u64) -> (GameSummary, PlayerResult, PlayerResult) {
+/// The two players of game `g`: the one that opens the room, and the one that joins it.
+fn players(config: &BotConfig, g: u64) -> (SeatPlayer, SeatPlayer) {
+    (
+        player(config, 0, format!("bot{g}a"), config.seed ^ (g * 2 + 1)),
+        player(config, 1, format!("bot{g}b"), config.seed ^ (g * 2 + 2)),
+    )
+}
+
+async fn play_game(
+    config: &BotConfig,
+    host: SeatPlayer,
+    guest: SeatPlayer,
+) -> (GameSummary, PlayerResult, PlayerResult) {
     let (room_tx, room_rx) = oneshot::channel();
-    let host = player(config, 0, format!("bot{g}a"), config.seed ^ (g * 2 + 1));
-    let guest = player(config, 1, format!("bot{g}b"), config.seed ^ (g * 2 + 2));
     let create = ClientMessage::CreateRoom {
         variant: config.variant,
         mode: config.room_settings(),
         aim_aid: AimAid::Full,
         name: host.name().to_owned(),
     };
+    let host_progress = host.progress();
     let (host_task, guest_task) = if config.quick_match {
         // No invite to a room: both wait in the queue and are paired by the server.
         let queue = |name: &str| {
@@ -287,12 +379,28 @@ async fn play_game(config: &BotConfig, g: u64) -> (GameSummary, PlayerResult, Pl
             tokio::spawn(guest.play(Entrance::Join(room_rx))),
         )
     };
-    let host = host_task
-        .await
-        .unwrap_or_else(|e| PlayerResult::failed(e.to_string()));
     let guest = guest_task
         .await
         .unwrap_or_else(|e| PlayerResult::failed(e.to_string()));
+    // A room waits for its second player as long as its first stays: when the bot meant to
+    // join it never took its seat (it could not connect, or was refused), the one that
+    // opened it would wait for ever, and the run with it. (Quick match pairs whoever waits,
+    // and its queue gives up by itself.)
+    if !config.quick_match && guest.room.is_none() && !host_task.is_finished() {
+        host_task.abort();
+    }
+    let host = match host_task.await {
+        Ok(host) => host,
+        Err(e) if e.is_cancelled() => {
+            let why = format!(
+                "the opponent never took its seat ({})",
+                guest.error.as_deref().unwrap_or("it left")
+            );
+            host_progress.ended(why.clone());
+            PlayerResult::failed(why)
+        }
+        Err(e) => PlayerResult::failed(e.to_string()),
+    };
     let summary = GameSummary {
         room: host.room.clone(),
         completed: host.over.is_some() && guest.over.is_some(),
@@ -355,6 +463,38 @@ mod tests {
         assert_eq!(json["accepted_p99_ms"], 3.0);
         assert_eq!(json["p50_ms"], 50.0);
         assert_eq!(json["replica_p50_ms"], 0.0);
+    }
+
+    #[test]
+    fn a_watcher_names_the_quiet_players_and_counts_them_by_what_they_wait_for() {
+        use crate::net::Waiting;
+        let t0 = Instant::now();
+        let at = |s: u64| t0 + Duration::from_secs(s);
+        let player = |name: &str, waiting| {
+            let mut seen = Seen::new(name.into(), t0);
+            seen.waiting = waiting;
+            seen
+        };
+        let mut busy = player("bot1a", Waiting::OpponentMove { turn: 3 });
+        busy.received = Some((at(55), "TurnChanged turn 3 to B".into()));
+        let mut seen = vec![
+            player("bot0a", Waiting::Opponent),
+            player("bot0b", Waiting::Done),
+            busy,
+            player("bot1b", Waiting::Opponent),
+        ];
+        let report = stall_report(&seen, at(60), Duration::from_secs(30), t0);
+        let lines: Vec<&str> = report.lines().collect();
+        assert_eq!(
+            lines[0],
+            "at 60 s: 1 of 4 players done; 2 quiet for 30 s or more, waiting for: 2 an opponent"
+        );
+        assert_eq!(lines.len(), 3);
+        assert!(lines[1].starts_with("  bot0a room - seat -: waits for an opponent; quiet 60.0 s"));
+        assert!(lines[2].starts_with("  bot1b "));
+        // Nothing quiet: nothing to say.
+        seen.retain(|s| s.player == "bot1a");
+        assert_eq!(stall_report(&seen, at(60), Duration::from_secs(30), t0), "");
     }
 
     #[cfg(target_os = "linux")]

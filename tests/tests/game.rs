@@ -1,9 +1,13 @@
 //! Whole games between bots through a real server.
 
-use breakshot_client::bot::BotConfig;
+use std::net::SocketAddr;
+
+use anyhow::Context;
+use breakshot_client::bot::{run, BotConfig};
+use breakshot_server::limits::Limits;
 use breakshot_server::verify::verify_dir;
 use breakshot_shared::rules::{Command, Game, Phase, Settings, Variant};
-use breakshot_tests::{bot_game, bot_games, TestServer, PATIENCE};
+use breakshot_tests::{bot_game, bot_games, scratch, TestServer, PATIENCE};
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn two_bots_play_a_full_eight_ball_game_and_every_hash_agrees() -> anyhow::Result<()> {
@@ -62,4 +66,38 @@ async fn a_nine_ball_game_with_called_shots_is_played_through_the_client_core() 
         report.tally.shots, report.games[0].reason
     );
     Ok(())
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_game_whose_second_player_never_gets_in_ends_rather_than_waits_for_ever(
+) -> anyhow::Result<()> {
+    // One connection at a time: the bot that opens the room takes it, so the one that joins
+    // is refused until it gives up, as when a server too busy to finish handshakes drops
+    // them under load. A room waits for its second player as long as its first stays, so
+    // the first must leave by itself.
+    let data = scratch("never-joined");
+    let mut config = TestServer::config(SocketAddr::from(([127, 0, 0, 1], 0)), data.path());
+    config.limits = Limits {
+        max_connections: 1,
+        address_share: 1,
+        ..Limits::default()
+    };
+    let server = TestServer::start_with(config).await?;
+    let bots = BotConfig::new(server.invite.clone(), 1);
+    let report = tokio::time::timeout(PATIENCE, run(&bots))
+        .await
+        .context("the run did not end: the bot that opened the room still waits")?;
+    eprintln!("{:#?}", report.errors);
+    assert_eq!(report.games_completed, 0);
+    // Both players say why: the one that never got in, and the one it left waiting.
+    assert_eq!(report.errors.len(), 2, "{:?}", report.errors);
+    assert!(
+        report
+            .errors
+            .iter()
+            .any(|e| e.contains("the opponent never took its seat")),
+        "{:?}",
+        report.errors
+    );
+    server.stop().await
 }

@@ -44,6 +44,15 @@ struct Cli {
     /// whoever joins it (a person, a page) instead of playing --games games bot against bot.
     #[arg(long, conflicts_with_all = ["games", "vs_ghost", "ramp_ms"])]
     open_room: bool,
+    /// Stop after this many seconds; each player of a game not finished by then is printed
+    /// on standard error with what it waits for and its last messages either way.
+    #[arg(long)]
+    timeout_s: Option<u64>,
+    /// Every this many seconds, print on standard error the players that have neither
+    /// received nor sent anything for that long (counted by what they wait for, the longest
+    /// quiet named).
+    #[arg(long)]
+    watch_s: Option<u64>,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -67,6 +76,11 @@ fn main_inner() -> anyhow::Result<bool> {
     config.seed = cli.seed;
     config.think = std::time::Duration::from_millis(cli.think_ms);
     config.ramp = std::time::Duration::from_millis(cli.ramp_ms);
+    config.timeout = cli.timeout_s.map(std::time::Duration::from_secs);
+    config.watch = cli
+        .watch_s
+        .filter(|s| *s > 0)
+        .map(std::time::Duration::from_secs);
     let level = cli.level.map(Level::new);
     config.levels = [level, level.filter(|_| !cli.vs_ghost)];
     let runtime = tokio::runtime::Runtime::new().context("starting the async runtime")?;
@@ -98,10 +112,20 @@ fn main_inner() -> anyhow::Result<bool> {
     for e in &report.errors {
         eprintln!("breakshot-bot: {e}");
     }
+    if !report.unfinished.is_empty() {
+        eprintln!(
+            "breakshot-bot: games not finished within the time-out ({}), both players of each:",
+            report.unfinished.len() / 2
+        );
+        for line in &report.unfinished {
+            eprintln!("  {line}");
+        }
+    }
     if cli.json {
         let mut json = report.json();
         json["wall_s"] = serde_json::json!(wall);
         json["cpu_s"] = serde_json::json!(cpu);
+        json["unfinished_games"] = serde_json::json!(report.unfinished.len() / 2);
         println!("{json}");
     } else {
         println!(

@@ -29,6 +29,8 @@ pub mod page;
 mod pinned;
 mod polled;
 mod port;
+#[cfg(not(target_arch = "wasm32"))]
+mod progress;
 mod record_answer;
 #[cfg(not(target_arch = "wasm32"))]
 mod records;
@@ -57,6 +59,8 @@ pub use pinned::client_config;
 pub use player::{Action, Entry, PlayerCore, PlayerEvent, Reconnect, Seating, ATTEMPT_LIMIT};
 pub use polled::{MemoryServer, MemoryTransport, Polled, Transport, TransportEvent};
 pub use port::{PolledSession, Port, SessionEvent};
+#[cfg(not(target_arch = "wasm32"))]
+pub use progress::{stalled, Progress, Seen, Waiting};
 pub use record_answer::{interpret_record, FetchError, FetchedRecord, FETCH_TIMEOUT};
 #[cfg(not(target_arch = "wasm32"))]
 pub use records::{fetch_game, fetch_game_blocking, fetch_record};

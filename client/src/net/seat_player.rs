@@ -15,6 +15,7 @@ use tokio::sync::oneshot;
 use super::client::{Client, ClientEvent};
 use super::error::NetError;
 use super::player::{Entry, Reconnect};
+use super::progress::{Progress, Standing, Waiting};
 use crate::play::{Chooser, Replica};
 
 /// How long a seat player keeps trying to reach a server that went away.
@@ -135,6 +136,8 @@ pub(crate) struct SeatPlayer {
     /// Both seats are taken: a room still waiting for its opponent refuses every move, and a
     /// bot that opened a room for a person (or a page) waits for them to arrive.
     full: bool,
+    /// What it last saw and did, for a load run to tell a stalled game by.
+    progress: Progress,
 }
 
 /// Returns at `at`, or never.
@@ -162,6 +165,7 @@ impl SeatPlayer {
         chooser: Chooser,
         retry_for: Duration,
     ) -> SeatPlayer {
+        let name_for_progress = name.clone();
         SeatPlayer {
             server,
             name,
@@ -183,6 +187,7 @@ impl SeatPlayer {
             paced: None,
             pacing: false,
             full: false,
+            progress: Progress::new(name_for_progress),
         }
     }
 
@@ -212,9 +217,26 @@ impl SeatPlayer {
         &self.name
     }
 
+    /// What the player last saw and did, and what it waits for, as it plays.
+    pub(crate) fn progress(&self) -> Progress {
+        self.progress.clone()
+    }
+
     /// Enters the room as `start` says and plays until the game ends (or, for a bot that
     /// stays, until the connection is lost for good).
-    pub(crate) async fn play(mut self, entrance: Entrance) -> PlayerResult {
+    pub(crate) async fn play(self, entrance: Entrance) -> PlayerResult {
+        let progress = self.progress.clone();
+        progress.begin();
+        let result = self.play_inner(entrance).await;
+        progress.ended(match (&result.error, &result.over) {
+            (Some(e), _) => e.clone(),
+            (None, Some(over)) => format!("game over: {over}"),
+            (None, None) => "left".into(),
+        });
+        result
+    }
+
+    async fn play_inner(mut self, entrance: Entrance) -> PlayerResult {
         let (entry, mut room_tx) = match entrance {
             Entrance::Create(msg, tx) => (Entry::Create(msg), Some(tx)),
             Entrance::QuickMatch(msg) => (Entry::QuickMatch(msg), None),
@@ -230,6 +252,7 @@ impl SeatPlayer {
                 Err(_) => return PlayerResult::failed("the host never created a room".into()),
             },
         };
+        self.progress.waits(Waiting::Connection);
         let mut client = match Client::connect(self.server.clone(), self.policy).await {
             Ok(c) => c,
             Err(e) => return PlayerResult::failed(e.to_string()),
@@ -252,6 +275,7 @@ impl SeatPlayer {
     ) -> Result<(), NetError> {
         client.enter(entry).await;
         loop {
+            self.progress.waits(self.waiting(client));
             // A chosen move waits for its time while the messages go on being read, so the
             // result of the last shot is seen when it comes, not after the pause.
             let due_at = self.due.as_ref().map(|(at, _)| *at);
@@ -269,6 +293,7 @@ impl SeatPlayer {
                 ClientEvent::SeatGone => continue,
                 ClientEvent::Reconnecting(why) => {
                     tracing::debug!(player = %self.name, %why, "reconnecting");
+                    self.progress.waits(Waiting::Reconnecting);
                     continue;
                 }
                 ClientEvent::Reconnected => {
@@ -279,7 +304,9 @@ impl SeatPlayer {
                     continue;
                 }
             };
+            self.progress.received(&msg);
             let me = client.seating().seat();
+            self.progress.seated(client.room(), me);
             let desyncs = self.replica.desyncs();
             let observing = Instant::now();
             self.replica.observe(&msg, me);
@@ -293,7 +320,7 @@ impl SeatPlayer {
                         turn: *turn,
                         hash: *hash,
                     };
-                    client.send(&report).await?;
+                    self.send(client, &report).await?;
                 }
             }
             match &msg {
@@ -310,7 +337,7 @@ impl SeatPlayer {
                         if !self.stays {
                             return Ok(());
                         }
-                        client.send(&ClientMessage::Rematch).await?;
+                        self.send(client, &ClientMessage::Rematch).await?;
                     }
                 }
                 ServerMessage::ShotAccepted { turn, seat, .. } => {
@@ -349,7 +376,7 @@ impl SeatPlayer {
                 ServerMessage::GameOver { reason, .. } if self.stays => {
                     self.result.over = Some(reason.clone());
                     self.result.ended.get_or_insert_with(Instant::now);
-                    client.send(&ClientMessage::Rematch).await?;
+                    self.send(client, &ClientMessage::Rematch).await?;
                 }
                 ServerMessage::GameOver { reason, .. }
                 | ServerMessage::GameFinished { reason, .. } => {
@@ -379,7 +406,7 @@ impl SeatPlayer {
                     self.result.refused += 1;
                     self.acted = None;
                     if self.refusals > MAX_REFUSALS {
-                        client.send(&ClientMessage::Concede).await?;
+                        self.send(client, &ClientMessage::Concede).await?;
                     }
                     tracing::debug!(player = %self.name, ?code, %message, "refused");
                 }
@@ -412,9 +439,41 @@ impl SeatPlayer {
             self.sent_shots.push((turn, Instant::now()));
         }
         // A message lost with the connection is answered again after the rejoin.
-        if client.send(&cmd).await.is_err() {
+        if self.send(client, &cmd).await.is_err() {
             self.acted = None;
         }
+    }
+
+    /// Sends `msg`, and records that it did.
+    async fn send(&mut self, client: &mut Client, msg: &ClientMessage) -> Result<(), NetError> {
+        self.progress.sent(msg);
+        client.send(msg).await
+    }
+
+    /// What the player waits for now.
+    fn waiting(&self, client: &Client) -> Waiting {
+        let due = self.due.as_ref().map(|(at, cmd)| {
+            let turn = match cmd {
+                ClientMessage::Shot { turn, .. }
+                | ClientMessage::PlaceCueBall { turn, .. }
+                | ClientMessage::Decide { turn, .. } => *turn,
+                _ => self.replica.game().map_or(0, |g| g.turn()),
+            };
+            (turn, *at)
+        });
+        let turn = self
+            .replica
+            .game()
+            .filter(|g| !matches!(g.phase(), Phase::Over { .. }))
+            .map(|g| (g.turn(), g.to_move()));
+        Waiting::of(&Standing {
+            seat: client.seating().seat(),
+            full: self.full,
+            due,
+            shot_sent: self.sent_shots.last().map(|(turn, _)| *turn),
+            turn,
+            acted: self.acted,
+        })
     }
 
     /// What to send now, if it is this bot's move and it has not answered it yet. The
