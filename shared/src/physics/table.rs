@@ -360,9 +360,10 @@ impl Table {
             p.x.abs() <= self.half.x - contact + eps && p.y.abs() <= self.half.y - contact + eps;
         // Only asked when not inside (as a closure, so that a ball inside pays nothing).
         let in_a_mouth = || {
-            self.pockets
-                .iter()
-                .any(|pk| (p - pk.center).length() <= pk.radius + 2.0 * contact)
+            self.pockets.iter().any(|pk| {
+                (p - pk.center).length() <= pk.radius + 2.0 * contact
+                    || self.between_jaws(pk, p, contact)
+            })
         };
         let clear_of_rails = self.rails.iter().all(|rail| {
             let along = rail.b - rail.a;
@@ -379,6 +380,40 @@ impl Table {
                 .pockets
                 .iter()
                 .all(|pk| (p - pk.center).length() > pk.radius)
+    }
+
+    /// Whether `p` lies in the mouth of pocket `pk`: between its two jaws (within the span
+    /// of the line through their centres) and on the table's side of that line. A ball can
+    /// come to rest there against a jaw's curve, past the line of the rails beside it; the
+    /// rails and jaws themselves are checked apart.
+    fn between_jaws(&self, pk: &Pocket, p: DVec2, contact: f64) -> bool {
+        let mut nearest = self
+            .jaws
+            .iter()
+            .map(|j| ((j.center - pk.center).length_squared(), j));
+        let Some(first) = nearest.next() else {
+            return false;
+        };
+        // The two jaws nearest the pocket, without sorting (and without allocating).
+        let (mut a, mut b) = (first, (f64::INFINITY, first.1));
+        for jaw in nearest {
+            if jaw.0 < a.0 {
+                (a, b) = (jaw, a);
+            } else if jaw.0 < b.0 {
+                b = jaw;
+            }
+        }
+        let (a, b) = (a.1, b.1);
+        let along = b.center - a.center;
+        let k = along.dot(p - a.center) / along.length_squared();
+        // Signed distance from the line through the jaws' centres, positive on the table's
+        // side. The rails beside the mouth are tangent to the jaws, so a ball touching them
+        // or past them is within a jaw's radius and a touch of that line.
+        let unit = along.normalize();
+        let side = |q: DVec2| unit.perp_dot(q - a.center);
+        let towards_table = side(DVec2::ZERO).signum();
+        let depth = side(p) * towards_table;
+        (0.0..=1.0).contains(&k) && depth > 0.0 && depth <= a.radius.max(b.radius) + contact
     }
 
     /// Names of the six pockets in index order.
@@ -451,6 +486,26 @@ mod tests {
         };
         assert!((nearest(corner) - SNOOKER_CORNER_MOUTH).abs() < 1e-12);
         assert!((nearest(side) - SNOOKER_SIDE_MOUTH).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_ball_at_rest_against_a_jaw_past_the_rail_line_is_on_the_table_and_one_behind_it_is_not() {
+        use crate::physics::{ball_cushion, Params};
+        let t = Table::new(TableKind::Snooker);
+        let contact = ball_cushion::contact_distance(&Params::for_table(TableKind::Snooker));
+        // Where a random frame left the yellow: rolled into the right middle pocket's mouth
+        // and stopped against its jaw, its centre 1.3 mm past the line of the rails.
+        let rested = t.to_engine(DVec2::new(1.7552205780777315, 1.877500766985024));
+        assert!(rested.x > t.half.x - contact);
+        assert!(t.fits(rested, contact));
+        // The same mouth across the pocket, mirrored.
+        assert!(t.fits(DVec2::new(rested.x, -rested.y), contact));
+        // Behind the pocket, outside the table: not on it, though clear of every rail and jaw.
+        let behind = t.pockets[4].center + DVec2::new(0.12, 0.0);
+        assert!(!t.fits(behind, contact));
+        // Past the line through the jaws' centres, between them, the ball is over the pocket.
+        let jaws_line = DVec2::new(0.9559, 0.05);
+        assert!(!t.fits(jaws_line, contact));
     }
 
     #[test]
