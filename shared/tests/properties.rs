@@ -79,6 +79,12 @@ proptest! {
             let tolerance = 1e-12 * p0.length() + out.history.len() as f64 * 2.0 / 7.0 * SLIP_EPS;
             prop_assert!((p0 - p1).length() <= tolerance, "{p0} -> {p1} at {}", e.t);
         }
+        // The table the shot leaves is one the next shot may start from: every ball at rest
+        // is on the playing surface (against a rail, in a pocket's mouth, against a jaw).
+        let mut next = shot.clone();
+        next.balls = out.finals.clone();
+        next.strike = None;
+        prop_assert!(simulate(&next).is_ok(), "{:?}", simulate(&next).err());
         // The same shot twice gives the same bits.
         let again = simulate(&shot).expect("simulates");
         prop_assert_eq!(out.hash(), again.hash());
