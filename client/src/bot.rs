@@ -48,6 +48,11 @@ pub struct BotConfig {
     /// Every this long, the players that have neither received nor sent anything for this
     /// long are printed on standard error (what each waits for, its last messages).
     pub watch: Option<Duration>,
+    /// Each bot simulates and checks its first shot and then one in this many, taking the
+    /// server's game after the others (1: every shot). A real client is one per machine:
+    /// with thousands of bots in one process their simulations would be a load the server's
+    /// players never put on its machine.
+    pub check_every: u32,
 }
 
 impl BotConfig {
@@ -66,6 +71,7 @@ impl BotConfig {
             quick_match: false,
             timeout: None,
             watch: None,
+            check_every: 1,
         }
     }
 }
@@ -160,6 +166,8 @@ impl Report {
             "games_completed": self.games_completed,
             "peak_games": self.peak_games(),
             "shots": self.tally.shots,
+            "confirmed": self.tally.confirmed,
+            "unchecked": self.tally.unchecked,
             "desyncs": self.tally.desyncs,
         });
         for (stage, p50, p99) in self.stages_ms() {
@@ -420,6 +428,7 @@ fn player(config: &BotConfig, k: usize, name: String, seed: u64) -> SeatPlayer {
     };
     SeatPlayer::seated(config.server.clone(), name, chooser, config.retry_for)
         .thinking(config.think, !seed)
+        .checking_every(config.check_every)
 }
 
 #[cfg(test)]

@@ -594,7 +594,7 @@ impl Room {
                 out.extend(self.broadcast(ServerMessage::ShotResolved {
                     turn: answered,
                     hash,
-                    balls: self.game.balls().to_vec(),
+                    game: Box::new(self.game.clone()),
                     ruling,
                 }));
             }

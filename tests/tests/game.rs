@@ -69,6 +69,22 @@ async fn a_nine_ball_game_with_called_shots_is_played_through_the_client_core() 
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn bots_checking_one_shot_in_three_play_on_the_server_s_game_after_the_others(
+) -> anyhow::Result<()> {
+    // A load run's bots stand for players on machines of their own: `--check-every 3`
+    // simulates a third of the shots, and each player goes on from the game the server
+    // sends with every other result. The game is played to its end all the same, and the
+    // checked shots agree to the bit.
+    let (_data, server) = TestServer::start_fresh("check-every").await?;
+    let mut config = BotConfig::new(server.invite.clone(), 1);
+    config.check_every = 3;
+    let (report, _record) = bot_game(server, &config, PATIENCE).await?;
+    assert!(report.tally.shots >= 4, "too short a game to skip a shot");
+    assert!(report.tally.unchecked > 0);
+    Ok(())
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_game_whose_second_player_never_gets_in_ends_rather_than_waits_for_ever(
 ) -> anyhow::Result<()> {
     // One connection at a time: the bot that opens the room takes it, so the one that joins

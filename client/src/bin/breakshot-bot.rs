@@ -53,6 +53,11 @@ struct Cli {
     /// quiet named).
     #[arg(long)]
     watch_s: Option<u64>,
+    /// Each bot simulates and checks its first shot and then one in N, and takes the
+    /// server's game after the others (a real client is one per machine: thousands of bots
+    /// simulating every shot would load this machine as no real players do).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    check_every: u32,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -74,6 +79,7 @@ fn main_inner() -> anyhow::Result<bool> {
     let invite: Invite = cli.server.parse().context("--server")?;
     let mut config = BotConfig::new(invite, cli.games);
     config.seed = cli.seed;
+    config.check_every = cli.check_every;
     config.think = std::time::Duration::from_millis(cli.think_ms);
     config.ramp = std::time::Duration::from_millis(cli.ramp_ms);
     config.timeout = cli.timeout_s.map(std::time::Duration::from_secs);
@@ -134,6 +140,11 @@ fn main_inner() -> anyhow::Result<bool> {
         );
         println!("peak games:      {}", report.peak_games());
         println!("shots:           {}", report.tally.shots);
+        // Both players of a game see each shot: a check is one player's.
+        println!(
+            "checks:          {} confirmed, {} taken unchecked (--check-every)",
+            report.tally.confirmed, report.tally.unchecked
+        );
         println!("desyncs:         {}", report.tally.desyncs);
         println!("rejoins:         {}", report.tally.rejoins);
         for (stage, p50, p99) in report.stages_ms() {

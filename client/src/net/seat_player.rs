@@ -42,6 +42,8 @@ pub struct Tally {
     pub shots: u32,
     /// Shots whose local prediction matched the server's hash.
     pub confirmed: u32,
+    /// Shots taken on the server's word, not simulated (a bot checking one shot in N).
+    pub unchecked: u32,
     /// Shots (or commands) whose local result differed from the server's.
     pub desyncs: u32,
     /// Times a seat was taken back after a drop.
@@ -55,6 +57,7 @@ impl Tally {
     pub fn add(&mut self, other: Tally) {
         self.shots += other.shots;
         self.confirmed += other.confirmed;
+        self.unchecked += other.unchecked;
         self.desyncs += other.desyncs;
         self.rejoins += other.rejoins;
         let times = other.times;
@@ -198,6 +201,15 @@ impl SeatPlayer {
         self
     }
 
+    /// The player simulates and checks only its first shot and then one in `n` (every
+    /// shot for 0 or 1), taking the server's game after the others: a load run's bots
+    /// stand for players on machines of their own, whose simulations are not the server's
+    /// machine's work.
+    pub(crate) fn checking_every(mut self, n: u32) -> SeatPlayer {
+        self.replica = std::mem::take(&mut self.replica).checking_every(n);
+        self
+    }
+
     /// The player plays on after each game: asks for a rematch and plays it, until dropped.
     pub(crate) fn staying(mut self) -> SeatPlayer {
         self.stays = true;
@@ -307,11 +319,15 @@ impl SeatPlayer {
             self.progress.received(&msg);
             let me = client.seating().seat();
             self.progress.seated(client.room(), me);
-            let desyncs = self.replica.desyncs();
+            let (desyncs, unchecked) = (self.replica.desyncs(), self.replica.unchecked());
             let observing = Instant::now();
             self.replica.observe(&msg, me);
             if matches!(msg, ServerMessage::ShotAccepted { .. }) {
-                self.result.tally.times.replica.push(ms_since(observing));
+                if self.replica.unchecked() == unchecked {
+                    self.result.tally.times.replica.push(ms_since(observing));
+                } else {
+                    self.result.tally.unchecked += 1;
+                }
             }
             if self.replica.desyncs() > desyncs {
                 // The operator counts these (`breakshot_desyncs_reported_total`).

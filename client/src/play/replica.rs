@@ -3,6 +3,10 @@
 //! which is played back as it is, so a shot is simulated once per client. The deciding
 //! side's hash then confirms the shot bit for bit, or counts a desync. The window, the bot,
 //! the replay viewer's checks and the tests all read this copy.
+//!
+//! A load run's bots stand for players on machines of their own, so a copy may check only
+//! one shot in N ([`Replica::checking_every`]): the others are not simulated here, and the
+//! game the deciding side sends with its result (`ShotResolved`) is taken as it is.
 
 use breakshot_shared::physics::BallState;
 use breakshot_shared::protocol::ServerMessage;
@@ -52,6 +56,12 @@ pub struct Replica {
     confirmed: u32,
     desyncs: u32,
     shots: u32,
+    /// Shots left unchecked between two checked ones (0: every shot is checked).
+    unchecked_between: u32,
+    /// A shot not simulated here, whose game the deciding side's result brings.
+    awaiting: Option<TurnId>,
+    /// Shots not simulated here.
+    unchecked: u32,
 }
 
 impl Replica {
@@ -80,6 +90,19 @@ impl Replica {
         self.shots
     }
 
+    /// This copy simulates and checks the first shot and then one in `n` (every shot for
+    /// 0 or 1); the game after each other shot is the one the deciding side sends with its
+    /// result, read by [`Replica::observe`]. Until it comes the copy has no game.
+    pub fn checking_every(mut self, n: u32) -> Replica {
+        self.unchecked_between = n.saturating_sub(1);
+        self
+    }
+
+    /// Shots taken on the deciding side's word, not simulated here.
+    pub fn unchecked(&self) -> u32 {
+        self.unchecked
+    }
+
     /// Whether the game waits for `seat`.
     pub fn waits_for(&self, seat: Seat) -> bool {
         self.game
@@ -89,6 +112,11 @@ impl Replica {
 
     /// Applies what a server message says happened, as seen from `me`.
     pub fn observe(&mut self, msg: &ServerMessage, me: Option<Seat>) -> Vec<Check> {
+        if let ServerMessage::ShotResolved { turn, game, .. } = msg {
+            if self.awaiting == Some(*turn) {
+                self.start((**game).clone());
+            }
+        }
         game_events(msg, me)
             .iter()
             .filter_map(|e| self.handle(e))
@@ -129,6 +157,7 @@ impl Replica {
         self.game = Some(game);
         self.playback = None;
         self.predicted = None;
+        self.awaiting = None;
     }
 
     /// Applies an accepted command once; a shot starts playing at once, from the
@@ -152,6 +181,13 @@ impl Replica {
         let shot = matches!(command, Command::Shot { .. });
         if shot {
             self.shots += 1;
+            if (self.shots - 1) % (self.unchecked_between + 1) != 0 {
+                // Not simulated: the deciding side's result brings the game after it.
+                self.unchecked += 1;
+                self.game = None;
+                self.awaiting = Some(turn);
+                return Ok(None);
+            }
         }
         // The ball struck, asked before the shot changes who is to move.
         let cue = game.cue_ball();
@@ -243,12 +279,17 @@ mod tests {
     use crate::test_games::eight_ball;
     use crate::view::hud::Connection;
     use breakshot_shared::physics::{simulations_on_this_thread, Strike};
-    use breakshot_shared::protocol::Ruling;
+    use breakshot_shared::protocol::{command_of, Ruling};
     use glam::DVec2;
 
-    /// A break, as a server announces it: accepted, then resolved with `hash`.
+    /// A break, as a server announces it: accepted, then resolved with `hash` and the game
+    /// after it.
     fn announced_break(game: &Game, hash: u64) -> [ServerMessage; 2] {
         let strike = Strike::at_angle(8.0, 90.0, DVec2::ZERO);
+        let mut after = game.clone();
+        after
+            .apply(Seat::A, &Command::Shot { strike, call: None })
+            .expect("legal break");
         let ruling = Ruling {
             foul: false,
             reasons: Vec::new(),
@@ -264,7 +305,7 @@ mod tests {
             ServerMessage::ShotResolved {
                 turn: game.turn(),
                 hash,
-                balls: Vec::new(),
+                game: Box::new(after),
                 ruling,
             },
         ]
@@ -286,9 +327,10 @@ mod tests {
         let hash = true_hash(&game);
         let mut replica = Replica::default();
         replica.start(game.clone());
+        let messages = announced_break(&game, hash);
         let before = simulations_on_this_thread();
         let mut checks = Vec::new();
-        for msg in announced_break(&game, hash) {
+        for msg in messages {
             checks.extend(replica.observe(&msg, Some(Seat::B)));
         }
         while replica.playback().is_some() {
@@ -336,6 +378,83 @@ mod tests {
         }
         assert_eq!(screen.replica().desyncs(), 0);
         assert_eq!(screen.take_desync(), None);
+    }
+
+    #[test]
+    fn a_copy_checking_one_shot_in_three_simulates_those_and_takes_the_server_s_game_after_the_others(
+    ) {
+        // The deciding side: a game played shot after shot with its messages.
+        let mut server = eight_ball(4);
+        let mut replica = Replica::default().checking_every(3);
+        replica.start(server.clone());
+        let (mut simulated, mut confirmed) = (Vec::new(), 0);
+        let mut chooser = crate::play::Chooser::new(1);
+        while simulated.len() < 7 {
+            let seat = server.to_move();
+            let msg = chooser.choose(&server).expect("a move");
+            let (_, command) = command_of(&msg, None).expect("a command");
+            if !matches!(command, Command::Shot { .. }) {
+                // Placing the cue ball, a decision: applied on both sides alike.
+                let turn = server.turn();
+                replica
+                    .accept(turn, seat, &command)
+                    .expect("the same rules");
+                server.apply(seat, &command).expect("a legal move");
+                continue;
+            }
+            let turn = server.turn();
+            let before = simulations_on_this_thread();
+            let verdict = server.apply(seat, &command).expect("a legal shot");
+            let on_server = simulations_on_this_thread() - before;
+            let accepted = ServerMessage::ShotAccepted {
+                turn,
+                seat,
+                command: command.clone(),
+            };
+            let resolved = ServerMessage::ShotResolved {
+                turn,
+                hash: verdict.shot.expect("a shot").hash,
+                game: Box::new(server.clone()),
+                ruling: Ruling {
+                    foul: verdict.foul,
+                    reasons: verdict.reasons,
+                    pocketed: Vec::new(),
+                    next: verdict.next,
+                },
+            };
+            let before = simulations_on_this_thread();
+            for msg in [accepted, resolved] {
+                if replica
+                    .observe(&msg, Some(seat))
+                    .contains(&Check::Confirmed { turn })
+                {
+                    confirmed += 1;
+                }
+            }
+            simulated.push(simulations_on_this_thread() - before == on_server);
+            // Whether it simulated the shot or not, the copy goes on from the same game.
+            assert_eq!(
+                replica.game(),
+                Some(&server),
+                "after shot {}",
+                simulated.len()
+            );
+        }
+        // Shots 1, 4 and 7 are simulated and confirmed; the other four are taken as sent.
+        assert!(
+            !matches!(server.phase(), Phase::Over { .. }),
+            "seven shots in one game"
+        );
+        assert_eq!(
+            simulated,
+            [true, false, false, true, false, false, true],
+            "which shots were simulated here"
+        );
+        assert_eq!(
+            (confirmed, replica.confirmed(), replica.desyncs()),
+            (3, 3, 0)
+        );
+        assert_eq!((replica.shots(), replica.unchecked()), (7, 4));
     }
 
     #[test]

@@ -383,7 +383,7 @@ fn an_accepted_shot_is_stored_before_anyone_hears_of_it_and_matches_a_replay() {
             ServerMessage::ShotResolved { turn: 0, .. }
         ));
     }
-    let ServerMessage::ShotResolved { hash, balls, .. } = sent_to(&out, 2)[1] else {
+    let ServerMessage::ShotResolved { hash, game, .. } = sent_to(&out, 2)[1] else {
         unreachable!()
     };
     // The same command applied to a copy of the old game gives the same hash.
@@ -401,7 +401,8 @@ fn an_accepted_shot_is_stored_before_anyone_hears_of_it_and_matches_a_replay() {
         )
         .unwrap();
     assert_eq!(verdict.shot.unwrap().hash, *hash);
-    assert_eq!(copy.balls(), &balls[..]);
+    // The game sent is the rules' game after the shot, all of it.
+    assert_eq!(&copy, &**game);
     // And the stored header and command replay to the room's game.
     let Output::Room(RoomOutput::Store(StoreOp::Command { entry, .. })) = &out[0] else {
         unreachable!()

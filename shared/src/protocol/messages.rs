@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::ids::{RoomCode, SeatToken};
 use super::lobby::{GameInPlay, RatedPlayer, WaitingRoom};
-use crate::physics::{BallState, Strike};
+use crate::physics::Strike;
 use crate::rules::{Choice, Command, Game, Seat, Settings, TurnId, Variant};
 
 /// Which drawing aids the room's players are allowed. The server cannot see a player's
@@ -337,8 +337,10 @@ pub enum ServerMessage {
         /// The physics state hash of the shot's final table; a client's own differs only
         /// when its physics do (a desync).
         hash: u64,
-        /// The table after the rules (balls spotted and so on), indexed by ball number.
-        balls: Vec<BallState>,
+        /// The game after the shot and the rules: the table (balls spotted and so on,
+        /// indexed by ball number), the phase and the player to move. A client that did not
+        /// simulate the shot itself (a load bot checking only some shots) goes on from it.
+        game: Box<Game>,
         /// What the rules made of the shot.
         ruling: Ruling,
     },

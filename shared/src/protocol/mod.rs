@@ -33,8 +33,9 @@ pub use web_link::{WebLink, WebLinkError, WebTransportChoice};
 /// players are their keys: `Hello` carries an Ed25519 public key, proved by signing the
 /// server's `Challenge` (`Prove`); public rooms, the lobby, quick match and ratings.
 /// Version 5: the `Advice` aim-aid policy. Version 6: `Ratings`, the seats' ratings in a
-/// rated room, told to whoever enters it.
-pub const PROTOCOL_VERSION: u32 = 6;
+/// rated room, told to whoever enters it. Version 7: `ShotResolved` carries the game after
+/// the shot rather than its balls alone.
+pub const PROTOCOL_VERSION: u32 = 7;
 
 /// The protocol version a `Hello` payload claims, read from its first two fields alone: a
 /// client of another version gets a readable refusal even when the rest of its `Hello` has
