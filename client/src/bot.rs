@@ -129,12 +129,14 @@ impl Report {
     }
 
     /// The stages of a shot as the bots saw them, each as (name, p50, p99) in ms: the way to
-    /// the server's acceptance, the whole round trip, and the bots' own replicas.
-    pub fn stages_ms(&self) -> [(&'static str, f64, f64); 3] {
+    /// the server's acceptance, the whole round trip, the result's wait in the bot's own
+    /// process once read off the connection, and the bots' own replicas.
+    pub fn stages_ms(&self) -> [(&'static str, f64, f64); 4] {
         let stage = |name, v: &[f64]| (name, quantile(v, 0.5), quantile(v, 0.99));
         [
             stage("accepted", &self.tally.times.accepted),
             stage("round trip", &self.tally.times.round_trip),
+            stage("received", &self.tally.times.received),
             stage("replica", &self.tally.times.replica),
         ]
     }
@@ -463,7 +465,9 @@ mod tests {
         let mut report = Report::default();
         report.tally.times.round_trip = (1..=100).map(f64::from).collect();
         report.tally.times.accepted = vec![3.0, 1.0, 2.0];
-        let [accepted, round_trip, replica] = report.stages_ms();
+        report.tally.times.received = vec![0.5];
+        let [accepted, round_trip, received, replica] = report.stages_ms();
+        assert_eq!(received, ("received", 0.5, 0.5));
         assert_eq!(accepted, ("accepted", 2.0, 3.0));
         assert_eq!(round_trip, ("round trip", 50.0, 99.0));
         // No shot seen: nothing to rank.

@@ -209,6 +209,11 @@ pub fn metrics(stats: &Stats) -> String {
             "From results handed to the writer thread to the writer taking them up.",
             &stats.writer_wait,
         ),
+        (
+            "breakshot_send_wait_seconds",
+            "From a message handed to its connection to its frame written on the stream.",
+            &stats.send_wait,
+        ),
     ] {
         histogram(&mut out, name, help, h);
     }

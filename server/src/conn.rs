@@ -28,8 +28,9 @@ use crate::work::Returned;
 /// What the writer thread hands a connection.
 #[derive(Debug)]
 pub enum Outbound {
-    /// Encode one message as a frame and write it on the stream.
-    Message(ServerMessage),
+    /// Encode one message as a frame and write it on the stream; handed to the connection
+    /// at this instant.
+    Message(ServerMessage, Instant),
     /// Finish the stream, give the peer up to 2 s to read what is queued, then close with this
     /// reason.
     Close(String),
@@ -216,7 +217,7 @@ pub async fn serve<T: Transport>(
     let writer = async {
         while let Some(out) = outbound.recv().await {
             match out {
-                Outbound::Message(msg) => {
+                Outbound::Message(msg, handed) => {
                     let frame = match encode_frame(&msg) {
                         Ok(f) => f,
                         Err(e) => {
@@ -227,6 +228,7 @@ pub async fn serve<T: Transport>(
                     if send.write_all(&frame).await.is_err() {
                         break;
                     }
+                    hub.stats.send_wait.record(handed.elapsed());
                 }
                 Outbound::Close(reason) => {
                     let _ = tokio::time::timeout(FLUSH_TIMEOUT, link.finish(&mut send)).await;

@@ -993,7 +993,7 @@ fn spawn_writer(
                         for o in out {
                             let (to, what) = match o {
                                 Output::Room(RoomOutput::Send { to, msg }) => {
-                                    (to, Outbound::Message(msg))
+                                    (to, Outbound::Message(msg, Instant::now()))
                                 }
                                 Output::Room(RoomOutput::Close { conn, reason }) => {
                                     (conn, Outbound::Close(reason))
@@ -1007,7 +1007,8 @@ fn spawn_writer(
                                     continue;
                                 }
                                 Output::SendRecord { to, room, game } => {
-                                    (to, Outbound::Message(records::answer(&store, &room, game)))
+                                    let answer = records::answer(&store, &room, game);
+                                    (to, Outbound::Message(answer, Instant::now()))
                                 }
                             };
                             let Some(outlet) = conns.get(&to) else {

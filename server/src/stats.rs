@@ -46,6 +46,9 @@ pub struct Stats {
     /// From results handed to the writer thread to the writer taking them up (it may be
     /// committing earlier ones meanwhile).
     pub writer_wait: Histogram,
+    /// From a message handed to its connection to its frame written on the stream (the
+    /// connection's turn on the runtime, and QUIC's flow control for a slow reader).
+    pub send_wait: Histogram,
     /// Rooms whose second seat nobody has taken yet (updated by the hub about once a second).
     pub rooms_waiting: AtomicUsize,
     /// Rooms with both players seated and the game not over (likewise).

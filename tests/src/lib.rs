@@ -462,6 +462,9 @@ pub async fn bot_game(
     let (shots, times) = (report.tally.shots as usize, &report.tally.times);
     assert_eq!(times.round_trip.len(), shots);
     assert_eq!(times.accepted.len(), shots);
+    assert_eq!(times.received.len(), shots);
+    let mut parts = times.received.iter().zip(&times.round_trip);
+    assert!(parts.all(|(part, whole)| part <= whole));
     let mut pairs = times.accepted.iter().zip(&times.round_trip);
     assert!(pairs.all(|(a, r)| a <= r));
     assert_eq!(times.replica.len(), 2 * checked as usize);

@@ -95,13 +95,15 @@ async fn metrics_move_during_a_game_and_a_drain_lets_it_finish() -> Result<()> {
         "{after}"
     );
     // Each stage of the shot's time is counted: the hub's queue and its own time for every
-    // message, a worker's for the shot it simulated, and the writer's queue.
+    // message, a worker's for the shot it simulated, the writer's queue, and each message's
+    // wait to be written on its connection.
     for stage in [
         "breakshot_hub_wait_seconds_count",
         "breakshot_hub_seconds_count",
         "breakshot_worker_wait_seconds_count",
         "breakshot_worker_seconds_count",
         "breakshot_writer_wait_seconds_count",
+        "breakshot_send_wait_seconds_count",
     ] {
         assert!(sample(&after, stage) >= 1.0, "{stage}: {after}");
     }

@@ -37,7 +37,8 @@ pub enum ClientEvent {
 struct Live {
     quic: quinn::Connection,
     send: quinn::SendStream,
-    incoming: mpsc::Receiver<Result<Vec<u8>, NetError>>,
+    /// The bytes read, each with when its read returned.
+    incoming: mpsc::Receiver<Result<(Instant, Vec<u8>), NetError>>,
     reader: JoinHandle<()>,
 }
 
@@ -54,7 +55,7 @@ impl Live {
             let mut buf = vec![0u8; 16 * 1024];
             loop {
                 let read = match recv.read(&mut buf).await {
-                    Ok(Some(n)) => Ok(buf[..n].to_vec()),
+                    Ok(Some(n)) => Ok((Instant::now(), buf[..n].to_vec())),
                     Ok(None) => Err(NetError::Lost("the connection ended".into())),
                     Err(e) => Err(NetError::Lost(
                         conn.close_reason().map_or(e.to_string(), |r| r.to_string()),
@@ -93,6 +94,8 @@ pub struct Client {
     live: Option<Live>,
     /// The connection being opened, when the core asked for one.
     opening: Option<Opening>,
+    /// When the last bytes handed to the core were read off the connection.
+    read_at: Option<Instant>,
 }
 
 impl Client {
@@ -117,6 +120,7 @@ impl Client {
             origin,
             live: None,
             opening: None,
+            read_at: None,
         };
         loop {
             match client.core.poll_event() {
@@ -198,7 +202,7 @@ impl Client {
         };
         enum Woke {
             Opened(Result<Stream, NetError>),
-            Read(Option<Result<Vec<u8>, NetError>>),
+            Read(Option<Result<(Instant, Vec<u8>), NetError>>),
             Time,
         }
         let woke = tokio::select! {
@@ -218,7 +222,10 @@ impl Client {
                     Err(e) => self.core.failed(e, now),
                 }
             }
-            Woke::Read(Some(Ok(bytes))) => self.core.received(&bytes, now),
+            Woke::Read(Some(Ok((at, bytes)))) => {
+                self.read_at = Some(at);
+                self.core.received(&bytes, now);
+            }
             Woke::Read(Some(Err(e))) => {
                 self.live = None;
                 self.core.failed(e, now);
@@ -265,6 +272,13 @@ impl Client {
                 break;
             }
         }
+    }
+
+    /// When the bytes that ended the last message received were read off the connection:
+    /// the time since is what this process made the message wait (its runtime busy with
+    /// other work, a load run's other connections).
+    pub fn read_at(&self) -> Option<Instant> {
+        self.read_at
     }
 
     /// The seat held, as the server last said.

@@ -63,6 +63,7 @@ impl Tally {
         let times = other.times;
         self.times.round_trip.extend(times.round_trip);
         self.times.accepted.extend(times.accepted);
+        self.times.received.extend(times.received);
         self.times.replica.extend(times.replica);
     }
 }
@@ -75,6 +76,9 @@ pub struct ShotTimes {
     /// From sending the shot to the server's `ShotAccepted`: the first part of the round
     /// trip; the rest is the server simulating and storing it, and the result's way back.
     pub accepted: Vec<f64>,
+    /// The last part of the round trip that is the player's own: from the result's bytes
+    /// read off the connection to the player handling it (its process busy meanwhile).
+    pub received: Vec<f64>,
     /// The player's own share: how long its replica took over each shot it was told of
     /// (simulating it to check the server's hash). It runs on the player's runtime, so
     /// every other connection of a load run's process waits behind it.
@@ -385,6 +389,8 @@ impl SeatPlayer {
                     self.result.resolved.push((*turn, *hash));
                     if let Some((_, at)) = self.sent_shots.iter().find(|(t, _)| t == turn) {
                         self.result.tally.times.round_trip.push(ms_since(*at));
+                        let read = client.read_at().map_or(0.0, ms_since);
+                        self.result.tally.times.received.push(read);
                     }
                     // This one is done, and an older one still here was refused.
                     self.sent_shots.retain(|(t, _)| t > turn);
