@@ -278,6 +278,7 @@ impl SeatPlayer {
         }
         client.close(Duration::ZERO).await;
         self.result.tally.confirmed = self.replica.confirmed();
+        self.result.tally.unchecked = self.replica.unchecked();
         self.result.tally.desyncs = self.replica.desyncs();
         self.result
     }
@@ -326,12 +327,11 @@ impl SeatPlayer {
             let (desyncs, unchecked) = (self.replica.desyncs(), self.replica.unchecked());
             let observing = Instant::now();
             self.replica.observe(&msg, me);
-            if matches!(msg, ServerMessage::ShotAccepted { .. }) {
-                if self.replica.unchecked() == unchecked {
-                    self.result.tally.times.replica.push(ms_since(observing));
-                } else {
-                    self.result.tally.unchecked += 1;
-                }
+            // The replica's time over a shot it simulated (not one taken unchecked).
+            if matches!(msg, ServerMessage::ShotAccepted { .. })
+                && self.replica.unchecked() == unchecked
+            {
+                self.result.tally.times.replica.push(ms_since(observing));
             }
             if self.replica.desyncs() > desyncs {
                 // The operator counts these (`breakshot_desyncs_reported_total`).
