@@ -41,6 +41,9 @@ pub enum GameEvent {
     Judged {
         /// The deciding side's state hash of the table at rest, for a shot.
         hash: Option<u64>,
+        /// The deciding side's game after the shot, which a copy that disagrees goes on
+        /// from.
+        game: Option<Box<Game>>,
     },
     /// Our command was refused; nothing changed.
     Refused(String),
@@ -166,7 +169,10 @@ pub(crate) fn game_events(msg: &ServerMessage, me: Option<Seat>) -> Vec<GameEven
             seat: *seat,
             command: command.clone(),
         }],
-        ServerMessage::ShotResolved { hash, .. } => vec![GameEvent::Judged { hash: Some(*hash) }],
+        ServerMessage::ShotResolved { hash, game, .. } => vec![GameEvent::Judged {
+            hash: Some(*hash),
+            game: Some(game.clone()),
+        }],
         ServerMessage::Applied {
             turn,
             seat,
@@ -178,7 +184,10 @@ pub(crate) fn game_events(msg: &ServerMessage, me: Option<Seat>) -> Vec<GameEven
                 seat: *seat,
                 command: command.clone(),
             },
-            GameEvent::Judged { hash: None },
+            GameEvent::Judged {
+                hash: None,
+                game: None,
+            },
         ],
         ServerMessage::TurnChanged { shot_clock_ms, .. } => {
             vec![GameEvent::ShotClock(shot_clock_ms.map(secs))]

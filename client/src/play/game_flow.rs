@@ -514,7 +514,10 @@ mod tests {
                     seat: Seat::A,
                     command,
                 });
-                flow.handle(GameEvent::Judged { hash: None });
+                flow.handle(GameEvent::Judged {
+                    hash: None,
+                    game: None,
+                });
             } else {
                 send(&mut link, &mut flow, Seat::A, command);
             }
@@ -547,7 +550,7 @@ mod tests {
     }
 
     #[test]
-    fn a_judgement_with_another_hash_counts_a_desync() {
+    fn a_judgement_with_another_hash_counts_a_desync_and_goes_on_from_the_server_s_game() {
         let (_, mut flow) = local();
         let mut other = flow.game().expect("game").clone();
         let strike = Strike::at_angle(8.0, 90.0, DVec2::ZERO);
@@ -559,7 +562,10 @@ mod tests {
             seat: Seat::A,
             command: command.clone(),
         });
-        flow.handle(GameEvent::Judged { hash });
+        flow.handle(GameEvent::Judged {
+            hash,
+            game: Some(Box::new(other.clone())),
+        });
         assert_eq!(
             flow.replica().desyncs(),
             0,
@@ -574,10 +580,19 @@ mod tests {
             seat: Seat::A,
             command,
         });
+        // The server's game after the shot differs too (here: it has heard a concession).
+        let mut decided = other.clone();
+        decided
+            .apply(Seat::B, &Command::Concede)
+            .expect("a concession");
         flow.handle(GameEvent::Judged {
             hash: hash.map(|h| h ^ 1),
+            game: Some(Box::new(decided.clone())),
         });
         assert_eq!(flow.replica().desyncs(), 1);
+        // Counted once, then the game goes on from the table every other player sees.
+        assert_eq!(flow.game(), Some(&decided));
+        assert_ne!(flow.game(), Some(&other));
     }
 
     #[test]

@@ -147,7 +147,7 @@ impl Replica {
                     server: 0,
                 }),
             },
-            GameEvent::Judged { hash } => self.judge(*hash),
+            GameEvent::Judged { hash, game } => self.judge(*hash, game.as_deref()),
             _ => None,
         }
     }
@@ -207,8 +207,10 @@ impl Replica {
     }
 
     /// The deciding side's judgement of the last command: a shot's hash must match the
-    /// one computed here.
-    pub fn judge(&mut self, hash: Option<u64>) -> Option<Check> {
+    /// one computed here. On a difference the copy goes on from `decided`, the deciding
+    /// side's game after the shot, when it came with the judgement: the desync is counted
+    /// once, and the next commands are played on the table every other player sees.
+    pub fn judge(&mut self, hash: Option<u64>, decided: Option<&Game>) -> Option<Check> {
         let server = hash?;
         let (turn, local) = self.predicted.take()?;
         if local == Some(server) {
@@ -216,6 +218,9 @@ impl Replica {
             Some(Check::Confirmed { turn })
         } else {
             self.desyncs += 1;
+            if let Some(game) = decided {
+                self.game = Some(game.clone());
+            }
             Some(Check::Desync {
                 turn,
                 local,
