@@ -79,7 +79,7 @@ fn a_hosted_game_is_joined_through_its_invite_and_plays_a_shot() -> anyhow::Resu
         (&mut host as &mut dyn GameLink, &mut host_flow),
         (&mut guest, &mut guest_flow),
     ] {
-        let GameEvent::Judged { hash } = poll_link_until(link, flow, "Judged", |e| {
+        let GameEvent::Judged { hash, .. } = poll_link_until(link, flow, "Judged", |e| {
             matches!(e, GameEvent::Judged { .. })
         }) else {
             unreachable!()

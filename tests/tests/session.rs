@@ -126,7 +126,7 @@ fn a_network_link_gives_a_game_screen_the_server_s_events() -> anyhow::Result<()
             accepted,
             GameEvent::Accepted { seat: Seat::A, .. }
         ));
-        let GameEvent::Judged { hash } = poll_link_until(link, flow, "Judged", |e| {
+        let GameEvent::Judged { hash, .. } = poll_link_until(link, flow, "Judged", |e| {
             matches!(e, GameEvent::Judged { .. })
         }) else {
             unreachable!()

@@ -79,7 +79,7 @@ fn main() -> ExitCode {
                         return ExitCode::FAILURE;
                     }
                 }
-                GameEvent::Judged { hash } => println!("judged {hash:?}"),
+                GameEvent::Judged { hash, .. } => println!("judged {hash:?}"),
                 GameEvent::Refused(why) => println!("refused {why}"),
                 _ => {}
             }
