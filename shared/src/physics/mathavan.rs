@@ -350,6 +350,71 @@ impl Contact {
         len <= LANDING * scale || !self.friction(s, stick).1[j]
     }
 
+    /// The step from a state whose relative slips are `s0` and rates `k1`: `h`, or less
+    /// where a shrinking slip would reach its predicted stop, leaving `short` of the way to
+    /// it. Also returns which contact set the step.
+    fn step_towards_stops(
+        &self,
+        s0: &Slips,
+        k1: &State,
+        modes: &Modes,
+        h: f64,
+        short: f64,
+    ) -> (f64, Option<usize>) {
+        let ds0 = self.slips(k1);
+        let mut step = h;
+        let mut limit = None;
+        for j in 0..2 {
+            let (u, v) = (s0[2 * j], s0[2 * j + 1]);
+            let rate = u * ds0[2 * j] + v * ds0[2 * j + 1];
+            if !modes.stick[j] && rate < 0.0 {
+                let approach = (1.0 - short) * (u * u + v * v) / -rate;
+                if approach < step {
+                    step = approach;
+                    limit = Some(j);
+                }
+            }
+        }
+        (step, limit)
+    }
+
+    /// After a step from relative slips `before` to `after` (`limit`: the contact that set
+    /// the step), at state `y` with rates `k1`: slips that have stopped stick, and sticking
+    /// contacts whose friction has reached the cone slip again, from zero.
+    fn switch_modes(
+        &self,
+        modes: &mut Modes,
+        y: &State,
+        k1: &State,
+        (before, after): (&Slips, &Slips),
+        limit: Option<usize>,
+        scale: f64,
+    ) {
+        let s = self.slips(y);
+        let ds = self.slips(k1);
+        let held = if modes.stick == [false; 2] {
+            [false; 2]
+        } else {
+            self.friction(after, modes.stick).1
+        };
+        for j in 0..2 {
+            let switch = if modes.stick[j] {
+                held[j]
+            } else {
+                let stalled = limit == Some(j)
+                    && norm(after[2 * j], after[2 * j + 1])
+                        > 0.75 * norm(before[2 * j], before[2 * j + 1]);
+                let near = if stalled { STALLED } else { LANDING_HELD } * scale;
+                self.stopped(after, &ds, modes, j, scale, near)
+            };
+            if switch {
+                modes.stick[j] = !modes.stick[j];
+                modes.offset[2 * j] = s[2 * j];
+                modes.offset[2 * j + 1] = s[2 * j + 1];
+            }
+        }
+    }
+
     /// The bounce, with a step error of `tol` of the speed scale. Also returns the number
     /// of evaluations of the rates.
     fn integrate(&self, vel: DVec3, spin: DVec3, tol: f64) -> (DVec3, DVec3, u32) {
@@ -383,20 +448,7 @@ impl Contact {
                 break;
             }
             let s0 = self.relative_slips(&y, &modes);
-            let ds0 = self.slips(&k1);
-            let mut step = h;
-            let mut limit = None;
-            for j in 0..2 {
-                let (u, v) = (s0[2 * j], s0[2 * j + 1]);
-                let rate = u * ds0[2 * j] + v * ds0[2 * j + 1];
-                if !modes.stick[j] && rate < 0.0 {
-                    let approach = (1.0 - short) * (u * u + v * v) / -rate;
-                    if approach < step {
-                        step = approach;
-                        limit = Some(j);
-                    }
-                }
-            }
+            let (step, limit) = self.step_towards_stops(&s0, &k1, &modes, h, short);
             let k2 = self.rate(&add(&y, 0.5 * step, &k1), &modes);
             let k3 = self.rate(&add(&y, 0.75 * step, &k2), &modes);
             let mut y1 = y;
@@ -453,34 +505,8 @@ impl Contact {
             if let Some(w_c) = compressed {
                 let target = (1.0 - self.e * self.e) * w_c;
                 if y1[5] <= target {
-                    let work = |t: f64| {
-                        let c = cubic(y[5], y1[5], step * k1[5], step * k4[5]);
-                        (
-                            ((c[3] * t + c[2]) * t + c[1]) * t + c[0],
-                            (3.0 * c[3] * t + 2.0 * c[2]) * t + c[1],
-                        )
-                    };
-                    // Newton's method on the work's cubic, kept inside the bracket.
-                    let (mut lo, mut hi) = (from, 1.0);
-                    let mut t = 1.0;
-                    for _ in 0..40 {
-                        let (w, slope) = work(t);
-                        if w > target {
-                            lo = t;
-                        } else {
-                            hi = t;
-                        }
-                        let next = t - (w - target) / slope;
-                        let next = if next > lo && next < hi {
-                            next
-                        } else {
-                            0.5 * (lo + hi)
-                        };
-                        if (next - t).abs() <= 1e-12 {
-                            break;
-                        }
-                        t = next;
-                    }
+                    let work = cubic(y[5], y1[5], step * k1[5], step * k4[5]);
+                    let t = crossing(&work, target, from);
                     y = hermite(&y, &y1, &k1, &k4, step, t);
                     break;
                 }
@@ -492,33 +518,8 @@ impl Contact {
             };
             y = y1;
             k1 = k4;
-            // Slips that have stopped stick; sticking contacts whose friction has reached
-            // the cone slip again, from zero.
             let before = modes;
-            let s = self.slips(&y);
-            let rel = s1;
-            let ds = self.slips(&k1);
-            let held = if modes.stick == [false; 2] {
-                [false; 2]
-            } else {
-                self.friction(&rel, modes.stick).1
-            };
-            for j in 0..2 {
-                let switch = if modes.stick[j] {
-                    held[j]
-                } else {
-                    let (u0, v0) = (s0[2 * j], s0[2 * j + 1]);
-                    let stalled =
-                        limit == Some(j) && norm(rel[2 * j], rel[2 * j + 1]) > 0.75 * norm(u0, v0);
-                    let near = if stalled { STALLED } else { LANDING_HELD } * scale;
-                    self.stopped(&rel, &ds, &modes, j, scale, near)
-                };
-                if switch {
-                    modes.stick[j] = !modes.stick[j];
-                    modes.offset[2 * j] = s[2 * j];
-                    modes.offset[2 * j + 1] = s[2 * j + 1];
-                }
-            }
+            self.switch_modes(&mut modes, &y, &k1, (&s0, &s1), limit, scale);
             if modes != before {
                 short = APPROACH;
                 k1 = self.rate(&y, &modes);
@@ -543,6 +544,33 @@ fn add(y: &State, h: f64, k: &State) -> State {
         out[i] += h * k[i];
     }
     out
+}
+
+/// Where in (`from`, 1] the falling cubic `c` (coefficients from the constant term up)
+/// reaches `target`: Newton's method, kept inside the bracket.
+fn crossing(c: &[f64; 4], target: f64, from: f64) -> f64 {
+    let (mut lo, mut hi) = (from, 1.0);
+    let mut t = 1.0;
+    for _ in 0..40 {
+        let w = ((c[3] * t + c[2]) * t + c[1]) * t + c[0];
+        let slope = (3.0 * c[3] * t + 2.0 * c[2]) * t + c[1];
+        if w > target {
+            lo = t;
+        } else {
+            hi = t;
+        }
+        let next = t - (w - target) / slope;
+        let next = if next > lo && next < hi {
+            next
+        } else {
+            0.5 * (lo + hi)
+        };
+        if (next - t).abs() <= 1e-12 {
+            break;
+        }
+        t = next;
+    }
+    t
 }
 
 /// The cubic through `y0`, `y1` with slopes `k0`, `k1`, at `θ` of the step `h`.
