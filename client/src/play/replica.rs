@@ -6,7 +6,7 @@
 //!
 //! A load run's bots stand for players on machines of their own, so a copy may check only
 //! one shot in N ([`Replica::checking_every`]): the others are not simulated here, and the
-//! game the deciding side sends with its result (`ShotResolved`) is taken as it is.
+//! game the deciding side sends with its judgement (`ShotResolved`) is taken as it is.
 
 use breakshot_shared::physics::BallState;
 use breakshot_shared::protocol::ServerMessage;
@@ -58,8 +58,9 @@ pub struct Replica {
     shots: u32,
     /// Shots left unchecked between two checked ones (0: every shot is checked).
     unchecked_between: u32,
-    /// A shot not simulated here, whose game the deciding side's result brings.
-    awaiting: Option<TurnId>,
+    /// A shot was not simulated here: the deciding side's judgement brings the game after
+    /// it.
+    awaiting: bool,
     /// Shots not simulated here.
     unchecked: u32,
 }
@@ -92,7 +93,7 @@ impl Replica {
 
     /// This copy simulates and checks the first shot and then one in `n` (every shot for
     /// 0 or 1); the game after each other shot is the one the deciding side sends with its
-    /// result, read by [`Replica::observe`]. Until it comes the copy has no game.
+    /// result (the judgement, [`Replica::judge`]). Until it comes the copy has no game.
     pub fn checking_every(mut self, n: u32) -> Replica {
         self.unchecked_between = n.saturating_sub(1);
         self
@@ -112,11 +113,6 @@ impl Replica {
 
     /// Applies what a server message says happened, as seen from `me`.
     pub fn observe(&mut self, msg: &ServerMessage, me: Option<Seat>) -> Vec<Check> {
-        if let ServerMessage::ShotResolved { turn, game, .. } = msg {
-            if self.awaiting == Some(*turn) {
-                self.start((**game).clone());
-            }
-        }
         game_events(msg, me)
             .iter()
             .filter_map(|e| self.handle(e))
@@ -157,7 +153,7 @@ impl Replica {
         self.game = Some(game);
         self.playback = None;
         self.predicted = None;
-        self.awaiting = None;
+        self.awaiting = false;
     }
 
     /// Applies an accepted command once; a shot starts playing at once, from the
@@ -185,7 +181,7 @@ impl Replica {
                 // Not simulated: the deciding side's result brings the game after it.
                 self.unchecked += 1;
                 self.game = None;
-                self.awaiting = Some(turn);
+                self.awaiting = true;
                 return Ok(None);
             }
         }
@@ -207,11 +203,19 @@ impl Replica {
     }
 
     /// The deciding side's judgement of the last command: a shot's hash must match the
-    /// one computed here. On a difference the copy goes on from `decided`, the deciding
-    /// side's game after the shot, when it came with the judgement: the desync is counted
-    /// once, and the next commands are played on the table every other player sees.
+    /// one computed here. The copy goes on from `decided`, the deciding side's game after
+    /// the shot, when it came with the judgement and the copy has no game of its own to
+    /// trust: after a shot not simulated here, or after a difference (the desync is
+    /// counted once, and the next commands are played on the table every other player
+    /// sees).
     pub fn judge(&mut self, hash: Option<u64>, decided: Option<&Game>) -> Option<Check> {
         let server = hash?;
+        if std::mem::take(&mut self.awaiting) {
+            if let Some(game) = decided {
+                self.start(game.clone());
+            }
+            return None;
+        }
         let (turn, local) = self.predicted.take()?;
         if local == Some(server) {
             self.confirmed += 1;
