@@ -58,6 +58,19 @@ fn until_shown(
     what: &str,
     ready: impl Fn(&Picture) -> bool,
 ) -> Picture {
+    until_shown_telling(display, wid, out, limit, what, ready, String::new)
+}
+
+/// As [`until_shown`], adding `context()` (what the window reported, say) to the failure.
+fn until_shown_telling(
+    display: &Display,
+    wid: &str,
+    out: &Path,
+    limit: Duration,
+    what: &str,
+    ready: impl Fn(&Picture) -> bool,
+    context: impl Fn() -> String,
+) -> Picture {
     let deadline = Instant::now() + limit;
     loop {
         let pic = display.grab(wid, out);
@@ -66,7 +79,8 @@ fn until_shown(
         }
         assert!(
             Instant::now() < deadline,
-            "{what}: not shown within {limit:?}"
+            "{what}: not shown within {limit:?}{}",
+            context()
         );
         std::thread::sleep(Duration::from_millis(500));
     }
@@ -612,13 +626,25 @@ fn game_resumed_in_a_window_of((w, h): (u32, u32)) {
     let (_again, _, said) = host(&bind);
     let wid = display.new_window(&[]);
     let out = dir.path().join("again.png");
-    let resumed = until_shown(&display, &wid, &out, PATIENCE, "the game", |p| {
-        // The table, and a short line where the keys were.
-        cloth_shown(p) && {
-            let reach = hint_reach(p, &layout);
-            reach > 20.0 && reach < keys / 3.0
-        }
-    });
+    let reports = || {
+        let said = said.lock().expect("the reports");
+        format!("; the restarted host said: {said:?}")
+    };
+    let resumed = until_shown_telling(
+        &display,
+        &wid,
+        &out,
+        PATIENCE,
+        "the game",
+        |p| {
+            // The table, and a short line where the keys were.
+            cloth_shown(p) && {
+                let reach = hint_reach(p, &layout);
+                reach > 20.0 && reach < keys / 3.0
+            }
+        },
+        reports,
+    );
     let reach = hint_reach(&resumed, &layout);
     eprintln!(
         "{size}: hint bar text reaches {keys} px in a new game, {reach} px after the restart"

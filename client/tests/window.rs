@@ -231,7 +231,11 @@ fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
             p[0] > 200 && p[1] > 200 && p[2] < 80
         })
         .count();
-    assert!(yellow > 200, "{yellow} yellow pixels: no invite drawn");
+    assert!(
+        yellow > 200,
+        "{yellow} yellow pixels: no invite drawn; the window said:\n{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
 }
 
 /// The arguments of `breakshot join INVITE`, its data in `data`.

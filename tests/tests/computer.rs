@@ -212,7 +212,14 @@ fn the_seated_computer_plays_game_after_game() -> anyhow::Result<()> {
     while started < 2 || computer_shots == 0 {
         assert!(
             start.elapsed() < 4 * PATIENCE,
-            "games started {started}, the computer's shots in the last {computer_shots}"
+            "games started {started}, the computer's shots in the last {computer_shots}; \
+             the host's game: {}",
+            flow.game().map_or("none".to_string(), |g| format!(
+                "turn {}, {:?} to move, {:?}",
+                g.turn(),
+                g.to_move(),
+                g.phase()
+            ))
         );
         while let Some(event) = host.poll() {
             match &event {
