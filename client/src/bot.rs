@@ -130,14 +130,16 @@ impl Report {
 
     /// The stages of a shot as the bots saw them, each as (name, p50, p99) in ms: the way to
     /// the server's acceptance, the whole round trip, the result's wait in the bot's own
-    /// process once read off the connection, and the bots' own replicas.
-    pub fn stages_ms(&self) -> [(&'static str, f64, f64); 4] {
+    /// process once read off the connection, the bots' own replicas, and the shot's wait in
+    /// the bot's own process before it was written on the connection.
+    pub fn stages_ms(&self) -> [(&'static str, f64, f64); 5] {
         let stage = |name, v: &[f64]| (name, quantile(v, 0.5), quantile(v, 0.99));
         [
             stage("accepted", &self.tally.times.accepted),
             stage("round trip", &self.tally.times.round_trip),
             stage("received", &self.tally.times.received),
             stage("replica", &self.tally.times.replica),
+            stage("sent", &self.tally.times.sent),
         ]
     }
 
@@ -466,8 +468,10 @@ mod tests {
         report.tally.times.round_trip = (1..=100).map(f64::from).collect();
         report.tally.times.accepted = vec![3.0, 1.0, 2.0];
         report.tally.times.received = vec![0.5];
-        let [accepted, round_trip, received, replica] = report.stages_ms();
+        report.tally.times.sent = vec![0.25, 4.0];
+        let [accepted, round_trip, received, replica, sent] = report.stages_ms();
         assert_eq!(received, ("received", 0.5, 0.5));
+        assert_eq!(sent, ("sent", 0.25, 4.0));
         assert_eq!(accepted, ("accepted", 2.0, 3.0));
         assert_eq!(round_trip, ("round trip", 50.0, 99.0));
         // No shot seen: nothing to rank.
@@ -476,6 +480,7 @@ mod tests {
         assert_eq!(json["accepted_p99_ms"], 3.0);
         assert_eq!(json["p50_ms"], 50.0);
         assert_eq!(json["replica_p50_ms"], 0.0);
+        assert_eq!(json["sent_p99_ms"], 4.0);
     }
 
     #[test]

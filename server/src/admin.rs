@@ -185,6 +185,11 @@ pub fn metrics(stats: &Stats) -> String {
     );
     for (name, help, h) in [
         (
+            "breakshot_read_seconds",
+            "From a message's first byte on its stream to the message decoded.",
+            &stats.read_time,
+        ),
+        (
             "breakshot_hub_wait_seconds",
             "From a message's frame read to the hub thread taking it up.",
             &stats.hub_wait,

@@ -192,7 +192,8 @@ pub async fn serve<T: Transport>(
             );
             loop {
                 let why = match read_message(&mut recv, frame_timeout).await {
-                    Ok(msg) if rate.take(Instant::now()) => {
+                    Ok((msg, started)) if rate.take(Instant::now()) => {
+                        hub.stats.read_time.record(started.elapsed());
                         if hub
                             .send(HubEvent::Message(id, msg, Instant::now()))
                             .is_err()
@@ -257,16 +258,18 @@ enum ReadEnd {
     Malformed(String),
 }
 
-/// Reads one message. Waiting for a frame to start is unlimited (a player may think), but
-/// once its first byte has arrived the rest must follow within `frame_timeout`.
+/// Reads one message, with the time its first byte arrived. Waiting for a frame to start is
+/// unlimited (a player may think), but once its first byte has arrived the rest must follow
+/// within `frame_timeout`.
 async fn read_message(
     recv: &mut (impl AsyncRead + Unpin),
     frame_timeout: Duration,
-) -> Result<ClientMessage, ReadEnd> {
+) -> Result<(ClientMessage, Instant), ReadEnd> {
     let mut header = [0u8; HEADER_LEN];
     recv.read_exact(&mut header[..1])
         .await
         .map_err(|_| ReadEnd::Closed)?;
+    let started = Instant::now();
     let rest = async {
         recv.read_exact(&mut header[1..])
             .await
@@ -281,7 +284,7 @@ async fn read_message(
     let payload = tokio::time::timeout(frame_timeout, rest)
         .await
         .map_err(|_| ReadEnd::Malformed("a frame took too long to arrive".into()))??;
-    decode_payload(&payload).or_else(|e| match claimed_version(&payload) {
+    let msg = decode_payload(&payload).or_else(|e| match claimed_version(&payload) {
         // A `Hello` of another version, whose shape may differ: the hub refuses it by its
         // version, with a reason the player can read.
         Some(protocol) if protocol != PROTOCOL_VERSION => Ok(ClientMessage::Hello {
@@ -290,5 +293,6 @@ async fn read_message(
             key: Vec::new(),
         }),
         _ => Err(ReadEnd::Malformed(e.to_string())),
-    })
+    })?;
+    Ok((msg, started))
 }

@@ -34,7 +34,10 @@ pub struct Stats {
     /// Time per durable store write (one group commit of every operation waiting).
     pub store_write_time: Histogram,
     /// The stages of a command's time, so that a slow tail is found where it is. From a
-    /// message's frame read to the hub thread taking it up (the hub's queue).
+    /// message's first byte on its stream to the message decoded (the rest of its frame
+    /// arriving, and the connection's turn on the runtime).
+    pub read_time: Histogram,
+    /// From a message's frame read to the hub thread taking it up (the hub's queue).
     pub hub_wait: Histogram,
     /// The hub thread's time on one message, with the rules and simulation of a room it
     /// runs itself.

@@ -463,6 +463,8 @@ pub async fn bot_game(
     assert_eq!(times.round_trip.len(), shots);
     assert_eq!(times.accepted.len(), shots);
     assert_eq!(times.received.len(), shots);
+    // Each shot sent is timed on its way out (a refused one, sent again, twice).
+    assert!(times.sent.len() >= shots, "{} shots sent", times.sent.len());
     let mut parts = times.received.iter().zip(&times.round_trip);
     assert!(parts.all(|(part, whole)| part <= whole));
     let mut pairs = times.accepted.iter().zip(&times.round_trip);

@@ -94,10 +94,11 @@ async fn metrics_move_during_a_game_and_a_drain_lets_it_finish() -> Result<()> {
         sample(&after, "breakshot_store_write_seconds_count") >= 1.0,
         "{after}"
     );
-    // Each stage of the shot's time is counted: the hub's queue and its own time for every
-    // message, a worker's for the shot it simulated, the writer's queue, and each message's
-    // wait to be written on its connection.
+    // Each stage of the shot's time is counted: each message's read, the hub's queue and its
+    // own time for every message, a worker's for the shot it simulated, the writer's queue,
+    // and each message's wait to be written on its connection.
     for stage in [
+        "breakshot_read_seconds_count",
         "breakshot_hub_wait_seconds_count",
         "breakshot_hub_seconds_count",
         "breakshot_worker_wait_seconds_count",

@@ -64,6 +64,7 @@ impl Tally {
         self.times.round_trip.extend(times.round_trip);
         self.times.accepted.extend(times.accepted);
         self.times.received.extend(times.received);
+        self.times.sent.extend(times.sent);
         self.times.replica.extend(times.replica);
     }
 }
@@ -83,6 +84,9 @@ pub struct ShotTimes {
     /// (simulating it to check the server's hash). It runs on the player's runtime, so
     /// every other connection of a load run's process waits behind it.
     pub replica: Vec<f64>,
+    /// The first part that is the player's own: from the shot's time (its thinking over) to
+    /// its frame written on the connection. A busy process wakes late for it.
+    pub sent: Vec<f64>,
 }
 
 /// What one bot saw and did.
@@ -299,8 +303,8 @@ impl SeatPlayer {
             let event = tokio::select! {
                 event = client.recv() => event?,
                 () = until(due_at) => {
-                    if let Some((_, cmd)) = self.due.take() {
-                        self.send_move(client, cmd).await;
+                    if let Some((at, cmd)) = self.due.take() {
+                        self.send_move(client, cmd, at).await;
                     }
                     continue;
                 }
@@ -453,8 +457,9 @@ impl SeatPlayer {
         }
     }
 
-    /// Sends a move whose time has come.
-    async fn send_move(&mut self, client: &mut Client, cmd: ClientMessage) {
+    /// Sends a move whose time (`due`) has come.
+    async fn send_move(&mut self, client: &mut Client, cmd: ClientMessage, due: Instant) {
+        let shot = matches!(cmd, ClientMessage::Shot { .. });
         if let ClientMessage::Shot { turn, .. } = cmd {
             // A shot sent again on its turn (the first was refused) counts anew.
             self.sent_shots.retain(|(t, _)| *t != turn);
@@ -463,6 +468,8 @@ impl SeatPlayer {
         // A message lost with the connection is answered again after the rejoin.
         if self.send(client, &cmd).await.is_err() {
             self.acted = None;
+        } else if shot {
+            self.result.tally.times.sent.push(ms_since(due));
         }
     }
 
