@@ -72,6 +72,9 @@ fn play_own_seat(link: &mut dyn GameLink, flow: &GameFlow, asked: &mut bool) {
     }
     match flow.prompt(link.seat()) {
         Prompt::Shoot { seat, .. } | Prompt::Decide { seat, .. } => {
+            // A game in play: its end is a new one to ask a rematch for, even when it
+            // comes on this very move (the 9 on the break) with no wait in between.
+            *asked = false;
             let game = flow.game().expect("a game").clone();
             let command =
                 ai::decide(&game, Level::new(1), u64::from(game.turn())).expect("the game is on");
