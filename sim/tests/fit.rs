@@ -138,6 +138,9 @@ fn fit_starts_from_the_parameters_named_and_writes_its_own() {
         let (o, out) = fit("bad", &["--strikes-only", "--start", arg]);
         assert_refused(&o, 2, "--start", &out);
     }
+    // So is a loss it does not know.
+    let (o, out) = fit("bad", &["--loss", "median"]);
+    assert_refused(&o, 2, "--loss median", &out);
 }
 
 #[test]

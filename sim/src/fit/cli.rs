@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use breakshot_shared::physics::{CushionModel, Params, TableKind};
 use breakshot_shared::scene::physics_over_defaults;
 
+use super::cloth::Loss;
 use super::recording::Units;
 use super::{pool_start, Options, Start};
 
@@ -36,6 +37,10 @@ pub struct Args {
     /// Nelder–Mead iterations of each short strike search.
     #[arg(long, default_value_t = 80)]
     iters: u64,
+    /// What the shared-parameter fit minimises over the shots' RMSEs: robust (Cauchy's
+    /// loss, scale 10 cm: a shot far off pulls little) or mean.
+    #[arg(long, value_name = "robust|mean", default_value = "robust")]
+    loss: String,
 }
 
 pub enum Error {
@@ -55,6 +60,11 @@ pub fn run(args: Args) -> Result<(), Error> {
     if args.iters == 0 {
         return Err(Error::Invalid("--iters must be at least 1".into()));
     }
+    let loss = match args.loss.as_str() {
+        "robust" => Loss::Robust,
+        "mean" => Loss::Mean,
+        other => return Err(Error::Invalid(format!("--loss {other}: robust or mean"))),
+    };
     let (start_from, start) = start_params(&args.start)?;
     let options = Options {
         units,
@@ -63,6 +73,7 @@ pub fn run(args: Args) -> Result<(), Error> {
         start,
         fit_cloth: !args.strikes_only,
         iters: args.iters,
+        loss,
         ..Options::default()
     };
     match args.folds {

@@ -1,5 +1,5 @@
 //! Fitting the parameters every shot shares (cloth, ball and cushion constants):
-//! Nelder–Mead on the mean RMSE over the recordings, each parameter kept inside a
+//! Nelder–Mead on a loss of the shots' RMSEs ([`Loss`]), each parameter kept inside a
 //! physically sensible range. Every trial of the parameters refits each shot's strike
 //! briefly from its last fit, since a strike tuned to one cloth is not the best on another.
 
@@ -28,6 +28,47 @@ pub const RANGES: [(&str, f64, f64); 7] = [
 
 /// Nelder–Mead iterations of the strike refit inside each trial of the parameters.
 const REFIT_ITERS: u64 = 15;
+
+/// The scale of the robust loss (m): where a shot's error starts to count less than in
+/// proportion.
+pub const ROBUST_SCALE: f64 = 0.1;
+
+/// What the shared fit minimises over the shots' RMSEs (`--loss`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Loss {
+    /// Cauchy's loss `c² ln(1 + (r/c)²)` with `c` = [`ROBUST_SCALE`], averaged: like the
+    /// squared error for a shot that fits, growing only as the logarithm for one that does
+    /// not, so the few shots holding what the engine does not model (a double hit, a
+    /// push) do not pull the constants every other shot shares.
+    #[default]
+    Robust,
+    /// The mean RMSE: every metre off counts the same, in any shot.
+    Mean,
+}
+
+impl Loss {
+    /// The loss of one shot's RMSE `r` (m).
+    pub fn of(self, r: f64) -> f64 {
+        match self {
+            Loss::Robust => {
+                let x = r / ROBUST_SCALE;
+                ROBUST_SCALE * ROBUST_SCALE * libm::log1p(x * x)
+            }
+            Loss::Mean => r,
+        }
+    }
+
+    /// How the report names it.
+    pub fn describe(self) -> String {
+        match self {
+            Loss::Robust => format!(
+                "the robust (Cauchy) loss of the shots' RMSEs, scale {} cm",
+                ROBUST_SCALE * 100.0
+            ),
+            Loss::Mean => "the mean of the shots' RMSEs".into(),
+        }
+    }
+}
 
 /// The parameters' values, in the order of [`RANGES`].
 pub fn values(p: &Params) -> [f64; 7] {
@@ -79,36 +120,38 @@ pub fn with_values(base: &Params, x: &[f64]) -> (Params, f64) {
     (p, excess)
 }
 
-/// Mean RMSE (m) over the recordings under `params`, each strike refitted from `fits` with
-/// `iters` Nelder–Mead iterations.
-pub fn mean_rmse(
+/// The mean `loss` of the RMSEs (m) over the recordings under `params`, each strike
+/// refitted from `fits` with `iters` Nelder–Mead iterations.
+pub fn mean_loss(
     recs: &[Recording],
     fits: &[StrikeFit],
     params: &Params,
     models: Models,
     iters: u64,
+    loss: Loss,
 ) -> f64 {
     let mut sum = 0.0;
     for (rec, fit) in recs.iter().zip(fits) {
-        sum += match strike::fit(rec, params, models, Some(fit), iters) {
+        sum += loss.of(match strike::fit(rec, params, models, Some(fit), iters) {
             Ok(f) => f.rmse,
             Err(_) => 10.0,
-        };
+        });
     }
     sum / recs.len().max(1) as f64
 }
 
-/// Fits the shared parameters from `start`, the strikes held at `fits`.
+/// Fits the shared parameters from `start` by `loss`, the strikes held at `fits`.
 pub fn fit(
     recs: &[Recording],
     fits: &[StrikeFit],
     start: &Params,
     models: Models,
     iters: u64,
+    loss: Loss,
 ) -> Params {
     let cost = |x: &[f64]| {
         let (p, excess) = with_values(start, x);
-        mean_rmse(recs, fits, &p, models, REFIT_ITERS) + excess
+        mean_loss(recs, fits, &p, models, REFIT_ITERS, loss) + excess
     };
     let x0 = values(start);
     let step: Vec<f64> = RANGES.iter().map(|(_, lo, hi)| 0.15 * (hi - lo)).collect();
@@ -119,6 +162,21 @@ pub fn fit(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_robust_loss_is_the_squared_error_for_a_close_shot_and_a_logarithm_for_a_far_one() {
+        let robust = Loss::Robust;
+        // Close: about r² (the first term of ln(1 + x) is x).
+        let close = 0.001;
+        assert!((robust.of(close) / (close * close) - 1.0).abs() < 1e-3);
+        // Far: ten times farther costs far less than a hundred times more, and the order
+        // of the errors is kept.
+        let (at_scale, ten_times) = (robust.of(ROBUST_SCALE), robust.of(10.0 * ROBUST_SCALE));
+        assert!(ten_times / at_scale < 7.0, "{}", ten_times / at_scale);
+        assert!(robust.of(0.05) < at_scale && at_scale < ten_times);
+        assert_eq!(robust.of(0.0), 0.0);
+        assert_eq!(Loss::Mean.of(0.25), 0.25);
+    }
 
     #[test]
     fn the_ball_friction_fitted_is_its_value_at_zero_slip_and_its_law_keeps_its_shape() {

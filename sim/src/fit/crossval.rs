@@ -173,11 +173,12 @@ fn markdown(cv: &CrossValidation) -> String {
     let _ = writeln!(
         s,
         "Cushion model `{:?}`; {k} folds (shot i in fold i mod {k}); start parameters: {}. \
-         For each fold the shared parameters are fitted on the other folds' shots, then only \
-         the strikes of the fold's shots under them. RMSE over all balls at all recorded \
-         sample times (m).\n",
+         For each fold the shared parameters are fitted on the other folds' shots (minimising \
+         {}), then only the strikes of the fold's shots under them. RMSE over all balls at \
+         all recorded sample times (m).\n",
         cv.options.cushion,
-        cv.options.start_from.describe()
+        cv.options.start_from.describe(),
+        cv.options.loss.describe()
     );
     let _ = writeln!(
         s,

@@ -65,6 +65,8 @@ pub struct Options {
     pub iters: u64,
     /// Rounds of shared-parameter fit and strike refit.
     pub rounds: usize,
+    /// What the shared-parameter fit minimises.
+    pub loss: cloth::Loss,
 }
 
 impl Default for Options {
@@ -77,6 +79,7 @@ impl Default for Options {
             fit_cloth: true,
             iters: 80,
             rounds: 2,
+            loss: cloth::Loss::default(),
         }
     }
 }
@@ -214,7 +217,14 @@ pub fn fit(recordings: Vec<Recording>, options: Options, show: bool) -> anyhow::
         for round in 1..=options.rounds {
             let t0 = Instant::now();
             bar.set_message(format!("shared parameters, round {round}"));
-            fitted = cloth::fit(&recordings, &fits, &fitted, models, CLOTH_ITERS);
+            fitted = cloth::fit(
+                &recordings,
+                &fits,
+                &fitted,
+                models,
+                CLOTH_ITERS,
+                options.loss,
+            );
             fits = refit_strikes(&recordings, &fitted, &fits, &options, &bar)?;
             seconds.push((format!("round {round}"), t0.elapsed().as_secs_f64()));
         }

@@ -97,9 +97,14 @@ fn markdown(fit: &Fit) -> String {
     let _ = writeln!(
         s,
         "Cushion model `{:?}`; RMSE over all balls at all recorded sample times (m). Start \
-         parameters: {}; the fitted ones are in `physics.json`.\n",
+         parameters: {}; the fitted ones are in `physics.json`{}.\n",
         fit.options.cushion,
-        fit.options.start_from.describe()
+        fit.options.start_from.describe(),
+        if fit.options.fit_cloth {
+            format!(", fitted by minimising {}", fit.options.loss.describe())
+        } else {
+            String::new()
+        }
     );
     let _ = writeln!(
         s,
