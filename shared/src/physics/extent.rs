@@ -34,11 +34,13 @@ pub(super) enum Mobility {
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Extent {
     pub(super) mobility: Mobility,
-    /// A box holding the piece's whole path (up to the horizon), and its low corner less a
-    /// ball's diameter.
+    /// A box holding the piece's whole path (up to the horizon).
     pub(super) lo: DVec2,
     pub(super) hi: DVec2,
-    lo_reach: DVec2,
+    /// The box's high corner and its low corner less a ball's diameter, negated:
+    /// `[hi.x, hi.y, −(lo.x − d), −(lo.y − d)]`, so that [`Extent::apart`] is four
+    /// comparisons of the same sense, side by side.
+    key: [f64; 4],
 }
 
 impl Extent {
@@ -60,11 +62,12 @@ impl Extent {
             (DVec2::NEG_INFINITY, DVec2::INFINITY)
         };
         let d = 2.0 * ctx.params.ball_radius;
+        let lo_reach = lo - DVec2::splat(d);
         Extent {
             mobility,
             lo,
             hi,
-            lo_reach: lo - DVec2::splat(d),
+            key: [hi.x, hi.y, -lo_reach.x, -lo_reach.y],
         }
     }
 
@@ -77,27 +80,39 @@ impl Extent {
             || (a == Mobility::Still && b == Mobility::Still))
     }
 
-    /// True when the two boxes are more than a diameter apart, so the balls cannot meet.
-    /// (Every test is made, without branches: the pass runs it on every ball.)
+    /// The other side of [`Extent::apart`]'s comparisons for this box:
+    /// `[lo.x − d, lo.y − d, −hi.x, −hi.y]` (negation is exact).
+    #[inline]
+    fn probe(&self) -> [f64; 4] {
+        let k = &self.key;
+        [-k[2], -k[3], -k[0], -k[1]]
+    }
+
+    /// True when the two boxes are more than a diameter apart, so the balls cannot meet:
+    /// one box's low corner less a diameter beyond the other's high corner, on either axis,
+    /// either way. (Every test is made, without branches: the pass runs it on every ball.)
     #[inline]
     pub(super) fn apart(&self, other: &Extent) -> bool {
-        (self.lo_reach.x > other.hi.x)
-            | (other.lo_reach.x > self.hi.x)
-            | (self.lo_reach.y > other.hi.y)
-            | (other.lo_reach.y > self.hi.y)
+        apart(&self.probe(), &other.key)
     }
+}
+
+/// [`Extent::apart`] from the probe of one box and the key of the other.
+#[inline(always)]
+fn apart(probe: &[f64; 4], key: &[f64; 4]) -> bool {
+    (probe[0] > key[0]) | (probe[1] > key[1]) | (probe[2] > key[2]) | (probe[3] > key[3])
 }
 
 /// The balls whose boxes are within reach of ball `i`'s (not [`Extent::apart`]), ball `i`
 /// among them: a few branch-free tests per ball, so that only the balls within reach are
 /// looked at further.
 pub(super) fn within_reach(extents: &[Extent], i: usize) -> Balls {
-    let a = &extents[i];
+    let probe = extents[i].probe();
     let mut near: Balls = 0;
     // From the last ball down, so that each ball's bit is shifted into place one step at a
     // time (cheaper than a shift by its index).
     for b in extents.iter().rev() {
-        near = near << 1 | Balls::from(!a.apart(b));
+        near = near << 1 | Balls::from(!apart(&probe, &b.key));
     }
     near
 }
