@@ -4,7 +4,7 @@ use glam::{DVec2, DVec3};
 
 use super::motion::Piece;
 use super::params::{BallBallModel, Params};
-use super::roots::{contact_bound, first_contact, hull_stays_apart, stays_apart, Poly, Touch};
+use super::roots::{first_contact, hull_stays_apart, pair_bound, stays_apart, Poly, Touch};
 
 /// The squared-distance polynomial of two pieces from absolute time `now`:
 /// `f(τ) = |d(τ)|² − (2R)²` with `d = r_b − r_a`.
@@ -51,7 +51,7 @@ pub fn collision_time(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -
 }
 
 /// A lower bound on [`collision_time`] (with the same arguments), or `None` when that is
-/// certainly `None` ([`contact_bound`] on the same relative motion). Cheap: no root
+/// certainly `None` ([`pair_bound`] on the same relative motion). Cheap: no root
 /// isolation.
 #[inline]
 pub fn earliest_contact(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -> Option<f64> {
@@ -61,7 +61,7 @@ pub fn earliest_contact(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64)
     let dr = b.pos_at(now) - a.pos_at(now);
     let dv = b.vel_at(now) - a.vel_at(now);
     let t_max = until - now;
-    let tau = contact_bound(dr, dv, b.acc - a.acc, 2.0 * radius, t_max)?;
+    let tau = pair_bound(dr, dv, b.acc - a.acc, 2.0 * radius, t_max)?;
     // A contact found by the solver lies within [0, until − now].
     if tau > t_max {
         return None;
