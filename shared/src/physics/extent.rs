@@ -108,11 +108,63 @@ fn apart(probe: &[f64; 4], key: &[f64; 4]) -> bool {
 /// looked at further.
 pub(super) fn within_reach(extents: &[Extent], i: usize) -> Balls {
     let probe = extents[i].probe();
-    let mut near: Balls = 0;
     // From the last ball down, so that each ball's bit is shifted into place one step at a
-    // time (cheaper than a shift by its index).
+    // time (cheaper than a shift by its index); in one machine word when the balls fit.
+    if extents.len() <= 64 {
+        let mut near: u64 = 0;
+        for b in extents.iter().rev() {
+            near = near << 1 | u64::from(!apart(&probe, &b.key));
+        }
+        return Balls::from(near);
+    }
+    let mut near: Balls = 0;
     for b in extents.iter().rev() {
         near = near << 1 | Balls::from(!apart(&probe, &b.key));
     }
     near
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn within_reach_agrees_with_apart() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut unit = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for n in [1, 2, 16, 63, 64, 65, 100, 128] {
+            let extents: Vec<Extent> = (0..n)
+                .map(|_| {
+                    let lo = DVec2::new(unit() * 2.0, unit());
+                    let hi = lo + DVec2::new(unit() * 0.3, unit() * 0.3);
+                    let reach = lo - DVec2::splat(0.05715);
+                    Extent {
+                        mobility: Mobility::Cloth,
+                        lo,
+                        hi,
+                        key: [hi.x, hi.y, -reach.x, -reach.y],
+                    }
+                })
+                .collect();
+            for i in 0..n {
+                let mut expected: Balls = 0;
+                for (j, b) in extents.iter().enumerate() {
+                    let (a, b) = (&extents[i], b);
+                    let (ra, rb) = (a.lo - DVec2::splat(0.05715), b.lo - DVec2::splat(0.05715));
+                    let apart =
+                        (ra.x > b.hi.x) | (rb.x > a.hi.x) | (ra.y > b.hi.y) | (rb.y > a.hi.y);
+                    assert_eq!(a.apart(b), apart);
+                    if !apart {
+                        expected |= ball(j);
+                    }
+                }
+                assert_eq!(within_reach(&extents, i), expected, "{n} {i}");
+            }
+        }
+    }
 }
