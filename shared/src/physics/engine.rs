@@ -387,7 +387,12 @@ impl Simulator {
                         // The same signed distance and rates as `rail_time`'s polynomial.
                         let dist = n.dot(p - rail.a) - ctx.contact;
                         let bound = roots::line_bound(dist, n.dot(v), 0.5 * n.dot(acc), reach);
-                        if can_beat(&best, bound) {
+                        // Nor is one solved that the ball can meet only past its ends.
+                        if can_beat(&best, bound)
+                            && !bound.is_some_and(|b| {
+                                ball_cushion::misses_rail(piece, rail, now + b, until)
+                            })
+                        {
                             let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
                             consider(&mut best, t, OwnKind::Rail(k as u8));
                         }
