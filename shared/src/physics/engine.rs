@@ -22,7 +22,7 @@ use glam::{DVec2, DVec3};
 use super::airborne::{self, Flight};
 use super::ball_ball;
 use super::ball_cushion;
-use super::earliest::Earliest;
+use super::earliest::{self, Earliest};
 use super::event::{Event, EventKind};
 use super::extent::{self, ball, Balls, Extent, Mobility};
 use super::group_impact::{self, refill, Scratch};
@@ -540,14 +540,8 @@ impl Simulator {
             self.row_first.set(&mut self.row, i, t);
             self.arg[i] = j;
         } else if old == self.row[i] {
-            let mut best = f64::INFINITY;
-            let mut arg = 0;
-            for (m, &p) in self.pair[i * n + i + 1..(i + 1) * n].iter().enumerate() {
-                if p < best {
-                    best = p;
-                    arg = i + 1 + m;
-                }
-            }
+            let (arg, best) = earliest::first_min(&self.pair[i * n + i + 1..(i + 1) * n])
+                .map_or((0, f64::INFINITY), |(m, p)| (i + 1 + m, p));
             self.row_first.set(&mut self.row, i, best);
             self.arg[i] = arg;
         }
