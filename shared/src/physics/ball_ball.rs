@@ -26,6 +26,24 @@ pub fn contact_poly(a: &Piece, b: &Piece, now: f64, radius: f64) -> Poly {
 /// The first time after `now` and no later than `until` at which the balls of pieces `a`
 /// and `b` touch while approaching.
 pub fn collision_time(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -> Option<f64> {
+    solve(a, b, now, until, radius, true)
+}
+
+/// [`collision_time`] of pieces for which [`earliest_contact`], with the same arguments, gave
+/// a bound: that made the test of [`stays_apart`] on the same numbers, which said no, so it
+/// is not made again.
+pub fn bounded_collision_time(
+    a: &Piece,
+    b: &Piece,
+    now: f64,
+    until: f64,
+    radius: f64,
+) -> Option<f64> {
+    solve(a, b, now, until, radius, false)
+}
+
+#[inline(always)]
+fn solve(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64, test: bool) -> Option<f64> {
     if !a.start.motion.is_translating() && !b.start.motion.is_translating() {
         return None;
     }
@@ -40,7 +58,7 @@ pub fn collision_time(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -
     let dv = b.vel_at(now) - a.vel_at(now);
     let da = b.acc - a.acc;
     let reach = until - now;
-    if stays_apart(dr, dv, da, reach, 2.0 * radius)
+    if (test && stays_apart(dr, dv, da, reach, 2.0 * radius))
         || hull_stays_apart(dr, dv, da, reach, 2.0 * radius)
     {
         // They cannot meet before one of them changes state.

@@ -323,7 +323,13 @@ impl Simulator {
         let k = i * n + j;
         let bound = self.pair[k];
         self.solved[k] = true;
-        let exact = self.collision_time(i, j, self.since[k], ctx);
+        // Only a pair on the cloth is left unsolved (`deferred_collision`), with a bound from
+        // `ball_ball::earliest_contact` on the same pieces, time and horizon.
+        let (a, b) = (&self.pieces[i], &self.pieces[j]);
+        let until = self.own_t[i].min(self.own_t[j]).min(ctx.limit);
+        let exact =
+            ball_ball::bounded_collision_time(a, b, self.since[k], until, ctx.params.ball_radius)
+                .unwrap_or(f64::INFINITY);
         debug_assert!(exact >= bound, "pair {i}-{j}: bound {bound} above {exact}");
         self.set_pair(i, j, exact);
     }
