@@ -593,7 +593,7 @@ impl Simulator {
         } & !ball(i);
         let near = extent::within_reach(&self.extents, i) & meet;
         let others = !done;
-        self.outcome.work.pair_checks += u64::from((meet & others).count_ones());
+        self.outcome.work.pair_checks += u64::from(extent::count(meet & others));
         let mut todo = (near | self.links[i]) & others;
         while todo != 0 {
             let j = todo.trailing_zeros() as usize;

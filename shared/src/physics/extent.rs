@@ -16,6 +16,18 @@ pub(super) fn ball(i: usize) -> Balls {
     1 << i
 }
 
+/// How many balls `set` holds: one word's count when the high word is empty (a shot of at most
+/// 64 balls), which without a population-count instruction costs half as much.
+#[inline]
+pub(super) fn count(set: Balls) -> u32 {
+    let (low, high) = (set as u64, (set >> 64) as u64);
+    if high == 0 {
+        low.count_ones()
+    } else {
+        low.count_ones() + high.count_ones()
+    }
+}
+
 /// How a ball's current piece moves, as far as pair predictions care.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Mobility {
@@ -164,6 +176,7 @@ mod tests {
                     }
                 }
                 assert_eq!(within_reach(&extents, i), expected, "{n} {i}");
+                assert_eq!(count(expected), expected.count_ones());
             }
         }
     }
