@@ -13,15 +13,9 @@ pub(super) struct Earliest {
 impl Earliest {
     /// The earliest of `times`, by a scan.
     pub(super) fn of(times: &[f64]) -> Earliest {
-        let mut best = f64::INFINITY;
-        let mut first = usize::MAX;
-        for (i, &t) in times.iter().enumerate() {
-            if t < best {
-                best = t;
-                first = i;
-            }
+        Earliest {
+            first: first_min(times).map_or(usize::MAX, |(i, _)| i),
         }
-        Earliest { first }
     }
 
     /// The index of the earliest time and that time, if any is below infinity.
@@ -47,9 +41,69 @@ impl Earliest {
     }
 }
 
+/// The first index of the least of `times` and that time, if any is below infinity (a NaN is
+/// never the least): what a scan keeping the first strictly smaller time finds. The least is
+/// found first, in two interleaved runs without branches, then the first index holding it
+/// (every time equal to the least, a zero of either sign for a zero, was no smaller than it).
+#[inline]
+pub(super) fn first_min(times: &[f64]) -> Option<(usize, f64)> {
+    let min = |best: f64, t: f64| if t < best { t } else { best };
+    let (mut even, mut odd) = (f64::INFINITY, f64::INFINITY);
+    let mut pairs = times.chunks_exact(2);
+    for pair in &mut pairs {
+        even = min(even, pair[0]);
+        odd = min(odd, pair[1]);
+    }
+    let mut best = min(even, odd);
+    if let [last] = pairs.remainder() {
+        best = min(best, *last);
+    }
+    if best == f64::INFINITY {
+        return None;
+    }
+    times.iter().position(|&t| t == best).map(|i| (i, times[i]))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn first_min_agrees_with_a_scan() {
+        let choices = [
+            0.5,
+            1.0,
+            0.0,
+            -0.0,
+            f64::INFINITY,
+            f64::NAN,
+            f64::NEG_INFINITY,
+        ];
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for _ in 0..20_000 {
+            let n = (next() % 20) as usize;
+            let times: Vec<f64> = (0..n).map(|_| choices[(next() % 7) as usize]).collect();
+            let mut scan = None;
+            let mut best = f64::INFINITY;
+            for (i, &t) in times.iter().enumerate() {
+                if t < best {
+                    best = t;
+                    scan = Some(i);
+                }
+            }
+            let found = first_min(&times);
+            assert_eq!(found.map(|(i, _)| i), scan, "{times:?}");
+            if let Some((i, t)) = found {
+                assert_eq!(t.to_bits(), times[i].to_bits());
+            }
+        }
+    }
 
     #[test]
     fn always_agrees_with_a_scan() {

@@ -22,7 +22,7 @@ use glam::{DVec2, DVec3};
 use super::airborne::{self, Flight};
 use super::ball_ball;
 use super::ball_cushion;
-use super::earliest::Earliest;
+use super::earliest::{self, Earliest};
 use super::event::{Event, EventKind};
 use super::extent::{self, ball, Balls, Extent, Mobility};
 use super::group_impact::{self, refill, Scratch};
@@ -323,7 +323,13 @@ impl Simulator {
         let k = i * n + j;
         let bound = self.pair[k];
         self.solved[k] = true;
-        let exact = self.collision_time(i, j, self.since[k], ctx);
+        // Only a pair on the cloth is left unsolved (`deferred_collision`), with a bound from
+        // `ball_ball::earliest_contact` on the same pieces, time and horizon.
+        let (a, b) = (&self.pieces[i], &self.pieces[j]);
+        let until = self.own_t[i].min(self.own_t[j]).min(ctx.limit);
+        let exact =
+            ball_ball::bounded_collision_time(a, b, self.since[k], until, ctx.params.ball_radius)
+                .unwrap_or(f64::INFINITY);
         debug_assert!(exact >= bound, "pair {i}-{j}: bound {bound} above {exact}");
         self.set_pair(i, j, exact);
     }
@@ -387,7 +393,12 @@ impl Simulator {
                         // The same signed distance and rates as `rail_time`'s polynomial.
                         let dist = n.dot(p - rail.a) - ctx.contact;
                         let bound = roots::line_bound(dist, n.dot(v), 0.5 * n.dot(acc), reach);
-                        if can_beat(&best, bound) {
+                        // Nor is one solved that the ball can meet only past its ends.
+                        if can_beat(&best, bound)
+                            && !bound.is_some_and(|b| {
+                                ball_cushion::misses_rail(piece, rail, now + b, until)
+                            })
+                        {
                             let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
                             consider(&mut best, t, OwnKind::Rail(k as u8));
                         }
@@ -535,14 +546,8 @@ impl Simulator {
             self.row_first.set(&mut self.row, i, t);
             self.arg[i] = j;
         } else if old == self.row[i] {
-            let mut best = f64::INFINITY;
-            let mut arg = 0;
-            for (m, &p) in self.pair[i * n + i + 1..(i + 1) * n].iter().enumerate() {
-                if p < best {
-                    best = p;
-                    arg = i + 1 + m;
-                }
-            }
+            let (arg, best) = earliest::first_min(&self.pair[i * n + i + 1..(i + 1) * n])
+                .map_or((0, f64::INFINITY), |(m, p)| (i + 1 + m, p));
             self.row_first.set(&mut self.row, i, best);
             self.arg[i] = arg;
         }
@@ -588,7 +593,7 @@ impl Simulator {
         } & !ball(i);
         let near = extent::within_reach(&self.extents, i) & meet;
         let others = !done;
-        self.outcome.work.pair_checks += u64::from((meet & others).count_ones());
+        self.outcome.work.pair_checks += u64::from(extent::count(meet & others));
         let mut todo = (near | self.links[i]) & others;
         while todo != 0 {
             let j = todo.trailing_zeros() as usize;
