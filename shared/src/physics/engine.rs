@@ -409,6 +409,9 @@ impl Simulator {
             // jaw only on its path up to there, a far smaller box than its whole path's.
             let (lo, hi) = if best.t < until {
                 let (l, h) = piece.path_box(now, best.t);
+                // Nor do this ball's pairs look past its own event, which is at the latest
+                // here: their box tests need only its path up to there.
+                self.extents[i].narrow(l, h, 2.0 * ctx.params.ball_radius);
                 let margin = DVec2::splat(NARROW_MARGIN);
                 (lo.max(l - margin), hi.min(h + margin))
             } else {
