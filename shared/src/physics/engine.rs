@@ -160,6 +160,9 @@ impl Simulator {
         };
         let n = shot.balls.len();
         let r = shot.params.ball_radius;
+        for mouth in &mut self.mouths {
+            mouth.reach(ctx.contact.max(0.0));
+        }
         let out = &mut self.outcome;
         out.events.clear();
         out.history.resize_with(n, Vec::new);
@@ -425,7 +428,7 @@ impl Simulator {
             }
             // A pocket and its jaws are looked at only when the path comes near their mouth.
             for mouth in &self.mouths {
-                if !mouth.near(lo, hi, ctx.contact.max(0.0)) {
+                if !mouth.near(lo, hi) {
                     continue;
                 }
                 if let (Some(k), true) = (mouth.pocket, ctx.effects.pockets) {
