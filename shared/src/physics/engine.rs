@@ -160,6 +160,9 @@ impl Simulator {
         };
         let n = shot.balls.len();
         let r = shot.params.ball_radius;
+        for mouth in &mut self.mouths {
+            mouth.reach(ctx.contact.max(0.0));
+        }
         let out = &mut self.outcome;
         out.events.clear();
         out.history.resize_with(n, Vec::new);
@@ -409,6 +412,9 @@ impl Simulator {
             // jaw only on its path up to there, a far smaller box than its whole path's.
             let (lo, hi) = if best.t < until {
                 let (l, h) = piece.path_box(now, best.t);
+                // Nor do this ball's pairs look past its own event, which is at the latest
+                // here: their box tests need only its path up to there.
+                self.extents[i].narrow(l, h, 2.0 * ctx.params.ball_radius);
                 let margin = DVec2::splat(NARROW_MARGIN);
                 (lo.max(l - margin), hi.min(h + margin))
             } else {
@@ -422,7 +428,7 @@ impl Simulator {
             }
             // A pocket and its jaws are looked at only when the path comes near their mouth.
             for mouth in &self.mouths {
-                if !mouth.near(lo, hi, ctx.contact.max(0.0)) {
+                if !mouth.near(lo, hi) {
                     continue;
                 }
                 if let (Some(k), true) = (mouth.pocket, ctx.effects.pockets) {

@@ -12,6 +12,9 @@ pub(super) struct Mouth {
     /// which a ball touches a nose (the shot's, added when used).
     lo: DVec2,
     hi: DVec2,
+    /// The box widened for the shot being simulated ([`Mouth::reach`]).
+    reach_lo: DVec2,
+    reach_hi: DVec2,
     pub(super) pocket: Option<u8>,
     pub(super) jaws: Vec<u8>,
 }
@@ -37,6 +40,8 @@ impl Mouth {
                 Mouth {
                     lo,
                     hi,
+                    reach_lo: lo,
+                    reach_hi: hi,
                     pocket: Some(k as u8),
                     jaws: Vec::new(),
                 }
@@ -63,6 +68,8 @@ impl Mouth {
                 None => mouths.push(Mouth {
                     lo,
                     hi,
+                    reach_lo: lo,
+                    reach_hi: hi,
                     pocket: None,
                     jaws: vec![k as u8],
                 }),
@@ -71,13 +78,19 @@ impl Mouth {
         mouths
     }
 
-    /// False when the box from `lo` to `hi` is out of reach of the pocket and of every jaw
-    /// nose, for a ball touching a nose at `contact` from its centre: then none of them can
-    /// be near that box.
-    #[inline]
-    pub(super) fn near(&self, lo: DVec2, hi: DVec2, contact: f64) -> bool {
+    /// Widens the box for a shot in which a ball touches a nose at `contact` from its centre,
+    /// once, for every [`Mouth::near`] of the shot.
+    pub(super) fn reach(&mut self, contact: f64) {
         let reach = DVec2::splat(contact + MARGIN);
-        let (mlo, mhi) = (self.lo - reach, self.hi + reach);
+        (self.reach_lo, self.reach_hi) = (self.lo - reach, self.hi + reach);
+    }
+
+    /// False when the box from `lo` to `hi` is out of reach of the pocket and of every jaw
+    /// nose, for a ball touching a nose at the `contact` last given to [`Mouth::reach`]: then
+    /// none of them can be near that box.
+    #[inline]
+    pub(super) fn near(&self, lo: DVec2, hi: DVec2) -> bool {
+        let (mlo, mhi) = (self.reach_lo, self.reach_hi);
         (lo.x <= mhi.x) & (mlo.x <= hi.x) & (lo.y <= mhi.y) & (mlo.y <= hi.y)
     }
 }

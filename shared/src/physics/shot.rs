@@ -260,6 +260,8 @@ pub(super) fn validate(shot: &Shot, table: &Table) -> Result<(), ShotError> {
     let contact = ball_cushion::model_contact_distance(&shot.params, shot.models.cushion);
     let on_table = |i: usize| !shot.balls[i].motion.is_gone();
     let n = shot.balls.len();
+    // Most balls are well inside, where every place fits.
+    let deep = table.deep_interior(contact);
     for i in (0..n).filter(|&i| on_table(i)) {
         // A ball in flight may be above the cushion noses' reach; its centre must still be
         // over the bed.
@@ -268,7 +270,10 @@ pub(super) fn validate(shot: &Shot, table: &Table) -> Result<(), ShotError> {
         } else {
             contact
         };
-        if !table.fits(table.to_engine(shot.balls[i].pos), margin) {
+        let p = table.to_engine(shot.balls[i].pos);
+        let deep_inside =
+            margin == contact && deep.is_some_and(|h| p.x.abs() <= h.x && p.y.abs() <= h.y);
+        if !deep_inside && !table.fits(p, margin) {
             return Err(ShotError::OffTable { ball: i });
         }
     }

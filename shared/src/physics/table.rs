@@ -347,6 +347,36 @@ impl Table {
         p + self.half
     }
 
+    /// Half the sides of a box about the centre every point of which [`Table::fits`] with
+    /// `contact` (by a margin far above the rounding of those tests: a micrometre), or `None`
+    /// when no such box was found. A check of many balls passes those well inside it at two
+    /// comparisons each: a box `DEEP_INSET` inside the rails' reach, kept only when it is
+    /// clear of every rail, jaw and pocket.
+    pub fn deep_interior(&self, contact: f64) -> Option<DVec2> {
+        const DEEP_INSET: f64 = 0.15;
+        const SLACK: f64 = 1e-6;
+        let half = self.half - DVec2::splat(contact + DEEP_INSET);
+        if !(self.has_cushions() && half.x > 0.0 && half.y > 0.0 && contact.is_finite()) {
+            return None;
+        }
+        // The box's nearest approach to each: a rail's line (its normal points into the
+        // table), a jaw's circle less the touch, a pocket's capture circle.
+        let clear_of_rails = self.rails.iter().all(|rail| {
+            let n = rail.normal;
+            -(n.x.abs() * half.x + n.y.abs() * half.y) - n.dot(rail.a) >= contact + SLACK
+        });
+        let gap = |center: DVec2| (center.clamp(-half, half) - center).length();
+        let clear_of_jaws = self
+            .jaws
+            .iter()
+            .all(|j| gap(j.center) >= j.radius + contact + SLACK);
+        let clear_of_pockets = self
+            .pockets
+            .iter()
+            .all(|pk| gap(pk.center) >= pk.radius + SLACK);
+        (clear_of_rails && clear_of_jaws && clear_of_pockets).then_some(half)
+    }
+
     /// Can a ball rest with its centre at `p` (engine coordinates)? It must be clear of every
     /// rail and jaw (`contact` is the horizontal distance at which a ball touches a cushion
     /// nose), not inside a pocket's capture circle, and either within the rails or hanging in
@@ -425,6 +455,42 @@ impl Table {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_point_of_the_deep_interior_fits() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut unit = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let kinds = [
+            TableKind::SevenFoot,
+            TableKind::EightFoot,
+            TableKind::NineFoot,
+            TableKind::Carom,
+            TableKind::Snooker,
+        ];
+        for kind in kinds {
+            for pockets in [true, false] {
+                let table = Table::for_shot(kind, pockets);
+                for contact in [0.0, 0.01, 0.02858, 0.04] {
+                    let half = table.deep_interior(contact).expect("a deep interior");
+                    for k in 0..2_000 {
+                        // Corners and edges of the box, and points inside it.
+                        let mut along = || match k % 3 {
+                            0 => [-1.0, 1.0][(unit() * 2.0) as usize],
+                            _ => 2.0 * unit() - 1.0,
+                        };
+                        let p = DVec2::new(along() * half.x, along() * half.y);
+                        assert!(table.fits(p, contact), "{kind:?} {contact} {p}");
+                    }
+                }
+            }
+        }
+        assert_eq!(Table::new(TableKind::Open).deep_interior(0.0), None);
+    }
 
     #[test]
     fn pocket_table_is_mirror_symmetric() {
