@@ -223,16 +223,20 @@ fn a_host_shows_the_invite_while_waiting_for_the_opponent() {
     let dark = pic.at(mid.0, mid.1 - 90.0);
     assert!(dark.iter().all(|&v| v < 60), "panel background {dark:?}");
     // The invite's line, in the upper half of the panel (the HUD's yellow is far above).
+    // Its pixels are yellow however bright: how bright the thin glyphs come out depends on
+    // where they fall on the pixel grid, which moves with the invite's characters (from
+    // 190 to 143 in red at their brightest). About 2 000 of them; a yellow ball in the band
+    // with no panel over it would give a few hundred.
     let band = (mid.1 - 60.0) as u32..(mid.1 - 15.0) as u32;
     let yellow = (0..width)
         .flat_map(|x| band.clone().map(move |y| (x, y)))
         .filter(|&(x, y)| {
             let p = pic.at(x as f32, y as f32);
-            p[0] > 200 && p[1] > 200 && p[2] < 80
+            p[0] > 100 && p[1] > 100 && p[2] < 60
         })
         .count();
     assert!(
-        yellow > 200,
+        yellow > 1_000,
         "{yellow} yellow pixels: no invite drawn; the window said:\n{}",
         String::from_utf8_lossy(&run.stderr)
     );
