@@ -238,13 +238,8 @@ mod tests {
         let model = MotionModel::new(&params, &Effects::default());
         let table = Table::new(TableKind::SevenFoot);
         let contact = contact_distance(&params);
-        let mut state = 0x5851_f42d_4c95_7f2du64;
-        let mut unit = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::ai::Rng::new(0x5851_f42d_4c95_7f2du64);
+        let mut unit = || rng.unit();
         let (mut missed, mut met) = (0, 0);
         for k in 0..20_000 {
             let mut s = BallState::at_rest(DVec2::new(

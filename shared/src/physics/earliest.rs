@@ -79,13 +79,8 @@ mod tests {
             f64::NAN,
             f64::NEG_INFINITY,
         ];
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = crate::ai::Rng::new(0x2545_f491_4f6c_dd1du64);
+        let mut next = || rng.next_u64();
         for _ in 0..20_000 {
             let n = (next() % 20) as usize;
             let times: Vec<f64> = (0..n).map(|_| choices[(next() % 7) as usize]).collect();
@@ -108,13 +103,8 @@ mod tests {
     #[test]
     fn always_agrees_with_a_scan() {
         let choices = [0.5, 1.0, 2.0, f64::INFINITY, f64::NAN];
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = crate::ai::Rng::new(0x9e37_79b9_7f4a_7c15u64);
+        let mut next = || rng.next_u64();
         let mut times = [f64::INFINITY; 6];
         let mut earliest = Earliest::of(&times);
         for _ in 0..20_000 {

@@ -174,13 +174,8 @@ mod tests {
         let params = Params::default();
         let model = MotionModel::new(&params, &Effects::default());
         let (r, d) = (params.ball_radius, 2.0 * params.ball_radius);
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut unit = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::ai::Rng::new(0x2545_f491_4f6c_dd1du64);
+        let mut unit = || rng.unit();
         let extent = |p: &Piece, own: f64| {
             let (lo, hi) = p.path_box(p.t0, p.t_end);
             let mut e = Extent {
@@ -252,13 +247,8 @@ mod tests {
 
     #[test]
     fn within_reach_agrees_with_apart() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut unit = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::ai::Rng::new(0x9e37_79b9_7f4a_7c15u64);
+        let mut unit = || rng.unit();
         for n in [1, 2, 16, 63, 64, 65, 100, 128] {
             let extents: Vec<Extent> = (0..n)
                 .map(|_| {

@@ -643,13 +643,8 @@ mod tests {
         // Signed distances starting within a micrometre of the line (most moving away, as
         // after a bounce) and some further: the bound is never above the solver's contact,
         // and says none only when the solver finds none.
-        let mut state = 0x5851_f42d_4c95_7f2du64;
-        let mut unit = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::ai::Rng::new(0x5851_f42d_4c95_7f2du64);
+        let mut unit = || rng.unit();
         let (mut none, mut later) = (0, 0);
         for k in 0..100_000 {
             let c0 = match k % 3 {
@@ -688,13 +683,8 @@ mod tests {
             let ends = CriticalPoints::new(c, 0.0, t_max).chain(std::iter::once(t_max));
             first_descent(c[0], ends, |t| eval(c, t), |t| eval_d(c, t))
         };
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut unit = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::ai::Rng::new(0x2545_f491_4f6c_dd1du64);
+        let mut unit = || rng.unit();
         let mut found = 0;
         for k in 0..100_000 {
             let pick = |u: f64, zero: bool| if zero { [0.0, -0.0][k % 2] } else { u };
@@ -719,13 +709,8 @@ mod tests {
         // Random relative motions starting within a micrometre of contact (most moving
         // apart, as after a collision) and some further away: the bound is never above the
         // solver's contact, and says none only when the solver finds none.
-        let mut state = 0x5851_f42d_4c95_7f2du64;
-        let mut unit = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::ai::Rng::new(0x5851_f42d_4c95_7f2du64);
+        let mut unit = || rng.unit();
         let distance = 0.05715;
         let (mut apart, mut later) = (0, 0);
         for k in 0..50_000 {
@@ -778,13 +763,8 @@ mod tests {
     fn hull_never_dismisses_a_contact_the_solver_finds() {
         // Random curved paths around a disc: whenever the hull test says apart, the solver
         // must find no contact and no sample of the path may come within reach.
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut unit = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::ai::Rng::new(0x2545_f491_4f6c_dd1du64);
+        let mut unit = || rng.unit();
         let distance = 0.05715;
         let mut dismissed = 0;
         for _ in 0..20_000 {

@@ -458,13 +458,8 @@ mod tests {
 
     #[test]
     fn every_point_of_the_deep_interior_fits() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut unit = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::ai::Rng::new(0x9e37_79b9_7f4a_7c15u64);
+        let mut unit = || rng.unit();
         let kinds = [
             TableKind::SevenFoot,
             TableKind::EightFoot,
