@@ -79,13 +79,11 @@ impl Extent {
         } else {
             (DVec2::NEG_INFINITY, DVec2::INFINITY)
         };
-        let d = 2.0 * ctx.params.ball_radius;
-        let lo_reach = lo - DVec2::splat(d);
         Extent {
             mobility,
             lo,
             hi,
-            key: [hi.x, hi.y, -lo_reach.x, -lo_reach.y],
+            key: key(lo, hi, 2.0 * ctx.params.ball_radius),
         }
     }
 
@@ -98,9 +96,7 @@ impl Extent {
     #[inline]
     pub(super) fn narrow(&mut self, lo: DVec2, hi: DVec2, diameter: f64) {
         let margin = DVec2::splat(HORIZON_MARGIN);
-        let (lo, hi) = (lo - margin, hi + margin);
-        let lo_reach = lo - DVec2::splat(diameter);
-        self.key = [hi.x, hi.y, -lo_reach.x, -lo_reach.y];
+        self.key = key(lo - margin, hi + margin, diameter);
     }
 
     /// False when the balls cannot meet whatever their paths: one is gone, or neither moves.
@@ -127,6 +123,13 @@ impl Extent {
     pub(super) fn apart(&self, other: &Extent) -> bool {
         apart(&self.probe(), &other.key)
     }
+}
+
+/// The key of the box from `lo` to `hi` for balls of diameter `d` (see [`Extent`]).
+#[inline(always)]
+fn key(lo: DVec2, hi: DVec2, d: f64) -> [f64; 4] {
+    let lo_reach = lo - DVec2::splat(d);
+    [hi.x, hi.y, -lo_reach.x, -lo_reach.y]
 }
 
 /// [`Extent::apart`] from the probe of one box and the key of the other.
@@ -182,7 +185,7 @@ mod tests {
                 mobility: Mobility::Cloth,
                 lo,
                 hi,
-                key: [hi.x, hi.y, -(lo.x - d), -(lo.y - d)],
+                key: key(lo, hi, d),
             };
             if p.start.motion.is_translating() {
                 let (lo, hi) = p.path_box(p.t0, own);
@@ -254,12 +257,11 @@ mod tests {
                 .map(|_| {
                     let lo = DVec2::new(unit() * 2.0, unit());
                     let hi = lo + DVec2::new(unit() * 0.3, unit() * 0.3);
-                    let reach = lo - DVec2::splat(0.05715);
                     Extent {
                         mobility: Mobility::Cloth,
                         lo,
                         hi,
-                        key: [hi.x, hi.y, -reach.x, -reach.y],
+                        key: key(lo, hi, 0.05715),
                     }
                 })
                 .collect();
