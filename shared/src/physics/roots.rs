@@ -100,17 +100,31 @@ fn margin(travel: f64) -> f64 {
 /// their rounding, so the bound is never above a contact the solver can find in
 /// `[0, t_max]`.
 pub fn contact_bound(dr: DVec2, dv: DVec2, da: DVec2, distance: f64, t_max: f64) -> Option<f64> {
-    let dist = dr.length();
-    let l1 = |v: DVec2| v.x.abs() + v.y.abs();
-    let travel = l1(dr) + distance + (l1(dv) + l1(da) * t_max) * t_max;
-    let gap = dist - distance - margin(travel);
+    let (dist, gap) = gap_less_margin(dr, dv, da, distance, t_max);
     if gap <= 0.0 {
         return Some(0.0);
     }
-    let n = dr / dist;
+    let (speed, acc) = closing_rates(dr / dist, dv, da);
+    closing_time(gap, speed, acc)
+}
+
+/// `|dr|`, and the gap to `distance` along it lowered by the margin for the motion over
+/// `[0, t_max]` (see [`contact_bound`]).
+#[inline(always)]
+fn gap_less_margin(dr: DVec2, dv: DVec2, da: DVec2, distance: f64, t_max: f64) -> (f64, f64) {
+    let dist = dr.length();
+    let l1 = |v: DVec2| v.x.abs() + v.y.abs();
+    let travel = l1(dr) + distance + (l1(dv) + l1(da) * t_max) * t_max;
+    (dist, dist - distance - margin(travel))
+}
+
+/// The closing speed and acceleration along the unit vector `n` (from one object to the
+/// other), each raised by a billionth of its vector's size (see [`contact_bound`]).
+#[inline(always)]
+fn closing_rates(n: DVec2, dv: DVec2, da: DVec2) -> (f64, f64) {
     let speed = -n.dot(dv) + 1e-9 * (dv.x.abs() + dv.y.abs());
     let acc = -n.dot(da) + 1e-9 * (da.x.abs() + da.y.abs());
-    closing_time(gap, speed, acc)
+    (speed, acc)
 }
 
 /// [`contact_bound`], and for objects already within reach of contact (where that gives
@@ -132,16 +146,11 @@ pub fn contact_bound(dr: DVec2, dv: DVec2, da: DVec2, distance: f64, t_max: f64)
 /// is zero, as from [`contact_bound`].
 #[inline]
 pub fn pair_bound(dr: DVec2, dv: DVec2, da: DVec2, distance: f64, t_max: f64) -> Option<f64> {
-    let dist = dr.length();
-    let l1 = |v: DVec2| v.x.abs() + v.y.abs();
-    let travel = l1(dr) + distance + (l1(dv) + l1(da) * t_max) * t_max;
-    let gap = dist - distance - margin(travel);
+    let (dist, gap) = gap_less_margin(dr, dv, da, distance, t_max);
     if gap <= 0.0 {
         return separating_time(dr, dv, da, distance, t_max, gap).unwrap_or(Some(0.0));
     }
-    let n = dr / dist;
-    let speed = -n.dot(dv) + 1e-9 * (dv.x.abs() + dv.y.abs());
-    let acc = -n.dot(da) + 1e-9 * (da.x.abs() + da.y.abs());
+    let (speed, acc) = closing_rates(dr / dist, dv, da);
     closing_time(gap, speed, acc)
 }
 
@@ -156,10 +165,7 @@ fn separating_time(
     t_max: f64,
     gap: f64,
 ) -> Option<Option<f64>> {
-    // The same rates as `contact_bound`'s.
-    let n = dr / dr.length();
-    let speed = -n.dot(dv) + 1e-9 * (dv.x.abs() + dv.y.abs());
-    let acc = -n.dot(da) + 1e-9 * (da.x.abs() + da.y.abs());
+    let (speed, acc) = closing_rates(dr / dr.length(), dv, da);
     let (tau1, tau_back) = moving_out(gap, speed, acc, t_max)?;
     // The squared-distance polynomial's coefficients, as `ball_ball::contact_poly` has them.
     let c1 = 2.0 * dr.dot(dv);
