@@ -329,7 +329,7 @@ impl Simulator {
         // Only a pair on the cloth is left unsolved (`deferred_collision`), with a bound from
         // `ball_ball::earliest_contact` on the same pieces, time and horizon.
         let (a, b) = (&self.pieces[i], &self.pieces[j]);
-        let until = self.own_t[i].min(self.own_t[j]).min(ctx.limit);
+        let until = self.horizon(i, j, ctx);
         let exact =
             ball_ball::bounded_collision_time(a, b, self.since[k], until, ctx.params.ball_radius)
                 .unwrap_or(f64::INFINITY);
@@ -503,7 +503,7 @@ impl Simulator {
             self.solved[k] = true;
             return self.collision_time(i, j, now, ctx);
         }
-        let until = self.own_t[i].min(self.own_t[j]).min(ctx.limit);
+        let until = self.horizon(i, j, ctx);
         let (a, b) = (&self.pieces[i], &self.pieces[j]);
         match ball_ball::earliest_contact(a, b, now, until, ctx.params.ball_radius) {
             None => {
@@ -518,12 +518,18 @@ impl Simulator {
         }
     }
 
+    /// How far a prediction of the pair `i`, `j` looks: either ball's own next event
+    /// re-predicts the pair anyway, so no further.
+    #[inline(always)]
+    fn horizon(&self, i: usize, j: usize, ctx: &Ctx) -> f64 {
+        self.own_t[i].min(self.own_t[j]).min(ctx.limit)
+    }
+
     /// The next collision of balls `i < j` after `now`, whose boxes are within reach.
     #[inline(never)]
     fn collision_time(&mut self, i: usize, j: usize, now: f64, ctx: &Ctx) -> f64 {
         let (a, b) = (&self.pieces[i], &self.pieces[j]);
-        // Either ball's own next event re-predicts this pair anyway: look no further.
-        let until = self.own_t[i].min(self.own_t[j]).min(ctx.limit);
+        let until = self.horizon(i, j, ctx);
         let flying = Mobility::Flying;
         let t = if self.extents[i].mobility == flying || self.extents[j].mobility == flying {
             self.outcome.work.flight_checks += 1;
