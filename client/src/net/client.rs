@@ -88,6 +88,8 @@ type Opening = Pin<Box<dyn Future<Output = Result<Stream, NetError>> + Send>>;
 /// A client of one server: the core with quinn under it.
 pub struct Client {
     endpoint: quinn::Endpoint,
+    /// The endpoint may carry other clients' connections ([`Client::connect_on`]).
+    shared: bool,
     core: PlayerCore,
     /// When this client started: the core's clock counts from here.
     origin: Instant,
@@ -111,11 +113,26 @@ impl Client {
         policy: Reconnect,
         identity: Identity,
     ) -> Result<Client, NetError> {
-        let endpoint = endpoint()?;
+        let mut client = Self::connect_on(endpoint()?, invite, policy, identity).await?;
+        client.shared = false;
+        Ok(client)
+    }
+
+    /// [`Client::connect_as`] on `endpoint`, which other connections may share (a load run's
+    /// bots: a few UDP sockets for thousands of connections, rather than one each). Closing
+    /// such a client does not wait for the endpoint to go idle, since its other connections
+    /// keep it busy; the endpoint's driver sends the close.
+    pub async fn connect_on(
+        endpoint: quinn::Endpoint,
+        invite: Invite,
+        policy: Reconnect,
+        identity: Identity,
+    ) -> Result<Client, NetError> {
         let origin = Instant::now();
         let core = PlayerCore::new(invite, policy, identity, Duration::ZERO);
         let mut client = Client {
             endpoint,
+            shared: true,
             core,
             origin,
             live: None,
@@ -317,6 +334,8 @@ impl Client {
     pub async fn close(mut self, grace: Duration) {
         self.core.leave();
         self.live = None;
-        let _ = tokio::time::timeout(grace, self.endpoint.wait_idle()).await;
+        if !self.shared {
+            let _ = tokio::time::timeout(grace, self.endpoint.wait_idle()).await;
+        }
     }
 }
