@@ -330,7 +330,9 @@ impl Client {
     }
 
     /// Closes the connection and waits at most `grace` for the close to reach the server,
-    /// so the opponent hears at once that we left rather than after the idle timeout.
+    /// so the opponent hears at once that we left rather than after the idle timeout. On a
+    /// shared endpoint ([`Client::connect_on`]) it does not wait: the endpoint's driver,
+    /// kept running by its other connections, sends the close.
     pub async fn close(mut self, grace: Duration) {
         self.core.leave();
         self.live = None;
