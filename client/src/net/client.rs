@@ -37,8 +37,10 @@ pub enum ClientEvent {
 struct Live {
     quic: quinn::Connection,
     send: quinn::SendStream,
-    /// The bytes read, each with when its read returned.
-    incoming: mpsc::Receiver<Result<(Instant, Vec<u8>), NetError>>,
+    /// The bytes read, each with when its read returned: the stream's chunks as quinn
+    /// received them, not copied (a load run's thousands of connections would each keep a
+    /// buffer and copy every read into a new one).
+    incoming: mpsc::Receiver<Result<(Instant, quinn::Chunk), NetError>>,
     reader: JoinHandle<()>,
 }
 
@@ -52,10 +54,9 @@ impl Live {
         let (tx, incoming) = mpsc::channel(64);
         let quic = conn.clone();
         let reader = tokio::spawn(async move {
-            let mut buf = vec![0u8; 16 * 1024];
             loop {
-                let read = match recv.read(&mut buf).await {
-                    Ok(Some(n)) => Ok((Instant::now(), buf[..n].to_vec())),
+                let read = match recv.read_chunk(usize::MAX, true).await {
+                    Ok(Some(chunk)) => Ok((Instant::now(), chunk)),
                     Ok(None) => Err(NetError::Lost("the connection ended".into())),
                     Err(e) => Err(NetError::Lost(
                         conn.close_reason().map_or(e.to_string(), |r| r.to_string()),
@@ -219,7 +220,7 @@ impl Client {
         };
         enum Woke {
             Opened(Result<Stream, NetError>),
-            Read(Option<Result<(Instant, Vec<u8>), NetError>>),
+            Read(Option<Result<(Instant, quinn::Chunk), NetError>>),
             Time,
         }
         let woke = tokio::select! {
@@ -239,9 +240,9 @@ impl Client {
                     Err(e) => self.core.failed(e, now),
                 }
             }
-            Woke::Read(Some(Ok((at, bytes)))) => {
+            Woke::Read(Some(Ok((at, chunk)))) => {
                 self.read_at = Some(at);
-                self.core.received(&bytes, now);
+                self.core.received(&chunk.bytes, now);
             }
             Woke::Read(Some(Err(e))) => {
                 self.live = None;
