@@ -53,6 +53,11 @@ pub struct BotConfig {
     /// with thousands of bots in one process their simulations would be a load the server's
     /// players never put on its machine.
     pub check_every: u32,
+    /// How many bot connections share one QUIC endpoint (one UDP socket and its driver);
+    /// 1: an endpoint of each connection's own, as a client has. A real client is one
+    /// connection per machine; a load run's thousands of bots on thousands of endpoints
+    /// would cost the generator more than the server it measures.
+    pub per_endpoint: usize,
 }
 
 impl BotConfig {
@@ -72,6 +77,53 @@ impl BotConfig {
             timeout: None,
             watch: None,
             check_every: 1,
+            per_endpoint: PER_ENDPOINT,
+        }
+    }
+}
+
+/// How many bot connections share one endpoint unless told otherwise.
+pub const PER_ENDPOINT: usize = 200;
+
+/// The endpoints a run's bots connect through: a new one for every `per` connections.
+struct Endpoints {
+    per: usize,
+    current: Option<(quinn::Endpoint, usize)>,
+    made: usize,
+}
+
+impl Endpoints {
+    fn new(per: usize) -> Endpoints {
+        Endpoints {
+            per,
+            current: None,
+            made: 0,
+        }
+    }
+
+    /// The endpoint for the next connection: None for one of its own (`per` of 1, or a
+    /// shared one could not be made, which its own will then report).
+    fn next(&mut self) -> Option<quinn::Endpoint> {
+        if self.per <= 1 {
+            return None;
+        }
+        if let Some((endpoint, used)) = &mut self.current {
+            if *used < self.per {
+                *used += 1;
+                return Some(endpoint.clone());
+            }
+        }
+        match crate::net::shared_endpoint() {
+            Ok(endpoint) => {
+                self.made += 1;
+                self.current = Some((endpoint.clone(), 1));
+                Some(endpoint)
+            }
+            Err(e) => {
+                tracing::warn!(error = %e, "cannot open a shared endpoint");
+                self.current = None;
+                None
+            }
         }
     }
 }
@@ -120,6 +172,8 @@ pub struct Report {
     /// The players of the games not finished when the run's time-out came, one line each:
     /// what it waited for (or how it ended), and its last messages either way.
     pub unfinished: Vec<String>,
+    /// The shared endpoints the bots connected through (0: each connection had its own).
+    pub endpoints: usize,
 }
 
 impl Report {
@@ -173,6 +227,7 @@ impl Report {
             "confirmed": self.tally.confirmed,
             "unchecked": self.tally.unchecked,
             "desyncs": self.tally.desyncs,
+            "endpoints": self.endpoints,
         });
         for (stage, p50, p99) in self.stages_ms() {
             let prefix = match stage {
@@ -229,10 +284,15 @@ pub async fn run(config: &BotConfig) -> Report {
     let deadline = config.timeout.map(|t| tokio::time::Instant::now() + t);
     let mut tasks = Vec::new();
     let mut watched = Vec::new();
+    let mut endpoints = Endpoints::new(config.per_endpoint);
     for g in 0..config.games {
         let config = config.clone();
         let start = config.ramp.mul_f64(g as f64 / config.games as f64);
         let (host, guest) = players(&config, g as u64);
+        let (host, guest) = (
+            host.on_endpoint(endpoints.next()),
+            guest.on_endpoint(endpoints.next()),
+        );
         let progress = [host.progress(), guest.progress()];
         for p in &progress {
             p.begins_at(started + start);
@@ -253,7 +313,11 @@ pub async fn run(config: &BotConfig) -> Report {
             }
         })
     });
-    let mut report = Report::default();
+    let mut report = Report {
+        endpoints: endpoints.made,
+        ..Report::default()
+    };
+    drop(endpoints);
     for (g, mut t) in tasks.into_iter().enumerate() {
         let joined = match deadline {
             Some(at) => match tokio::time::timeout_at(at, &mut t).await {
@@ -513,6 +577,34 @@ mod tests {
         // Nothing quiet: nothing to say.
         seen.retain(|s| s.player == "bot1a");
         assert_eq!(stall_report(&seen, at(60), Duration::from_secs(30), t0), "");
+    }
+
+    #[test]
+    fn connections_share_an_endpoint_as_configured() {
+        let runtime = tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+            .expect("a runtime");
+        runtime.block_on(async {
+            let sockets = |per: usize, connections: usize| {
+                let mut endpoints = Endpoints::new(per);
+                let addrs: Vec<_> = (0..connections)
+                    .map(|_| endpoints.next().map(|e| e.local_addr().expect("bound")))
+                    .collect();
+                (addrs, endpoints.made)
+            };
+            // Three to an endpoint: seven connections on three sockets, in turn.
+            let (addrs, made) = sockets(3, 7);
+            assert_eq!(made, 3);
+            let addrs: Vec<_> = addrs.into_iter().map(|a| a.expect("shared")).collect();
+            assert!(addrs[..3].iter().all(|a| *a == addrs[0]));
+            assert!(addrs[3..6].iter().all(|a| *a == addrs[3]));
+            assert_ne!(addrs[0], addrs[3]);
+            assert_ne!(addrs[3], addrs[6]);
+            assert_ne!(addrs[0], addrs[6]);
+            // One to an endpoint: each connection makes its own, as a client does.
+            assert_eq!(sockets(1, 4), (vec![None; 4], 0));
+        });
     }
 
     #[cfg(target_os = "linux")]

@@ -37,6 +37,23 @@ async fn two_bots_play_a_full_eight_ball_game_and_every_hash_agrees() -> anyhow:
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn bots_sharing_endpoints_play_their_games_through() -> anyhow::Result<()> {
+    let (_data, server) = TestServer::start_fresh("shared-endpoints").await?;
+    let mut config = BotConfig::new(server.invite.clone(), 3);
+    // Six connections, four to an endpoint: two endpoints, one carrying two games' players.
+    config.per_endpoint = 4;
+    let report = tokio::time::timeout(PATIENCE, run(&config)).await?;
+    server.stop().await?;
+
+    assert!(report.errors.is_empty(), "{:?}", report.errors);
+    assert_eq!(report.endpoints, 2);
+    assert_eq!(report.games_completed, 3);
+    assert_eq!(report.tally.desyncs, 0);
+    assert_eq!(report.tally.confirmed, 2 * report.tally.shots);
+    Ok(())
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_nine_ball_game_with_called_shots_is_played_through_the_client_core() -> anyhow::Result<()>
 {
     let (_data, server) = TestServer::start_fresh("nine-called").await?;

@@ -6,7 +6,7 @@
 use std::process::ExitCode;
 
 use anyhow::Context;
-use breakshot_client::bot::{open_room, process_cpu, run, BotConfig};
+use breakshot_client::bot::{open_room, process_cpu, run, BotConfig, PER_ENDPOINT};
 use breakshot_shared::ai::Level;
 use breakshot_shared::protocol::Invite;
 use clap::Parser;
@@ -58,6 +58,12 @@ struct Cli {
     /// simulating every shot would load this machine as no real players do).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
     check_every: u32,
+    /// How many bot connections share one QUIC endpoint (one UDP socket and its driver
+    /// task); 1 gives each connection an endpoint of its own, as a client has. Thousands of
+    /// endpoints cost the load generator more processor time and memory than the server
+    /// it measures.
+    #[arg(long, default_value_t = PER_ENDPOINT as u32, value_parser = clap::value_parser!(u32).range(1..))]
+    per_endpoint: u32,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -80,6 +86,7 @@ fn main_inner() -> anyhow::Result<bool> {
     let mut config = BotConfig::new(invite, cli.games);
     config.seed = cli.seed;
     config.check_every = cli.check_every;
+    config.per_endpoint = cli.per_endpoint as usize;
     config.think = std::time::Duration::from_millis(cli.think_ms);
     config.ramp = std::time::Duration::from_millis(cli.ramp_ms);
     config.timeout = cli.timeout_s.map(std::time::Duration::from_secs);
@@ -147,6 +154,13 @@ fn main_inner() -> anyhow::Result<bool> {
         );
         println!("desyncs:         {}", report.tally.desyncs);
         println!("rejoins:         {}", report.tally.rejoins);
+        match report.endpoints {
+            0 => println!("endpoints:       one per connection (--per-endpoint 1)"),
+            n => println!(
+                "endpoints:       {n} shared (--per-endpoint {})",
+                config.per_endpoint
+            ),
+        }
         for (stage, p50, p99) in report.stages_ms() {
             println!("shot {stage:<11} p50 {p50:.2} ms, p99 {p99:.2} ms");
         }

@@ -20,6 +20,41 @@ pub fn endpoint() -> Result<quinn::Endpoint, NetError> {
     quinn::Endpoint::client(any).map_err(|e| NetError::Connect(e.to_string()))
 }
 
+/// Socket buffers a shared endpoint asks for (the kernel may cap them, e.g. at
+/// `net.core.rmem_max`), as the server's.
+const SHARED_SOCKET_BUFFER: usize = 4 * 1024 * 1024;
+
+/// A client endpoint meant to carry many connections at once (a load run's bots): one UDP
+/// socket and one driver for all of them, its socket's buffers enlarged as the server's are,
+/// so that a burst over many connections does not overflow them. Must be called inside a
+/// tokio runtime.
+pub fn shared_endpoint() -> Result<quinn::Endpoint, NetError> {
+    let connect = |e: std::io::Error| NetError::Connect(e.to_string());
+    let socket = std::net::UdpSocket::bind(SocketAddr::from(([0, 0, 0, 0], 0))).map_err(connect)?;
+    let state = quinn::udp::UdpSocketState::new((&socket).into()).map_err(connect)?;
+    for (what, result) in [
+        (
+            "receive",
+            state.set_recv_buffer_size((&socket).into(), SHARED_SOCKET_BUFFER),
+        ),
+        (
+            "send",
+            state.set_send_buffer_size((&socket).into(), SHARED_SOCKET_BUFFER),
+        ),
+    ] {
+        if let Err(e) = result {
+            tracing::warn!(error = %e, "cannot enlarge a shared endpoint's UDP {what} buffer");
+        }
+    }
+    quinn::Endpoint::new(
+        quinn::EndpointConfig::default(),
+        None,
+        socket,
+        std::sync::Arc::new(quinn::TokioRuntime),
+    )
+    .map_err(connect)
+}
+
 /// An open QUIC connection to a server and its one stream, before the handshake.
 pub(crate) struct Stream {
     pub(crate) conn: quinn::Connection,

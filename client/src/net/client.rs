@@ -37,8 +37,10 @@ pub enum ClientEvent {
 struct Live {
     quic: quinn::Connection,
     send: quinn::SendStream,
-    /// The bytes read, each with when its read returned.
-    incoming: mpsc::Receiver<Result<(Instant, Vec<u8>), NetError>>,
+    /// The bytes read, each with when its read returned: the stream's chunks as quinn
+    /// received them, not copied (a load run's thousands of connections would each keep a
+    /// buffer and copy every read into a new one).
+    incoming: mpsc::Receiver<Result<(Instant, quinn::Chunk), NetError>>,
     reader: JoinHandle<()>,
 }
 
@@ -52,10 +54,9 @@ impl Live {
         let (tx, incoming) = mpsc::channel(64);
         let quic = conn.clone();
         let reader = tokio::spawn(async move {
-            let mut buf = vec![0u8; 16 * 1024];
             loop {
-                let read = match recv.read(&mut buf).await {
-                    Ok(Some(n)) => Ok((Instant::now(), buf[..n].to_vec())),
+                let read = match recv.read_chunk(usize::MAX, true).await {
+                    Ok(Some(chunk)) => Ok((Instant::now(), chunk)),
                     Ok(None) => Err(NetError::Lost("the connection ended".into())),
                     Err(e) => Err(NetError::Lost(
                         conn.close_reason().map_or(e.to_string(), |r| r.to_string()),
@@ -88,6 +89,8 @@ type Opening = Pin<Box<dyn Future<Output = Result<Stream, NetError>> + Send>>;
 /// A client of one server: the core with quinn under it.
 pub struct Client {
     endpoint: quinn::Endpoint,
+    /// The endpoint may carry other clients' connections ([`Client::connect_on`]).
+    shared: bool,
     core: PlayerCore,
     /// When this client started: the core's clock counts from here.
     origin: Instant,
@@ -111,11 +114,26 @@ impl Client {
         policy: Reconnect,
         identity: Identity,
     ) -> Result<Client, NetError> {
-        let endpoint = endpoint()?;
+        let mut client = Self::connect_on(endpoint()?, invite, policy, identity).await?;
+        client.shared = false;
+        Ok(client)
+    }
+
+    /// [`Client::connect_as`] on `endpoint`, which other connections may share (a load run's
+    /// bots: a few UDP sockets for thousands of connections, rather than one each). Closing
+    /// such a client does not wait for the endpoint to go idle, since its other connections
+    /// keep it busy; the endpoint's driver sends the close.
+    pub async fn connect_on(
+        endpoint: quinn::Endpoint,
+        invite: Invite,
+        policy: Reconnect,
+        identity: Identity,
+    ) -> Result<Client, NetError> {
         let origin = Instant::now();
         let core = PlayerCore::new(invite, policy, identity, Duration::ZERO);
         let mut client = Client {
             endpoint,
+            shared: true,
             core,
             origin,
             live: None,
@@ -202,7 +220,7 @@ impl Client {
         };
         enum Woke {
             Opened(Result<Stream, NetError>),
-            Read(Option<Result<(Instant, Vec<u8>), NetError>>),
+            Read(Option<Result<(Instant, quinn::Chunk), NetError>>),
             Time,
         }
         let woke = tokio::select! {
@@ -222,9 +240,9 @@ impl Client {
                     Err(e) => self.core.failed(e, now),
                 }
             }
-            Woke::Read(Some(Ok((at, bytes)))) => {
+            Woke::Read(Some(Ok((at, chunk)))) => {
                 self.read_at = Some(at);
-                self.core.received(&bytes, now);
+                self.core.received(&chunk.bytes, now);
             }
             Woke::Read(Some(Err(e))) => {
                 self.live = None;
@@ -313,10 +331,14 @@ impl Client {
     }
 
     /// Closes the connection and waits at most `grace` for the close to reach the server,
-    /// so the opponent hears at once that we left rather than after the idle timeout.
+    /// so the opponent hears at once that we left rather than after the idle timeout. On a
+    /// shared endpoint ([`Client::connect_on`]) it does not wait: the endpoint's driver,
+    /// kept running by its other connections, sends the close.
     pub async fn close(mut self, grace: Duration) {
         self.core.leave();
         self.live = None;
-        let _ = tokio::time::timeout(grace, self.endpoint.wait_idle()).await;
+        if !self.shared {
+            let _ = tokio::time::timeout(grace, self.endpoint.wait_idle()).await;
+        }
     }
 }

@@ -42,7 +42,7 @@ mod session;
 mod web_way;
 
 #[cfg(not(target_arch = "wasm32"))]
-pub use channel::{endpoint, Channel};
+pub use channel::{endpoint, shared_endpoint, Channel};
 #[cfg(not(target_arch = "wasm32"))]
 pub use client::{Client, ClientEvent};
 #[cfg(all(feature = "host", not(target_arch = "wasm32")))]

@@ -149,6 +149,9 @@ pub(crate) struct SeatPlayer {
     full: bool,
     /// What it last saw and did, for a load run to tell a stalled game by.
     progress: Progress,
+    /// The endpoint its connections go through, shared with other players (a load run's);
+    /// None: one of its own, as a client's.
+    endpoint: Option<quinn::Endpoint>,
 }
 
 /// Returns at `at`, or never.
@@ -199,7 +202,16 @@ impl SeatPlayer {
             pacing: false,
             full: false,
             progress: Progress::new(name_for_progress),
+            endpoint: None,
         }
+    }
+
+    /// The player connects through `endpoint`, which other players' connections share (a
+    /// load run's thousands of bots on a few UDP sockets rather than one each: the load
+    /// generator's own cost, not the server's).
+    pub(crate) fn on_endpoint(mut self, endpoint: Option<quinn::Endpoint>) -> SeatPlayer {
+        self.endpoint = endpoint;
+        self
     }
 
     /// The bot moves only when the last shot has finished playing for the players (and
@@ -273,7 +285,19 @@ impl SeatPlayer {
             },
         };
         self.progress.waits(Waiting::Connection);
-        let mut client = match Client::connect(self.server.clone(), self.policy).await {
+        let connecting = match self.endpoint.take() {
+            Some(endpoint) => {
+                Client::connect_on(
+                    endpoint,
+                    self.server.clone(),
+                    self.policy,
+                    super::keys::for_connection(),
+                )
+                .await
+            }
+            None => Client::connect(self.server.clone(), self.policy).await,
+        };
+        let mut client = match connecting {
             Ok(c) => c,
             Err(e) => return PlayerResult::failed(e.to_string()),
         };
