@@ -114,9 +114,7 @@ impl Client {
         policy: Reconnect,
         identity: Identity,
     ) -> Result<Client, NetError> {
-        let mut client = Self::connect_on(endpoint()?, invite, policy, identity).await?;
-        client.shared = false;
-        Ok(client)
+        Self::connect_through(endpoint()?, false, invite, policy, identity).await
     }
 
     /// [`Client::connect_as`] on `endpoint`, which other connections may share (a load run's
@@ -129,11 +127,22 @@ impl Client {
         policy: Reconnect,
         identity: Identity,
     ) -> Result<Client, NetError> {
+        Self::connect_through(endpoint, true, invite, policy, identity).await
+    }
+
+    /// Connects through `endpoint`, which other connections share when `shared` says so.
+    async fn connect_through(
+        endpoint: quinn::Endpoint,
+        shared: bool,
+        invite: Invite,
+        policy: Reconnect,
+        identity: Identity,
+    ) -> Result<Client, NetError> {
         let origin = Instant::now();
         let core = PlayerCore::new(invite, policy, identity, Duration::ZERO);
         let mut client = Client {
             endpoint,
-            shared: true,
+            shared,
             core,
             origin,
             live: None,
