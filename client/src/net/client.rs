@@ -105,7 +105,7 @@ impl Client {
     /// Connects to the server `invite` names (retrying as `policy` says) and completes the
     /// handshake. Must be called inside a tokio runtime.
     pub async fn connect(invite: Invite, policy: Reconnect) -> Result<Client, NetError> {
-        Self::connect_as(invite, policy, super::keys::for_connection()).await
+        Self::connect_on(None, invite, policy).await
     }
 
     /// [`Client::connect`] as the player `identity`.
@@ -117,17 +117,21 @@ impl Client {
         Self::connect_through(endpoint()?, false, invite, policy, identity).await
     }
 
-    /// [`Client::connect_as`] on `endpoint`, which other connections may share (a load run's
-    /// bots: a few UDP sockets for thousands of connections, rather than one each). Closing
-    /// such a client does not wait for the endpoint to go idle, since its other connections
-    /// keep it busy; the endpoint's driver sends the close.
+    /// [`Client::connect`] through `endpoint` when one is given, which other connections may
+    /// share (a load run's bots: a few UDP sockets for thousands of connections, rather than
+    /// one each); without, through an endpoint of its own. Closing a client on a shared
+    /// endpoint does not wait for the endpoint to go idle, since its other connections keep it
+    /// busy; the endpoint's driver sends the close.
     pub async fn connect_on(
-        endpoint: quinn::Endpoint,
+        endpoint: Option<quinn::Endpoint>,
         invite: Invite,
         policy: Reconnect,
-        identity: Identity,
     ) -> Result<Client, NetError> {
-        Self::connect_through(endpoint, true, invite, policy, identity).await
+        let identity = super::keys::for_connection();
+        match endpoint {
+            Some(shared) => Self::connect_through(shared, true, invite, policy, identity).await,
+            None => Self::connect_as(invite, policy, identity).await,
+        }
     }
 
     /// Connects through `endpoint`, which other connections share when `shared` says so.

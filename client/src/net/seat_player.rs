@@ -285,19 +285,8 @@ impl SeatPlayer {
             },
         };
         self.progress.waits(Waiting::Connection);
-        let connecting = match self.endpoint.take() {
-            Some(endpoint) => {
-                Client::connect_on(
-                    endpoint,
-                    self.server.clone(),
-                    self.policy,
-                    super::keys::for_connection(),
-                )
-                .await
-            }
-            None => Client::connect(self.server.clone(), self.policy).await,
-        };
-        let mut client = match connecting {
+        let connecting = Client::connect_on(self.endpoint.take(), self.server.clone(), self.policy);
+        let mut client = match connecting.await {
             Ok(c) => c,
             Err(e) => return PlayerResult::failed(e.to_string()),
         };
