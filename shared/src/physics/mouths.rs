@@ -9,7 +9,7 @@ use super::table::Table;
 #[derive(Clone, Debug, PartialEq)]
 pub(super) struct Mouth {
     /// A box holding the pocket's capture circle and the jaws' noses, less the distance at
-    /// which a ball touches a nose (the shot's, added when used).
+    /// which a ball touches a nose (the shot's, added by [`Mouth::reach`]).
     lo: DVec2,
     hi: DVec2,
     /// The box widened for the shot being simulated ([`Mouth::reach`]).
