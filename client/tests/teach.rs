@@ -392,6 +392,7 @@ fn a_code_that_does_not_decode_is_refused_before_any_window_opens() {
 
 #[test]
 fn a_drill_scores_a_made_and_a_missed_attempt_and_remembers_them() {
+    use breakshot_client::view::{Frame, Layout};
     let dir = breakshot_testkit::scratch("teach-drill");
     let (drill, out) = (dir.path().join("drill.json"), dir.path().join("out.png"));
     let data = dir.path().join("data");
@@ -402,17 +403,45 @@ fn a_drill_scores_a_made_and_a_missed_attempt_and_remembers_them() {
     with_aim["scene"]["strike"] =
         serde_json::json!({"ball": "cue", "speed": 2.5, "dir": [-0.640184, 0.768221]});
     std::fs::write(&drill, with_aim.to_string()).expect("drill written");
+    // The second attempt is on the ladder's second rung. Its aim is set by a tap on the
+    // table at 174° from the cue ball, and its power by a click on the bar at 2.5 m/s: off
+    // the left rail, clear of the 1 and of every pocket for any aim from 166° to 182° and
+    // any speed from 2.2 to 2.8 m/s. Pixels, not the time a key is held: a window slowed
+    // by a loaded machine turned a held key 36° instead of 50°, which pots the 1.
+    let rung = serde_json::json!({
+        "table": shipped["scene"]["table"],
+        "balls": shipped["ladder"][0]["balls"],
+    });
+    let second =
+        Game::practice(&Scene::from_json(&rung.to_string()).expect("a scene")).expect("a table");
+    let layout = Layout::new(1280.0, 720.0, Frame::new(second.table(), second.balls()));
+    let cue = second.balls()[0].pos;
+    let angle = 174f64.to_radians();
+    let [ax, ay] = layout
+        .to_screen(cue + 0.3 * glam::DVec2::new(libm::cos(angle), libm::sin(angle)))
+        .map(f32::round);
+    // The bar runs from no power at its foot to the full speed at its head.
+    let mut full = breakshot_client::play::Aim::default();
+    full.set_power(1.0);
+    let bar = layout.power_bar;
+    let (px, py) = (
+        (bar.x + 0.5 * bar.w).round(),
+        (bar.y + bar.h * (1.0 - 2.5 / full.speed()) as f32).round(),
+    );
     let key = |k: &str| format!("key --window \"$wid\" {k}");
+    let click = |x: f32, y: f32| format!("mousemove --window \"$wid\" {x} {y} click 1");
     let keys = [
         "sleep 1".to_string(),
         key("space"),
         key("space"),
-        // The aim turned away from the 1 for the second attempt, clockwise: off the left
-        // rail and away from the corner the 1 stands by (turned the other way, the cue
-        // ball can come off the top rail onto the 1 and pot it).
-        "keydown --window \"$wid\" Right".into(),
-        "sleep 2.5".into(),
-        "keyup --window \"$wid\" Right".into(),
+        // Twice, a second apart: a click while the first shot still plays is not taken.
+        "sleep 1".into(),
+        click(ax, ay),
+        click(px, py),
+        "sleep 1".into(),
+        click(ax, ay),
+        click(px, py),
+        "sleep 0.5".into(),
         key("space"),
         key("space"),
     ];
@@ -421,6 +450,16 @@ fn a_drill_scores_a_made_and_a_missed_attempt_and_remembers_them() {
     let Some(said) = played_with(&args, &out, 900, &keys, &data) else {
         return;
     };
+    // The second attempt went where the tap aimed.
+    let second_dir = said
+        .iter()
+        .find_map(|l| l.strip_prefix("practice shot 2 dir="))
+        .and_then(|l| l.split_once(' '))
+        .and_then(|(d, _)| d.split_once(','))
+        .map(|(x, y)| [x, y].map(|v| v.parse::<f64>().expect("a number")))
+        .unwrap_or_else(|| panic!("no second shot: {said:?}"));
+    let aimed = libm::atan2(second_dir[1], second_dir[0]).to_degrees();
+    assert!((aimed - 174.0).abs() < 1.0, "aimed at {aimed}°: {said:?}");
     let drills: Vec<&String> = said.iter().filter(|l| l.starts_with("drill ")).collect();
     assert_eq!(
         drills,
