@@ -405,9 +405,10 @@ fn a_drill_scores_a_made_and_a_missed_attempt_and_remembers_them() {
     std::fs::write(&drill, with_aim.to_string()).expect("drill written");
     // The second attempt is on the ladder's second rung. Its aim is set by a tap on the
     // table at 174° from the cue ball, and its power by a click on the bar at 2.5 m/s: off
-    // the left rail, clear of the 1 and of every pocket for any aim from 166° to 182° and
-    // any speed from 2.2 to 2.8 m/s. Pixels, not the time a key is held: a window slowed
-    // by a loaded machine turned a held key 36° instead of 50°, which pots the 1.
+    // the left rail, leaving the 1 and the cue ball on the table at every whole degree from
+    // 166° to 182° at 2.2, 2.5 and 2.8 m/s (`breakshot-sim run`). Pixels, not the time a key
+    // is held: a window slowed by a loaded machine turned a held key 36° instead of 50°,
+    // which pots the 1.
     let rung = serde_json::json!({
         "table": shipped["scene"]["table"],
         "balls": shipped["ladder"][0]["balls"],
