@@ -621,7 +621,7 @@ impl Simulator {
     }
 
     fn resolve_own(&mut self, i: usize, t: f64, ctx: &Ctx) {
-        let piece = self.pieces[i];
+        let piece = &self.pieces[i];
         let r = ctx.params.ball_radius;
         let ball = i as u16;
         let (s, kind) = match self.own[i] {
@@ -645,7 +645,7 @@ impl Simulator {
             }
             OwnKind::Rail(k) => {
                 let normal = ctx.table.rails[k as usize].normal;
-                let s = self.bounce(&piece, t, normal, ctx);
+                let s = self.bounce(piece, t, normal, ctx);
                 (
                     s,
                     EventKind::BallCushion {
@@ -654,11 +654,11 @@ impl Simulator {
                     },
                 )
             }
-            OwnKind::Flight(flight) => airborne::resolve(&piece, t, flight, ball, ctx),
+            OwnKind::Flight(flight) => airborne::resolve(piece, t, flight, ball, ctx),
             OwnKind::Jaw(k) => {
                 let center = ctx.table.jaws[k as usize].center;
                 let normal = (piece.pos_at(t) - center).normalize_or_zero();
-                let s = self.bounce(&piece, t, normal, ctx);
+                let s = self.bounce(piece, t, normal, ctx);
                 (
                     s,
                     EventKind::BallCushion {

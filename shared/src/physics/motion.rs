@@ -235,6 +235,7 @@ pub struct Piece {
 
 impl Piece {
     /// The piece that starts at `t0` in `start` (whose state is already classified).
+    #[inline]
     pub fn new(t0: f64, start: BallState, model: &MotionModel) -> Self {
         let mut acc = DVec2::ZERO;
         let mut spin_acc = DVec2::ZERO;
