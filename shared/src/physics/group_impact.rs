@@ -107,16 +107,20 @@ pub(super) fn refill<T: Clone>(v: &mut Vec<T>, len: usize, x: T) {
 /// leave is settled ([`settle`]). Each contact that took part gives one event.
 pub(super) fn group_impact(g: &mut Scratch, ctx: &Ctx) {
     refill(&mut g.acted, g.contacts.len(), false);
+    refill(&mut g.wall_acted, g.walls.len(), false);
     g.normals.clear();
     for &(a, b) in &g.contacts {
         g.normals
             .push((g.states[b].pos - g.states[a].pos).normalize_or_zero());
     }
-    // A pair pressed together by the cloth that meets again soon after its last impact is a
-    // sustained push: it is settled (held), not bounced.
     // Slot `n` is the cushions: one body that does not move.
     g.parent.clear();
     g.parent.extend(0..=g.states.len());
+    if lone_pair(g, ctx) {
+        return;
+    }
+    // A pair pressed together by the cloth that meets again soon after its last impact is a
+    // sustained push: it is settled (held), not bounced.
     if g.recent.contains(&true) {
         accelerations(g, ctx);
     }
@@ -131,14 +135,12 @@ pub(super) fn group_impact(g: &mut Scratch, ctx: &Ctx) {
             && (g.acc[a] - g.acc[b]).dot(g.normals[k]) > TOUCH_ACCEL;
         g.blow[k] = 0.0;
     }
-    refill(&mut g.wall_acted, g.walls.len(), false);
     // A held set met slower than a push moves as one body in the rounds too: a slow meeting
     // with it is one contact, not a wave through every contact of the set. A faster blow
     // releases it, and the wave runs through it as through any touching line.
     let fastest = (0..g.contacts.len()).fold(0.0f64, |m, k| m.max(approach(g, k)));
     let bodies = fastest <= PERSIST_SPEED && join_kept(g);
-    let rounds = 4 * (g.contacts.len() + g.walls.len()) + 8;
-    for _ in 0..rounds {
+    for _ in 0..rounds(g) {
         g.active.clear();
         for k in 0..g.contacts.len() {
             let u = approach(g, k);
@@ -219,6 +221,40 @@ pub(super) fn group_impact(g: &mut Scratch, ctx: &Ctx) {
     if !(open && g.walls.is_empty()) {
         settle(g, ctx);
     }
+}
+
+/// The rounds of [`group_impact`] for the commonest impact: two balls and their one contact,
+/// no cushion, the pair neither met of late (so no push is held) nor held. Each round then
+/// resolves that contact by the pairwise model while it approaches faster than `HOLD_SPEED`,
+/// as the general rounds would (no recent push, held set or other contact can apply), and
+/// what is left is settled in the same way; true when it applied.
+fn lone_pair(g: &mut Scratch, ctx: &Ctx) -> bool {
+    if g.contacts.len() != 1 || !g.walls.is_empty() || g.recent[0] || g.kept[0] {
+        return false;
+    }
+    let (a, b) = g.contacts[0];
+    g.blow[0] = 0.0;
+    for _ in 0..rounds(g) {
+        let u = approach(g, 0);
+        let approaching = u > HOLD_SPEED;
+        if !approaching {
+            break;
+        }
+        g.acted[0] = true;
+        g.blow[0] = g.blow[0].max(u);
+        collide_pair(&mut g.states, a, b, ctx);
+    }
+    let open = approach(g, 0) < -HOLD_SPEED;
+    if !open {
+        settle(g, ctx);
+    }
+    true
+}
+
+/// How many rounds an impact may take: enough for a wave to cross every contact and cushion
+/// of the group a few times.
+fn rounds(g: &Scratch) -> usize {
+    4 * (g.contacts.len() + g.walls.len()) + 8
 }
 
 /// The ball–ball restitution of the collision model.
