@@ -104,8 +104,8 @@ pub fn contact_bound(dr: DVec2, dv: DVec2, da: DVec2, distance: f64, t_max: f64)
     if gap <= 0.0 {
         return Some(0.0);
     }
-    let (speed, acc) = closing_rates(dr / dist, dv, da);
-    closing_time(gap, speed, acc)
+    let (speed, acc) = closing_rates(dr, dist, dv, da);
+    closing_time(gap * dist, speed, acc)
 }
 
 /// `|dr|`, and the gap to `distance` along it lowered by the margin for the motion over
@@ -118,12 +118,15 @@ fn gap_less_margin(dr: DVec2, dv: DVec2, da: DVec2, distance: f64, t_max: f64) -
     (dist, dist - distance - margin(travel))
 }
 
-/// The closing speed and acceleration along the unit vector `n` (from one object to the
-/// other), each raised by a billionth of its vector's size (see [`contact_bound`]).
+/// The closing speed and acceleration along `n = dr/|dr|` (from one object to the other),
+/// each raised by a billionth of its vector's size (see [`contact_bound`]), both times
+/// `dist = |dr|`: the closing reaches a gap when the scaled closing reaches the gap times
+/// `dist`, at the same times, and no division by `dist` stands in the way of the square
+/// root and the division that find them.
 #[inline(always)]
-fn closing_rates(n: DVec2, dv: DVec2, da: DVec2) -> (f64, f64) {
-    let speed = -n.dot(dv) + 1e-9 * (dv.x.abs() + dv.y.abs());
-    let acc = -n.dot(da) + 1e-9 * (da.x.abs() + da.y.abs());
+fn closing_rates(dr: DVec2, dist: f64, dv: DVec2, da: DVec2) -> (f64, f64) {
+    let speed = -dr.dot(dv) + 1e-9 * (dv.x.abs() + dv.y.abs()) * dist;
+    let acc = -dr.dot(da) + 1e-9 * (da.x.abs() + da.y.abs()) * dist;
     (speed, acc)
 }
 
@@ -148,10 +151,10 @@ fn closing_rates(n: DVec2, dv: DVec2, da: DVec2) -> (f64, f64) {
 pub fn pair_bound(dr: DVec2, dv: DVec2, da: DVec2, distance: f64, t_max: f64) -> Option<f64> {
     let (dist, gap) = gap_less_margin(dr, dv, da, distance, t_max);
     if gap <= 0.0 {
-        return separating_time(dr, dv, da, distance, t_max, gap).unwrap_or(Some(0.0));
+        return separating_time(dr, dist, dv, da, distance, t_max, gap).unwrap_or(Some(0.0));
     }
-    let (speed, acc) = closing_rates(dr / dist, dv, da);
-    closing_time(gap, speed, acc)
+    let (speed, acc) = closing_rates(dr, dist, dv, da);
+    closing_time(gap * dist, speed, acc)
 }
 
 /// The bound of [`pair_bound`] for objects within reach (`gap ≤ 0`): `Some(None)` for no
@@ -159,14 +162,15 @@ pub fn pair_bound(dr: DVec2, dv: DVec2, da: DVec2, distance: f64, t_max: f64) ->
 #[inline(never)]
 fn separating_time(
     dr: DVec2,
+    dist: f64,
     dv: DVec2,
     da: DVec2,
     distance: f64,
     t_max: f64,
     gap: f64,
 ) -> Option<Option<f64>> {
-    let (speed, acc) = closing_rates(dr / dr.length(), dv, da);
-    let (tau1, tau_back) = moving_out(gap, speed, acc, t_max)?;
+    let (speed, acc) = closing_rates(dr, dist, dv, da);
+    let (tau1, tau_back) = moving_out(gap * dist, speed, acc, t_max)?;
     // The squared-distance polynomial's coefficients, as `ball_ball::contact_poly` has them.
     let c1 = 2.0 * dr.dot(dv);
     let c2 = dv.dot(dv) + dr.dot(da);
