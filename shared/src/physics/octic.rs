@@ -61,7 +61,7 @@ fn sign_changes_in(c: &Octic, deg: usize, lo: f64, hi: f64, out: &mut [f64; 8]) 
     for (k, b) in stops[..count].iter().copied().chain([hi]).enumerate() {
         let fb = eval(c, deg, b);
         if (fa < 0.0 && fb > 0.0) || (fa > 0.0 && fb < 0.0) {
-            out[n] = bracketed_root(|t| eval(c, deg, t), |t| eval(&d, deg - 1, t), a, b);
+            out[n] = bracketed_root(|t| eval(c, deg, t), |t| eval(&d, deg - 1, t), a, b, fa);
             n += 1;
         } else if fb == 0.0 && k < count {
             out[n] = b;

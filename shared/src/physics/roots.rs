@@ -331,14 +331,16 @@ pub const TIME_TOLERANCE: f64 = 1e-13;
 
 /// Finds the zero of a function monotone on `[lo, hi]` whose ends have opposite signs, by
 /// Newton steps kept inside the bracket (a step that would leave it, or not halve it, is
-/// replaced by bisection), to within [`TIME_TOLERANCE`].
+/// replaced by bisection), to within [`TIME_TOLERANCE`]. `f_lo` is `f(lo)`, which every
+/// caller has already evaluated.
 pub(super) fn bracketed_root(
     f: impl Fn(f64) -> f64,
     df: impl Fn(f64) -> f64,
     mut lo: f64,
     mut hi: f64,
+    f_lo: f64,
 ) -> f64 {
-    let lo_positive = f(lo) > 0.0;
+    let lo_positive = f_lo > 0.0;
     let mut x = 0.5 * (lo + hi);
     let mut last_step = hi - lo;
     // 200 halvings exceed any f64 interval; Newton usually needs a handful of steps.
@@ -431,7 +433,13 @@ impl Iterator for CriticalPoints<'_> {
             self.a = b;
             self.da = db;
             if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
-                return Some(bracketed_root(|t| eval_d(c, t), |t| eval_dd(c, t), a, b));
+                return Some(bracketed_root(
+                    |t| eval_d(c, t),
+                    |t| eval_dd(c, t),
+                    a,
+                    b,
+                    da,
+                ));
             } else if db == 0.0 && k + 1 < self.count {
                 return Some(b);
             }
@@ -520,7 +528,8 @@ pub(super) fn first_descent(
     for b in ends {
         let fb = f(b);
         // On [a, b] f is monotone; it decreases when f' < 0 inside.
-        let decreasing = df(0.5 * (a + b)) < 0.0 || fb < fa;
+        // (The values first: they often settle it without the derivative.)
+        let decreasing = fb < fa || df(0.5 * (a + b)) < 0.0;
         if decreasing {
             if fa <= 0.0 {
                 if a == 0.0 {
@@ -534,7 +543,7 @@ pub(super) fn first_descent(
                 return Some(a);
             }
             if fb <= 0.0 {
-                return Some(bracketed_root(&f, &df, a, b));
+                return Some(bracketed_root(&f, &df, a, b, fa));
             }
         }
         a = b;
