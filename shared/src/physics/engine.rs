@@ -715,38 +715,44 @@ impl Simulator {
         let seeds = g.balls.len();
         // Balls in flight meet one pair at a time, only as predicted: a ball in the air is
         // never part of a touching group (its shadow may lie on one without touching it).
-        let flying = |b: usize| self.pieces[b].start.motion == MotionState::Airborne;
-        let in_flight = g.balls.iter().any(|&b| flying(b));
+        let flying = |piece: &Piece| piece.start.motion == MotionState::Airborne;
+        let in_flight = g.balls.iter().any(|&b| flying(&self.pieces[b]));
         // Grow the group by every ball touching one of its balls (or as near as the impact's
         // speed closes in `NEAR_TIME`), transitively. A ball whose path's box is out of reach
         // cannot touch (most balls, most of the time).
         let reach = 2.0 * r + CONTACT_GAP + NEAR_TIME * fastest;
-        refill(&mut g.positions, n, DVec2::INFINITY);
+        // Only the group's balls' positions are read, each written when it joins.
+        if g.positions.len() < n {
+            g.positions.resize(n, DVec2::INFINITY);
+        }
+        let (pieces, extents) = (&self.pieces, &self.extents);
+        let mut grouped: Balls = 0;
         for k in 0..seeds {
             let b = g.balls[k];
-            g.positions[b] = self.pieces[b].pos_at(t);
+            g.positions[b] = pieces[b].pos_at(t);
+            grouped |= ball(b);
         }
         let mut k = if in_flight { g.balls.len() } else { 0 };
         while k < g.balls.len() {
-            let b = g.balls[k];
-            let p = g.positions[b];
-            for j in 0..n {
-                let Extent { lo, hi, .. } = self.extents[j];
+            let p = g.positions[g.balls[k]];
+            for (j, (extent, piece)) in extents.iter().zip(pieces).enumerate() {
+                let Extent { lo, hi, .. } = *extent;
                 let near = p.x >= lo.x - reach
                     && p.x <= hi.x + reach
                     && p.y >= lo.y - reach
                     && p.y <= hi.y + reach;
                 if !near
-                    || j == b
-                    || self.pieces[j].start.motion == MotionState::Pocketed
-                    || flying(j)
+                    || grouped & ball(j) != 0
+                    || piece.start.motion == MotionState::Pocketed
+                    || flying(piece)
                 {
                     continue;
                 }
-                let q = self.pieces[j].pos_at(t);
-                if (q - p).length_squared() <= reach * reach && !g.balls.contains(&j) {
+                let q = piece.pos_at(t);
+                if (q - p).length_squared() <= reach * reach {
                     g.positions[j] = q;
                     g.balls.push(j);
+                    grouped |= ball(j);
                 }
             }
             k += 1;
