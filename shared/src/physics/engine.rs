@@ -309,7 +309,8 @@ impl Simulator {
             if self.row[i] != t {
                 continue;
             }
-            for j in i + 1..n {
+            // Only the row's links hold a time.
+            for j in extent::members(self.links[i] >> i >> 1).map(|j| i + 1 + j) {
                 let k = i * n + j;
                 if self.pair[k] == t && !self.solved[k] {
                     self.solve_pair(i, j, ctx);
@@ -606,10 +607,7 @@ impl Simulator {
         let near = extent::within_reach(&self.extents, i) & meet;
         let others = !done;
         self.outcome.work.pair_checks += u64::from(extent::count(meet & others));
-        let mut todo = (near | self.links[i]) & others;
-        while todo != 0 {
-            let j = todo.trailing_zeros() as usize;
-            todo &= todo - 1;
+        for j in extent::members((near | self.links[i]) & others) {
             let (lo, hi) = (i.min(j), i.max(j));
             let time = if near & ball(j) != 0 {
                 self.deferred_collision(lo, hi, t, ctx)
@@ -699,7 +697,8 @@ impl Simulator {
         g.balls.clear();
         let mut fastest: f64 = 0.0;
         for i in (0..n).filter(|&i| self.row[i] == t) {
-            for j in i + 1..n {
+            // A pair holding `t` holds a time: it is among the row's links.
+            for j in extent::members(self.links[i] >> i >> 1).map(|j| i + 1 + j) {
                 if self.pair[i * n + j] == t {
                     let (a, b) = (&self.pieces[i], &self.pieces[j]);
                     let normal = (b.pos_at(t) - a.pos_at(t)).normalize_or_zero();

@@ -22,6 +22,41 @@ pub(super) fn ball(i: usize) -> Balls {
     1 << i
 }
 
+/// The balls of `set`, in increasing order. Word by word: a bit of a 64-bit word is found
+/// and cleared in one instruction each, of the 128-bit set in several, and most shots have
+/// no ball past the first 64.
+#[inline]
+pub(super) fn members(set: Balls) -> Members {
+    Members {
+        words: [set as u64, (set >> 64) as u64],
+        word: 0,
+    }
+}
+
+/// The iterator of [`members`].
+pub(super) struct Members {
+    words: [u64; 2],
+    word: usize,
+}
+
+impl Iterator for Members {
+    type Item = usize;
+
+    #[inline]
+    fn next(&mut self) -> Option<usize> {
+        while self.word < 2 {
+            let bits = &mut self.words[self.word];
+            if *bits != 0 {
+                let bit = bits.trailing_zeros() as usize;
+                *bits &= *bits - 1;
+                return Some(64 * self.word + bit);
+            }
+            self.word += 1;
+        }
+        None
+    }
+}
+
 /// How many balls `set` holds: one word's count when the high word is empty (a shot of at most
 /// 64 balls), which without a population-count instruction costs half as much.
 #[inline]
@@ -162,6 +197,22 @@ pub(super) fn within_reach(extents: &[Extent], i: usize) -> Balls {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn members_are_the_set_bits_in_order() {
+        let mut rng = crate::ai::Rng::new(0x9e37_79b9_7f4a_7c15u64);
+        for k in 0..2_000 {
+            let words = [rng.next_u64(), rng.next_u64()];
+            // Sparse sets too, and sets with only one of the words.
+            let sparse = [rng.next_u64() & rng.next_u64(), 0, u64::MAX][k % 3];
+            let set = Balls::from(words[0] & sparse) | Balls::from(words[1]) << 64;
+            let set = if k % 5 == 0 { set >> 64 } else { set };
+            let scan: Vec<usize> = (0..128).filter(|&b| set & ball(b) != 0).collect();
+            assert_eq!(members(set).collect::<Vec<_>>(), scan, "{set:#x}");
+        }
+        assert_eq!(members(0).next(), None);
+        assert_eq!(members(ball(127)).collect::<Vec<_>>(), [127]);
+    }
 
     #[test]
     fn narrowed_boxes_apart_have_no_contact() {
