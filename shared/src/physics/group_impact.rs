@@ -45,7 +45,8 @@ pub(super) struct Scratch {
     pub(super) states: Vec<BallState>,
     /// Velocity and spin of each slot before the impact.
     pub(super) start: Vec<(DVec2, DVec3)>,
-    /// Every ball's position at the impact instant (pocketed balls at infinity).
+    /// By ball, the position at the impact instant of each ball of the group, written as it
+    /// joins (the other entries are left from earlier impacts and never read).
     pub(super) positions: Vec<DVec2>,
     /// The group's contacts (slots `a < b`), whether each took part, and their normals.
     pub(super) contacts: Vec<(usize, usize)>,
