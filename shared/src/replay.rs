@@ -12,7 +12,10 @@
 //! players' names, the physics the game was played with (the build's physics fingerprint,
 //! [`crate::protocol::reference_hash`]) and a chain of hashes over the entries. Records of
 //! versions 1 and 2 still decode (see `replay/v1.rs`, `replay/v2.rs`), as current records
-//! with no names and no physics named, and replay and verify as they did.
+//! with no names and no physics named. They replay and verify as long as this build's
+//! physics plays their shots as the build that wrote them did; once a physics change moves
+//! one, replaying says so ([`ReplayError::UnnamedPhysics`]), and nothing more can be checked
+//! (they keep no chain of hashes of their own).
 //!
 //! A record played with other physics than this build's (an older build, before a change
 //! that moved a bit) cannot be re-simulated to its hashes. [`GameRecord::verify`] then says
@@ -167,6 +170,17 @@ pub enum ReplayError {
         /// This build's.
         this_build: u64,
     },
+    /// A record of an older format, which does not name the physics it was played with, has
+    /// a shot this build plays differently: played with older physics, most likely, so it
+    /// cannot be checked further here (those formats keep no chain of hashes either).
+    #[error("entry {entry} replays differently, and the record (of a format before records named their physics) does not say which physics played it; this build plays {}",
+        hash_hex(*.this_build))]
+    UnnamedPhysics {
+        /// The first entry that replays differently, from 0.
+        entry: usize,
+        /// This build's physics fingerprint.
+        this_build: u64,
+    },
     /// A command replayed to a different shot hash than recorded (or played a shot where
     /// none was recorded, or none where one was): the physics or the rules differ.
     #[error("entry {entry}: the state hash differs (recorded {}, replayed {})",
@@ -189,7 +203,8 @@ impl ReplayError {
             ReplayError::Rejected { entry, .. }
             | ReplayError::HashMismatch { entry, .. }
             | ReplayError::ChainBroken { entry }
-            | ReplayError::OtherPhysics { entry, .. } => Some(*entry),
+            | ReplayError::OtherPhysics { entry, .. }
+            | ReplayError::UnnamedPhysics { entry, .. } => Some(*entry),
         }
     }
 }
@@ -432,14 +447,22 @@ impl GameRecord {
                     })?;
             let replayed = verdict.shot.map(|s| s.hash);
             if replayed != e.hash {
-                let this_build = reference_hash().ok();
-                if let (Some(recorded), Some(this_build)) = (self.physics, this_build) {
-                    if recorded != this_build {
-                        return Err(ReplayError::OtherPhysics {
-                            entry: i,
-                            recorded,
-                            this_build,
-                        });
+                if let Ok(this_build) = reference_hash() {
+                    match self.physics {
+                        Some(recorded) if recorded != this_build => {
+                            return Err(ReplayError::OtherPhysics {
+                                entry: i,
+                                recorded,
+                                this_build,
+                            });
+                        }
+                        None => {
+                            return Err(ReplayError::UnnamedPhysics {
+                                entry: i,
+                                this_build,
+                            })
+                        }
+                        Some(_) => {}
                     }
                 }
                 return Err(ReplayError::HashMismatch {
