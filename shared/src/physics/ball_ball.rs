@@ -4,7 +4,7 @@ use glam::{DVec2, DVec3};
 
 use super::motion::Piece;
 use super::params::{BallBallModel, Params};
-use super::roots::{first_contact, hull_stays_apart, pair_bound, stays_apart, Poly, Touch};
+use super::roots::{first_contact, pair_bound, stays_apart, Poly, Touch};
 
 /// The squared-distance polynomial of two pieces from absolute time `now`:
 /// `f(τ) = |d(τ)|² − (2R)²` with `d = r_b − r_a`.
@@ -24,46 +24,10 @@ pub fn contact_poly(a: &Piece, b: &Piece, now: f64, radius: f64) -> Poly {
 }
 
 /// The first time after `now` and no later than `until` at which the balls of pieces `a`
-/// and `b` touch while approaching.
+/// and `b` touch while approaching. The callers have ruled out most pairs that cannot meet
+/// (their boxes, [`earliest_contact`]); the solver itself is cheap enough that no further
+/// test pays for itself.
 pub fn collision_time(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64) -> Option<f64> {
-    solve(a, b, now, until, radius, true)
-}
-
-/// [`collision_time`] of pieces for which [`earliest_contact`], with the same arguments, gave
-/// a bound: that made the test of [`stays_apart`] on the same numbers, which said no, so it
-/// is not made again.
-pub fn bounded_collision_time(
-    a: &Piece,
-    b: &Piece,
-    now: f64,
-    until: f64,
-    radius: f64,
-) -> Option<f64> {
-    solve(a, b, now, until, radius, false)
-}
-
-#[inline(always)]
-fn solve(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64, test: bool) -> Option<f64> {
-    if !a.start.motion.is_translating() && !b.start.motion.is_translating() {
-        return None;
-    }
-    let (a_lo, a_hi) = a.path_box(now, until);
-    let (b_lo, b_hi) = b.path_box(now, until);
-    let d = 2.0 * radius;
-    if a_lo.x - d > b_hi.x || b_lo.x - d > a_hi.x || a_lo.y - d > b_hi.y || b_lo.y - d > a_hi.y {
-        // Their paths never come within a diameter of each other.
-        return None;
-    }
-    let dr = b.pos_at(now) - a.pos_at(now);
-    let dv = b.vel_at(now) - a.vel_at(now);
-    let da = b.acc - a.acc;
-    let reach = until - now;
-    if (test && stays_apart(dr, dv, da, reach, 2.0 * radius))
-        || hull_stays_apart(dr, dv, da, reach, 2.0 * radius)
-    {
-        // They cannot meet before one of them changes state.
-        return None;
-    }
     let poly = contact_poly(a, b, now, radius);
     first_contact(&poly, until - now, Touch::squared(2.0 * radius)).map(|dt| now + dt)
 }
@@ -81,10 +45,9 @@ pub fn earliest_contact(a: &Piece, b: &Piece, now: f64, until: f64, radius: f64)
     let t_max = until - now;
     let da = b.acc - a.acc;
     let tau = pair_bound(dr, dv, da, 2.0 * radius, t_max)?;
-    // A contact found by the solver lies within [0, until − now].
-    // Nor is there one when the paths, less the most they bend, stay apart: the solve would
-    // make this very test on the very same numbers (most pairs passing at an angle, for
-    // which the bound along the line of centres is far too low, are dismissed here).
+    // A contact found by the solver lies within [0, until − now]. Nor is there one when the
+    // paths, less the most they bend, stay apart: most pairs passing at an angle, for which
+    // the bound along the line of centres is far too low, are dismissed here.
     if tau > t_max || stays_apart(dr, dv, da, t_max, 2.0 * radius) {
         return None;
     }

@@ -334,9 +334,8 @@ impl Simulator {
         // `ball_ball::earliest_contact` on the same pieces, time and horizon.
         let (a, b) = (&self.pieces[i], &self.pieces[j]);
         let until = self.horizon(i, j, ctx);
-        let exact =
-            ball_ball::bounded_collision_time(a, b, self.since[k], until, ctx.params.ball_radius)
-                .unwrap_or(f64::INFINITY);
+        let exact = ball_ball::collision_time(a, b, self.since[k], until, ctx.params.ball_radius)
+            .unwrap_or(f64::INFINITY);
         debug_assert!(exact >= bound, "pair {i}-{j}: bound {bound} above {exact}");
         self.set_pair(i, j, exact);
     }
@@ -400,12 +399,7 @@ impl Simulator {
                         // The same signed distance and rates as `rail_time`'s polynomial.
                         let dist = n.dot(p - rail.a) - ctx.contact;
                         let bound = roots::line_bound(dist, n.dot(v), 0.5 * n.dot(acc), reach);
-                        // Nor is one solved that the ball can meet only past its ends.
-                        if can_beat(&best, bound)
-                            && !bound.is_some_and(|b| {
-                                ball_cushion::misses_rail(piece, rail, now + b, until)
-                            })
-                        {
+                        if can_beat(&best, bound) {
                             let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
                             consider(&mut best, t, OwnKind::Rail(k as u8));
                         }
@@ -503,12 +497,15 @@ impl Simulator {
         let n = self.row.len();
         let k = i * n + j;
         let flying = Mobility::Flying;
-        if self.extents[i].mobility == flying || self.extents[j].mobility == flying {
-            self.solved[k] = true;
-            return self.collision_time(i, j, now, ctx);
-        }
         let until = self.horizon(i, j, ctx);
         let (a, b) = (&self.pieces[i], &self.pieces[j]);
+        if self.extents[i].mobility == flying || self.extents[j].mobility == flying {
+            // Solved at once: a ball in flight meets few others, and only as predicted.
+            self.solved[k] = true;
+            self.outcome.work.flight_checks += 1;
+            let t = airborne::collision_time(a, b, now, until, ctx.params.ball_radius);
+            return t.unwrap_or(f64::INFINITY);
+        }
         match ball_ball::earliest_contact(a, b, now, until, ctx.params.ball_radius) {
             None => {
                 self.solved[k] = true;
@@ -527,21 +524,6 @@ impl Simulator {
     #[inline(always)]
     fn horizon(&self, i: usize, j: usize, ctx: &Ctx) -> f64 {
         self.own_t[i].min(self.own_t[j]).min(ctx.limit)
-    }
-
-    /// The next collision of balls `i < j` after `now`, whose boxes are within reach.
-    #[inline(never)]
-    fn collision_time(&mut self, i: usize, j: usize, now: f64, ctx: &Ctx) -> f64 {
-        let (a, b) = (&self.pieces[i], &self.pieces[j]);
-        let until = self.horizon(i, j, ctx);
-        let flying = Mobility::Flying;
-        let t = if self.extents[i].mobility == flying || self.extents[j].mobility == flying {
-            self.outcome.work.flight_checks += 1;
-            airborne::collision_time(a, b, now, until, ctx.params.ball_radius)
-        } else {
-            ball_ball::collision_time(a, b, now, until, ctx.params.ball_radius)
-        };
-        t.unwrap_or(f64::INFINITY)
     }
 
     /// Records `t` as the next collision of balls `i < j`, keeping `row[i]` the earliest of

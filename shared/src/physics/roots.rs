@@ -280,52 +280,6 @@ pub fn stays_apart(dr: DVec2, dv: DVec2, da: DVec2, t_max: f64, distance: f64) -
     closest - bend > distance
 }
 
-/// True when `d(τ) = dr + dv·τ + ½·da·τ²` provably stays longer than `distance` for τ in
-/// `[0, t_max]`, by a margin far above any rounding of the contact polynomial, so that the
-/// root solver could not find a contact either. The path is a quadratic Bézier curve: it lies
-/// in the triangle of its control points `dr`, `dr + dv·t_max/2` and `d(t_max)`, and the
-/// test is whether that triangle keeps clear of the origin. For a straight path (a rolling
-/// ball against a fixed point, or two balls on parallel courses) the triangle is the path
-/// itself, so the test is exact where [`stays_apart`] must allow for the whole bend.
-pub fn hull_stays_apart(dr: DVec2, dv: DVec2, da: DVec2, t_max: f64, distance: f64) -> bool {
-    if !t_max.is_finite() {
-        return false;
-    }
-    let p0 = dr;
-    let p1 = dr + dv * (0.5 * t_max);
-    let p2 = dr + dv * t_max + da * (0.5 * t_max * t_max);
-    // The polynomial's terms are products of lengths up to |dr| + |dv|·t + ½|da|·t²; its
-    // rounding is some 1e-16 of their squares. A margin of 1e-9 of them is far above it,
-    // and far below any distance that matters (1e-8 m on a table).
-    let t2 = t_max * t_max;
-    let scale = 3.0 * (dr.length_squared() + dv.length_squared() * t2)
-        + 0.75 * da.length_squared() * t2 * t2
-        + distance * distance;
-    let reach2 = distance * distance + 1e-9 * scale;
-    // The squared distance from the origin to the segment from `a` to `b`.
-    let to_segment = |a: DVec2, b: DVec2| {
-        let e = b - a;
-        let len2 = e.length_squared();
-        let s = if len2 > 0.0 {
-            (-a.dot(e) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        (a + e * s).length_squared()
-    };
-    if to_segment(p0, p1) <= reach2 || to_segment(p1, p2) <= reach2 || to_segment(p2, p0) <= reach2
-    {
-        return false;
-    }
-    // The edges are all out of reach: the triangle is clear unless it holds the origin. Held
-    // that far inside, the origin is on the same side of every edge by a wide margin (a flat
-    // triangle, a straight path, holds nothing).
-    let side = |a: DVec2, b: DVec2| a.perp_dot(b);
-    let (s0, s1, s2) = (side(p0, p1), side(p1, p2), side(p2, p0));
-    let inside = (s0 > 0.0 && s1 > 0.0 && s2 > 0.0) || (s0 < 0.0 && s1 < 0.0 && s2 < 0.0);
-    !inside
-}
-
 /// Times closer than this (s) are not told apart: a ball at 50 m/s moves 5 pm in it.
 pub const TIME_TOLERANCE: f64 = 1e-13;
 
@@ -336,12 +290,25 @@ pub const TIME_TOLERANCE: f64 = 1e-13;
 pub(super) fn bracketed_root(
     f: impl Fn(f64) -> f64,
     df: impl Fn(f64) -> f64,
+    lo: f64,
+    hi: f64,
+    f_lo: f64,
+) -> f64 {
+    bracketed_root_from(f, df, lo, hi, f_lo, 0.5 * (lo + hi))
+}
+
+/// [`bracketed_root`] with the first step taken from `start` (inside `[lo, hi]`) instead of
+/// the middle.
+fn bracketed_root_from(
+    f: impl Fn(f64) -> f64,
+    df: impl Fn(f64) -> f64,
     mut lo: f64,
     mut hi: f64,
     f_lo: f64,
+    start: f64,
 ) -> f64 {
     let lo_positive = f_lo > 0.0;
-    let mut x = 0.5 * (lo + hi);
+    let mut x = start;
     let mut last_step = hi - lo;
     // 200 halvings exceed any f64 interval; Newton usually needs a handful of steps.
     for _ in 0..200 {
@@ -493,17 +460,119 @@ pub fn first_contact(c: &Poly, t_max: f64, touch: Touch) -> Option<f64> {
     if contact_at_start(c, touch) {
         return Some(0.0);
     }
-    let ends = CriticalPoints::new(c, 0.0, t_max).chain(std::iter::once(t_max));
-    if c[3] == 0.0 && c[4] == 0.0 && t_max.is_finite() {
-        // A quadratic (a rail's signed distance, or a pair with equal accelerations): Horner's
-        // scheme without its two zero terms. Every τ evaluated lies in [0, t_max], where those
-        // terms add exact zeros, so the values are the same but for the sign of a zero, which
-        // no test here tells apart.
-        let (c0, c1, c2) = (c[0], c[1], c[2]);
-        let d2 = 2.0 * c2;
-        return first_descent(c0, ends, |t| (c2 * t + c1) * t + c0, |t| d2 * t + c1);
+    if c[0] > 0.0 && t_max.is_finite() {
+        // Apart at the start (nearly every call): the contact is the first root.
+        return if c[3] == 0.0 && c[4] == 0.0 {
+            first_root_of_quadratic(c[0], c[1], c[2], t_max)
+        } else {
+            first_root(c, t_max)
+        };
     }
+    // Touching at the start without approaching (judged above), or an unbounded search: the
+    // walk over the pieces on which `f` is monotone.
+    let ends = CriticalPoints::new(c, 0.0, t_max).chain(std::iter::once(t_max));
     first_descent(c[0], ends, |t| eval(c, t), |t| eval_d(c, t))
+}
+
+/// The first root in `(0, t_max]` of `c₀ + c₁·τ + c₂·τ²` with `c₀ > 0`, in closed form: the
+/// smaller root when `c₁ < 0` (written as `2c₀/(√disc − c₁)`, without cancellation), the
+/// only positive one when `c₁ ≥ 0 > c₂`. A double root (a graze) is a root; a negative
+/// discriminant is none.
+fn first_root_of_quadratic(c0: f64, c1: f64, c2: f64, t_max: f64) -> Option<f64> {
+    let disc = c1 * c1 - 4.0 * c2 * c0;
+    // Every test is written to fail on a NaN.
+    let real = disc >= 0.0;
+    if !real {
+        return None;
+    }
+    let root = if c1 < 0.0 {
+        2.0 * c0 / (disc.sqrt() - c1)
+    } else if c2 < 0.0 {
+        -0.5 * (c1 + disc.sqrt()) / c2
+    } else {
+        return None;
+    };
+    (root <= t_max).then_some(root)
+}
+
+/// The first root in `(0, t_max]` of the polynomial `c` with `c[0] > 0` (finite `t_max`).
+///
+/// Between the roots of `f''` (a quadratic, in closed form) `f` is convex or concave, and on
+/// either Newton's method converges to the first root from one side without passing it: on a
+/// convex stretch from its start, where `f > 0` (the tangent lies below `f`, so its zero is
+/// no later than the root; a tangent whose zero lies past the stretch, or that rises, shows
+/// there is none on it); on a concave stretch from its end when `f ≤ 0` there (the tangent
+/// lies above `f`; with `f > 0` at both ends a concave stretch holds no root). The stretches
+/// are taken in time order, so the first root found is the first contact, and a graze (a
+/// double root) is found as the limit of the convex side's steps.
+fn first_root(c: &Poly, t_max: f64) -> Option<f64> {
+    let mut ends = [0.0; 4];
+    let inflections =
+        quadratic_roots_in(12.0 * c[4], 6.0 * c[3], 2.0 * c[2], 0.0, t_max, &mut ends);
+    ends[inflections] = t_max;
+    let mut a = 0.0;
+    let mut fa = c[0];
+    for &b in &ends[..=inflections] {
+        if fa <= 0.0 {
+            // The stretch before ended at the root, within rounding.
+            return Some(a);
+        }
+        if eval_dd(c, 0.5 * (a + b)) >= 0.0 {
+            if let Some(t) = convex_root(c, a, fa, b) {
+                return Some(t);
+            }
+            fa = eval(c, b);
+        } else {
+            let fb = eval(c, b);
+            if fb <= 0.0 {
+                return Some(concave_root(c, a, fa, b, fb));
+            }
+            fa = fb;
+        }
+        a = b;
+    }
+    None
+}
+
+/// The root of `f` on the convex stretch `[a, b]` with `f(a) = fa > 0`, if any: Newton's
+/// steps from `a`, each no later than the root, until a step is under half
+/// [`TIME_TOLERANCE`] (or lands on `f ≤ 0`, the root within rounding).
+fn convex_root(c: &Poly, a: f64, fa: f64, b: f64) -> Option<f64> {
+    let (mut x, mut fx) = (a, fa);
+    // Near a root of multiplicity m (at most 4) each step closes at least 1/m of the distance
+    // left, so 200 steps are far more than any interval needs.
+    for _ in 0..200 {
+        let d = eval_d(c, x);
+        let falling = d < 0.0;
+        if !falling {
+            // Rising from here to the end of the stretch (or not a number).
+            return None;
+        }
+        let next = x - fx / d;
+        let within = next <= b;
+        if !within {
+            return None;
+        }
+        if next - x <= 0.5 * TIME_TOLERANCE {
+            return Some(next);
+        }
+        x = next;
+        fx = eval(c, x);
+        if fx <= 0.0 {
+            return Some(x);
+        }
+    }
+    Some(x)
+}
+
+/// The root of `f` on the concave stretch `[a, b]` with `f(a) = fa > 0 ≥ f(b) = fb`: Newton's
+/// steps from `b`, each no earlier than the root, kept inside the bracket (the bracketed
+/// search from `b`).
+fn concave_root(c: &Poly, a: f64, fa: f64, b: f64, fb: f64) -> f64 {
+    if fb == 0.0 {
+        return b;
+    }
+    bracketed_root_from(|t| eval(c, t), |t| eval_d(c, t), a, b, fa, b)
 }
 
 /// Whether `f` (coefficients lowest power first) touches at `t = 0` and is already
@@ -718,9 +787,10 @@ mod tests {
     }
 
     #[test]
-    fn quadratics_give_the_bits_of_the_full_scheme() {
-        // The same walk with the quartic's Horner scheme, zeros and all.
-        let full = |c: &Poly, t_max: f64| {
+    fn the_first_root_agrees_with_the_walk_over_monotone_pieces() {
+        // The walk over the pieces between the critical points of `f` (what the solver does
+        // for objects touching at the start) is an independent search of the same contact.
+        let walk = |c: &Poly, t_max: f64| {
             if contact_at_start(c, Touch::linear()) {
                 return Some(0.0);
             }
@@ -729,23 +799,34 @@ mod tests {
         };
         let mut rng = crate::ai::Rng::new(0x2545_f491_4f6c_dd1du64);
         let mut unit = || rng.unit();
-        let mut found = 0;
-        for k in 0..100_000 {
-            let pick = |u: f64, zero: bool| if zero { [0.0, -0.0][k % 2] } else { u };
-            let c0 = pick(unit() - 0.3, k % 7 == 0);
-            let c1 = pick((unit() - 0.5) * 4.0, k % 11 == 0);
-            let c2 = pick((unit() - 0.5) * 2.0, k % 13 == 0);
-            let c = [c0, c1, c2, 0.0, 0.0];
+        let (mut found, mut differ) = (0, Vec::new());
+        for k in 0..200_000 {
+            let quartic = k % 2 == 1;
+            let c0 = unit() - 0.1;
+            let c1 = (unit() - 0.5) * 4.0;
+            let c2 = (unit() - 0.5) * 2.0;
+            let (c3, c4) = if quartic {
+                ((unit() - 0.5) * 2.0, (unit() - 0.3) * 0.5)
+            } else {
+                (0.0, 0.0)
+            };
+            let c = [c0, c1, c2, c3, c4];
             let t_max = 0.01 + unit() * 3.0;
-            let quick = super::first_contact(&c, t_max, Touch::linear());
-            assert_eq!(
-                quick.map(f64::to_bits),
-                full(&c, t_max).map(f64::to_bits),
-                "{c:?}"
-            );
-            found += usize::from(quick.is_some());
+            let fast = super::first_contact(&c, t_max, Touch::linear());
+            let slow = walk(&c, t_max);
+            match (fast, slow) {
+                (Some(a), Some(b)) if (a - b).abs() <= 1e-9 => found += 1,
+                (None, None) => {}
+                _ => differ.push((c, t_max, fast, slow)),
+            }
         }
-        assert!(found > 10_000, "{found}");
+        assert!(
+            differ.is_empty(),
+            "{} differ: {:?}",
+            differ.len(),
+            &differ[..differ.len().min(5)]
+        );
+        assert!(found > 50_000, "{found}");
     }
 
     #[test]
@@ -778,51 +859,5 @@ mod tests {
         }
         let BoundTally { none: apart, later } = tally;
         assert!(apart > 1_000 && later > 100, "{apart} {later}");
-    }
-
-    #[test]
-    fn hull_is_exact_for_a_straight_path() {
-        // A straight pass at 1 µm more and 1 µm less than the distance.
-        let (dv, t) = (DVec2::new(-2.0, 0.0), 1.0);
-        for (gap, apart) in [(1e-6, true), (-1e-6, false)] {
-            let dr = DVec2::new(1.0, 0.05 + gap);
-            assert_eq!(hull_stays_apart(dr, dv, DVec2::ZERO, t, 0.05), apart);
-        }
-        // Stopping short of the point, or not yet there at the end of the interval.
-        let dr = DVec2::new(1.0, 0.0);
-        assert!(hull_stays_apart(dr, dv, DVec2::ZERO, 0.4, 0.05));
-        assert!(!hull_stays_apart(dr, dv, DVec2::ZERO, 0.5, 0.05));
-        assert!(!hull_stays_apart(dr, dv, DVec2::ZERO, f64::INFINITY, 0.05));
-    }
-
-    #[test]
-    fn hull_never_dismisses_a_contact_the_solver_finds() {
-        // Random curved paths around a disc: whenever the hull test says apart, the solver
-        // must find no contact and no sample of the path may come within reach.
-        let mut rng = crate::ai::Rng::new(0x2545_f491_4f6c_dd1du64);
-        let mut unit = || rng.unit();
-        let distance = 0.05715;
-        let mut dismissed = 0;
-        for _ in 0..20_000 {
-            let mut v = || DVec2::new(unit() - 0.5, unit() - 0.5);
-            let (dr, dv, da) = (v() * 0.6, v() * 6.0, v() * 8.0);
-            let t = 0.01 + unit();
-            if !hull_stays_apart(dr, dv, da, t, distance) {
-                continue;
-            }
-            dismissed += 1;
-            let c = squared_distance_poly(dr, dv, da, distance);
-            assert_eq!(
-                super::first_contact(&c, t, Touch::squared(distance)),
-                None,
-                "{dr} {dv} {da} {t}"
-            );
-            for k in 0..=100 {
-                let tau = t * k as f64 / 100.0;
-                let d = dr + dv * tau + da * (0.5 * tau * tau);
-                assert!(d.length() > distance, "{dr} {dv} {da} {t} at {tau}");
-            }
-        }
-        assert!(dismissed > 1_000, "{dismissed}");
     }
 }
