@@ -65,7 +65,8 @@ pub fn jaw_time(piece: &Piece, jaw: &Jaw, now: f64, until: f64, contact: f64) ->
 }
 
 /// First time in (now, until] that the centre of the ball of `piece` comes within `radius` of
-/// the fixed point `center` while approaching it.
+/// the fixed point `center` while approaching it. The caller rules out first the paths that
+/// stay far from it (the engine by the path's box and a bound on the time of contact).
 pub fn circle_time(piece: &Piece, center: DVec2, radius: f64, now: f64, until: f64) -> Option<f64> {
     let d = piece.pos_at(now) - center;
     let v = piece.vel_at(now);
