@@ -6,14 +6,17 @@
 //! `f ≤ 0` means touching and `f' < 0` means approaching.
 //!
 //! The quartic is never solved in closed form (Ferrari's formulas lose all precision near
-//! double roots, the grazing hits that matter most). Instead the interval `[0, τ_max]` is
-//! split at the critical points of `f` — the roots of the cubic `f'`, which are found the
-//! same way from the roots of the quadratic `f''` (closed form, cancellation-free) — so that
-//! `f` is monotone on each piece. The pieces are walked in time order; the first decreasing
-//! piece on which `f` reaches zero holds the event, and a bracketed Newton iteration (which
-//! falls back to bisection whenever Newton leaves the bracket or stalls) finds it to the last
-//! bit. A bracket always contains the root, so no root is missed, whatever the
-//! conditioning; a double root (a graze) is a critical point where `f ≤ 0`, found exactly.
+//! double roots, the grazing hits that matter most). For objects apart at the start the
+//! contact is the first root of `f`: the interval `[0, τ_max]` is split at the roots of the
+//! quadratic `f''` (closed form, cancellation-free), so that `f` is convex or concave on each
+//! stretch, and on either Newton's steps approach the first root from the side they cannot
+//! pass (`first_root`); a quadratic (a rail, or two balls with equal accelerations) has its
+//! first root in closed form. For objects touching at the start the interval is split at the
+//! critical points of `f` (the roots of the cubic `f'`, found the same way from the roots of
+//! `f''`), so that `f` is monotone on each piece; the pieces are walked in time order, the
+//! first decreasing piece on which `f` reaches zero holds the event, and a bracketed Newton
+//! iteration (which falls back to bisection whenever Newton leaves the bracket or stalls)
+//! finds it. A double root (a graze) is found by either search.
 //!
 //! Touching at `τ = 0` counts only when approaching: two frozen balls moving apart give no
 //! phantom collision, and two balls that have just collided (now separating) do not collide
