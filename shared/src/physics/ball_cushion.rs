@@ -36,21 +36,21 @@ pub fn model_contact_distance(params: &Params, model: CushionModel) -> f64 {
     }
 }
 
-/// First time in (now, until] that the ball of `piece` reaches `rail` moving into it.
-pub fn rail_time(piece: &Piece, rail: &Rail, now: f64, until: f64, contact: f64) -> Option<f64> {
-    let p = piece.pos_at(now);
-    let dist = rail.normal.dot(p - rail.a) - contact;
-    if dist > piece.reach(now, until) {
-        return None;
-    }
-    let v = piece.vel_at(now);
-    let poly: Poly = [
-        dist,
-        rail.normal.dot(v),
-        0.5 * rail.normal.dot(piece.acc),
-        0.0,
-        0.0,
-    ];
+/// The signed distance from the ball of `piece` to the line where it touches `rail` (its
+/// nose line moved out by `contact`), as `c₀ + c₁·τ + c₂·τ²` in the time `τ` after `now`.
+pub fn rail_line(piece: &Piece, rail: &Rail, now: f64, contact: f64) -> [f64; 3] {
+    let n = rail.normal;
+    [
+        n.dot(piece.pos_at(now) - rail.a) - contact,
+        n.dot(piece.vel_at(now)),
+        0.5 * n.dot(piece.acc),
+    ]
+}
+
+/// First time in (now, until] that the ball of `piece` reaches `rail` moving into it, from
+/// its [`rail_line`] at `now`.
+pub fn rail_time(piece: &Piece, rail: &Rail, now: f64, until: f64, line: [f64; 3]) -> Option<f64> {
+    let poly: Poly = [line[0], line[1], line[2], 0.0, 0.0];
     let t = now + first_contact(&poly, until - now, Touch::linear())?;
     // Only the stretch between the rail's ends is straight cushion; past them the ball meets
     // a jaw or goes into the pocket.

@@ -396,11 +396,10 @@ impl Simulator {
                         if n.y > 0.0 { lo.y } else { hi.y },
                     );
                     if n.dot(corner - rail.a) <= ctx.contact {
-                        // The same signed distance and rates as `rail_time`'s polynomial.
-                        let dist = n.dot(p - rail.a) - ctx.contact;
-                        let bound = roots::line_bound(dist, n.dot(v), 0.5 * n.dot(acc), reach);
-                        if can_beat(&best, bound) {
-                            let t = ball_cushion::rail_time(piece, rail, now, until, ctx.contact);
+                        let line = ball_cushion::rail_line(piece, rail, now, ctx.contact);
+                        let [c0, c1, c2] = line;
+                        if can_beat(&best, roots::line_bound(c0, c1, c2, reach)) {
+                            let t = ball_cushion::rail_time(piece, rail, now, until, line);
                             consider(&mut best, t, OwnKind::Rail(k as u8));
                         }
                     }
